@@ -1,0 +1,34 @@
+//! # magbench-env
+//!
+//! The physics and the world of magbench, in one place:
+//!
+//! - [`physics`]: the vector dipole–dipole force between aligned magnetic spheres, the local
+//!   pair view `(x_c, y_c, r, φ)` and the physical preset that maps body lengths (BL) to SI;
+//! - [`coil`]: what a coil can apply (field angle, elevation, pulling gradient) behind [`coil::Coil`];
+//! - [`model`]: overdamped kinematics, the fixed-step integrator and the deterministic planning model;
+//! - [`plant`]: the simulated plant (model mismatch, field-angle error, drift, Brownian motion, camera);
+//! - [`world`] and [`collision`]: maps, parry2d collision and the validity checker;
+//! - [`scenario`]: the TOML scenario format, its validation and the built-in scenarios;
+//! - [`controllability`]: the numerical Lie-bracket (LARC) tool.
+//!
+//! Lengths are in body lengths (BL = one agent diameter) and times in seconds everywhere.
+
+pub mod coil;
+pub mod collision;
+pub mod controllability;
+pub mod error;
+pub mod math;
+pub mod model;
+pub mod physics;
+pub mod plant;
+pub mod scenario;
+pub mod world;
+
+pub use coil::{Actuation, Coil, Control, TriaxialMaxwell};
+pub use collision::{CollisionWorld, ValidityChecker};
+pub use error::InputError;
+pub use math::{MAX_AGENTS, Vec2, Vec3};
+pub use model::{PlanningModel, Propagator};
+pub use physics::{LocalView, PhysicalParams};
+pub use scenario::{Goal, Leg, Scenario};
+pub use world::{Obstacle, World};

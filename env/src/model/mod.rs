@@ -1,0 +1,39 @@
+//! Overdamped kinematics, the fixed-step integrator and the deterministic planning model.
+//!
+//! The planning model is the seed's eq. (3): agents move with (pair forces + pull)/σ, integrated
+//! by classic RK4 at the preset's fixed step `dt_s` (1/120 s by default). A plan replays exactly
+//! only through this same arithmetic; see [`PlanningModel`].
+
+mod integrator;
+mod kinematics;
+mod planning;
+
+pub use integrator::{rk4_step, step_schedule};
+pub use kinematics::Kinematics;
+pub use planning::PlanningModel;
+
+use crate::coil::Control;
+use crate::math::Vec2;
+
+/// Propagates a state under a constant control (OMPL's StatePropagator: it only propagates).
+pub trait Propagator: Send + Sync {
+    /// Integrates `start` under `u` for `duration` seconds into `out`, calling `visit` on every
+    /// integration sample after the start (the last is the end state). Stops early and returns
+    /// false as soon as `visit` returns false.
+    fn propagate_visit(
+        &self,
+        start: &[Vec2],
+        u: &Control,
+        duration: f64,
+        out: &mut [Vec2],
+        visit: &mut dyn FnMut(&[Vec2]) -> bool,
+    ) -> bool;
+
+    /// Integrates `start` under `u` for `duration` seconds into `out`.
+    fn propagate(&self, start: &[Vec2], u: &Control, duration: f64, out: &mut [Vec2]) {
+        self.propagate_visit(start, u, duration, out, &mut |_| true);
+    }
+
+    /// The fixed integration step (s).
+    fn step(&self) -> f64;
+}

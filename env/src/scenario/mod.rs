@@ -1,0 +1,113 @@
+//! Scenarios: the world, the start and one goal or several legs, in a stable TOML format.
+//!
+//! See README.md ("Scenario files") for the format. [`Scenario::load`] accepts a built-in name
+//! or a path; every rejection is an [`InputError`](crate::InputError) naming the file, the field
+//! and the reason.
+
+mod builtin;
+mod file;
+
+pub use builtin::{BUILTIN, builtin_source, builtin_names};
+pub use file::parse_scenario;
+
+use std::sync::Arc;
+
+use crate::collision::{CollisionWorld, ValidityChecker};
+use crate::error::InputError;
+use crate::math::Vec2;
+use crate::physics::PhysicalParams;
+use crate::world::{Obstacle, World};
+
+/// A goal region: every agent within `tolerance` of its goal centre.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Goal {
+    /// Goal centre per agent (BL).
+    pub agents: Vec<Vec2>,
+    /// Radius of each agent's goal disk (BL).
+    pub tolerance: f64,
+}
+
+impl Goal {
+    /// Largest distance of an agent from its goal centre (BL).
+    pub fn distance(&self, s: &[Vec2]) -> f64 {
+        s.iter().zip(&self.agents).map(|(p, g)| (p - g).norm()).fold(0.0, f64::max)
+    }
+
+    /// True when every agent is within the tolerance of its goal centre.
+    pub fn contains(&self, s: &[Vec2]) -> bool {
+        self.distance(s) <= self.tolerance
+    }
+}
+
+/// One leg: a goal, and optionally the obstacles that replace the world's from this leg on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Leg {
+    /// The leg's goal region.
+    pub goal: Goal,
+    /// New obstacles (a map switch), if any.
+    pub obstacles: Option<Vec<Obstacle>>,
+}
+
+/// A validated scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// Scenario name.
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// Where it came from (a path, or `built-in:NAME`).
+    pub source: String,
+    /// The world at the start.
+    pub world: World,
+    /// Start position per agent (BL).
+    pub start: Vec<Vec2>,
+    /// The legs; a scenario with a single `[goal]` has one leg without a map switch.
+    pub legs: Vec<Leg>,
+    /// The physical preset with the scenario's overrides applied.
+    pub physics: PhysicalParams,
+}
+
+impl Scenario {
+    /// Loads a built-in scenario by name, or a scenario file by path.
+    pub fn load(name_or_path: &str) -> Result<Scenario, InputError> {
+        if let Some(src) = builtin_source(name_or_path) {
+            return parse_scenario(src, &format!("built-in:{name_or_path}"));
+        }
+        let path = std::path::Path::new(name_or_path);
+        if !path.exists() {
+            let names = builtin_names().join(", ");
+            return Err(InputError::new(
+                name_or_path,
+                "",
+                format!("no such file, and not a built-in scenario (built-ins: {names})"),
+            ));
+        }
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError::new(name_or_path, "", format!("cannot read: {e}")))?;
+        parse_scenario(&text, name_or_path)
+    }
+
+    /// Number of agents.
+    pub fn agents(&self) -> usize {
+        self.start.len()
+    }
+
+    /// The world during leg `i` (the latest map switch at or before `i` applies).
+    pub fn world_for_leg(&self, i: usize) -> World {
+        match self.legs[..=i].iter().rev().find_map(|l| l.obstacles.clone()) {
+            Some(obs) => self.world.with_obstacles(obs),
+            None => self.world.clone(),
+        }
+    }
+
+    /// The validity checker of leg `i`.
+    pub fn checker_for_leg(&self, i: usize) -> ValidityChecker {
+        let cw = Arc::new(CollisionWorld::new(&self.world_for_leg(i), 0.5));
+        ValidityChecker::new(cw, self.physics.r_min, self.physics.r_max)
+    }
+
+    /// The final goal.
+    pub fn final_goal(&self) -> &Goal {
+        &self.legs.last().expect("a scenario has at least one leg").goal
+    }
+}

@@ -1,0 +1,39 @@
+//! Command-line interface: one file per subcommand.
+
+mod scenario;
+mod stlc;
+
+use clap::{Parser, Subcommand};
+
+use crate::CliError;
+
+/// magbench: plan, track and benchmark paths for teams of magnetic microrobots steered by one
+/// global magnetic field.
+///
+/// Lengths are in body lengths (BL, one agent diameter), times in seconds. Scenarios are
+/// built-in names (see `magbench scenario list`) or TOML files.
+#[derive(Debug, Parser)]
+#[command(name = "magbench", version, about, long_about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// List, show or check scenario files.
+    #[command(subcommand)]
+    Scenario(scenario::ScenarioCmd),
+    /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
+    Stlc(stlc::StlcArgs),
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
+        Command::Scenario(c) => scenario::run(c),
+        Command::Stlc(a) => stlc::run(a),
+    }
+}
