@@ -1,0 +1,61 @@
+//! A planning problem: one leg of a scenario, the model, the checker, the objective and limits.
+
+use std::time::Duration;
+
+use magbench_env::{Goal, PlanningModel, Scenario, ValidityChecker, Vec2, World};
+
+/// When a planner stops: after `max_iterations` and/or after `time_limit`, whichever first.
+/// For bit-for-bit reproducible runs, limit iterations only.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// Largest number of iterations.
+    pub max_iterations: Option<u64>,
+    /// Largest wall time.
+    pub time_limit: Option<Duration>,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits { max_iterations: Some(200_000), time_limit: None }
+    }
+}
+
+/// Everything a planner needs.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// Name of the scenario (for reports).
+    pub scenario: String,
+    /// The world of this leg.
+    pub world: World,
+    /// Start positions (BL).
+    pub start: Vec<Vec2>,
+    /// Goal region.
+    pub goal: Goal,
+    /// The deterministic planning model (coil limits included).
+    pub model: PlanningModel,
+    /// The validity checker of this leg.
+    pub checker: ValidityChecker,
+    /// Edge durations are whole multiples of this control period (s): the camera frame.
+    pub control_period: f64,
+    /// Stop conditions.
+    pub limits: Limits,
+    /// Seed of the planner's random stream.
+    pub seed: u64,
+}
+
+impl Problem {
+    /// The problem of leg `leg` of `scenario`, from `start` (the scenario's start if `None`).
+    pub fn from_scenario(scenario: &Scenario, leg: usize, start: Option<&[Vec2]>, seed: u64) -> Self {
+        Problem {
+            scenario: scenario.name.clone(),
+            world: scenario.world_for_leg(leg),
+            start: start.map(|s| s.to_vec()).unwrap_or_else(|| scenario.start.clone()),
+            goal: scenario.legs[leg].goal.clone(),
+            model: PlanningModel::new(&scenario.physics),
+            checker: scenario.checker_for_leg(leg),
+            control_period: 1.0 / 60.0,
+            limits: Limits::default(),
+            seed,
+        }
+    }
+}
