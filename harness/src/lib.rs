@@ -6,5 +6,6 @@
 pub mod cli;
 pub mod error;
 pub mod plot;
+pub mod stats;
 
 pub use error::CliError;
