@@ -5,7 +5,11 @@
 
 pub mod cli;
 pub mod error;
+pub mod experiment;
 pub mod plot;
+pub mod results;
+pub mod run;
 pub mod stats;
+pub mod sweep;
 
 pub use error::CliError;

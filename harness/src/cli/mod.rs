@@ -1,5 +1,7 @@
 //! Command-line interface: one file per subcommand.
 
+mod bench;
+mod merge;
 mod scenario;
 mod stlc;
 
@@ -28,6 +30,10 @@ pub enum Command {
     Scenario(scenario::ScenarioCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
+    /// Run an experiment (default experiments/default.toml) into results/<name>/.
+    Bench(bench::BenchArgs),
+    /// Join the results folders of shards (`bench --shard I/N`) into one.
+    Merge(merge::MergeArgs),
 }
 
 /// Runs a parsed command line.
@@ -35,5 +41,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Stlc(a) => stlc::run(a),
+        Command::Bench(a) => bench::run(a),
+        Command::Merge(a) => merge::run(a),
     }
 }

@@ -1,0 +1,1 @@
+//! Per-group summaries of runs (scenario, planner, tracker, preset).
