@@ -84,7 +84,10 @@ fn main() {
             });
             let rows = rows.lock().unwrap();
             let solved = rows.iter().filter(|r| r.1).count();
-            let mut first_it: Vec<f64> = rows.iter().filter_map(|r| r.2.map(|f| f.0 as f64)).collect();
+            let mut first_it: Vec<f64> = rows
+                .iter()
+                .filter_map(|r| r.2.map(|f| f.0 as f64))
+                .collect();
             let mut first_t: Vec<f64> = rows.iter().filter_map(|r| r.2.map(|f| f.1)).collect();
             let its: u64 = rows.iter().map(|r| r.3).sum();
             let time: f64 = rows.iter().map(|r| r.5).sum();
@@ -101,7 +104,11 @@ fn main() {
             for (k, &it) in at.iter().enumerate() {
                 let mut c: Vec<f64> = rows.iter().filter_map(|r| r.7[k]).collect();
                 let n = c.len();
-                println!("    at {it:>7} iterations: solved {n}/{}  median cost {:.2}", rows.len(), median(&mut c));
+                println!(
+                    "    at {it:>7} iterations: solved {n}/{}  median cost {:.2}",
+                    rows.len(),
+                    median(&mut c)
+                );
             }
         }
     }
@@ -113,5 +120,9 @@ fn median(v: &mut [f64]) -> f64 {
     }
     v.sort_by(|a, b| a.partial_cmp(b).unwrap());
     let n = v.len();
-    if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) }
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
 }

@@ -50,7 +50,13 @@ impl Extend {
     }
 
     /// EXTEND(q_near, q_sample): the try whose end is closest to `target`.
-    pub fn run(&self, problem: &Problem, rng: &mut Rng, near: &[Vec2], target: &[Vec2]) -> Extension {
+    pub fn run(
+        &self,
+        problem: &Problem,
+        rng: &mut Rng,
+        near: &[Vec2],
+        target: &[Vec2],
+    ) -> Extension {
         let n = near.len();
         let g = problem.model.coil.gradient_limit();
         let mut best = Extension {
@@ -66,7 +72,12 @@ impl Extend {
             propagate(problem, near, &u, problem.periods(periods), &mut end[..n]);
             let d2 = problem.metric.distance_squared(&end[..n], target);
             if d2 < best.distance {
-                best = Extension { control: u, periods, end, distance: d2 };
+                best = Extension {
+                    control: u,
+                    periods,
+                    end,
+                    distance: d2,
+                };
             }
         }
         best.distance = best.distance.sqrt();

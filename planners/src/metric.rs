@@ -43,24 +43,33 @@ impl Metric {
             let (wc, ws) = match parts.as_slice() {
                 [] => (1.0, 1.0),
                 [a, b] => (
-                    a.parse::<f64>().map_err(|_| format!("bad centroid weight {a:?}"))?,
-                    b.parse::<f64>().map_err(|_| format!("bad shape weight {b:?}"))?,
+                    a.parse::<f64>()
+                        .map_err(|_| format!("bad centroid weight {a:?}"))?,
+                    b.parse::<f64>()
+                        .map_err(|_| format!("bad shape weight {b:?}"))?,
                 ),
                 _ => return Err("expected centroid-shape:W_CENTROID:W_SHAPE".into()),
             };
             if !(wc.is_finite() && ws.is_finite() && wc > 0.0 && ws > 0.0) {
                 return Err("metric weights must be finite and > 0".into());
             }
-            return Ok(Metric::CentroidShape { centroid: wc, shape: ws });
+            return Ok(Metric::CentroidShape {
+                centroid: wc,
+                shape: ws,
+            });
         }
-        Err(format!("unknown metric {s:?} (expected positions or centroid-shape:W_C:W_S)"))
+        Err(format!(
+            "unknown metric {s:?} (expected positions or centroid-shape:W_C:W_S)"
+        ))
     }
 
     /// The metric's name as [`Metric::parse`] reads it.
     pub fn name(&self) -> String {
         match self {
             Metric::Positions => "positions".into(),
-            Metric::CentroidShape { centroid, shape } => format!("centroid-shape:{centroid}:{shape}"),
+            Metric::CentroidShape { centroid, shape } => {
+                format!("centroid-shape:{centroid}:{shape}")
+            }
         }
     }
 
@@ -105,7 +114,11 @@ impl Metric {
                 let (mut ea, mut eb) = ([0.0; MAX_DIMS], [0.0; MAX_DIMS]);
                 self.embed(a, &mut ea);
                 self.embed(b, &mut eb);
-                ea[..n].iter().zip(&eb[..n]).map(|(x, y)| (x - y) * (x - y)).sum()
+                ea[..n]
+                    .iter()
+                    .zip(&eb[..n])
+                    .map(|(x, y)| (x - y) * (x - y))
+                    .sum()
             }
         }
     }
@@ -129,9 +142,15 @@ mod tests {
     fn centroid_shape_with_unit_weights_is_positions() {
         let a = team(&[(1.0, 2.0), (3.0, 1.5), (0.2, -1.0), (4.0, 4.0)]);
         let b = team(&[(1.5, 2.5), (2.0, 1.0), (0.7, -0.2), (3.0, 5.0)]);
-        let cs = Metric::CentroidShape { centroid: 1.0, shape: 1.0 };
+        let cs = Metric::CentroidShape {
+            centroid: 1.0,
+            shape: 1.0,
+        };
         for n in 2..=4 {
-            let (p, q) = (Metric::Positions.distance(&a[..n], &b[..n]), cs.distance(&a[..n], &b[..n]));
+            let (p, q) = (
+                Metric::Positions.distance(&a[..n], &b[..n]),
+                cs.distance(&a[..n], &b[..n]),
+            );
             assert!((p - q).abs() < 1e-12, "n = {n}: {p} vs {q}");
         }
     }
@@ -141,18 +160,32 @@ mod tests {
         let a = team(&[(1.0, 2.0), (3.0, 2.0)]);
         let moved = team(&[(2.0, 2.0), (4.0, 2.0)]); // pure translation by 1
         let spread = team(&[(0.5, 2.0), (3.5, 2.0)]); // pure widening
-        let m = Metric::CentroidShape { centroid: 1.0, shape: 3.0 };
+        let m = Metric::CentroidShape {
+            centroid: 1.0,
+            shape: 3.0,
+        };
         assert!((m.distance(&a, &moved) - Metric::Positions.distance(&a, &moved)).abs() < 1e-12);
-        assert!((m.distance(&a, &spread) - 3.0 * Metric::Positions.distance(&a, &spread)).abs() < 1e-12);
+        assert!(
+            (m.distance(&a, &spread) - 3.0 * Metric::Positions.distance(&a, &spread)).abs() < 1e-12
+        );
     }
 
     #[test]
     fn parses_names() {
         assert_eq!(Metric::parse("positions"), Ok(Metric::Positions));
-        assert_eq!(Metric::parse("centroid-shape:1:2"), Ok(Metric::CentroidShape { centroid: 1.0, shape: 2.0 }));
+        assert_eq!(
+            Metric::parse("centroid-shape:1:2"),
+            Ok(Metric::CentroidShape {
+                centroid: 1.0,
+                shape: 2.0
+            })
+        );
         assert!(Metric::parse("centroid-shape:0:2").is_err());
         assert!(Metric::parse("manhattan").is_err());
-        let m = Metric::CentroidShape { centroid: 0.5, shape: 2.0 };
+        let m = Metric::CentroidShape {
+            centroid: 0.5,
+            shape: 2.0,
+        };
         assert_eq!(Metric::parse(&m.name()), Ok(m));
     }
 }

@@ -24,7 +24,9 @@ pub fn random_control(rng: &mut impl RngExt, gradient_limit: f64) -> Control {
 /// Integrates `start` under `u` for `duration` into `out` (no checks).
 #[inline]
 pub fn propagate(problem: &Problem, start: &[Vec2], u: &Control, duration: f64, out: &mut [Vec2]) {
-    problem.model.propagate_with(start, u, duration, out, |_| true);
+    problem
+        .model
+        .propagate_with(start, u, duration, out, |_| true);
 }
 
 /// Integrates `start` under `u` for `duration` into `out`, checking every integration step.

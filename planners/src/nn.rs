@@ -90,7 +90,12 @@ impl NearestNeighbors {
             let copies = (0..k).filter(|i| i % dims == j % dims).count();
             *w = 1.0 / (copies as f64).sqrt();
         }
-        NearestNeighbors { metric, dims, weights, index }
+        NearestNeighbors {
+            metric,
+            dims,
+            weights,
+            index,
+        }
     }
 
     /// The metric.
@@ -152,7 +157,10 @@ impl NearestNeighbors {
         }
         with_index!(self, t, K, {
             let p = self.point::<K>(s);
-            let r = t.query(&p).within::<SquaredEuclidean<f64>>(radius * radius).execute();
+            let r = t
+                .query(&p)
+                .within::<SquaredEuclidean<f64>>(radius * radius)
+                .execute();
             out.extend(r.into_iter().map(|q| (q.item, q.distance.sqrt())));
         })
     }
@@ -174,7 +182,12 @@ impl NearestNeighbors {
 
 /// The tree point of state `s`: the embedding, its first coordinates repeated up to K.
 #[inline]
-fn point_of<const K: usize>(metric: Metric, dims: usize, weights: &[f64; MAX_DIMS], s: &[Vec2]) -> [f64; K] {
+fn point_of<const K: usize>(
+    metric: Metric,
+    dims: usize,
+    weights: &[f64; MAX_DIMS],
+    s: &[Vec2],
+) -> [f64; K] {
     let mut e = [0.0; MAX_DIMS];
     metric.embed(s, &mut e);
     let mut p = [0.0; K];

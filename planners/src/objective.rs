@@ -53,7 +53,10 @@ impl Objective for PathLength {
     }
 
     fn cost_to_go(&self, s: &[Vec2], goal: &Goal) -> f64 {
-        s.iter().zip(&goal.agents).map(|(p, g)| ((p - g).norm() - goal.tolerance).max(0.0)).sum()
+        s.iter()
+            .zip(&goal.agents)
+            .map(|(p, g)| ((p - g).norm() - goal.tolerance).max(0.0))
+            .sum()
     }
 
     fn is_path_length(&self) -> bool {
@@ -87,7 +90,8 @@ impl Objective for Duration {
 
     fn cost_to_go(&self, s: &[Vec2], goal: &Goal) -> f64 {
         // every agent within tol of its goal centre puts the centroid within tol of theirs
-        ((centroid(s) - centroid(&goal.agents)).norm() - goal.tolerance).max(0.0) / self.max_centroid_speed
+        ((centroid(s) - centroid(&goal.agents)).norm() - goal.tolerance).max(0.0)
+            / self.max_centroid_speed
     }
 }
 
@@ -126,7 +130,9 @@ pub fn objective_by_name(name: &str, model: &PlanningModel) -> Option<Arc<dyn Ob
     let g = model.coil.gradient_limit();
     match name {
         "path-length" => Some(Arc::new(PathLength)),
-        "duration" => Some(Arc::new(Duration { max_centroid_speed: model.kinematics.pull_coeff * g })),
+        "duration" => Some(Arc::new(Duration {
+            max_centroid_speed: model.kinematics.pull_coeff * g,
+        })),
         "control-effort" => Some(Arc::new(ControlEffort { gradient_limit: g })),
         _ => None,
     }
@@ -143,14 +149,20 @@ pub fn plan_cost(problem: &crate::Problem, plan: &crate::Plan) -> f64 {
     for (u, &d) in plan.controls.iter().zip(&plan.durations) {
         let mut prev = state.clone();
         let mut length = 0.0;
-        problem.model.propagate_visit(&state, u, d, &mut next, &mut |s| {
-            for (p, q) in prev[..n].iter_mut().zip(s) {
-                length += (q - *p).norm();
-                *p = *q;
-            }
-            true
+        problem
+            .model
+            .propagate_visit(&state, u, d, &mut next, &mut |s| {
+                for (p, q) in prev[..n].iter_mut().zip(s) {
+                    length += (q - *p).norm();
+                    *p = *q;
+                }
+                true
+            });
+        cost += problem.objective.motion_cost(&Motion {
+            control: *u,
+            duration: d,
+            path_length: length,
         });
-        cost += problem.objective.motion_cost(&Motion { control: *u, duration: d, path_length: length });
         std::mem::swap(&mut state, &mut next);
     }
     cost

@@ -9,7 +9,9 @@ pub fn number(key: &str, value: &str, lo: f64, hi: f64) -> Result<f64, ParamErro
         .parse()
         .map_err(|_| ParamError::BadValue(format!("{key}: {value:?} is not a number")))?;
     if !v.is_finite() || v < lo || v > hi {
-        return Err(ParamError::BadValue(format!("{key}: {value} is outside [{lo}, {hi}]")));
+        return Err(ParamError::BadValue(format!(
+            "{key}: {value} is outside [{lo}, {hi}]"
+        )));
     }
     Ok(v)
 }
@@ -30,7 +32,9 @@ pub fn whole(key: &str, value: &str, lo: u64, hi: u64) -> Result<u64, ParamError
         .parse()
         .map_err(|_| ParamError::BadValue(format!("{key}: {value:?} is not a whole number")))?;
     if v < lo || v > hi {
-        return Err(ParamError::BadValue(format!("{key}: {value} is outside [{lo}, {hi}]")));
+        return Err(ParamError::BadValue(format!(
+            "{key}: {value} is outside [{lo}, {hi}]"
+        )));
     }
     Ok(v)
 }
@@ -40,7 +44,9 @@ pub fn boolean(key: &str, value: &str) -> Result<bool, ParamError> {
     match value.trim() {
         "true" | "1" | "yes" => Ok(true),
         "false" | "0" | "no" => Ok(false),
-        _ => Err(ParamError::BadValue(format!("{key}: {value:?} is not true or false"))),
+        _ => Err(ParamError::BadValue(format!(
+            "{key}: {value:?} is not true or false"
+        ))),
     }
 }
 
@@ -53,7 +59,9 @@ pub fn to_periods(seconds: f64, period: f64) -> u32 {
 /// Checks that a duration range is ordered.
 pub fn check_durations(min: f64, max: f64) -> Result<(), ParamError> {
     if min > max {
-        return Err(ParamError::BadValue(format!("min_duration {min} exceeds max_duration {max}")));
+        return Err(ParamError::BadValue(format!(
+            "min_duration {min} exceeds max_duration {max}"
+        )));
     }
     Ok(())
 }

@@ -23,7 +23,11 @@ impl Progress {
     pub fn start(problem: &Problem) -> Self {
         let max_iterations = problem.max_iterations();
         let time_limit = problem.limits.time_limit.map(|t| t.as_secs_f64());
-        let iteration_step = if max_iterations == u64::MAX { u64::MAX } else { (max_iterations / 100).max(1) };
+        let iteration_step = if max_iterations == u64::MAX {
+            u64::MAX
+        } else {
+            (max_iterations / 100).max(1)
+        };
         let mut p = Progress {
             start: Instant::now(),
             max_iterations,
@@ -34,7 +38,11 @@ impl Progress {
             best: None,
             trace: Vec::new(),
         };
-        p.trace.push(ProgressPoint { iteration: 0, time_s: 0.0, best_cost: None });
+        p.trace.push(ProgressPoint {
+            iteration: 0,
+            time_s: 0.0,
+            best_cost: None,
+        });
         p
     }
 
@@ -73,14 +81,26 @@ impl Progress {
             }
         }
         self.best = best;
-        self.trace.push(ProgressPoint { iteration, time_s: t, best_cost: best });
+        self.trace.push(ProgressPoint {
+            iteration,
+            time_s: t,
+            best_cost: best,
+        });
     }
 
     /// Closes the trace at `iteration` and returns it with the elapsed time.
     pub fn finish(mut self, iteration: u64, best: Option<f64>) -> (Vec<ProgressPoint>, f64) {
         let t = self.elapsed();
-        if self.trace.last().is_none_or(|p| p.iteration != iteration || p.best_cost != best) {
-            self.trace.push(ProgressPoint { iteration, time_s: t, best_cost: best });
+        if self
+            .trace
+            .last()
+            .is_none_or(|p| p.iteration != iteration || p.best_cost != best)
+        {
+            self.trace.push(ProgressPoint {
+                iteration,
+                time_s: t,
+                best_cost: best,
+            });
         }
         (self.trace, t)
     }

@@ -48,7 +48,10 @@ pub fn names() -> Vec<&'static str> {
 
 /// Every planner's name, summary and parameters with their defaults.
 pub fn list() -> Vec<(&'static str, &'static str, Vec<Param>)> {
-    PLANNERS.iter().map(|e| (e.name, e.summary, (e.make)().params())).collect()
+    PLANNERS
+        .iter()
+        .map(|e| (e.name, e.summary, (e.make)().params()))
+        .collect()
 }
 
 /// Creates planner `name` with parameters `params` (key, value); errors name `<command line>`.
@@ -58,23 +61,44 @@ pub fn create(name: &str, params: &[(String, String)]) -> Result<Box<dyn Planner
 
 /// Creates planner `name` with parameters `params`; errors name `source` (a file or
 /// `<command line>`), the field (`planner` or `param.KEY`) and the reason.
-pub fn create_in(source: &str, name: &str, params: &[(String, String)]) -> Result<Box<dyn Planner>, InputError> {
+pub fn create_in(
+    source: &str,
+    name: &str,
+    params: &[(String, String)],
+) -> Result<Box<dyn Planner>, InputError> {
     let entry = PLANNERS.iter().find(|e| e.name == name).ok_or_else(|| {
-        InputError::new(source, "planner", format!("unknown planner {name:?} (known: {})", names().join(", ")))
+        InputError::new(
+            source,
+            "planner",
+            format!("unknown planner {name:?} (known: {})", names().join(", ")),
+        )
     })?;
     let mut planner = (entry.make)();
     for (key, value) in params {
-        planner.set_param(key, value).map_err(|e| param_error(source, name, &*planner, key, e))?;
+        planner
+            .set_param(key, value)
+            .map_err(|e| param_error(source, name, &*planner, key, e))?;
     }
-    planner.check_params().map_err(|e| InputError::new(source, "param", format!("{name}: {e}")))?;
+    planner
+        .check_params()
+        .map_err(|e| InputError::new(source, "param", format!("{name}: {e}")))?;
     Ok(planner)
 }
 
-fn param_error(source: &str, name: &str, planner: &dyn Planner, key: &str, e: ParamError) -> InputError {
+fn param_error(
+    source: &str,
+    name: &str,
+    planner: &dyn Planner,
+    key: &str,
+    e: ParamError,
+) -> InputError {
     let reason = match e {
         ParamError::Unknown(_) => {
             let known: Vec<&str> = planner.params().iter().map(|p| p.name).collect();
-            format!("{name} has no parameter {key:?} (known: {})", known.join(", "))
+            format!(
+                "{name} has no parameter {key:?} (known: {})",
+                known.join(", ")
+            )
         }
         ParamError::BadValue(r) => r,
     };
@@ -85,14 +109,25 @@ fn param_error(source: &str, name: &str, planner: &dyn Planner, key: &str, e: Pa
 pub fn parse_assignment(source: &str, text: &str) -> Result<(String, String), InputError> {
     match text.split_once('=') {
         Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
-        _ => Err(InputError::new(source, "param", format!("{text:?} is not key=value"))),
+        _ => Err(InputError::new(
+            source,
+            "param",
+            format!("{text:?} is not key=value"),
+        )),
     }
 }
 
 /// Sets the problem's objective by name (`path-length`, `duration`, `control-effort`).
 pub fn set_objective(source: &str, problem: &mut Problem, name: &str) -> Result<(), InputError> {
     problem.objective = objective_by_name(name, &problem.model).ok_or_else(|| {
-        InputError::new(source, "objective", format!("unknown objective {name:?} (known: {})", OBJECTIVES.join(", ")))
+        InputError::new(
+            source,
+            "objective",
+            format!(
+                "unknown objective {name:?} (known: {})",
+                OBJECTIVES.join(", ")
+            ),
+        )
     })?;
     Ok(())
 }

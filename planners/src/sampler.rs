@@ -42,7 +42,10 @@ impl StateSampler {
     /// `q = (x_c, y_c, r, φ)`; for more agents, offsets uniform in the disk of radius r_max/2
     /// about the centroid, re-centred.
     pub fn uniform(&self, rng: &mut Rng, out: &mut [Vec2]) {
-        let c = Vec2::new(rng.random_range(0.0..self.width), rng.random_range(0.0..self.height));
+        let c = Vec2::new(
+            rng.random_range(0.0..self.width),
+            rng.random_range(0.0..self.height),
+        );
         if self.agents == 2 {
             let r = rng.random_range(self.r_min..self.r_max);
             let phi = rng.random_range(-PI..PI);
@@ -74,7 +77,12 @@ impl StateSampler {
 /// Draws with `draw` until the state is valid (the seed rejects samples in obstacles), at most
 /// `tries` times. Returns false when no draw was valid.
 #[inline]
-pub fn valid_sample(problem: &Problem, tries: usize, out: &mut [Vec2], mut draw: impl FnMut(&mut [Vec2])) -> bool {
+pub fn valid_sample(
+    problem: &Problem,
+    tries: usize,
+    out: &mut [Vec2],
+    mut draw: impl FnMut(&mut [Vec2]),
+) -> bool {
     for _ in 0..tries {
         draw(out);
         if problem.checker.is_valid(out) {
@@ -100,7 +108,13 @@ pub struct GoalZoom {
 
 impl GoalZoom {
     /// Draws a valid sample into `out`; false if none was found in [`SAMPLE_TRIES`] draws.
-    pub fn sample(&self, problem: &Problem, sampler: &StateSampler, rng: &mut Rng, out: &mut [Vec2]) -> bool {
+    pub fn sample(
+        &self,
+        problem: &Problem,
+        sampler: &StateSampler,
+        rng: &mut Rng,
+        out: &mut [Vec2],
+    ) -> bool {
         let zoom = rng.random::<f64>() < self.bias;
         valid_sample(problem, SAMPLE_TRIES, out, |s| {
             if zoom {

@@ -109,7 +109,14 @@ impl Tree {
     }
 
     /// Adds a node reached from `parent` by `control` held for `periods` control periods.
-    pub fn add(&mut self, parent: u32, state: &[Vec2], control: Control, periods: u32, cost: f64) -> u32 {
+    pub fn add(
+        &mut self,
+        parent: u32,
+        state: &[Vec2],
+        control: Control,
+        periods: u32,
+        cost: f64,
+    ) -> u32 {
         debug_assert_eq!(state.len(), self.agents);
         let id = match self.free.pop() {
             Some(id) => {
@@ -172,7 +179,10 @@ impl Tree {
 
     /// The children of node `i`.
     pub fn children(&self, i: u32) -> Children<'_> {
-        Children { tree: self, next: self.first_child[i as usize] }
+        Children {
+            tree: self,
+            next: self.first_child[i as usize],
+        }
     }
 
     /// True when node `i` has no children.
@@ -183,7 +193,10 @@ impl Tree {
 
     /// Removes leaf `i` (not the root); its slot is reused by a later [`Tree::add`].
     pub fn remove_leaf(&mut self, i: u32) {
-        assert!(i != 0 && self.is_leaf(i), "only non-root leaves are removed");
+        assert!(
+            i != 0 && self.is_leaf(i),
+            "only non-root leaves are removed"
+        );
         self.unlink(self.parent[i as usize], i);
         self.parent[i as usize] = NONE;
         self.free.push(i);
@@ -215,7 +228,11 @@ impl Tree {
         path.reverse();
         let mut plan = Plan::at(self.state(path[0]));
         for &k in &path[1..] {
-            plan.push(self.control(k), problem.periods(self.periods(k)), self.state(k).to_vec());
+            plan.push(
+                self.control(k),
+                problem.periods(self.periods(k)),
+                self.state(k).to_vec(),
+            );
         }
         plan
     }

@@ -41,7 +41,9 @@ pub enum PlanError {
         control: String,
     },
     /// A duration is not a positive whole multiple of the control period.
-    #[error("edge {edge}: duration {duration} s is not a positive whole multiple of the control period {period} s")]
+    #[error(
+        "edge {edge}: duration {duration} s is not a positive whole multiple of the control period {period} s"
+    )]
     BadDuration {
         /// Edge index.
         edge: usize,
@@ -75,7 +77,10 @@ pub enum PlanError {
 }
 
 fn deviation(a: &[Vec2], b: &[Vec2]) -> f64 {
-    a.iter().zip(b).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
 }
 
 /// Checks everything but the goal: shape, start, controls, durations, replay and the
@@ -91,7 +96,10 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
         )));
     }
     if let Some(i) = plan.states.iter().position(|s| s.len() != n) {
-        return Err(PlanError::Malformed(format!("state {i} has {} agents, the problem {n}", plan.states[i].len())));
+        return Err(PlanError::Malformed(format!(
+            "state {i} has {} agents, the problem {n}",
+            plan.states[i].len()
+        )));
     }
     let dev = deviation(&plan.states[0], &problem.start);
     if !(dev <= REPLAY_TOLERANCE) {
@@ -105,18 +113,31 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
     let mut next = state.clone();
     for (edge, (u, &d)) in plan.controls.iter().zip(&plan.durations).enumerate() {
         if !u.is_finite() || problem.model.coil.clamp(u).1 {
-            return Err(PlanError::BadControl { edge, control: format!("{u:?}") });
+            return Err(PlanError::BadControl {
+                edge,
+                control: format!("{u:?}"),
+            });
         }
         let k = d / period;
         if !(d.is_finite() && k.round() >= 1.0 && (k - k.round()).abs() <= 1e-9 * k.round()) {
-            return Err(PlanError::BadDuration { edge, duration: d, period });
+            return Err(PlanError::BadDuration {
+                edge,
+                duration: d,
+                period,
+            });
         }
-        if !problem.checker.motion_valid(&problem.model, &state, u, d, &mut next) {
+        if !problem
+            .checker
+            .motion_valid(&problem.model, &state, u, d, &mut next)
+        {
             return Err(PlanError::InvalidMotion { edge });
         }
         let dev = deviation(&next, &plan.states[edge + 1]);
         if !(dev <= REPLAY_TOLERANCE) {
-            return Err(PlanError::ReplayMismatch { edge, deviation: dev });
+            return Err(PlanError::ReplayMismatch {
+                edge,
+                deviation: dev,
+            });
         }
         std::mem::swap(&mut state, &mut next);
     }
@@ -128,7 +149,10 @@ pub fn validate_plan(problem: &Problem, plan: &Plan) -> Result<(), PlanError> {
     let end = validate_path(problem, plan)?;
     let distance = problem.goal.distance(&end);
     if !problem.goal.contains(&end) {
-        return Err(PlanError::NotInGoal { distance, tolerance: problem.goal.tolerance });
+        return Err(PlanError::NotInGoal {
+            distance,
+            tolerance: problem.goal.tolerance,
+        });
     }
     Ok(())
 }

@@ -56,7 +56,13 @@ pub struct GoalZoomRrt {
 
 impl Default for GoalZoomRrt {
     fn default() -> Self {
-        GoalZoomRrt { tries: 10, min_duration: 1.0 / 60.0, max_duration: 0.5, goal_bias: 0.1, zoom_radius: 1.5 }
+        GoalZoomRrt {
+            tries: 10,
+            min_duration: 1.0 / 60.0,
+            max_duration: 0.5,
+            goal_bias: 0.1,
+            zoom_radius: 1.5,
+        }
     }
 }
 
@@ -73,7 +79,10 @@ impl Planner for GoalZoomRrt {
             min_periods: to_periods(self.min_duration, problem.control_period),
             max_periods: to_periods(self.max_duration, problem.control_period),
         };
-        let zoom = GoalZoom { bias: self.goal_bias, radius: self.zoom_radius };
+        let zoom = GoalZoom {
+            bias: self.goal_bias,
+            radius: self.zoom_radius,
+        };
         let sampler = StateSampler::new(problem);
         let mut progress = Progress::start(problem);
 
@@ -96,10 +105,15 @@ impl Planner for GoalZoomRrt {
                 let (u, periods) = (ext.control, ext.periods);
                 let d = problem.periods(periods);
                 if periods > 0
-                    && let Some(length) = propagate_checked(problem, tree.state(near), &u, d, &mut q_new[..n])
+                    && let Some(length) =
+                        propagate_checked(problem, tree.state(near), &u, d, &mut q_new[..n])
                 {
                     let cost = tree.cost(near)
-                        + problem.objective.motion_cost(&Motion { control: u, duration: d, path_length: length });
+                        + problem.objective.motion_cost(&Motion {
+                            control: u,
+                            duration: d,
+                            path_length: length,
+                        });
                     let id = tree.add(near, &q_new[..n], u, periods, cost);
                     nn.add(&q_new[..n], id);
                     let dist = problem.goal.distance(&q_new[..n]);
@@ -116,18 +130,42 @@ impl Planner for GoalZoomRrt {
 
         // τ ← computePlan(T) by backtracking
         let node = reached.unwrap_or(closest.0);
-        let best = Best { plan: tree.plan_to(node, problem), solved: reached.is_some(), cost: tree.cost(node) };
+        let best = Best {
+            plan: tree.plan_to(node, problem),
+            solved: reached.is_some(),
+            cost: tree.cost(node),
+        };
         let first = reached.map(|_| (i, progress.elapsed()));
         finish(problem, best, i, tree.len(), progress, first)
     }
 
     fn params(&self) -> Vec<Param> {
         vec![
-            Param { name: "k", value: self.tries.to_string(), help: "EXTEND's random (control, duration) tries per iteration" },
-            Param { name: "min_duration", value: self.min_duration.to_string(), help: "shortest edge (s), rounded to whole 1/60 s periods" },
-            Param { name: "max_duration", value: self.max_duration.to_string(), help: "longest edge (s), rounded to whole 1/60 s periods" },
-            Param { name: "goal_bias", value: self.goal_bias.to_string(), help: "probability of sampling the goal-zoom region" },
-            Param { name: "zoom_radius", value: self.zoom_radius.to_string(), help: "radius of each agent's goal-zoom disk (BL)" },
+            Param {
+                name: "k",
+                value: self.tries.to_string(),
+                help: "EXTEND's random (control, duration) tries per iteration",
+            },
+            Param {
+                name: "min_duration",
+                value: self.min_duration.to_string(),
+                help: "shortest edge (s), rounded to whole 1/60 s periods",
+            },
+            Param {
+                name: "max_duration",
+                value: self.max_duration.to_string(),
+                help: "longest edge (s), rounded to whole 1/60 s periods",
+            },
+            Param {
+                name: "goal_bias",
+                value: self.goal_bias.to_string(),
+                help: "probability of sampling the goal-zoom region",
+            },
+            Param {
+                name: "zoom_radius",
+                value: self.zoom_radius.to_string(),
+                help: "radius of each agent's goal-zoom disk (BL)",
+            },
         ]
     }
 

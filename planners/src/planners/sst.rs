@@ -4,6 +4,10 @@ use crate::{Planner, PlannerResult, Problem};
 #[derive(Debug, Clone, Default)]
 pub struct Sst;
 impl Planner for Sst {
-    fn name(&self) -> &str { "sst" }
-    fn solve(&mut self, _problem: &Problem) -> PlannerResult { todo!() }
+    fn name(&self) -> &str {
+        "sst"
+    }
+    fn solve(&mut self, _problem: &Problem) -> PlannerResult {
+        todo!()
+    }
 }
