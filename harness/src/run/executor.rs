@@ -1,6 +1,8 @@
 //! The executor seam: checks components by name and runs one [`RunSpec`].
 
+use std::cell::RefCell;
 use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Once;
 
 use super::{ProgressRow, RunRecord, RunSpec, Status, Variant};
 
@@ -56,24 +58,67 @@ pub fn base_record(spec: &RunSpec) -> RunRecord {
     r
 }
 
+thread_local! {
+    /// Inside [`execute_caught`] on this thread: the message of the latest panic.
+    static CAUGHT: RefCell<Option<Option<String>>> = const { RefCell::new(None) };
+}
+
+static HOOK: Once = Once::new();
+
+/// Installs (once) a panic hook that stays quiet for panics inside [`execute_caught`], whose
+/// message and location go into the run's `error` column instead, and defers to the previous
+/// hook for every other panic.
+fn install_hook() {
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            let caught = CAUGHT.with(|c| {
+                let mut c = c.borrow_mut();
+                if let Some(slot) = c.as_mut() {
+                    let msg = info
+                        .payload()
+                        .downcast_ref::<String>()
+                        .cloned()
+                        .or_else(|| info.payload().downcast_ref::<&str>().map(|s| s.to_string()))
+                        .unwrap_or_else(|| "unknown panic".into());
+                    let at = info
+                        .location()
+                        .map(|l| format!(" at {}:{}", l.file(), l.line()))
+                        .unwrap_or_default();
+                    *slot = Some(format!("panic: {msg}{at}"));
+                    true
+                } else {
+                    false
+                }
+            });
+            if !caught {
+                previous(info);
+            }
+        }));
+    });
+}
+
 /// Executes `spec`, turning an error or a panic into a `crash` row so that one bad run never
 /// ends a sweep.
 pub fn execute_caught(ex: &dyn Executor, spec: &RunSpec) -> RunOutput {
+    install_hook();
+    CAUGHT.with(|c| *c.borrow_mut() = Some(None));
     let out = catch_unwind(AssertUnwindSafe(|| ex.execute(spec)));
+    let hooked = CAUGHT.with(|c| c.borrow_mut().take()).flatten();
     let error = match out {
         Ok(Ok(mut o)) => {
             o.record.error = one_line(&o.record.error);
             return o;
         }
         Ok(Err(e)) => e,
-        Err(panic) => {
+        Err(panic) => hooked.unwrap_or_else(|| {
             let msg = panic
                 .downcast_ref::<String>()
                 .cloned()
                 .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_else(|| "unknown panic".into());
             format!("panic: {msg}")
-        }
+        }),
     };
     let mut r = base_record(spec);
     r.status = Status::Crash;
