@@ -58,6 +58,56 @@ fn results_are_identical_at_one_and_two_threads() {
     ] {
         assert!(a.join(f).is_file(), "{f} missing");
     }
+    for sc in ["micro-factory", "open-field"] {
+        for p in [
+            "success-vs-iterations",
+            "success-vs-time",
+            "cost-vs-iterations",
+            "time-to-first-solution",
+            "final-cost",
+            "rms-error",
+            "max-error",
+            "rms-error-cdf",
+        ] {
+            for ext in ["svg", "png"] {
+                let f = a.join("plots").join(sc).join(format!("{p}.{ext}"));
+                assert!(
+                    std::fs::metadata(&f)
+                        .map(|m| m.len() > 2000)
+                        .unwrap_or(false),
+                    "{} missing or empty",
+                    f.display()
+                );
+            }
+        }
+    }
+    // The report is one self-contained page: inline SVG, no scripts, no remote resources.
+    let html = std::fs::read_to_string(a.join("report.html")).unwrap();
+    assert_eq!(html.matches("<svg").count(), 16);
+    let without_ns = html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "");
+    assert!(
+        !html.contains("<script")
+            && !without_ns.contains("http://")
+            && !without_ns.contains("https://")
+            && !html.contains(" src=")
+    );
+    assert!(html.contains("fake{cost=8,p=0.4,spin=2000} + fake{gain=0.5} (realistic)"));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(a.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(m["runs_done"], 64);
+    assert_eq!(m["threads"], 1);
+    assert!(
+        m["experiment"]["content"]
+            .as_str()
+            .unwrap()
+            .contains("fake-test")
+    );
+    assert_eq!(m["experiment"]["sha256"].as_str().unwrap().len(), 64);
+    assert!(
+        m["finished"].is_string()
+            && m["host"]["name"].is_string()
+            && m["crate_versions"]["magbench-env"].is_string()
+    );
 }
 
 #[test]
