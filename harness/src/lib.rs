@@ -7,6 +7,7 @@ pub mod cli;
 pub mod error;
 pub mod experiment;
 pub mod plot;
+pub mod regress;
 pub mod results;
 pub mod run;
 pub mod stats;

@@ -2,6 +2,7 @@
 
 mod bench;
 mod merge;
+mod regress;
 mod scenario;
 mod stlc;
 
@@ -34,6 +35,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Join the results folders of shards (`bench --shard I/N`) into one.
     Merge(merge::MergeArgs),
+    /// Compare a results folder against a baseline; exit 1 on a significant regression.
+    Regress(regress::RegressArgs),
 }
 
 /// Runs a parsed command line.
@@ -43,5 +46,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Stlc(a) => stlc::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Merge(a) => merge::run(a),
+        Command::Regress(a) => regress::run(a),
     }
 }

@@ -5,7 +5,9 @@
 //! `p`; the first solution arrives at a random iteration and its cost falls towards `cost`.
 //! `spin` burns that many rounds of CPU work (for speed-up measurements), `sleep_ms` sleeps.
 //! Tracker `fake{gain=1}`: RMS error ≈ 0.1/gain BL, reaching the goal while the error is small.
-//! Everything is drawn from a ChaCha8 stream seeded by a hash of the run id.
+//! Everything is drawn from a ChaCha8 stream seeded by a hash of the run id. The environment
+//! variable `MAGBENCH_FAKE_TRACKER_GAIN_SCALE` scales every fake tracker's gain, to inject a
+//! "code change" without changing the configuration's label (regression-check tests).
 
 use std::time::{Duration, Instant};
 
@@ -138,7 +140,11 @@ impl Executor for FakeExecutor {
         r.plan_duration_s = 10.0 + 30.0 * rng.random::<f64>();
         if let Some(tv) = &spec.tracker {
             let mut trng = ChaCha8Rng::seed_from_u64(seed_of(&spec.id()));
-            let gain = num(tv, "gain", 1.0).max(1e-6);
+            let scale = std::env::var("MAGBENCH_FAKE_TRACKER_GAIN_SCALE")
+                .ok()
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(1.0);
+            let gain = (num(tv, "gain", 1.0) * scale).max(1e-6);
             let noise = if spec.preset.as_deref() == Some("realistic") {
                 1.5
             } else {
