@@ -26,7 +26,13 @@ pub struct Reference {
     edges: Vec<usize>,
     /// Cumulative path length per agent at each sample, sample-major.
     arc: Vec<f64>,
+    /// Bounding circles of each agent's polyline in chunks of [`CHUNK`] segments:
+    /// `chunks[i]` holds (centre, radius) of chunk `j` covering samples `CHUNK·j ..= CHUNK·(j+1)`.
+    chunks: Vec<Vec<(Vec2, f64)>>,
 }
+
+/// Segments per bounding circle of the path-distance index.
+const CHUNK: usize = 32;
 
 impl Reference {
     /// Resamples `plan` at every integration step of `model`.
@@ -61,6 +67,7 @@ impl Reference {
             }
             t0 += d;
         }
+        r.index();
         r
     }
 
@@ -76,6 +83,7 @@ impl Reference {
             }
             r.push_sample(*t, s);
         }
+        r.index();
         r
     }
 
@@ -87,6 +95,32 @@ impl Reference {
             controls: vec![],
             edges: vec![],
             arc: vec![],
+            chunks: vec![vec![]; agents],
+        }
+    }
+
+    /// Rebuilds the bounding circles of the chunks.
+    fn index(&mut self) {
+        let n = self.agents;
+        let last = self.last();
+        for i in 0..n {
+            let mut v = vec![];
+            let mut lo = 0;
+            while lo < last.max(1) {
+                let hi = (lo + CHUNK).min(last);
+                let pts = (lo..=hi).map(|k| self.point(k, i));
+                let (mut min, mut max) =
+                    (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY));
+                for p in pts.clone() {
+                    min = min.inf(&p);
+                    max = max.sup(&p);
+                }
+                let c = (min + max) * 0.5;
+                let r = pts.map(|p| (p - c).norm()).fold(0.0, f64::max);
+                v.push((c, r));
+                lo += CHUNK;
+            }
+            self.chunks[i] = v;
         }
     }
 
@@ -224,9 +258,29 @@ impl Reference {
         best
     }
 
-    /// Distance from `p` to agent `i`'s whole planned polyline (BL).
+    /// Distance from `p` to agent `i`'s whole planned polyline (BL). Chunks whose bounding
+    /// circle is further than the best distance so far are skipped.
     pub fn distance_to_path(&self, i: usize, p: Vec2) -> f64 {
-        self.distance_to_path_in(i, p, 0..self.len()).0
+        if self.last() == 0 {
+            return (p - self.point(0, i)).norm();
+        }
+        let chunks = &self.chunks[i];
+        let mut order: Vec<(f64, usize)> = chunks
+            .iter()
+            .enumerate()
+            .map(|(j, (c, r))| ((p - c).norm() - r, j))
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut best = f64::INFINITY;
+        for (lb, j) in order {
+            if lb >= best {
+                break;
+            }
+            let lo = j * CHUNK;
+            let hi = (lo + CHUNK).min(self.last());
+            best = best.min(self.distance_to_path_in(i, p, lo..hi + 1).0);
+        }
+        best
     }
 
     /// Agent `i`'s planned polyline.
@@ -305,6 +359,12 @@ mod tests {
         assert!(r.distance_to_path(0, mid) < 1e-12);
         let off = r.point(30, 1) + Vec2::new(0.0, 3.0);
         assert!(r.distance_to_path(1, off) > 1.0);
+        // the chunked search agrees with the plain scan
+        for k in (0..r.len()).step_by(7) {
+            let q = r.point(k, 0) + Vec2::new(0.3 * (k as f64).sin(), 0.2);
+            let plain = r.distance_to_path_in(0, q, 0..r.len()).0;
+            assert!((r.distance_to_path(0, q) - plain).abs() < 1e-15);
+        }
         let (k, d) = r.nearest_sample(r.state(42), 0..r.len());
         assert_eq!((k, d), (42, 0.0));
         assert!(r.index_ahead(0, 0.2) > 0);
