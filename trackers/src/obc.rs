@@ -23,6 +23,8 @@ pub struct ObcParams {
     pub window: f64,
     /// How far back the proximity controller looks for the nearest sample (s).
     pub back: f64,
+    /// Offer the plan's own control to the optimizer as an extra candidate (feedforward).
+    pub feedforward: bool,
     /// The optimizer's weights.
     pub weights: ObcWeights,
 }
@@ -33,6 +35,7 @@ impl Default for ObcParams {
             eps: 0.15,
             window: 1.0,
             back: 1.0,
+            feedforward: true,
             weights: ObcWeights::default(),
         }
     }
@@ -105,7 +108,9 @@ impl Tracker for Obc {
             let j = (k + lead).min(r.last());
             // the plan's control is exact only while one edge covers the whole horizon
             let hint = match (r.edge(k), r.edge(j.saturating_sub(1))) {
-                (Some(a), Some(b)) if a == b && j == k + lead => r.control(k).copied(),
+                (Some(a), Some(b)) if self.params.feedforward && a == b && j == k + lead => {
+                    r.control(k).copied()
+                }
                 _ => None,
             };
             (r.state(j).to_vec(), hint)

@@ -57,7 +57,7 @@ impl Default for ObcWeights {
             w_prox: 1e3,
             prox_margin: 0.15,
             wall_margin: 0.05,
-            grid: 180,
+            grid: 72,
             refine: 12,
             horizon: 1,
         }
@@ -264,8 +264,9 @@ impl ObcOptimizer {
         let inv_n = 1.0 / n as f64;
         let c0 = pred[..n].iter().sum::<Vec2>() * inv_n;
         let ct = target.iter().sum::<Vec2>() * inv_n;
-        let grad = self.best_gradient(theta, ct - c0);
-        let shift = self.pull_displacement(theta, grad);
+        let (ax, ay) = self.pull_axes(theta);
+        let grad = self.best_gradient(ax, ay, ct - c0);
+        let shift = ax * grad[0] + ay * grad[1];
         for p in &mut pred[..n] {
             *p += shift;
         }
@@ -356,14 +357,9 @@ impl ObcOptimizer {
         (Vec2::new(ax.x, ax.y) * k, Vec2::new(ay.x, ay.y) * k)
     }
 
-    fn pull_displacement(&self, theta: f64, grad: [f64; 2]) -> Vec2 {
-        let (ax, ay) = self.pull_axes(theta);
-        ax * grad[0] + ay * grad[1]
-    }
-
-    /// The gradient (within bounds) whose displacement best matches `want`.
-    fn best_gradient(&self, theta: f64, want: Vec2) -> [f64; 2] {
-        let (ax, ay) = self.pull_axes(theta);
+    /// The gradient (within bounds) whose displacement (`ax` per unit G_x, `ay` per unit G_y)
+    /// best matches `want`.
+    fn best_gradient(&self, ax: Vec2, ay: Vec2, want: Vec2) -> [f64; 2] {
         let g = self.g_max;
         let scale = ax.norm().max(ay.norm()).max(1e-300);
         if ax.y.abs() <= 1e-12 * scale && ay.x.abs() <= 1e-12 * scale {

@@ -152,7 +152,7 @@ const OPTIMIZER_PARAMS: &[ParamSpec] = &[
     ),
     int(
         "grid",
-        180.0,
+        72.0,
         4.0,
         100_000.0,
         "field angles on the brute-force grid over [0, π)",
@@ -194,6 +194,13 @@ const OBC_PARAMS: &[ParamSpec] = &[
         0.0,
         1e4,
         "how far back the proximity controller seeks the nearest sample (s)",
+    ),
+    int(
+        "feedforward",
+        1.0,
+        0.0,
+        1.0,
+        "1 = offer the plan's own control as a candidate, 0 = grid only",
     ),
 ];
 
@@ -408,6 +415,7 @@ impl TrackerSpec {
                 eps: self.get("eps"),
                 window: self.get("window"),
                 back: self.get("back"),
+                feedforward: self.get("feedforward") != 0.0,
                 weights: self.weights(),
             })),
             "lookahead" => Box::new(Lookahead::new(LookaheadParams {

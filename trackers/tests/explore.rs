@@ -68,3 +68,28 @@ fn explore_random_plans() {
         );
     }
 }
+
+#[test]
+#[ignore]
+fn write_micro_factory_plan() {
+    let s = scenario("micro-factory");
+    let model = PlanningModel::new(&s.physics);
+    let checker = s.checker_for_leg(0);
+    let plan = steer_plan(
+        &model,
+        &checker,
+        &s.start,
+        &micro_factory_waypoints(&s),
+        0.4,
+        0.2,
+        600.0,
+    )
+    .expect("a plan");
+    println!(
+        "plan: {} edges, {:.1} s, ends in goal: {}",
+        plan.edges(),
+        plan.duration(),
+        s.legs[0].goal.contains(plan.end())
+    );
+    std::fs::write("/tmp/mf-plan.json", serde_json::to_string(&plan).unwrap()).unwrap();
+}

@@ -119,12 +119,20 @@ pub fn steer_plan(
         }
         let sol = opt.solve(&s, &target, last.as_ref(), None);
         if !checker.motion_valid(model, &s, &sol.control, FRAME, &mut out) {
+            if std::env::var("STEER_DEBUG").is_ok() {
+                eprintln!(
+                    "steer: invalid motion at t = {t:.2} s, waypoint {w}, state {s:?}, target {target:?}"
+                );
+            }
             return None;
         }
         plan.push(sol.control, FRAME, out.clone());
         s.copy_from_slice(&out);
         last = Some(sol.control);
         t += FRAME;
+    }
+    if std::env::var("STEER_DEBUG").is_ok() {
+        eprintln!("steer: out of time at waypoint {w}, state {s:?}");
     }
     None
 }
@@ -230,4 +238,23 @@ pub fn cargo_waypoints(s: &Scenario) -> Vec<Vec<Vec<Vec2>>> {
 /// Scenario by name.
 pub fn scenario(name: &str) -> Scenario {
     Scenario::load(name).unwrap()
+}
+
+/// Waypoints through micro-factory: up channel 1 (the pair upright past the circle), over the
+/// first wall, down channel 2, under the second wall, and into the two pockets.
+pub fn micro_factory_waypoints(s: &Scenario) -> Vec<Vec<Vec2>> {
+    vec![
+        pair([8.0, 6.0], 2.5, 60.0),
+        pair([9.75, 10.0], 2.5, 90.0),
+        pair([9.75, 19.0], 2.5, 90.0),
+        pair([11.0, 24.5], 2.5, 30.0),
+        pair([18.0, 25.0], 2.5, 0.0),
+        pair([21.0, 17.0], 2.5, 90.0),
+        pair([22.5, 12.0], 2.5, 45.0),
+        pair([24.0, 9.5], 2.5, 0.0),
+        pair([30.0, 9.5], 2.5, 0.0),
+        pair([38.0, 10.0], 3.5, 0.0),
+        pair([42.0, 8.5], 4.0, 0.0),
+        s.legs[0].goal.agents.clone(),
+    ]
 }
