@@ -5,6 +5,7 @@ mod merge;
 mod regress;
 mod scenario;
 mod stlc;
+mod track;
 
 use clap::{Parser, Subcommand};
 
@@ -37,6 +38,8 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Compare a results folder against a baseline; exit 1 on a significant regression.
     Regress(regress::RegressArgs),
+    /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
+    Track(track::TrackArgs),
 }
 
 /// Runs a parsed command line.
@@ -47,5 +50,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Bench(a) => bench::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Regress(a) => regress::run(a),
+        Command::Track(a) => track::run(a),
     }
 }
