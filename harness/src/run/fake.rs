@@ -155,6 +155,7 @@ impl Executor for FakeExecutor {
             r.max_error_bl = Some(rms * (2.0 + trng.random::<f64>()));
             let reached = solved && rms < 0.3 && trng.random::<f64>() < 0.97;
             r.reached_goal = Some(reached);
+            r.track_status = if reached { "reached-goal" } else { "timeout" }.into();
             r.time_to_goal_s =
                 reached.then(|| r.plan_duration_s * (1.0 + 0.1 * trng.random::<f64>()));
             r.final_distance_bl = Some(if reached {

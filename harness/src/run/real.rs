@@ -6,11 +6,20 @@
 //! `centroid-shape:W_C:W_S`). A scenario with several legs is planned leg by leg, each leg
 //! from the end of the previous leg's plan with the full limits; the run is solved when every
 //! leg is, and its iterations, nodes, times, costs and progress add up over the legs.
+//!
+//! With a tracker, the run plans the first leg (the planner columns describe that plan), then
+//! tracks it in closed loop against env's simulated plant under the run's disturbance preset
+//! (`magbench_trackers::simulate`, seeded by the run's seed); the tracking loop replans each
+//! later leg from the observed state, and on a persistent tracking error, with the same planner.
 
 use std::time::Duration;
 
+use std::time::Instant;
+
+use magbench_env::plant::DisturbancePreset;
 use magbench_planners::registry;
 use magbench_planners::{Limits, Plan, PlannerResult, Problem};
+use magbench_trackers::{Mission, TrackerSpec, simulate};
 
 use super::executor::base_record;
 use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
@@ -55,12 +64,13 @@ pub fn problem(
     Ok(p)
 }
 
-/// Plans every leg of the run's scenario in turn; returns each leg's result.
-pub fn plan_legs(spec: &RunSpec) -> Result<Vec<PlannerResult>, String> {
+/// Plans the first `legs` legs of the run's scenario in turn (stopping at an unsolved leg);
+/// returns each leg's result.
+pub fn plan_legs(spec: &RunSpec, legs: usize) -> Result<Vec<PlannerResult>, String> {
     let params = planner_params(&spec.planner);
     let mut start = spec.scenario.start.clone();
     let mut out = vec![];
-    for leg in 0..spec.scenario.legs.len() {
+    for leg in 0..legs.min(spec.scenario.legs.len()) {
         let mut planner = registry::create_in(&spec.experiment, &spec.planner.name, &params)
             .map_err(|e| e.reason)?;
         let p = problem(spec, leg, &start)?;
@@ -92,11 +102,11 @@ pub fn joined_plan(legs: &[PlannerResult]) -> Plan {
 
 /// Fills the planner columns of `rec` and returns the joined progress trace.
 fn fill_planning(
-    spec: &RunSpec,
     legs: &[PlannerResult],
+    all_legs: usize,
+    spec: &RunSpec,
     rec: &mut super::RunRecord,
 ) -> Vec<ProgressRow> {
-    let all_legs = spec.scenario.legs.len();
     let solved = legs.len() == all_legs && legs.iter().all(|r| r.solved);
     let last = legs.last().expect("at least one leg");
     rec.solved = solved;
@@ -166,18 +176,67 @@ impl Executor for RealExecutor {
     }
 
     fn check_tracker(&self, v: &Variant) -> Result<(), String> {
-        Err(format!(
-            "unknown tracker {:?}: the tracker registry is not available in this build yet",
-            v.name
-        ))
+        TrackerSpec::parse(&v.name, &v.params_as_strings(), "")
+            .map(|_| ())
+            .map_err(|e| e.reason)
     }
 
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {
         let mut rec = base_record(spec);
-        let legs = plan_legs(spec)?;
-        let progress = fill_planning(spec, &legs, &mut rec);
-        if spec.tracker.is_some() {
-            return Err("tracking is not available in this build yet".into());
+        let Some(tv) = &spec.tracker else {
+            let n = spec.scenario.legs.len();
+            let legs = plan_legs(spec, n)?;
+            let progress = fill_planning(&legs, n, spec, &mut rec);
+            return Ok(RunOutput {
+                record: rec,
+                progress,
+            });
+        };
+        let legs = plan_legs(spec, 1)?;
+        let progress = fill_planning(&legs, 1, spec, &mut rec);
+        let first = legs.into_iter().next().expect("one leg planned");
+        let tspec = TrackerSpec::parse(&tv.name, &tv.params_as_strings(), &spec.experiment)
+            .map_err(|e| e.reason)?;
+        let preset_name = spec.preset.as_deref().unwrap_or("ideal");
+        let preset = DisturbancePreset::by_name(preset_name)
+            .ok_or_else(|| format!("unknown preset {preset_name:?}"))?;
+        let mut planner = registry::create_in(
+            &spec.experiment,
+            &spec.planner.name,
+            &planner_params(&spec.planner),
+        )
+        .map_err(|e| e.reason)?;
+        let limits = problem(spec, 0, &spec.scenario.start)?.limits;
+        let mission = Mission {
+            scenario: &spec.scenario,
+            plan: Some(first.plan),
+            plan_time_s: first.time_s,
+            plan_solved: first.solved,
+            planner: Some(planner.as_mut()),
+            limits: Some(limits),
+            seed: spec.seed,
+        };
+        let mut tracker = tspec.build();
+        let opts = tspec.loop_options();
+        let t0 = Instant::now();
+        let out = simulate(mission, tracker.as_mut(), &preset, &opts);
+        let m = &out.metrics;
+        rec.track_status = m.status.as_str().to_string();
+        rec.reached_goal = Some(m.reached_goal);
+        rec.time_to_goal_s = m.time_to_goal_s;
+        rec.rms_error_bl = Some(m.rms_error_bl);
+        rec.max_error_bl = Some(m.max_error_bl);
+        rec.rms_error_worst_agent_bl = Some(m.rms_error_worst_agent_bl);
+        rec.legs_completed = Some(m.legs_completed as u64);
+        rec.final_distance_bl = Some(m.final_goal_distance_bl);
+        rec.agent_contact = Some(m.agent_contact);
+        rec.wall_contacts = Some(m.wall_contacts as u64);
+        rec.missed_frames = Some(m.missed_frames as u64);
+        rec.replans = Some(m.replans as u64);
+        rec.track_duration_s = Some(m.duration_s);
+        rec.track_time_s = Some(t0.elapsed().as_secs_f64());
+        if let Some(msg) = &out.message {
+            rec.error = msg.clone();
         }
         Ok(RunOutput {
             record: rec,

@@ -99,6 +99,8 @@ pub struct RunRecord {
     /// Duration of the plan (s of motion).
     pub plan_duration_s: f64,
 
+    /// How tracking ended (`reached-goal`, `timeout`, `agent-contact`, ...; empty: no tracking).
+    pub track_status: String,
     /// The tracked run reached the goal.
     pub reached_goal: Option<bool>,
     /// Simulated time to reach the goal (s).
@@ -107,6 +109,10 @@ pub struct RunRecord {
     pub rms_error_bl: Option<f64>,
     /// Largest distance to the reference path (BL).
     pub max_error_bl: Option<f64>,
+    /// RMS tracking error of the worst agent (BL).
+    pub rms_error_worst_agent_bl: Option<f64>,
+    /// Legs completed while tracking.
+    pub legs_completed: Option<u64>,
     /// Largest agent distance from its goal centre at the end of tracking (BL).
     pub final_distance_bl: Option<f64>,
     /// Agents touched (they stick: a failure).
@@ -186,10 +192,13 @@ impl RunRecord {
             first_solution_time_s: None,
             plan_edges: 0,
             plan_duration_s: 0.0,
+            track_status: String::new(),
             reached_goal: None,
             time_to_goal_s: None,
             rms_error_bl: None,
             max_error_bl: None,
+            rms_error_worst_agent_bl: None,
+            legs_completed: None,
             final_distance_bl: None,
             agent_contact: None,
             wall_contacts: None,

@@ -97,6 +97,11 @@ fn properties(r: &RunRecord) -> BTreeMap<&'static str, String> {
             opt(r.reached_goal.map(|b| b as u8)),
         );
         p.insert("tracking replans INTEGER", opt(r.replans));
+        p.insert("tracking legs completed INTEGER", opt(r.legs_completed));
+        p.insert(
+            "tracking worst agent rms error REAL",
+            optf(r.rms_error_worst_agent_bl),
+        );
         p.insert("tracking rms error REAL", optf(r.rms_error_bl));
         p.insert("tracking time REAL", optf(r.track_time_s));
         p.insert("tracking time to goal REAL", optf(r.time_to_goal_s));
