@@ -29,6 +29,8 @@ pub struct Tolerances {
     pub relative: f64,
     /// Largest acceptable relative growth of a median for wall-clock metrics (machines differ).
     pub time: f64,
+    /// Compare wall-clock metrics at all.
+    pub wall_clock: bool,
 }
 
 impl Default for Tolerances {
@@ -38,6 +40,7 @@ impl Default for Tolerances {
             success: 0.10,
             relative: 0.10,
             time: 1.0,
+            wall_clock: true,
         }
     }
 }
@@ -213,6 +216,9 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             tests: Some((p_worse, p_better, rb - rc > tol.success, rc > rb)),
         });
         for (name, f, wall) in METRICS {
+            if wall && !tol.wall_clock {
+                continue;
+            }
             let xb: Vec<f64> = b
                 .iter()
                 .filter_map(|r| f(r))

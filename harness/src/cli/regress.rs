@@ -28,6 +28,9 @@ pub struct RegressArgs {
     /// Largest acceptable relative growth of the median wall-clock times.
     #[arg(long, default_value_t = Tolerances::default().time)]
     pub time_tolerance: f64,
+    /// Leave out the wall-clock metrics (for results from different machines).
+    #[arg(long)]
+    pub no_time: bool,
 }
 
 /// Runs `magbench regress`.
@@ -59,6 +62,7 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
         success: a.success_tolerance,
         relative: a.tolerance,
         time: a.time_tolerance,
+        wall_clock: !a.no_time,
     };
     let rows = compare(&read_runs(&a.baseline)?, &read_runs(&a.current)?, &tol);
     print!("{}", table(&rows));
@@ -67,7 +71,7 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
         .filter(|r| matches!(r.verdict, Verdict::Regression | Verdict::Missing))
         .count();
     println!(
-        "\n{} metrics compared (one-sided tests at α = {}; tolerances: success −{:.0} points, error/cost +{:.0}%, time +{:.0}%): {}",
+        "\n{} metrics compared (one-sided tests at α = {}, Holm-adjusted; tolerances: success −{:.0} points, error/cost +{:.0}%, time +{:.0}%): {}",
         rows.len(),
         tol.alpha,
         100.0 * tol.success,
