@@ -6,6 +6,7 @@
 pub mod cli;
 pub mod error;
 pub mod experiment;
+pub mod figures;
 pub mod plot;
 pub mod regress;
 pub mod results;

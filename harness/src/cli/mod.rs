@@ -1,6 +1,7 @@
 //! Command-line interface: one file per subcommand.
 
 mod bench;
+mod figures;
 mod merge;
 mod regress;
 mod scenario;
@@ -38,6 +39,8 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Compare a results folder against a baseline; exit 1 on a significant regression.
     Regress(regress::RegressArgs),
+    /// Regenerate the paper figures (SVG and PNG) from fixed seeds.
+    Figures(figures::FiguresArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
     Track(track::TrackArgs),
 }
@@ -50,6 +53,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Bench(a) => bench::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Regress(a) => regress::run(a),
+        Command::Figures(a) => figures::run(a),
         Command::Track(a) => track::run(a),
     }
 }
