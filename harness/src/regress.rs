@@ -31,6 +31,9 @@ pub struct Tolerances {
     pub time: f64,
     /// Compare wall-clock metrics at all.
     pub wall_clock: bool,
+    /// Let wall-clock metrics fail the check. Off by default: times depend on the machine and
+    /// its load, so a significant slowdown is reported as `slower` without failing.
+    pub gate_time: bool,
 }
 
 impl Default for Tolerances {
@@ -41,6 +44,7 @@ impl Default for Tolerances {
             relative: 0.10,
             time: 1.0,
             wall_clock: true,
+            gate_time: false,
         }
     }
 }
@@ -58,6 +62,8 @@ pub enum Verdict {
     NoData,
     /// The configuration is missing from the current results.
     Missing,
+    /// A wall-clock metric significantly slower beyond its tolerance, reported but not gated.
+    Slower,
 }
 
 impl Verdict {
@@ -69,6 +75,7 @@ impl Verdict {
             Verdict::Regression => "REGRESSION",
             Verdict::NoData => "no data",
             Verdict::Missing => "MISSING",
+            Verdict::Slower => "slower (not gated)",
         }
     }
 }
@@ -92,6 +99,8 @@ pub struct Row {
     pub verdict: Verdict,
     /// Raw one-sided p-values (worse, better) and whether the change exceeds the tolerance.
     tests: Option<(f64, f64, bool, bool)>,
+    /// A wall-clock metric.
+    wall: bool,
 }
 
 /// Holm's step-down adjustment of `p` (family-wise error control).
@@ -109,7 +118,7 @@ pub fn holm(p: &[f64]) -> Vec<f64> {
 }
 
 /// Sets the verdicts of tested rows from Holm-adjusted p-values.
-fn decide(rows: &mut [Row], alpha: f64) {
+fn decide(rows: &mut [Row], alpha: f64, gate_time: bool) {
     let tested: Vec<usize> = (0..rows.len())
         .filter(|&i| rows[i].tests.is_some())
         .collect();
@@ -128,7 +137,9 @@ fn decide(rows: &mut [Row], alpha: f64) {
     for (k, &i) in tested.iter().enumerate() {
         let (_, _, beyond, improved) = rows[i].tests.unwrap();
         rows[i].p = Some(worse[k]);
-        rows[i].verdict = if worse[k] < alpha && beyond {
+        rows[i].verdict = if worse[k] < alpha && beyond && rows[i].wall && !gate_time {
+            Verdict::Slower
+        } else if worse[k] < alpha && beyond {
             Verdict::Regression
         } else if better[k] < alpha && improved {
             Verdict::Improved
@@ -190,6 +201,7 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
                 p: None,
                 verdict: Verdict::Missing,
                 tests: None,
+                wall: false,
             });
             continue;
         };
@@ -214,6 +226,7 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             p: None,
             verdict: Verdict::Ok,
             tests: Some((p_worse, p_better, rb - rc > tol.success, rc > rb)),
+            wall: false,
         });
         for (name, f, wall) in METRICS {
             if wall && !tol.wall_clock {
@@ -242,6 +255,7 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
                     p: None,
                     verdict: Verdict::NoData,
                     tests: None,
+                    wall: false,
                 });
                 continue;
             };
@@ -281,10 +295,11 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
                 p: None,
                 verdict: Verdict::NoData,
                 tests: enough.then_some((worse, better, rel > tolerance, rel < 0.0)),
+                wall,
             });
         }
     }
-    decide(&mut rows, tol.alpha);
+    decide(&mut rows, tol.alpha, tol.gate_time);
     rows
 }
 
@@ -405,6 +420,41 @@ mod tests {
                 "rms_error_bl"
             ),
             Verdict::Ok
+        );
+    }
+
+    #[test]
+    fn slower_times_are_reported_but_not_gated_by_default() {
+        let e = vec![0.1; 20];
+        let mut slow = runs(&e, 20);
+        slow.iter_mut()
+            .enumerate()
+            .for_each(|(i, r)| r.plan_time_s = 3.0 + 0.01 * i as f64);
+        let mut fast = runs(&e, 20);
+        fast.iter_mut()
+            .enumerate()
+            .for_each(|(i, r)| r.plan_time_s = 1.0 + 0.01 * i as f64);
+        let tol = Tolerances::default();
+        assert_eq!(
+            verdict(&compare(&fast, &slow, &tol), "plan_time_s"),
+            Verdict::Slower
+        );
+        let gated = Tolerances {
+            gate_time: true,
+            ..tol
+        };
+        assert_eq!(
+            verdict(&compare(&fast, &slow, &gated), "plan_time_s"),
+            Verdict::Regression
+        );
+        let off = Tolerances {
+            wall_clock: false,
+            ..tol
+        };
+        assert!(
+            compare(&fast, &slow, &off)
+                .iter()
+                .all(|r| r.metric != "plan_time_s")
         );
     }
 

@@ -41,6 +41,7 @@ fn the_ci_experiment_shows_no_regression_against_the_baseline() {
     assert_eq!(s.failed, 0);
     let tol = Tolerances {
         wall_clock: false,
+        gate_time: false,
         ..Tolerances::default()
     };
     let rows = compare(

@@ -28,9 +28,13 @@ pub struct RegressArgs {
     /// Largest acceptable relative growth of the median wall-clock times.
     #[arg(long, default_value_t = Tolerances::default().time)]
     pub time_tolerance: f64,
-    /// Leave out the wall-clock metrics (for results from different machines).
-    #[arg(long)]
+    /// Leave out the wall-clock metrics.
+    #[arg(long, conflicts_with = "gate_time")]
     pub no_time: bool,
+    /// Fail on a significant slowdown too (only for results from the same, otherwise idle,
+    /// machine: times depend on the machine and its load).
+    #[arg(long)]
+    pub gate_time: bool,
 }
 
 /// Runs `magbench regress`.
@@ -63,6 +67,7 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
         relative: a.tolerance,
         time: a.time_tolerance,
         wall_clock: !a.no_time,
+        gate_time: a.gate_time,
     };
     let rows = compare(&read_runs(&a.baseline)?, &read_runs(&a.current)?, &tol);
     print!("{}", table(&rows));
