@@ -1,8 +1,10 @@
 //! The Mann–Whitney U (Wilcoxon rank-sum) test, with mid-ranks for ties.
 //!
-//! Exact p-values (the permutation distribution of U) when there are no ties and the smaller
-//! sample has fewer than 8 values, like SciPy's `method="auto"`; otherwise the normal
-//! approximation with the tie-corrected variance and a continuity correction of ½.
+//! Exact p-values (the permutation distribution of U) when there are no ties and the samples
+//! are small (m·n ≤ 2500, e.g. 50 × 50); otherwise the normal approximation with the
+//! tie-corrected variance and a continuity correction of ½. (SciPy's `method="auto"` switches
+//! to the approximation already at 8 values per sample, where it can overstate p several-fold
+//! in the tails — which matters after a multiple-comparison adjustment.)
 
 use super::{Alternative, normal_sf};
 
@@ -95,7 +97,7 @@ pub fn mann_whitney_u(x: &[f64], y: &[f64], alt: Alternative) -> Option<MannWhit
     let var = mf * nf / 12.0 * ((nt + 1.0) - ties / (nt * (nt - 1.0)));
     let sd = var.max(0.0).sqrt();
     let z = if sd > 0.0 { (u1 - mu) / sd } else { 0.0 };
-    let exact = ties == 0.0 && m.min(n) < 8;
+    let exact = ties == 0.0 && m * n <= 2500;
     // The statistic in the direction of the alternative; large values are evidence for it.
     let (u_alt, factor) = match alt {
         Alternative::Greater => (u1, 1.0),
@@ -157,18 +159,31 @@ mod tests {
 
     #[test]
     fn exact_distribution_at_eight_and_nine() {
-        // Both samples ≥ 8: SciPy's exact method gives 0.059234882764294526 two-sided and
-        // 0.9767996709173179 for "greater"; our auto rule uses the normal approximation there,
-        // so check the exact tail directly.
+        // SciPy's exact method: 0.059234882764294526 two-sided, 0.9767996709173179 "greater".
         let x = [0.8, 1.9, 2.2, 3.7, 4.1, 5.5, 6.0, 7.3];
         let y = [2.5, 3.1, 4.4, 5.8, 6.6, 7.9, 8.2, 9.0, 9.5];
         let t = mann_whitney_u(&x, &y, Alternative::TwoSided).unwrap();
+        assert!(t.exact);
         assert_eq!(t.u, 16.0);
-        let u2 = 72.0 - 16.0;
-        assert!((2.0 * exact_sf(u2, 8, 9) - 0.059234882764294526).abs() < 1e-12);
-        assert!((exact_sf(16.0, 8, 9) - 0.9767996709173179).abs() < 1e-12);
-        // And the approximation is close to the exact value.
-        assert!((t.p - 0.0592).abs() < 0.01, "{}", t.p);
+        assert!((t.p - 0.059234882764294526).abs() < 1e-12, "{}", t.p);
+        let g = mann_whitney_u(&x, &y, Alternative::Greater).unwrap();
+        assert!((g.p - 0.9767996709173179).abs() < 1e-12, "{}", g.p);
+        // Complete separation of 8 and 8: p = 1 / C(16, 8) = 1/12870.
+        let lo: Vec<f64> = (0..8).map(|i| i as f64).collect();
+        let hi: Vec<f64> = (0..8).map(|i| 10.0 + i as f64).collect();
+        let s = mann_whitney_u(&hi, &lo, Alternative::Greater).unwrap();
+        assert!((s.p - 1.0 / 12870.0).abs() < 1e-15, "{}", s.p);
+        // Large samples use the normal approximation.
+        let big: Vec<f64> = (0..60).map(|i| i as f64).collect();
+        assert!(
+            !mann_whitney_u(
+                &big,
+                &big.iter().map(|v| v + 0.5).collect::<Vec<_>>(),
+                Alternative::Less
+            )
+            .unwrap()
+            .exact
+        );
     }
 
     #[test]
