@@ -47,6 +47,8 @@ pub struct LineBandChart {
     pub steps: bool,
     /// Band legend text (e.g. "95% Wilson interval").
     pub band_label: String,
+    /// Text shown in the chart when no series has a line to draw.
+    pub empty_note: String,
 }
 
 const W: u32 = 900;
@@ -192,6 +194,22 @@ impl Figure for LineBandChart {
                 let pts = if self.steps { step_points(&seg) } else { seg };
                 c.draw_series(std::iter::once(PathElement::new(pts, col.stroke_width(2))))?;
             }
+        }
+        if !self.empty_note.is_empty()
+            && self
+                .series
+                .iter()
+                .all(|s| s.data.iter().all(|p| !p.y.is_finite()))
+        {
+            let style = label_font().pos(plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Center,
+            ));
+            c.draw_series(std::iter::once(Text::new(
+                self.empty_note.clone(),
+                ((x0 + x1) / 2.0, (y0 + y1) / 2.0),
+                style,
+            )))?;
         }
         legend::draw(&bottom, &entries)
     }

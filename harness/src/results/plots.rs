@@ -207,6 +207,7 @@ pub fn write_all(
             y_range: Some((0.0, 1.0)),
             steps: true,
             band_label: "95% Wilson interval".into(),
+            empty_note: String::new(),
         };
         w.save(sc, "success-vs-iterations", &fig, &title)?;
 
@@ -237,6 +238,7 @@ pub fn write_all(
             y_range: Some((0.0, 1.0)),
             steps: true,
             band_label: "95% Wilson interval".into(),
+            empty_note: String::new(),
         };
         w.save(sc, "success-vs-time", &fig, &title)?;
 
@@ -270,6 +272,7 @@ pub fn write_all(
             y_range,
             steps: true,
             band_label: "interquartile range (unsolved = +∞)".into(),
+            empty_note: "no configuration solved half of its runs: no median cost yet".into(),
         };
         w.save(sc, "cost-vs-iterations", &fig, &title)?;
 
