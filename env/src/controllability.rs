@@ -43,8 +43,17 @@ pub struct LarcReport {
 /// The drift `f(r, φ, ψ) = (ṙ, φ̇, 0)` from the vector physics of two agents (no pull).
 pub fn drift(kin: &Kinematics, x: Vector3<f64>) -> Vector3<f64> {
     let (r, phi, psi) = (x[0], x[1], x[2]);
-    let p = LocalView { xc: 0.0, yc: 0.0, r, phi }.to_pair();
-    let act = Actuation { b_hat: field_direction(phi + psi, 0.0), pull: nalgebra::Vector3::zeros() };
+    let p = LocalView {
+        xc: 0.0,
+        yc: 0.0,
+        r,
+        phi,
+    }
+    .to_pair();
+    let act = Actuation {
+        b_hat: field_direction(phi + psi, 0.0),
+        pull: nalgebra::Vector3::zeros(),
+    };
     let mut v = [Vec2::zeros(); 2];
     kin.velocities(&p, &act, &mut v);
     let rel = v[1] - v[0];
@@ -83,7 +92,14 @@ pub fn larc(kin: &Kinematics, r: f64, psi: f64) -> LarcReport {
     let ffg = bracket(&f, &fg, x, 1e-4);
     let delta = Matrix3::from_columns(&[g(x), fg(x), ffg]);
     let (rank, margin) = rank_and_margin(&delta);
-    LarcReport { r, psi, delta, rank, margin, det: delta.determinant() }
+    LarcReport {
+        r,
+        psi,
+        delta,
+        rank,
+        margin,
+        det: delta.determinant(),
+    }
 }
 
 /// Numerical rank and smallest singular value of `m` after scaling its columns to unit length.
@@ -106,7 +122,11 @@ pub fn closed_form(kappa: f64, r: f64, psi: f64) -> Matrix3<f64> {
     let (s2, c2, c) = ((2.0 * psi).sin(), (2.0 * psi).cos(), psi.cos());
     Matrix3::from_columns(&[
         Vector3::new(0.0, 0.0, 1.0),
-        Vector3::new(-3.0 * kappa * s2 / r.powi(4), -2.0 * kappa * c2 / r.powi(5), 0.0),
+        Vector3::new(
+            -3.0 * kappa * s2 / r.powi(4),
+            -2.0 * kappa * c2 / r.powi(5),
+            0.0,
+        ),
         Vector3::new(0.0, -10.0 * kappa * kappa * (1.0 + c * c) / r.powi(10), 0.0),
     ])
 }

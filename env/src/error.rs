@@ -17,8 +17,16 @@ pub struct InputError {
 
 impl InputError {
     /// Builds an error from its three parts.
-    pub fn new(file: impl Into<String>, field: impl Into<String>, reason: impl Into<String>) -> Self {
-        Self { file: file.into(), field: field.into(), reason: reason.into() }
+    pub fn new(
+        file: impl Into<String>,
+        field: impl Into<String>,
+        reason: impl Into<String>,
+    ) -> Self {
+        Self {
+            file: file.into(),
+            field: field.into(),
+            reason: reason.into(),
+        }
     }
 }
 

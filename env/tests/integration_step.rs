@@ -12,7 +12,10 @@ fn halving_the_step_moves_edge_ends_by_less_than_1e_3_bl() {
     let mut checked = 0;
     for name in builtin_names() {
         let s = Scenario::load(name).unwrap();
-        let fine_params = magbench_env::PhysicalParams { dt_s: s.physics.dt_s / 2.0, ..s.physics.clone() };
+        let fine_params = magbench_env::PhysicalParams {
+            dt_s: s.physics.dt_s / 2.0,
+            ..s.physics.clone()
+        };
         let coarse = PlanningModel::new(&s.physics);
         let fine = PlanningModel::new(&fine_params);
         let checker = s.checker_for_leg(0);
@@ -33,10 +36,18 @@ fn halving_the_step_moves_edge_ends_by_less_than_1e_3_bl() {
             }
             let mut b = vec![Vec2::zeros(); state.len()];
             fine.propagate(&state, &u, duration, &mut b);
-            let d = a.iter().zip(&b).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max);
+            let d = a
+                .iter()
+                .zip(&b)
+                .map(|(p, q)| (p - q).norm())
+                .fold(0.0, f64::max);
             worst = worst.max(d);
             checked += 1;
-            assert!(d < 1e-3, "{name}: θ = {:.3}, duration {duration}: end states differ by {d:e} BL", wrap_angle(u.theta));
+            assert!(
+                d < 1e-3,
+                "{name}: θ = {:.3}, duration {duration}: end states differ by {d:e} BL",
+                wrap_angle(u.theta)
+            );
             state = a;
         }
     }

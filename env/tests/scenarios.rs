@@ -12,7 +12,10 @@ fn every_builtin_scenario_validates() {
         assert!(s.agents() >= 2);
         for i in 0..s.legs.len() {
             let c = s.checker_for_leg(i);
-            assert!(c.is_valid(&s.legs[i].goal.agents), "{name} leg {i} goal invalid");
+            assert!(
+                c.is_valid(&s.legs[i].goal.agents),
+                "{name} leg {i} goal invalid"
+            );
         }
         assert!(s.checker_for_leg(0).is_valid(&s.start));
     }
@@ -20,7 +23,11 @@ fn every_builtin_scenario_validates() {
     assert_eq!(cargo.legs.len(), 2);
     assert!(cargo.legs[1].obstacles.is_some());
     // the leg-1 goal (the start of leg 2) is also clear in the switched map
-    assert!(cargo.checker_for_leg(1).is_valid(&cargo.legs[0].goal.agents));
+    assert!(
+        cargo
+            .checker_for_leg(1)
+            .is_valid(&cargo.legs[0].goal.agents)
+    );
 }
 
 const GOOD: &str = r#"
@@ -49,7 +56,12 @@ fn reject(text: &str) -> InputError {
 
 fn assert_names(e: &InputError, field: &str, reason_part: &str) {
     assert_eq!(e.field, field, "wrong field in: {e}");
-    assert!(e.reason.contains(reason_part), "reason {:?} lacks {:?}", e.reason, reason_part);
+    assert!(
+        e.reason.contains(reason_part),
+        "reason {:?} lacks {:?}",
+        e.reason,
+        reason_part
+    );
 }
 
 #[test]
@@ -92,29 +104,48 @@ fn rejects_degenerate_and_self_intersecting_polygons() {
 fn rejects_start_or_goal_in_collision_or_outside_proximity() {
     let e = reject(&GOOD.replace("[[3.0, 5.0], [5.0, 5.0]]", "[[3.0, 5.0], [10.5, 5.0]]"));
     assert_names(&e, "start.agents[1]", "collision");
-    let e = reject(&GOOD.replace("[[25.0, 15.0], [27.5, 15.0]]", "[[25.0, 15.0], [29.8, 15.0]]"));
+    let e = reject(&GOOD.replace(
+        "[[25.0, 15.0], [27.5, 15.0]]",
+        "[[25.0, 15.0], [29.8, 15.0]]",
+    ));
     assert_names(&e, "goal.agents[1]", "collision");
     let e = reject(&GOOD.replace("[[3.0, 5.0], [5.0, 5.0]]", "[[3.0, 5.0], [4.1, 5.0]]"));
     assert_names(&e, "start.agents", "proximity range");
-    let e = reject(&GOOD.replace("[[25.0, 15.0], [27.5, 15.0]]", "[[20.0, 15.0], [27.5, 15.0]]"));
+    let e = reject(&GOOD.replace(
+        "[[25.0, 15.0], [27.5, 15.0]]",
+        "[[20.0, 15.0], [27.5, 15.0]]",
+    ));
     assert_names(&e, "goal.agents", "proximity range");
 }
 
 #[test]
 fn rejects_non_positive_tolerance() {
-    assert_names(&reject(&GOOD.replace("tolerance = 0.5", "tolerance = 0.0")), "goal.tolerance", "> 0");
-    assert_names(&reject(&GOOD.replace("tolerance = 0.5", "tolerance = -1.0")), "goal.tolerance", "> 0");
+    assert_names(
+        &reject(&GOOD.replace("tolerance = 0.5", "tolerance = 0.0")),
+        "goal.tolerance",
+        "> 0",
+    );
+    assert_names(
+        &reject(&GOOD.replace("tolerance = 0.5", "tolerance = -1.0")),
+        "goal.tolerance",
+        "> 0",
+    );
 }
 
 #[test]
 fn rejects_agent_count_mismatch() {
-    let e = reject(&GOOD.replace("[[25.0, 15.0], [27.5, 15.0]]", "[[25.0, 15.0], [27.5, 15.0], [26.0, 17.0]]"));
+    let e = reject(&GOOD.replace(
+        "[[25.0, 15.0], [27.5, 15.0]]",
+        "[[25.0, 15.0], [27.5, 15.0], [26.0, 17.0]]",
+    ));
     assert_names(&e, "goal.agents", "counts must match");
 }
 
 #[test]
 fn rejects_goal_and_legs_together_or_neither() {
-    let both = format!("{GOOD}\n[[legs]]\ngoal = {{ agents = [[25.0, 15.0], [27.5, 15.0]], tolerance = 0.5 }}\n");
+    let both = format!(
+        "{GOOD}\n[[legs]]\ngoal = {{ agents = [[25.0, 15.0], [27.5, 15.0]], tolerance = 0.5 }}\n"
+    );
     assert_names(&reject(&both), "legs", "never both");
     let neither = GOOD.split("[goal]").next().unwrap().to_string();
     assert_names(&reject(&neither), "goal", "missing");
@@ -125,7 +156,10 @@ fn rejects_bad_physics_override_and_syntax() {
     let e = reject(&format!("{GOOD}\n[physics]\nr_min = 0.9\n"));
     assert_names(&e, "physics.r_min", "> 1 BL");
     let e = reject(&format!("{GOOD}\n[physics]\nviscosity = 2.0\n"));
-    assert!(e.field.starts_with("physics") && e.reason.contains("unknown field `viscosity`"), "{e}");
+    assert!(
+        e.field.starts_with("physics") && e.reason.contains("unknown field `viscosity`"),
+        "{e}"
+    );
     let e = reject("name = \"x\"\n[world\n");
     assert!(e.reason.contains("invalid TOML"), "{e}");
 }
@@ -133,5 +167,8 @@ fn rejects_bad_physics_override_and_syntax() {
 #[test]
 fn missing_file_is_a_clear_error() {
     let e = Scenario::load("/nonexistent/maze.toml").unwrap_err();
-    assert!(e.reason.contains("no such file") && e.reason.contains("micro-factory"), "{e}");
+    assert!(
+        e.reason.contains("no such file") && e.reason.contains("micro-factory"),
+        "{e}"
+    );
 }

@@ -19,7 +19,11 @@ pub struct Plan {
 impl Plan {
     /// A plan that stays at `start`.
     pub fn at(start: &[Vec2]) -> Self {
-        Plan { states: vec![start.to_vec()], controls: vec![], durations: vec![] }
+        Plan {
+            states: vec![start.to_vec()],
+            controls: vec![],
+            durations: vec![],
+        }
     }
 
     /// Number of edges.
@@ -39,7 +43,9 @@ impl Plan {
 
     /// The final state.
     pub fn end(&self) -> &[Vec2] {
-        self.states.last().expect("a plan has at least its start state")
+        self.states
+            .last()
+            .expect("a plan has at least its start state")
     }
 
     /// Appends an edge.

@@ -16,7 +16,10 @@ pub struct Limits {
 
 impl Default for Limits {
     fn default() -> Self {
-        Limits { max_iterations: Some(200_000), time_limit: None }
+        Limits {
+            max_iterations: Some(200_000),
+            time_limit: None,
+        }
     }
 }
 
@@ -45,11 +48,18 @@ pub struct Problem {
 
 impl Problem {
     /// The problem of leg `leg` of `scenario`, from `start` (the scenario's start if `None`).
-    pub fn from_scenario(scenario: &Scenario, leg: usize, start: Option<&[Vec2]>, seed: u64) -> Self {
+    pub fn from_scenario(
+        scenario: &Scenario,
+        leg: usize,
+        start: Option<&[Vec2]>,
+        seed: u64,
+    ) -> Self {
         Problem {
             scenario: scenario.name.clone(),
             world: scenario.world_for_leg(leg),
-            start: start.map(|s| s.to_vec()).unwrap_or_else(|| scenario.start.clone()),
+            start: start
+                .map(|s| s.to_vec())
+                .unwrap_or_else(|| scenario.start.clone()),
             goal: scenario.legs[leg].goal.clone(),
             model: PlanningModel::new(&scenario.physics),
             checker: scenario.checker_for_leg(leg),

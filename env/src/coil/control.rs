@@ -18,12 +18,19 @@ pub struct Control {
 impl Control {
     /// A planar command (α = 0).
     pub fn planar(theta: f64, gx: f64, gy: f64) -> Self {
-        Self { theta, alpha: 0.0, grad: [gx, gy] }
+        Self {
+            theta,
+            alpha: 0.0,
+            grad: [gx, gy],
+        }
     }
 
     /// The same pair force with the opposite pull: θ_B + π.
     pub fn flipped(&self) -> Self {
-        Self { theta: crate::math::wrap_angle(self.theta + std::f64::consts::PI), ..*self }
+        Self {
+            theta: crate::math::wrap_angle(self.theta + std::f64::consts::PI),
+            ..*self
+        }
     }
 
     /// True when every number is finite.

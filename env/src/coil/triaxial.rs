@@ -37,15 +37,27 @@ impl Coil for TriaxialMaxwell {
     fn clamp(&self, u: &Control) -> (Control, bool) {
         let g = self.gradient_limit;
         let grad = u.grad.map(|x| x.clamp(-g, g));
-        let alpha = u.alpha.clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
+        let alpha = u
+            .alpha
+            .clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
         let clamped = grad != u.grad || alpha != u.alpha;
-        (Control { theta: u.theta, alpha, grad }, clamped)
+        (
+            Control {
+                theta: u.theta,
+                alpha,
+                grad,
+            },
+            clamped,
+        )
     }
 
     fn actuation(&self, u: &Control) -> Actuation {
         let b = field_direction(u.theta, u.alpha);
         let [gx, gy] = u.grad;
-        Actuation { b_hat: b, pull: Vec3::new(gx * b.x, gy * b.y, -(gx + gy) * b.z) }
+        Actuation {
+            b_hat: b,
+            pull: Vec3::new(gx * b.x, gy * b.y, -(gx + gy) * b.z),
+        }
     }
 }
 

@@ -24,7 +24,12 @@ pub struct CollisionWorld {
 
 impl std::fmt::Debug for CollisionWorld {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "CollisionWorld({} parts, agent radius {})", self.compound.shapes().len(), self.agent_radius)
+        write!(
+            f,
+            "CollisionWorld({} parts, agent radius {})",
+            self.compound.shapes().len(),
+            self.agent_radius
+        )
     }
 }
 
@@ -33,15 +38,30 @@ impl CollisionWorld {
     pub fn new(world: &World, agent_radius: f64) -> Self {
         let (w, h) = (world.width, world.height);
         let mut parts: Vec<(Pose, SharedShape)> = vec![
-            (Pose::translation(w * 0.5, -WALL), SharedShape::cuboid(w * 0.5 + 2.0 * WALL, WALL)),
-            (Pose::translation(w * 0.5, h + WALL), SharedShape::cuboid(w * 0.5 + 2.0 * WALL, WALL)),
-            (Pose::translation(-WALL, h * 0.5), SharedShape::cuboid(WALL, h * 0.5 + 2.0 * WALL)),
-            (Pose::translation(w + WALL, h * 0.5), SharedShape::cuboid(WALL, h * 0.5 + 2.0 * WALL)),
+            (
+                Pose::translation(w * 0.5, -WALL),
+                SharedShape::cuboid(w * 0.5 + 2.0 * WALL, WALL),
+            ),
+            (
+                Pose::translation(w * 0.5, h + WALL),
+                SharedShape::cuboid(w * 0.5 + 2.0 * WALL, WALL),
+            ),
+            (
+                Pose::translation(-WALL, h * 0.5),
+                SharedShape::cuboid(WALL, h * 0.5 + 2.0 * WALL),
+            ),
+            (
+                Pose::translation(w + WALL, h * 0.5),
+                SharedShape::cuboid(WALL, h * 0.5 + 2.0 * WALL),
+            ),
         ];
         for o in &world.obstacles {
             match o {
                 Obstacle::Circle { center, radius } => {
-                    parts.push((Pose::translation(center.x, center.y), SharedShape::ball(*radius)));
+                    parts.push((
+                        Pose::translation(center.x, center.y),
+                        SharedShape::ball(*radius),
+                    ));
                 }
                 Obstacle::Polygon(v) => {
                     let mut v: Vec<_> = v.iter().map(|p| to_parry(*p)).collect();
@@ -49,14 +69,19 @@ impl CollisionWorld {
                     if signed_area(&ccw) < 0.0 {
                         v.reverse();
                     }
-                    let mesh = TriMesh::from_polygon(v).expect("a validated simple polygon triangulates");
+                    let mesh =
+                        TriMesh::from_polygon(v).expect("a validated simple polygon triangulates");
                     for t in mesh.triangles() {
                         parts.push((Pose::IDENTITY, SharedShape::triangle(t.a, t.b, t.c)));
                     }
                 }
             }
         }
-        Self { compound: Compound::new(parts), ball: Ball::new(agent_radius), agent_radius }
+        Self {
+            compound: Compound::new(parts),
+            ball: Ball::new(agent_radius),
+            agent_radius,
+        }
     }
 
     /// Agent radius (BL).
@@ -81,25 +106,37 @@ impl CollisionWorld {
     /// Distance from the agent disk at `p` to the nearest obstacle or wall (BL); 0 or less when
     /// touching (−radius when the centre is inside an obstacle).
     pub fn clearance(&self, p: Vec2) -> f64 {
-        self.compound.distance_to_point(&Pose::IDENTITY, to_parry(p), true) - self.agent_radius
+        self.compound
+            .distance_to_point(&Pose::IDENTITY, to_parry(p), true)
+            - self.agent_radius
     }
 
     /// Where an agent at `p` that overlaps an obstacle slides to: the nearest position in
     /// contact with the surface. `None` when the agent is clear.
     pub fn push_out(&self, p: Vec2) -> Option<Vec2> {
-        let proj = self.compound.project_point(&Pose::IDENTITY, to_parry(p), false);
+        let proj = self
+            .compound
+            .project_point(&Pose::IDENTITY, to_parry(p), false);
         let q = from_parry(proj.point);
         let d = p - q;
         let dist = d.norm();
         if proj.is_inside {
             // centre inside an obstacle: leave through the nearest boundary point
-            let n = if dist > 0.0 { -d / dist } else { Vec2::new(0.0, 1.0) };
+            let n = if dist > 0.0 {
+                -d / dist
+            } else {
+                Vec2::new(0.0, 1.0)
+            };
             return Some(q + n * self.agent_radius);
         }
         if dist >= self.agent_radius {
             return None;
         }
-        let n = if dist > 0.0 { d / dist } else { Vec2::new(0.0, 1.0) };
+        let n = if dist > 0.0 {
+            d / dist
+        } else {
+            Vec2::new(0.0, 1.0)
+        };
         Some(q + n * self.agent_radius)
     }
 }
@@ -107,7 +144,9 @@ impl CollisionWorld {
 /// parry's intersection test of `shape` at `pose` against the compound; an unsupported pair
 /// counts as a collision.
 fn intersects(pose: &Pose, shape: &dyn parry2d_f64::shape::Shape, compound: &Compound) -> bool {
-    query::intersection_test(pose, shape, &Pose::IDENTITY, compound).map(|i| i.intersecting).unwrap_or(true)
+    query::intersection_test(pose, shape, &Pose::IDENTITY, compound)
+        .map(|i| i.intersecting)
+        .unwrap_or(true)
 }
 
 #[cfg(test)]
@@ -128,7 +167,10 @@ mod tests {
                     Vec2::new(12.0, 3.0),
                     Vec2::new(12.0, 2.0),
                 ]),
-                Obstacle::Circle { center: Vec2::new(15.0, 7.0), radius: 1.0 },
+                Obstacle::Circle {
+                    center: Vec2::new(15.0, 7.0),
+                    radius: 1.0,
+                },
             ],
         }
     }
@@ -139,7 +181,10 @@ mod tests {
         assert!(c.agent_clear(Vec2::new(3.0, 5.0)));
         assert!(!c.agent_clear(Vec2::new(0.4, 5.0)), "left wall");
         assert!(!c.agent_clear(Vec2::new(3.0, 9.7)), "top wall");
-        assert!(!c.agent_clear(Vec2::new(10.0, 3.3)), "inside the L's foot margin");
+        assert!(
+            !c.agent_clear(Vec2::new(10.0, 3.3)),
+            "inside the L's foot margin"
+        );
         assert!(c.agent_clear(Vec2::new(10.5, 4.5)), "in the L's notch");
         assert!(!c.agent_clear(Vec2::new(15.0, 5.6)), "circle");
         assert!((c.clearance(Vec2::new(3.0, 5.0)) - 2.5).abs() < 1e-9);

@@ -29,7 +29,11 @@ pub struct ValidityChecker {
 impl ValidityChecker {
     /// A checker over `collision` with proximity range `(r_min, r_max)`.
     pub fn new(collision: Arc<CollisionWorld>, r_min: f64, r_max: f64) -> Self {
-        Self { collision, r_min, r_max }
+        Self {
+            collision,
+            r_min,
+            r_max,
+        }
     }
 
     /// True when every pair's separation is inside `(r_min, r_max)`.
@@ -53,7 +57,10 @@ impl ValidityChecker {
 
     /// True when moving from `a` to `b` (consecutive integration samples) is valid.
     pub fn segment_valid(&self, a: &[Vec2], b: &[Vec2]) -> bool {
-        self.proximity_ok(b) && a.iter().zip(b).all(|(p, q)| self.collision.sweep_clear(*p, *q))
+        self.proximity_ok(b)
+            && a.iter()
+                .zip(b)
+                .all(|(p, q)| self.collision.sweep_clear(*p, *q))
     }
 
     /// Integrates `start` under `u` for `duration` with `model` into `out` and reports whether
@@ -78,6 +85,8 @@ impl ValidityChecker {
 
     /// Smallest agent clearance to walls and obstacles (BL).
     pub fn clearance(&self, s: &[Vec2]) -> f64 {
-        s.iter().map(|p| self.collision.clearance(*p)).fold(f64::INFINITY, f64::min)
+        s.iter()
+            .map(|p| self.collision.clearance(*p))
+            .fold(f64::INFINITY, f64::min)
     }
 }

@@ -24,8 +24,13 @@ pub fn rk4_step(f: &impl Fn(&[Vec2], &mut [Vec2]), p: &mut [Vec2], h: f64) {
     let n = p.len();
     assert!(n <= MAX_AGENTS, "at most {MAX_AGENTS} agents");
     let z = Vec2::zeros();
-    let (mut k1, mut k2, mut k3, mut k4, mut y) =
-        ([z; MAX_AGENTS], [z; MAX_AGENTS], [z; MAX_AGENTS], [z; MAX_AGENTS], [z; MAX_AGENTS]);
+    let (mut k1, mut k2, mut k3, mut k4, mut y) = (
+        [z; MAX_AGENTS],
+        [z; MAX_AGENTS],
+        [z; MAX_AGENTS],
+        [z; MAX_AGENTS],
+        [z; MAX_AGENTS],
+    );
     f(p, &mut k1[..n]);
     for i in 0..n {
         y[i] = p[i] + k1[i] * (0.5 * h);

@@ -64,7 +64,11 @@ mod tests {
 
     fn setup() -> (Kinematics, TriaxialMaxwell, PhysicalParams) {
         let p = PhysicalParams::default();
-        (Kinematics::nominal(&p), TriaxialMaxwell::new(p.gradient_limit()), p)
+        (
+            Kinematics::nominal(&p),
+            TriaxialMaxwell::new(p.gradient_limit()),
+            p,
+        )
     }
 
     #[test]
@@ -72,7 +76,12 @@ mod tests {
         let (k, coil, p) = setup();
         let kappa = p.kappa();
         for &(r, phi, psi) in &[(2.0, 0.3, 0.2), (1.6, -1.2, 1.0), (3.3, 2.5, -0.7)] {
-            let v = LocalView { xc: 5.0, yc: 4.0, r, phi };
+            let v = LocalView {
+                xc: 5.0,
+                yc: 4.0,
+                r,
+                phi,
+            };
             let pos = v.to_pair();
             let act = coil.actuation(&Control::planar(phi + psi, 0.0, 0.0));
             let mut vel = [Vec2::zeros(); 2];
@@ -93,7 +102,13 @@ mod tests {
     #[test]
     fn gradient_pull_moves_only_the_centre_of_mass() {
         let (k, coil, p) = setup();
-        let pos = LocalView { xc: 5.0, yc: 4.0, r: 2.2, phi: 0.4 }.to_pair();
+        let pos = LocalView {
+            xc: 5.0,
+            yc: 4.0,
+            r: 2.2,
+            phi: 0.4,
+        }
+        .to_pair();
         let g = p.gradient_limit();
         let u0 = Control::planar(0.9, 0.0, 0.0);
         let u1 = Control::planar(0.9, g, -0.5 * g);
@@ -102,14 +117,23 @@ mod tests {
         k.velocities(&pos, &coil.actuation(&u1), &mut v1);
         let d0 = v1[0] - v0[0];
         let d1 = v1[1] - v0[1];
-        assert!((d0 - d1).norm() < 1e-15, "relative velocity changed by the pull");
+        assert!(
+            (d0 - d1).norm() < 1e-15,
+            "relative velocity changed by the pull"
+        );
         assert!(d0.norm() > 0.1);
     }
 
     #[test]
     fn flipping_field_keeps_pair_force_and_reverses_pull() {
         let (k, coil, p) = setup();
-        let pos = LocalView { xc: 5.0, yc: 4.0, r: 2.2, phi: 0.4 }.to_pair();
+        let pos = LocalView {
+            xc: 5.0,
+            yc: 4.0,
+            r: 2.2,
+            phi: 0.4,
+        }
+        .to_pair();
         let g = p.gradient_limit();
         let u = Control::planar(0.9, g, g);
         let (mut va, mut vb) = ([Vec2::zeros(); 2], [Vec2::zeros(); 2]);
@@ -123,9 +147,17 @@ mod tests {
     #[test]
     fn three_agents_conserve_zero_net_pair_force() {
         let (k, coil, _) = setup();
-        let pos = [Vec2::new(0.0, 0.0), Vec2::new(2.1, 0.4), Vec2::new(0.7, -1.8)];
+        let pos = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(2.1, 0.4),
+            Vec2::new(0.7, -1.8),
+        ];
         let mut v = [Vec2::zeros(); 3];
-        k.velocities(&pos, &coil.actuation(&Control::planar(0.3, 0.0, 0.0)), &mut v);
+        k.velocities(
+            &pos,
+            &coil.actuation(&Control::planar(0.3, 0.0, 0.0)),
+            &mut v,
+        );
         assert!((v[0] + v[1] + v[2]).norm() < 1e-12);
         assert!(v[0].norm() > 1e-3);
     }

@@ -31,7 +31,11 @@ impl PlanningModel {
 
     /// The planning model of a preset with a given coil.
     pub fn with_coil(p: &PhysicalParams, coil: Arc<dyn Coil>) -> Self {
-        Self { kinematics: Kinematics::nominal(p), coil, dt: p.dt_s }
+        Self {
+            kinematics: Kinematics::nominal(p),
+            coil,
+            dt: p.dt_s,
+        }
     }
 
     /// Agent velocities (BL/s) at `p` under `u`.
@@ -97,7 +101,13 @@ mod tests {
     #[test]
     fn replay_is_bit_exact() {
         let m = PlanningModel::new(&PhysicalParams::default());
-        let start = LocalView { xc: 10.0, yc: 8.0, r: 2.0, phi: 0.3 }.to_pair();
+        let start = LocalView {
+            xc: 10.0,
+            yc: 8.0,
+            r: 2.0,
+            phi: 0.3,
+        }
+        .to_pair();
         let u = Control::planar(1.2, 0.05, -0.02);
         let (mut a, mut b) = ([Vec2::zeros(); 2], [Vec2::zeros(); 2]);
         m.propagate(&start, &u, 0.5, &mut a);
@@ -108,11 +118,21 @@ mod tests {
     #[test]
     fn magic_angle_holds_separation() {
         let m = PlanningModel::new(&PhysicalParams::default());
-        let v = LocalView { xc: 10.0, yc: 8.0, r: 2.0, phi: 0.0 };
+        let v = LocalView {
+            xc: 10.0,
+            yc: 8.0,
+            r: 2.0,
+            phi: 0.0,
+        };
         let magic = (1.0f64 / 3.0).sqrt().acos();
         let mut out = [Vec2::zeros(); 2];
         // over a short time the separation barely changes while the pair rotates
-        m.propagate(&v.to_pair(), &Control::planar(magic, 0.0, 0.0), 0.02, &mut out);
+        m.propagate(
+            &v.to_pair(),
+            &Control::planar(magic, 0.0, 0.0),
+            0.02,
+            &mut out,
+        );
         let w = LocalView::from_pair(out[0], out[1]);
         assert!((w.r - 2.0).abs() < 1e-3, "r moved to {}", w.r);
         assert!(w.phi > 0.0, "pair rotates toward the field");

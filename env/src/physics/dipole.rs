@@ -49,7 +49,10 @@ pub fn aligned_pair_force_planar(r_ij: Vec2, b: Vec3) -> Vec2 {
     let c = b.x * rx + b.y * ry;
     let k = 1.0 - 5.0 * c * c;
     let inv = 1.0 / (r2 * r2);
-    Vec2::new((2.0 * c * b.x + k * rx) * inv, (2.0 * c * b.y + k * ry) * inv)
+    Vec2::new(
+        (2.0 * c * b.x + k * rx) * inv,
+        (2.0 * c * b.y + k * ry) * inv,
+    )
 }
 
 /// Unit field direction for global in-plane angle `theta` and elevation `alpha` (radians).
@@ -109,7 +112,11 @@ mod tests {
             max_t = max_t.max(ft.abs());
         }
         assert!((max_r - 2.0).abs() < 1e-9);
-        assert!((max_t / max_r - 0.5).abs() < 1e-6, "ratio {}", max_t / max_r);
+        assert!(
+            (max_t / max_r - 0.5).abs() < 1e-6,
+            "ratio {}",
+            max_t / max_r
+        );
     }
 
     #[test]
@@ -133,8 +140,16 @@ mod tests {
 
     #[test]
     fn forces_are_equal_and_opposite_for_three_agents() {
-        let p = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(2.1, 0.4, 0.0), Vec3::new(0.7, -1.8, 0.0)];
-        let m = [Vec3::new(0.3, 0.9, 0.1), Vec3::new(-0.5, 0.2, 0.0), Vec3::new(0.8, -0.1, 0.4)];
+        let p = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(2.1, 0.4, 0.0),
+            Vec3::new(0.7, -1.8, 0.0),
+        ];
+        let m = [
+            Vec3::new(0.3, 0.9, 0.1),
+            Vec3::new(-0.5, 0.2, 0.0),
+            Vec3::new(0.8, -0.1, 0.4),
+        ];
         for i in 0..3 {
             for j in 0..3 {
                 if i != j {

@@ -23,7 +23,12 @@ impl LocalView {
     pub fn from_pair(p1: Vec2, p2: Vec2) -> Self {
         let c = (p1 + p2) * 0.5;
         let d = p2 - p1;
-        Self { xc: c.x, yc: c.y, r: d.norm(), phi: d.y.atan2(d.x) }
+        Self {
+            xc: c.x,
+            yc: c.y,
+            r: d.norm(),
+            phi: d.y.atan2(d.x),
+        }
     }
 
     /// The two agent positions of this view.

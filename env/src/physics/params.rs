@@ -133,8 +133,17 @@ impl PhysicalParams {
         macro_rules! set {
             ($($f:ident),*) => { $( if let Some(v) = o.$f { p.$f = v; } )* };
         }
-        set!(diameter_um, viscosity_mpa_s, magnetization_ka_per_m, field_mt, gradient_limit_mt_per_m,
-             temperature_k, r_min, r_max, dt_s);
+        set!(
+            diameter_um,
+            viscosity_mpa_s,
+            magnetization_ka_per_m,
+            field_mt,
+            gradient_limit_mt_per_m,
+            temperature_k,
+            r_min,
+            r_max,
+            dt_s
+        );
         p
     }
 
@@ -155,13 +164,25 @@ impl PhysicalParams {
             }
         }
         if !self.r_min.is_finite() || self.r_min <= 1.0 {
-            return Err(("r_min", format!("must be > 1 BL (agents touch at 1 BL), got {}", self.r_min)));
+            return Err((
+                "r_min",
+                format!("must be > 1 BL (agents touch at 1 BL), got {}", self.r_min),
+            ));
         }
         if !self.r_max.is_finite() || self.r_max <= self.r_min {
-            return Err(("r_max", format!("must be > r_min = {}, got {}", self.r_min, self.r_max)));
+            return Err((
+                "r_max",
+                format!("must be > r_min = {}, got {}", self.r_min, self.r_max),
+            ));
         }
         if self.dt_s > 0.05 {
-            return Err(("dt_s", format!("must be ≤ 0.05 s for an accurate integration, got {}", self.dt_s)));
+            return Err((
+                "dt_s",
+                format!(
+                    "must be ≤ 0.05 s for an accurate integration, got {}",
+                    self.dt_s
+                ),
+            ));
         }
         Ok(())
     }
@@ -176,7 +197,10 @@ mod tests {
         let p = PhysicalParams::default();
         // relative attraction speed at r = 2 BL, ψ = 0: 2κ/r⁴
         let rel = 2.0 * p.kappa() / 16.0;
-        assert!((2.0..=5.0).contains(&rel), "relative speed {rel} BL/s at r = 2");
+        assert!(
+            (2.0..=5.0).contains(&rel),
+            "relative speed {rel} BL/s at r = 2"
+        );
         let pull = p.max_pull_speed();
         assert!((0.4..=0.6).contains(&pull), "pull {pull} BL/s");
         assert!(p.r_min < 1.5 && p.r_max > 5.0);
@@ -185,7 +209,10 @@ mod tests {
 
     #[test]
     fn overrides_apply_by_name() {
-        let o = PhysicalOverrides { r_max: Some(7.0), ..Default::default() };
+        let o = PhysicalOverrides {
+            r_max: Some(7.0),
+            ..Default::default()
+        };
         assert_eq!(PhysicalParams::default().with_overrides(&o).r_max, 7.0);
     }
 }

@@ -26,7 +26,12 @@ pub struct CameraParams {
 impl Default for CameraParams {
     /// 60 fps, one frame of latency, 0.02 BL noise, 1% missed detections.
     fn default() -> Self {
-        Self { fps: 60.0, latency_frames: 1, noise_bl: 0.02, miss_prob: 0.01 }
+        Self {
+            fps: 60.0,
+            latency_frames: 1,
+            noise_bl: 0.02,
+            miss_prob: 0.01,
+        }
     }
 }
 
@@ -50,7 +55,11 @@ pub struct Camera {
 impl Camera {
     /// A camera with its own random stream.
     pub fn new(params: CameraParams, seed: u64) -> Self {
-        Self { params, rng: ChaCha8Rng::seed_from_u64(seed ^ 0xCA3E_7A00_D1A6_0001), pipeline: VecDeque::new() }
+        Self {
+            params,
+            rng: ChaCha8Rng::seed_from_u64(seed ^ 0xCA3E_7A00_D1A6_0001),
+            pipeline: VecDeque::new(),
+        }
     }
 
     /// Seconds between frames.
@@ -99,7 +108,15 @@ mod tests {
 
     #[test]
     fn latency_delays_by_whole_frames() {
-        let mut c = Camera::new(CameraParams { fps: 60.0, latency_frames: 1, noise_bl: 0.0, miss_prob: 0.0 }, 1);
+        let mut c = Camera::new(
+            CameraParams {
+                fps: 60.0,
+                latency_frames: 1,
+                noise_bl: 0.0,
+                miss_prob: 0.0,
+            },
+            1,
+        );
         let p = [Vec2::new(1.0, 2.0)];
         assert!(c.capture(0.0, &p).is_none());
         let o = c.capture(1.0 / 60.0, &[Vec2::new(5.0, 5.0)]).unwrap();
@@ -109,10 +126,25 @@ mod tests {
 
     #[test]
     fn misses_happen_at_about_the_set_rate() {
-        let mut c = Camera::new(CameraParams { fps: 60.0, latency_frames: 0, noise_bl: 0.02, miss_prob: 0.1 }, 7);
+        let mut c = Camera::new(
+            CameraParams {
+                fps: 60.0,
+                latency_frames: 0,
+                noise_bl: 0.02,
+                miss_prob: 0.1,
+            },
+            7,
+        );
         let p = [Vec2::zeros(); 2];
         let misses: usize = (0..5000)
-            .map(|k| c.capture(k as f64, &p).unwrap().agents.iter().filter(|a| a.is_none()).count())
+            .map(|k| {
+                c.capture(k as f64, &p)
+                    .unwrap()
+                    .agents
+                    .iter()
+                    .filter(|a| a.is_none())
+                    .count()
+            })
             .sum();
         assert!((800..1200).contains(&misses), "{misses} misses of 10000");
     }

@@ -37,7 +37,12 @@ impl DisturbancePreset {
             field_angle_jitter_deg: 0.0,
             drift_speed_bl_s: 0.0,
             brownian: false,
-            camera: CameraParams { fps: 60.0, latency_frames: 0, noise_bl: 0.0, miss_prob: 0.0 },
+            camera: CameraParams {
+                fps: 60.0,
+                latency_frames: 0,
+                noise_bl: 0.0,
+                miss_prob: 0.0,
+            },
         }
     }
 

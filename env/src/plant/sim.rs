@@ -50,7 +50,13 @@ impl Plant {
         assert!(start.len() <= MAX_AGENTS);
         let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x9147_A11E_0000_0001);
         let mut kinematics = Kinematics::nominal(params);
-        let spread = |s: f64, rng: &mut ChaCha8Rng| if s > 0.0 { rng.random_range(1.0 - s..=1.0 + s) } else { 1.0 };
+        let spread = |s: f64, rng: &mut ChaCha8Rng| {
+            if s > 0.0 {
+                rng.random_range(1.0 - s..=1.0 + s)
+            } else {
+                1.0
+            }
+        };
         for i in 0..start.len() {
             kinematics.moment[i] = spread(preset.moment_spread, &mut rng);
             kinematics.mobility[i] = 1.0 / spread(preset.drag_spread, &mut rng);
@@ -70,7 +76,11 @@ impl Plant {
             rng,
             angle_bias,
             jitter: preset.field_angle_jitter_deg.to_radians(),
-            diffusion: if preset.brownian { params.diffusion() } else { 0.0 },
+            diffusion: if preset.brownian {
+                params.diffusion()
+            } else {
+                0.0
+            },
             positions: start.to_vec(),
             time: 0.0,
             stuck: false,
@@ -138,7 +148,11 @@ impl Plant {
         let (u, _) = self.coil.clamp(u);
         let mut applied = u;
         if self.angle_bias != 0.0 || self.jitter > 0.0 {
-            let j: f64 = if self.jitter > 0.0 { StandardNormal.sample(&mut self.rng) } else { 0.0 };
+            let j: f64 = if self.jitter > 0.0 {
+                StandardNormal.sample(&mut self.rng)
+            } else {
+                0.0
+            };
             applied.theta += self.angle_bias + self.jitter * j;
         }
         let act = self.coil.actuation(&applied);
@@ -146,14 +160,21 @@ impl Plant {
         let n = self.positions.len();
         let mut before = [Vec2::zeros(); MAX_AGENTS];
         before[..n].copy_from_slice(&self.positions);
-        rk4_step(&|p: &[Vec2], v: &mut [Vec2]| kin.velocities(p, &act, v), &mut self.positions, h);
+        rk4_step(
+            &|p: &[Vec2], v: &mut [Vec2]| kin.velocities(p, &act, v),
+            &mut self.positions,
+            h,
+        );
         if self.contact_during_step(&before[..n]) {
             return;
         }
         if self.diffusion > 0.0 {
             let s = (2.0 * self.diffusion * h).sqrt();
             for p in &mut self.positions {
-                let (nx, ny): (f64, f64) = (StandardNormal.sample(&mut self.rng), StandardNormal.sample(&mut self.rng));
+                let (nx, ny): (f64, f64) = (
+                    StandardNormal.sample(&mut self.rng),
+                    StandardNormal.sample(&mut self.rng),
+                );
                 *p += Vec2::new(nx, ny) * s;
             }
         }
@@ -181,10 +202,18 @@ impl Plant {
             for j in (i + 1)..n {
                 let (d0, d1) = (before[j] - before[i], self.positions[j] - self.positions[i]);
                 let seg = d1 - d0;
-                let t = if seg.norm_squared() > 0.0 { (-d0.dot(&seg) / seg.norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+                let t = if seg.norm_squared() > 0.0 {
+                    (-d0.dot(&seg) / seg.norm_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
                 if (d0 + seg * t).norm() <= 1.0 || !d1.norm().is_finite() {
                     let mid = (before[i] + before[j]) * 0.5;
-                    let dir = if d0.norm() > 0.0 { d0 / d0.norm() } else { Vec2::new(1.0, 0.0) };
+                    let dir = if d0.norm() > 0.0 {
+                        d0 / d0.norm()
+                    } else {
+                        Vec2::new(1.0, 0.0)
+                    };
                     self.positions[..n].copy_from_slice(before);
                     self.positions[i] = mid - dir * 0.5;
                     self.positions[j] = mid + dir * 0.5;
@@ -205,17 +234,40 @@ mod tests {
     use crate::world::World;
 
     fn open_world() -> Arc<CollisionWorld> {
-        Arc::new(CollisionWorld::new(&World { width: 40.0, height: 30.0, obstacles: vec![] }, 0.5))
+        Arc::new(CollisionWorld::new(
+            &World {
+                width: 40.0,
+                height: 30.0,
+                obstacles: vec![],
+            },
+            0.5,
+        ))
     }
 
     #[test]
     fn ideal_plant_is_the_planning_model_bit_for_bit() {
         let p = PhysicalParams::default();
         let model = PlanningModel::new(&p);
-        let start = LocalView { xc: 20.0, yc: 15.0, r: 2.5, phi: 0.2 }.to_pair();
-        let mut plant = Plant::new(&p, model.coil.clone(), open_world(), &DisturbancePreset::ideal(), 3, &start);
+        let start = LocalView {
+            xc: 20.0,
+            yc: 15.0,
+            r: 2.5,
+            phi: 0.2,
+        }
+        .to_pair();
+        let mut plant = Plant::new(
+            &p,
+            model.coil.clone(),
+            open_world(),
+            &DisturbancePreset::ideal(),
+            3,
+            &start,
+        );
         // ψ ≈ 55° then ψ ≈ 90°: the pair rotates, then separates; it never touches
-        let controls = [Control::planar(1.16, 0.05, 0.02), Control::planar(1.8, -0.08, 0.0)];
+        let controls = [
+            Control::planar(1.16, 0.05, 0.02),
+            Control::planar(1.8, -0.08, 0.0),
+        ];
         let mut s = start;
         for u in &controls {
             let mut out = [Vec2::zeros(); 2];
@@ -224,16 +276,34 @@ mod tests {
             plant.run(u, 0.75);
         }
         assert!(!plant.stuck());
-        let diff: f64 = plant.positions().iter().zip(&s).map(|(a, b)| (a - b).norm()).sum();
+        let diff: f64 = plant
+            .positions()
+            .iter()
+            .zip(&s)
+            .map(|(a, b)| (a - b).norm())
+            .sum();
         assert_eq!(plant.positions(), &s[..], "difference {diff:e}");
     }
 
     #[test]
     fn attraction_makes_agents_stick() {
         let p = PhysicalParams::default();
-        let start = LocalView { xc: 20.0, yc: 15.0, r: 1.4, phi: 0.0 }.to_pair();
+        let start = LocalView {
+            xc: 20.0,
+            yc: 15.0,
+            r: 1.4,
+            phi: 0.0,
+        }
+        .to_pair();
         let coil: Arc<dyn Coil> = Arc::new(crate::coil::TriaxialMaxwell::new(p.gradient_limit()));
-        let mut plant = Plant::new(&p, coil, open_world(), &DisturbancePreset::ideal(), 1, &start);
+        let mut plant = Plant::new(
+            &p,
+            coil,
+            open_world(),
+            &DisturbancePreset::ideal(),
+            1,
+            &start,
+        );
         plant.run(&Control::planar(0.0, 0.0, 0.0), 1.0);
         assert!(plant.stuck());
     }
@@ -241,14 +311,34 @@ mod tests {
     #[test]
     fn pulling_into_a_wall_slides_and_counts_one_contact() {
         let p = PhysicalParams::default();
-        let start = LocalView { xc: 2.0, yc: 15.0, r: 2.0, phi: std::f64::consts::FRAC_PI_2 }.to_pair();
+        let start = LocalView {
+            xc: 2.0,
+            yc: 15.0,
+            r: 2.0,
+            phi: std::f64::consts::FRAC_PI_2,
+        }
+        .to_pair();
         let coil: Arc<dyn Coil> = Arc::new(crate::coil::TriaxialMaxwell::new(p.gradient_limit()));
-        let mut plant = Plant::new(&p, coil, open_world(), &DisturbancePreset::ideal(), 1, &start);
+        let mut plant = Plant::new(
+            &p,
+            coil,
+            open_world(),
+            &DisturbancePreset::ideal(),
+            1,
+            &start,
+        );
         // field along −x pulls toward the left wall (θ = π, G_x > 0 gives F_x < 0)
-        plant.run(&Control::planar(std::f64::consts::PI, p.gradient_limit(), 0.0), 8.0);
+        plant.run(
+            &Control::planar(std::f64::consts::PI, p.gradient_limit(), 0.0),
+            8.0,
+        );
         for q in plant.positions() {
             assert!(q.x >= 0.5 - 1e-9, "agent passed through the wall: {q:?}");
         }
-        assert_eq!(plant.wall_contacts(), 2, "each agent touched once and stayed");
+        assert_eq!(
+            plant.wall_contacts(),
+            2,
+            "each agent touched once and stayed"
+        );
     }
 }

@@ -2,10 +2,22 @@
 
 /// (name, TOML source) of every built-in scenario.
 pub const BUILTIN: &[(&str, &str)] = &[
-    ("micro-factory", include_str!("../../../scenarios/micro-factory.toml")),
-    ("cargo-delivery", include_str!("../../../scenarios/cargo-delivery.toml")),
-    ("open-field", include_str!("../../../scenarios/open-field.toml")),
-    ("narrow-passage", include_str!("../../../scenarios/narrow-passage.toml")),
+    (
+        "micro-factory",
+        include_str!("../../../scenarios/micro-factory.toml"),
+    ),
+    (
+        "cargo-delivery",
+        include_str!("../../../scenarios/cargo-delivery.toml"),
+    ),
+    (
+        "open-field",
+        include_str!("../../../scenarios/open-field.toml"),
+    ),
+    (
+        "narrow-passage",
+        include_str!("../../../scenarios/narrow-passage.toml"),
+    ),
 ];
 
 /// The TOML source of a built-in scenario.

@@ -80,14 +80,24 @@ fn deserialize<T: for<'de> Deserialize<'de>>(text: &str, file: &str) -> Result<T
         let path = e.path().to_string();
         let inner = e.into_inner();
         let field = if path == "." { String::new() } else { path };
-        let line = inner.span().map(|s| format!(" (line {})", line_of(text, s.start))).unwrap_or_default();
+        let line = inner
+            .span()
+            .map(|s| format!(" (line {})", line_of(text, s.start)))
+            .unwrap_or_default();
         InputError::new(file, field, format!("{}{line}", inner.message().trim()))
     })
 }
 
 fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> InputError {
-    let line = e.span().map(|s| format!(" (line {})", line_of(text, s.start))).unwrap_or_default();
-    InputError::new(file, "", format!("invalid TOML: {}{line}", e.message().trim()))
+    let line = e
+        .span()
+        .map(|s| format!(" (line {})", line_of(text, s.start)))
+        .unwrap_or_default();
+    InputError::new(
+        file,
+        "",
+        format!("invalid TOML: {}{line}", e.message().trim()),
+    )
 }
 
 fn line_of(text: &str, offset: usize) -> usize {
@@ -104,15 +114,25 @@ impl Validator<'_> {
     }
 
     fn finite(&self, field: &str, v: f64) -> Result<f64, InputError> {
-        if v.is_finite() { Ok(v) } else { Err(self.err(field, format!("must be a finite number, got {v}"))) }
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(field, format!("must be a finite number, got {v}")))
+        }
     }
 
     fn point(&self, field: &str, p: [f64; 2]) -> Result<Vec2, InputError> {
-        Ok(Vec2::new(self.finite(field, p[0])?, self.finite(field, p[1])?))
+        Ok(Vec2::new(
+            self.finite(field, p[0])?,
+            self.finite(field, p[1])?,
+        ))
     }
 
     fn points(&self, field: &str, ps: &[[f64; 2]]) -> Result<Vec<Vec2>, InputError> {
-        ps.iter().enumerate().map(|(i, p)| self.point(&format!("{field}[{i}]"), *p)).collect()
+        ps.iter()
+            .enumerate()
+            .map(|(i, p)| self.point(&format!("{field}[{i}]"), *p))
+            .collect()
     }
 
     fn obstacles(&self, field: &str, obs: &[ObstacleFile]) -> Result<Vec<Obstacle>, InputError> {
@@ -130,11 +150,16 @@ impl Validator<'_> {
                     let center = self.point(&format!("{f}.circle.center"), c.center)?;
                     let radius = self.finite(&format!("{f}.circle.radius"), c.radius)?;
                     if radius <= 0.0 {
-                        return Err(self.err(format!("{f}.circle.radius"), format!("must be > 0, got {radius}")));
+                        return Err(self.err(
+                            format!("{f}.circle.radius"),
+                            format!("must be > 0, got {radius}"),
+                        ));
                     }
                     out.push(Obstacle::Circle { center, radius });
                 }
-                _ => return Err(self.err(f, "an obstacle has exactly one of `polygon` or `circle`")),
+                _ => {
+                    return Err(self.err(f, "an obstacle has exactly one of `polygon` or `circle`"));
+                }
             }
         }
         Ok(out)
@@ -145,23 +170,37 @@ impl Validator<'_> {
         if agents.len() != n_agents {
             return Err(self.err(
                 format!("{field}.agents"),
-                format!("has {} agents but start.agents has {n_agents}; the counts must match", agents.len()),
+                format!(
+                    "has {} agents but start.agents has {n_agents}; the counts must match",
+                    agents.len()
+                ),
             ));
         }
         let tolerance = self.finite(&format!("{field}.tolerance"), g.tolerance)?;
         if tolerance <= 0.0 {
-            return Err(self.err(format!("{field}.tolerance"), format!("must be > 0, got {tolerance}")));
+            return Err(self.err(
+                format!("{field}.tolerance"),
+                format!("must be > 0, got {tolerance}"),
+            ));
         }
         Ok(Goal { agents, tolerance })
     }
 
     /// Rejects a configuration in collision or outside the proximity range.
-    fn placement(&self, field: &str, s: &[Vec2], checker: &ValidityChecker) -> Result<(), InputError> {
+    fn placement(
+        &self,
+        field: &str,
+        s: &[Vec2],
+        checker: &ValidityChecker,
+    ) -> Result<(), InputError> {
         for (i, p) in s.iter().enumerate() {
             if !checker.collision.agent_clear(*p) {
                 return Err(self.err(
                     format!("{field}[{i}]"),
-                    format!("agent at ({}, {}) is in collision with a wall or obstacle", p.x, p.y),
+                    format!(
+                        "agent at ({}, {}) is in collision with a wall or obstacle",
+                        p.x, p.y
+                    ),
                 ));
             }
         }
@@ -184,7 +223,9 @@ impl Validator<'_> {
 
     fn scenario(&self, raw: ScenarioFile) -> Result<Scenario, InputError> {
         let physics = PhysicalParams::default().with_overrides(&raw.physics);
-        physics.check().map_err(|(f, r)| self.err(format!("physics.{f}"), r))?;
+        physics
+            .check()
+            .map_err(|(f, r)| self.err(format!("physics.{f}"), r))?;
         let width = self.finite("world.width", raw.world.width)?;
         let height = self.finite("world.height", raw.world.height)?;
         for (f, v) in [("world.width", width), ("world.height", height)] {
@@ -192,15 +233,29 @@ impl Validator<'_> {
                 return Err(self.err(f, format!("must be > 2 BL, got {v}")));
             }
         }
-        let world = World { width, height, obstacles: self.obstacles("world.obstacles", &raw.world.obstacles)? };
+        let world = World {
+            width,
+            height,
+            obstacles: self.obstacles("world.obstacles", &raw.world.obstacles)?,
+        };
         let start = self.points("start.agents", &raw.start.agents)?;
         if !(2..=MAX_AGENTS).contains(&start.len()) {
-            return Err(self.err("start.agents", format!("needs 2 to {MAX_AGENTS} agents, got {}", start.len())));
+            return Err(self.err(
+                "start.agents",
+                format!("needs 2 to {MAX_AGENTS} agents, got {}", start.len()),
+            ));
         }
         let legs = match (&raw.goal, &raw.legs) {
-            (Some(_), Some(_)) => return Err(self.err("legs", "a scenario has `[goal]` or `[[legs]]`, never both")),
-            (None, None) => return Err(self.err("goal", "missing: a scenario needs `[goal]` or `[[legs]]`")),
-            (Some(g), None) => vec![Leg { goal: self.goal("goal", g, start.len())?, obstacles: None }],
+            (Some(_), Some(_)) => {
+                return Err(self.err("legs", "a scenario has `[goal]` or `[[legs]]`, never both"));
+            }
+            (None, None) => {
+                return Err(self.err("goal", "missing: a scenario needs `[goal]` or `[[legs]]`"));
+            }
+            (Some(g), None) => vec![Leg {
+                goal: self.goal("goal", g, start.len())?,
+                obstacles: None,
+            }],
             (None, Some(ls)) => {
                 if ls.is_empty() {
                     return Err(self.err("legs", "needs at least one leg"));
@@ -227,14 +282,21 @@ impl Validator<'_> {
             legs,
             physics,
         };
-        let checker = |w: &World| {
-            ValidityChecker::new(Arc::new(CollisionWorld::new(w, 0.5)), r_min, r_max)
-        };
+        let checker =
+            |w: &World| ValidityChecker::new(Arc::new(CollisionWorld::new(w, 0.5)), r_min, r_max);
         self.placement("start.agents", &scenario.start, &checker(&scenario.world))?;
         let single = raw.goal.is_some();
         for i in 0..scenario.legs.len() {
-            let field = if single { "goal.agents".to_string() } else { format!("legs[{i}].goal.agents") };
-            self.placement(&field, &scenario.legs[i].goal.agents, &checker(&scenario.world_for_leg(i)))?;
+            let field = if single {
+                "goal.agents".to_string()
+            } else {
+                format!("legs[{i}].goal.agents")
+            };
+            self.placement(
+                &field,
+                &scenario.legs[i].goal.agents,
+                &checker(&scenario.world_for_leg(i)),
+            )?;
         }
         Ok(scenario)
     }

@@ -7,7 +7,7 @@
 mod builtin;
 mod file;
 
-pub use builtin::{BUILTIN, builtin_source, builtin_names};
+pub use builtin::{BUILTIN, builtin_names, builtin_source};
 pub use file::parse_scenario;
 
 use std::sync::Arc;
@@ -30,7 +30,10 @@ pub struct Goal {
 impl Goal {
     /// Largest distance of an agent from its goal centre (BL).
     pub fn distance(&self, s: &[Vec2]) -> f64 {
-        s.iter().zip(&self.agents).map(|(p, g)| (p - g).norm()).fold(0.0, f64::max)
+        s.iter()
+            .zip(&self.agents)
+            .map(|(p, g)| (p - g).norm())
+            .fold(0.0, f64::max)
     }
 
     /// True when every agent is within the tolerance of its goal centre.
@@ -94,7 +97,11 @@ impl Scenario {
 
     /// The world during leg `i` (the latest map switch at or before `i` applies).
     pub fn world_for_leg(&self, i: usize) -> World {
-        match self.legs[..=i].iter().rev().find_map(|l| l.obstacles.clone()) {
+        match self.legs[..=i]
+            .iter()
+            .rev()
+            .find_map(|l| l.obstacles.clone())
+        {
             Some(obs) => self.world.with_obstacles(obs),
             None => self.world.clone(),
         }
@@ -108,6 +115,10 @@ impl Scenario {
 
     /// The final goal.
     pub fn final_goal(&self) -> &Goal {
-        &self.legs.last().expect("a scenario has at least one leg").goal
+        &self
+            .legs
+            .last()
+            .expect("a scenario has at least one leg")
+            .goal
     }
 }

@@ -34,6 +34,10 @@ pub struct World {
 impl World {
     /// The same rectangle with another set of obstacles (a map switch).
     pub fn with_obstacles(&self, obstacles: Vec<Obstacle>) -> World {
-        World { width: self.width, height: self.height, obstacles }
+        World {
+            width: self.width,
+            height: self.height,
+            obstacles,
+        }
     }
 }

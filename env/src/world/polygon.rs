@@ -19,7 +19,10 @@ pub fn check_polygon(v: &[Vec2]) -> Result<(), String> {
     }
     for i in 0..n {
         if (v[i] - v[(i + 1) % n]).norm() < 1e-9 {
-            return Err(format!("degenerate polygon: vertices {i} and {} coincide", (i + 1) % n));
+            return Err(format!(
+                "degenerate polygon: vertices {i} and {} coincide",
+                (i + 1) % n
+            ));
         }
     }
     let p = |i: usize| Vector::new(v[i % n].x, v[i % n].y);
@@ -30,7 +33,9 @@ pub fn check_polygon(v: &[Vec2]) -> Result<(), String> {
                 continue;
             }
             if segments_intersection2d(p(i), p(i + 1), p(j), p(j + 1), 1e-12).is_some() {
-                return Err(format!("self-intersecting polygon: edge {i} crosses edge {j}"));
+                return Err(format!(
+                    "self-intersecting polygon: edge {i} crosses edge {j}"
+                ));
             }
         }
     }
@@ -50,7 +55,16 @@ mod tests {
 
     #[test]
     fn accepts_simple_rejects_bowtie_and_flat() {
-        assert!(check_polygon(&pts(&[[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 0.5], [0.0, 1.0]])).is_ok());
+        assert!(
+            check_polygon(&pts(&[
+                [0.0, 0.0],
+                [2.0, 0.0],
+                [2.0, 1.0],
+                [1.0, 0.5],
+                [0.0, 1.0]
+            ]))
+            .is_ok()
+        );
         let bowtie = check_polygon(&pts(&[[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]]));
         assert!(bowtie.unwrap_err().contains("self-intersecting"));
         let flat = check_polygon(&pts(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]));

@@ -35,14 +35,22 @@ pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
         ScenarioCmd::Show { scenario } => print!("{}", summary(&Scenario::load(&scenario)?)),
         ScenarioCmd::Check { file } => {
             let s = Scenario::load(&file)?;
-            println!("{file}: ok ({} agents, {} leg(s), {} obstacles)", s.agents(), s.legs.len(), s.world.obstacles.len());
+            println!(
+                "{file}: ok ({} agents, {} leg(s), {} obstacles)",
+                s.agents(),
+                s.legs.len(),
+                s.world.obstacles.len()
+            );
         }
     }
     Ok(())
 }
 
 fn pts(v: &[magbench_env::Vec2]) -> String {
-    v.iter().map(|p| format!("({:.2}, {:.2})", p.x, p.y)).collect::<Vec<_>>().join(" ")
+    v.iter()
+        .map(|p| format!("({:.2}, {:.2})", p.x, p.y))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// A human-readable summary of a scenario.
@@ -54,21 +62,42 @@ pub fn summary(s: &Scenario) -> String {
         out += &format!("            {}\n", s.description);
     }
     out += &format!("source      {}\n", s.source);
-    out += &format!("world       {} x {} BL, {} obstacles\n", s.world.width, s.world.height, s.world.obstacles.len());
+    out += &format!(
+        "world       {} x {} BL, {} obstacles\n",
+        s.world.width,
+        s.world.height,
+        s.world.obstacles.len()
+    );
     for o in &s.world.obstacles {
         out += &match o {
             Obstacle::Polygon(v) => format!("  polygon   {} vertices: {}\n", v.len(), pts(v)),
-            Obstacle::Circle { center, radius } => format!("  circle    centre ({:.2}, {:.2}), radius {radius}\n", center.x, center.y),
+            Obstacle::Circle { center, radius } => format!(
+                "  circle    centre ({:.2}, {:.2}), radius {radius}\n",
+                center.x, center.y
+            ),
         };
     }
     out += &format!("start       {}\n", pts(&s.start));
     for (i, l) in s.legs.iter().enumerate() {
-        let switch = l.obstacles.as_ref().map(|o| format!(", map switch to {} obstacles", o.len())).unwrap_or_default();
-        out += &format!("goal {}      {} within {} BL{switch}\n", i + 1, pts(&l.goal.agents), l.goal.tolerance);
+        let switch = l
+            .obstacles
+            .as_ref()
+            .map(|o| format!(", map switch to {} obstacles", o.len()))
+            .unwrap_or_default();
+        out += &format!(
+            "goal {}      {} within {} BL{switch}\n",
+            i + 1,
+            pts(&l.goal.agents),
+            l.goal.tolerance
+        );
     }
     out += &format!(
         "physics     d = {} µm, η = {} mPa·s, M = {} kA/m, G_max = {} mT/m, dt = {:.5} s\n",
-        p.diameter_um, p.viscosity_mpa_s, p.magnetization_ka_per_m, p.gradient_limit_mt_per_m, p.dt_s
+        p.diameter_um,
+        p.viscosity_mpa_s,
+        p.magnetization_ka_per_m,
+        p.gradient_limit_mt_per_m,
+        p.dt_s
     );
     out += &format!(
         "            κ = {:.3} BL⁵/s (ṙ at r = 2, ψ = 0: {:.2} BL/s), max pull {:.3} BL/s, proximity range ({}, {}) BL\n",

@@ -1,9 +1,9 @@
 //! `magbench stlc`: the Lie-algebra rank condition over ψ.
 
 use clap::Args;
+use magbench_env::PhysicalParams;
 use magbench_env::controllability::{closed_form, larc, velocity_ellipse};
 use magbench_env::model::Kinematics;
-use magbench_env::PhysicalParams;
 
 use crate::CliError;
 
@@ -21,17 +21,31 @@ pub struct StlcArgs {
 /// Prints the rank table.
 pub fn run(a: StlcArgs) -> Result<(), CliError> {
     if !a.r.is_finite() || a.r <= 1.0 {
-        return Err(CliError::arg("--r", format!("the separation must be > 1 BL, got {}", a.r)));
+        return Err(CliError::arg(
+            "--r",
+            format!("the separation must be > 1 BL, got {}", a.r),
+        ));
     }
     if !a.step.is_finite() || a.step <= 0.0 || a.step > 90.0 {
-        return Err(CliError::arg("--step", format!("must be in (0, 90] degrees, got {}", a.step)));
+        return Err(CliError::arg(
+            "--step",
+            format!("must be in (0, 90] degrees, got {}", a.step),
+        ));
     }
     let p = PhysicalParams::default();
     let kin = Kinematics::nominal(&p);
     let kappa = p.kappa();
-    println!("LARC of the local model (r, φ, ψ), g = ∂/∂ψ, at r = {} BL, κ = {:.4} BL⁵/s", a.r, kappa);
-    println!("Δ = [g, [f,g], [f,[f,g]]] by finite differences of the vector physics; margin = σ_min of Δ with unit columns");
-    println!("{:>9} {:>5} {:>10} {:>12} {:>10} {:>9} {:>9}", "ψ (deg)", "rank", "margin", "det Δ", "|Δ−closed|", "ṙ r⁴/κ", "rφ̇ r⁴/κ");
+    println!(
+        "LARC of the local model (r, φ, ψ), g = ∂/∂ψ, at r = {} BL, κ = {:.4} BL⁵/s",
+        a.r, kappa
+    );
+    println!(
+        "Δ = [g, [f,g], [f,[f,g]]] by finite differences of the vector physics; margin = σ_min of Δ with unit columns"
+    );
+    println!(
+        "{:>9} {:>5} {:>10} {:>12} {:>10} {:>9} {:>9}",
+        "ψ (deg)", "rank", "margin", "det Δ", "|Δ−closed|", "ṙ r⁴/κ", "rφ̇ r⁴/κ"
+    );
     let mut angles: Vec<f64> = Vec::new();
     let mut d = -90.0;
     while d <= 90.0 + 1e-9 {
@@ -52,9 +66,16 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
             .map(|c| (rep.delta.column(c) - cf.column(c)).norm() / cf.column(c).norm().max(1e-300))
             .fold(0.0, f64::max);
         let (er, et) = velocity_ellipse(psi);
-        println!("{d:>9.3} {:>5} {:>10.4} {:>12.4e} {:>10.1e} {er:>9.4} {et:>9.4}", rep.rank, rep.margin, rep.det, rel);
+        println!(
+            "{d:>9.3} {:>5} {:>10.4} {:>12.4e} {:>10.1e} {er:>9.4} {et:>9.4}",
+            rep.rank, rep.margin, rep.det, rel
+        );
     }
-    println!("rank 3 except at ψ ∈ {{0°, ±90°}} (sin 2ψ = 0). As ψ sweeps, (ṙ, rφ̇)·r⁴/κ = (1 − 3cos²ψ, sin 2ψ)");
-    println!("traces an ellipse centred at (−½, 0) with semi-axes 3/2 and 1: zero lies strictly inside it.");
+    println!(
+        "rank 3 except at ψ ∈ {{0°, ±90°}} (sin 2ψ = 0). As ψ sweeps, (ṙ, rφ̇)·r⁴/κ = (1 − 3cos²ψ, sin 2ψ)"
+    );
+    println!(
+        "traces an ellipse centred at (−½, 0) with semi-axes 3/2 and 1: zero lies strictly inside it."
+    );
     Ok(())
 }
