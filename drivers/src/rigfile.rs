@@ -606,7 +606,7 @@ mod tests {
         );
         let bad = EXAMPLE.replace("[pixels]", "[pixels]\ncolour = 3");
         assert!(
-            err(&bad).starts_with("r.toml: pixels: unknown field `colour`"),
+            err(&bad).starts_with("r.toml: pixels.colour: unknown field `colour`"),
             "{}",
             err(&bad)
         );
