@@ -85,12 +85,11 @@ fn tracking_keeps_identity_and_reports_a_missing_agent() {
         let d = Vec2::new(phi.cos(), phi.sin());
         a = [Vec2::new(11.0, 10.0) - d, Vec2::new(11.0, 10.0) + d];
         let out = det.detect(&renderer.render(&a));
-        for i in 0..2 {
+        for (i, truth) in a.iter().enumerate() {
             let p = out.agents[i].expect("found");
             assert!(
-                (p - a[i]).norm() < 0.05,
-                "frame {k} agent {i}: {p:?} vs {:?}",
-                a[i]
+                (p - truth).norm() < 0.05,
+                "frame {k} agent {i}: {p:?} vs {truth:?}"
             );
         }
     }

@@ -60,6 +60,11 @@ impl Detector {
         }
     }
 
+    /// Number of agents tracked.
+    pub fn agents(&self) -> usize {
+        self.last.len()
+    }
+
     /// The pixel map.
     pub fn map(&self) -> &PixelMap {
         &self.map

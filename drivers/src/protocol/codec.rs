@@ -89,47 +89,45 @@ impl Decoder {
 
     /// The next decoded frame, if a whole one is buffered.
     pub fn next_frame(&mut self) -> Option<Decoded> {
-        loop {
-            let start = self.buf.windows(2).position(|w| w == SYNC);
-            match start {
-                None => {
-                    // keep a trailing first sync byte, drop the rest
-                    let keep = usize::from(self.buf.last() == Some(&SYNC[0]));
-                    let n = self.buf.len() - keep;
-                    self.buf.drain(..n);
-                    return None;
-                }
-                Some(s) => {
-                    self.buf.drain(..s);
-                }
-            }
-            if self.buf.len() < 6 {
+        let start = self.buf.windows(2).position(|w| w == SYNC);
+        match start {
+            None => {
+                // keep a trailing first sync byte, drop the rest
+                let keep = usize::from(self.buf.last() == Some(&SYNC[0]));
+                let n = self.buf.len() - keep;
+                self.buf.drain(..n);
                 return None;
             }
-            let len = self.buf[5] as usize;
-            if !plausible_length(self.buf[2], len) {
-                self.buf.drain(..1);
-                return Some(Decoded::BadChecksum);
+            Some(s) => {
+                self.buf.drain(..s);
             }
-            let total = FRAME_OVERHEAD + len;
-            if self.buf.len() < total {
-                return None;
-            }
-            let crc = u32::from_le_bytes(self.buf[total - 4..total].try_into().unwrap());
-            if crc32fast::hash(&self.buf[2..total - 4]) != crc {
-                self.buf.drain(..1);
-                // skip to the next sync; report the failure once
-                return Some(Decoded::BadChecksum);
-            }
-            let ty = self.buf[2];
-            let seq = u16::from_le_bytes([self.buf[3], self.buf[4]]);
-            let out = match Message::parse(ty, &self.buf[6..6 + len]) {
-                Ok(msg) => Decoded::Message { seq, msg },
-                Err(status) => Decoded::Invalid { seq, ty, status },
-            };
-            self.buf.drain(..total);
-            return Some(out);
         }
+        if self.buf.len() < 6 {
+            return None;
+        }
+        let len = self.buf[5] as usize;
+        if !plausible_length(self.buf[2], len) {
+            self.buf.drain(..1);
+            return Some(Decoded::BadChecksum);
+        }
+        let total = FRAME_OVERHEAD + len;
+        if self.buf.len() < total {
+            return None;
+        }
+        let crc = u32::from_le_bytes(self.buf[total - 4..total].try_into().unwrap());
+        if crc32fast::hash(&self.buf[2..total - 4]) != crc {
+            self.buf.drain(..1);
+            // skip to the next sync; report the failure once
+            return Some(Decoded::BadChecksum);
+        }
+        let ty = self.buf[2];
+        let seq = u16::from_le_bytes([self.buf[3], self.buf[4]]);
+        let out = match Message::parse(ty, &self.buf[6..6 + len]) {
+            Ok(msg) => Decoded::Message { seq, msg },
+            Err(status) => Decoded::Invalid { seq, ty, status },
+        };
+        self.buf.drain(..total);
+        Some(out)
     }
 }
 

@@ -1,5 +1,6 @@
 //! Command-line interface: one file per subcommand.
 
+mod rig;
 mod scenario;
 mod stlc;
 
@@ -28,6 +29,9 @@ pub enum Command {
     Scenario(scenario::ScenarioCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
+    /// Physical runs: the rig emulator, rig bring-up checks and detection replay.
+    #[command(subcommand)]
+    Rig(rig::RigCmd),
 }
 
 /// Runs a parsed command line.
@@ -35,5 +39,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Stlc(a) => stlc::run(a),
+        Command::Rig(c) => rig::run(c),
     }
 }

@@ -1,0 +1,278 @@
+//! `magbench rig emulate|check|replay`: physical runs on a coil-and-camera rig, and the
+//! emulator that stands in for one.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use clap::{Args, Subcommand};
+use magbench_drivers::emulator::faults::{FAULT_SYNTAX, FaultPlan};
+use magbench_drivers::emulator::render::RenderParams;
+use magbench_drivers::emulator::{self, DeviceEndpoint, EmulatorConfig};
+use magbench_drivers::rigfile::{CoilEndpoint, RigConfig};
+use magbench_drivers::{HardwareRig, check, interrupt, replay};
+use magbench_env::Scenario;
+use magbench_env::plant::DisturbancePreset;
+
+use crate::CliError;
+
+/// Rig subcommands.
+#[derive(Debug, Subcommand)]
+pub enum RigCmd {
+    /// Play the device side of a rig: the coil protocol, env's plant, rendered camera frames.
+    Emulate(Box<EmulateArgs>),
+    /// Bring-up test: turn the pair in place at the magic angle in closed loop, report frames,
+    /// detections and control-loop latency.
+    Check(CheckArgs),
+    /// Rerun the detector on recorded frames (and report its error when the truth is recorded).
+    Replay(ReplayArgs),
+}
+
+/// `magbench rig emulate`.
+#[derive(Debug, Args)]
+pub struct EmulateArgs {
+    /// The rig file being emulated (calibration, limits, camera, pixel map).
+    #[arg(long)]
+    pub rig: PathBuf,
+    /// Scenario (world and start positions): a built-in name or a file.
+    pub scenario: String,
+    /// Serve the coil link on a pseudo-terminal linked at PATH (opened by the host as a serial port).
+    #[arg(long, conflicts_with = "listen")]
+    pub port: Option<PathBuf>,
+    /// Serve the coil link on TCP ADDR (default 127.0.0.1:0, a free port).
+    #[arg(long)]
+    pub listen: Option<String>,
+    /// Frame stream TCP address.
+    #[arg(long, default_value = "127.0.0.1:0")]
+    pub camera_listen: String,
+    /// Faults to inject, e.g. `drop=0.05,corrupt=0.02`.
+    #[arg(long, default_value = "", help = format!("Faults to inject: {FAULT_SYNTAX}"))]
+    pub faults: String,
+    /// Disturbance preset of the plant (ideal or realistic).
+    #[arg(long, default_value = "realistic")]
+    pub preset: String,
+    /// Seed of the plant, the frames and the faults.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Device time runs this many times faster than wall time.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Stop after this much device time (s).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Event log (CSV).
+    #[arg(long, default_value = "emulator-log.csv")]
+    pub log: PathBuf,
+    /// Also record every frame and the true positions to this folder.
+    #[arg(long)]
+    pub record: Option<PathBuf>,
+    /// Write a copy of the rig file with the live endpoints here, once ready.
+    #[arg(long)]
+    pub write_rig: Option<PathBuf>,
+    /// Sensor noise (grey levels).
+    #[arg(long, default_value_t = 3.0)]
+    pub noise: f64,
+    /// Optical blur, Gaussian σ (pixels).
+    #[arg(long, default_value_t = 1.0)]
+    pub blur: f64,
+}
+
+/// `magbench rig check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// The rig file.
+    #[arg(long)]
+    pub rig: PathBuf,
+    /// Scenario whose start tells where the agents are (identities are assigned by it).
+    pub scenario: String,
+    /// Seconds of frames to run.
+    #[arg(long, default_value_t = 5.0)]
+    pub duration: f64,
+    /// Folder for the CSV log of every observation, command and fault.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// `magbench rig replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// The rig file (pixel map and detector parameters).
+    #[arg(long)]
+    pub rig: PathBuf,
+    /// Folder of recorded frames (`frames.csv` + PGM/PNG, or just images).
+    pub frames: PathBuf,
+    /// Scenario whose start primes the agents' identities (needed without recorded truth).
+    #[arg(long)]
+    pub scenario: Option<String>,
+    /// CSV of the detections.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Runs a rig subcommand.
+pub fn run(cmd: RigCmd) -> Result<(), CliError> {
+    match cmd {
+        RigCmd::Emulate(a) => emulate(*a),
+        RigCmd::Check(a) => check_cmd(a),
+        RigCmd::Replay(a) => replay_cmd(a),
+    }
+}
+
+fn emulate(a: EmulateArgs) -> Result<(), CliError> {
+    let rig = RigConfig::load(&a.rig)?;
+    let rig_text = std::fs::read_to_string(&a.rig)?;
+    let scenario = Scenario::load(&a.scenario)?;
+    let faults = FaultPlan::parse(&a.faults).map_err(|r| CliError::arg("--faults", r))?;
+    let preset = DisturbancePreset::by_name(&a.preset).ok_or_else(|| {
+        CliError::arg(
+            "--preset",
+            format!(
+                "unknown preset {:?}; use {}",
+                a.preset,
+                DisturbancePreset::NAMES.join(" or ")
+            ),
+        )
+    })?;
+    if !(a.speed.is_finite() && a.speed > 0.0 && a.speed <= 100.0) {
+        return Err(CliError::arg(
+            "--speed",
+            format!("must be in (0, 100], got {}", a.speed),
+        ));
+    }
+    if !(a.noise.is_finite() && a.noise >= 0.0 && a.blur.is_finite() && a.blur >= 0.0) {
+        return Err(CliError::arg("--noise/--blur", "must be finite and ≥ 0"));
+    }
+    let endpoint = match (&a.port, &a.listen) {
+        (Some(p), _) => DeviceEndpoint::Pty(p.clone()),
+        (None, Some(l)) => DeviceEndpoint::Tcp(l.clone()),
+        (None, None) => DeviceEndpoint::Tcp("127.0.0.1:0".into()),
+    };
+    let write_rig = a.write_rig.clone();
+    let baud = match &rig.coil.endpoint {
+        CoilEndpoint::Serial { baud, .. } => *baud,
+        CoilEndpoint::Tcp(_) => 115_200,
+    };
+    let on_ready = Box::new(move |coil: &str, camera: &str| {
+        let ep = match coil.split_once(' ') {
+            Some(("serial", p)) => CoilEndpoint::Serial {
+                path: p.to_string(),
+                baud,
+            },
+            Some((_, addr)) => CoilEndpoint::Tcp(addr.to_string()),
+            None => CoilEndpoint::Tcp(coil.to_string()),
+        };
+        if let Some(path) = &write_rig {
+            match RigConfig::with_endpoints(&rig_text, &ep, Some(camera)) {
+                Ok(text) => {
+                    let tmp = path.with_extension("tmp");
+                    if std::fs::write(&tmp, text)
+                        .and_then(|_| std::fs::rename(&tmp, path))
+                        .is_err()
+                    {
+                        eprintln!("error: cannot write {}", path.display());
+                    }
+                }
+                Err(e) => eprintln!("error: {e}"),
+            }
+        }
+        println!("coil: {coil}");
+        println!("camera: {camera}");
+        println!("ready");
+    });
+    let stop = Arc::new(AtomicBool::new(false));
+    let cfg = EmulatorConfig {
+        rig,
+        scenario,
+        endpoint,
+        camera_listen: a.camera_listen,
+        faults,
+        preset,
+        render: RenderParams {
+            noise: a.noise,
+            blur_px: a.blur,
+            ..RenderParams::default()
+        },
+        seed: a.seed,
+        speed: a.speed,
+        duration: a.duration,
+        log: a.log,
+        record: a.record,
+        on_ready,
+    };
+    emulator::run(cfg, stop).map_err(CliError::Failed)
+}
+
+fn open_rig(
+    rig_path: &Path,
+    scenario: &Scenario,
+    log: Option<&Path>,
+) -> Result<(RigConfig, HardwareRig), CliError> {
+    let rig = RigConfig::load(rig_path)?;
+    let field = rig.coil.field_mt.unwrap_or(scenario.physics.field_mt);
+    let hw = HardwareRig::open(
+        &rig,
+        field,
+        &scenario.start,
+        interrupt::interrupt_flag(),
+        log,
+    )
+    .map_err(|e| CliError::Failed(e.to_string()))?;
+    Ok((rig, hw))
+}
+
+fn check_cmd(a: CheckArgs) -> Result<(), CliError> {
+    let scenario = Scenario::load(&a.scenario)?;
+    if !(a.duration.is_finite() && a.duration > 0.0) {
+        return Err(CliError::arg(
+            "--duration",
+            format!("must be > 0, got {}", a.duration),
+        ));
+    }
+    let log = match &a.out {
+        Some(d) => {
+            std::fs::create_dir_all(d)?;
+            Some(d.join("rig-log.csv"))
+        }
+        None => None,
+    };
+    let (_, mut hw) = open_rig(&a.rig, &scenario, log.as_deref())?;
+    println!("rig: {}", hw.describe());
+    let r = check::spin_check(&mut hw, a.duration).map_err(|e| CliError::Failed(e.to_string()))?;
+    println!(
+        "frames       {} ({} dropped, {} stuck) over {:.2} s",
+        r.frames, r.dropped_frames, r.stuck_frames, r.duration_s
+    );
+    println!("detections   {} missed", r.missed_detections);
+    println!("commands     {} ({} faults logged)", r.commands, r.faults);
+    println!(
+        "pair         turned {:.1}°, separation {:.3} → {:.3} BL",
+        r.turned_deg, r.separation.0, r.separation.1
+    );
+    match r.latency_ms {
+        Some((m, p99)) => {
+            println!("latency      frame arrival → command sent: median {m:.3} ms, p99 {p99:.3} ms")
+        }
+        None => println!("latency      no command followed a frame"),
+    }
+    if let Some(l) = log {
+        println!("log          {}", l.display());
+    }
+    Ok(())
+}
+
+fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
+    let rig = RigConfig::load(&a.rig)?;
+    let prior = match &a.scenario {
+        Some(s) => Some(Scenario::load(s)?.start),
+        None => None,
+    };
+    let r = replay::replay(&rig, &a.frames, prior.as_deref(), a.out.as_deref())
+        .map_err(CliError::Failed)?;
+    println!("frames       {}", r.frames);
+    println!("detections   {} ({} missed)", r.detections, r.missed);
+    if let Some((rms, max)) = r.error_px {
+        println!("error        RMS {rms:.4} px, max {max:.4} px (against the recorded truth)");
+    }
+    println!("detect time  {:.3} ms per frame", r.mean_detect_ms);
+    Ok(())
+}
