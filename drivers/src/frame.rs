@@ -15,6 +15,7 @@
 //! All integers and floats little-endian.
 
 use std::io::{self, Read};
+use std::time::Instant;
 
 use image::GrayImage;
 
@@ -32,6 +33,8 @@ pub struct Frame {
     pub t: f64,
     /// The pixels.
     pub image: GrayImage,
+    /// When the host had the whole frame (the start of the control-loop latency).
+    pub received: Instant,
 }
 
 /// Encodes a frame as one stream record.
@@ -65,13 +68,11 @@ pub enum ReadFrame {
 pub fn read_frame(r: &mut impl Read, max_side: u32) -> io::Result<ReadFrame> {
     let mut win = [0u8; 4];
     r.read_exact(&mut win)?;
-    let mut skipped = false;
     while win != FRAME_MAGIC {
         let mut b = [0u8; 1];
         r.read_exact(&mut b)?;
         win.rotate_left(1);
         win[3] = b[0];
-        skipped = true;
     }
     let mut head = [0u8; FRAME_HEADER];
     head[..4].copy_from_slice(&FRAME_MAGIC);
@@ -94,11 +95,11 @@ pub fn read_frame(r: &mut impl Read, max_side: u32) -> io::Result<ReadFrame> {
         return Ok(ReadFrame::Corrupt);
     }
     body.truncate(n);
-    let _ = skipped;
     Ok(ReadFrame::Frame(Frame {
         index,
         t,
         image: GrayImage::from_raw(w, h, body).expect("size checked"),
+        received: Instant::now(),
     }))
 }
 
@@ -113,11 +114,13 @@ mod tests {
             index: 3,
             t: 0.05,
             image: img.clone(),
+            received: Instant::now(),
         };
         let b = Frame {
             index: 4,
             t: 0.0666,
             image: img,
+            received: Instant::now(),
         };
         let mut bytes = vec![1, 2, 3];
         let mut ea = encode_frame(&a);
@@ -130,7 +133,7 @@ mod tests {
             ReadFrame::Corrupt
         ));
         match read_frame(&mut r, 100).unwrap() {
-            ReadFrame::Frame(f) => assert_eq!(f, b),
+            ReadFrame::Frame(f) => assert_eq!((f.index, f.t, &f.image), (b.index, b.t, &b.image)),
             ReadFrame::Corrupt => panic!("second frame lost"),
         }
     }

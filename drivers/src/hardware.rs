@@ -75,6 +75,7 @@ pub struct HardwareRig {
     stats: RigStats,
     log: Option<RigLog>,
     stopped: bool,
+    latency: f64,
     corrupt_seen: u64,
 }
 
@@ -116,8 +117,14 @@ impl HardwareRig {
             stats: RigStats::default(),
             log,
             stopped: false,
+            latency: rig.camera.latency_s,
             corrupt_seen: 0,
         })
+    }
+
+    /// Capture to delivery latency of the camera pipeline (s), from the rig file.
+    pub fn latency(&self) -> f64 {
+        self.latency
     }
 
     /// Seconds between observations.
@@ -185,7 +192,7 @@ impl HardwareRig {
                 Ok(f) => f,
                 Err(e) => return Err(self.fail(e.into())),
             };
-            let arrived = Instant::now();
+            let arrived = frame.received;
             self.stats.frames += 1;
             let origin = *self.t_origin.get_or_insert(frame.t);
             let t = frame.t - origin;

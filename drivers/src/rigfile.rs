@@ -91,6 +91,8 @@ pub struct CameraConfig {
     pub frame_timeout_ms: u32,
     /// This many identical (stuck) frames in a row is a camera failure.
     pub stuck_frames: u32,
+    /// Capture to delivery latency of the camera pipeline (s), predicted over by the tracker.
+    pub latency_s: f64,
 }
 
 /// Dark or bright agents on the background.
@@ -205,6 +207,8 @@ struct CameraFile {
     frame_timeout_ms: u32,
     #[serde(default = "default_stuck")]
     stuck_frames: u32,
+    #[serde(default)]
+    latency_ms: f64,
 }
 
 fn default_fps() -> f64 {
@@ -532,12 +536,19 @@ impl V<'_> {
                 format!("must be ≥ 2, got {}", c.stuck_frames),
             ));
         }
+        if !(c.latency_ms.is_finite() && (0.0..=1000.0).contains(&c.latency_ms)) {
+            return Err(self.err(
+                "camera.latency_ms",
+                format!("must be 0 to 1000 ms, got {}", c.latency_ms),
+            ));
+        }
         Ok(CameraConfig {
             source,
             fps,
             size_px: c.size_px,
             frame_timeout_ms: c.frame_timeout_ms,
             stuck_frames: c.stuck_frames,
+            latency_s: c.latency_ms * 1e-3,
         })
     }
 

@@ -116,6 +116,7 @@ impl Camera for RecordedCamera {
             index: e.index,
             t: e.t,
             image: img.to_luma8(),
+            received: std::time::Instant::now(),
         })
     }
 

@@ -66,6 +66,7 @@ impl Camera for V4l2Camera {
             index: meta.sequence as u64,
             t,
             image,
+            received: std::time::Instant::now(),
         })
     }
 

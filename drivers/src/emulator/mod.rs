@@ -341,7 +341,12 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
             log.event(t, "fault_stuck_end", None, &in_force, &truth, "");
         }
         was_stuck = stuck;
-        let frame = Frame { index: k, t, image };
+        let frame = Frame {
+            index: k,
+            t,
+            image,
+            received: Instant::now(),
+        };
         log.event(t, "frame", None, &in_force, &truth, &format!("index {k}"));
         if let Some(r) = recorder.as_mut() {
             r.write(&frame, &truth)
