@@ -270,7 +270,7 @@ impl HardwareRig {
             Ok(r) => r,
             Err(e) => return Err(self.fail(e.into())),
         };
-        let sent = Instant::now();
+        let sent = ack.sent;
         self.last_command = Some(sent);
         self.stopped = false;
         self.stats.commands += 1;

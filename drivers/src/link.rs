@@ -39,6 +39,8 @@ pub struct AckInfo {
     pub device_ms: u32,
     /// Tries it took (1 = no resend).
     pub tries: u32,
+    /// When the message was first written to the transport.
+    pub sent: Instant,
 }
 
 impl AckInfo {
@@ -114,11 +116,13 @@ impl CoilLink {
         let frame = encode(seq, msg);
         self.stats.sent += 1;
         let tries = self.retries + 1;
+        let mut first_write = None;
         for attempt in 1..=tries {
             if attempt > 1 {
                 self.stats.resent += 1;
             }
             self.write(&frame)?;
+            let sent = *first_write.get_or_insert_with(Instant::now);
             match self.wait_ack(seq)? {
                 Some((status, flags, device_ms)) => {
                     if status != AckStatus::Ok {
@@ -128,6 +132,7 @@ impl CoilLink {
                         flags,
                         device_ms,
                         tries: attempt,
+                        sent,
                     });
                 }
                 None => continue,

@@ -36,9 +36,24 @@ pub fn fit_disks(img: &GrayImage, window: Rect, init: &[Vec2], radius: f64, blur
             pix.push((x as f64, y as f64, img.get_pixel(x, y).0[0] as f64));
         }
     }
-    let profile = |s: f64| 0.5 * libm::erfc(s / (sigma * std::f64::consts::SQRT_2));
+    // beyond 3.5σ from the edge the profile is 0 or 1 to within 2.3e-4 (0.03 grey levels at a
+    // contrast of 150): skip the special functions there
+    let cut = 3.5 * sigma;
+    let profile = |s: f64| {
+        if s > cut {
+            0.0
+        } else if s < -cut {
+            1.0
+        } else {
+            0.5 * libm::erfc(s / (sigma * std::f64::consts::SQRT_2))
+        }
+    };
     let dprofile = |s: f64| {
-        -(-0.5 * s * s / (sigma * sigma)).exp() / (sigma * (2.0 * std::f64::consts::PI).sqrt())
+        if s.abs() > cut {
+            0.0
+        } else {
+            -(-0.5 * s * s / (sigma * sigma)).exp() / (sigma * (2.0 * std::f64::consts::PI).sqrt())
+        }
     };
     let coverage = |c: &[Vec2], x: f64, y: f64| {
         c.iter()
