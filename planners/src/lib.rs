@@ -1,14 +1,45 @@
 //! # magbench-planners
 //!
 //! Kinodynamic planners behind one [`Planner`] trait. A [`Problem`] (scenario leg, planning
-//! model, validity checker, objective, limits, seed) goes in; a [`PlannerResult`] with a
+//! model, validity checker, objective, metric, limits, seed) goes in; a [`PlannerResult`] with a
 //! [`Plan`] — a sequence of (state, control, duration) — comes out. [`validate_plan`] checks any
 //! plan independently of the planner that made it.
+//!
+//! The planners ([`registry`] creates them by name and `key=value` parameters):
+//!
+//! - `goal-zoom-rrt`: the seed's Algorithms 1–3 ([`planners::GoalZoomRrt`]);
+//! - `rrt-star`: kinodynamic RRT* with shooting connections ([`planners::RrtStar`]);
+//! - `informed-rrt-star`: RRT* sampling only states that can improve the solution;
+//! - `sst`: Stable Sparse RRT ([`planners::Sst`]).
+//!
+//! The physics is env's: planners propagate with `PlanningModel::propagate_with` and check with
+//! `ValidityChecker`; every edge lasts a whole number of control periods (1/60 s).
 
+pub mod extend;
+pub mod informed;
+pub mod metric;
+pub mod motion;
+pub mod nn;
+pub mod objective;
+pub mod params;
 pub mod plan;
 pub mod planner;
+pub mod planners;
 pub mod problem;
+pub mod progress;
+pub mod registry;
+pub mod result;
+pub mod sampler;
+pub mod steer;
+pub mod tree;
+pub mod validate;
 
+pub use metric::Metric;
+pub use objective::{Objective, plan_cost};
 pub use plan::Plan;
 pub use planner::{Planner, PlannerResult, ProgressPoint};
 pub use problem::{Limits, Problem};
+pub use validate::{PlanError, validate_path, validate_plan};
+
+/// The planners' random stream: portable and seedable (ChaCha8), never a thread or OS RNG.
+pub type Rng = rand_chacha::ChaCha8Rng;

@@ -1,11 +1,16 @@
 //! A planning problem: one leg of a scenario, the model, the checker, the objective and limits.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use magbench_env::{Goal, PlanningModel, Scenario, ValidityChecker, Vec2, World};
 
+use crate::metric::Metric;
+use crate::objective::{Objective, PathLength};
+
 /// When a planner stops: after `max_iterations` and/or after `time_limit`, whichever first.
-/// For bit-for-bit reproducible runs, limit iterations only.
+/// For bit-for-bit reproducible runs, limit iterations only. With neither set, planners use the
+/// default iteration limit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Limits {
     /// Largest number of iterations.
@@ -44,6 +49,10 @@ pub struct Problem {
     pub limits: Limits,
     /// Seed of the planner's random stream.
     pub seed: u64,
+    /// The cost to minimise (sum of agent path lengths by default).
+    pub objective: Arc<dyn Objective>,
+    /// The distance of nearest-neighbour queries and EXTEND (agent positions by default).
+    pub metric: Metric,
 }
 
 impl Problem {
@@ -66,6 +75,28 @@ impl Problem {
             control_period: 1.0 / 60.0,
             limits: Limits::default(),
             seed,
+            objective: Arc::new(PathLength),
+            metric: Metric::Positions,
+        }
+    }
+
+    /// Number of agents.
+    pub fn agents(&self) -> usize {
+        self.start.len()
+    }
+
+    /// The duration of `periods` control periods (s); every edge duration is one of these.
+    #[inline]
+    pub fn periods(&self, periods: u32) -> f64 {
+        periods as f64 * self.control_period
+    }
+
+    /// The largest iteration count the limits allow (`u64::MAX` when only time limits).
+    pub fn max_iterations(&self) -> u64 {
+        match (self.limits.max_iterations, self.limits.time_limit) {
+            (Some(n), _) => n,
+            (None, Some(_)) => u64::MAX,
+            (None, None) => Limits::default().max_iterations.unwrap_or(u64::MAX),
         }
     }
 }

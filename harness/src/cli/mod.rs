@@ -3,6 +3,7 @@
 mod rig;
 mod scenario;
 mod stlc;
+mod track;
 
 use clap::{Parser, Subcommand};
 
@@ -29,6 +30,8 @@ pub enum Command {
     Scenario(scenario::ScenarioCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
+    /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
+    Track(track::TrackArgs),
     /// Physical runs: the rig emulator, rig bring-up checks and detection replay.
     #[command(subcommand)]
     Rig(rig::RigCmd),
@@ -39,6 +42,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Stlc(a) => stlc::run(a),
+        Command::Track(a) => track::run(a),
         Command::Rig(c) => rig::run(c),
     }
 }

@@ -1,0 +1,191 @@
+//! The distance between team states: what nearest-neighbour queries and EXTEND minimise.
+//!
+//! Every metric here is a Euclidean distance after a linear map of the stacked agent positions
+//! into `R^{2N}` ([`Metric::embed`]), so a k-d tree answers its queries exactly.
+
+use magbench_env::{MAX_AGENTS, Vec2};
+
+/// Largest embedding dimension (two coordinates per agent).
+pub const MAX_DIMS: usize = 2 * MAX_AGENTS;
+
+/// A distance on team states `(P_1, …, P_N)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Metric {
+    /// The seed's DISTANCE ρ: Euclidean distance on the stacked agent positions,
+    /// `‖P̃‖ = (Σ_i ‖P_i − Q_i‖²)^{1/2}`. EXTEND minimises its square, as in Algorithm 3.
+    Positions,
+    /// Centroid and shape weighted apart: `(w_c² N ‖Δc‖² + w_s² Σ_i ‖Δ(P_i − c)‖²)^{1/2}`,
+    /// with `c` the centroid. Equal to [`Metric::Positions`] when both weights are 1; a larger
+    /// shape weight makes separation and heading count more (the seed's remark on weighting
+    /// separation and pair heading in the distance).
+    CentroidShape {
+        /// Weight of the centroid displacement.
+        centroid: f64,
+        /// Weight of the shape (positions relative to the centroid) displacement.
+        shape: f64,
+    },
+}
+
+impl Default for Metric {
+    fn default() -> Self {
+        Metric::Positions
+    }
+}
+
+impl Metric {
+    /// Parses `positions` or `centroid-shape:W_C:W_S` (e.g. `centroid-shape:1:2`).
+    pub fn parse(s: &str) -> Result<Metric, String> {
+        if s == "positions" {
+            return Ok(Metric::Positions);
+        }
+        if let Some(rest) = s.strip_prefix("centroid-shape") {
+            let parts: Vec<&str> = rest.split(':').skip(1).collect();
+            let (wc, ws) = match parts.as_slice() {
+                [] => (1.0, 1.0),
+                [a, b] => (
+                    a.parse::<f64>()
+                        .map_err(|_| format!("bad centroid weight {a:?}"))?,
+                    b.parse::<f64>()
+                        .map_err(|_| format!("bad shape weight {b:?}"))?,
+                ),
+                _ => return Err("expected centroid-shape:W_CENTROID:W_SHAPE".into()),
+            };
+            if !(wc.is_finite() && ws.is_finite() && wc > 0.0 && ws > 0.0) {
+                return Err("metric weights must be finite and > 0".into());
+            }
+            return Ok(Metric::CentroidShape {
+                centroid: wc,
+                shape: ws,
+            });
+        }
+        Err(format!(
+            "unknown metric {s:?} (expected positions or centroid-shape:W_C:W_S)"
+        ))
+    }
+
+    /// The metric's name as [`Metric::parse`] reads it.
+    pub fn name(&self) -> String {
+        match self {
+            Metric::Positions => "positions".into(),
+            Metric::CentroidShape { centroid, shape } => {
+                format!("centroid-shape:{centroid}:{shape}")
+            }
+        }
+    }
+
+    /// Writes the `2N` embedding coordinates of state `s` into `out[..2N]`: the distance of two
+    /// states is the Euclidean distance of their embeddings.
+    #[inline]
+    pub fn embed(&self, s: &[Vec2], out: &mut [f64]) {
+        let n = s.len();
+        match *self {
+            Metric::Positions => {
+                for (i, p) in s.iter().enumerate() {
+                    out[2 * i] = p.x;
+                    out[2 * i + 1] = p.y;
+                }
+            }
+            Metric::CentroidShape { centroid, shape } => {
+                // An orthonormal (Helmert) basis: √N·c, then h_k = (Σ_{i<k} P_i − (k−1) P_k)/√(k(k−1)).
+                let mut sum = Vec2::zeros();
+                for (k, p) in s.iter().enumerate() {
+                    if k > 0 {
+                        let kk = (k + 1) as f64;
+                        let h = (sum - p * (kk - 1.0)) / (kk * (kk - 1.0)).sqrt() * shape;
+                        out[2 * k] = h.x;
+                        out[2 * k + 1] = h.y;
+                    }
+                    sum += p;
+                }
+                let c = sum / (n as f64).sqrt() * centroid;
+                out[0] = c.x;
+                out[1] = c.y;
+            }
+        }
+    }
+
+    /// Squared distance between two states.
+    #[inline]
+    pub fn distance_squared(&self, a: &[Vec2], b: &[Vec2]) -> f64 {
+        match self {
+            Metric::Positions => a.iter().zip(b).map(|(p, q)| (p - q).norm_squared()).sum(),
+            _ => {
+                let n = 2 * a.len();
+                let (mut ea, mut eb) = ([0.0; MAX_DIMS], [0.0; MAX_DIMS]);
+                self.embed(a, &mut ea);
+                self.embed(b, &mut eb);
+                ea[..n]
+                    .iter()
+                    .zip(&eb[..n])
+                    .map(|(x, y)| (x - y) * (x - y))
+                    .sum()
+            }
+        }
+    }
+
+    /// Distance between two states.
+    #[inline]
+    pub fn distance(&self, a: &[Vec2], b: &[Vec2]) -> f64 {
+        self.distance_squared(a, b).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn team(v: &[(f64, f64)]) -> Vec<Vec2> {
+        v.iter().map(|&(x, y)| Vec2::new(x, y)).collect()
+    }
+
+    #[test]
+    fn centroid_shape_with_unit_weights_is_positions() {
+        let a = team(&[(1.0, 2.0), (3.0, 1.5), (0.2, -1.0), (4.0, 4.0)]);
+        let b = team(&[(1.5, 2.5), (2.0, 1.0), (0.7, -0.2), (3.0, 5.0)]);
+        let cs = Metric::CentroidShape {
+            centroid: 1.0,
+            shape: 1.0,
+        };
+        for n in 2..=4 {
+            let (p, q) = (
+                Metric::Positions.distance(&a[..n], &b[..n]),
+                cs.distance(&a[..n], &b[..n]),
+            );
+            assert!((p - q).abs() < 1e-12, "n = {n}: {p} vs {q}");
+        }
+    }
+
+    #[test]
+    fn shape_weight_scales_only_relative_motion() {
+        let a = team(&[(1.0, 2.0), (3.0, 2.0)]);
+        let moved = team(&[(2.0, 2.0), (4.0, 2.0)]); // pure translation by 1
+        let spread = team(&[(0.5, 2.0), (3.5, 2.0)]); // pure widening
+        let m = Metric::CentroidShape {
+            centroid: 1.0,
+            shape: 3.0,
+        };
+        assert!((m.distance(&a, &moved) - Metric::Positions.distance(&a, &moved)).abs() < 1e-12);
+        assert!(
+            (m.distance(&a, &spread) - 3.0 * Metric::Positions.distance(&a, &spread)).abs() < 1e-12
+        );
+    }
+
+    #[test]
+    fn parses_names() {
+        assert_eq!(Metric::parse("positions"), Ok(Metric::Positions));
+        assert_eq!(
+            Metric::parse("centroid-shape:1:2"),
+            Ok(Metric::CentroidShape {
+                centroid: 1.0,
+                shape: 2.0
+            })
+        );
+        assert!(Metric::parse("centroid-shape:0:2").is_err());
+        assert!(Metric::parse("manhattan").is_err());
+        let m = Metric::CentroidShape {
+            centroid: 0.5,
+            shape: 2.0,
+        };
+        assert_eq!(Metric::parse(&m.name()), Ok(m));
+    }
+}

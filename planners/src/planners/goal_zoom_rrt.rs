@@ -1,0 +1,187 @@
+//! `goal-zoom-rrt`: the seed's RRT (Salehizadeh & Diller, Algorithms 1–3).
+//!
+//! ```text
+//! Algorithm 1  makeTree(T, q_start, q_goal)
+//!   T ⇐ q_start
+//!   while i ≤ k:                              (the limits)
+//!     q_new ← T.BUILD-RRT()
+//!     if T.hasReachedGoal(): break
+//!   τ ← computePlan(T) by backtracking
+//!
+//! Algorithm 2  BUILD-RRT(T)
+//!   q_sample ← T.randomStateGoalZoom()        biased coin: goal-zoom region or whole space
+//!   q_near   ← T.nearestNeighbour(q_sample)   k-d tree, the problem's metric
+//!   (q_new, u_new, δt_new) ← T.EXTEND(q_near, q_sample)
+//!   if collisionFree(q_near, u_new, δt_new): add node q_new and edge (q_near, q_new, u_new, δt_new)
+//!
+//! Algorithm 3  EXTEND(T, q_near, q_sample)    see crate::extend
+//!   k random (u, δt); keep argmin ρ(P_new, P_sample) = ‖P_new − P_sample‖²
+//! ```
+//!
+//! Defaults (tuned on the built-in scenarios, see `docs/readme-planners.md`):
+//! `k = 10` tries; durations from 1/60 s to 0.5 s — long enough that one edge moves the
+//! centroid up to 0.25 BL, short enough that a constant field does not collapse a close pair
+//! (at r = 2 BL the separation changes at up to 3 BL/s); goal bias 0.1 into a zoom region of
+//! 1.5 BL about each agent's goal centre.
+
+use magbench_env::{MAX_AGENTS, Vec2};
+use rand::SeedableRng;
+
+use crate::extend::Extend;
+use crate::motion::propagate_checked;
+use crate::nn::NearestNeighbors;
+use crate::objective::Motion;
+use crate::params::{check_durations, number, positive, to_periods, whole};
+use crate::planner::{Param, ParamError};
+use crate::progress::Progress;
+use crate::result::{Best, finish};
+use crate::sampler::{GoalZoom, StateSampler};
+use crate::tree::Tree;
+use crate::{Planner, PlannerResult, Problem, Rng};
+
+/// The seed's goal-zoom RRT.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GoalZoomRrt {
+    /// EXTEND's random tries per iteration (the seed's k).
+    pub tries: usize,
+    /// Shortest edge duration (s), rounded to whole control periods.
+    pub min_duration: f64,
+    /// Longest edge duration (s), rounded to whole control periods.
+    pub max_duration: f64,
+    /// Probability of sampling the goal-zoom region.
+    pub goal_bias: f64,
+    /// Radius of the goal-zoom region about each agent's goal centre (BL).
+    pub zoom_radius: f64,
+}
+
+impl Default for GoalZoomRrt {
+    fn default() -> Self {
+        GoalZoomRrt {
+            tries: 10,
+            min_duration: 1.0 / 60.0,
+            max_duration: 0.5,
+            goal_bias: 0.1,
+            zoom_radius: 1.5,
+        }
+    }
+}
+
+impl Planner for GoalZoomRrt {
+    fn name(&self) -> &str {
+        "goal-zoom-rrt"
+    }
+
+    fn solve(&mut self, problem: &Problem) -> PlannerResult {
+        let n = problem.agents();
+        let mut rng = Rng::seed_from_u64(problem.seed);
+        let extend = Extend {
+            tries: self.tries,
+            min_periods: to_periods(self.min_duration, problem.control_period),
+            max_periods: to_periods(self.max_duration, problem.control_period),
+        };
+        let zoom = GoalZoom {
+            bias: self.goal_bias,
+            radius: self.zoom_radius,
+        };
+        let sampler = StateSampler::new(problem);
+        let mut progress = Progress::start(problem);
+
+        // Algorithm 1: T ⇐ q_start
+        let mut tree = Tree::new(&problem.start);
+        let mut nn = NearestNeighbors::new(problem.metric, n);
+        nn.add(&problem.start, 0);
+        let mut closest = (0u32, problem.goal.distance(&problem.start));
+        let mut reached = problem.goal.contains(&problem.start).then_some(0u32);
+
+        let mut q_sample = [Vec2::zeros(); MAX_AGENTS];
+        let mut q_new = [Vec2::zeros(); MAX_AGENTS];
+        let mut i = 0u64;
+        while reached.is_none() && !progress.done(i) {
+            i += 1;
+            // Algorithm 2: BUILD-RRT
+            if zoom.sample(problem, &sampler, &mut rng, &mut q_sample[..n]) {
+                let (near, _) = nn.nearest(&q_sample[..n]).expect("the tree has its root");
+                let ext = extend.run(problem, &mut rng, tree.state(near), &q_sample[..n]);
+                let (u, periods) = (ext.control, ext.periods);
+                let d = problem.periods(periods);
+                if periods > 0
+                    && let Some(length) =
+                        propagate_checked(problem, tree.state(near), &u, d, &mut q_new[..n])
+                {
+                    let cost = tree.cost(near)
+                        + problem.objective.motion_cost(&Motion {
+                            control: u,
+                            duration: d,
+                            path_length: length,
+                        });
+                    let id = tree.add(near, &q_new[..n], u, periods, cost);
+                    nn.add(&q_new[..n], id);
+                    let dist = problem.goal.distance(&q_new[..n]);
+                    if dist < closest.1 {
+                        closest = (id, dist);
+                    }
+                    if problem.goal.contains(&q_new[..n]) {
+                        reached = Some(id); // T.hasReachedGoal()
+                    }
+                }
+            }
+            progress.record(i, reached.map(|g| tree.cost(g)));
+        }
+
+        // τ ← computePlan(T) by backtracking
+        let node = reached.unwrap_or(closest.0);
+        let best = Best {
+            plan: tree.plan_to(node, problem),
+            solved: reached.is_some(),
+            cost: tree.cost(node),
+        };
+        let first = reached.map(|_| (i, progress.elapsed()));
+        finish(problem, best, i, tree.len(), progress, first)
+    }
+
+    fn params(&self) -> Vec<Param> {
+        vec![
+            Param {
+                name: "k",
+                value: self.tries.to_string(),
+                help: "EXTEND's random (control, duration) tries per iteration",
+            },
+            Param {
+                name: "min_duration",
+                value: self.min_duration.to_string(),
+                help: "shortest edge (s), rounded to whole 1/60 s periods",
+            },
+            Param {
+                name: "max_duration",
+                value: self.max_duration.to_string(),
+                help: "longest edge (s), rounded to whole 1/60 s periods",
+            },
+            Param {
+                name: "goal_bias",
+                value: self.goal_bias.to_string(),
+                help: "probability of sampling the goal-zoom region",
+            },
+            Param {
+                name: "zoom_radius",
+                value: self.zoom_radius.to_string(),
+                help: "radius of each agent's goal-zoom disk (BL)",
+            },
+        ]
+    }
+
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        match key {
+            "k" => self.tries = whole(key, value, 1, 100_000)? as usize,
+            "min_duration" => self.min_duration = positive(key, value)?,
+            "max_duration" => self.max_duration = positive(key, value)?,
+            "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
+            "zoom_radius" => self.zoom_radius = positive(key, value)?,
+            _ => return Err(ParamError::Unknown(key.into())),
+        }
+        Ok(())
+    }
+
+    fn check_params(&self) -> Result<(), ParamError> {
+        check_durations(self.min_duration, self.max_duration)
+    }
+}

@@ -1,0 +1,158 @@
+//! The one independent plan validator.
+//!
+//! It trusts nothing a planner stored: it replays the plan's controls from the problem's start
+//! through env's planning model (`ValidityChecker::motion_valid`, env's own code path for the
+//! continuous collision and proximity check), compares every replayed waypoint with the stored
+//! one, checks the controls against the coil and the durations against the control period, and
+//! confirms that the replay ends in the goal region.
+//!
+//! Replay agrees with the stored states bit for bit when the plan came from this model: the
+//! pair dynamics are so sensitive that a plan made with any other arithmetic (integrator, step,
+//! force formula) fails here even if it was valid there.
+
+use magbench_env::Vec2;
+
+use crate::{Plan, Problem};
+
+/// Largest allowed distance (BL, any agent) between a replayed and a stored waypoint.
+pub const REPLAY_TOLERANCE: f64 = 1e-9;
+
+/// Why a plan is not valid for a problem.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    /// The arrays do not fit together (lengths, agent counts).
+    #[error("malformed plan: {0}")]
+    Malformed(String),
+    /// The first state is not the problem's start.
+    #[error("the plan starts {deviation:e} BL from the problem's start")]
+    WrongStart {
+        /// Largest agent distance (BL).
+        deviation: f64,
+    },
+    /// The start collides or violates the proximity range.
+    #[error("the start state is invalid (collision or proximity range)")]
+    InvalidStart,
+    /// A control is not finite or exceeds the coil's limits.
+    #[error("edge {edge}: control {control} is not finite or outside the coil's limits")]
+    BadControl {
+        /// Edge index.
+        edge: usize,
+        /// The control, printed.
+        control: String,
+    },
+    /// A duration is not a positive whole multiple of the control period.
+    #[error(
+        "edge {edge}: duration {duration} s is not a positive whole multiple of the control period {period} s"
+    )]
+    BadDuration {
+        /// Edge index.
+        edge: usize,
+        /// The duration (s).
+        duration: f64,
+        /// The control period (s).
+        period: f64,
+    },
+    /// The motion collides or leaves the proximity range somewhere along the edge.
+    #[error("edge {edge}: the motion collides or leaves the proximity range")]
+    InvalidMotion {
+        /// Edge index.
+        edge: usize,
+    },
+    /// Replay does not reproduce the stored state.
+    #[error("edge {edge}: replay ends {deviation:e} BL from the stored state")]
+    ReplayMismatch {
+        /// Edge index.
+        edge: usize,
+        /// Largest agent distance (BL).
+        deviation: f64,
+    },
+    /// The replay does not end in the goal region.
+    #[error("the plan ends {distance} BL from the goal (tolerance {tolerance} BL)")]
+    NotInGoal {
+        /// Largest agent distance from its goal centre (BL).
+        distance: f64,
+        /// The goal tolerance (BL).
+        tolerance: f64,
+    },
+}
+
+fn deviation(a: &[Vec2], b: &[Vec2]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
+}
+
+/// Checks everything but the goal: shape, start, controls, durations, replay and the
+/// continuous collision and proximity check along every edge. Returns the replayed end state.
+pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanError> {
+    let n = problem.agents();
+    if plan.states.len() != plan.controls.len() + 1 || plan.controls.len() != plan.durations.len() {
+        return Err(PlanError::Malformed(format!(
+            "{} states, {} controls and {} durations (need states = controls + 1 = durations + 1)",
+            plan.states.len(),
+            plan.controls.len(),
+            plan.durations.len()
+        )));
+    }
+    if let Some(i) = plan.states.iter().position(|s| s.len() != n) {
+        return Err(PlanError::Malformed(format!(
+            "state {i} has {} agents, the problem {n}",
+            plan.states[i].len()
+        )));
+    }
+    let dev = deviation(&plan.states[0], &problem.start);
+    if !(dev <= REPLAY_TOLERANCE) {
+        return Err(PlanError::WrongStart { deviation: dev });
+    }
+    if !problem.checker.is_valid(&problem.start) {
+        return Err(PlanError::InvalidStart);
+    }
+    let period = problem.control_period;
+    let mut state = problem.start.clone();
+    let mut next = state.clone();
+    for (edge, (u, &d)) in plan.controls.iter().zip(&plan.durations).enumerate() {
+        if !u.is_finite() || problem.model.coil.clamp(u).1 {
+            return Err(PlanError::BadControl {
+                edge,
+                control: format!("{u:?}"),
+            });
+        }
+        let k = d / period;
+        if !(d.is_finite() && k.round() >= 1.0 && (k - k.round()).abs() <= 1e-9 * k.round()) {
+            return Err(PlanError::BadDuration {
+                edge,
+                duration: d,
+                period,
+            });
+        }
+        if !problem
+            .checker
+            .motion_valid(&problem.model, &state, u, d, &mut next)
+        {
+            return Err(PlanError::InvalidMotion { edge });
+        }
+        let dev = deviation(&next, &plan.states[edge + 1]);
+        if !(dev <= REPLAY_TOLERANCE) {
+            return Err(PlanError::ReplayMismatch {
+                edge,
+                deviation: dev,
+            });
+        }
+        std::mem::swap(&mut state, &mut next);
+    }
+    Ok(state)
+}
+
+/// Validates a plan completely: [`validate_path`], and the replay ends in the goal region.
+pub fn validate_plan(problem: &Problem, plan: &Plan) -> Result<(), PlanError> {
+    let end = validate_path(problem, plan)?;
+    let distance = problem.goal.distance(&end);
+    if !problem.goal.contains(&end) {
+        return Err(PlanError::NotInGoal {
+            distance,
+            tolerance: problem.goal.tolerance,
+        });
+    }
+    Ok(())
+}
