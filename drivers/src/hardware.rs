@@ -44,6 +44,8 @@ pub struct RigStats {
     pub frames: u64,
     /// Frames the source never delivered (gaps in the frame index).
     pub dropped_frames: u64,
+    /// Frames received but skipped because the host was busy (e.g. planning); the newest wins.
+    pub skipped_frames: u64,
     /// Frames that repeated the previous one (stuck camera).
     pub stuck_frames: u64,
     /// Agent detections missing.
@@ -70,13 +72,14 @@ pub struct HardwareRig {
     last_hash: Option<u32>,
     stuck_run: u32,
     arrival: Option<(Instant, u64, f64)>,
-    last_command: Option<Instant>,
+    last_command: Option<f64>,
     t_origin: Option<f64>,
     stats: RigStats,
     log: Option<RigLog>,
     stopped: bool,
     latency: f64,
     corrupt_seen: u64,
+    skipped_seen: u64,
 }
 
 impl HardwareRig {
@@ -119,6 +122,7 @@ impl HardwareRig {
             stopped: false,
             latency: rig.camera.latency_s,
             corrupt_seen: 0,
+            skipped_seen: 0,
         })
     }
 
@@ -207,12 +211,26 @@ impl HardwareRig {
                 }
                 if frame.index > last + 1 {
                     let gap = frame.index - last - 1;
-                    self.stats.dropped_frames += gap;
-                    self.fault(
-                        t,
-                        Some(frame.index),
-                        &format!("{gap} frame(s) dropped before frame {}", frame.index),
-                    );
+                    let skipped_now = self.camera.skipped_frames();
+                    let skipped = (skipped_now - self.skipped_seen).min(gap);
+                    self.skipped_seen = skipped_now;
+                    self.stats.skipped_frames += skipped;
+                    let dropped = gap - skipped;
+                    if dropped > 0 {
+                        self.stats.dropped_frames += dropped;
+                        self.fault(
+                            t,
+                            Some(frame.index),
+                            &format!("{dropped} frame(s) dropped before frame {}", frame.index),
+                        );
+                    }
+                    if skipped > 0 {
+                        self.fault(
+                            t,
+                            Some(frame.index),
+                            &format!("{skipped} frame(s) skipped while the host was busy, before frame {}", frame.index),
+                        );
+                    }
                 }
             }
             self.last_index = Some(frame.index);
@@ -261,17 +279,21 @@ impl HardwareRig {
     /// Sends a coil command (clamped to the rig's limits, and flagged in the log if it was).
     pub fn command(&mut self, u: &Control) -> Result<(), HardwareError> {
         self.check_safety()?;
-        let now = Instant::now();
-        let dt = self
-            .last_command
-            .map(|t| now.duration_since(t).as_secs_f64())
-            .unwrap_or(self.period);
+        // the slew limit counts rig time: frame capture times (the device clock), so an
+        // emulator running faster than real time limits the same physical ramps
+        let t_now = self.arrival.map(|a| a.2);
+        let dt = match (t_now, self.last_command) {
+            (Some(t), Some(prev)) => (t - prev).max(0.0),
+            _ => self.period,
+        };
         let (cmd, ack) = match self.coil.command(u, dt) {
             Ok(r) => r,
             Err(e) => return Err(self.fail(e.into())),
         };
         let sent = ack.sent;
-        self.last_command = Some(sent);
+        if let Some(t) = t_now {
+            self.last_command = Some(t);
+        }
         self.stopped = false;
         self.stats.commands += 1;
         let (frame, t, latency) = match self.arrival.take() {
@@ -339,5 +361,29 @@ impl Drop for HardwareRig {
         if let Some(l) = self.log.as_mut() {
             l.flush();
         }
+    }
+}
+
+/// The tracking loop's view: every hardware failure is fatal to the run (recoverable faults —
+/// dropped, corrupted or stuck frames, resent messages — are handled and logged inside).
+impl magbench_trackers::Rig for HardwareRig {
+    fn frame_period(&self) -> f64 {
+        HardwareRig::frame_period(self)
+    }
+
+    fn observe(&mut self) -> Result<Observation, magbench_trackers::RigError> {
+        HardwareRig::observe(self).map_err(|e| magbench_trackers::RigError::Fatal(e.to_string()))
+    }
+
+    fn command(&mut self, u: &Control) -> Result<(), magbench_trackers::RigError> {
+        HardwareRig::command(self, u).map_err(|e| magbench_trackers::RigError::Fatal(e.to_string()))
+    }
+
+    fn stop(&mut self) -> Result<(), magbench_trackers::RigError> {
+        HardwareRig::stop(self).map_err(|e| magbench_trackers::RigError::Fatal(e.to_string()))
+    }
+
+    fn latency(&self) -> f64 {
+        HardwareRig::latency(self)
     }
 }

@@ -41,5 +41,6 @@ pub use detector::{Detection, Detector};
 pub use frame::Frame;
 pub use hardware::{HardwareError, HardwareRig, RigStats};
 pub use link::{CoilLink, LinkError};
+pub use magbench_trackers::{Rig, RigError};
 pub use pixel_map::PixelMap;
 pub use rigfile::RigConfig;

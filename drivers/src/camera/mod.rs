@@ -39,6 +39,10 @@ pub trait Camera: Send {
     fn corrupt_frames(&self) -> u64 {
         0
     }
+    /// Frames received but overwritten before the host asked for them (the host was busy).
+    fn skipped_frames(&self) -> u64 {
+        0
+    }
     /// A short description for messages.
     fn describe(&self) -> String;
 }

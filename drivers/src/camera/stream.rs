@@ -21,6 +21,7 @@ struct State {
     ring: VecDeque<Frame>,
     error: Option<CameraError>,
     corrupt: u64,
+    skipped: u64,
 }
 
 /// A camera that reads the frame-stream records (see [`crate::frame`]) from a TCP address.
@@ -66,6 +67,7 @@ fn read_loop(s: TcpStream, shared: &(Mutex<State>, Condvar), addr: &str) {
                 st.ring.push_back(f);
                 if st.ring.len() > RING {
                     st.ring.pop_front();
+                    st.skipped += 1;
                 }
             }
             Ok(ReadFrame::Corrupt) => st.corrupt += 1,
@@ -90,6 +92,7 @@ impl Camera for StreamCamera {
         loop {
             // the newest frame; skipped older ones show as a gap in the frame index
             if let Some(f) = st.ring.pop_back() {
+                st.skipped += st.ring.len() as u64;
                 st.ring.clear();
                 return Ok(f);
             }
@@ -113,6 +116,14 @@ impl Camera for StreamCamera {
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .corrupt
+    }
+
+    fn skipped_frames(&self) -> u64 {
+        self.shared
+            .0
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .skipped
     }
 
     fn describe(&self) -> String {

@@ -16,7 +16,7 @@ pub mod render;
 
 use std::net::{TcpListener, TcpStream};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -71,6 +71,10 @@ pub struct EmulatorConfig {
     /// Device time runs this many times faster than wall time (frames come faster; the
     /// watchdog stays in wall time).
     pub speed: f64,
+    /// Lockstep: after each frame, wait (up to 50 ms of wall time) for the host's command
+    /// before advancing the plant one frame; device time is then frame count × period. Runs as
+    /// fast as the host's loop and makes runs immune to machine load (for CI); `speed` is ignored.
+    pub lockstep: bool,
     /// Stop after this much device time (s).
     pub duration: Option<f64>,
     /// The event log.
@@ -81,16 +85,21 @@ pub struct EmulatorConfig {
     pub on_ready: OnReady,
 }
 
-/// The device clock: wall time since start, times `speed`.
+/// The device clock: wall time since start, times `speed`; in lockstep, the time of the last
+/// frame sent.
 #[derive(Debug, Clone, Copy)]
 struct Clock {
     start: Instant,
     speed: f64,
+    virtual_t: Option<&'static AtomicU64>,
 }
 
 impl Clock {
     fn t(&self) -> f64 {
-        self.start.elapsed().as_secs_f64() * self.speed
+        match self.virtual_t {
+            Some(v) => f64::from_bits(v.load(Ordering::Acquire)),
+            None => self.start.elapsed().as_secs_f64() * self.speed,
+        }
     }
     fn wall_of(&self, t: f64) -> Instant {
         self.start + Duration::from_secs_f64(t / self.speed)
@@ -103,6 +112,8 @@ struct Shared {
     changes: Vec<(f64, Vec<f64>)>,
     /// Device time of the first HELLO: fault times count from here.
     hello_t: Option<f64>,
+    /// Current-setting messages (SET_CURRENTS, ZERO) handled so far.
+    commands: u64,
 }
 
 /// Runs the emulator until `duration` passes or `stop` is set.
@@ -111,9 +122,14 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
         return Err(format!("speed must be > 0, got {}", cfg.speed));
     }
     let start = Instant::now();
+    // one emulator per process: the lockstep clock lives as long as the process
+    let virtual_t: Option<&'static AtomicU64> = cfg
+        .lockstep
+        .then(|| &*Box::leak(Box::new(AtomicU64::new(0))));
     let clock = Clock {
         start,
-        speed: cfg.speed,
+        speed: if cfg.lockstep { 1.0 } else { cfg.speed },
+        virtual_t,
     };
     let log = Arc::new(
         EventLog::create(&cfg.log, start).map_err(|e| format!("{}: {e}", cfg.log.display()))?,
@@ -133,6 +149,7 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
         ),
         changes: Vec::new(),
         hello_t: None,
+        commands: 0,
     }));
 
     // the camera's frame stream
@@ -275,6 +292,7 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
     let mut stuck_frame: Option<image::GrayImage> = None;
     let mut was_stuck = false;
     let mut camera_cut = false;
+    let mut commands_at_frame = 0;
     for k in 1u64.. {
         if stop.load(Ordering::Relaxed) {
             break;
@@ -283,10 +301,20 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
         if cfg.duration.is_some_and(|d| t > d) {
             break;
         }
-        let wake = clock.wall_of(t);
-        let now = Instant::now();
-        if wake > now {
-            std::thread::sleep(wake - now);
+        if let Some(v) = clock.virtual_t {
+            // lockstep: the host's answer to the last frame, or 50 ms
+            let deadline = Instant::now() + Duration::from_millis(50);
+            while shared.lock().unwrap().commands == commands_at_frame && Instant::now() < deadline
+            {
+                std::thread::sleep(Duration::from_micros(100));
+            }
+            let _ = v;
+        } else {
+            let wake = clock.wall_of(t);
+            let now = Instant::now();
+            if wake > now {
+                std::thread::sleep(wake - now);
+            }
         }
         // integrate the plant piecewise under the currents in force
         let changes = std::mem::take(&mut shared.lock().unwrap().changes);
@@ -307,6 +335,9 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
         }
         advance(&mut plant, &in_force, seg_start, t);
         t_prev = t;
+        if let Some(v) = clock.virtual_t {
+            v.store(t.to_bits(), Ordering::Release);
+        }
         let truth: Vec<Vec2> = plant.positions().to_vec();
         if plant.stuck() {
             log.event(
@@ -395,6 +426,7 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
             std::thread::sleep(Duration::from_secs_f64(ms * 1e-3));
         }
         let bytes = encode_frame(&frame);
+        commands_at_frame = shared.lock().unwrap().commands;
         let mut client = cam_client.lock().unwrap();
         if let Some(s) = client.as_mut() {
             use std::io::Write;
@@ -520,6 +552,12 @@ fn serve(
                 let cur = sh.device.currents().to_vec();
                 if cur != before {
                     sh.changes.push((t, cur.clone()));
+                }
+                if matches!(
+                    event,
+                    DeviceEvent::Currents | DeviceEvent::Duplicate | DeviceEvent::Zero
+                ) {
+                    sh.commands += 1;
                 }
                 if matches!(event, DeviceEvent::Hello { .. }) && sh.hello_t.is_none() {
                     sh.hello_t = Some(t);
