@@ -32,7 +32,10 @@ impl Emulator {
             .arg(scenario);
         cmd.arg("--write-rig").arg(dir.path().join("live.toml"));
         cmd.arg("--log").arg(dir.path().join("emulator-log.csv"));
-        cmd.args(["--duration", "120"]).args(args);
+        if !args.contains(&"--duration") {
+            cmd.args(["--duration", "120"]);
+        }
+        cmd.args(args);
         let mut child = cmd
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -449,4 +452,60 @@ fn a_killed_host_leaves_the_device_zeroing_after_the_watchdog() {
 fn a_frozen_host_on_tcp_trips_the_watchdog() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     silent_host(None, true);
+}
+
+/// The end-to-end run: `magbench rig run` on micro-factory against the emulator in its own
+/// process (lockstep, so machine load cannot starve the 60 fps loop), over loopback TCP.
+#[test]
+fn rig_run_on_micro_factory_reaches_the_goal_and_leaves_zero_currents() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let emu = Emulator::start("micro-factory", &["--lockstep", "--seed", "1", "--duration", "3000"]);
+    let child = Command::new(BIN)
+        .args(["rig", "run", "--rig"])
+        .arg(emu.rig())
+        .args([
+            "micro-factory",
+            "--planner",
+            "goal-zoom-rrt",
+            "--tracker",
+            "obc",
+            "--json",
+            "--out",
+        ])
+        .arg(emu.out())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = wait_or_kill(child, Duration::from_secs(900));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "rig run failed: {stderr}\n{stdout}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
+    println!("{v}");
+    assert_eq!(v["reached_goal"], true, "{v}");
+    assert_eq!(v["agent_contact"], false, "{v}");
+    assert_eq!(v["error_source"], "observed");
+    settle();
+    let log = emu.log();
+    assert!(any_nonzero(&log));
+    assert!(
+        final_currents(&log).iter().all(|c| *c == 0.0),
+        "log ends with currents {:?}",
+        final_currents(&log)
+    );
+    // the host logged every frame's observation and every command
+    let host_log = emu.host_log();
+    let frames = host_log
+        .lines()
+        .filter(|l| l.split(',').nth(2) == Some("observation"))
+        .count();
+    let commands = host_log
+        .lines()
+        .filter(|l| l.split(',').nth(2) == Some("command"))
+        .count();
+    assert!(
+        frames > 100 && commands > 100,
+        "{frames} observations, {commands} commands logged"
+    );
 }

@@ -153,15 +153,43 @@ mod tests {
     }
 
     #[test]
-    fn documented_example_frame() {
-        // SET_CURRENTS seq 7 with currents [1.0, -0.5]: the example in the README
-        let f = encode(7, &Message::SetCurrents(vec![1.0, -0.5]));
-        assert_eq!(&f[..6], &[0xA5, 0x5A, 0x02, 0x07, 0x00, 0x09]);
+    fn documented_example_frames() {
+        // the examples in docs/readme-physical-runs.md, byte for byte
+        let hex = |m: Message, seq: u16| {
+            encode(seq, &m)
+                .iter()
+                .map(|b| format!("{b:02X}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
         assert_eq!(
-            &f[6..15],
-            &[0x02, 0x00, 0x00, 0x80, 0x3F, 0x00, 0x00, 0x00, 0xBF]
+            hex(
+                Message::Hello {
+                    version: 1,
+                    channels: 5,
+                    watchdog_ms: 200
+                },
+                1
+            ),
+            "A5 5A 01 01 00 04 01 05 C8 00 4B 8A 2B 47"
         );
-        assert_eq!(f.len(), 19);
+        assert_eq!(
+            hex(Message::SetCurrents(vec![1.0, -0.5]), 7),
+            "A5 5A 02 07 00 09 02 00 00 80 3F 00 00 00 BF 98 8C 4C AF"
+        );
+        assert_eq!(hex(Message::Heartbeat, 9), "A5 5A 03 09 00 00 7D 4B 20 3C");
+        assert_eq!(hex(Message::Zero, 10), "A5 5A 04 0A 00 00 9D CD B1 A3");
+        let ack = Message::Ack {
+            seq: 8,
+            status: AckStatus::Ok,
+            flags: 0,
+            device_ms: 123456,
+        };
+        assert_eq!(
+            hex(ack, 8),
+            "A5 5A 81 08 00 08 08 00 00 00 40 E2 01 00 BA D0 20 7A"
+        );
+        assert_eq!(hex(Message::Nak, 0), "A5 5A 82 00 00 00 AC A1 14 66");
     }
 
     #[test]
