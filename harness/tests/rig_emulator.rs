@@ -455,11 +455,16 @@ fn a_frozen_host_on_tcp_trips_the_watchdog() {
 }
 
 /// The end-to-end run: `magbench rig run` on micro-factory against the emulator in its own
-/// process (lockstep, so machine load cannot starve the 60 fps loop), over loopback TCP.
+/// process, over loopback TCP. Lockstep, so machine load cannot starve the 60 fps loop and the
+/// frames — so the observed start, and with it the plan — are the same every run (a start
+/// 1e-4 BL away gives another plan).
 #[test]
 fn rig_run_on_micro_factory_reaches_the_goal_and_leaves_zero_currents() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let emu = Emulator::start("micro-factory", &["--lockstep", "--seed", "1", "--duration", "3000"]);
+    let emu = Emulator::start(
+        "micro-factory",
+        &["--lockstep", "--seed", "1", "--duration", "3000"],
+    );
     let child = Command::new(BIN)
         .args(["rig", "run", "--rig"])
         .arg(emu.rig())

@@ -71,9 +71,11 @@ pub struct EmulatorConfig {
     /// Device time runs this many times faster than wall time (frames come faster; the
     /// watchdog stays in wall time).
     pub speed: f64,
-    /// Lockstep: after each frame, wait (up to 50 ms of wall time) for the host's command
-    /// before advancing the plant one frame; device time is then frame count × period. Runs as
-    /// fast as the host's loop and makes runs immune to machine load (for CI); `speed` is ignored.
+    /// Lockstep: frames start once a host has said HELLO and connected its camera; after each
+    /// frame, wait (up to 50 ms of wall time) for the host's command before advancing the plant
+    /// one frame; device time is then frame count × period. Runs as fast as the host's loop, is
+    /// immune to machine load and repeats exactly (frame noise depends on the frame index);
+    /// `speed` is ignored.
     pub lockstep: bool,
     /// Stop after this much device time (s).
     pub duration: Option<f64>,
@@ -258,7 +260,7 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
     let mut plant = Plant::new(p, coil, collision, &cfg.preset, cfg.seed, &scenario.start);
     let field_on = 0.5 * cfg.rig.coil.field_mt.unwrap_or(p.field_mt) * 1e-3;
     let calibration: Calibration = cfg.rig.coil.calibration.clone();
-    let mut renderer = Renderer::new(
+    let renderer = Renderer::new(
         cfg.rig.pixels.clone(),
         cfg.rig.camera.size_px,
         Some(&scenario.world),
@@ -293,6 +295,15 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
     let mut was_stuck = false;
     let mut camera_cut = false;
     let mut commands_at_frame = 0;
+    if clock.virtual_t.is_some() {
+        // lockstep: frame 1 goes to a host with an open session and a connected camera, so
+        // that a run sees the same frames whatever the timing
+        while !stop.load(Ordering::Relaxed)
+            && (shared.lock().unwrap().hello_t.is_none() || cam_client.lock().unwrap().is_none())
+        {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
     for k in 1u64.. {
         if stop.load(Ordering::Relaxed) {
             break;
@@ -354,7 +365,7 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
         let stuck = since_hello.is_some_and(|s| cfg.faults.stuck_at(s));
         let image = match (&stuck_frame, stuck) {
             (Some(img), true) => img.clone(),
-            _ => renderer.render(&truth),
+            _ => renderer.render_frame(&truth, k),
         };
         if stuck && !was_stuck {
             stuck_frame = Some(image.clone());

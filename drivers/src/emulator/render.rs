@@ -43,6 +43,14 @@ impl Default for RenderParams {
     }
 }
 
+/// SplitMix64: a well-mixed 64-bit hash of `x`.
+fn splitmix64(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
 /// A frame renderer for one rig's camera and one world.
 pub struct Renderer {
     map: PixelMap,
@@ -52,6 +60,7 @@ pub struct Renderer {
     static_bg: Vec<f32>,
     noise_bank: Vec<f32>,
     rng: ChaCha8Rng,
+    seed: u64,
 }
 
 impl Renderer {
@@ -99,6 +108,7 @@ impl Renderer {
             static_bg: img.into_raw(),
             noise_bank,
             rng,
+            seed,
         }
     }
 
@@ -109,9 +119,18 @@ impl Renderer {
 
     /// A frame of agents at `agents` (BL), with sensor noise.
     pub fn render(&mut self, agents: &[Vec2]) -> GrayImage {
+        let index = self.rng.random::<u64>();
+        self.render_frame(agents, index)
+    }
+
+    /// Frame number `index` of agents at `agents` (BL): its sensor noise depends only on the
+    /// seed and the index, so a frame can be rendered again identically.
+    pub fn render_frame(&self, agents: &[Vec2], index: u64) -> GrayImage {
         let mut f = self.render_clean(agents);
         if self.params.noise > 0.0 {
-            let off = self.rng.random_range(0..self.noise_bank.len() - f.len());
+            let range = (self.noise_bank.len() - f.len()) as u64;
+            let off = (splitmix64(self.seed ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15)) % range)
+                as usize;
             for (p, n) in f.iter_mut().zip(&self.noise_bank[off..]) {
                 *p += n;
             }
