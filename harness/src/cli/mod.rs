@@ -4,6 +4,7 @@ mod bench;
 mod figures;
 mod merge;
 mod regress;
+mod rig;
 mod scenario;
 mod stlc;
 mod track;
@@ -43,6 +44,9 @@ pub enum Command {
     Figures(figures::FiguresArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
     Track(track::TrackArgs),
+    /// Physical runs: the rig emulator, rig bring-up checks and detection replay.
+    #[command(subcommand)]
+    Rig(rig::RigCmd),
 }
 
 /// Runs a parsed command line.
@@ -55,5 +59,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Regress(a) => regress::run(a),
         Command::Figures(a) => figures::run(a),
         Command::Track(a) => track::run(a),
+        Command::Rig(c) => rig::run(c),
     }
 }
