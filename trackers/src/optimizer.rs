@@ -18,7 +18,10 @@
 //! with `c` the centre of mass, `Δθ` the change of the field angle from the last command (mod
 //! π: both polarities give the same pair force, so the polarity nearer the last command is
 //! sent, with the gradient signs that go with it), and the band `(r_min + margin, r_max −
-//! margin)` of the proximity range. θ is searched by brute force on a fine grid over [0, π),
+//! margin)` of the proximity range. The band is checked at the predicted separation and where
+//! it would be if its predicted rate of change lasted `safety` more ticks, so that a fast
+//! approach is refused while there is still time to stop it (the camera is a frame late and
+//! the true forces differ from the model's). θ is searched by brute force on a fine grid over [0, π),
 //! then refined by golden-section search around the best grid angle. A candidate whose
 //! predicted agents come closer than `wall_margin` to a wall (and closer than they are now) is
 //! rejected; the next best is taken.
@@ -38,6 +41,9 @@ pub struct ObcWeights {
     pub w_prox: f64,
     /// Safety margin inside the proximity range (BL).
     pub prox_margin: f64,
+    /// Extra ticks over which the predicted change of separation is extrapolated for the
+    /// proximity check (0 = the prediction only).
+    pub safety: f64,
     /// Clearance a predicted agent keeps from walls and obstacles (BL).
     pub wall_margin: f64,
     /// Grid points over [0, π).
@@ -56,6 +62,7 @@ impl Default for ObcWeights {
             w_smooth: 1e-5,
             w_prox: 1e3,
             prox_margin: 0.15,
+            safety: 2.0,
             wall_margin: 0.05,
             grid: 72,
             refine: 12,
@@ -270,7 +277,7 @@ impl ObcOptimizer {
         for p in &mut pred[..n] {
             *p += shift;
         }
-        let cost = self.score(&pred[..n], target, c0 + shift, ct, theta, prev);
+        let cost = self.score(x, &pred[..n], target, c0 + shift, ct, theta, prev);
         Candidate {
             theta,
             cost,
@@ -296,7 +303,7 @@ impl ObcOptimizer {
         let inv_n = 1.0 / n as f64;
         let c = pred[..n].iter().sum::<Vec2>() * inv_n;
         let ct = target.iter().sum::<Vec2>() * inv_n;
-        let cost = self.score(&pred[..n], target, c, ct, u.theta, prev);
+        let cost = self.score(x, &pred[..n], target, c, ct, u.theta, prev);
         Candidate {
             theta: u.theta,
             cost,
@@ -307,6 +314,7 @@ impl ObcOptimizer {
 
     fn score(
         &self,
+        x: &[Vec2],
         pred: &[Vec2],
         target: &[Vec2],
         c: Vec2,
@@ -328,10 +336,14 @@ impl ObcOptimizer {
             self.checker.r_min + w.prox_margin,
             self.checker.r_max - w.prox_margin,
         );
+        let ahead = w.safety;
         for i in 0..pred.len() {
             for j in (i + 1)..pred.len() {
                 let r = (pred[j] - pred[i]).norm();
-                let v = (lo - r).max(0.0) + (r - hi).max(0.0);
+                // where the separation heads if the same rate lasted `safety` more ticks: a fast
+                // approach is refused before it is too late to stop (latency, model mismatch)
+                let r_ahead = r + (r - (x[j] - x[i]).norm()) * ahead;
+                let v = (lo - r.min(r_ahead)).max(0.0) + (r.max(r_ahead) - hi).max(0.0);
                 cost += w.w_prox * v * v;
                 if r <= self.checker.r_min || r >= self.checker.r_max {
                     cost += w.w_prox;

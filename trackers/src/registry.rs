@@ -144,6 +144,13 @@ const OPTIMIZER_PARAMS: &[ParamSpec] = &[
         "safety margin inside the proximity range (BL)",
     ),
     real(
+        "safety",
+        2.0,
+        0.0,
+        100.0,
+        "ticks over which a predicted separation change is extrapolated for the proximity check",
+    ),
+    real(
         "wall_margin",
         0.05,
         0.0,
@@ -400,6 +407,7 @@ impl TrackerSpec {
             w_smooth: self.get("w_smooth"),
             w_prox: self.get("w_prox"),
             prox_margin: self.get("prox_margin"),
+            safety: self.get("safety"),
             wall_margin: self.get("wall_margin"),
             grid: self.get("grid") as usize,
             refine: self.get("refine") as usize,

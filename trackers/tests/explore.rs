@@ -93,3 +93,32 @@ fn write_micro_factory_plan() {
     );
     std::fs::write("/tmp/mf-plan.json", serde_json::to_string(&plan).unwrap()).unwrap();
 }
+
+#[test]
+#[ignore]
+fn write_rrt_plans() {
+    let name = std::env::var("SCEN").unwrap_or("micro-factory".into());
+    let s = scenario(&name);
+    let n: u64 = std::env::var("SEEDS")
+        .map(|x| x.parse().unwrap())
+        .unwrap_or(20);
+    std::fs::create_dir_all("/tmp/plans").unwrap();
+    for seed in 0..n {
+        let mut p = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let r = p.solve(&magbench_planners::Problem::from_scenario(
+            &s, 0, None, seed,
+        ));
+        println!(
+            "seed {seed}: solved {} edges {} duration {:.1} s time {:.2} s",
+            r.solved,
+            r.plan.edges(),
+            r.plan.duration(),
+            r.time_s
+        );
+        std::fs::write(
+            format!("/tmp/plans/{name}-{seed}.json"),
+            serde_json::to_string(&r.plan).unwrap(),
+        )
+        .unwrap();
+    }
+}
