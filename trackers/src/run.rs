@@ -201,6 +201,7 @@ struct Run<'a> {
     planning_time: f64,
     tracker_time: f64,
     tick_count: usize,
+    last_compute: f64,
     wall_contacts: usize,
     agent_contact: bool,
     observed_contact_frames: usize,
@@ -240,6 +241,7 @@ impl<'a> Run<'a> {
             planning_time: mission.plan_time_s,
             tracker_time: 0.0,
             tick_count: 0,
+            last_compute: 0.0,
             wall_contacts: 0,
             agent_contact: false,
             observed_contact_frames: 0,
@@ -439,7 +441,9 @@ impl<'a> Run<'a> {
                 observation: obs,
             },
         );
-        self.tracker_time += started.elapsed().as_secs_f64();
+        let dt = started.elapsed().as_secs_f64();
+        self.tracker_time += dt;
+        self.last_compute = dt;
         u
     }
 
@@ -714,6 +718,11 @@ impl<'a> Run<'a> {
             command: u.unwrap_or_default(),
             in_goal,
             targets: st.targets,
+            compute_us: if u.is_some() {
+                self.last_compute * 1e6
+            } else {
+                0.0
+            },
         });
     }
 
