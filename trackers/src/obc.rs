@@ -25,6 +25,8 @@ pub struct ObcParams {
     pub back: f64,
     /// Offer the plan's own control to the optimizer as an extra candidate (feedforward).
     pub feedforward: bool,
+    /// When behind the plan's schedule, how many extra horizons ahead the target may be.
+    pub catchup: f64,
     /// The optimizer's weights.
     pub weights: ObcWeights,
 }
@@ -36,6 +38,7 @@ impl Default for ObcParams {
             window: 1.0,
             back: 1.0,
             feedforward: true,
+            catchup: 2.0,
             weights: ObcWeights::default(),
         }
     }
@@ -105,7 +108,10 @@ impl Tracker for Obc {
         let (target, hint) = if self.recovering {
             (r.state(k).to_vec(), None)
         } else {
-            let j = (k + lead).min(r.last());
+            // behind schedule, aim up to `catchup` horizons further ahead to win time back
+            let behind = r.index_at(tick.t).saturating_sub(k);
+            let extra = behind.min((self.params.catchup * lead as f64).round() as usize);
+            let j = (k + lead + extra).min(r.last());
             // the plan's control is exact only while one edge covers the whole horizon
             let hint = match (r.edge(k), r.edge(j.saturating_sub(1))) {
                 (Some(a), Some(b)) if self.params.feedforward && a == b && j == k + lead => {

@@ -155,10 +155,8 @@ impl ObcOptimizer {
         let mut cands: Vec<Candidate> = (0..grid)
             .map(|k| self.evaluate(x, target, k as f64 * step, prev))
             .collect();
-        if let Some(h) = hint {
-            if h.is_finite() {
-                cands.push(self.evaluate_exact(x, target, h, prev));
-            }
+        if let Some(h) = hint.filter(|h| h.is_finite()) {
+            cands.push(self.evaluate_exact(x, target, h, prev));
         }
         let mut best = cands
             .iter()
@@ -312,6 +310,7 @@ impl ObcOptimizer {
         }
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn score(
         &self,
         x: &[Vec2],

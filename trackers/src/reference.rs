@@ -131,8 +131,8 @@ impl Reference {
             self.arc.extend(std::iter::repeat_n(0.0, n));
         } else {
             let k = self.times.len() - 1;
-            for i in 0..n {
-                let d = (s[i] - self.states[k * n + i]).norm();
+            for (i, p) in s.iter().enumerate() {
+                let d = (p - self.states[k * n + i]).norm();
                 self.arc.push(self.arc[k * n + i] + d);
             }
         }

@@ -209,6 +209,13 @@ const OBC_PARAMS: &[ParamSpec] = &[
         1.0,
         "1 = offer the plan's own control as a candidate, 0 = grid only",
     ),
+    real(
+        "catchup",
+        2.0,
+        0.0,
+        100.0,
+        "behind schedule, how many extra horizons ahead the target may be",
+    ),
 ];
 
 const LOOKAHEAD_PARAMS: &[ParamSpec] = &[
@@ -424,6 +431,7 @@ impl TrackerSpec {
                 window: self.get("window"),
                 back: self.get("back"),
                 feedforward: self.get("feedforward") != 0.0,
+                catchup: self.get("catchup"),
                 weights: self.weights(),
             })),
             "lookahead" => Box::new(Lookahead::new(LookaheadParams {

@@ -30,7 +30,7 @@ pub enum Command {
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
-    Track(track::TrackArgs),
+    Track(Box<track::TrackArgs>),
 }
 
 /// Runs a parsed command line.
@@ -38,6 +38,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Stlc(a) => stlc::run(a),
-        Command::Track(a) => track::run(a),
+        Command::Track(a) => track::run(*a),
     }
 }

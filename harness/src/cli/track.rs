@@ -73,13 +73,11 @@ fn limits(a: &TrackArgs) -> Result<Option<Limits>, CliError> {
     if a.max_iters.is_none() && a.time_limit.is_none() {
         return Ok(None);
     }
-    if let Some(t) = a.time_limit {
-        if !t.is_finite() || t <= 0.0 {
-            return Err(CliError::arg(
-                "--time-limit",
-                format!("must be a number of seconds > 0, got {t}"),
-            ));
-        }
+    if let Some(t) = a.time_limit.filter(|t| !t.is_finite() || *t <= 0.0) {
+        return Err(CliError::arg(
+            "--time-limit",
+            format!("must be a number of seconds > 0, got {t}"),
+        ));
     }
     Ok(Some(Limits {
         max_iterations: a.max_iters,
@@ -156,15 +154,25 @@ pub fn run(a: TrackArgs) -> Result<(), CliError> {
             &spec.label(),
         )?;
     }
-    if a.json {
-        println!(
-            "{}",
+    let text = if a.json {
+        format!(
+            "{}\n",
             serde_json::to_string(&summary).map_err(|e| CliError::Failed(e.to_string()))?
-        );
+        )
     } else {
-        print!("{}", summary_text(&summary));
+        summary_text(&summary)
+    };
+    emit(&text)
+}
+
+/// Writes `text` to stdout; a closed pipe (`| head`) is not an error.
+fn emit(text: &str) -> Result<(), CliError> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 /// The `--json` object: the run's identity, then every metric.
