@@ -103,7 +103,10 @@ fn write_rrt_plans() {
         .map(|x| x.parse().unwrap())
         .unwrap_or(20);
     std::fs::create_dir_all("/tmp/plans").unwrap();
-    for seed in 0..n {
+    let first: u64 = std::env::var("FIRST")
+        .map(|x| x.parse().unwrap())
+        .unwrap_or(0);
+    for seed in first..n {
         let mut p = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
         let r = p.solve(&magbench_planners::Problem::from_scenario(
             &s, 0, None, seed,
