@@ -8,7 +8,7 @@
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
-use crate::motion::{propagate, random_control};
+use crate::motion::random_control;
 use crate::{Problem, Rng};
 
 /// The EXTEND optimiser's settings.
@@ -49,7 +49,9 @@ impl Extend {
         rng.random_range(self.min_periods..=self.max_periods)
     }
 
-    /// EXTEND(q_near, q_sample): the try whose end is closest to `target`.
+    /// EXTEND(q_near, q_sample): the try whose end is closest to `target` (the first on ties).
+    /// The tries are integrated together by `PlanningModel::propagate_many`, whose ends equal
+    /// one-at-a-time propagation bit for bit.
     pub fn run(
         &self,
         problem: &Problem,
@@ -59,23 +61,33 @@ impl Extend {
     ) -> Extension {
         let n = near.len();
         let g = problem.model.coil.gradient_limit();
+        let k = self.tries.max(1);
+        let mut controls = Vec::with_capacity(k);
+        let mut periods = Vec::with_capacity(k);
+        let mut durations = Vec::with_capacity(k);
+        for _ in 0..k {
+            controls.push(random_control(rng, g));
+            let p = self.random_periods(rng);
+            periods.push(p);
+            durations.push(problem.periods(p));
+        }
+        let mut ends = vec![[Vec2::zeros(); MAX_AGENTS]; k];
+        problem
+            .model
+            .propagate_many(near, &controls, &durations, &mut ends);
         let mut best = Extension {
             control: Control::default(),
             periods: 0,
             end: [Vec2::zeros(); MAX_AGENTS],
             distance: f64::INFINITY,
         };
-        let mut end = [Vec2::zeros(); MAX_AGENTS];
-        for _ in 0..self.tries.max(1) {
-            let u = random_control(rng, g);
-            let periods = self.random_periods(rng);
-            propagate(problem, near, &u, problem.periods(periods), &mut end[..n]);
-            let d2 = problem.metric.distance_squared(&end[..n], target);
+        for i in 0..k {
+            let d2 = problem.metric.distance_squared(&ends[i][..n], target);
             if d2 < best.distance {
                 best = Extension {
-                    control: u,
-                    periods,
-                    end,
+                    control: controls[i],
+                    periods: periods[i],
+                    end: ends[i],
                     distance: d2,
                 };
             }

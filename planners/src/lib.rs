@@ -30,6 +30,7 @@ pub mod progress;
 pub mod registry;
 pub mod result;
 pub mod sampler;
+pub mod steer;
 pub mod tree;
 pub mod validate;
 

@@ -200,3 +200,62 @@ fn point_of<const K: usize>(
     }
     p
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Rng;
+    use rand::{RngExt, SeedableRng};
+
+    fn random_team(rng: &mut Rng, n: usize) -> Vec<Vec2> {
+        (0..n)
+            .map(|_| Vec2::new(rng.random_range(0.0..30.0), rng.random_range(0.0..20.0)))
+            .collect()
+    }
+
+    /// The k-d tree answers exactly what a linear scan answers, for every team size (the padded
+    /// trees included) and both metrics, before and after removals.
+    #[test]
+    fn queries_match_a_linear_scan() {
+        let mut rng = Rng::seed_from_u64(3);
+        for n in 2..=8 {
+            for metric in [
+                Metric::Positions,
+                Metric::CentroidShape {
+                    centroid: 1.0,
+                    shape: 2.5,
+                },
+            ] {
+                let states: Vec<Vec<Vec2>> = (0..300).map(|_| random_team(&mut rng, n)).collect();
+                let mut nn = NearestNeighbors::new(metric, n);
+                for (i, s) in states.iter().enumerate() {
+                    assert!(nn.add(s, i as u32));
+                }
+                for i in (0..300).step_by(3) {
+                    nn.remove(&states[i], i as u32);
+                }
+                let alive: Vec<usize> = (0..300).filter(|i| i % 3 != 0).collect();
+                assert_eq!(nn.len(), alive.len());
+                let mut out = Vec::new();
+                for _ in 0..30 {
+                    let q = random_team(&mut rng, n);
+                    let mut scan: Vec<(f64, u32)> = alive
+                        .iter()
+                        .map(|&i| (metric.distance(&q, &states[i]), i as u32))
+                        .collect();
+                    scan.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    let (id, d) = nn.nearest(&q).unwrap();
+                    assert_eq!(id, scan[0].1, "n = {n}");
+                    assert!((d - scan[0].0).abs() < 1e-9 * (1.0 + d));
+                    nn.nearest_k(&q, 5, &mut out);
+                    let ids: Vec<u32> = out.iter().map(|x| x.0).collect();
+                    let want: Vec<u32> = scan[..5].iter().map(|x| x.1).collect();
+                    assert_eq!(ids, want, "n = {n}");
+                    let r = scan[7].0 + 1e-9;
+                    nn.within(&q, r, &mut out);
+                    assert_eq!(out.len(), 8, "n = {n}");
+                }
+            }
+        }
+    }
+}

@@ -55,3 +55,69 @@ impl Plan {
         self.states.push(end);
     }
 }
+
+impl Plan {
+    /// The plan as CSV: one row per waypoint with its time (s) and agent positions (BL), then
+    /// the control (θ_B and α in radians, gradients in T/m) and duration (s) of the edge that
+    /// leaves it (empty on the last row).
+    pub fn to_csv(&self) -> String {
+        let n = self.states.first().map_or(0, |s| s.len());
+        let mut w = csv::Writer::from_writer(Vec::new());
+        let mut header = vec!["waypoint".to_string(), "t_s".to_string()];
+        for i in 0..n {
+            header.push(format!("x{i}"));
+            header.push(format!("y{i}"));
+        }
+        header.extend(
+            [
+                "theta_rad",
+                "alpha_rad",
+                "grad_x_t_per_m",
+                "grad_y_t_per_m",
+                "duration_s",
+            ]
+            .map(String::from),
+        );
+        w.write_record(&header).expect("writing to memory");
+        let mut t = 0.0;
+        for (k, s) in self.states.iter().enumerate() {
+            let mut row = vec![k.to_string(), format!("{t}")];
+            for p in s {
+                row.push(format!("{}", p.x));
+                row.push(format!("{}", p.y));
+            }
+            match (self.controls.get(k), self.durations.get(k)) {
+                (Some(u), Some(d)) => {
+                    row.extend(
+                        [u.theta, u.alpha, u.grad[0], u.grad[1], *d].map(|v| format!("{v}")),
+                    );
+                    t += d;
+                }
+                _ => row.extend(std::iter::repeat_n(String::new(), 5)),
+            }
+            w.write_record(&row).expect("writing to memory");
+        }
+        String::from_utf8(w.into_inner().expect("flushing to memory")).expect("CSV is UTF-8")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_has_one_row_per_waypoint_and_round_trips_numbers() {
+        let mut p = Plan::at(&[Vec2::new(1.0, 2.0), Vec2::new(3.5, 2.0)]);
+        p.push(
+            Control::planar(0.1, 0.02, -0.03),
+            0.5,
+            vec![Vec2::new(1.1, 2.0), Vec2::new(3.4, 2.1)],
+        );
+        let csv = p.to_csv();
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines.len(), 3);
+        assert!(lines[0].starts_with("waypoint,t_s,x0,y0,x1,y1,theta_rad"));
+        assert_eq!(lines[1], "0,0,1,2,3.5,2,0.1,0,0.02,-0.03,0.5");
+        assert_eq!(lines[2], "1,0.5,1.1,2,3.4,2.1,,,,,");
+    }
+}

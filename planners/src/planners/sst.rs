@@ -1,13 +1,332 @@
-//! stub
-use crate::{Planner, PlannerResult, Problem};
-/// SST.
-#[derive(Debug, Clone, Default)]
-pub struct Sst;
+//! `sst`: Stable Sparse RRT (Li, Littlefield & Bekris, "Asymptotically optimal sampling-based
+//! kinodynamic planning", IJRR 2016).
+//!
+//! ```text
+//! SST(x_0, T_prop, δ_BN, δ_s)
+//!   V_active ← {x_0}; V_inactive ← ∅; s_0 ← x_0; s_0.rep ← x_0; S ← {s_0}
+//!   for i = 1, 2, … until the limits:
+//!     x_selected ← BEST_FIRST_SELECTION(V_active, δ_BN)
+//!     x_new ← MONTE_CARLO_PROP(x_selected, T_prop)
+//!     if COLLISION_FREE(x_selected → x_new) and IS_NODE_LOCALLY_THE_BEST(x_new, S, δ_s):
+//!       V_active ← V_active ∪ {x_new}; E ← E ∪ {x_selected → x_new}
+//!       PRUNE_DOMINATED_NODES(x_new)
+//!
+//! BEST_FIRST_SELECTION: x_rand ← SAMPLE(); X_near ← NEAR(V_active, x_rand, δ_BN)
+//!   return argmin_{x ∈ X_near} cost(x), or NEAREST(V_active, x_rand) if X_near = ∅
+//! IS_NODE_LOCALLY_THE_BEST: s_new ← NEAREST(S, x_new)
+//!   if ‖x_new − s_new‖ > δ_s: S ← S ∪ {x_new}; s_new ← x_new; s_new.rep ← NULL
+//!   return s_new.rep = NULL or cost(x_new) < cost(s_new.rep)
+//! PRUNE_DOMINATED_NODES: x_peer ← s_new.rep
+//!   if x_peer ≠ NULL: V_active ← V_active \ {x_peer}; V_inactive ← V_inactive ∪ {x_peer}
+//!   s_new.rep ← x_new
+//!   while x_peer ≠ NULL and IS_LEAF(x_peer) and x_peer ∈ V_inactive:
+//!     x_parent ← PARENT(x_peer); E ← E \ {x_parent → x_peer}; V_inactive ← V_inactive \ {x_peer}
+//!     x_peer ← x_parent
+//! ```
+//!
+//! Pruning really removes nodes: a dominated leaf leaves the tree (its slot is reused) and the
+//! walk continues up through inactive ancestors that became leaves. (OMPL's `control::SST`
+//! collects inactive nodes but its `inactive_` loop never runs, so its tree keeps growing.)
+//! Active nodes are at most one per witness, so the tree stays about as large as the witness
+//! set, which a δ_s-cover of the reachable space bounds.
+//!
+//! MONTE_CARLO_PROP draws one random control and one random duration (`k = 1`); with `k > 1`
+//! it runs EXTEND's k tries toward the sample instead. SAMPLE is the goal-zoom coin toss.
+//! A node that enters the goal region cheaper than the best solution becomes the best solution
+//! (kept as a plan, so later pruning cannot take it away).
+
+use magbench_env::{MAX_AGENTS, Vec2};
+use rand::SeedableRng;
+
+use crate::extend::Extend;
+use crate::motion::propagate_checked;
+use crate::nn::NearestNeighbors;
+use crate::objective::Motion;
+use crate::params::{check_durations, number, positive, to_periods, whole};
+use crate::planner::{Param, ParamError};
+use crate::progress::Progress;
+use crate::result::{Best, finish};
+use crate::sampler::{GoalZoom, StateSampler};
+use crate::tree::{NONE, Tree};
+use crate::{Plan, Planner, PlannerResult, Problem, Rng};
+
+/// Stable Sparse RRT.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sst {
+    /// δ_BN: the selection radius (metric, BL).
+    pub selection_radius: f64,
+    /// δ_s: the pruning radius, the witnesses' spacing (metric, BL).
+    pub pruning_radius: f64,
+    /// Random tries of the propagation (1 = Monte-Carlo propagation, as in the paper).
+    pub tries: usize,
+    /// Shortest edge duration (s), rounded to whole control periods.
+    pub min_duration: f64,
+    /// Longest edge duration T_prop (s), rounded to whole control periods.
+    pub max_duration: f64,
+    /// Probability of sampling the goal-zoom region.
+    pub goal_bias: f64,
+    /// Radius of the goal-zoom region about each agent's goal centre (BL).
+    pub zoom_radius: f64,
+}
+
+impl Default for Sst {
+    fn default() -> Self {
+        Sst {
+            selection_radius: 1.0,
+            pruning_radius: 0.5,
+            tries: 1,
+            min_duration: 0.25,
+            max_duration: 2.0,
+            goal_bias: 0.1,
+            zoom_radius: 1.5,
+        }
+    }
+}
+
+/// The counts a run ends with (for tests and reports).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SstStats {
+    /// Witnesses |S|.
+    pub witnesses: usize,
+    /// Active nodes.
+    pub active: usize,
+    /// Nodes in the tree (active and inactive).
+    pub nodes: usize,
+    /// Nodes pruned over the run.
+    pub pruned: u64,
+}
+
+impl Sst {
+    /// Runs SST and also returns its final counts.
+    pub fn solve_with_stats(&mut self, problem: &Problem) -> (PlannerResult, SstStats) {
+        let n = problem.agents();
+        let mut rng = Rng::seed_from_u64(problem.seed);
+        let period = problem.control_period;
+        let propagate = Extend {
+            tries: self.tries,
+            min_periods: to_periods(self.min_duration, period),
+            max_periods: to_periods(self.max_duration, period),
+        };
+        let zoom = GoalZoom {
+            bias: self.goal_bias,
+            radius: self.zoom_radius,
+        };
+        let sampler = StateSampler::new(problem);
+        let mut progress = Progress::start(problem);
+
+        // V_active ← {x_0}; s_0 ← x_0; s_0.rep ← x_0; S ← {s_0}
+        let mut tree = Tree::new(&problem.start);
+        let mut active = vec![true];
+        let mut v_active = NearestNeighbors::new(problem.metric, n);
+        v_active.add(&problem.start, 0);
+        let mut witnesses = NearestNeighbors::new(problem.metric, n);
+        witnesses.add(&problem.start, 0);
+        let mut rep: Vec<u32> = vec![0];
+        let mut pruned = 0u64;
+
+        let mut best = Best {
+            plan: Plan::at(&problem.start),
+            solved: false,
+            cost: f64::INFINITY,
+        };
+        let mut closest = (
+            problem.goal.distance(&problem.start),
+            Plan::at(&problem.start),
+            0.0,
+        );
+        let mut first = None;
+        if problem.goal.contains(&problem.start) {
+            best = Best {
+                plan: Plan::at(&problem.start),
+                solved: true,
+                cost: 0.0,
+            };
+            first = Some((0, 0.0));
+        }
+
+        let mut x_rand = [Vec2::zeros(); MAX_AGENTS];
+        let mut x_new = [Vec2::zeros(); MAX_AGENTS];
+        let mut near = Vec::new();
+        let mut i = 0u64;
+        while !progress.done(i) {
+            i += 1;
+            // x_selected ← BEST_FIRST_SELECTION(V_active, δ_BN)
+            if !zoom.sample(problem, &sampler, &mut rng, &mut x_rand[..n]) {
+                progress.record(i, best.solved_cost());
+                continue;
+            }
+            v_active.within(&x_rand[..n], self.selection_radius, &mut near);
+            let x_selected = match near
+                .iter()
+                .map(|&(x, _)| x)
+                .min_by(|&a, &b| tree.cost(a).total_cmp(&tree.cost(b)))
+            {
+                Some(x) => x,
+                None => {
+                    v_active
+                        .nearest(&x_rand[..n])
+                        .expect("the root is never pruned")
+                        .0
+                }
+            };
+
+            // x_new ← MONTE_CARLO_PROP(x_selected, T_prop)
+            let ext = propagate.run(problem, &mut rng, tree.state(x_selected), &x_rand[..n]);
+            let d = problem.periods(ext.periods);
+            let Some(length) = (ext.periods > 0)
+                .then(|| {
+                    propagate_checked(
+                        problem,
+                        tree.state(x_selected),
+                        &ext.control,
+                        d,
+                        &mut x_new[..n],
+                    )
+                })
+                .flatten()
+            else {
+                progress.record(i, best.solved_cost());
+                continue;
+            };
+            let cost = tree.cost(x_selected)
+                + problem.objective.motion_cost(&Motion {
+                    control: ext.control,
+                    duration: d,
+                    path_length: length,
+                });
+
+            // IS_NODE_LOCALLY_THE_BEST(x_new, S, δ_s)
+            let (mut s_new, dist) = witnesses.nearest(&x_new[..n]).expect("S is never empty");
+            if dist > self.pruning_radius {
+                s_new = rep.len() as u32;
+                witnesses.add(&x_new[..n], s_new);
+                rep.push(NONE);
+            }
+            let x_peer = rep[s_new as usize];
+            if x_peer != NONE && cost >= tree.cost(x_peer) {
+                progress.record(i, best.solved_cost());
+                continue;
+            }
+
+            // V_active ← V_active ∪ {x_new}; E ← E ∪ {x_selected → x_new}
+            let id = tree.add(x_selected, &x_new[..n], ext.control, ext.periods, cost);
+            if id as usize == active.len() {
+                active.push(true);
+            } else {
+                active[id as usize] = true;
+            }
+            v_active.add(&x_new[..n], id);
+
+            // PRUNE_DOMINATED_NODES
+            if x_peer != NONE && x_peer != 0 {
+                active[x_peer as usize] = false;
+                v_active.remove(tree.state(x_peer), x_peer);
+            }
+            rep[s_new as usize] = id;
+            let mut x_peer = x_peer;
+            while x_peer != NONE && x_peer != 0 && tree.is_leaf(x_peer) && !active[x_peer as usize]
+            {
+                let x_parent = tree.parent(x_peer);
+                tree.remove_leaf(x_peer);
+                pruned += 1;
+                x_peer = x_parent;
+            }
+
+            // the goal
+            let gd = problem.goal.distance(&x_new[..n]);
+            if problem.goal.contains(&x_new[..n]) && cost < best.cost {
+                best = Best {
+                    plan: tree.plan_to(id, problem),
+                    solved: true,
+                    cost,
+                };
+                first = first.or(Some((i, progress.elapsed())));
+            } else if !best.solved && gd < closest.0 {
+                closest = (gd, tree.plan_to(id, problem), cost);
+            }
+            progress.record(i, best.solved_cost());
+        }
+        if !best.solved {
+            best = Best {
+                plan: closest.1,
+                solved: false,
+                cost: closest.2,
+            };
+        }
+        let stats = SstStats {
+            witnesses: rep.len(),
+            active: v_active.len(),
+            nodes: tree.len(),
+            pruned,
+        };
+        (finish(problem, best, i, tree.len(), progress, first), stats)
+    }
+}
+
 impl Planner for Sst {
     fn name(&self) -> &str {
         "sst"
     }
-    fn solve(&mut self, _problem: &Problem) -> PlannerResult {
-        todo!()
+
+    fn solve(&mut self, problem: &Problem) -> PlannerResult {
+        self.solve_with_stats(problem).0
+    }
+
+    fn params(&self) -> Vec<Param> {
+        vec![
+            Param {
+                name: "selection_radius",
+                value: self.selection_radius.to_string(),
+                help: "δ_BN: best-first selection radius (metric, BL)",
+            },
+            Param {
+                name: "pruning_radius",
+                value: self.pruning_radius.to_string(),
+                help: "δ_s: witness spacing; a witness keeps only its cheapest node (metric, BL)",
+            },
+            Param {
+                name: "k",
+                value: self.tries.to_string(),
+                help: "propagation tries toward the sample (1 = Monte-Carlo propagation)",
+            },
+            Param {
+                name: "min_duration",
+                value: self.min_duration.to_string(),
+                help: "shortest edge (s), rounded to whole 1/60 s periods",
+            },
+            Param {
+                name: "max_duration",
+                value: self.max_duration.to_string(),
+                help: "T_prop: longest edge (s), rounded to whole 1/60 s periods",
+            },
+            Param {
+                name: "goal_bias",
+                value: self.goal_bias.to_string(),
+                help: "probability of sampling the goal-zoom region",
+            },
+            Param {
+                name: "zoom_radius",
+                value: self.zoom_radius.to_string(),
+                help: "radius of each agent's goal-zoom disk (BL)",
+            },
+        ]
+    }
+
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        match key {
+            "selection_radius" => self.selection_radius = positive(key, value)?,
+            "pruning_radius" => self.pruning_radius = positive(key, value)?,
+            "k" => self.tries = whole(key, value, 1, 100_000)? as usize,
+            "min_duration" => self.min_duration = positive(key, value)?,
+            "max_duration" => self.max_duration = positive(key, value)?,
+            "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
+            "zoom_radius" => self.zoom_radius = positive(key, value)?,
+            _ => return Err(ParamError::Unknown(key.into())),
+        }
+        Ok(())
+    }
+
+    fn check_params(&self) -> Result<(), ParamError> {
+        check_durations(self.min_duration, self.max_duration)
     }
 }
