@@ -155,7 +155,14 @@ const OPTIMIZER_PARAMS: &[ParamSpec] = &[
         0.05,
         0.0,
         2.0,
-        "clearance a predicted agent keeps from walls (BL)",
+        "clearance from walls below which a predicted agent is penalised (BL)",
+    ),
+    real(
+        "w_wall",
+        1.0,
+        0.0,
+        1e9,
+        "weight of a predicted clearance below wall_margin (per BL²)",
     ),
     int(
         "grid",
@@ -239,6 +246,13 @@ const LOOKAHEAD_PARAMS: &[ParamSpec] = &[
         0.0,
         1e4,
         "how far ahead agents are projected onto their paths (s)",
+    ),
+    real(
+        "stall",
+        0.1,
+        0.0,
+        1e3,
+        "seconds without progress after which the targets move on by themselves",
     ),
 ];
 
@@ -416,6 +430,7 @@ impl TrackerSpec {
             prox_margin: self.get("prox_margin"),
             safety: self.get("safety"),
             wall_margin: self.get("wall_margin"),
+            w_wall: self.get("w_wall"),
             grid: self.get("grid") as usize,
             refine: self.get("refine") as usize,
             horizon: self.get("horizon") as usize,
@@ -438,6 +453,7 @@ impl TrackerSpec {
                 gain: self.get("gain"),
                 lookahead: self.get("lookahead"),
                 window: self.get("window"),
+                stall: self.get("stall"),
                 weights: self.weights(),
             })),
             other => unreachable!("checked tracker name {other}"),
