@@ -1,5 +1,9 @@
 //! Command-line interface: one file per subcommand.
 
+mod bench;
+mod figures;
+mod merge;
+mod regress;
 mod scenario;
 mod stlc;
 mod track;
@@ -29,6 +33,14 @@ pub enum Command {
     Scenario(scenario::ScenarioCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
+    /// Run an experiment (default experiments/default.toml) into results/<name>/.
+    Bench(bench::BenchArgs),
+    /// Join the results folders of shards (`bench --shard I/N`) into one.
+    Merge(merge::MergeArgs),
+    /// Compare a results folder against a baseline; exit 1 on a significant regression.
+    Regress(regress::RegressArgs),
+    /// Regenerate the paper figures (SVG and PNG) from fixed seeds.
+    Figures(figures::FiguresArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
     Track(Box<track::TrackArgs>),
 }
@@ -38,6 +50,10 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Stlc(a) => stlc::run(a),
+        Command::Bench(a) => bench::run(a),
+        Command::Merge(a) => merge::run(a),
+        Command::Regress(a) => regress::run(a),
+        Command::Figures(a) => figures::run(a),
         Command::Track(a) => track::run(*a),
     }
 }
