@@ -6,6 +6,9 @@
 //! until it is within `eps/2` of it; otherwise the tracker follows the path forward (mode
 //! `follow`): its progress moves to the nearest sample ahead and the target is the reference
 //! one prediction horizon later, with the plan's own control offered as an extra candidate.
+//! Behind the plan's schedule the target may be up to `catchup` horizons further ahead; when
+//! the progress has not moved for `stall` seconds while following (an RRT path that doubles
+//! back, a target the pair cannot quite reach), it moves on at the plan's pace by itself.
 //! Either way the [`ObcOptimizer`] turns the target into the command.
 
 use magbench_env::{Control, Vec2};
@@ -27,6 +30,9 @@ pub struct ObcParams {
     pub feedforward: bool,
     /// When behind the plan's schedule, how many extra horizons ahead the target may be.
     pub catchup: f64,
+    /// Seconds without progress (while following) after which the progress moves on at the
+    /// plan's pace by itself.
+    pub stall: f64,
     /// The optimizer's weights.
     pub weights: ObcWeights,
 }
@@ -39,6 +45,7 @@ impl Default for ObcParams {
             back: 1.0,
             feedforward: true,
             catchup: 2.0,
+            stall: 0.25,
             weights: ObcWeights::default(),
         }
     }
@@ -51,6 +58,7 @@ pub struct Obc {
     opt: Option<ObcOptimizer>,
     progress: usize,
     recovering: bool,
+    stalled: f64,
     last: Option<Control>,
     targets: Vec<Vec2>,
 }
@@ -63,6 +71,7 @@ impl Obc {
             opt: None,
             progress: 0,
             recovering: false,
+            stalled: 0.0,
             last: None,
             targets: vec![],
         }
@@ -83,6 +92,7 @@ impl Tracker for Obc {
         ));
         self.progress = 0;
         self.recovering = false;
+        self.stalled = 0.0;
     }
 
     fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
@@ -97,14 +107,24 @@ impl Tracker for Obc {
         } else {
             self.progress
         };
-        let (k, d) = r.nearest_sample(x, lo..self.progress + per_s(self.params.window) + 1);
-        self.progress = k;
+        let (mut k, d) = r.nearest_sample(x, lo..self.progress + per_s(self.params.window) + 1);
         let eps = self.params.eps;
         self.recovering = if self.recovering {
             d > 0.5 * eps
         } else {
             d > eps
         };
+        self.stalled = if k > self.progress || self.recovering {
+            0.0
+        } else {
+            self.stalled + ctx.period
+        };
+        if self.stalled >= self.params.stall && k < r.last() {
+            // on the path but not getting on along it (a path that doubles back, a target the
+            // pair cannot quite reach): the progress moves on at the plan's pace by itself
+            k = (self.progress + lead).min(r.last());
+        }
+        self.progress = k;
         let (target, hint) = if self.recovering {
             (r.state(k).to_vec(), None)
         } else {

@@ -223,6 +223,13 @@ const OBC_PARAMS: &[ParamSpec] = &[
         100.0,
         "behind schedule, how many extra horizons ahead the target may be",
     ),
+    real(
+        "stall",
+        0.25,
+        0.0,
+        1e3,
+        "seconds without progress after which the progress moves on by itself",
+    ),
 ];
 
 const LOOKAHEAD_PARAMS: &[ParamSpec] = &[
@@ -447,6 +454,7 @@ impl TrackerSpec {
                 back: self.get("back"),
                 feedforward: self.get("feedforward") != 0.0,
                 catchup: self.get("catchup"),
+                stall: self.get("stall"),
                 weights: self.weights(),
             })),
             "lookahead" => Box::new(Lookahead::new(LookaheadParams {

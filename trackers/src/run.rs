@@ -295,9 +295,9 @@ impl<'a> Run<'a> {
                     self.end(RunStatus::RigFault);
                     break;
                 }
-                Err(RigError::Recoverable(m)) => {
+                Err(RigError::Recoverable(_)) => {
+                    // no frame this tick: every agent counts as missed, the model predicts
                     self.rig_faults += 1;
-                    let _ = m;
                     Observation {
                         t: self.now + period - rig.latency(),
                         agents: vec![None; self.agents],
