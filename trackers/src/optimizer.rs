@@ -113,6 +113,8 @@ pub struct ObcOptimizer {
     horizon_s: f64,
     pull_coeff: f64,
     g_max: f64,
+    /// The grid angles and their pull axes (they do not change from tick to tick).
+    grid: Vec<(f64, Vec2, Vec2)>,
 }
 
 impl ObcOptimizer {
@@ -127,14 +129,24 @@ impl ObcOptimizer {
         let pull_coeff = model.kinematics.pull_coeff;
         let g_max = model.coil.gradient_limit();
         let horizon_s = period * weights.horizon.max(1) as f64;
-        ObcOptimizer {
+        let mut opt = ObcOptimizer {
             model,
             checker,
             weights,
             horizon_s,
             pull_coeff,
             g_max,
-        }
+            grid: vec![],
+        };
+        let n = opt.weights.grid.max(4);
+        opt.grid = (0..n)
+            .map(|k| {
+                let theta = k as f64 * std::f64::consts::PI / n as f64;
+                let (ax, ay) = opt.pull_axes(theta);
+                (theta, ax, ay)
+            })
+            .collect();
+        opt
     }
 
     /// The weights.
@@ -176,10 +188,11 @@ impl ObcOptimizer {
         assert!(n <= MAX_AGENTS && target.len() == n && path.len() == n && n > 0);
         let setup = self.setup(x, target, path, last.map(|u| u.theta));
         let w = &self.weights;
-        let grid = w.grid.max(4);
-        let step = std::f64::consts::PI / grid as f64;
-        let mut cands: Vec<Candidate> = (0..grid)
-            .map(|k| self.evaluate(&setup, k as f64 * step))
+        let step = std::f64::consts::PI / self.grid.len() as f64;
+        let mut cands: Vec<Candidate> = self
+            .grid
+            .iter()
+            .map(|&(theta, ax, ay)| self.evaluate_with(&setup, theta, ax, ay))
             .collect();
         if let Some(h) = hint.filter(|h| h.is_finite()) {
             cands.push(self.evaluate_exact(&setup, h));
@@ -321,6 +334,12 @@ impl ObcOptimizer {
 
     /// Scores field angle `theta` with its best gradient.
     fn evaluate(&self, s: &Setup, theta: f64) -> Candidate {
+        let (ax, ay) = self.pull_axes(theta);
+        self.evaluate_with(s, theta, ax, ay)
+    }
+
+    /// [`Self::evaluate`] with the pull axes of `theta` given.
+    fn evaluate_with(&self, s: &Setup, theta: f64, ax: Vec2, ay: Vec2) -> Candidate {
         let n = s.x.len();
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
         self.model.propagate_with(
@@ -331,7 +350,6 @@ impl ObcOptimizer {
             |_| true,
         );
         let c0 = pred[..n].iter().sum::<Vec2>() / n as f64;
-        let (ax, ay) = self.pull_axes(theta);
         let mut want = s.ct - c0;
         let mut grad = self.best_gradient(ax, ay, want);
         let mut shift = ax * grad[0] + ay * grad[1];

@@ -1,4 +1,11 @@
-//! Exploration runs for tuning (ignored; run by hand with --release --ignored --nocapture).
+//! Tuning and benchmark helpers, ignored by the test suite; run by hand:
+//!
+//! ```sh
+//! # the 50 goal-zoom-rrt plans of micro-factory used for the tracker benchmarks
+//! SEEDS=50 cargo test --release -p magbench-trackers --test explore write_rrt_plans -- --ignored --nocapture
+//! # trackers on random valid plans in open-field (TRACKERS, TP="key=value ...", PRESET, SEEDS, V=1)
+//! cargo test --release -p magbench-trackers --test explore explore_random_plans -- --ignored --nocapture
+//! ```
 
 mod common;
 
@@ -124,74 +131,4 @@ fn write_rrt_plans() {
         )
         .unwrap();
     }
-}
-
-/// Prints where wall contacts happen (PLAN=path SEED=n TRACKER=name).
-#[test]
-#[ignore]
-fn where_are_wall_contacts() {
-    use magbench_env::Control;
-    use magbench_env::plant::Observation;
-    use magbench_trackers::{GroundTruth, Rig, RigError, SimRig, track};
-    struct Spy {
-        inner: SimRig,
-        last: usize,
-        checker: magbench_env::ValidityChecker,
-    }
-    impl Rig for Spy {
-        fn frame_period(&self) -> f64 {
-            self.inner.frame_period()
-        }
-        fn observe(&mut self) -> Result<Observation, RigError> {
-            let o = self.inner.observe()?;
-            let g = self.inner.ground_truth().unwrap();
-            if g.wall_contacts > self.last {
-                let cl: Vec<f64> = g
-                    .positions
-                    .iter()
-                    .map(|p| self.checker.collision.clearance(*p))
-                    .collect();
-                println!(
-                    "t {:.2}: contacts {} at {:?} clearance {:?}",
-                    o.t, g.wall_contacts, g.positions, cl
-                );
-                self.last = g.wall_contacts;
-            }
-            Ok(o)
-        }
-        fn command(&mut self, u: &Control) -> Result<(), RigError> {
-            self.inner.command(u)
-        }
-        fn stop(&mut self) -> Result<(), RigError> {
-            self.inner.stop()
-        }
-        fn latency(&self) -> f64 {
-            self.inner.latency()
-        }
-        fn ground_truth(&self) -> Option<GroundTruth> {
-            self.inner.ground_truth()
-        }
-    }
-    let s = scenario("micro-factory");
-    let seed: u64 = std::env::var("SEED").unwrap().parse().unwrap();
-    let plan = magbench_trackers::plan_file::read_plan(
-        std::path::Path::new(&std::env::var("PLAN").unwrap()),
-        2,
-    )
-    .unwrap();
-    let spec = TrackerSpec::parse(
-        &std::env::var("TRACKER").unwrap_or("obc".into()),
-        &params(),
-        "env",
-    )
-    .unwrap();
-    let mut rig = Spy {
-        inner: SimRig::new(&s, &DisturbancePreset::realistic(), seed),
-        last: 0,
-        checker: s.checker_for_leg(0),
-    };
-    let mut m = Mission::with_plan(&s, plan);
-    m.seed = seed;
-    let out = track(&mut rig, spec.build().as_mut(), m, &spec.loop_options());
-    println!("{:?}", out.metrics.status);
 }
