@@ -11,7 +11,8 @@
 //! - [`estimator`]: latency compensation and missed detections;
 //! - [`optimizer`]: the OBC's brute-force field-angle search with the closed-form pull;
 //! - the trackers: [`OpenLoop`], [`Obc`], [`Lookahead`], by name in [`registry`];
-//! - [`run`]: the loop, replanning, and [`metrics`].
+//! - [`run`]: the loop, replanning, and [`metrics`];
+//! - [`plan_file`]: plans as JSON, read back bit for bit.
 
 pub mod estimator;
 pub mod log;
@@ -20,6 +21,7 @@ pub mod metrics;
 pub mod obc;
 pub mod open_loop;
 pub mod optimizer;
+pub mod plan_file;
 pub mod reference;
 pub mod registry;
 pub mod rig;
@@ -36,6 +38,6 @@ pub use optimizer::{ObcOptimizer, ObcWeights};
 pub use reference::Reference;
 pub use registry::{TrackerSpec, build_tracker, tracker_names};
 pub use rig::{GroundTruth, Rig, RigError};
-pub use run::{LoopOptions, Mission, TrackOutcome, simulate, track};
+pub use run::{LoopOptions, Mission, TrackOutcome, reference_for, simulate, track};
 pub use sim_rig::SimRig;
 pub use tracker::{Tick, Tracker, TrackerContext, TrackerStatus};

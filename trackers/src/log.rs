@@ -32,6 +32,8 @@ pub struct TickRecord {
     pub in_goal: bool,
     /// Per-agent targets of the tracker, if it has targets.
     pub targets: Option<Vec<Vec2>>,
+    /// Wall time the tracker took for this tick's command (µs).
+    pub compute_us: f64,
 }
 
 impl TickRecord {
@@ -89,6 +91,7 @@ pub fn write_ticks_csv<W: Write>(w: W, ticks: &[TickRecord]) -> csv::Result<()> 
         "gx_t_per_m",
         "gy_t_per_m",
         "in_goal",
+        "compute_us",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -112,6 +115,7 @@ pub fn write_ticks_csv<W: Write>(w: W, ticks: &[TickRecord]) -> csv::Result<()> 
             format!("{}", t.command.grad[0]),
             format!("{}", t.command.grad[1]),
             t.in_goal.to_string(),
+            format!("{:.1}", t.compute_us),
         ];
         for i in 0..n {
             row.push(format!("{}", t.estimate[i].x));

@@ -2,7 +2,11 @@
 //!
 //! Both agents share one segment index `k` into the reference: segments are traversed in
 //! order, for both agents together, and `k` moves on only as far as the agent that is further
-//! behind (each agent is projected onto its own planned polyline, ahead of `k`). For agent `i`
+//! behind (each agent is projected onto its own planned polyline, ahead of `k`). When the
+//! projections have not moved on for `stall` seconds (a path that doubles back on itself, as
+//! RRT paths do, or a pair that cannot do both pursuits at once) while the team is within
+//! `lookahead` of the path, `k` moves on at the plan's pace by itself: the targets keep moving
+//! along the path. For agent `i`
 //! at `P_i`:
 //!
 //! - `d1` is the unit direction from `P_i` back to its projection on the path (zero on the
@@ -32,6 +36,9 @@ pub struct LookaheadParams {
     pub lookahead: f64,
     /// How far ahead of `k` agents are projected onto their paths (s of reference).
     pub window: f64,
+    /// Seconds without progress after which the targets move on along the path at the plan's
+    /// pace by themselves (while the team is within `lookahead` of the path).
+    pub stall: f64,
     /// The optimizer's weights.
     pub weights: ObcWeights,
 }
@@ -42,6 +49,7 @@ impl Default for LookaheadParams {
             gain: 0.5,
             lookahead: 0.3,
             window: 1.0,
+            stall: 0.1,
             weights: ObcWeights::default(),
         }
     }
@@ -53,6 +61,7 @@ pub struct Lookahead {
     params: LookaheadParams,
     opt: Option<ObcOptimizer>,
     k: usize,
+    stalled: f64,
     holding: bool,
     last: Option<Control>,
     targets: Vec<Vec2>,
@@ -65,6 +74,7 @@ impl Lookahead {
             params,
             opt: None,
             k: 0,
+            stalled: 0.0,
             holding: false,
             last: None,
             targets: vec![],
@@ -90,6 +100,7 @@ impl Tracker for Lookahead {
             self.params.weights.clone(),
         ));
         self.k = 0;
+        self.stalled = 0.0;
         self.holding = false;
     }
 
@@ -106,13 +117,33 @@ impl Tracker for Lookahead {
             .map(|i| r.distance_to_path_in(i, x[i], window.clone()))
             .collect();
         let slowest = proj.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
-        self.k = self.k.max(slowest.floor() as usize).min(r.last());
+        let moved_to = self.k.max(slowest.floor() as usize).min(r.last());
+        self.stalled = if moved_to > self.k {
+            0.0
+        } else {
+            self.stalled + ctx.period
+        };
+        self.k = moved_to;
+        if self.stalled >= self.params.stall
+            && r.distance_to_sample(x, self.k) < self.params.lookahead
+        {
+            // the projections are stuck (a path that doubles back, a pair that cannot do both
+            // pursuits at once): the targets move on along the path by themselves
+            self.k = (self.k + lead).min(r.last());
+        }
         let k = self.k;
         let end = r.end();
         let near_end = (0..n).all(|i| (x[i] - end[i]).norm() <= self.params.lookahead)
             || r.index_ahead(k, self.params.lookahead) >= r.last()
                 && (0..n).all(|i| proj[i].1 >= (r.last() - 1) as f64);
         self.holding = near_end;
+        // each agent's projection on its own path
+        let on_path: Vec<Vec2> = (0..n)
+            .map(|i| {
+                let (s0, f) = (proj[i].1.floor() as usize, proj[i].1.fract());
+                r.point(s0, i) + (r.point(s0 + 1, i) - r.point(s0, i)) * f
+            })
+            .collect();
         let target: Vec<Vec2> = if near_end {
             end.to_vec()
         } else {
@@ -120,10 +151,7 @@ impl Tracker for Lookahead {
             let l = self.params.gain;
             (0..n)
                 .map(|i| {
-                    let s = proj[i].1;
-                    let (s0, f) = (s.floor() as usize, s.fract());
-                    let on_path = r.point(s0, i) + (r.point(s0 + 1, i) - r.point(s0, i)) * f;
-                    let d1 = unit(on_path - x[i]);
+                    let d1 = unit(on_path[i] - x[i]);
                     let d2 = unit(r.point(j, i) - x[i]);
                     let dl = d1 * l + d2 * (1.0 - l);
                     let pace = (r.point(k + lead, i) - r.point(k, i)).norm();
@@ -131,7 +159,8 @@ impl Tracker for Lookahead {
                 })
                 .collect()
         };
-        let sol = opt.solve(x, &target, self.last.as_ref(), None);
+        let path = if near_end { &target } else { &on_path };
+        let sol = opt.solve_along(x, &target, path, self.last.as_ref(), None);
         self.targets = target;
         self.last = Some(sol.control);
         sol.control

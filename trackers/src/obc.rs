@@ -6,6 +6,9 @@
 //! until it is within `eps/2` of it; otherwise the tracker follows the path forward (mode
 //! `follow`): its progress moves to the nearest sample ahead and the target is the reference
 //! one prediction horizon later, with the plan's own control offered as an extra candidate.
+//! Behind the plan's schedule the target may be up to `catchup` horizons further ahead; when
+//! the progress has not moved for `stall` seconds while following (an RRT path that doubles
+//! back, a target the pair cannot quite reach), it moves on at the plan's pace by itself.
 //! Either way the [`ObcOptimizer`] turns the target into the command.
 
 use magbench_env::{Control, Vec2};
@@ -25,6 +28,11 @@ pub struct ObcParams {
     pub back: f64,
     /// Offer the plan's own control to the optimizer as an extra candidate (feedforward).
     pub feedforward: bool,
+    /// When behind the plan's schedule, how many extra horizons ahead the target may be.
+    pub catchup: f64,
+    /// Seconds without progress (while following) after which the progress moves on at the
+    /// plan's pace by itself.
+    pub stall: f64,
     /// The optimizer's weights.
     pub weights: ObcWeights,
 }
@@ -36,6 +44,8 @@ impl Default for ObcParams {
             window: 1.0,
             back: 1.0,
             feedforward: true,
+            catchup: 2.0,
+            stall: 0.25,
             weights: ObcWeights::default(),
         }
     }
@@ -48,6 +58,7 @@ pub struct Obc {
     opt: Option<ObcOptimizer>,
     progress: usize,
     recovering: bool,
+    stalled: f64,
     last: Option<Control>,
     targets: Vec<Vec2>,
 }
@@ -60,6 +71,7 @@ impl Obc {
             opt: None,
             progress: 0,
             recovering: false,
+            stalled: 0.0,
             last: None,
             targets: vec![],
         }
@@ -80,6 +92,7 @@ impl Tracker for Obc {
         ));
         self.progress = 0;
         self.recovering = false;
+        self.stalled = 0.0;
     }
 
     fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
@@ -94,18 +107,31 @@ impl Tracker for Obc {
         } else {
             self.progress
         };
-        let (k, d) = r.nearest_sample(x, lo..self.progress + per_s(self.params.window) + 1);
-        self.progress = k;
+        let (mut k, d) = r.nearest_sample(x, lo..self.progress + per_s(self.params.window) + 1);
         let eps = self.params.eps;
         self.recovering = if self.recovering {
             d > 0.5 * eps
         } else {
             d > eps
         };
+        self.stalled = if k > self.progress || self.recovering {
+            0.0
+        } else {
+            self.stalled + ctx.period
+        };
+        if self.stalled >= self.params.stall && k < r.last() {
+            // on the path but not getting on along it (a path that doubles back, a target the
+            // pair cannot quite reach): the progress moves on at the plan's pace by itself
+            k = (self.progress + lead).min(r.last());
+        }
+        self.progress = k;
         let (target, hint) = if self.recovering {
             (r.state(k).to_vec(), None)
         } else {
-            let j = (k + lead).min(r.last());
+            // behind schedule, aim up to `catchup` horizons further ahead to win time back
+            let behind = r.index_at(tick.t).saturating_sub(k);
+            let extra = behind.min((self.params.catchup * lead as f64).round() as usize);
+            let j = (k + lead + extra).min(r.last());
             // the plan's control is exact only while one edge covers the whole horizon
             let hint = match (r.edge(k), r.edge(j.saturating_sub(1))) {
                 (Some(a), Some(b)) if self.params.feedforward && a == b && j == k + lead => {

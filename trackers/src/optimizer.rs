@@ -12,16 +12,26 @@
 //!
 //! ```text
 //! J = w_com |c_pred − c_target|² + w_rel Σ_i |(p_i − c)_pred − (p_i − c)_target|²
-//!   + w_smooth Δθ² + w_prox Σ_pairs (band violation of r_pred)²
+//!   + w_smooth Δθ² + w_prox Σ_pairs (band violation of r)² + w_wall Σ_i (wall_margin − cl_i)₊²
 //! ```
 //!
-//! with `c` the centre of mass, `Δθ` the change of the field angle from the last command (mod
-//! π: both polarities give the same pair force, so the polarity nearer the last command is
-//! sent, with the gradient signs that go with it), and the band `(r_min + margin, r_max −
-//! margin)` of the proximity range. θ is searched by brute force on a fine grid over [0, π),
-//! then refined by golden-section search around the best grid angle. A candidate whose
-//! predicted agents come closer than `wall_margin` to a wall (and closer than they are now) is
-//! rejected; the next best is taken.
+//! - `c` is the centre of mass;
+//! - `Δθ` is the change of the field angle from the last command, mod π: both polarities give
+//!   the same pair force, so the polarity nearer the last command is sent, with the gradient
+//!   signs that go with it;
+//! - the band is `(r_min + prox_margin, r_max − prox_margin)` of the proximity range, checked at
+//!   the predicted separation and where it would be if its predicted rate of change lasted
+//!   `safety` more ticks — a fast approach is refused while there is still time to stop it (the
+//!   camera is a frame late and the true forces differ from the model's);
+//! - `cl_i` is agent `i`'s predicted clearance from walls and obstacles, linearised about its
+//!   position (only agents near a wall are scored); where the planned path itself is closer to a
+//!   wall than `wall_margin` (a plan may hug one), the path's clearance replaces the margin.
+//!
+//! The closed-form gradient also lets an agent near a wall slide along it: the part of the shift
+//! that would take the agent's linearised clearance below half its margin is removed.
+//! θ is searched by brute force on a grid over [0, π), then refined by golden-section search
+//! around the best grid angle. The winner is checked exactly against the walls: if a predicted
+//! agent would touch one, the next best candidate (or its zero-gradient variant) is taken.
 
 use magbench_env::{Control, MAX_AGENTS, PlanningModel, ValidityChecker, Vec2};
 
@@ -38,8 +48,14 @@ pub struct ObcWeights {
     pub w_prox: f64,
     /// Safety margin inside the proximity range (BL).
     pub prox_margin: f64,
-    /// Clearance a predicted agent keeps from walls and obstacles (BL).
+    /// Extra ticks over which the predicted change of separation is extrapolated for the
+    /// proximity check (0 = the prediction only).
+    pub safety: f64,
+    /// Clearance (BL) below which a predicted agent is penalised by `w_wall`; a predicted
+    /// contact is never chosen if anything else is possible.
     pub wall_margin: f64,
+    /// Weight of a predicted clearance below `wall_margin` (per BL²).
+    pub w_wall: f64,
     /// Grid points over [0, π).
     pub grid: usize,
     /// Golden-section iterations of the local refinement.
@@ -56,7 +72,9 @@ impl Default for ObcWeights {
             w_smooth: 1e-5,
             w_prox: 1e3,
             prox_margin: 0.15,
+            safety: 2.0,
             wall_margin: 0.05,
+            w_wall: 1.0,
             grid: 72,
             refine: 12,
             horizon: 1,
@@ -95,6 +113,8 @@ pub struct ObcOptimizer {
     horizon_s: f64,
     pull_coeff: f64,
     g_max: f64,
+    /// The grid angles and their pull axes (they do not change from tick to tick).
+    grid: Vec<(f64, Vec2, Vec2)>,
 }
 
 impl ObcOptimizer {
@@ -109,14 +129,24 @@ impl ObcOptimizer {
         let pull_coeff = model.kinematics.pull_coeff;
         let g_max = model.coil.gradient_limit();
         let horizon_s = period * weights.horizon.max(1) as f64;
-        ObcOptimizer {
+        let mut opt = ObcOptimizer {
             model,
             checker,
             weights,
             horizon_s,
             pull_coeff,
             g_max,
-        }
+            grid: vec![],
+        };
+        let n = opt.weights.grid.max(4);
+        opt.grid = (0..n)
+            .map(|k| {
+                let theta = k as f64 * std::f64::consts::PI / n as f64;
+                let (ax, ay) = opt.pull_axes(theta);
+                (theta, ax, ay)
+            })
+            .collect();
+        opt
     }
 
     /// The weights.
@@ -139,19 +169,33 @@ impl ObcOptimizer {
         last: Option<&Control>,
         hint: Option<&Control>,
     ) -> Solution {
+        self.solve_along(x, target, target, last, hint)
+    }
+
+    /// [`ObcOptimizer::solve`] where the wall margin of agent `i` is at most the clearance of
+    /// `path[i]`, the point of its planned path it is meant to be near (the target itself for
+    /// the OBC, the projection on the path for the lookahead tracker): a plan that hugs a wall
+    /// is followed without penalty, a deviation towards the wall is not.
+    pub fn solve_along(
+        &self,
+        x: &[Vec2],
+        target: &[Vec2],
+        path: &[Vec2],
+        last: Option<&Control>,
+        hint: Option<&Control>,
+    ) -> Solution {
         let n = x.len();
-        assert!(n <= MAX_AGENTS && target.len() == n && n > 0);
-        let prev = last.map(|u| u.theta);
+        assert!(n <= MAX_AGENTS && target.len() == n && path.len() == n && n > 0);
+        let setup = self.setup(x, target, path, last.map(|u| u.theta));
         let w = &self.weights;
-        let grid = w.grid.max(4);
-        let step = std::f64::consts::PI / grid as f64;
-        let mut cands: Vec<Candidate> = (0..grid)
-            .map(|k| self.evaluate(x, target, k as f64 * step, prev))
+        let step = std::f64::consts::PI / self.grid.len() as f64;
+        let mut cands: Vec<Candidate> = self
+            .grid
+            .iter()
+            .map(|&(theta, ax, ay)| self.evaluate_with(&setup, theta, ax, ay))
             .collect();
-        if let Some(h) = hint {
-            if h.is_finite() {
-                cands.push(self.evaluate_exact(x, target, h, prev));
-            }
+        if let Some(h) = hint.filter(|h| h.is_finite()) {
+            cands.push(self.evaluate_exact(&setup, h));
         }
         let mut best = cands
             .iter()
@@ -160,37 +204,82 @@ impl ObcOptimizer {
             .expect("a grid");
         // refine the winner by golden-section search over [θ − step, θ + step]
         if w.refine > 0 {
-            let r = self.refine(x, target, best.theta, step, prev);
+            let r = self.refine(&setup, best.theta, step);
             if r.cost < best.cost {
                 best = r;
             }
         }
-        let now_clear: Vec<f64> = x
-            .iter()
-            .map(|p| self.checker.collision.clearance(*p))
-            .collect();
-        if self.clear_of_walls(&best, n, &now_clear) {
-            return self.finish(best, n, prev, true);
+        if self.clear_of_walls(&setup, &best) {
+            return self.finish(best, &setup, true);
         }
         cands.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         for c in &cands {
-            if self.clear_of_walls(c, n, &now_clear) {
-                return self.finish(*c, n, prev, true);
+            if self.clear_of_walls(&setup, c) {
+                return self.finish(*c, &setup, true);
             }
-            let mut z = *c;
-            self.zero_pull(x, target, &mut z, prev);
-            if self.clear_of_walls(&z, n, &now_clear) {
-                return self.finish(z, n, prev, true);
+            let z = self.evaluate_exact(&setup, &Control::planar(c.theta, 0.0, 0.0));
+            if self.clear_of_walls(&setup, &z) {
+                return self.finish(z, &setup, true);
             }
         }
-        self.finish(best, n, prev, false)
+        self.finish(best, &setup, false)
     }
 
-    fn finish(&self, c: Candidate, n: usize, prev: Option<f64>, clear: bool) -> Solution {
+    /// What every candidate of one solve shares: the state, the target, the last angle and,
+    /// for each agent near a wall, its clearance and the clearance gradient (a unit normal,
+    /// by central differences), so candidates get a linearised clearance without a query.
+    fn setup<'a>(
+        &self,
+        x: &'a [Vec2],
+        target: &'a [Vec2],
+        path: &[Vec2],
+        prev: Option<f64>,
+    ) -> Setup<'a> {
+        let n = x.len();
+        let inv_n = 1.0 / n as f64;
+        let reach = self.weights.wall_margin + WALL_REACH * self.weights.horizon.max(1) as f64;
+        let mut near = [None; MAX_AGENTS];
+        let col = &self.checker.collision;
+        for (i, p) in x.iter().enumerate() {
+            let c = col.clearance(*p);
+            if c < reach {
+                let h = 1e-4;
+                let g = Vec2::new(
+                    col.clearance(p + Vec2::new(h, 0.0)) - col.clearance(p - Vec2::new(h, 0.0)),
+                    col.clearance(p + Vec2::new(0.0, h)) - col.clearance(p - Vec2::new(0.0, h)),
+                );
+                let normal = if g.norm() > 0.0 {
+                    g / g.norm()
+                } else {
+                    Vec2::zeros()
+                };
+                // where the plan itself hugs a wall closer than the margin, the margin there is
+                // the plan's own clearance: following the plan costs nothing
+                let margin = self
+                    .weights
+                    .wall_margin
+                    .min(col.clearance(path[i]).max(WALL_FLOOR));
+                near[i] = Some(Near {
+                    now: c,
+                    normal,
+                    margin,
+                });
+            }
+        }
+        Setup {
+            x,
+            target,
+            ct: target.iter().sum::<Vec2>() * inv_n,
+            prev,
+            near,
+        }
+    }
+
+    fn finish(&self, c: Candidate, s: &Setup, clear: bool) -> Solution {
         // send the polarity nearer the last command; flipping θ by π flips the pull
         let mut theta = c.theta;
         let mut grad = c.grad;
-        if let Some(p) = prev {
+        if let Some(p) = s.prev {
             let d = wrap_half(theta - p);
             let t2 = magbench_env::math::wrap_angle(p + d);
             if (magbench_env::math::wrap_angle(t2 - theta)).abs() > 1.0 {
@@ -201,76 +290,93 @@ impl ObcOptimizer {
         Solution {
             control: Control::planar(magbench_env::math::wrap_angle(theta), grad[0], grad[1]),
             cost: c.cost,
-            predicted: c.pred[..n].to_vec(),
+            predicted: c.pred[..s.x.len()].to_vec(),
             clear,
         }
     }
 
-    fn clear_of_walls(&self, c: &Candidate, n: usize, now_clear: &[f64]) -> bool {
-        let m = self.weights.wall_margin;
-        (0..n).all(|i| {
-            let cl = self.checker.collision.clearance(c.pred[i]);
-            cl >= m || cl >= now_clear[i] - 1e-9
+    /// The exact check of a chosen candidate: no predicted agent touches a wall (one already in
+    /// contact may not go deeper).
+    fn clear_of_walls(&self, s: &Setup, c: &Candidate) -> bool {
+        (0..s.x.len()).all(|i| match s.near[i] {
+            None => true,
+            Some(w) => {
+                let cl = self.checker.collision.clearance(c.pred[i]);
+                cl > 0.0 || cl >= w.now - 1e-12
+            }
         })
     }
 
-    fn zero_pull(&self, x: &[Vec2], target: &[Vec2], c: &mut Candidate, prev: Option<f64>) {
-        *c = self.evaluate_exact(x, target, &Control::planar(c.theta, 0.0, 0.0), prev);
-    }
-
-    fn refine(
-        &self,
-        x: &[Vec2],
-        target: &[Vec2],
-        theta: f64,
-        step: f64,
-        prev: Option<f64>,
-    ) -> Candidate {
+    fn refine(&self, s: &Setup, theta: f64, step: f64) -> Candidate {
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut a, mut b) = (theta - step, theta + step);
         let mut c = b - g * (b - a);
         let mut d = a + g * (b - a);
-        let mut fc = self.evaluate(x, target, c, prev);
-        let mut fd = self.evaluate(x, target, d, prev);
+        let mut fc = self.evaluate(s, c);
+        let mut fd = self.evaluate(s, d);
         for _ in 0..self.weights.refine {
             if fc.cost < fd.cost {
                 b = d;
                 d = c;
                 fd = fc;
                 c = b - g * (b - a);
-                fc = self.evaluate(x, target, c, prev);
+                fc = self.evaluate(s, c);
             } else {
                 a = c;
                 c = d;
                 fc = fd;
                 d = a + g * (b - a);
-                fd = self.evaluate(x, target, d, prev);
+                fd = self.evaluate(s, d);
             }
         }
         if fc.cost < fd.cost { fc } else { fd }
     }
 
     /// Scores field angle `theta` with its best gradient.
-    fn evaluate(&self, x: &[Vec2], target: &[Vec2], theta: f64, prev: Option<f64>) -> Candidate {
-        let n = x.len();
+    fn evaluate(&self, s: &Setup, theta: f64) -> Candidate {
+        let (ax, ay) = self.pull_axes(theta);
+        self.evaluate_with(s, theta, ax, ay)
+    }
+
+    /// [`Self::evaluate`] with the pull axes of `theta` given.
+    fn evaluate_with(&self, s: &Setup, theta: f64, ax: Vec2, ay: Vec2) -> Candidate {
+        let n = s.x.len();
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
         self.model.propagate_with(
-            x,
+            s.x,
             &Control::planar(theta, 0.0, 0.0),
             self.horizon_s,
             &mut pred[..n],
             |_| true,
         );
-        let inv_n = 1.0 / n as f64;
-        let c0 = pred[..n].iter().sum::<Vec2>() * inv_n;
-        let ct = target.iter().sum::<Vec2>() * inv_n;
-        let (ax, ay) = self.pull_axes(theta);
-        let grad = self.best_gradient(ax, ay, ct - c0);
-        let shift = ax * grad[0] + ay * grad[1];
+        let c0 = pred[..n].iter().sum::<Vec2>() / n as f64;
+        let mut want = s.ct - c0;
+        let mut grad = self.best_gradient(ax, ay, want);
+        let mut shift = ax * grad[0] + ay * grad[1];
+        // an agent near a wall slides along it: the shift loses the part that would bring the
+        // agent's linearised clearance below WALL_KEEP (a few projections, then re-clamped)
+        for _ in 0..3 {
+            let mut moved = false;
+            for i in 0..n {
+                if let Some(w) = s.near[i] {
+                    let cl = w.now + w.normal.dot(&(pred[i] + shift - s.x[i]));
+                    let keep = (0.5 * w.margin).max(WALL_KEEP);
+                    if cl < keep {
+                        want = shift + w.normal * (keep - cl);
+                        moved = true;
+                    }
+                }
+            }
+            if !moved {
+                break;
+            }
+            grad = self.best_gradient(ax, ay, want);
+            shift = ax * grad[0] + ay * grad[1];
+        }
         for p in &mut pred[..n] {
             *p += shift;
         }
-        let cost = self.score(&pred[..n], target, c0 + shift, ct, theta, prev);
+        let cost = self.score(s, &pred[..n], c0 + shift, theta);
         Candidate {
             theta,
             cost,
@@ -280,23 +386,15 @@ impl ObcOptimizer {
     }
 
     /// Scores a command exactly as given (its own gradient).
-    fn evaluate_exact(
-        &self,
-        x: &[Vec2],
-        target: &[Vec2],
-        u: &Control,
-        prev: Option<f64>,
-    ) -> Candidate {
-        let n = x.len();
+    fn evaluate_exact(&self, s: &Setup, u: &Control) -> Candidate {
+        let n = s.x.len();
         let (u, _) = self.model.coil.clamp(u);
         let u = Control { alpha: 0.0, ..u };
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
         self.model
-            .propagate_with(x, &u, self.horizon_s, &mut pred[..n], |_| true);
-        let inv_n = 1.0 / n as f64;
-        let c = pred[..n].iter().sum::<Vec2>() * inv_n;
-        let ct = target.iter().sum::<Vec2>() * inv_n;
-        let cost = self.score(&pred[..n], target, c, ct, u.theta, prev);
+            .propagate_with(s.x, &u, self.horizon_s, &mut pred[..n], |_| true);
+        let c = pred[..n].iter().sum::<Vec2>() / n as f64;
+        let cost = self.score(s, &pred[..n], c, u.theta);
         Candidate {
             theta: u.theta,
             cost,
@@ -305,22 +403,14 @@ impl ObcOptimizer {
         }
     }
 
-    fn score(
-        &self,
-        pred: &[Vec2],
-        target: &[Vec2],
-        c: Vec2,
-        ct: Vec2,
-        theta: f64,
-        prev: Option<f64>,
-    ) -> f64 {
+    fn score(&self, s: &Setup, pred: &[Vec2], c: Vec2, theta: f64) -> f64 {
         let w = &self.weights;
         let mut rel = 0.0;
-        for (p, t) in pred.iter().zip(target) {
-            rel += ((p - c) - (t - ct)).norm_squared();
+        for (p, t) in pred.iter().zip(s.target) {
+            rel += ((p - c) - (t - s.ct)).norm_squared();
         }
-        let mut cost = w.w_com * (c - ct).norm_squared() + w.w_rel * rel;
-        if let Some(p) = prev {
+        let mut cost = w.w_com * (c - s.ct).norm_squared() + w.w_rel * rel;
+        if let Some(p) = s.prev {
             let d = wrap_half(theta - p);
             cost += w.w_smooth * d * d;
         }
@@ -328,14 +418,26 @@ impl ObcOptimizer {
             self.checker.r_min + w.prox_margin,
             self.checker.r_max - w.prox_margin,
         );
+        let x = s.x;
         for i in 0..pred.len() {
             for j in (i + 1)..pred.len() {
                 let r = (pred[j] - pred[i]).norm();
-                let v = (lo - r).max(0.0) + (r - hi).max(0.0);
+                // where the separation heads if the same rate lasted `safety` more ticks: a fast
+                // approach is refused before it is too late to stop (latency, model mismatch)
+                let r_ahead = r + (r - (x[j] - x[i]).norm()) * w.safety;
+                let v = (lo - r.min(r_ahead)).max(0.0) + (r.max(r_ahead) - hi).max(0.0);
                 cost += w.w_prox * v * v;
                 if r <= self.checker.r_min || r >= self.checker.r_max {
                     cost += w.w_prox;
                 }
+            }
+        }
+        for (i, p) in pred.iter().enumerate() {
+            if let Some(near) = s.near[i] {
+                // linearised clearance of the predicted position
+                let cl = near.now + near.normal.dot(&(p - x[i]));
+                let v = (near.margin - cl).max(0.0);
+                cost += w.w_wall * v * v;
             }
         }
         cost
@@ -387,6 +489,38 @@ impl ObcOptimizer {
             [gx, gy]
         }
     }
+}
+
+/// The smallest wall margin (BL), even where the plan itself is closer to a wall.
+const WALL_FLOOR: f64 = 0.04;
+
+/// The least clearance (BL) the closed-form gradient keeps a predicted agent from a wall it is
+/// near (half its margin if that is more).
+const WALL_KEEP: f64 = 0.002;
+
+/// How far (BL per tick of horizon) an agent can get towards a wall: agents further than
+/// `wall_margin` plus this from every wall are not checked against walls at all.
+const WALL_REACH: f64 = 0.3;
+
+/// The shared inputs of one solve.
+struct Setup<'a> {
+    x: &'a [Vec2],
+    target: &'a [Vec2],
+    ct: Vec2,
+    prev: Option<f64>,
+    /// Each agent near a wall: its clearance, the clearance gradient and its margin.
+    near: [Option<Near>; MAX_AGENTS],
+}
+
+/// An agent near a wall.
+#[derive(Clone, Copy)]
+struct Near {
+    /// Its clearance now (BL).
+    now: f64,
+    /// The unit gradient of the clearance at its position.
+    normal: Vec2,
+    /// The clearance below which it is penalised: `wall_margin`, or less if the target is closer.
+    margin: f64,
 }
 
 /// Wraps an angle to (−π/2, π/2]: field angles that differ by π give the same pair force.

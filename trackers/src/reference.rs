@@ -131,8 +131,8 @@ impl Reference {
             self.arc.extend(std::iter::repeat_n(0.0, n));
         } else {
             let k = self.times.len() - 1;
-            for i in 0..n {
-                let d = (s[i] - self.states[k * n + i]).norm();
+            for (i, p) in s.iter().enumerate() {
+                let d = (p - self.states[k * n + i]).norm();
                 self.arc.push(self.arc[k * n + i] + d);
             }
         }
@@ -186,12 +186,42 @@ impl Reference {
         self.arc[k.min(self.last()) * self.agents + i]
     }
 
-    /// Control in force after sample `k`, or `None` at and after the last sample.
+    /// Appends a settle segment: a straight motion of every agent from the end to `to` at
+    /// `speed` BL/s (the agent that moves furthest sets the time), sampled at every `dt`. It has
+    /// no plan control ([`Reference::control`] is `None` there): closed-loop trackers follow it
+    /// to hold the team at `to`, an open-loop tracker stops at the plan's end.
+    pub fn with_settle(mut self, to: &[Vec2], speed: f64, dt: f64) -> Self {
+        let from = self.end().to_vec();
+        let dist = from
+            .iter()
+            .zip(to)
+            .map(|(a, b)| (a - b).norm())
+            .fold(0.0, f64::max);
+        if dist <= 0.0 || speed <= 0.0 {
+            return self;
+        }
+        let steps = ((dist / speed) / dt - 1e-9).ceil().max(1.0) as usize;
+        let t0 = self.duration();
+        for k in 1..=steps {
+            let f = k as f64 / steps as f64;
+            let s: Vec<Vec2> = from.iter().zip(to).map(|(a, b)| a + (b - a) * f).collect();
+            self.push_sample(t0 + k as f64 * dt, &s);
+        }
+        self.index();
+        self
+    }
+
+    /// Index of the last sample of the plan proper (before any settle segment).
+    pub fn plan_end(&self) -> usize {
+        self.controls.len()
+    }
+
+    /// Control in force after sample `k`, or `None` at and after the plan's end.
     pub fn control(&self, k: usize) -> Option<&Control> {
         self.controls.get(k)
     }
 
-    /// Plan edge of the interval after sample `k`, or `None` at the end.
+    /// Plan edge of the interval after sample `k`, or `None` at and after the plan's end.
     pub fn edge(&self, k: usize) -> Option<usize> {
         self.edges.get(k).copied()
     }
@@ -368,5 +398,23 @@ mod tests {
         let (k, d) = r.nearest_sample(r.state(42), 0..r.len());
         assert_eq!((k, d), (42, 0.0));
         assert!(r.index_ahead(0, 0.2) > 0);
+    }
+
+    #[test]
+    fn settle_segment_has_no_control_and_reaches_its_target() {
+        let (plan, model) = plan();
+        let r = Reference::from_plan(&plan, &model);
+        let n = r.len();
+        let to: Vec<Vec2> = r.end().iter().map(|p| p + Vec2::new(0.3, 0.0)).collect();
+        let s = r.with_settle(&to, 0.25, model.dt);
+        assert_eq!(s.plan_end(), n - 1);
+        assert_eq!(s.len(), n + 144, "0.3 BL at 0.25 BL/s is 1.2 s = 144 steps");
+        assert_eq!(s.end(), &to[..]);
+        assert!(s.control(n - 1).is_none() && s.control(n - 2).is_some());
+        assert!(s.distance_to_path(0, r_mid(&to[0], &plan.end()[0])) < 1e-12);
+    }
+
+    fn r_mid(a: &Vec2, b: &Vec2) -> Vec2 {
+        (a + b) * 0.5
     }
 }

@@ -144,11 +144,25 @@ const OPTIMIZER_PARAMS: &[ParamSpec] = &[
         "safety margin inside the proximity range (BL)",
     ),
     real(
+        "safety",
+        2.0,
+        0.0,
+        100.0,
+        "ticks over which a predicted separation change is extrapolated for the proximity check",
+    ),
+    real(
         "wall_margin",
         0.05,
         0.0,
         2.0,
-        "clearance a predicted agent keeps from walls (BL)",
+        "clearance from walls below which a predicted agent is penalised (BL)",
+    ),
+    real(
+        "w_wall",
+        1.0,
+        0.0,
+        1e9,
+        "weight of a predicted clearance below wall_margin (per BL²)",
     ),
     int(
         "grid",
@@ -202,6 +216,20 @@ const OBC_PARAMS: &[ParamSpec] = &[
         1.0,
         "1 = offer the plan's own control as a candidate, 0 = grid only",
     ),
+    real(
+        "catchup",
+        2.0,
+        0.0,
+        100.0,
+        "behind schedule, how many extra horizons ahead the target may be",
+    ),
+    real(
+        "stall",
+        0.25,
+        0.0,
+        1e3,
+        "seconds without progress after which the progress moves on by itself",
+    ),
 ];
 
 const LOOKAHEAD_PARAMS: &[ParamSpec] = &[
@@ -225,6 +253,13 @@ const LOOKAHEAD_PARAMS: &[ParamSpec] = &[
         0.0,
         1e4,
         "how far ahead agents are projected onto their paths (s)",
+    ),
+    real(
+        "stall",
+        0.1,
+        0.0,
+        1e3,
+        "seconds without progress after which the targets move on by themselves",
     ),
 ];
 
@@ -400,7 +435,9 @@ impl TrackerSpec {
             w_smooth: self.get("w_smooth"),
             w_prox: self.get("w_prox"),
             prox_margin: self.get("prox_margin"),
+            safety: self.get("safety"),
             wall_margin: self.get("wall_margin"),
+            w_wall: self.get("w_wall"),
             grid: self.get("grid") as usize,
             refine: self.get("refine") as usize,
             horizon: self.get("horizon") as usize,
@@ -416,12 +453,15 @@ impl TrackerSpec {
                 window: self.get("window"),
                 back: self.get("back"),
                 feedforward: self.get("feedforward") != 0.0,
+                catchup: self.get("catchup"),
+                stall: self.get("stall"),
                 weights: self.weights(),
             })),
             "lookahead" => Box::new(Lookahead::new(LookaheadParams {
                 gain: self.get("gain"),
                 lookahead: self.get("lookahead"),
                 window: self.get("window"),
+                stall: self.get("stall"),
                 weights: self.weights(),
             })),
             other => unreachable!("checked tracker name {other}"),

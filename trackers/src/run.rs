@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use magbench_env::plant::{DisturbancePreset, Observation};
-use magbench_env::{PlanningModel, Scenario, ValidityChecker, Vec2};
+use magbench_env::{Control, Goal, PlanningModel, Scenario, ValidityChecker, Vec2};
 use magbench_planners::{Limits, Plan, Planner, Problem};
 
 use crate::estimator::Estimator;
@@ -118,6 +118,20 @@ pub struct TrackOutcome {
     pub message: Option<String>,
 }
 
+/// The reference the loop tracks for `plan`: the plan resampled at every integration step and,
+/// when the plan ends inside `goal` (anywhere within the tolerance of the goal centres), a
+/// settle segment from its end to the goal centres at half the largest pull speed, so that
+/// closed-loop trackers finish by holding the team at the centres.
+pub fn reference_for(plan: &Plan, model: &PlanningModel, goal: &Goal) -> Reference {
+    let r = Reference::from_plan(plan, model);
+    if goal.contains(r.end()) && goal.agents.len() == r.agents() {
+        let speed = 0.5 * model.kinematics.pull_coeff * model.coil.gradient_limit();
+        r.with_settle(&goal.agents, speed, model.dt)
+    } else {
+        r
+    }
+}
+
 /// Stops the rig when dropped (also while unwinding from a panic).
 struct StopGuard<'r> {
     rig: &'r mut dyn Rig,
@@ -187,6 +201,7 @@ struct Run<'a> {
     planning_time: f64,
     tracker_time: f64,
     tick_count: usize,
+    last_compute: f64,
     wall_contacts: usize,
     agent_contact: bool,
     observed_contact_frames: usize,
@@ -226,6 +241,7 @@ impl<'a> Run<'a> {
             planning_time: mission.plan_time_s,
             tracker_time: 0.0,
             tick_count: 0,
+            last_compute: 0.0,
             wall_contacts: 0,
             agent_contact: false,
             observed_contact_frames: 0,
@@ -279,9 +295,9 @@ impl<'a> Run<'a> {
                     self.end(RunStatus::RigFault);
                     break;
                 }
-                Err(RigError::Recoverable(m)) => {
+                Err(RigError::Recoverable(_)) => {
+                    // no frame this tick: every agent counts as missed, the model predicts
                     self.rig_faults += 1;
-                    let _ = m;
                     Observation {
                         t: self.now + period - rig.latency(),
                         agents: vec![None; self.agents],
@@ -357,39 +373,27 @@ impl<'a> Run<'a> {
                 break;
             }
             self.error_replan(&x, now, tracker, period);
-            let reference = self.reference.as_ref().expect("a reference");
-            let ctx = TrackerContext {
-                reference,
-                model: &self.model,
-                checker: &self.checker,
-                period,
-            };
-            let started = Instant::now();
-            let u = tracker.command(
-                &ctx,
-                &Tick {
-                    t: now - self.ref_start,
-                    estimate: &x,
-                    observation: &obs,
-                },
-            );
-            self.tracker_time += started.elapsed().as_secs_f64();
+            let mut u = self.tracker_command(tracker, &x, &obs, period);
             if tracker.finished() {
-                self.end(if in_goal {
-                    RunStatus::ReachedGoal
+                // an open-loop plan played to its end: the leg is done if the team is in the goal
+                if self.mission.scenario.legs[self.leg].goal.contains(&x) {
+                    self.complete_leg(&x, now, t0, rig, tracker, period);
+                }
+                if self.status.is_none() && !tracker.finished() {
+                    u = self.tracker_command(tracker, &x, &obs, period);
                 } else {
-                    RunStatus::PlanFinished
-                });
-                self.log(
-                    &x,
-                    &obs,
-                    truth.map(|g| g.positions),
-                    errors,
-                    None,
-                    tracker,
-                    in_goal,
-                );
-                break;
+                    self.end(RunStatus::PlanFinished);
+                    self.log(
+                        &x,
+                        &obs,
+                        truth.map(|g| g.positions),
+                        errors,
+                        None,
+                        tracker,
+                        in_goal,
+                    );
+                    break;
+                }
             }
             match rig.command(&u) {
                 Ok(()) => {}
@@ -410,6 +414,37 @@ impl<'a> Run<'a> {
                 in_goal,
             );
         }
+    }
+
+    /// The tracker's command for this tick (timed).
+    fn tracker_command(
+        &mut self,
+        tracker: &mut dyn Tracker,
+        x: &[Vec2],
+        obs: &Observation,
+        period: f64,
+    ) -> Control {
+        let reference = self.reference.as_ref().expect("a reference");
+        let ctx = TrackerContext {
+            reference,
+            model: &self.model,
+            checker: &self.checker,
+            period,
+            goal: &self.mission.scenario.legs[self.leg].goal,
+        };
+        let started = Instant::now();
+        let u = tracker.command(
+            &ctx,
+            &Tick {
+                t: self.now - self.ref_start,
+                estimate: x,
+                observation: obs,
+            },
+        );
+        let dt = started.elapsed().as_secs_f64();
+        self.tracker_time += dt;
+        self.last_compute = dt;
+        u
     }
 
     /// Tracks the mission's plan, or plans leg 0 from the first estimate.
@@ -445,12 +480,17 @@ impl<'a> Run<'a> {
         tracker: &mut dyn Tracker,
         period: f64,
     ) {
-        let reference = Reference::from_plan(&plan, &self.model);
+        let reference = reference_for(
+            &plan,
+            &self.model,
+            &self.mission.scenario.legs[self.leg].goal,
+        );
         let ctx = TrackerContext {
             reference: &reference,
             model: &self.model,
             checker: &self.checker,
             period,
+            goal: &self.mission.scenario.legs[self.leg].goal,
         };
         tracker.reset(&ctx);
         self.reference = Some(reference);
@@ -588,12 +628,28 @@ impl<'a> Run<'a> {
         if now - since + 1e-9 < self.opts.hold {
             return true;
         }
+        self.complete_leg(x, now, t0, rig, tracker, period);
+        true
+    }
+
+    /// The current leg is done: ends the run after the last leg, else switches the map and
+    /// plans the next leg from `x`.
+    fn complete_leg(
+        &mut self,
+        x: &[Vec2],
+        now: f64,
+        t0: f64,
+        rig: &mut dyn Rig,
+        tracker: &mut dyn Tracker,
+        period: f64,
+    ) {
+        let sc = self.mission.scenario;
         self.legs_completed += 1;
         self.in_goal_since = None;
         if self.leg + 1 == sc.legs.len() {
             self.time_to_goal = Some(now - t0);
             self.end(RunStatus::ReachedGoal);
-            return true;
+            return;
         }
         self.leg += 1;
         self.checker = sc.checker_for_leg(self.leg);
@@ -603,13 +659,12 @@ impl<'a> Run<'a> {
             Err(e) => {
                 self.note(e.to_string());
                 self.end(RunStatus::RigFault);
-                return true;
+                return;
             }
         }
         if !self.replan(x, PlanReason::Leg, tracker, period) {
             self.end(RunStatus::PlanningFailed);
         }
-        true
     }
 
     /// Replans when the estimate has stayed far from the path for too long.
@@ -641,7 +696,7 @@ impl<'a> Run<'a> {
         obs: &Observation,
         truth: Option<Vec<Vec2>>,
         error: Vec<f64>,
-        u: Option<magbench_env::Control>,
+        u: Option<Control>,
         tracker: &dyn Tracker,
         in_goal: bool,
     ) {
@@ -663,6 +718,11 @@ impl<'a> Run<'a> {
             command: u.unwrap_or_default(),
             in_goal,
             targets: st.targets,
+            compute_us: if u.is_some() {
+                self.last_compute * 1e6
+            } else {
+                0.0
+            },
         });
     }
 

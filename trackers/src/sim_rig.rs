@@ -84,10 +84,8 @@ impl Rig for SimRig {
     }
 
     fn observe(&mut self) -> Result<Observation, RigError> {
-        if self.frame > 0 {
-            if let (Some(u), false) = (self.command, self.stopped) {
-                self.plant.run(&u, self.period);
-            }
+        if let (true, Some(u), false) = (self.frame > 0, self.command, self.stopped) {
+            self.plant.run(&u, self.period);
         }
         let t = self.frame as f64 * self.period;
         self.frame += 1;

@@ -1,7 +1,7 @@
 //! The tracker seam: one coil command per control tick.
 
 use magbench_env::plant::Observation;
-use magbench_env::{Control, PlanningModel, ValidityChecker, Vec2};
+use magbench_env::{Control, Goal, PlanningModel, ValidityChecker, Vec2};
 
 use crate::Reference;
 
@@ -17,6 +17,8 @@ pub struct TrackerContext<'a> {
     pub checker: &'a ValidityChecker,
     /// Seconds between control ticks (the camera frame).
     pub period: f64,
+    /// The current leg's goal region.
+    pub goal: &'a Goal,
 }
 
 /// One control tick's input.

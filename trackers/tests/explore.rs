@@ -1,4 +1,11 @@
-//! Exploration runs for tuning (ignored; run by hand with --release --ignored --nocapture).
+//! Tuning and benchmark helpers, ignored by the test suite; run by hand:
+//!
+//! ```sh
+//! # the 50 goal-zoom-rrt plans of micro-factory used for the tracker benchmarks
+//! SEEDS=50 cargo test --release -p magbench-trackers --test explore write_rrt_plans -- --ignored --nocapture
+//! # trackers on random valid plans in open-field (TRACKERS, TP="key=value ...", PRESET, SEEDS, V=1)
+//! cargo test --release -p magbench-trackers --test explore explore_random_plans -- --ignored --nocapture
+//! ```
 
 mod common;
 
@@ -92,4 +99,36 @@ fn write_micro_factory_plan() {
         s.legs[0].goal.contains(plan.end())
     );
     std::fs::write("/tmp/mf-plan.json", serde_json::to_string(&plan).unwrap()).unwrap();
+}
+
+#[test]
+#[ignore]
+fn write_rrt_plans() {
+    let name = std::env::var("SCEN").unwrap_or("micro-factory".into());
+    let s = scenario(&name);
+    let n: u64 = std::env::var("SEEDS")
+        .map(|x| x.parse().unwrap())
+        .unwrap_or(20);
+    std::fs::create_dir_all("/tmp/plans").unwrap();
+    let first: u64 = std::env::var("FIRST")
+        .map(|x| x.parse().unwrap())
+        .unwrap_or(0);
+    for seed in first..n {
+        let mut p = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let r = p.solve(&magbench_planners::Problem::from_scenario(
+            &s, 0, None, seed,
+        ));
+        println!(
+            "seed {seed}: solved {} edges {} duration {:.1} s time {:.2} s",
+            r.solved,
+            r.plan.edges(),
+            r.plan.duration(),
+            r.time_s
+        );
+        std::fs::write(
+            format!("/tmp/plans/{name}-{seed}.json"),
+            serde_json::to_string(&r.plan).unwrap(),
+        )
+        .unwrap();
+    }
 }

@@ -43,7 +43,7 @@ pub enum Command {
     /// Regenerate the paper figures (SVG and PNG) from fixed seeds.
     Figures(figures::FiguresArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
-    Track(track::TrackArgs),
+    Track(Box<track::TrackArgs>),
     /// Physical runs: the rig emulator, rig bring-up checks and detection replay.
     #[command(subcommand)]
     Rig(rig::RigCmd),
@@ -58,7 +58,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Merge(a) => merge::run(a),
         Command::Regress(a) => regress::run(a),
         Command::Figures(a) => figures::run(a),
-        Command::Track(a) => track::run(a),
+        Command::Track(a) => track::run(*a),
         Command::Rig(c) => rig::run(c),
     }
 }

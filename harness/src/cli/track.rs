@@ -4,10 +4,13 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use magbench_env::plant::DisturbancePreset;
-use magbench_env::{InputError, Scenario, Vec2};
-use magbench_planners::{Limits, Plan, Planner, Problem};
+use magbench_env::{Scenario, Vec2};
+use magbench_planners::{Limits, Planner, Problem};
+use magbench_trackers::plan_file::{plan_json, read_plan};
 use magbench_trackers::registry::parse_param;
-use magbench_trackers::{Mission, Reference, TrackOutcome, TrackerSpec, simulate, write_ticks_csv};
+use magbench_trackers::{
+    Mission, TrackOutcome, TrackerSpec, reference_for, simulate, write_ticks_csv,
+};
 use serde_json::{Value, json};
 
 use crate::CliError;
@@ -63,59 +66,23 @@ fn kv_list(list: &[String]) -> Result<Vec<(String, String)>, CliError> {
 
 /// The planner of that name from the planners' registry.
 fn make_planner(name: &str, params: &[(String, String)]) -> Result<Box<dyn Planner>, CliError> {
-    let _ = params;
-    Err(CliError::arg(
-        "--planner",
-        format!("unknown planner `{name}` (no planner is registered yet)"),
-    ))
+    Ok(magbench_planners::registry::create(name, params)?)
 }
 
 fn limits(a: &TrackArgs) -> Result<Option<Limits>, CliError> {
     if a.max_iters.is_none() && a.time_limit.is_none() {
         return Ok(None);
     }
-    if let Some(t) = a.time_limit {
-        if !t.is_finite() || t <= 0.0 {
-            return Err(CliError::arg(
-                "--time-limit",
-                format!("must be a number of seconds > 0, got {t}"),
-            ));
-        }
+    if let Some(t) = a.time_limit.filter(|t| !t.is_finite() || *t <= 0.0) {
+        return Err(CliError::arg(
+            "--time-limit",
+            format!("must be a number of seconds > 0, got {t}"),
+        ));
     }
     Ok(Some(Limits {
         max_iterations: a.max_iters,
         time_limit: a.time_limit.map(std::time::Duration::from_secs_f64),
     }))
-}
-
-fn load_plan(path: &Path, scenario: &Scenario) -> Result<Plan, CliError> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, "", format!("cannot read: {e}")))?;
-    let plan: Plan = serde_json::from_str(&text)
-        .map_err(|e| InputError::new(&file, "", format!("not a plan: {e}")))?;
-    let bad = |field: &str, reason: String| CliError::Input(InputError::new(&file, field, reason));
-    if plan.states.len() != plan.controls.len() + 1 || plan.durations.len() != plan.controls.len() {
-        return Err(bad(
-            "states",
-            "needs one more state than controls, and one duration per control".into(),
-        ));
-    }
-    if plan.states.iter().any(|s| s.len() != scenario.agents()) {
-        return Err(bad(
-            "states",
-            format!("every state needs {} agents", scenario.agents()),
-        ));
-    }
-    if plan.durations.iter().any(|d| !d.is_finite() || *d <= 0.0)
-        || plan.controls.iter().any(|u| !u.is_finite())
-    {
-        return Err(bad(
-            "durations",
-            "durations must be > 0 and every number finite".into(),
-        ));
-    }
-    Ok(plan)
 }
 
 /// Runs `magbench track`.
@@ -138,7 +105,7 @@ pub fn run(a: TrackArgs) -> Result<(), CliError> {
         None => None,
     };
     let given = match &a.plan {
-        Some(p) => Some(load_plan(p, &scenario)?),
+        Some(p) => Some(read_plan(p, scenario.agents())?),
         None => None,
     };
     if planner.is_none() && given.is_none() {
@@ -187,15 +154,25 @@ pub fn run(a: TrackArgs) -> Result<(), CliError> {
             &spec.label(),
         )?;
     }
-    if a.json {
-        println!(
-            "{}",
+    let text = if a.json {
+        format!(
+            "{}\n",
             serde_json::to_string(&summary).map_err(|e| CliError::Failed(e.to_string()))?
-        );
+        )
     } else {
-        print!("{}", summary_text(&summary));
+        summary_text(&summary)
+    };
+    emit(&text)
+}
+
+/// Writes `text` to stdout; a closed pipe (`| head`) is not an error.
+fn emit(text: &str) -> Result<(), CliError> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 /// The `--json` object: the run's identity, then every metric.
@@ -311,10 +288,7 @@ fn write_outputs(
         serde_json::to_string_pretty(&plans).expect("json"),
     )?;
     if let Some(first) = out.plans.first() {
-        std::fs::write(
-            dir.join("plan.json"),
-            serde_json::to_string_pretty(&first.plan).expect("json"),
-        )?;
+        std::fs::write(dir.join("plan.json"), plan_json(&first.plan))?;
     }
     let model = magbench_env::PlanningModel::new(&s.physics);
     let legs = s.legs.len();
@@ -331,7 +305,7 @@ fn write_outputs(
             }
         ));
         plot.goals = vec![s.legs[leg].goal.clone()];
-        plot.planned = planned_paths(out, leg, s.agents(), &model);
+        plot.planned = planned_paths(out, s, leg, &model);
         let ticks: Vec<_> = out.ticks.iter().filter(|t| t.leg == leg).collect();
         if ticks.is_empty() {
             continue;
@@ -367,16 +341,17 @@ fn write_outputs(
 /// over (at the tracker's progress then), joined in order.
 fn planned_paths(
     out: &TrackOutcome,
+    s: &Scenario,
     leg: usize,
-    agents: usize,
     model: &magbench_env::PlanningModel,
 ) -> Vec<Vec<Vec2>> {
+    let agents = s.agents();
     let mut paths = vec![vec![]; agents];
     let idx: Vec<usize> = (0..out.plans.len())
         .filter(|&p| out.plans[p].leg == leg)
         .collect();
     for (n, &p) in idx.iter().enumerate() {
-        let r = Reference::from_plan(&out.plans[p].plan, model);
+        let r = reference_for(&out.plans[p].plan, model, &s.legs[leg].goal);
         let upto = match idx.get(n + 1) {
             Some(&next) => out
                 .ticks

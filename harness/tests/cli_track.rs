@@ -1,0 +1,188 @@
+//! `magbench track` from the outside: the JSON object, the output folder, exit codes.
+
+use std::process::Command;
+
+fn magbench(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_magbench"))
+        .args(args)
+        .output()
+        .expect("run magbench");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn json_has_the_required_fields_and_out_writes_every_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let (code, stdout, stderr) = magbench(&[
+        "track",
+        "open-field",
+        "--planner",
+        "goal-zoom-rrt",
+        "--tracker",
+        "obc",
+        "--seed",
+        "1",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(stdout.lines().count(), 1, "one JSON object:\n{stdout}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    for key in [
+        "scenario",
+        "planner",
+        "tracker",
+        "seed",
+        "solved",
+        "reached_goal",
+        "rms_error_bl",
+        "max_error_bl",
+        "agent_contact",
+        "wall_contacts",
+        "replans",
+        "duration_s",
+        "time_to_goal_s",
+        "missed_frames",
+        "planning_time_s",
+        "final_goal_distance_bl",
+        "status",
+        "per_agent",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key} in {v}");
+    }
+    assert_eq!(v["scenario"], "open-field");
+    assert_eq!(v["tracker"], "obc");
+    assert_eq!(v["reached_goal"], true, "{v}");
+    for f in [
+        "ticks.csv",
+        "metrics.json",
+        "plan.json",
+        "plans.json",
+        "world.svg",
+        "world.png",
+        "run.gif",
+    ] {
+        let m = std::fs::metadata(out.join(f)).unwrap_or_else(|_| panic!("{f} not written"));
+        assert!(m.len() > 100, "{f} is empty");
+    }
+    let csv = std::fs::read_to_string(out.join("ticks.csv")).unwrap();
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .starts_with("t_s,leg,plan,mode,")
+    );
+    assert!(csv.lines().count() > 100);
+
+    // the written plan replays bit for bit: open-loop on the ideal plant has zero error
+    let (code, stdout, stderr) = magbench(&[
+        "track",
+        "open-field",
+        "--plan",
+        out.join("plan.json").to_str().unwrap(),
+        "--tracker",
+        "open-loop",
+        "--preset",
+        "ideal",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["max_error_bl"], 0.0, "{v}");
+    assert_eq!(v["reached_goal"], true, "{v}");
+}
+
+#[test]
+fn bad_input_exits_2_with_a_clear_message() {
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &[
+                "track",
+                "open-field",
+                "--planner",
+                "goal-zoom-rrt",
+                "--tracker",
+                "pid",
+            ],
+            "unknown tracker `pid`",
+        ),
+        (
+            &[
+                "track",
+                "open-field",
+                "--planner",
+                "goal-zoom-rrt",
+                "--tracker",
+                "obc",
+                "--param",
+                "gain=0.5",
+            ],
+            "no parameter `gain`",
+        ),
+        (
+            &[
+                "track",
+                "open-field",
+                "--planner",
+                "goal-zoom-rrt",
+                "--tracker",
+                "lookahead",
+                "--param",
+                "gain=2",
+            ],
+            "params.gain",
+        ),
+        (
+            &[
+                "track",
+                "open-field",
+                "--planner",
+                "goal-zoom-rrt",
+                "--tracker",
+                "obc",
+                "--preset",
+                "rough",
+            ],
+            "unknown preset",
+        ),
+        (
+            &[
+                "track",
+                "open-field",
+                "--planner",
+                "nope",
+                "--tracker",
+                "obc",
+            ],
+            "unknown planner",
+        ),
+        (
+            &["track", "open-field", "--tracker", "obc"],
+            "a planner is needed",
+        ),
+    ];
+    for (args, want) in cases {
+        let (code, _, stderr) = magbench(args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(want), "{args:?}: {stderr}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("plan.json");
+    std::fs::write(&bad, "{\"states\": []}").unwrap();
+    let (code, _, stderr) = magbench(&[
+        "track",
+        "open-field",
+        "--plan",
+        bad.to_str().unwrap(),
+        "--tracker",
+        "obc",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("plan.json"), "{stderr}");
+}
