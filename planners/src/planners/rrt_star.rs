@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! for i = 1, 2, … until the limits:
-//!   x_rand ← SAMPLE()               goal-zoom coin toss; informed: only states with ĝ + ĥ < c_best
+//!   x_rand ← SAMPLE()               goal-zoom coin toss; informed: rejected unless ĝ + ĥ < c_best
 //!   x_nearest ← NEAREST(x_rand)
 //!   (x_new, u, T) ← EXTEND(x_nearest, x_rand); continue unless collision-free
 //!   X_near ← the k_RRT·ln(n) nearest nodes of x_new within η
@@ -39,7 +39,7 @@
 //! to the tolerance ε.
 
 use magbench_env::{MAX_AGENTS, Vec2};
-use rand::SeedableRng;
+use rand::{RngExt, SeedableRng};
 
 use crate::extend::{Extend, Extension};
 use crate::informed::InformedSet;
@@ -50,7 +50,7 @@ use crate::params::{boolean, check_durations, number, positive, to_periods, whol
 use crate::planner::{Param, ParamError};
 use crate::progress::Progress;
 use crate::result::{Best, finish};
-use crate::sampler::{GoalZoom, SAMPLE_TRIES, StateSampler, valid_sample};
+use crate::sampler::{GoalZoom, SAMPLE_TRIES, StateSampler};
 use crate::steer::Connect;
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem, Rng};
@@ -204,7 +204,7 @@ impl RrtStar {
             // x_rand ← SAMPLE()
             let sampled = match c_best {
                 Some(c) if self.informed => {
-                    sample_informed(&mut s, &informed, &sampler, c, &mut x_rand[..n])
+                    sample_informed(&mut s, &informed, &sampler, &zoom, c, &mut x_rand[..n])
                 }
                 _ => zoom.sample(problem, &sampler, &mut s.rng, &mut x_rand[..n]),
             };
@@ -250,6 +250,10 @@ pub struct RrtStarStats {
     pub rewires: u64,
     /// Nodes moved by rewires (each rewired node and its descendants).
     pub moved: u64,
+    /// Rewires skipped because the subtree exceeded `max_subtree`.
+    pub too_big: u64,
+    /// Rewires skipped because a descendant's replayed edge was invalid.
+    pub broke: u64,
 }
 
 /// What one run keeps.
@@ -382,21 +386,29 @@ impl Planner for RrtStar {
     }
 }
 
-/// x_rand from the informed set for `c_best`: per-agent ellipses for path length, else the
-/// fallback sampler, rejected on the heuristic and on validity.
+/// x_rand from the informed set for `c_best`. The goal-zoom coin toss is kept (as OMPL's
+/// informed RRT* keeps its goal bias): heads draws from the zoom region, tails from the
+/// per-agent ellipses (path length) or the whole space (other objectives); either way the
+/// draw is rejected unless it is in the informed set and valid.
 fn sample_informed(
     s: &mut Search,
     set: &InformedSet,
     sampler: &StateSampler,
+    zoom: &GoalZoom,
     c_best: f64,
     out: &mut [Vec2],
 ) -> bool {
     let problem = s.problem;
+    let heads = s.rng.random::<f64>() < zoom.bias;
     for _ in 0..SAMPLE_TRIES {
-        let drawn = if set.uses_ellipses() {
+        let drawn = if heads {
+            sampler.zoom(&mut s.rng, &problem.goal, zoom.radius, out);
+            true
+        } else if set.uses_ellipses() {
             set.sample_ellipses(&mut s.rng, c_best, out)
         } else {
-            valid_sample(problem, 1, out, |x| sampler.uniform(&mut s.rng, x))
+            sampler.uniform(&mut s.rng, out);
+            true
         };
         if drawn && set.contains(problem, out, c_best) && problem.checker.is_valid(out) {
             return true;
@@ -514,6 +526,7 @@ impl Search<'_> {
         let (problem, n) = (self.problem, self.n);
         self.tree.subtree(x_near, &mut self.subtree);
         if self.subtree.len() > self.max_subtree {
+            self.stats.too_big += 1;
             return;
         }
         // dry run: replay every descendant's edge from its parent's new state
@@ -532,7 +545,10 @@ impl Search<'_> {
             let from = &self.new_states[p * n..(p + 1) * n];
             let length = match propagate_checked(problem, from, &u, d, &mut end[..n]) {
                 Some(l) => l,
-                None => return,
+                None => {
+                    self.stats.broke += 1;
+                    return;
+                }
             };
             let c = self.new_costs[p]
                 + problem.objective.motion_cost(&Motion {
