@@ -5,5 +5,6 @@
 
 pub mod cli;
 pub mod error;
+pub mod plot;
 
 pub use error::CliError;

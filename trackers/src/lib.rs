@@ -1,1 +1,41 @@
-//! placeholder
+//! # magbench-trackers
+//!
+//! Plan tracking in closed loop: a [`Tracker`] turns the estimated team state into one coil
+//! command per camera frame, and the one tracking loop ([`track`]) drives any [`Rig`] — the
+//! simulated [`SimRig`] (env's plant and camera under a disturbance preset) or a physical rig
+//! from the drivers crate — and measures the run ([`TrackMetrics`]).
+//!
+//! - [`rig`]: the rig seam ([`Rig`], [`RigError`]) and [`SimRig`];
+//! - [`reference`]: a plan resampled at every integration step, the paths the error is
+//!   measured against;
+//! - [`estimator`]: latency compensation and missed detections;
+//! - [`optimizer`]: the OBC's brute-force field-angle search with the closed-form pull;
+//! - the trackers: [`OpenLoop`], [`Obc`], [`Lookahead`], by name in [`registry`];
+//! - [`run`]: the loop, replanning, and [`metrics`].
+
+pub mod estimator;
+pub mod log;
+pub mod lookahead;
+pub mod metrics;
+pub mod obc;
+pub mod open_loop;
+pub mod optimizer;
+pub mod reference;
+pub mod registry;
+pub mod rig;
+pub mod run;
+pub mod sim_rig;
+pub mod tracker;
+
+pub use log::{PlanReason, PlanRecord, TickRecord, write_ticks_csv};
+pub use lookahead::{Lookahead, LookaheadParams};
+pub use metrics::{AgentError, RunStatus, TrackMetrics};
+pub use obc::{Obc, ObcParams};
+pub use open_loop::OpenLoop;
+pub use optimizer::{ObcOptimizer, ObcWeights};
+pub use reference::Reference;
+pub use registry::{TrackerSpec, build_tracker, tracker_names};
+pub use rig::{GroundTruth, Rig, RigError};
+pub use run::{LoopOptions, Mission, TrackOutcome, simulate, track};
+pub use sim_rig::SimRig;
+pub use tracker::{Tick, Tracker, TrackerContext, TrackerStatus};

@@ -111,9 +111,20 @@ impl CollisionWorld {
             - self.agent_radius
     }
 
-    /// Where an agent at `p` that overlaps an obstacle slides to: the nearest position in
-    /// contact with the surface. `None` when the agent is clear.
+    /// Where an agent at `p` that overlaps obstacles slides to: a nearby position in contact
+    /// with the surfaces (projected out repeatedly, for corners). `None` when the agent is clear.
     pub fn push_out(&self, p: Vec2) -> Option<Vec2> {
+        let mut q = self.push_out_once(p)?;
+        for _ in 0..4 {
+            match self.push_out_once(q) {
+                Some(next) => q = next,
+                None => break,
+            }
+        }
+        Some(q)
+    }
+
+    fn push_out_once(&self, p: Vec2) -> Option<Vec2> {
         let proj = self
             .compound
             .project_point(&Pose::IDENTITY, to_parry(p), false);
@@ -129,7 +140,7 @@ impl CollisionWorld {
             };
             return Some(q + n * self.agent_radius);
         }
-        if dist >= self.agent_radius {
+        if dist >= self.agent_radius - 1e-12 {
             return None;
         }
         let n = if dist > 0.0 {
@@ -198,6 +209,13 @@ mod tests {
         assert!(c.agent_clear(a) && c.agent_clear(b));
         assert!(!c.sweep_clear(a, b));
         assert!(c.sweep_clear(Vec2::new(13.0, 4.0), Vec2::new(17.0, 4.0)));
+    }
+
+    #[test]
+    fn push_out_leaves_a_corner_clear_of_both_walls() {
+        let c = CollisionWorld::new(&world(), 0.5);
+        let q = c.push_out(Vec2::new(0.2, 0.3)).unwrap();
+        assert!(q.x >= 0.5 - 1e-9 && q.y >= 0.5 - 1e-9, "{q:?}");
     }
 
     #[test]

@@ -2,6 +2,7 @@
 
 mod scenario;
 mod stlc;
+mod track;
 
 use clap::{Parser, Subcommand};
 
@@ -28,6 +29,8 @@ pub enum Command {
     Scenario(scenario::ScenarioCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
+    /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
+    Track(track::TrackArgs),
 }
 
 /// Runs a parsed command line.
@@ -35,5 +38,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Stlc(a) => stlc::run(a),
+        Command::Track(a) => track::run(a),
     }
 }

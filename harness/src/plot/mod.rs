@@ -1,0 +1,109 @@
+//! Plots: every figure is written twice, as `STEM.svg` (vector) and `STEM.png` (bitmap).
+//!
+//! Text is rendered with an embedded DejaVu Sans ([`font`]), so PNGs carry their labels on a
+//! machine without system fonts. A figure implements [`Figure`] once, generically over the
+//! plotters backend, and [`save`] draws it into both files.
+//!
+//! - [`world`]: the world map (walls, obstacles, tree, planned and tracked paths, starts, goals);
+//! - [`anim`]: an animated GIF of agents moving over a world map;
+//! - [`legend`]: a legend strip drawn under a chart;
+//! - [`palette`]: one colour per agent.
+
+pub mod anim;
+pub mod font;
+pub mod legend;
+pub mod palette;
+pub mod world;
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// Why a figure could not be drawn or written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("plot: {0}")]
+pub struct PlotError(pub String);
+
+impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotError {
+    fn from(e: DrawingAreaErrorKind<E>) -> Self {
+        PlotError(e.to_string())
+    }
+}
+
+impl From<std::io::Error> for PlotError {
+    fn from(e: std::io::Error) -> Self {
+        PlotError(e.to_string())
+    }
+}
+
+impl From<PlotError> for crate::CliError {
+    fn from(e: PlotError) -> Self {
+        crate::CliError::Failed(e.to_string())
+    }
+}
+
+/// A figure that can be drawn on any plotters backend.
+pub trait Figure {
+    /// Size in pixels (the SVG uses the same numbers as its user units).
+    fn size(&self) -> (u32, u32);
+    /// Draws the figure on `root` (already filled white).
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
+}
+
+/// Draws `fig` into `STEM.svg` and `STEM.png` (creating the folder) and returns both paths.
+pub fn save<F: Figure + ?Sized>(fig: &F, out_stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    font::ensure_registered();
+    if let Some(dir) = out_stem.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
+    }
+    let svg = with_ext(out_stem, "svg");
+    let png = with_ext(out_stem, "png");
+    let size = fig.size();
+    {
+        let root = SVGBackend::new(&svg, size).into_drawing_area();
+        root.fill(&WHITE)?;
+        fig.draw(&root)?;
+        root.present()?;
+    }
+    {
+        let root = BitMapBackend::new(&png, size).into_drawing_area();
+        root.fill(&WHITE)?;
+        fig.draw(&root)?;
+        root.present()?;
+    }
+    Ok(vec![svg, png])
+}
+
+/// `stem` with `.ext` appended (keeps dots already in the stem, e.g. `goal-zoom-rrt{k=5}`).
+pub fn with_ext(stem: &Path, ext: &str) -> PathBuf {
+    let mut s = stem.as_os_str().to_owned();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+/// The text style of axis labels and legends.
+pub fn label_font() -> TextStyle<'static> {
+    ("sans-serif", 18).into_font().color(&BLACK)
+}
+
+/// The text style of tick labels.
+pub fn tick_font() -> TextStyle<'static> {
+    ("sans-serif", 15).into_font().color(&BLACK)
+}
+
+/// The text style of titles.
+pub fn title_font() -> TextStyle<'static> {
+    ("sans-serif", 22).into_font().color(&BLACK)
+}
+
+/// A tick label: integers without decimals, other values with up to 3 significant decimals.
+pub fn tick_label(v: f64) -> String {
+    if (v - v.round()).abs() < 1e-9 * v.abs().max(1.0) {
+        format!("{}", v.round() as i64)
+    } else {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}

@@ -1,0 +1,147 @@
+//! `lookahead`: pure pursuit after the seed's eq. (6), Sec. V-C.
+//!
+//! Both agents share one segment index `k` into the reference: segments are traversed in
+//! order, for both agents together, and `k` moves on only as far as the agent that is further
+//! behind (each agent is projected onto its own planned polyline, ahead of `k`). For agent `i`
+//! at `P_i`:
+//!
+//! - `d1` is the unit direction from `P_i` back to its projection on the path (zero on the
+//!   path);
+//! - `d2` is the unit direction from `P_i` to its lookahead point: agent `i`'s reference at the
+//!   first sample at least `lookahead` BL of path beyond `k` — the targets move along the path
+//!   as the team progresses;
+//! - `d_l = L·d1 + (1 − L)·d2` (eq. 6).
+//!
+//! The target of agent `i` one horizon ahead is `P_i + m_i·d_l`, where `m_i` is how far the
+//! plan moves agent `i` over one horizon at `k` plus `L` times its distance from the path (so
+//! an agent that has fallen off the path is asked to come back, not only to keep pace). Near the
+//! end of the reference (every agent within `lookahead` of its final point) the targets become
+//! the final state. The [`ObcOptimizer`] turns the targets into the coil command.
+
+use magbench_env::{Control, Vec2};
+
+use crate::optimizer::{ObcOptimizer, ObcWeights};
+use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
+
+/// Parameters of the lookahead tracker.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LookaheadParams {
+    /// Gain `L` of eq. (6): 0 = pure pursuit of the lookahead point, 1 = back to the path only.
+    pub gain: f64,
+    /// Lookahead distance along the path (BL).
+    pub lookahead: f64,
+    /// How far ahead of `k` agents are projected onto their paths (s of reference).
+    pub window: f64,
+    /// The optimizer's weights.
+    pub weights: ObcWeights,
+}
+
+impl Default for LookaheadParams {
+    fn default() -> Self {
+        LookaheadParams {
+            gain: 0.5,
+            lookahead: 0.3,
+            window: 1.0,
+            weights: ObcWeights::default(),
+        }
+    }
+}
+
+/// The lookahead (pure pursuit) tracker.
+#[derive(Debug, Clone)]
+pub struct Lookahead {
+    params: LookaheadParams,
+    opt: Option<ObcOptimizer>,
+    k: usize,
+    holding: bool,
+    last: Option<Control>,
+    targets: Vec<Vec2>,
+}
+
+impl Lookahead {
+    /// A lookahead tracker with `params`.
+    pub fn new(params: LookaheadParams) -> Self {
+        Lookahead {
+            params,
+            opt: None,
+            k: 0,
+            holding: false,
+            last: None,
+            targets: vec![],
+        }
+    }
+}
+
+fn unit(v: Vec2) -> Vec2 {
+    let n = v.norm();
+    if n > 1e-9 { v / n } else { Vec2::zeros() }
+}
+
+impl Tracker for Lookahead {
+    fn name(&self) -> &str {
+        "lookahead"
+    }
+
+    fn reset(&mut self, ctx: &TrackerContext) {
+        self.opt = Some(ObcOptimizer::new(
+            ctx.model.clone(),
+            ctx.checker.clone(),
+            ctx.period,
+            self.params.weights.clone(),
+        ));
+        self.k = 0;
+        self.holding = false;
+    }
+
+    fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
+        let opt = self.opt.as_ref().expect("reset before command");
+        let r = ctx.reference;
+        let x = tick.estimate;
+        let n = x.len();
+        let dt = ctx.model.dt;
+        let lead = ((opt.horizon() / dt).round() as usize).max(1);
+        let window = self.k..self.k + ((self.params.window / dt).round() as usize).max(lead) + 1;
+        // project each agent on its own path ahead of k; the team moves on with the slowest
+        let proj: Vec<(f64, f64)> = (0..n)
+            .map(|i| r.distance_to_path_in(i, x[i], window.clone()))
+            .collect();
+        let slowest = proj.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+        self.k = self.k.max(slowest.floor() as usize).min(r.last());
+        let k = self.k;
+        let end = r.end();
+        let near_end = (0..n).all(|i| (x[i] - end[i]).norm() <= self.params.lookahead)
+            || r.index_ahead(k, self.params.lookahead) >= r.last()
+                && (0..n).all(|i| proj[i].1 >= (r.last() - 1) as f64);
+        self.holding = near_end;
+        let target: Vec<Vec2> = if near_end {
+            end.to_vec()
+        } else {
+            let j = r.index_ahead(k, self.params.lookahead);
+            let l = self.params.gain;
+            (0..n)
+                .map(|i| {
+                    let s = proj[i].1;
+                    let (s0, f) = (s.floor() as usize, s.fract());
+                    let on_path = r.point(s0, i) + (r.point(s0 + 1, i) - r.point(s0, i)) * f;
+                    let d1 = unit(on_path - x[i]);
+                    let d2 = unit(r.point(j, i) - x[i]);
+                    let dl = d1 * l + d2 * (1.0 - l);
+                    let pace = (r.point(k + lead, i) - r.point(k, i)).norm();
+                    x[i] + dl * (pace + l * proj[i].0)
+                })
+                .collect()
+        };
+        let sol = opt.solve(x, &target, self.last.as_ref(), None);
+        self.targets = target;
+        self.last = Some(sol.control);
+        sol.control
+    }
+
+    fn status(&self) -> TrackerStatus {
+        TrackerStatus {
+            mode: if self.holding { "hold" } else { "pursue" },
+            progress: self.k,
+            targets: Some(self.targets.clone()),
+        }
+    }
+}

@@ -1,0 +1,218 @@
+//! How well a plan was followed.
+//!
+//! **Tracking error.** At every control tick and for every agent, the error is the Euclidean
+//! distance (BL) from the agent's position to the nearest point of *that agent's* planned path
+//! — the polyline through the reference's integration samples ([`crate::Reference`]), i.e. the
+//! curve the planning model traces under the plan, not a time-indexed point on it. A tracker
+//! that falls behind but stays on the path scores zero. After a replan or a new leg the path is
+//! the new plan's. The position is the **true** position when the rig knows it (the simulated
+//! rig): the metric then measures the tracking itself, not the camera's 0.02 BL noise or its
+//! latency. On a physical rig it is the **observed** position (the raw detection at capture
+//! time; a missed detection contributes no sample) — a path distance does not depend on when
+//! the frame was taken. `error_source` says which. RMS is over ticks (and, for the team
+//! figure, over ticks and agents); max is the largest sample.
+
+use serde::{Deserialize, Serialize};
+
+/// Per-run metrics: every field a scalar (or an optional scalar), so one run is one CSV row.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrackMetrics {
+    /// How the run ended (see [`RunStatus`]).
+    pub status: RunStatus,
+    /// The final goal region holds the team at the end (true state when known, else observed).
+    pub reached_goal: bool,
+    /// Seconds from the first tick until the final goal was reached.
+    pub time_to_goal_s: Option<f64>,
+    /// Largest agent distance from its final goal centre at the end (BL).
+    pub final_goal_distance_bl: f64,
+    /// Legs completed.
+    pub legs_completed: usize,
+    /// Legs in the scenario.
+    pub legs: usize,
+    /// RMS tracking error over ticks and agents (BL).
+    pub rms_error_bl: f64,
+    /// Largest tracking error of any agent (BL).
+    pub max_error_bl: f64,
+    /// RMS tracking error of the worst agent (BL).
+    pub rms_error_worst_agent_bl: f64,
+    /// `true` (simulation) or `observed` (physical rig): which positions the error uses.
+    pub error_source: String,
+    /// Two agents touched (and stuck): a failed run.
+    pub agent_contact: bool,
+    /// Wall contact events.
+    pub wall_contacts: usize,
+    /// Frames with at least one missed detection (or no frame at all).
+    pub missed_frames: usize,
+    /// Missed agent detections.
+    pub missed_detections: usize,
+    /// Recoverable rig faults.
+    pub rig_faults: usize,
+    /// Replans (one per leg after the first, plus those for a persistent tracking error).
+    pub replans: usize,
+    /// Replans triggered by a persistent tracking error.
+    pub error_replans: usize,
+    /// Control ticks run.
+    pub ticks: usize,
+    /// Run length in rig time (s): the tracking time.
+    pub duration_s: f64,
+    /// Wall time spent planning, all plans (s).
+    pub planning_time_s: f64,
+    /// Wall time spent in the tracker's commands (s).
+    pub tracker_compute_s: f64,
+    /// Planning time plus tracking time (s).
+    pub total_time_s: f64,
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RunStatus {
+    /// The team reached the final goal (and held it for the hold time).
+    ReachedGoal,
+    /// An open-loop tracker played its plan to the end outside the goal.
+    PlanFinished,
+    /// The time limit passed.
+    Timeout,
+    /// Two agents touched and stuck.
+    AgentContact,
+    /// No plan could be made.
+    PlanningFailed,
+    /// The rig failed fatally.
+    RigFault,
+    /// The run was cancelled (Ctrl-C).
+    Cancelled,
+}
+
+impl RunStatus {
+    /// The kebab-case name.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            RunStatus::ReachedGoal => "reached-goal",
+            RunStatus::PlanFinished => "plan-finished",
+            RunStatus::Timeout => "timeout",
+            RunStatus::AgentContact => "agent-contact",
+            RunStatus::PlanningFailed => "planning-failed",
+            RunStatus::RigFault => "rig-fault",
+            RunStatus::Cancelled => "cancelled",
+        }
+    }
+}
+
+/// One agent's tracking error.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct AgentError {
+    /// RMS over ticks (BL).
+    pub rms_bl: f64,
+    /// Largest sample (BL).
+    pub max_bl: f64,
+    /// Samples.
+    pub samples: usize,
+}
+
+/// Accumulates per-agent error samples.
+#[derive(Debug, Clone, Default)]
+pub struct ErrorAccumulator {
+    sum_sq: Vec<f64>,
+    max: Vec<f64>,
+    count: Vec<usize>,
+}
+
+impl ErrorAccumulator {
+    /// An accumulator for `agents` agents.
+    pub fn new(agents: usize) -> Self {
+        ErrorAccumulator {
+            sum_sq: vec![0.0; agents],
+            max: vec![0.0; agents],
+            count: vec![0; agents],
+        }
+    }
+
+    /// Adds one sample of agent `i`.
+    pub fn add(&mut self, i: usize, e: f64) {
+        self.sum_sq[i] += e * e;
+        self.max[i] = self.max[i].max(e);
+        self.count[i] += 1;
+    }
+
+    /// Per-agent figures.
+    pub fn per_agent(&self) -> Vec<AgentError> {
+        (0..self.sum_sq.len())
+            .map(|i| AgentError {
+                rms_bl: if self.count[i] > 0 {
+                    (self.sum_sq[i] / self.count[i] as f64).sqrt()
+                } else {
+                    0.0
+                },
+                max_bl: self.max[i],
+                samples: self.count[i],
+            })
+            .collect()
+    }
+
+    /// RMS over all samples of all agents.
+    pub fn rms(&self) -> f64 {
+        let n: usize = self.count.iter().sum();
+        if n == 0 {
+            0.0
+        } else {
+            (self.sum_sq.iter().sum::<f64>() / n as f64).sqrt()
+        }
+    }
+
+    /// Largest sample of any agent.
+    pub fn max(&self) -> f64 {
+        self.max.iter().copied().fold(0.0, f64::max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rms_and_max() {
+        let mut a = ErrorAccumulator::new(2);
+        for e in [0.0, 3.0, 4.0] {
+            a.add(0, e);
+        }
+        a.add(1, 1.0);
+        let p = a.per_agent();
+        assert!((p[0].rms_bl - (25.0f64 / 3.0).sqrt()).abs() < 1e-12);
+        assert_eq!(p[0].max_bl, 4.0);
+        assert!((a.rms() - (26.0f64 / 4.0).sqrt()).abs() < 1e-12);
+        assert_eq!(a.max(), 4.0);
+    }
+
+    #[test]
+    fn metrics_serialize_flat() {
+        let m = TrackMetrics {
+            status: RunStatus::ReachedGoal,
+            reached_goal: true,
+            time_to_goal_s: None,
+            final_goal_distance_bl: 0.1,
+            legs_completed: 1,
+            legs: 1,
+            rms_error_bl: 0.05,
+            max_error_bl: 0.2,
+            rms_error_worst_agent_bl: 0.06,
+            error_source: "true".into(),
+            agent_contact: false,
+            wall_contacts: 0,
+            missed_frames: 1,
+            missed_detections: 1,
+            rig_faults: 0,
+            replans: 0,
+            error_replans: 0,
+            ticks: 10,
+            duration_s: 1.0,
+            planning_time_s: 0.01,
+            tracker_compute_s: 0.001,
+            total_time_s: 1.01,
+        };
+        let mut w = csv::Writer::from_writer(vec![]);
+        w.serialize(&m).unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        assert!(text.starts_with("status,reached_goal,"), "{text}");
+        assert!(text.contains("reached-goal,true,,0.1"), "{text}");
+    }
+}

@@ -1,0 +1,57 @@
+//! `open-loop`: replays the plan's controls on their schedule and ignores observations (the
+//! seed's open-loop tracker, Sec. V-A).
+
+use magbench_env::Control;
+
+use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
+
+/// Replays the reference's controls by time; finished at the reference's end.
+#[derive(Debug, Clone, Default)]
+pub struct OpenLoop {
+    progress: usize,
+    done: bool,
+}
+
+impl OpenLoop {
+    /// A new open-loop tracker.
+    pub fn new() -> Self {
+        Self::default()
+    }
+}
+
+impl Tracker for OpenLoop {
+    fn name(&self) -> &str {
+        "open-loop"
+    }
+
+    fn reset(&mut self, _ctx: &TrackerContext) {
+        self.progress = 0;
+        self.done = false;
+    }
+
+    fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
+        let r = ctx.reference;
+        self.progress = r.index_at(tick.t);
+        match r.control(self.progress) {
+            Some(u) => *u,
+            None => {
+                self.done = true;
+                r.control(r.last().saturating_sub(1))
+                    .copied()
+                    .unwrap_or_default()
+            }
+        }
+    }
+
+    fn status(&self) -> TrackerStatus {
+        TrackerStatus {
+            mode: "open-loop",
+            progress: self.progress,
+            targets: None,
+        }
+    }
+
+    fn finished(&self) -> bool {
+        self.done
+    }
+}

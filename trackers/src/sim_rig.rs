@@ -1,0 +1,191 @@
+//! The simulated rig: env's [`Plant`] observed through env's [`Camera`].
+
+use std::sync::Arc;
+
+use magbench_env::collision::CollisionWorld;
+use magbench_env::plant::{Camera, DisturbancePreset, Observation, Plant};
+use magbench_env::{Coil, Control, PhysicalParams, Scenario, TriaxialMaxwell, Vec2, World};
+
+use crate::rig::{GroundTruth, Rig, RigError};
+
+/// A [`Rig`] over the simulated plant and camera of a [`DisturbancePreset`].
+///
+/// Frame `k` is at `t = k·T` (`T` = the camera's frame period). [`Rig::observe`] advances the
+/// plant by one frame under the command in force, captures the frame, and returns the
+/// observation the camera delivers now: the one captured `latency_frames` frames earlier (the
+/// camera has been running on the agents at rest before the run, so there is one from the
+/// first call on). Commands take effect at once. Without a field (before the first command
+/// and after [`Rig::stop`]) the plant is not advanced: with zero field only the slow drift and
+/// Brownian motion would move the agents, which the simulation leaves out.
+#[derive(Debug, Clone)]
+pub struct SimRig {
+    plant: Plant,
+    camera: Camera,
+    period: f64,
+    latency: f64,
+    frame: u64,
+    command: Option<Control>,
+    stopped: bool,
+    agent_radius: f64,
+}
+
+impl SimRig {
+    /// The rig of `scenario` (its physics, world and start) under `preset`, drawn with `seed`.
+    pub fn new(scenario: &Scenario, preset: &DisturbancePreset, seed: u64) -> Self {
+        Self::from_parts(
+            &scenario.physics,
+            &scenario.world,
+            preset,
+            seed,
+            &scenario.start,
+        )
+    }
+
+    /// The rig of a physical preset and a world with the default tri-axial coil, agents at
+    /// `start`.
+    pub fn from_parts(
+        params: &PhysicalParams,
+        world: &World,
+        preset: &DisturbancePreset,
+        seed: u64,
+        start: &[Vec2],
+    ) -> Self {
+        let coil: Arc<dyn Coil> = Arc::new(TriaxialMaxwell::new(params.gradient_limit()));
+        let agent_radius = 0.5;
+        let collision = Arc::new(CollisionWorld::new(world, agent_radius));
+        let plant = Plant::new(params, coil, collision, preset, seed, start);
+        let mut camera = Camera::new(preset.camera.clone(), seed);
+        let period = camera.frame_period();
+        let latency_frames = preset.camera.latency_frames;
+        for k in (1..=latency_frames).rev() {
+            let _ = camera.capture(-(k as f64) * period, start);
+        }
+        Self {
+            plant,
+            camera,
+            period,
+            latency: latency_frames as f64 * period,
+            frame: 0,
+            command: None,
+            stopped: false,
+            agent_radius,
+        }
+    }
+
+    /// The simulated plant (true state, drawn disturbances).
+    pub fn plant(&self) -> &Plant {
+        &self.plant
+    }
+}
+
+impl Rig for SimRig {
+    fn frame_period(&self) -> f64 {
+        self.period
+    }
+
+    fn observe(&mut self) -> Result<Observation, RigError> {
+        if self.frame > 0 {
+            if let (Some(u), false) = (self.command, self.stopped) {
+                self.plant.run(&u, self.period);
+            }
+        }
+        let t = self.frame as f64 * self.period;
+        self.frame += 1;
+        let obs = self.camera.capture(t, self.plant.positions());
+        obs.ok_or_else(|| RigError::Fatal("the simulated camera delivered no frame".into()))
+    }
+
+    fn command(&mut self, u: &Control) -> Result<(), RigError> {
+        if self.stopped {
+            return Err(RigError::Fatal("command after stop".into()));
+        }
+        if !u.is_finite() {
+            return Err(RigError::Recoverable(format!(
+                "non-finite command {u:?} ignored"
+            )));
+        }
+        self.command = Some(*u);
+        Ok(())
+    }
+
+    fn stop(&mut self) -> Result<(), RigError> {
+        self.stopped = true;
+        self.command = None;
+        Ok(())
+    }
+
+    fn latency(&self) -> f64 {
+        self.latency
+    }
+
+    fn set_world(&mut self, world: &World) -> Result<(), RigError> {
+        self.plant
+            .set_collision(Arc::new(CollisionWorld::new(world, self.agent_radius)));
+        Ok(())
+    }
+
+    fn ground_truth(&self) -> Option<GroundTruth> {
+        Some(GroundTruth {
+            positions: self.plant.positions().to_vec(),
+            wall_contacts: self.plant.wall_contacts(),
+            agent_contact: self.plant.stuck(),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn world() -> World {
+        World {
+            width: 30.0,
+            height: 20.0,
+            obstacles: vec![],
+        }
+    }
+
+    #[test]
+    fn latency_one_frame_delivers_previous_capture() {
+        let start = [Vec2::new(10.0, 10.0), Vec2::new(12.5, 10.0)];
+        let mut rig = SimRig::from_parts(
+            &PhysicalParams::default(),
+            &world(),
+            &DisturbancePreset::realistic(),
+            4,
+            &start,
+        );
+        assert!((rig.latency() - rig.frame_period()).abs() < 1e-15);
+        let o0 = rig.observe().unwrap();
+        assert!(
+            (o0.t + rig.frame_period()).abs() < 1e-12,
+            "pre-rolled frame at −T"
+        );
+        rig.command(&Control::planar(0.0, 0.0, 0.08)).unwrap();
+        let o1 = rig.observe().unwrap();
+        assert!(o1.t.abs() < 1e-12);
+        rig.stop().unwrap();
+        rig.stop().unwrap();
+        assert!(rig.command(&Control::default()).is_err());
+    }
+
+    #[test]
+    fn ideal_rig_sees_the_truth_now() {
+        let start = [Vec2::new(10.0, 10.0), Vec2::new(12.5, 10.0)];
+        let mut rig = SimRig::from_parts(
+            &PhysicalParams::default(),
+            &world(),
+            &DisturbancePreset::ideal(),
+            4,
+            &start,
+        );
+        rig.observe().unwrap();
+        rig.command(&Control::planar(1.0, 0.05, 0.05)).unwrap();
+        let o = rig.observe().unwrap();
+        let truth = rig.ground_truth().unwrap().positions;
+        for (a, b) in o.agents.iter().zip(&truth) {
+            assert_eq!(a.unwrap(), *b);
+        }
+        assert_ne!(truth[0], start[0], "the plant moved under the command");
+    }
+}

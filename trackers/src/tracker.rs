@@ -1,0 +1,58 @@
+//! The tracker seam: one coil command per control tick.
+
+use magbench_env::plant::Observation;
+use magbench_env::{Control, PlanningModel, ValidityChecker, Vec2};
+
+use crate::Reference;
+
+/// What a tracker may use: the reference, the planning model, the leg's validity checker and
+/// the control period.
+#[derive(Debug, Clone, Copy)]
+pub struct TrackerContext<'a> {
+    /// The reference being followed.
+    pub reference: &'a Reference,
+    /// The planning model (nominal physics and coil).
+    pub model: &'a PlanningModel,
+    /// Walls, obstacles and proximity range of the current leg.
+    pub checker: &'a ValidityChecker,
+    /// Seconds between control ticks (the camera frame).
+    pub period: f64,
+}
+
+/// One control tick's input.
+#[derive(Debug, Clone, Copy)]
+pub struct Tick<'a> {
+    /// Seconds since the reference started.
+    pub t: f64,
+    /// The estimated team state now (latency compensated, misses filled).
+    pub estimate: &'a [Vec2],
+    /// The raw observation the estimate came from.
+    pub observation: &'a Observation,
+}
+
+/// What a tracker is doing, for logs and plots.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TrackerStatus {
+    /// Mode name (`open-loop`, `follow`, `recover`, `pursue`, `hold`).
+    pub mode: &'static str,
+    /// Reference sample the tracker is at.
+    pub progress: usize,
+    /// Per-agent target positions of the last command, if the tracker has targets.
+    pub targets: Option<Vec<Vec2>>,
+}
+
+/// A plan tracker: turns the estimated state into a coil command, once per tick.
+pub trait Tracker: Send {
+    /// The registry name.
+    fn name(&self) -> &str;
+    /// Starts following a new reference (the first plan, a new leg or a replan).
+    fn reset(&mut self, ctx: &TrackerContext);
+    /// The command for this tick.
+    fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control;
+    /// What it is doing now.
+    fn status(&self) -> TrackerStatus;
+    /// True once the tracker has nothing left to do (open-loop at the plan's end).
+    fn finished(&self) -> bool {
+        false
+    }
+}
