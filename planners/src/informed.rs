@@ -67,12 +67,12 @@ impl InformedSet {
     /// some ellipse is empty (no state can improve `c_best`).
     pub fn sample_ellipses(&self, rng: &mut Rng, c_best: f64, out: &mut [Vec2]) -> bool {
         let total: f64 = self.least.iter().sum();
-        for i in 0..out.len() {
+        for (i, slot) in out.iter_mut().enumerate() {
             let (s, g) = (self.starts[i], self.goals[i]);
             let focal = (g - s).norm();
             // transverse diameter: ‖x − s‖ + ‖x − g‖ < c_i + tol
             let major = c_best - (total - self.least[i]) + self.tolerance;
-            if !(major > focal) {
+            if major.is_nan() || major <= focal {
                 return false;
             }
             let a = 0.5 * major;
@@ -85,7 +85,7 @@ impl InformedSet {
             let rho = rng.random::<f64>().sqrt();
             let t = rng.random_range(-PI..PI);
             let (x, y) = (a * rho * t.cos(), b * rho * t.sin());
-            out[i] = (s + g) * 0.5 + Vec2::new(cos * x - sin * y, sin * x + cos * y);
+            *slot = (s + g) * 0.5 + Vec2::new(cos * x - sin * y, sin * x + cos * y);
         }
         true
     }

@@ -177,6 +177,14 @@ impl Tree {
         self.link(parent, i);
     }
 
+    /// Every edge `(parent, child)` of the tree, children in slot order.
+    pub fn edges(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        (1..self.parent.len() as u32).filter_map(|i| {
+            let p = self.parent[i as usize];
+            (p != NONE).then_some((p, i))
+        })
+    }
+
     /// The children of node `i`.
     pub fn children(&self, i: u32) -> Children<'_> {
         Children {

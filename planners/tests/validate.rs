@@ -139,3 +139,20 @@ fn a_plan_made_with_other_arithmetic_fails_replay() {
         Err(PlanError::ReplayMismatch { edge: 0, .. })
     ));
 }
+
+#[test]
+fn rejects_nan_states() {
+    let (p, plan) = solved();
+    let mut bad = plan.clone();
+    bad.states[1][0].x = f64::NAN;
+    assert!(matches!(
+        validate_plan(&p, &bad),
+        Err(PlanError::ReplayMismatch { edge: 0, .. })
+    ));
+    let mut bad = plan;
+    bad.states[0][0].y = f64::NAN;
+    assert!(matches!(
+        validate_plan(&p, &bad),
+        Err(PlanError::WrongStart { .. })
+    ));
+}

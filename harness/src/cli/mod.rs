@@ -1,5 +1,6 @@
 //! Command-line interface: one file per subcommand.
 
+mod plan;
 mod scenario;
 mod stlc;
 mod track;
@@ -29,6 +30,8 @@ pub enum Command {
     Scenario(scenario::ScenarioCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
+    /// Plan a scenario with one planner; report the result or write plan, trace and plot.
+    Plan(plan::PlanArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
     Track(track::TrackArgs),
 }
@@ -39,5 +42,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Scenario(c) => scenario::run(c),
         Command::Stlc(a) => stlc::run(a),
         Command::Track(a) => track::run(a),
+        Command::Plan(a) => plan::run(a),
     }
 }

@@ -40,7 +40,7 @@ use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem, Rng};
 
 /// The seed's goal-zoom RRT.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct GoalZoomRrt {
     /// EXTEND's random tries per iteration (the seed's k).
     pub tries: usize,
@@ -52,16 +52,19 @@ pub struct GoalZoomRrt {
     pub goal_bias: f64,
     /// Radius of the goal-zoom region about each agent's goal centre (BL).
     pub zoom_radius: f64,
+    /// The tree of the last solve.
+    pub last_tree: Option<Tree>,
 }
 
 impl Default for GoalZoomRrt {
     fn default() -> Self {
         GoalZoomRrt {
-            tries: 10,
-            min_duration: 1.0 / 60.0,
-            max_duration: 0.5,
+            tries: 5,
+            min_duration: 0.25,
+            max_duration: 2.0,
             goal_bias: 0.1,
             zoom_radius: 1.5,
+            last_tree: None,
         }
     }
 }
@@ -136,7 +139,9 @@ impl Planner for GoalZoomRrt {
             cost: tree.cost(node),
         };
         let first = reached.map(|_| (i, progress.elapsed()));
-        finish(problem, best, i, tree.len(), progress, first)
+        let nodes = tree.len();
+        self.last_tree = Some(tree);
+        finish(problem, best, i, nodes, progress, first)
     }
 
     fn params(&self) -> Vec<Param> {
@@ -179,6 +184,10 @@ impl Planner for GoalZoomRrt {
             _ => return Err(ParamError::Unknown(key.into())),
         }
         Ok(())
+    }
+
+    fn tree(&self) -> Option<&Tree> {
+        self.last_tree.as_ref()
     }
 
     fn check_params(&self) -> Result<(), ParamError> {

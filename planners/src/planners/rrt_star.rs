@@ -97,6 +97,8 @@ pub struct RrtStar {
     pub max_subtree: usize,
     /// When `Some`, every sample is appended here (tests, diagnostics).
     pub sample_log: Option<Vec<LoggedSample>>,
+    /// The tree of the last solve.
+    pub last_tree: Option<Tree>,
 }
 
 impl Default for RrtStar {
@@ -116,6 +118,7 @@ impl Default for RrtStar {
             rewire_factor: 1.0,
             max_subtree: 500,
             sample_log: None,
+            last_tree: None,
         }
     }
 }
@@ -235,6 +238,7 @@ impl RrtStar {
         }
         let nodes = s.tree.len();
         let stats = s.stats;
+        self.last_tree = Some(std::mem::replace(&mut s.tree, Tree::new(&problem.start)));
         (finish(problem, s.best, i, nodes, progress, first), stats)
     }
 }
@@ -379,6 +383,10 @@ impl Planner for RrtStar {
             _ => return Err(ParamError::Unknown(key.into())),
         }
         Ok(())
+    }
+
+    fn tree(&self) -> Option<&Tree> {
+        self.last_tree.as_ref()
     }
 
     fn check_params(&self) -> Result<(), ParamError> {

@@ -55,7 +55,7 @@ use crate::tree::{NONE, Tree};
 use crate::{Plan, Planner, PlannerResult, Problem, Rng};
 
 /// Stable Sparse RRT.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Sst {
     /// δ_BN: the selection radius (metric, BL).
     pub selection_radius: f64,
@@ -71,6 +71,8 @@ pub struct Sst {
     pub goal_bias: f64,
     /// Radius of the goal-zoom region about each agent's goal centre (BL).
     pub zoom_radius: f64,
+    /// The tree of the last solve.
+    pub last_tree: Option<Tree>,
 }
 
 impl Default for Sst {
@@ -83,6 +85,7 @@ impl Default for Sst {
             max_duration: 2.0,
             goal_bias: 0.1,
             zoom_radius: 1.5,
+            last_tree: None,
         }
     }
 }
@@ -268,7 +271,9 @@ impl Sst {
             added,
             pruned,
         };
-        (finish(problem, best, i, tree.len(), progress, first), stats)
+        let nodes = tree.len();
+        self.last_tree = Some(tree);
+        (finish(problem, best, i, nodes, progress, first), stats)
     }
 }
 
@@ -333,6 +338,10 @@ impl Planner for Sst {
             _ => return Err(ParamError::Unknown(key.into())),
         }
         Ok(())
+    }
+
+    fn tree(&self) -> Option<&Tree> {
+        self.last_tree.as_ref()
     }
 
     fn check_params(&self) -> Result<(), ParamError> {
