@@ -53,13 +53,19 @@ fn quartiles(v: &mut [f64]) -> (f64, f64, f64) {
 }
 
 fn main() {
-    let seeds: u64 = std::env::args().skip(1).find_map(|a| a.parse().ok()).unwrap_or(50);
+    let seeds: u64 = std::env::args()
+        .skip(1)
+        .find_map(|a| a.parse().ok())
+        .unwrap_or(50);
     let s = Scenario::load("micro-factory").unwrap();
     let (mut times, mut per_node) = (vec![], vec![]);
     let (mut iterations, mut seconds, mut solved) = (0u64, 0.0, 0);
     for seed in 0..seeds {
         let mut p = Problem::from_scenario(&s, 0, None, seed);
-        p.limits = Limits { max_iterations: Some(200_000), time_limit: None };
+        p.limits = Limits {
+            max_iterations: Some(200_000),
+            time_limit: None,
+        };
         let mut planner = registry::create("goal-zoom-rrt", &[]).unwrap();
         let base = LIVE.load(Ordering::Relaxed);
         PEAK.store(base, Ordering::Relaxed);
@@ -76,7 +82,15 @@ fn main() {
     let (b1, b2, b3) = quartiles(&mut per_node);
     println!("goal-zoom-rrt on micro-factory, {seeds} seeds, one thread");
     println!("  solved                      {solved}/{seeds}");
-    println!("  time to first solution      median {:.1} ms (quartiles {:.1}–{:.1} ms)", t2 * 1e3, t1 * 1e3, t3 * 1e3);
-    println!("  iterations per second       {:.0}", iterations as f64 / seconds);
+    println!(
+        "  time to first solution      median {:.1} ms (quartiles {:.1}–{:.1} ms)",
+        t2 * 1e3,
+        t1 * 1e3,
+        t3 * 1e3
+    );
+    println!(
+        "  iterations per second       {:.0}",
+        iterations as f64 / seconds
+    );
     println!("  peak heap bytes per node    median {b2:.0} B (quartiles {b1:.0}–{b3:.0} B)");
 }

@@ -26,7 +26,14 @@ fn problem() -> Problem {
 }
 
 fn mid_state() -> Vec<Vec2> {
-    LocalView { xc: 20.0, yc: 14.0, r: 2.5, phi: 0.4 }.to_pair().to_vec()
+    LocalView {
+        xc: 20.0,
+        yc: 14.0,
+        r: 2.5,
+        phi: 0.4,
+    }
+    .to_pair()
+    .to_vec()
 }
 
 fn bench(c: &mut Criterion) {
@@ -38,18 +45,42 @@ fn bench(c: &mut Criterion) {
 
     let mut group = c.benchmark_group("propagate");
     group.bench_function("step", |b| {
-        b.iter(|| p.model.propagate_with(black_box(&x), &u, p.model.dt, &mut out, |_| true))
+        b.iter(|| {
+            p.model
+                .propagate_with(black_box(&x), &u, p.model.dt, &mut out, |_| true)
+        })
     });
     group.bench_function("period", |b| {
-        b.iter(|| p.model.propagate_with(black_box(&x), &u, p.control_period, &mut out, |_| true))
+        b.iter(|| {
+            p.model
+                .propagate_with(black_box(&x), &u, p.control_period, &mut out, |_| true)
+        })
     });
-    group.bench_function("1s", |b| b.iter(|| p.model.propagate_with(black_box(&x), &u, 1.0, &mut out, |_| true)));
+    group.bench_function("1s", |b| {
+        b.iter(|| {
+            p.model
+                .propagate_with(black_box(&x), &u, 1.0, &mut out, |_| true)
+        })
+    });
     group.finish();
 
-    let extend = Extend { tries: 5, min_periods: 15, max_periods: 120 };
-    let target = LocalView { xc: 20.5, yc: 14.3, r: 3.0, phi: 1.0 }.to_pair().to_vec();
+    let extend = Extend {
+        tries: 5,
+        min_periods: 15,
+        max_periods: 120,
+    };
+    let target = LocalView {
+        xc: 20.5,
+        yc: 14.3,
+        r: 3.0,
+        phi: 1.0,
+    }
+    .to_pair()
+    .to_vec();
     let mut rng = Rng::seed_from_u64(1);
-    c.bench_function("extend/default", |b| b.iter(|| extend.run(&p, &mut rng, black_box(&x), &target)));
+    c.bench_function("extend/default", |b| {
+        b.iter(|| extend.run(&p, &mut rng, black_box(&x), &target))
+    });
 
     let mut nn = NearestNeighbors::new(Metric::Positions, 2);
     let mut rng = Rng::seed_from_u64(2);
@@ -75,9 +106,15 @@ fn bench(c: &mut Criterion) {
     });
 
     let soft = Control::planar(0.9, 0.3 * g, 0.2 * g);
-    assert!(p.checker.motion_valid(&p.model, &x, &soft, 1.0, &mut out), "the benchmarked edge is valid");
+    assert!(
+        p.checker.motion_valid(&p.model, &x, &soft, 1.0, &mut out),
+        "the benchmarked edge is valid"
+    );
     c.bench_function("motion_valid/1s", |b| {
-        b.iter(|| p.checker.motion_valid(&p.model, black_box(&x), &soft, 1.0, &mut out))
+        b.iter(|| {
+            p.checker
+                .motion_valid(&p.model, black_box(&x), &soft, 1.0, &mut out)
+        })
     });
 
     let mut group = c.benchmark_group("goal_zoom_rrt");
@@ -87,7 +124,10 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             let mut q = p.clone();
             q.seed = seed;
-            q.limits = Limits { max_iterations: Some(200_000), time_limit: None };
+            q.limits = Limits {
+                max_iterations: Some(200_000),
+                time_limit: None,
+            };
             seed += 1;
             let mut planner: Box<dyn Planner> = registry::create("goal-zoom-rrt", &[]).unwrap();
             planner.solve(&q).solved

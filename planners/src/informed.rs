@@ -15,6 +15,7 @@ use std::f64::consts::PI;
 use magbench_env::Vec2;
 use rand::RngExt;
 
+use crate::sampler::{GoalZoom, SAMPLE_TRIES, StateSampler};
 use crate::{Problem, Rng};
 
 /// The informed set of one problem.
@@ -88,5 +89,37 @@ impl InformedSet {
             *slot = (s + g) * 0.5 + Vec2::new(cos * x - sin * y, sin * x + cos * y);
         }
         true
+    }
+
+    /// Draws a valid sample of the informed set for `c_best` into `out`. The goal-zoom coin
+    /// toss is kept (as OMPL's informed RRT* keeps its goal bias): heads draws from the zoom
+    /// region, tails from the per-agent ellipses (path length) or the whole space (other
+    /// objectives); either way a draw is rejected unless it is in the informed set and valid.
+    /// False when [`SAMPLE_TRIES`] draws were all rejected.
+    pub fn sample(
+        &self,
+        problem: &Problem,
+        rng: &mut Rng,
+        sampler: &StateSampler,
+        zoom: &GoalZoom,
+        c_best: f64,
+        out: &mut [Vec2],
+    ) -> bool {
+        let heads = rng.random::<f64>() < zoom.bias;
+        for _ in 0..SAMPLE_TRIES {
+            let drawn = if heads {
+                sampler.zoom(rng, &problem.goal, zoom.radius, out);
+                true
+            } else if self.uses_ellipses() {
+                self.sample_ellipses(rng, c_best, out)
+            } else {
+                sampler.uniform(rng, out);
+                true
+            };
+            if drawn && self.contains(problem, out, c_best) && problem.checker.is_valid(out) {
+                return true;
+            }
+        }
+        false
     }
 }

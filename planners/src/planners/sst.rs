@@ -46,7 +46,7 @@ use crate::extend::Extend;
 use crate::motion::propagate_checked;
 use crate::nn::NearestNeighbors;
 use crate::objective::Motion;
-use crate::params::{check_durations, number, positive, to_periods, whole};
+use crate::params::{boolean, check_durations, number, positive, to_periods, whole};
 use crate::planner::{Param, ParamError};
 use crate::progress::Progress;
 use crate::result::{Best, finish};
@@ -71,6 +71,8 @@ pub struct Sst {
     pub goal_bias: f64,
     /// Radius of the goal-zoom region about each agent's goal centre (BL).
     pub zoom_radius: f64,
+    /// Stop at the first exact solution instead of improving until the limits.
+    pub stop_on_solution: bool,
     /// The tree of the last solve.
     pub last_tree: Option<Tree>,
 }
@@ -85,6 +87,7 @@ impl Default for Sst {
             max_duration: 2.0,
             goal_bias: 0.1,
             zoom_radius: 1.5,
+            stop_on_solution: false,
             last_tree: None,
         }
     }
@@ -158,7 +161,7 @@ impl Sst {
         let mut x_new = [Vec2::zeros(); MAX_AGENTS];
         let mut near = Vec::new();
         let mut i = 0u64;
-        while !progress.done(i) {
+        while !progress.done(i) && !(self.stop_on_solution && best.solved) {
             i += 1;
             // x_selected ← BEST_FIRST_SELECTION(V_active, δ_BN)
             if !zoom.sample(problem, &sampler, &mut rng, &mut x_rand[..n]) {
@@ -319,6 +322,11 @@ impl Planner for Sst {
                 help: "probability of sampling the goal-zoom region",
             },
             Param {
+                name: "stop_on_solution",
+                value: self.stop_on_solution.to_string(),
+                help: "stop at the first solution (success-rate runs)",
+            },
+            Param {
                 name: "zoom_radius",
                 value: self.zoom_radius.to_string(),
                 help: "radius of each agent's goal-zoom disk (BL)",
@@ -335,6 +343,7 @@ impl Planner for Sst {
             "max_duration" => self.max_duration = positive(key, value)?,
             "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
             "zoom_radius" => self.zoom_radius = positive(key, value)?,
+            "stop_on_solution" => self.stop_on_solution = boolean(key, value)?,
             _ => return Err(ParamError::Unknown(key.into())),
         }
         Ok(())
