@@ -63,7 +63,7 @@ fn informed_samples_after_the_first_solution_lie_in_the_informed_set() {
 fn sst_tree_size_stays_bounded() {
     let s = scenario(BOX);
     let mut runs = Vec::new();
-    for iterations in [20_000, 80_000] {
+    for iterations in [10_000, 40_000] {
         let p = problem(&s, 3, iterations);
         let mut sst = Sst {
             pruning_radius: 1.0,
