@@ -14,6 +14,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use magbench_env::Scenario;
+use magbench_planners::nn::NearestNeighbors;
 use magbench_planners::{Limits, Problem, registry};
 
 /// Counts live heap bytes and their peak.
@@ -58,7 +59,7 @@ fn main() {
         .find_map(|a| a.parse().ok())
         .unwrap_or(50);
     let s = Scenario::load("micro-factory").unwrap();
-    let (mut times, mut per_node) = (vec![], vec![]);
+    let (mut times, mut per_node, mut tree_bytes, mut kd_bytes) = (vec![], vec![], vec![], vec![]);
     let (mut iterations, mut seconds, mut solved) = (0u64, 0.0, 0);
     for seed in 0..seeds {
         let mut p = Problem::from_scenario(&s, 0, None, seed);
@@ -71,6 +72,16 @@ fn main() {
         PEAK.store(base, Ordering::Relaxed);
         let r = planner.solve(&p);
         per_node.push((PEAK.load(Ordering::Relaxed) - base) as f64 / r.nodes as f64);
+        if let Some(tree) = planner.tree() {
+            tree_bytes.push(tree.heap_bytes() as f64 / tree.len() as f64);
+            // the k-d tree alone, rebuilt in the same insertion order
+            let before = LIVE.load(Ordering::Relaxed);
+            let mut nn = NearestNeighbors::new(p.metric, p.agents());
+            for i in 0..tree.slots() as u32 {
+                nn.add(tree.state(i), i);
+            }
+            kd_bytes.push((LIVE.load(Ordering::Relaxed) - before) as f64 / tree.len() as f64);
+        }
         iterations += r.iterations;
         seconds += r.time_s;
         if let Some((_, t)) = r.first_solution {
@@ -93,4 +104,6 @@ fn main() {
         iterations as f64 / seconds
     );
     println!("  peak heap bytes per node    median {b2:.0} B (quartiles {b1:.0}–{b3:.0} B)");
+    println!("    of which tree arrays      median {:.0} B", quartiles(&mut tree_bytes).1);
+    println!("    of which k-d tree         median {:.0} B", quartiles(&mut kd_bytes).1);
 }

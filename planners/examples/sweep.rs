@@ -95,8 +95,8 @@ fn main() {
                             .collect();
                         if verbose {
                             eprintln!(
-                                "seed {seed}: solved {} first {:?} iters {} nodes {} time {:.3}s cost {:?} gd {:.3}",
-                                r.solved, r.first_solution, r.iterations, r.nodes, r.time_s, r.cost, r.goal_distance
+                                "seed {seed}: solved {} first {:?} iters {} nodes {} time {:.3}s cost {:?} gd {:.3} at {:?}",
+                                r.solved, r.first_solution, r.iterations, r.nodes, r.time_s, r.cost, r.goal_distance, costs
                             );
                         }
                         rows.lock().unwrap().push((seed, r.solved, r.first_solution, r.iterations, r.nodes, r.time_s, r.cost, costs));
