@@ -104,6 +104,12 @@ fn main() {
         iterations as f64 / seconds
     );
     println!("  peak heap bytes per node    median {b2:.0} B (quartiles {b1:.0}–{b3:.0} B)");
-    println!("    of which tree arrays      median {:.0} B", quartiles(&mut tree_bytes).1);
-    println!("    of which k-d tree         median {:.0} B", quartiles(&mut kd_bytes).1);
+    println!(
+        "    of which tree arrays      median {:.0} B",
+        quartiles(&mut tree_bytes).1
+    );
+    println!(
+        "    of which k-d tree         median {:.0} B",
+        quartiles(&mut kd_bytes).1
+    );
 }
