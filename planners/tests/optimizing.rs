@@ -73,6 +73,11 @@ fn sst_tree_size_stays_bounded() {
         let (r, stats) = sst.solve_with_stats(&p);
         eprintln!("{iterations} iterations: {stats:?}");
         assert_eq!(r.nodes, stats.nodes);
+        if r.solved {
+            assert_solution(&p, &r);
+        } else {
+            magbench_planners::validate_path(&p, &r.plan).unwrap();
+        }
         assert!(stats.active <= stats.witnesses);
         assert!(stats.nodes <= 2 * stats.witnesses, "{stats:?}");
         assert_eq!(stats.nodes as u64, stats.added + 1 - stats.pruned);
