@@ -322,14 +322,14 @@ impl Planner for Sst {
                 help: "probability of sampling the goal-zoom region",
             },
             Param {
-                name: "stop_on_solution",
-                value: self.stop_on_solution.to_string(),
-                help: "stop at the first solution (success-rate runs)",
-            },
-            Param {
                 name: "zoom_radius",
                 value: self.zoom_radius.to_string(),
                 help: "radius of each agent's goal-zoom disk (BL)",
+            },
+            Param {
+                name: "stop_on_solution",
+                value: self.stop_on_solution.to_string(),
+                help: "stop at the first solution (success-rate runs)",
             },
         ]
     }
