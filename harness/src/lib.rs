@@ -5,6 +5,13 @@
 
 pub mod cli;
 pub mod error;
+pub mod experiment;
+pub mod figures;
 pub mod plot;
+pub mod regress;
+pub mod results;
+pub mod run;
+pub mod stats;
+pub mod sweep;
 
 pub use error::CliError;

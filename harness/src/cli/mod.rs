@@ -1,6 +1,11 @@
 //! Command-line interface: one file per subcommand.
 
+mod bench;
+mod figures;
+mod merge;
 mod plan;
+mod regress;
+mod rig;
 mod scenario;
 mod stlc;
 mod track;
@@ -32,8 +37,19 @@ pub enum Command {
     Stlc(stlc::StlcArgs),
     /// Plan a scenario with one planner; report the result or write plan, trace and plot.
     Plan(plan::PlanArgs),
+    /// Run an experiment (default experiments/default.toml) into results/<name>/.
+    Bench(bench::BenchArgs),
+    /// Join the results folders of shards (`bench --shard I/N`) into one.
+    Merge(merge::MergeArgs),
+    /// Compare a results folder against a baseline; exit 1 on a significant regression.
+    Regress(regress::RegressArgs),
+    /// Regenerate the paper figures (SVG and PNG) from fixed seeds.
+    Figures(figures::FiguresArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
     Track(track::TrackArgs),
+    /// Physical runs: the rig emulator, rig bring-up checks and detection replay.
+    #[command(subcommand)]
+    Rig(rig::RigCmd),
 }
 
 /// Runs a parsed command line.
@@ -41,7 +57,12 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Stlc(a) => stlc::run(a),
+        Command::Bench(a) => bench::run(a),
+        Command::Merge(a) => merge::run(a),
+        Command::Regress(a) => regress::run(a),
+        Command::Figures(a) => figures::run(a),
         Command::Track(a) => track::run(a),
         Command::Plan(a) => plan::run(a),
+        Command::Rig(c) => rig::run(c),
     }
 }

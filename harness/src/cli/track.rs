@@ -234,7 +234,7 @@ fn summary_json(
     v
 }
 
-fn summary_text(v: &Value) -> String {
+pub(crate) fn summary_text(v: &Value) -> String {
     let g = |k: &str| v.get(k).cloned().unwrap_or(Value::Null);
     let f = |k: &str| g(k).as_f64().map_or("-".to_string(), |x| format!("{x:.3}"));
     let mut s = String::new();

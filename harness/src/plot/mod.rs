@@ -10,6 +10,7 @@
 //! - [`palette`]: one colour per agent.
 
 pub mod anim;
+pub mod charts;
 pub mod font;
 pub mod legend;
 pub mod palette;

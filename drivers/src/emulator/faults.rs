@@ -1,0 +1,129 @@
+//! Fault injection for the emulator: `--faults drop=0.05,delay=0.1:30,corrupt=0.02,...`.
+
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+
+/// Which link a disconnect cuts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cut {
+    /// The coil link.
+    Coil,
+    /// The camera's frame stream.
+    Camera,
+}
+
+/// The faults an emulator run injects.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FaultPlan {
+    /// Each frame is dropped (never sent) with this probability.
+    pub drop: f64,
+    /// Each frame is sent late, by `.1` ms, with probability `.0`.
+    pub delay: Option<(f64, f64)>,
+    /// This long (s) after the host's HELLO, a link is cut.
+    pub disconnect: Option<(f64, Cut)>,
+    /// Each coil-link chunk the device receives, and each reply it sends, has one byte flipped
+    /// with this probability.
+    pub corrupt: f64,
+    /// From `.0` s after the host's HELLO, for `.1` s, the camera repeats one frame.
+    pub stuck: Option<(f64, f64)>,
+}
+
+/// The syntax, for help texts.
+pub const FAULT_SYNTAX: &str = "drop=P | delay=P:MS | disconnect=T[:coil|:camera] | corrupt=P | stuck=T:D (comma-separated; P probability, MS milliseconds, T and D seconds of device time after the host's HELLO)";
+
+impl FaultPlan {
+    /// Parses a comma-separated fault list; `Err` names the bad item and why.
+    pub fn parse(spec: &str) -> Result<FaultPlan, String> {
+        let mut plan = FaultPlan::default();
+        for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            let (kind, args) = item
+                .split_once('=')
+                .ok_or_else(|| format!("{item:?}: expected KIND=VALUE ({FAULT_SYNTAX})"))?;
+            let nums = |n: usize| -> Result<Vec<f64>, String> {
+                let parts: Vec<&str> = args.split(':').collect();
+                let v: Result<Vec<f64>, _> =
+                    parts.iter().take(n).map(|p| p.parse::<f64>()).collect();
+                let v = v.map_err(|_| format!("{item:?}: not a number"))?;
+                if v.len() != n || v.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                    return Err(format!(
+                        "{item:?}: needs {n} non-negative number(s) ({FAULT_SYNTAX})"
+                    ));
+                }
+                Ok(v)
+            };
+            let prob = |p: f64| {
+                if p <= 1.0 {
+                    Ok(p)
+                } else {
+                    Err(format!("{item:?}: a probability is at most 1"))
+                }
+            };
+            match kind {
+                "drop" => plan.drop = prob(nums(1)?[0])?,
+                "corrupt" => plan.corrupt = prob(nums(1)?[0])?,
+                "delay" => {
+                    let v = nums(2)?;
+                    plan.delay = Some((prob(v[0])?, v[1]));
+                }
+                "stuck" => {
+                    let v = nums(2)?;
+                    plan.stuck = Some((v[0], v[1]));
+                }
+                "disconnect" => {
+                    let (t, which) = match args.split_once(':') {
+                        Some((t, "coil")) => (t, Cut::Coil),
+                        Some((t, "camera")) => (t, Cut::Camera),
+                        Some(_) => return Err(format!("{item:?}: the link is `coil` or `camera`")),
+                        None => (args, Cut::Coil),
+                    };
+                    let t: f64 = t.parse().map_err(|_| format!("{item:?}: not a number"))?;
+                    if !t.is_finite() || t < 0.0 {
+                        return Err(format!("{item:?}: the time must be ≥ 0"));
+                    }
+                    plan.disconnect = Some((t, which));
+                }
+                other => return Err(format!("unknown fault {other:?} ({FAULT_SYNTAX})")),
+            }
+        }
+        Ok(plan)
+    }
+
+    /// True when a frame at time `t` is repeated from the stuck frame.
+    pub fn stuck_at(&self, t: f64) -> bool {
+        self.stuck.is_some_and(|(t0, d)| t >= t0 && t < t0 + d)
+    }
+}
+
+/// Flips one random byte of `bytes` with probability `p`; returns whether it did.
+pub fn maybe_corrupt(bytes: &mut [u8], p: f64, rng: &mut ChaCha8Rng) -> bool {
+    if p <= 0.0 || bytes.is_empty() || rng.random::<f64>() >= p {
+        return false;
+    }
+    let i = rng.random_range(0..bytes.len());
+    bytes[i] ^= 1 << rng.random_range(0..8);
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_fault_and_rejects_nonsense() {
+        let p = FaultPlan::parse(
+            "drop=0.05, delay=0.1:30,disconnect=4:camera,corrupt=0.02,stuck=2:0.5",
+        )
+        .unwrap();
+        assert_eq!(p.drop, 0.05);
+        assert_eq!(p.delay, Some((0.1, 30.0)));
+        assert_eq!(p.disconnect, Some((4.0, Cut::Camera)));
+        assert!(p.stuck_at(2.2) && !p.stuck_at(2.6));
+        assert!(FaultPlan::parse("drop=2").is_err());
+        assert!(FaultPlan::parse("fire=1").is_err());
+        assert!(FaultPlan::parse("delay=0.5").is_err());
+        assert_eq!(
+            FaultPlan::parse("disconnect=3").unwrap().disconnect,
+            Some((3.0, Cut::Coil))
+        );
+    }
+}

@@ -1,0 +1,660 @@
+//! The rig file (TOML): coil link and calibration, camera source, pixel calibration, detector.
+//!
+//! Parsed with `deny_unknown_fields` and validated like scenario files: every rejection is an
+//! [`InputError`] `FILE: FIELD: REASON`. See `docs/readme-physical-runs.md` for the format.
+
+use std::path::{Path, PathBuf};
+
+use magbench_env::InputError;
+use serde::Deserialize;
+
+use crate::calibration::Calibration;
+use crate::pixel_map::PixelMap;
+
+/// A validated rig description.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigConfig {
+    /// Rig name (free text).
+    pub name: String,
+    /// Where the rig file came from.
+    pub source: String,
+    /// The coil link, calibration and limits.
+    pub coil: CoilConfig,
+    /// Where frames come from.
+    pub camera: CameraConfig,
+    /// Pixel ↔ BL calibration.
+    pub pixels: PixelMap,
+    /// Detector parameters.
+    pub detector: DetectorConfig,
+}
+
+/// Where the coil driver is reached.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CoilEndpoint {
+    /// A serial port (or a pseudo-terminal) at a baud rate.
+    Serial {
+        /// Device path, e.g. `/dev/ttyUSB0`.
+        path: String,
+        /// Baud rate.
+        baud: u32,
+    },
+    /// A TCP address `HOST:PORT`.
+    Tcp(String),
+}
+
+/// The coil link, its calibration and its limits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoilConfig {
+    /// Where the coil driver is.
+    pub endpoint: CoilEndpoint,
+    /// Host heartbeat period (ms) when no command is sent.
+    pub heartbeat_ms: u32,
+    /// Device watchdog (ms): the device zeroes its currents after this long without a message.
+    pub watchdog_ms: u32,
+    /// Time to wait for an acknowledgement before resending (ms).
+    pub ack_timeout_ms: u32,
+    /// Resends of one message before the link is declared lost.
+    pub retries: u32,
+    /// Host-side hold timeout (ms): a non-zero field with no new command for this long is zeroed.
+    pub hold_timeout_ms: u32,
+    /// Field magnitude (mT); `None` takes the scenario's `physics.field_mt`.
+    pub field_mt: Option<f64>,
+    /// Currents ↔ field and gradient.
+    pub calibration: Calibration,
+    /// Largest |current| per channel (A).
+    pub current_limit_a: Vec<f64>,
+    /// Largest current change rate per channel (A/s).
+    pub slew_a_per_s: f64,
+}
+
+/// Where frames come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CameraSource {
+    /// The emulator's frame stream at a TCP address.
+    Emulator(String),
+    /// A folder of recorded PGM/PNG frames.
+    Recorded(PathBuf),
+    /// A V4L2 device (cargo feature `v4l2`).
+    V4l2(String),
+}
+
+/// The camera.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CameraConfig {
+    /// Frame source.
+    pub source: CameraSource,
+    /// Nominal frame rate (frames per second).
+    pub fps: f64,
+    /// Sensor size in pixels `[width, height]`.
+    pub size_px: [u32; 2],
+    /// No frame for this long is a camera failure (ms).
+    pub frame_timeout_ms: u32,
+    /// This many identical (stuck) frames in a row is a camera failure.
+    pub stuck_frames: u32,
+    /// Capture to delivery latency of the camera pipeline (s), predicted over by the tracker.
+    pub latency_s: f64,
+}
+
+/// Dark or bright agents on the background.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Polarity {
+    /// Agents darker than the background.
+    Dark,
+    /// Agents brighter than the background.
+    Bright,
+}
+
+/// Detector parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DetectorConfig {
+    /// Dark or bright agents.
+    pub polarity: Polarity,
+    /// Agent radius in pixels.
+    pub radius_px: f64,
+    /// Edge blur (Gaussian σ, pixels) of the disk model.
+    pub blur_px: f64,
+    /// Grey level separating agents from the background.
+    pub threshold: u8,
+    /// Largest move of an agent between two frames (BL) kept as the same agent.
+    pub max_jump_bl: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RigFile {
+    #[serde(default)]
+    name: String,
+    coil: CoilFile,
+    camera: CameraFile,
+    pixels: PixelsFile,
+    detector: DetectorFile,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CoilFile {
+    port: Option<String>,
+    address: Option<String>,
+    #[serde(default = "default_baud")]
+    baud: u32,
+    #[serde(default = "default_heartbeat")]
+    heartbeat_ms: u32,
+    #[serde(default = "default_watchdog")]
+    watchdog_ms: u32,
+    #[serde(default = "default_ack_timeout")]
+    ack_timeout_ms: u32,
+    #[serde(default = "default_retries")]
+    retries: u32,
+    #[serde(default = "default_hold_timeout")]
+    hold_timeout_ms: u32,
+    field_mt: Option<f64>,
+    calibration: CalibrationFile,
+    limits: LimitsFile,
+}
+
+fn default_baud() -> u32 {
+    115_200
+}
+fn default_heartbeat() -> u32 {
+    50
+}
+fn default_watchdog() -> u32 {
+    200
+}
+fn default_ack_timeout() -> u32 {
+    10
+}
+fn default_retries() -> u32 {
+    2
+}
+fn default_hold_timeout() -> u32 {
+    250
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CalibrationFile {
+    field_mt_per_a: Option<[f64; 3]>,
+    gradient_mt_per_m_per_a: Option<[f64; 2]>,
+    matrix: Option<Vec<Vec<f64>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum OneOrMany {
+    One(f64),
+    Many(Vec<f64>),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LimitsFile {
+    current_a: OneOrMany,
+    slew_a_per_s: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraFile {
+    source: String,
+    address: Option<String>,
+    folder: Option<String>,
+    device: Option<String>,
+    #[serde(default = "default_fps")]
+    fps: f64,
+    size_px: [u32; 2],
+    #[serde(default = "default_frame_timeout")]
+    frame_timeout_ms: u32,
+    #[serde(default = "default_stuck")]
+    stuck_frames: u32,
+    #[serde(default)]
+    latency_ms: f64,
+}
+
+fn default_fps() -> f64 {
+    60.0
+}
+fn default_frame_timeout() -> u32 {
+    100
+}
+fn default_stuck() -> u32 {
+    30
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PixelsFile {
+    px_per_bl: f64,
+    origin_px: [f64; 2],
+    #[serde(default)]
+    rotation_deg: f64,
+    #[serde(default = "default_true")]
+    flip_y: bool,
+}
+
+fn default_true() -> bool {
+    true
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DetectorFile {
+    polarity: String,
+    radius_px: f64,
+    #[serde(default = "default_blur")]
+    blur_px: f64,
+    threshold: u8,
+    #[serde(default = "default_jump")]
+    max_jump_bl: f64,
+}
+
+fn default_blur() -> f64 {
+    1.0
+}
+fn default_jump() -> f64 {
+    1.0
+}
+
+impl RigConfig {
+    /// Reads and validates a rig file.
+    pub fn load(path: &Path) -> Result<RigConfig, InputError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError::new(&file, "", format!("cannot read: {e}")))?;
+        let mut cfg = Self::parse(&text, &file)?;
+        // a recorded-frames folder is relative to the rig file
+        if let CameraSource::Recorded(p) = &cfg.camera.source
+            && p.is_relative()
+            && let Some(dir) = path.parent()
+        {
+            cfg.camera.source = CameraSource::Recorded(dir.join(p));
+        }
+        Ok(cfg)
+    }
+
+    /// Parses and validates rig TOML `text`; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<RigConfig, InputError> {
+        let raw: RigFile = deserialize(text, file)?;
+        let v = V { file };
+        let coil = v.coil(raw.coil)?;
+        let camera = v.camera(raw.camera)?;
+        let pixels = v.pixels(raw.pixels)?;
+        let detector = v.detector(raw.detector)?;
+        Ok(RigConfig {
+            name: raw.name,
+            source: file.to_string(),
+            coil,
+            camera,
+            pixels,
+            detector,
+        })
+    }
+
+    /// The rig file text with the coil endpoint and camera address replaced (for a live emulator).
+    pub fn with_endpoints(
+        text: &str,
+        coil: &CoilEndpoint,
+        camera_address: Option<&str>,
+    ) -> Result<String, String> {
+        let mut doc: toml::Table = toml::from_str(text).map_err(|e| e.to_string())?;
+        let coil_t = doc
+            .get_mut("coil")
+            .and_then(|c| c.as_table_mut())
+            .ok_or("no [coil] table")?;
+        coil_t.remove("port");
+        coil_t.remove("address");
+        match coil {
+            CoilEndpoint::Serial { path, .. } => coil_t.insert("port".into(), path.clone().into()),
+            CoilEndpoint::Tcp(a) => coil_t.insert("address".into(), a.clone().into()),
+        };
+        if let Some(addr) = camera_address {
+            let cam = doc
+                .get_mut("camera")
+                .and_then(|c| c.as_table_mut())
+                .ok_or("no [camera] table")?;
+            cam.insert("source".into(), "emulator".into());
+            cam.insert("address".into(), addr.into());
+        }
+        toml::to_string(&doc).map_err(|e| e.to_string())
+    }
+}
+
+fn deserialize<T: for<'de> Deserialize<'de>>(text: &str, file: &str) -> Result<T, InputError> {
+    let de = toml::Deserializer::parse(text)
+        .map_err(|e| InputError::new(file, "", format!("invalid TOML: {}", e.message().trim())))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let field = if path == "." { String::new() } else { path };
+        InputError::new(file, field, inner.message().trim().to_string())
+    })
+}
+
+struct V<'a> {
+    file: &'a str,
+}
+
+impl V<'_> {
+    fn err(&self, field: &str, reason: impl Into<String>) -> InputError {
+        InputError::new(self.file, field, reason)
+    }
+
+    fn positive(&self, field: &str, x: f64) -> Result<f64, InputError> {
+        if x.is_finite() && x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(field, format!("must be a finite number > 0, got {x}")))
+        }
+    }
+
+    fn finite(&self, field: &str, x: f64) -> Result<f64, InputError> {
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.err(field, format!("must be a finite number, got {x}")))
+        }
+    }
+
+    fn coil(&self, c: CoilFile) -> Result<CoilConfig, InputError> {
+        let endpoint = match (c.port, c.address) {
+            (Some(path), None) => {
+                if c.baud == 0 {
+                    return Err(self.err("coil.baud", "must be > 0"));
+                }
+                CoilEndpoint::Serial { path, baud: c.baud }
+            }
+            (None, Some(a)) => {
+                if !a.contains(':') {
+                    return Err(self.err("coil.address", format!("must be HOST:PORT, got {a:?}")));
+                }
+                CoilEndpoint::Tcp(a)
+            }
+            (Some(_), Some(_)) => {
+                return Err(self.err("coil", "has both `port` and `address`; give one"));
+            }
+            (None, None) => {
+                return Err(self.err("coil", "needs `port` (serial) or `address` (TCP)"));
+            }
+        };
+        for (f, x) in [
+            ("coil.heartbeat_ms", c.heartbeat_ms),
+            ("coil.watchdog_ms", c.watchdog_ms),
+            ("coil.ack_timeout_ms", c.ack_timeout_ms),
+            ("coil.hold_timeout_ms", c.hold_timeout_ms),
+        ] {
+            if x == 0 {
+                return Err(self.err(f, "must be > 0"));
+            }
+        }
+        if c.heartbeat_ms * 2 > c.watchdog_ms {
+            return Err(self.err(
+                "coil.heartbeat_ms",
+                format!("must be at most half of watchdog_ms = {} so one lost heartbeat does not trip it, got {}", c.watchdog_ms, c.heartbeat_ms),
+            ));
+        }
+        if c.watchdog_ms > u16::MAX as u32 {
+            return Err(self.err(
+                "coil.watchdog_ms",
+                format!("must be ≤ {}, got {}", u16::MAX, c.watchdog_ms),
+            ));
+        }
+        if let Some(f) = c.field_mt {
+            self.positive("coil.field_mt", f)?;
+        }
+        let calibration = self.calibration(&c.calibration)?;
+        let n = calibration.channels();
+        let current_limit_a = match c.limits.current_a {
+            OneOrMany::One(x) => vec![self.positive("coil.limits.current_a", x)?; n],
+            OneOrMany::Many(v) => {
+                if v.len() != n {
+                    return Err(self.err(
+                        "coil.limits.current_a",
+                        format!(
+                            "has {} limits but the calibration has {n} channels",
+                            v.len()
+                        ),
+                    ));
+                }
+                for (i, x) in v.iter().enumerate() {
+                    self.positive(&format!("coil.limits.current_a[{i}]"), *x)?;
+                }
+                v
+            }
+        };
+        let slew_a_per_s = self.positive("coil.limits.slew_a_per_s", c.limits.slew_a_per_s)?;
+        Ok(CoilConfig {
+            endpoint,
+            heartbeat_ms: c.heartbeat_ms,
+            watchdog_ms: c.watchdog_ms,
+            ack_timeout_ms: c.ack_timeout_ms,
+            retries: c.retries,
+            hold_timeout_ms: c.hold_timeout_ms,
+            field_mt: c.field_mt,
+            calibration,
+            current_limit_a,
+            slew_a_per_s,
+        })
+    }
+
+    fn calibration(&self, c: &CalibrationFile) -> Result<Calibration, InputError> {
+        let f = "coil.calibration";
+        match (&c.field_mt_per_a, &c.gradient_mt_per_m_per_a, &c.matrix) {
+            (Some(b), Some(g), None) => {
+                for (i, x) in b.iter().enumerate() {
+                    self.positive(&format!("{f}.field_mt_per_a[{i}]"), *x)?;
+                }
+                for (i, x) in g.iter().enumerate() {
+                    self.positive(&format!("{f}.gradient_mt_per_m_per_a[{i}]"), *x)?;
+                }
+                Ok(Calibration::per_axis(*b, *g))
+            }
+            (None, None, Some(m)) => {
+                if m.len() != 5 {
+                    return Err(self.err(
+                        &format!("{f}.matrix"),
+                        format!(
+                            "needs 5 rows (Bx, By, Bz in mT/A; Gx, Gy in mT/m/A), got {}",
+                            m.len()
+                        ),
+                    ));
+                }
+                let n = m[0].len();
+                if !(5..=32).contains(&n) {
+                    return Err(self.err(
+                        &format!("{f}.matrix[0]"),
+                        format!("needs 5 to 32 channels (columns), got {n}"),
+                    ));
+                }
+                for (i, row) in m.iter().enumerate() {
+                    if row.len() != n {
+                        return Err(self.err(
+                            &format!("{f}.matrix[{i}]"),
+                            format!("has {} columns, row 0 has {n}", row.len()),
+                        ));
+                    }
+                    for (j, x) in row.iter().enumerate() {
+                        self.finite(&format!("{f}.matrix[{i}][{j}]"), *x)?;
+                    }
+                }
+                Calibration::matrix(m).map_err(|r| self.err(&format!("{f}.matrix"), r))
+            }
+            (None, None, None) => Err(self.err(
+                f,
+                "needs `field_mt_per_a` and `gradient_mt_per_m_per_a`, or `matrix`",
+            )),
+            (_, _, Some(_)) => {
+                Err(self.err(f, "has both per-axis constants and `matrix`; give one"))
+            }
+            (None, Some(_), None) => Err(self.err(
+                &format!("{f}.field_mt_per_a"),
+                "missing (needed with gradient_mt_per_m_per_a)",
+            )),
+            (Some(_), None, None) => Err(self.err(
+                &format!("{f}.gradient_mt_per_m_per_a"),
+                "missing (needed with field_mt_per_a)",
+            )),
+        }
+    }
+
+    fn camera(&self, c: CameraFile) -> Result<CameraConfig, InputError> {
+        let fps = self.positive("camera.fps", c.fps)?;
+        if fps > 10_000.0 {
+            return Err(self.err("camera.fps", format!("must be ≤ 10000, got {fps}")));
+        }
+        let need = |v: Option<String>, key: &str| {
+            v.ok_or_else(|| {
+                self.err(
+                    &format!("camera.{key}"),
+                    format!("missing (needed by source = {:?})", c.source),
+                )
+            })
+        };
+        let source = match c.source.as_str() {
+            "emulator" => CameraSource::Emulator(need(c.address, "address")?),
+            "recorded" => CameraSource::Recorded(PathBuf::from(need(c.folder, "folder")?)),
+            "v4l2" => CameraSource::V4l2(need(c.device, "device")?),
+            other => {
+                return Err(self.err(
+                    "camera.source",
+                    format!("unknown source {other:?}; use emulator, recorded or v4l2"),
+                ));
+            }
+        };
+        let [w, h] = c.size_px;
+        if !(8..=16384).contains(&w) || !(8..=16384).contains(&h) {
+            return Err(self.err(
+                "camera.size_px",
+                format!("each side must be 8 to 16384 pixels, got {w} x {h}"),
+            ));
+        }
+        if c.frame_timeout_ms == 0 {
+            return Err(self.err("camera.frame_timeout_ms", "must be > 0"));
+        }
+        if c.stuck_frames < 2 {
+            return Err(self.err(
+                "camera.stuck_frames",
+                format!("must be ≥ 2, got {}", c.stuck_frames),
+            ));
+        }
+        if !(c.latency_ms.is_finite() && (0.0..=1000.0).contains(&c.latency_ms)) {
+            return Err(self.err(
+                "camera.latency_ms",
+                format!("must be 0 to 1000 ms, got {}", c.latency_ms),
+            ));
+        }
+        Ok(CameraConfig {
+            source,
+            fps,
+            size_px: c.size_px,
+            frame_timeout_ms: c.frame_timeout_ms,
+            stuck_frames: c.stuck_frames,
+            latency_s: c.latency_ms * 1e-3,
+        })
+    }
+
+    fn pixels(&self, p: PixelsFile) -> Result<PixelMap, InputError> {
+        let scale = self.positive("pixels.px_per_bl", p.px_per_bl)?;
+        let ox = self.finite("pixels.origin_px", p.origin_px[0])?;
+        let oy = self.finite("pixels.origin_px", p.origin_px[1])?;
+        let rot = self.finite("pixels.rotation_deg", p.rotation_deg)?;
+        Ok(PixelMap::new(scale, [ox, oy], rot.to_radians(), p.flip_y))
+    }
+
+    fn detector(&self, d: DetectorFile) -> Result<DetectorConfig, InputError> {
+        let polarity = match d.polarity.as_str() {
+            "dark" => Polarity::Dark,
+            "bright" => Polarity::Bright,
+            other => {
+                return Err(self.err(
+                    "detector.polarity",
+                    format!("must be \"dark\" or \"bright\", got {other:?}"),
+                ));
+            }
+        };
+        let radius_px = self.positive("detector.radius_px", d.radius_px)?;
+        if radius_px < 2.0 {
+            return Err(self.err(
+                "detector.radius_px",
+                format!("must be ≥ 2 pixels for sub-pixel detection, got {radius_px}"),
+            ));
+        }
+        let blur_px = self.positive("detector.blur_px", d.blur_px)?;
+        let max_jump_bl = self.positive("detector.max_jump_bl", d.max_jump_bl)?;
+        Ok(DetectorConfig {
+            polarity,
+            radius_px,
+            blur_px,
+            threshold: d.threshold,
+            max_jump_bl,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) const EXAMPLE: &str = include_str!("../../rigs/emulator.toml");
+
+    #[test]
+    fn the_example_rig_file_is_valid() {
+        let r = RigConfig::parse(EXAMPLE, "emulator.toml").unwrap();
+        assert_eq!(r.coil.calibration.channels(), 5);
+        assert_eq!(r.coil.watchdog_ms, 200);
+        assert!(matches!(r.camera.source, CameraSource::Emulator(_)));
+    }
+
+    fn err(text: &str) -> String {
+        RigConfig::parse(text, "r.toml").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn errors_name_file_field_and_reason() {
+        let bad = EXAMPLE.replace("px_per_bl = 10.0", "px_per_bl = -1.0");
+        assert_eq!(
+            err(&bad),
+            "r.toml: pixels.px_per_bl: must be a finite number > 0, got -1"
+        );
+        let bad = EXAMPLE.replace("[pixels]", "[pixels]\ncolour = 3");
+        assert!(
+            err(&bad).starts_with("r.toml: pixels.colour: unknown field `colour`"),
+            "{}",
+            err(&bad)
+        );
+        let bad = EXAMPLE.replace("polarity = \"dark\"", "polarity = \"grey\"");
+        assert!(err(&bad).starts_with("r.toml: detector.polarity: "));
+        let bad = EXAMPLE.replace("current_a = 8.0", "current_a = [8.0, 8.0]");
+        assert!(
+            err(&bad).starts_with("r.toml: coil.limits.current_a: has 2 limits"),
+            "{}",
+            err(&bad)
+        );
+        let bad = EXAMPLE.replace("heartbeat_ms = 50", "heartbeat_ms = 150");
+        assert!(err(&bad).starts_with("r.toml: coil.heartbeat_ms: must be at most half"));
+    }
+
+    #[test]
+    fn endpoints_can_be_replaced() {
+        let text = RigConfig::with_endpoints(
+            EXAMPLE,
+            &CoilEndpoint::Serial {
+                path: "/tmp/pty".into(),
+                baud: 115200,
+            },
+            Some("127.0.0.1:9"),
+        )
+        .unwrap();
+        let r = RigConfig::parse(&text, "x").unwrap();
+        assert_eq!(
+            r.coil.endpoint,
+            CoilEndpoint::Serial {
+                path: "/tmp/pty".into(),
+                baud: 115200
+            }
+        );
+        assert_eq!(
+            r.camera.source,
+            CameraSource::Emulator("127.0.0.1:9".into())
+        );
+    }
+}

@@ -1,0 +1,147 @@
+//! `magbench bench`: run an experiment into a results folder.
+
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+
+use crate::CliError;
+use crate::experiment::Experiment;
+use crate::run::Executor;
+use crate::run::fake::FakeExecutor;
+use crate::run::real::RealExecutor;
+use crate::sweep::{ProgressMode, SweepOptions, parse_shard, run_sweep};
+
+/// Which executor runs the runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ExecutorKind {
+    /// The real planners and trackers.
+    Real,
+    /// Synthetic results (tests of the harness itself).
+    Fake,
+}
+
+impl ExecutorKind {
+    /// The executor.
+    pub fn executor(self) -> &'static dyn Executor {
+        match self {
+            ExecutorKind::Real => &RealExecutor,
+            ExecutorKind::Fake => &FakeExecutor,
+        }
+    }
+}
+
+/// Arguments of `magbench bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The experiment file (default: experiments/default.toml).
+    pub file: Option<PathBuf>,
+    /// Results folder (default: results/<experiment name>, or results/<name>-shard-I-of-N).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Worker threads (default: all CPUs).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Run only slice I of N of the run matrix (1 ≤ I ≤ N); join slices with `magbench merge`.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Complete an interrupted sweep in --out: run only the missing runs.
+    #[arg(long)]
+    pub resume: bool,
+    /// One plain line per run even on a terminal.
+    #[arg(long, conflicts_with = "quiet")]
+    pub lines: bool,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Validate the experiment and print the run matrix size, without running.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Executor (hidden: `fake` exercises the harness without planners).
+    #[arg(long, value_enum, default_value_t = ExecutorKind::Real, hide = true)]
+    pub executor: ExecutorKind,
+}
+
+/// The default experiment file: `experiments/default.toml` in the working directory, else in
+/// the source tree this binary was built from.
+pub fn default_experiment() -> PathBuf {
+    let local = PathBuf::from("experiments/default.toml");
+    if local.exists() {
+        return local;
+    }
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments/default.toml");
+    if built.exists() { built } else { local }
+}
+
+/// Runs `magbench bench`.
+pub fn run(a: BenchArgs) -> Result<(), CliError> {
+    let ex = a.executor.executor();
+    let file = a.file.clone().unwrap_or_else(default_experiment);
+    let e = Experiment::load(&file, ex)?;
+    let shard = a
+        .shard
+        .as_deref()
+        .map(parse_shard)
+        .transpose()
+        .map_err(|r| CliError::arg("--shard", r))?;
+    let threads = match a.threads {
+        Some(0) => return Err(CliError::arg("--threads", "must be at least 1")),
+        Some(n) => n,
+        None => std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1),
+    };
+    let out = a.out.clone().unwrap_or_else(|| match shard {
+        Some((i, n)) => PathBuf::from("results").join(format!("{}-shard-{i}-of-{n}", e.name)),
+        None => PathBuf::from("results").join(&e.name),
+    });
+    let total = crate::sweep::shard(e.runs(), shard).len();
+    if a.dry_run {
+        println!(
+            "{}: {} runs ({} scenarios × {} planners × {} tracker/preset combinations × {} seeds){}",
+            e.source,
+            total,
+            e.scenarios.len(),
+            e.planners.len(),
+            (e.trackers.len() * e.presets.len()).max(1),
+            e.seeds.len(),
+            shard
+                .map(|(i, n)| format!(", shard {i}/{n}"))
+                .unwrap_or_default()
+        );
+        return Ok(());
+    }
+    let progress = if a.quiet {
+        ProgressMode::Quiet
+    } else if a.lines {
+        ProgressMode::Lines
+    } else {
+        ProgressMode::Auto
+    };
+    let opts = SweepOptions {
+        out: out.clone(),
+        threads,
+        shard,
+        resume: a.resume,
+        progress,
+    };
+    let t0 = std::time::Instant::now();
+    let s = run_sweep(&e, ex, &opts)?;
+    println!(
+        "{}: {} runs in {} ({} done before, {} now, {} crashed) in {:.1} s on {threads} threads",
+        e.name,
+        s.total,
+        out.display(),
+        s.skipped,
+        s.executed,
+        s.failed,
+        t0.elapsed().as_secs_f64()
+    );
+    if s.failed > 0 {
+        return Err(CliError::Failed(format!(
+            "{} runs crashed: see the `error` column of {}",
+            s.failed,
+            out.join("runs.csv").display()
+        )));
+    }
+    Ok(())
+}

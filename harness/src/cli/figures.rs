@@ -1,0 +1,31 @@
+//! `magbench figures`: the paper figures from fixed seeds.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::CliError;
+use crate::figures::{svgs, write_all};
+
+/// Arguments of `magbench figures`.
+#[derive(Debug, Args)]
+pub struct FiguresArgs {
+    /// Output folder.
+    #[arg(long, default_value = "results/figures")]
+    pub out: PathBuf,
+    /// Iteration limit of the micro-factory plan (default 200000).
+    #[arg(long)]
+    pub maze_iterations: Option<u64>,
+}
+
+/// Runs `magbench figures`.
+pub fn run(a: FiguresArgs) -> Result<(), CliError> {
+    if a.maze_iterations == Some(0) {
+        return Err(CliError::arg("--maze-iterations", "must be at least 1"));
+    }
+    let files = write_all(&a.out, a.maze_iterations, &|m| eprintln!("{m}"))?;
+    for f in svgs(&files) {
+        println!("{}  (+ .png)", f.display());
+    }
+    Ok(())
+}

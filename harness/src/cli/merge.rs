@@ -1,0 +1,39 @@
+//! `magbench merge`: join shard results folders into one.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::CliError;
+use crate::results::merge::merge;
+
+/// Arguments of `magbench merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Results folders of the shards (same experiment).
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// The merged results folder (must not hold results yet).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Runs `magbench merge`.
+pub fn run(a: MergeArgs) -> Result<(), CliError> {
+    let m = merge(&a.dirs, &a.out)?;
+    println!(
+        "{}: merged {} folders into {}: {} of {} runs",
+        m.experiment.name,
+        a.dirs.len(),
+        a.out.display(),
+        m.runs_done,
+        m.experiment.runs_total
+    );
+    if m.runs_done < m.experiment.runs_total {
+        eprintln!(
+            "warning: {} runs are missing (a shard not merged, or not finished: rerun it with --resume)",
+            m.experiment.runs_total - m.runs_done
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,286 @@
+//! The experiment file format (serde) and its validation.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::sync::Arc;
+
+use magbench_env::InputError;
+use serde::Deserialize;
+
+use super::{Experiment, resolve_scenario};
+use crate::run::{Executor, ParamValue, RunLimits, Variant};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ExperimentFile {
+    name: Option<String>,
+    #[serde(default)]
+    description: String,
+    scenarios: Vec<String>,
+    planners: Vec<toml::Value>,
+    #[serde(default)]
+    trackers: Vec<toml::Value>,
+    presets: Option<Vec<String>>,
+    seeds: toml::Value,
+    limits: LimitsFile,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LimitsFile {
+    iterations: Option<i64>,
+    time: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ComponentTable {
+    name: String,
+    #[serde(default)]
+    params: toml::Table,
+}
+
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].matches('\n').count() + 1
+}
+
+fn deserialize(text: &str, file: &str) -> Result<ExperimentFile, InputError> {
+    let de = toml::Deserializer::parse(text).map_err(|e| {
+        let line = e
+            .span()
+            .map(|s| format!(" (line {})", line_of(text, s.start)))
+            .unwrap_or_default();
+        InputError::new(
+            file,
+            "",
+            format!("invalid TOML: {}{line}", e.message().trim()),
+        )
+    })?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let field = if path == "." { String::new() } else { path };
+        let line = inner
+            .span()
+            .map(|s| format!(" (line {})", line_of(text, s.start)))
+            .unwrap_or_default();
+        InputError::new(file, field, format!("{}{line}", inner.message().trim()))
+    })
+}
+
+fn component(v: &toml::Value, file: &str, field: &str) -> Result<Variant, InputError> {
+    let err = |r: String| InputError::new(file, field, r);
+    match v {
+        toml::Value::String(s) => Variant::parse(s).map_err(err),
+        toml::Value::Table(t) => {
+            let c: ComponentTable =
+                toml::Value::Table(t.clone())
+                    .try_into()
+                    .map_err(|e: toml::de::Error| {
+                        err(format!(
+                            "{} (expected {{ name = \"...\", params = {{ ... }} }})",
+                            e.message().trim()
+                        ))
+                    })?;
+            let mut v = Variant::parse(&c.name).map_err(err)?;
+            if !v.params.is_empty() {
+                return Err(err(
+                    "give parameters either in the name or in `params`, not both".into(),
+                ));
+            }
+            for (k, p) in &c.params {
+                let pv = ParamValue::from_toml(p)
+                    .map_err(|e| InputError::new(file, format!("{field}.params.{k}"), e))?;
+                v.params.insert(k.clone(), pv);
+            }
+            Ok(v)
+        }
+        other => Err(err(format!(
+            "expected a label such as \"goal-zoom-rrt{{k=5}}\" or a table, got a {}",
+            other.type_str()
+        ))),
+    }
+}
+
+fn components(
+    list: &[toml::Value],
+    file: &str,
+    key: &str,
+    check: &dyn Fn(&Variant) -> Result<(), String>,
+) -> Result<Vec<Variant>, InputError> {
+    let mut out: Vec<Variant> = vec![];
+    for (i, v) in list.iter().enumerate() {
+        let field = format!("{key}[{i}]");
+        let c = component(v, file, &field)?;
+        check(&c).map_err(|e| InputError::new(file, &field, e))?;
+        if out.iter().any(|o| o.label() == c.label()) {
+            return Err(InputError::new(
+                file,
+                &field,
+                format!("{} is listed twice", c.label()),
+            ));
+        }
+        out.push(c);
+    }
+    Ok(out)
+}
+
+fn seeds(v: &toml::Value, file: &str) -> Result<Vec<u64>, InputError> {
+    let err = |r: String| InputError::new(file, "seeds", r);
+    match v {
+        toml::Value::Integer(n) if *n >= 1 => Ok((0..*n as u64).collect()),
+        toml::Value::Integer(n) => Err(err(format!("a seed count must be at least 1, got {n}"))),
+        toml::Value::Array(a) if !a.is_empty() => {
+            let mut seen = BTreeSet::new();
+            let mut out = vec![];
+            for (i, s) in a.iter().enumerate() {
+                let s = s.as_integer().filter(|s| *s >= 0).ok_or_else(|| {
+                    InputError::new(file, format!("seeds[{i}]"), "a seed is an integer ≥ 0")
+                })?;
+                if !seen.insert(s) {
+                    return Err(InputError::new(
+                        file,
+                        format!("seeds[{i}]"),
+                        format!("seed {s} is listed twice"),
+                    ));
+                }
+                out.push(s as u64);
+            }
+            Ok(out)
+        }
+        toml::Value::Array(_) => Err(err("the seed list is empty".into())),
+        other => Err(err(format!(
+            "expected a count or a list of integers, got a {}",
+            other.type_str()
+        ))),
+    }
+}
+
+/// Parses and validates an experiment.
+pub fn parse(
+    text: &str,
+    file: &str,
+    base_dir: &Path,
+    default_name: &str,
+    ex: &dyn Executor,
+) -> Result<Experiment, InputError> {
+    let raw = deserialize(text, file)?;
+    let name = raw.name.unwrap_or_else(|| default_name.to_string());
+    if name.is_empty()
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+    {
+        return Err(InputError::new(
+            file,
+            "name",
+            format!(
+                "{name:?}: use letters, digits, '-', '_' and '.' (it names the results folder)"
+            ),
+        ));
+    }
+    if raw.scenarios.is_empty() {
+        return Err(InputError::new(
+            file,
+            "scenarios",
+            "list at least one scenario",
+        ));
+    }
+    let mut scenarios = vec![];
+    for (i, label) in raw.scenarios.iter().enumerate() {
+        let field = format!("scenarios[{i}]");
+        if scenarios.iter().any(|(l, _): &(String, _)| l == label) {
+            return Err(InputError::new(
+                file,
+                &field,
+                format!("{label} is listed twice"),
+            ));
+        }
+        let s = resolve_scenario(label, base_dir)
+            .map_err(|e| InputError::new(file, &field, e.to_string()))?;
+        scenarios.push((label.clone(), Arc::new(s)));
+    }
+    if raw.planners.is_empty() {
+        return Err(InputError::new(
+            file,
+            "planners",
+            "list at least one planner",
+        ));
+    }
+    let planners = components(&raw.planners, file, "planners", &|v| ex.check_planner(v))?;
+    let trackers = components(&raw.trackers, file, "trackers", &|v| ex.check_tracker(v))?;
+    let presets = match (raw.presets, trackers.is_empty()) {
+        (Some(p), true) if !p.is_empty() => {
+            return Err(InputError::new(
+                file,
+                "presets",
+                "presets apply to tracking: list `trackers` too",
+            ));
+        }
+        (_, true) => vec![],
+        (None, false) => vec!["ideal".to_string()],
+        (Some(p), false) if p.is_empty() => {
+            return Err(InputError::new(
+                file,
+                "presets",
+                "list at least one preset, or leave `presets` out for [\"ideal\"]",
+            ));
+        }
+        (Some(p), false) => {
+            for (i, name) in p.iter().enumerate() {
+                ex.check_preset(name)
+                    .map_err(|e| InputError::new(file, format!("presets[{i}]"), e))?;
+                if p[..i].contains(name) {
+                    return Err(InputError::new(
+                        file,
+                        format!("presets[{i}]"),
+                        format!("{name} is listed twice"),
+                    ));
+                }
+            }
+            p
+        }
+    };
+    let seeds = seeds(&raw.seeds, file)?;
+    let iterations = match raw.limits.iterations {
+        Some(n) if n >= 1 => Some(n as u64),
+        Some(n) => {
+            return Err(InputError::new(
+                file,
+                "limits.iterations",
+                format!("must be at least 1, got {n}"),
+            ));
+        }
+        None => None,
+    };
+    let time_s = match raw.limits.time {
+        Some(t) if t.is_finite() && t > 0.0 => Some(t),
+        Some(t) => {
+            return Err(InputError::new(
+                file,
+                "limits.time",
+                format!("must be a positive number of seconds, got {t}"),
+            ));
+        }
+        None => None,
+    };
+    if iterations.is_none() && time_s.is_none() {
+        return Err(InputError::new(
+            file,
+            "limits",
+            "give `iterations` and/or `time`",
+        ));
+    }
+    Ok(Experiment {
+        name,
+        description: raw.description,
+        source: file.to_string(),
+        text: text.to_string(),
+        scenarios,
+        planners,
+        trackers,
+        presets,
+        seeds,
+        limits: RunLimits { iterations, time_s },
+    })
+}

@@ -1,0 +1,139 @@
+//! Experiment files: which scenarios, planners (with parameter variants), trackers, presets
+//! and seeds to run, and the planner limits. See `docs/readme-harness.md` for the format.
+//!
+//! ```toml
+//! name = "default"                       # optional, defaults to the file name
+//! description = "all planners on the built-in scenarios"
+//! scenarios = ["micro-factory", "scenarios/my-maze.toml"]   # names or paths
+//! planners = ["goal-zoom-rrt{k=5}", "goal-zoom-rrt{k=20}", { name = "sst", params = { delta = 0.5 } }]
+//! trackers = ["obc", "lookahead{gain=0.5}"] # optional: plan, then track in closed loop
+//! presets = ["ideal", "realistic"]          # with trackers; default ["ideal"]
+//! seeds = 10                                # a count (seeds 0..9) or a list [1, 5, 9]
+//! [limits]
+//! iterations = 20000                        # and/or
+//! time = 5.0                                # seconds of planning
+//! ```
+
+mod file;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use magbench_env::{InputError, Scenario};
+use sha2::{Digest, Sha256};
+
+use crate::run::{Executor, RunLimits, RunSpec, Variant};
+
+/// A validated experiment.
+#[derive(Debug, Clone)]
+pub struct Experiment {
+    /// Its name (the results folder is `results/<name>/` by default).
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// Where it was read from.
+    pub source: String,
+    /// The file's exact text (hashed and stored in the manifest).
+    pub text: String,
+    /// Scenarios: the label as written and the loaded scenario.
+    pub scenarios: Vec<(String, Arc<Scenario>)>,
+    /// Planner variants.
+    pub planners: Vec<Variant>,
+    /// Tracker variants (empty: planning only).
+    pub trackers: Vec<Variant>,
+    /// Disturbance presets (empty without trackers).
+    pub presets: Vec<String>,
+    /// Seeds.
+    pub seeds: Vec<u64>,
+    /// Planner limits.
+    pub limits: RunLimits,
+}
+
+impl Experiment {
+    /// Reads and validates an experiment file; scenario paths are relative to the file's folder
+    /// (or to the working directory).
+    pub fn load(path: &Path, ex: &dyn Executor) -> Result<Experiment, InputError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError::new(&file, "", format!("cannot read: {e}")))?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().to_string())
+            .unwrap_or_else(|| "experiment".into());
+        Experiment::parse(&text, &file, &base, &stem, ex)
+    }
+
+    /// Parses and validates experiment TOML `text` (named `file` in errors).
+    pub fn parse(
+        text: &str,
+        file: &str,
+        base_dir: &Path,
+        default_name: &str,
+        ex: &dyn Executor,
+    ) -> Result<Experiment, InputError> {
+        file::parse(text, file, base_dir, default_name, ex)
+    }
+
+    /// SHA-256 of the file's text, in hex.
+    pub fn hash(&self) -> String {
+        hex(&Sha256::digest(self.text.as_bytes()))
+    }
+
+    /// The tracker × preset combinations of each planner run (`[(None, None)]` without trackers).
+    fn tracking(&self) -> Vec<(Option<Variant>, Option<String>)> {
+        if self.trackers.is_empty() {
+            return vec![(None, None)];
+        }
+        let mut v = vec![];
+        for t in &self.trackers {
+            for p in &self.presets {
+                v.push((Some(t.clone()), Some(p.clone())));
+            }
+        }
+        v
+    }
+
+    /// The full run matrix in a fixed order: scenario, planner, tracker, preset, seed.
+    pub fn runs(&self) -> Vec<RunSpec> {
+        let mut out = vec![];
+        for (label, sc) in &self.scenarios {
+            for p in &self.planners {
+                for (t, pr) in self.tracking() {
+                    for &seed in &self.seeds {
+                        out.push(RunSpec {
+                            index: out.len(),
+                            experiment: self.name.clone(),
+                            scenario_label: label.clone(),
+                            scenario: sc.clone(),
+                            planner: p.clone(),
+                            tracker: t.clone(),
+                            preset: pr.clone(),
+                            seed,
+                            limits: self.limits,
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Lower-case hex of `bytes`.
+pub fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Resolves a scenario label: a built-in name, a path relative to `base_dir`, or a path
+/// relative to the working directory.
+pub fn resolve_scenario(label: &str, base_dir: &Path) -> Result<Scenario, InputError> {
+    if magbench_env::scenario::builtin_source(label).is_some() {
+        return Scenario::load(label);
+    }
+    let rel: PathBuf = base_dir.join(label);
+    if rel.exists() {
+        return Scenario::load(&rel.display().to_string());
+    }
+    Scenario::load(label)
+}

@@ -1,0 +1,120 @@
+//! The runs behind the paper figures: plan with a registered planner from a fixed seed, then
+//! track the plan in closed loop against the simulated plant, keeping every tick.
+
+use std::time::Duration;
+
+use magbench_env::plant::DisturbancePreset;
+use magbench_env::{Scenario, Vec2};
+use magbench_planners::{Limits, PlannerResult, Problem, registry};
+use magbench_trackers::{Mission, Reference, TrackerSpec, simulate};
+
+/// A planned and tracked run of a scenario's first leg.
+pub struct TrackedRun {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// The planner's result.
+    pub planned: PlannerResult,
+    /// Planned states at every integration step, with their times (s).
+    pub plan_samples: Vec<(f64, Vec<Vec2>)>,
+    /// Tracked (true) positions at every control tick, with their times (s).
+    pub tracked: Vec<(f64, Vec<Vec2>)>,
+    /// Label of the run: planner, tracker, preset, seed.
+    pub label: String,
+    /// The tracked run reached the goal.
+    pub reached_goal: bool,
+    /// RMS tracking error (BL).
+    pub rms_error: f64,
+}
+
+/// What to run.
+pub struct RunSpec<'a> {
+    /// Scenario name or path.
+    pub scenario: &'a str,
+    /// Planner name and `key=value` parameters.
+    pub planner: (&'a str, &'a [(&'a str, &'a str)]),
+    /// Iteration limit.
+    pub iterations: u64,
+    /// Tracker name.
+    pub tracker: &'a str,
+    /// Disturbance preset.
+    pub preset: &'a str,
+    /// Seed of the planner, plant and camera.
+    pub seed: u64,
+}
+
+/// Plans and tracks.
+pub fn plan_and_track(s: &RunSpec) -> Result<TrackedRun, String> {
+    let scenario = Scenario::load(s.scenario).map_err(|e| e.to_string())?;
+    let params: Vec<(String, String)> = s
+        .planner
+        .1
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    let mut planner = registry::create(s.planner.0, &params).map_err(|e| e.to_string())?;
+    let mut problem = Problem::from_scenario(&scenario, 0, None, s.seed);
+    problem.limits = Limits {
+        max_iterations: Some(s.iterations),
+        time_limit: None::<Duration>,
+    };
+    let planned = planner.solve(&problem);
+    let reference = Reference::from_plan(&planned.plan, &problem.model);
+    let plan_samples = (0..reference.len())
+        .map(|k| (reference.time(k), reference.state(k).to_vec()))
+        .collect();
+    let spec = TrackerSpec::parse(s.tracker, &[], "<figures>").map_err(|e| e.to_string())?;
+    let preset = DisturbancePreset::by_name(s.preset)
+        .ok_or_else(|| format!("unknown preset {}", s.preset))?;
+    let mission = Mission {
+        scenario: &scenario,
+        plan: Some(planned.plan.clone()),
+        plan_time_s: planned.time_s,
+        plan_solved: planned.solved,
+        planner: Some(planner.as_mut()),
+        limits: Some(problem.limits),
+        seed: s.seed,
+    };
+    let mut tracker = spec.build();
+    let mut opts = spec.loop_options();
+    opts.record_ticks = true;
+    let out = simulate(mission, tracker.as_mut(), &preset, &opts);
+    let n = scenario.agents();
+    let tracked = out
+        .ticks
+        .iter()
+        .map(|t| (t.t, (0..n).map(|i| t.position(i)).collect()))
+        .collect();
+    let label = format!(
+        "{} seed {}, {} ({}), {}",
+        s.planner.0,
+        s.seed,
+        s.tracker,
+        s.preset,
+        if planned.solved {
+            "solved"
+        } else {
+            "approximate plan"
+        }
+    );
+    Ok(TrackedRun {
+        reached_goal: out.metrics.reached_goal,
+        rms_error: out.metrics.rms_error_bl,
+        scenario,
+        planned,
+        plan_samples,
+        tracked,
+        label,
+    })
+}
+
+impl TrackedRun {
+    /// Planned path of agent `i`.
+    pub fn planned_path(&self, i: usize) -> Vec<Vec2> {
+        self.plan_samples.iter().map(|(_, s)| s[i]).collect()
+    }
+
+    /// Tracked path of agent `i`.
+    pub fn tracked_path(&self, i: usize) -> Vec<Vec2> {
+        self.tracked.iter().map(|(_, s)| s[i]).collect()
+    }
+}

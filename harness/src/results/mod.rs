@@ -1,0 +1,42 @@
+//! A results folder `results/<experiment>/`:
+//!
+//! - `runs.csv`: one tidy row per run ([`crate::run::RunRecord`]);
+//! - `progress.csv`: the planners' progress traces;
+//! - `manifest.json`: the experiment, code revision, crate versions, host, threads, times;
+//! - `ompl.log`: the runs in OMPL's benchmark log format;
+//! - `plots/`: SVG and PNG plots;
+//! - `report.html`: one self-contained page with every plot and summary tables.
+
+pub mod manifest;
+pub mod merge;
+pub mod ompl;
+pub mod plots;
+pub mod report;
+pub mod store;
+pub mod summary;
+
+use std::path::Path;
+
+pub use manifest::{MANIFEST, Manifest};
+
+use crate::CliError;
+use crate::run::Status;
+
+/// Writes the derived files of a results folder from its runs: sorts `runs.csv` and
+/// `progress.csv` into run order, writes `ompl.log`, the plots and `report.html`, and records
+/// the counts and end time in the manifest.
+pub fn finalize(dir: &Path) -> Result<(), CliError> {
+    let mut m = Manifest::read(dir)?;
+    let runs = store::read_runs(dir)?;
+    let progress = store::read_progress(dir)?;
+    store::write_sorted(dir, runs, progress)?;
+    let runs = store::read_runs(dir)?;
+    let progress = store::read_progress(dir)?;
+    m.runs_done = runs.len();
+    m.runs_failed = runs.iter().filter(|r| r.status == Status::Crash).count();
+    m.finished = Some(manifest::now());
+    ompl::write(dir, &m, &runs, &progress)?;
+    let figures = plots::write_all(dir, &m, &runs, &progress)?;
+    report::write(dir, &m, &runs, &figures)?;
+    m.write(dir)
+}

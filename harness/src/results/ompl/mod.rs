@@ -1,0 +1,330 @@
+//! `ompl.log`: the runs in OMPL's benchmark log format, for `ompl_benchmark_statistics.py`
+//! (which loads it into an SQLite database) and Planner Arena.
+//!
+//! The mapping: an OMPL *experiment* is one problem. `ompl.log` holds every run of the
+//! magbench experiment as one OMPL experiment whose planner configurations are named
+//! `control_<planner variant>`, qualified by `@<scenario>` when the experiment has several
+//! scenarios and by `+<tracker>+<preset>` when it tracks. When there are several scenarios,
+//! `ompl/<scenario>.log` additionally holds each scenario as its own OMPL experiment with
+//! planners named `control_<planner variant>` (Planner Arena's per-problem view).
+//!
+//! Run properties follow OMPL's names and types: `time REAL` (planning time), `solved
+//! BOOLEAN` (exact or approximate, as in OMPL), `approximate solution BOOLEAN`, `solution
+//! difference REAL`, `status ENUM` (`ompl::base::PlannerStatus`), `graph states INTEGER`,
+//! `iterations INTEGER`, `best cost REAL`, ...; progress properties are `best cost REAL`,
+//! `iterations INTEGER` and `time REAL`. See [`parse`] for the grammar.
+
+pub mod parse;
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::manifest::Manifest;
+use crate::CliError;
+use crate::run::{ProgressRow, RunRecord};
+
+/// The values of OMPL's `PlannerStatus` enum, in order (`status ENUM` indexes this list).
+pub const STATUS_ENUM: [&str; 9] = [
+    "Unknown status",
+    "Invalid start",
+    "Invalid goal",
+    "Unrecognized goal type",
+    "Timeout",
+    "Approximate solution",
+    "Exact solution",
+    "Crash",
+    "Abort",
+];
+
+/// One OMPL planner configuration: a name, its settings and its runs.
+struct Block<'a> {
+    name: String,
+    settings: Vec<(String, String)>,
+    runs: Vec<&'a RunRecord>,
+}
+
+fn num(v: f64) -> String {
+    if v.is_nan() {
+        String::new()
+    } else {
+        format!("{v}")
+    }
+}
+
+fn opt<T: ToString>(v: Option<T>) -> String {
+    v.map(|x| x.to_string()).unwrap_or_default()
+}
+
+fn optf(v: Option<f64>) -> String {
+    v.map(num).unwrap_or_default()
+}
+
+fn boolean(b: bool) -> String {
+    (b as u8).to_string()
+}
+
+/// The run properties of a record (name with type suffix → value), sorted by name like OMPL.
+fn properties(r: &RunRecord) -> BTreeMap<&'static str, String> {
+    let mut p = BTreeMap::new();
+    p.insert("approximate solution BOOLEAN", boolean(r.approximate));
+    p.insert("best cost REAL", optf(r.cost));
+    p.insert(
+        "first solution iterations INTEGER",
+        opt(r.first_solution_iteration),
+    );
+    p.insert("first solution time REAL", optf(r.first_solution_time_s));
+    p.insert("graph states INTEGER", r.nodes.to_string());
+    p.insert("iterations INTEGER", r.iterations.to_string());
+    p.insert("seed INTEGER", r.seed.to_string());
+    p.insert("solution difference REAL", num(r.goal_distance));
+    p.insert("solution duration REAL", num(r.plan_duration_s));
+    p.insert("solution segments INTEGER", r.plan_edges.to_string());
+    p.insert("solved BOOLEAN", boolean(r.solved || r.approximate));
+    p.insert("status ENUM", r.status.ompl_code().to_string());
+    p.insert("time REAL", num(r.plan_time_s));
+    if !r.tracker.is_empty() {
+        p.insert(
+            "tracking agent contact BOOLEAN",
+            opt(r.agent_contact.map(|b| b as u8)),
+        );
+        p.insert("tracking duration REAL", optf(r.track_duration_s));
+        p.insert("tracking final distance REAL", optf(r.final_distance_bl));
+        p.insert("tracking max error REAL", optf(r.max_error_bl));
+        p.insert("tracking missed frames INTEGER", opt(r.missed_frames));
+        p.insert(
+            "tracking reached goal BOOLEAN",
+            opt(r.reached_goal.map(|b| b as u8)),
+        );
+        p.insert("tracking replans INTEGER", opt(r.replans));
+        p.insert("tracking legs completed INTEGER", opt(r.legs_completed));
+        p.insert(
+            "tracking worst agent rms error REAL",
+            optf(r.rms_error_worst_agent_bl),
+        );
+        p.insert("tracking rms error REAL", optf(r.rms_error_bl));
+        p.insert("tracking time REAL", optf(r.track_time_s));
+        p.insert("tracking time to goal REAL", optf(r.time_to_goal_s));
+        p.insert("tracking wall contacts INTEGER", opt(r.wall_contacts));
+    }
+    p
+}
+
+fn single_line(s: &str) -> String {
+    s.replace(['\n', '\r'], " ")
+}
+
+fn token(s: &str) -> String {
+    let t: String = s
+        .chars()
+        .map(|c| if c.is_whitespace() { '_' } else { c })
+        .collect();
+    if t.is_empty() { "NO_NAME".into() } else { t }
+}
+
+fn multiline(out: &mut String, text: &str) {
+    out.push_str("<<<|\n");
+    for l in text.lines() {
+        // A line starting with the closing mark would end the block early.
+        if l.starts_with("|>>>") {
+            out.push(' ');
+        }
+        out.push_str(l);
+        out.push('\n');
+    }
+    out.push_str("|>>>\n");
+}
+
+fn block_name(r: &RunRecord, qualify_scenario: bool) -> String {
+    let mut name = format!("control_{}", r.planner);
+    if qualify_scenario {
+        name += &format!("@{}", r.scenario);
+    }
+    if !r.tracker.is_empty() {
+        name += &format!("+{}+{}", r.tracker, r.preset);
+    }
+    single_line(&name)
+}
+
+fn settings(r: &RunRecord) -> Vec<(String, String)> {
+    let mut s = vec![("planner".to_string(), r.planner_name.clone())];
+    for kv in r.planner_params.split(',').filter(|s| !s.is_empty()) {
+        if let Some((k, v)) = kv.split_once('=') {
+            s.push((format!("{}.{k}", r.planner_name), v.to_string()));
+        }
+    }
+    s.push(("scenario".into(), r.scenario.clone()));
+    if !r.tracker.is_empty() {
+        s.push(("tracker".into(), r.tracker.clone()));
+        s.push(("preset".into(), r.preset.clone()));
+    }
+    if let Some(i) = r.max_iterations {
+        s.push(("max_iterations".into(), i.to_string()));
+    }
+    s.sort();
+    s
+}
+
+/// Groups runs into planner configurations, in order of first appearance.
+fn blocks<'a>(runs: &[&'a RunRecord], qualify_scenario: bool) -> Vec<Block<'a>> {
+    let mut out: Vec<Block<'a>> = vec![];
+    let mut index: BTreeMap<String, usize> = BTreeMap::new();
+    for r in runs {
+        let name = block_name(r, qualify_scenario);
+        let i = *index.entry(name.clone()).or_insert_with(|| {
+            out.push(Block {
+                name,
+                settings: settings(r),
+                runs: vec![],
+            });
+            out.len() - 1
+        });
+        out[i].runs.push(r);
+    }
+    out
+}
+
+/// The text of one OMPL benchmark log holding `runs` as experiment `name`.
+pub fn log_text(
+    name: &str,
+    m: &Manifest,
+    runs: &[&RunRecord],
+    progress: &BTreeMap<usize, Vec<&ProgressRow>>,
+    qualify_scenario: bool,
+) -> String {
+    let mut o = String::new();
+    let e = &m.experiment;
+    let _ = writeln!(o, "magbench version {}", m.magbench_version);
+    let _ = writeln!(o, "Experiment {}", token(name));
+    let agents = runs.first().map(|r| r.agents).unwrap_or(0);
+    let props = [
+        ("agents INTEGER", agents.to_string()),
+        ("max_iterations INTEGER", opt(e.max_iterations)),
+        ("seeds INTEGER", e.seeds.len().to_string()),
+    ];
+    let _ = writeln!(o, "{} experiment properties", props.len());
+    for (k, v) in props {
+        let _ = writeln!(o, "{k} = {v}");
+    }
+    let _ = writeln!(o, "Running on {}", token(&m.host.name));
+    let _ = writeln!(o, "Starting at {}", m.started.trim_end_matches('Z'));
+    let mut setup = format!(
+        "magbench experiment {} (sha256 {})\ngit revision {}\n",
+        e.name, e.sha256, m.git_revision
+    );
+    setup += &e.content;
+    multiline(&mut o, &setup);
+    multiline(
+        &mut o,
+        &format!("{} ({} CPUs, {})", m.host.cpu_model, m.host.cpus, m.host.os),
+    );
+    let _ = writeln!(
+        o,
+        "{} is the random seed",
+        e.seeds.first().copied().unwrap_or(0)
+    );
+    let _ = writeln!(
+        o,
+        "{} seconds per run",
+        e.time_limit_s.map(num).unwrap_or_else(|| "inf".into())
+    );
+    let _ = writeln!(o, "inf MB per run");
+    let bl = blocks(runs, qualify_scenario);
+    let per_planner = bl.iter().map(|b| b.runs.len()).max().unwrap_or(0);
+    let _ = writeln!(o, "{per_planner} runs per planner");
+    let total: f64 = m.sessions.iter().filter_map(|s| s.wall_time_s).sum();
+    let _ = writeln!(o, "{} seconds spent to collect the data", num(total));
+    let _ = writeln!(o, "1 enum type");
+    let _ = writeln!(o, "status|{}", STATUS_ENUM.join("|"));
+    let _ = writeln!(o, "{} planners", bl.len());
+    for b in &bl {
+        let _ = writeln!(o, "{}", b.name);
+        let _ = writeln!(o, "{} common properties", b.settings.len());
+        for (k, v) in &b.settings {
+            let _ = writeln!(o, "{} = {}", single_line(k), single_line(v));
+        }
+        let props: Vec<BTreeMap<&str, String>> = b.runs.iter().map(|r| properties(r)).collect();
+        let mut names: Vec<&str> = props.iter().flat_map(|p| p.keys().copied()).collect();
+        names.sort();
+        names.dedup();
+        let _ = writeln!(o, "{} properties for each run", names.len());
+        for n in &names {
+            let _ = writeln!(o, "{n}");
+        }
+        let _ = writeln!(o, "{} runs", b.runs.len());
+        for p in &props {
+            for n in &names {
+                let _ = write!(o, "{}; ", p.get(n).map(String::as_str).unwrap_or(""));
+            }
+            o.push('\n');
+        }
+        if b.runs
+            .iter()
+            .any(|r| progress.get(&r.run).is_some_and(|v| !v.is_empty()))
+        {
+            let _ = writeln!(o, "3 progress properties for each run");
+            let _ = writeln!(o, "best cost REAL\niterations INTEGER\ntime REAL");
+            let _ = writeln!(o, "{} runs", b.runs.len());
+            for r in &b.runs {
+                // OMPL's progress table is keyed by (run, time): keep the last sample per time.
+                let mut by_time: BTreeMap<String, &ProgressRow> = BTreeMap::new();
+                let mut order = vec![];
+                for p in progress.get(&r.run).map(Vec::as_slice).unwrap_or(&[]) {
+                    let t = num(p.time_s);
+                    if by_time.insert(t.clone(), p).is_none() {
+                        order.push(t);
+                    }
+                }
+                for t in order {
+                    let p = by_time[&t];
+                    let cost = p.best_cost.map(num).unwrap_or_else(|| "inf".into());
+                    let _ = write!(o, "{cost},{},{t},;", p.iteration);
+                }
+                o.push('\n');
+            }
+        }
+        o.push_str(".\n");
+    }
+    o
+}
+
+/// Writes `ompl.log` (and `ompl/<scenario>.log` for several scenarios) into `dir`.
+pub fn write(
+    dir: &Path,
+    m: &Manifest,
+    runs: &[RunRecord],
+    progress: &[ProgressRow],
+) -> Result<Vec<PathBuf>, CliError> {
+    let mut by_run: BTreeMap<usize, Vec<&ProgressRow>> = BTreeMap::new();
+    for p in progress {
+        by_run.entry(p.run).or_default().push(p);
+    }
+    let all: Vec<&RunRecord> = runs.iter().collect();
+    let mut scenarios: Vec<&str> = vec![];
+    for r in runs {
+        if !scenarios.contains(&r.scenario.as_str()) {
+            scenarios.push(&r.scenario);
+        }
+    }
+    let many = scenarios.len() > 1;
+    let mut files = vec![];
+    let path = dir.join("ompl.log");
+    std::fs::write(&path, log_text(&m.experiment.name, m, &all, &by_run, many))
+        .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+    files.push(path);
+    if many {
+        let sub = dir.join("ompl");
+        std::fs::create_dir_all(&sub)
+            .map_err(|e| CliError::Failed(format!("{}: {e}", sub.display())))?;
+        for s in scenarios {
+            let these: Vec<&RunRecord> = runs.iter().filter(|r| r.scenario == s).collect();
+            let stem = token(&s.replace(['/', '\\'], "_"));
+            let path = sub.join(format!("{}.log", stem.trim_end_matches(".toml")));
+            let name = format!("{}-{}", m.experiment.name, stem.trim_end_matches(".toml"));
+            std::fs::write(&path, log_text(&name, m, &these, &by_run, false))
+                .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+            files.push(path);
+        }
+    }
+    Ok(files)
+}

@@ -1,0 +1,344 @@
+//! The plots of a results folder, per scenario, into `plots/<scenario>/`:
+//!
+//! - `success-vs-iterations`, `success-vs-time`: the fraction of runs with an exact solution
+//!   by then, per configuration, with the 95% Wilson interval as a band;
+//! - `cost-vs-iterations`: the median best cost with the interquartile band (unsolved runs
+//!   count as +∞, so the median shows once half the runs are solved);
+//! - `time-to-first-solution`, `final-cost`: box plots over solved runs;
+//! - with trackers: `rms-error` and `max-error` box plots and `rms-error-cdf`.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use super::manifest::Manifest;
+use super::summary::groups;
+use crate::CliError;
+use crate::plot::charts::{BandPoint, BoxChart, CdfChart, LineBandChart, Series};
+use crate::plot::{Figure, save};
+use crate::run::{ProgressRow, RunRecord};
+use crate::stats::quantile::quantile_sorted;
+use crate::stats::wilson;
+
+/// A written plot: its title and the stem of its `.svg`/`.png` pair.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlotFile {
+    /// Scenario it belongs to.
+    pub scenario: String,
+    /// Title.
+    pub title: String,
+    /// Path without extension.
+    pub stem: PathBuf,
+}
+
+/// A file-name-safe form of a label.
+pub fn slug(s: &str) -> String {
+    let t: String = s
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    t.trim_end_matches(".toml").to_string()
+}
+
+const GRID: usize = 120;
+
+fn grid(max: f64) -> Vec<f64> {
+    let max = if max.is_finite() && max > 0.0 {
+        max
+    } else {
+        1.0
+    };
+    (0..=GRID).map(|k| max * k as f64 / GRID as f64).collect()
+}
+
+fn success_curve(
+    runs: &[&RunRecord],
+    xs: &[f64],
+    at: impl Fn(&RunRecord) -> Option<f64>,
+) -> Vec<BandPoint> {
+    let n = runs.len() as u64;
+    xs.iter()
+        .map(|&x| {
+            let s = runs
+                .iter()
+                .filter(|r| r.solved && at(r).is_some_and(|v| v <= x))
+                .count() as u64;
+            let (lo, hi) = wilson(s, n, 0.95);
+            BandPoint {
+                x,
+                y: s as f64 / n.max(1) as f64,
+                lo,
+                hi,
+            }
+        })
+        .collect()
+}
+
+fn cost_curve(
+    runs: &[&RunRecord],
+    progress: &BTreeMap<usize, Vec<&ProgressRow>>,
+    xs: &[f64],
+) -> Vec<BandPoint> {
+    xs.iter()
+        .map(|&x| {
+            let mut costs: Vec<f64> = runs
+                .iter()
+                .map(|r| {
+                    progress
+                        .get(&r.run)
+                        .and_then(|p| {
+                            p.iter()
+                                .take_while(|p| p.iteration as f64 <= x)
+                                .last()
+                                .and_then(|p| p.best_cost)
+                        })
+                        .unwrap_or(f64::INFINITY)
+                })
+                .collect();
+            costs.sort_by(f64::total_cmp);
+            if costs.is_empty() {
+                return BandPoint {
+                    x,
+                    y: f64::NAN,
+                    lo: f64::NAN,
+                    hi: f64::NAN,
+                };
+            }
+            let q = |p: f64| {
+                let v = quantile_sorted(&costs, p);
+                if v.is_nan() { f64::INFINITY } else { v }
+            };
+            let (q1, med, q3) = (q(0.25), q(0.5), q(0.75));
+            // An infinite upper quartile draws the band to the top of the chart.
+            BandPoint {
+                x,
+                y: if med.is_finite() { med } else { f64::NAN },
+                lo: if q1.is_finite() { q1 } else { f64::NAN },
+                hi: if q3.is_finite() { q3 } else { 1e300 },
+            }
+        })
+        .collect()
+}
+
+struct Writer<'a> {
+    dir: &'a Path,
+    files: Vec<PlotFile>,
+}
+
+impl Writer<'_> {
+    fn save<F: Figure>(
+        &mut self,
+        scenario: &str,
+        name: &str,
+        fig: &F,
+        title: &str,
+    ) -> Result<(), CliError> {
+        let stem = self.dir.join("plots").join(slug(scenario)).join(name);
+        save(fig, &stem)?;
+        self.files.push(PlotFile {
+            scenario: scenario.to_string(),
+            title: title.to_string(),
+            stem,
+        });
+        Ok(())
+    }
+}
+
+/// Writes every plot of the folder into `dir/plots/` and returns them in report order.
+pub fn write_all(
+    dir: &Path,
+    m: &Manifest,
+    runs: &[RunRecord],
+    progress: &[ProgressRow],
+) -> Result<Vec<PlotFile>, CliError> {
+    let mut by_run: BTreeMap<usize, Vec<&ProgressRow>> = BTreeMap::new();
+    for p in progress {
+        by_run.entry(p.run).or_default().push(p);
+    }
+    let mut w = Writer { dir, files: vec![] };
+    let all = groups(runs);
+    let mut scenarios: Vec<&str> = vec![];
+    for g in &all {
+        if !scenarios.contains(&g[0].scenario.as_str()) {
+            scenarios.push(&g[0].scenario);
+        }
+    }
+    for sc in scenarios {
+        let gs: Vec<&Vec<&RunRecord>> = all.iter().filter(|g| g[0].scenario == sc).collect();
+        let label = |g: &[&RunRecord]| {
+            let r = g[0];
+            if r.tracker.is_empty() {
+                r.planner.clone()
+            } else {
+                format!("{} + {} ({})", r.planner, r.tracker, r.preset)
+            }
+        };
+        // Planning curves: one series per planner variant (tracking repeats the same plans).
+        let mut planning: Vec<&Vec<&RunRecord>> = vec![];
+        for g in &gs {
+            if !planning.iter().any(|p| p[0].planner == g[0].planner) {
+                planning.push(g);
+            }
+        }
+        let max_it = m
+            .experiment
+            .max_iterations
+            .map(|i| i as f64)
+            .unwrap_or_else(|| runs.iter().map(|r| r.iterations as f64).fold(0.0, f64::max));
+        let xs = grid(max_it);
+        let series: Vec<Series<Vec<BandPoint>>> = planning
+            .iter()
+            .map(|g| Series {
+                label: g[0].planner.clone(),
+                data: success_curve(g, &xs, |r| r.first_solution_iteration.map(|i| i as f64)),
+            })
+            .collect();
+        let title = format!("{sc}: success rate vs iterations");
+        let fig = LineBandChart {
+            title: title.clone(),
+            x_label: "iterations".into(),
+            y_label: "runs solved (fraction)".into(),
+            series,
+            y_range: Some((0.0, 1.0)),
+            steps: true,
+            band_label: "95% Wilson interval".into(),
+            empty_note: String::new(),
+        };
+        w.save(sc, "success-vs-iterations", &fig, &title)?;
+
+        let max_t = gs
+            .iter()
+            .flat_map(|g| g.iter())
+            .map(|r| r.plan_time_s)
+            .fold(0.0, f64::max);
+        let max_t = m
+            .experiment
+            .time_limit_s
+            .map(|t| t.max(max_t))
+            .unwrap_or(max_t);
+        let ts = grid(max_t);
+        let series = planning
+            .iter()
+            .map(|g| Series {
+                label: g[0].planner.clone(),
+                data: success_curve(g, &ts, |r| r.first_solution_time_s),
+            })
+            .collect();
+        let title = format!("{sc}: success rate vs planning time");
+        let fig = LineBandChart {
+            title: title.clone(),
+            x_label: "planning time (s)".into(),
+            y_label: "runs solved (fraction)".into(),
+            series,
+            y_range: Some((0.0, 1.0)),
+            steps: true,
+            band_label: "95% Wilson interval".into(),
+            empty_note: String::new(),
+        };
+        w.save(sc, "success-vs-time", &fig, &title)?;
+
+        let series: Vec<Series<Vec<BandPoint>>> = planning
+            .iter()
+            .map(|g| Series {
+                label: g[0].planner.clone(),
+                data: cost_curve(g, &by_run, &xs),
+            })
+            .collect();
+        let finite: Vec<f64> = series
+            .iter()
+            .flat_map(|s| s.data.iter())
+            .flat_map(|p| [p.y, p.lo, p.hi])
+            .filter(|v| v.is_finite() && *v < 1e299)
+            .collect();
+        let y_range = match (
+            finite.iter().copied().reduce(f64::min),
+            finite.iter().copied().reduce(f64::max),
+        ) {
+            (Some(a), Some(b)) if b > a => Some((a - 0.05 * (b - a), b + 0.05 * (b - a))),
+            (Some(a), Some(_)) => Some((a * 0.9 - 1e-9, a * 1.1 + 1e-9)),
+            _ => Some((0.0, 1.0)),
+        };
+        let title = format!("{sc}: best cost vs iterations");
+        let fig = LineBandChart {
+            title: title.clone(),
+            x_label: "iterations".into(),
+            y_label: "best cost (objective units)".into(),
+            series,
+            y_range,
+            steps: true,
+            band_label: "interquartile range (unsolved = +∞)".into(),
+            empty_note: "no configuration solved half of its runs: no median cost yet".into(),
+        };
+        w.save(sc, "cost-vs-iterations", &fig, &title)?;
+
+        let boxes = |f: &dyn Fn(&RunRecord) -> Option<f64>,
+                     groups: &[&Vec<&RunRecord>]|
+         -> Vec<Series<Vec<f64>>> {
+            groups
+                .iter()
+                .map(|g| Series {
+                    label: label(g),
+                    data: g.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect(),
+                })
+                .collect()
+        };
+        let title = format!("{sc}: time to first solution");
+        let fig = BoxChart {
+            title: title.clone(),
+            value_label: "time to first solution (s)".into(),
+            groups: boxes(&|r| r.first_solution_time_s, &planning),
+        };
+        w.save(sc, "time-to-first-solution", &fig, &title)?;
+        let title = format!("{sc}: final cost of solved runs");
+        let fig = BoxChart {
+            title: title.clone(),
+            value_label: "cost (objective units)".into(),
+            groups: boxes(&|r| r.cost, &planning),
+        };
+        w.save(sc, "final-cost", &fig, &title)?;
+
+        let tracked: Vec<&Vec<&RunRecord>> = gs
+            .iter()
+            .copied()
+            .filter(|g| !g[0].tracker.is_empty())
+            .collect();
+        if !tracked.is_empty() {
+            let title = format!("{sc}: RMS tracking error");
+            let fig = BoxChart {
+                title: title.clone(),
+                value_label: "RMS distance to the planned path (BL)".into(),
+                groups: boxes(&|r| r.rms_error_bl, &tracked),
+            };
+            w.save(sc, "rms-error", &fig, &title)?;
+            let title = format!("{sc}: max tracking error");
+            let fig = BoxChart {
+                title: title.clone(),
+                value_label: "max distance to the planned path (BL)".into(),
+                groups: boxes(&|r| r.max_error_bl, &tracked),
+            };
+            w.save(sc, "max-error", &fig, &title)?;
+            let title = format!("{sc}: distribution of RMS tracking error");
+            let fig = CdfChart {
+                title: title.clone(),
+                x_label: "RMS distance to the planned path (BL)".into(),
+                series: tracked
+                    .iter()
+                    .map(|g| Series {
+                        label: label(g),
+                        data: g
+                            .iter()
+                            .map(|r| r.rms_error_bl.unwrap_or(f64::NAN))
+                            .collect(),
+                    })
+                    .collect(),
+            };
+            w.save(sc, "rms-error-cdf", &fig, &title)?;
+        }
+    }
+    Ok(w.files)
+}

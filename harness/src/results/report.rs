@@ -1,0 +1,192 @@
+//! `report.html`: one self-contained page (inline SVG and CSS, no scripts, no network) with
+//! the experiment, a summary table per configuration, and every plot.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::manifest::Manifest;
+use super::plots::PlotFile;
+use super::summary::{GroupSummary, summaries};
+use crate::CliError;
+use crate::run::RunRecord;
+use crate::stats::Summary;
+
+/// Escapes text for HTML.
+pub fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn med(s: &Option<Summary>, digits: usize) -> String {
+    match s {
+        Some(s) => format!(
+            "{:.*} <small>[{:.*}, {:.*}]</small>",
+            digits, s.median, digits, s.q1, digits, s.q3
+        ),
+        None => "–".into(),
+    }
+}
+
+fn table(o: &mut String, rows: &[&GroupSummary]) {
+    let tracked = rows.iter().any(|g| g.tracked());
+    o.push_str("<table><thead><tr><th>configuration</th><th>runs</th><th>success (95% CI)</th><th>crashed</th>");
+    o.push_str("<th>time to 1st solution (s)</th><th>iterations to 1st solution</th><th>final cost</th><th>planning time (s)</th>");
+    if tracked {
+        o.push_str("<th>RMS error (BL)</th><th>max error (BL)</th><th>agent contacts</th>");
+    }
+    o.push_str("</tr></thead><tbody>\n");
+    for g in rows {
+        let rate = g.succeeded as f64 / g.n.max(1) as f64;
+        let _ = write!(
+            o,
+            "<tr><td>{}</td><td>{}</td><td>{}/{} = {:.0}% <small>[{:.0}, {:.0}]</small></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+            esc(&g.config_label()),
+            g.n,
+            g.succeeded,
+            g.n,
+            100.0 * rate,
+            100.0 * g.success_ci.0,
+            100.0 * g.success_ci.1,
+            g.crashed,
+            med(&g.first_solution_time, 3),
+            med(&g.first_solution_iterations, 0),
+            med(&g.cost, 2),
+            med(&g.plan_time, 3),
+        );
+        if tracked {
+            let _ = write!(
+                o,
+                "<td>{}</td><td>{}</td><td>{}</td>",
+                med(&g.rms_error, 3),
+                med(&g.max_error, 3),
+                g.agent_contacts
+            );
+        }
+        o.push_str("</tr>\n");
+    }
+    o.push_str("</tbody></table>\n<p class=\"note\">Medians with [first quartile, third quartile]; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking).</p>\n");
+}
+
+fn inline_svg(stem: &Path) -> Result<String, CliError> {
+    let path = crate::plot::with_ext(stem, "svg");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+    let start = text.find("<svg").unwrap_or(0);
+    Ok(text[start..].to_string())
+}
+
+const STYLE: &str = "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;margin:2em auto;max-width:1200px;color:#222;padding:0 1em}\
+h1{font-size:1.6em}h2{margin-top:2em;border-bottom:1px solid #ccc}table{border-collapse:collapse;font-size:.9em;margin:1em 0}\
+th,td{border:1px solid #ccc;padding:.3em .6em;text-align:right}th{background:#f3f3f3}td:first-child,th:first-child{text-align:left}\
+small{color:#666}.note{color:#555;font-size:.85em}figure{margin:1.5em 0}svg{max-width:100%;height:auto}pre{background:#f6f6f6;padding:1em;overflow:auto}\
+dl{display:grid;grid-template-columns:max-content auto;gap:.2em 1em}dt{font-weight:bold}";
+
+/// Writes `dir/report.html`.
+pub fn write(
+    dir: &Path,
+    m: &Manifest,
+    runs: &[RunRecord],
+    plots: &[PlotFile],
+) -> Result<(), CliError> {
+    let e = &m.experiment;
+    let mut o = String::new();
+    let _ = write!(
+        o,
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>magbench: {}</title><style>{STYLE}</style></head><body>\n",
+        esc(&e.name)
+    );
+    let _ = writeln!(
+        o,
+        "<h1>magbench experiment <code>{}</code></h1>",
+        esc(&e.name)
+    );
+    if !e.description.is_empty() {
+        let _ = writeln!(o, "<p>{}</p>", esc(&e.description));
+    }
+    let failed = if m.runs_failed > 0 {
+        format!(
+            ", <strong>{} crashed</strong> (see the <code>error</code> column)",
+            m.runs_failed
+        )
+    } else {
+        String::new()
+    };
+    let wall: f64 = m.sessions.iter().filter_map(|s| s.wall_time_s).sum();
+    let _ = writeln!(
+        o,
+        "<dl><dt>runs</dt><dd>{} of {}{failed}</dd><dt>scenarios</dt><dd>{}</dd><dt>planners</dt><dd>{}</dd>{}<dt>seeds</dt><dd>{}</dd><dt>limits</dt><dd>{}</dd>\
+<dt>code</dt><dd>magbench {} at git {}</dd><dt>host</dt><dd>{} ({}, {} CPUs), {} threads</dd><dt>time</dt><dd>{} to {} ({:.1} s of sweeping)</dd><dt>experiment sha256</dt><dd><code>{}</code></dd></dl>",
+        m.runs_done,
+        e.runs_total,
+        esc(&e.scenarios.join(", ")),
+        esc(&e.planners.join(", ")),
+        if e.trackers.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "<dt>trackers</dt><dd>{}</dd><dt>presets</dt><dd>{}</dd>",
+                esc(&e.trackers.join(", ")),
+                esc(&e.presets.join(", "))
+            )
+        },
+        e.seeds.len(),
+        [
+            e.max_iterations.map(|i| format!("{i} iterations")),
+            e.time_limit_s.map(|t| format!("{t} s"))
+        ]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join(", "),
+        esc(&m.magbench_version),
+        esc(&m.git_revision),
+        esc(&m.host.name),
+        esc(&m.host.cpu_model),
+        m.host.cpus,
+        m.threads,
+        esc(&m.started),
+        esc(m.finished.as_deref().unwrap_or("–")),
+        wall,
+        esc(&e.sha256),
+    );
+    o.push_str("<p>Files: <a href=\"runs.csv\">runs.csv</a> · <a href=\"progress.csv\">progress.csv</a> · <a href=\"manifest.json\">manifest.json</a> · <a href=\"ompl.log\">ompl.log</a> (OMPL benchmark log)</p>\n");
+    let sums = summaries(runs);
+    let mut scenarios: Vec<&str> = vec![];
+    for g in &sums {
+        if !scenarios.contains(&g.scenario.as_str()) {
+            scenarios.push(&g.scenario);
+        }
+    }
+    for sc in scenarios {
+        let _ = writeln!(o, "<h2>{}</h2>", esc(sc));
+        let rows: Vec<&GroupSummary> = sums.iter().filter(|g| g.scenario == sc).collect();
+        table(&mut o, &rows);
+        for p in plots.iter().filter(|p| p.scenario == sc) {
+            let rel = p
+                .stem
+                .strip_prefix(dir)
+                .unwrap_or(&p.stem)
+                .display()
+                .to_string();
+            let _ = writeln!(
+                o,
+                "<figure>{}<figcaption>{} — <a href=\"{}.svg\">SVG</a> · <a href=\"{}.png\">PNG</a></figcaption></figure>",
+                inline_svg(&p.stem)?,
+                esc(&p.title),
+                esc(&rel),
+                esc(&rel)
+            );
+        }
+    }
+    let _ = writeln!(
+        o,
+        "<h2>Experiment file</h2><p><code>{}</code></p><pre>{}</pre>",
+        esc(&e.source),
+        esc(&e.content)
+    );
+    o.push_str("</body></html>\n");
+    let path = dir.join("report.html");
+    std::fs::write(&path, o).map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
+}

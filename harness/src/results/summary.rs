@@ -1,0 +1,127 @@
+//! Per-configuration summaries of runs: one row per (scenario, planner, tracker, preset).
+
+use crate::run::{RunRecord, Status};
+use crate::stats::{Summary, wilson};
+
+/// The summary of one configuration's runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupSummary {
+    /// Scenario.
+    pub scenario: String,
+    /// Planner variant.
+    pub planner: String,
+    /// Tracker variant (empty: planning only).
+    pub tracker: String,
+    /// Preset (empty: planning only).
+    pub preset: String,
+    /// Runs.
+    pub n: usize,
+    /// Crashed runs.
+    pub crashed: usize,
+    /// Runs with an exact plan.
+    pub solved: usize,
+    /// Runs that succeeded: solved (planning only) or reached the goal without agent contact.
+    pub succeeded: usize,
+    /// 95% Wilson interval of the success rate.
+    pub success_ci: (f64, f64),
+    /// Time to the first solution (s), solved runs.
+    pub first_solution_time: Option<Summary>,
+    /// Iterations to the first solution, solved runs.
+    pub first_solution_iterations: Option<Summary>,
+    /// Final cost, solved runs.
+    pub cost: Option<Summary>,
+    /// Planning time (s), all runs.
+    pub plan_time: Option<Summary>,
+    /// RMS tracking error (BL), tracked runs.
+    pub rms_error: Option<Summary>,
+    /// Max tracking error (BL), tracked runs.
+    pub max_error: Option<Summary>,
+    /// Runs with agent contact.
+    pub agent_contacts: usize,
+}
+
+impl GroupSummary {
+    /// `planner`, or `planner + tracker (preset)` for tracked runs.
+    pub fn config_label(&self) -> String {
+        if self.tracker.is_empty() {
+            self.planner.clone()
+        } else {
+            format!("{} + {} ({})", self.planner, self.tracker, self.preset)
+        }
+    }
+
+    /// True if the configuration tracks.
+    pub fn tracked(&self) -> bool {
+        !self.tracker.is_empty()
+    }
+}
+
+/// The key of a run's configuration.
+pub fn key(r: &RunRecord) -> (String, String, String, String) {
+    (
+        r.scenario.clone(),
+        r.planner.clone(),
+        r.tracker.clone(),
+        r.preset.clone(),
+    )
+}
+
+/// Groups runs by configuration, in run order of first appearance.
+pub fn groups(runs: &[RunRecord]) -> Vec<Vec<&RunRecord>> {
+    let mut sorted: Vec<&RunRecord> = runs.iter().collect();
+    sorted.sort_by_key(|r| r.run);
+    let mut keys: Vec<(String, String, String, String)> = vec![];
+    let mut out: Vec<Vec<&RunRecord>> = vec![];
+    for r in sorted {
+        let k = key(r);
+        match keys.iter().position(|x| *x == k) {
+            Some(i) => out[i].push(r),
+            None => {
+                keys.push(k);
+                out.push(vec![r]);
+            }
+        }
+    }
+    out
+}
+
+fn summary_of(v: impl Iterator<Item = f64>) -> Option<Summary> {
+    Summary::of(&v.collect::<Vec<_>>())
+}
+
+/// Summarises one configuration's runs (non-empty).
+pub fn summarize(g: &[&RunRecord]) -> GroupSummary {
+    let r0 = g[0];
+    let n = g.len();
+    let succeeded = g.iter().filter(|r| r.success()).count();
+    GroupSummary {
+        scenario: r0.scenario.clone(),
+        planner: r0.planner.clone(),
+        tracker: r0.tracker.clone(),
+        preset: r0.preset.clone(),
+        n,
+        crashed: g.iter().filter(|r| r.status == Status::Crash).count(),
+        solved: g.iter().filter(|r| r.solved).count(),
+        succeeded,
+        success_ci: wilson(succeeded as u64, n as u64, 0.95),
+        first_solution_time: summary_of(g.iter().filter_map(|r| r.first_solution_time_s)),
+        first_solution_iterations: summary_of(
+            g.iter()
+                .filter_map(|r| r.first_solution_iteration.map(|i| i as f64)),
+        ),
+        cost: summary_of(g.iter().filter_map(|r| r.cost)),
+        plan_time: summary_of(
+            g.iter()
+                .filter(|r| r.status != Status::Crash)
+                .map(|r| r.plan_time_s),
+        ),
+        rms_error: summary_of(g.iter().filter_map(|r| r.rms_error_bl)),
+        max_error: summary_of(g.iter().filter_map(|r| r.max_error_bl)),
+        agent_contacts: g.iter().filter(|r| r.agent_contact == Some(true)).count(),
+    }
+}
+
+/// Summaries of every configuration.
+pub fn summaries(runs: &[RunRecord]) -> Vec<GroupSummary> {
+    groups(runs).iter().map(|g| summarize(g)).collect()
+}

@@ -1,0 +1,139 @@
+//! The executor seam: checks components by name and runs one [`RunSpec`].
+
+use std::cell::RefCell;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Once;
+
+use super::{ProgressRow, RunRecord, RunSpec, Status, Variant};
+
+/// What one run produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutput {
+    /// The result row.
+    pub record: RunRecord,
+    /// The planner's progress trace.
+    pub progress: Vec<ProgressRow>,
+}
+
+/// Runs single runs. Implementations must make the output depend only on the spec (apart from
+/// wall-clock columns), so that runs can execute in any order on any number of threads.
+pub trait Executor: Sync {
+    /// A short name for manifests (`real`, `fake`).
+    fn name(&self) -> &str;
+    /// Checks that a planner exists and accepts these parameters.
+    fn check_planner(&self, v: &Variant) -> Result<(), String>;
+    /// Checks that a tracker exists and accepts these parameters.
+    fn check_tracker(&self, v: &Variant) -> Result<(), String>;
+    /// Checks a disturbance preset name.
+    fn check_preset(&self, name: &str) -> Result<(), String> {
+        use magbench_env::plant::DisturbancePreset;
+        match DisturbancePreset::by_name(name) {
+            Some(_) => Ok(()),
+            None => Err(format!(
+                "unknown preset {name:?} (known: {})",
+                DisturbancePreset::NAMES.join(", ")
+            )),
+        }
+    }
+    /// Executes one run. An `Err` becomes a `crash` row.
+    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String>;
+}
+
+/// The row of `spec` with its input columns filled and no result yet.
+pub fn base_record(spec: &RunSpec) -> RunRecord {
+    let mut r = RunRecord::example();
+    r.run = spec.index;
+    r.run_id = spec.id();
+    r.experiment = spec.experiment.clone();
+    r.scenario = spec.scenario_label.clone();
+    r.agents = spec.scenario.agents();
+    r.planner = spec.planner.label();
+    r.planner_name = spec.planner.name.clone();
+    r.planner_params = spec.planner.params_text();
+    r.tracker = spec.tracker.as_ref().map(|t| t.label()).unwrap_or_default();
+    r.preset = spec.preset.clone().unwrap_or_default();
+    r.seed = spec.seed;
+    r.max_iterations = spec.limits.iterations;
+    r.time_limit_s = spec.limits.time_s;
+    r
+}
+
+thread_local! {
+    /// Inside [`execute_caught`] on this thread: the message of the latest panic.
+    static CAUGHT: RefCell<Option<Option<String>>> = const { RefCell::new(None) };
+}
+
+static HOOK: Once = Once::new();
+
+/// Installs (once) a panic hook that stays quiet for panics inside [`execute_caught`], whose
+/// message and location go into the run's `error` column instead, and defers to the previous
+/// hook for every other panic.
+fn install_hook() {
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            let caught = CAUGHT.with(|c| {
+                let mut c = c.borrow_mut();
+                if let Some(slot) = c.as_mut() {
+                    let msg = info
+                        .payload()
+                        .downcast_ref::<String>()
+                        .cloned()
+                        .or_else(|| info.payload().downcast_ref::<&str>().map(|s| s.to_string()))
+                        .unwrap_or_else(|| "unknown panic".into());
+                    let at = info
+                        .location()
+                        .map(|l| format!(" at {}:{}", l.file(), l.line()))
+                        .unwrap_or_default();
+                    *slot = Some(format!("panic: {msg}{at}"));
+                    true
+                } else {
+                    false
+                }
+            });
+            if !caught {
+                previous(info);
+            }
+        }));
+    });
+}
+
+/// Executes `spec`, turning an error or a panic into a `crash` row so that one bad run never
+/// ends a sweep.
+pub fn execute_caught(ex: &dyn Executor, spec: &RunSpec) -> RunOutput {
+    install_hook();
+    CAUGHT.with(|c| *c.borrow_mut() = Some(None));
+    let out = catch_unwind(AssertUnwindSafe(|| ex.execute(spec)));
+    let hooked = CAUGHT.with(|c| c.borrow_mut().take()).flatten();
+    let error = match out {
+        Ok(Ok(mut o)) => {
+            o.record.error = one_line(&o.record.error);
+            return o;
+        }
+        Ok(Err(e)) => e,
+        Err(panic) => hooked.unwrap_or_else(|| {
+            let msg = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
+            format!("panic: {msg}")
+        }),
+    };
+    let mut r = base_record(spec);
+    r.status = Status::Crash;
+    r.error = one_line(&error);
+    RunOutput {
+        record: r,
+        progress: vec![],
+    }
+}
+
+/// `s` on one line (newlines become ` / `), so that every CSV record is one line.
+pub fn one_line(s: &str) -> String {
+    s.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" / ")
+}

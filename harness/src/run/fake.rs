@@ -1,0 +1,179 @@
+//! A fake executor: synthetic, deterministic results without planners or trackers, for
+//! testing the sweep machinery (resume, shards, merge, plots, regression checks) quickly.
+//!
+//! Planner `fake{p=0.7, cost=10, spin=0, sleep_ms=0, panic=false}`: solves with probability
+//! `p`; the first solution arrives at a random iteration and its cost falls towards `cost`.
+//! `spin` burns that many rounds of CPU work (for speed-up measurements), `sleep_ms` sleeps.
+//! Tracker `fake{gain=1}`: RMS error ≈ 0.1/gain BL, reaching the goal while the error is small.
+//! Everything is drawn from a ChaCha8 stream seeded by a hash of the run id. The environment
+//! variable `MAGBENCH_FAKE_TRACKER_GAIN_SCALE` scales every fake tracker's gain, to inject a
+//! "code change" without changing the configuration's label (regression-check tests).
+
+use std::time::{Duration, Instant};
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use sha2::{Digest, Sha256};
+
+use super::executor::base_record;
+use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
+
+/// The fake executor.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FakeExecutor;
+
+/// A 64-bit seed from a string (the first 8 bytes of its SHA-256).
+pub fn seed_of(s: &str) -> u64 {
+    let d = Sha256::digest(s.as_bytes());
+    u64::from_le_bytes(d[..8].try_into().expect("8 bytes"))
+}
+
+fn num(v: &Variant, k: &str, default: f64) -> f64 {
+    v.params.get(k).and_then(|p| p.as_f64()).unwrap_or(default)
+}
+
+fn check(v: &Variant, what: &str, known: &[&str]) -> Result<(), String> {
+    if v.name != "fake" {
+        return Err(format!(
+            "unknown {what} {:?} (the fake executor knows only \"fake\")",
+            v.name
+        ));
+    }
+    for (k, p) in &v.params {
+        if !known.contains(&k.as_str()) {
+            return Err(format!(
+                "{}: unknown parameter {k:?} (known: {})",
+                v.label(),
+                known.join(", ")
+            ));
+        }
+        if k != "panic" && p.as_f64().is_none() {
+            return Err(format!("{}: {k} must be a number", v.label()));
+        }
+    }
+    Ok(())
+}
+
+/// Burns `rounds` rounds of deterministic CPU work.
+fn spin(rounds: u64) -> u64 {
+    let mut h = Sha256::new();
+    let mut acc = 0u64;
+    for i in 0..rounds {
+        h.update(i.to_le_bytes());
+        if i % 64 == 63 {
+            acc ^= u64::from_le_bytes(h.finalize_reset()[..8].try_into().expect("8 bytes"));
+        }
+    }
+    acc
+}
+
+impl Executor for FakeExecutor {
+    fn name(&self) -> &str {
+        "fake"
+    }
+
+    fn check_planner(&self, v: &Variant) -> Result<(), String> {
+        check(v, "planner", &["p", "cost", "spin", "sleep_ms", "panic"])
+    }
+
+    fn check_tracker(&self, v: &Variant) -> Result<(), String> {
+        check(v, "tracker", &["gain"])
+    }
+
+    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {
+        let t0 = Instant::now();
+        let pv = &spec.planner;
+        if matches!(pv.params.get("panic"), Some(super::ParamValue::Bool(true))) {
+            panic!("fake planner asked to panic");
+        }
+        std::hint::black_box(spin(num(pv, "spin", 0.0) as u64));
+        let sleep = num(pv, "sleep_ms", 0.0);
+        if sleep > 0.0 {
+            std::thread::sleep(Duration::from_secs_f64(sleep / 1000.0));
+        }
+        // The planner's stream depends on everything but the tracker and preset, like a real
+        // planner seeded by the run's seed.
+        let planner_key = format!("{}|{}|{}", spec.scenario_label, pv.label(), spec.seed);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed_of(&planner_key));
+        let budget = spec.limits.iterations.unwrap_or(1000).max(10);
+        let mut r = base_record(spec);
+        let solved = rng.random::<f64>() < num(pv, "p", 0.7);
+        let first = (budget as f64 * (0.05 + 0.8 * rng.random::<f64>())) as u64;
+        let base_cost = num(pv, "cost", 10.0) * (1.0 + 0.3 * rng.random::<f64>());
+        let secs_per_iter = 2e-5;
+        let mut progress = vec![];
+        let mut best = None;
+        let step = (budget / 50).max(1);
+        let mut it = 0;
+        while it <= budget {
+            if solved && it >= first {
+                let c = base_cost * (1.0 + (first as f64 / (it as f64 + 1.0)).min(1.0));
+                best = Some(best.map_or(c, |b: f64| b.min(c)));
+            }
+            progress.push(ProgressRow {
+                run: spec.index,
+                run_id: r.run_id.clone(),
+                iteration: it,
+                time_s: it as f64 * secs_per_iter,
+                best_cost: best,
+            });
+            it += step;
+        }
+        r.iterations = budget;
+        r.nodes = budget / 3;
+        r.solved = solved;
+        r.approximate = !solved;
+        r.status = if solved {
+            Status::Exact
+        } else {
+            Status::Approximate
+        };
+        r.cost = if solved { best } else { None };
+        r.goal_distance = if solved {
+            0.2 * rng.random::<f64>()
+        } else {
+            1.0 + 5.0 * rng.random::<f64>()
+        };
+        r.first_solution_iteration = solved.then_some(first);
+        r.first_solution_time_s = solved.then_some(first as f64 * secs_per_iter);
+        r.plan_edges = 5 + (rng.random::<f64>() * 20.0) as u64;
+        r.plan_duration_s = 10.0 + 30.0 * rng.random::<f64>();
+        if let Some(tv) = &spec.tracker {
+            let mut trng = ChaCha8Rng::seed_from_u64(seed_of(&spec.id()));
+            let scale = std::env::var("MAGBENCH_FAKE_TRACKER_GAIN_SCALE")
+                .ok()
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(1.0);
+            let gain = (num(tv, "gain", 1.0) * scale).max(1e-6);
+            let noise = if spec.preset.as_deref() == Some("realistic") {
+                1.5
+            } else {
+                1.0
+            };
+            let rms = 0.1 / gain * noise * (0.7 + 0.6 * trng.random::<f64>());
+            r.rms_error_bl = Some(rms);
+            r.max_error_bl = Some(rms * (2.0 + trng.random::<f64>()));
+            let reached = solved && rms < 0.3 && trng.random::<f64>() < 0.97;
+            r.reached_goal = Some(reached);
+            r.track_status = if reached { "reached-goal" } else { "timeout" }.into();
+            r.time_to_goal_s =
+                reached.then(|| r.plan_duration_s * (1.0 + 0.1 * trng.random::<f64>()));
+            r.final_distance_bl = Some(if reached {
+                0.3 * trng.random::<f64>()
+            } else {
+                1.0 + trng.random::<f64>()
+            });
+            r.agent_contact = Some(false);
+            r.wall_contacts = Some((trng.random::<f64>() * 3.0) as u64);
+            r.missed_frames = Some((trng.random::<f64>() * 10.0) as u64);
+            r.replans = Some(0);
+            r.track_duration_s = Some(r.plan_duration_s * 1.1);
+            r.track_time_s = Some(0.0);
+        }
+        r.plan_time_s = t0.elapsed().as_secs_f64();
+        Ok(RunOutput {
+            record: r,
+            progress,
+        })
+    }
+}

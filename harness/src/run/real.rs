@@ -1,0 +1,246 @@
+//! The real executor: planners from `magbench-planners` (by registry name), the physics from
+//! `magbench-env`.
+//!
+//! Two parameter keys of a planner variant set the problem rather than the planner:
+//! `objective` (`path-length`, `duration`, `control-effort`) and `metric` (`positions`,
+//! `centroid-shape:W_C:W_S`). A scenario with several legs is planned leg by leg, each leg
+//! from the end of the previous leg's plan with the full limits; the run is solved when every
+//! leg is, and its iterations, nodes, times, costs and progress add up over the legs.
+//!
+//! With a tracker, the run plans the first leg (the planner columns describe that plan), then
+//! tracks it in closed loop against env's simulated plant under the run's disturbance preset
+//! (`magbench_trackers::simulate`, seeded by the run's seed); the tracking loop replans each
+//! later leg from the observed state, and on a persistent tracking error, with the same planner.
+
+use std::time::Duration;
+
+use std::time::Instant;
+
+use magbench_env::plant::DisturbancePreset;
+use magbench_planners::registry;
+use magbench_planners::{Limits, Plan, PlannerResult, Problem};
+use magbench_trackers::{Mission, TrackerSpec, simulate};
+
+use super::executor::base_record;
+use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
+
+/// Runs real planners (and, once available, trackers) by registry name.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RealExecutor;
+
+/// Keys of a planner variant that configure the problem, not the planner.
+pub const PROBLEM_KEYS: [&str; 2] = ["objective", "metric"];
+
+fn planner_params(v: &Variant) -> Vec<(String, String)> {
+    v.params_as_strings()
+        .into_iter()
+        .filter(|(k, _)| !PROBLEM_KEYS.contains(&k.as_str()))
+        .collect()
+}
+
+fn configure(problem: &mut Problem, v: &Variant, source: &str) -> Result<(), String> {
+    if let Some(o) = v.params.get("objective") {
+        registry::set_objective(source, problem, &o.to_string()).map_err(|e| e.reason)?;
+    }
+    if let Some(m) = v.params.get("metric") {
+        registry::set_metric(source, problem, &m.to_string()).map_err(|e| e.reason)?;
+    }
+    Ok(())
+}
+
+/// The problem of leg `leg` of the run, from `start`.
+pub fn problem(
+    spec: &RunSpec,
+    leg: usize,
+    start: &[magbench_env::Vec2],
+) -> Result<Problem, String> {
+    let seed = spec.seed.wrapping_add(leg as u64 * 1_000_003);
+    let mut p = Problem::from_scenario(&spec.scenario, leg, Some(start), seed);
+    p.limits = Limits {
+        max_iterations: spec.limits.iterations,
+        time_limit: spec.limits.time_s.map(Duration::from_secs_f64),
+    };
+    configure(&mut p, &spec.planner, &spec.experiment)?;
+    Ok(p)
+}
+
+/// Plans the first `legs` legs of the run's scenario in turn (stopping at an unsolved leg);
+/// returns each leg's result.
+pub fn plan_legs(spec: &RunSpec, legs: usize) -> Result<Vec<PlannerResult>, String> {
+    let params = planner_params(&spec.planner);
+    let mut start = spec.scenario.start.clone();
+    let mut out = vec![];
+    for leg in 0..legs.min(spec.scenario.legs.len()) {
+        let mut planner = registry::create_in(&spec.experiment, &spec.planner.name, &params)
+            .map_err(|e| e.reason)?;
+        let p = problem(spec, leg, &start)?;
+        let r = planner.solve(&p);
+        let solved = r.solved;
+        start = r.plan.end().to_vec();
+        out.push(r);
+        if !solved {
+            break;
+        }
+    }
+    Ok(out)
+}
+
+/// The plan of all legs joined end to end.
+pub fn joined_plan(legs: &[PlannerResult]) -> Plan {
+    let mut plan = Plan::at(legs[0].plan.start());
+    for r in legs {
+        for i in 0..r.plan.edges() {
+            plan.push(
+                r.plan.controls[i],
+                r.plan.durations[i],
+                r.plan.states[i + 1].clone(),
+            );
+        }
+    }
+    plan
+}
+
+/// Fills the planner columns of `rec` and returns the joined progress trace.
+fn fill_planning(
+    legs: &[PlannerResult],
+    all_legs: usize,
+    spec: &RunSpec,
+    rec: &mut super::RunRecord,
+) -> Vec<ProgressRow> {
+    let solved = legs.len() == all_legs && legs.iter().all(|r| r.solved);
+    let last = legs.last().expect("at least one leg");
+    rec.solved = solved;
+    rec.approximate = !solved && last.plan.edges() > 0;
+    rec.status = if solved {
+        Status::Exact
+    } else if rec.approximate {
+        Status::Approximate
+    } else {
+        Status::Timeout
+    };
+    rec.iterations = legs.iter().map(|r| r.iterations).sum();
+    rec.nodes = legs.iter().map(|r| r.nodes as u64).sum();
+    rec.plan_time_s = legs.iter().map(|r| r.time_s).sum();
+    rec.cost = if solved {
+        legs.iter().map(|r| r.cost).sum::<Option<f64>>()
+    } else {
+        None
+    };
+    rec.goal_distance = last.goal_distance;
+    rec.plan_edges = legs.iter().map(|r| r.plan.edges() as u64).sum();
+    rec.plan_duration_s = legs.iter().map(|r| r.plan.duration()).sum();
+    // Progress and the first solution of the whole run: offsets of the earlier legs, and the
+    // earlier legs' costs added once the last leg is solved.
+    let (mut it0, mut t0, mut c0) = (0u64, 0.0, 0.0);
+    let mut progress = vec![];
+    for (i, r) in legs.iter().enumerate() {
+        let final_leg = i + 1 == all_legs;
+        for p in &r.progress {
+            progress.push(ProgressRow {
+                run: spec.index,
+                run_id: rec.run_id.clone(),
+                iteration: it0 + p.iteration,
+                time_s: t0 + p.time_s,
+                best_cost: if final_leg {
+                    p.best_cost.map(|c| c0 + c)
+                } else {
+                    None
+                },
+            });
+        }
+        if let Some((it, t)) = r.first_solution.filter(|_| final_leg) {
+            rec.first_solution_iteration = Some(it0 + it);
+            rec.first_solution_time_s = Some(t0 + t);
+        }
+        it0 += r.iterations;
+        t0 += r.time_s;
+        c0 += r.cost.unwrap_or(0.0);
+    }
+    if !solved {
+        rec.first_solution_iteration = None;
+        rec.first_solution_time_s = None;
+    }
+    progress
+}
+
+impl Executor for RealExecutor {
+    fn name(&self) -> &str {
+        "real"
+    }
+
+    fn check_planner(&self, v: &Variant) -> Result<(), String> {
+        registry::create_in("", &v.name, &planner_params(v)).map_err(|e| e.reason)?;
+        let sc = magbench_env::Scenario::load("open-field").map_err(|e| e.to_string())?;
+        let mut p = Problem::from_scenario(&sc, 0, None, 0);
+        configure(&mut p, v, "")
+    }
+
+    fn check_tracker(&self, v: &Variant) -> Result<(), String> {
+        TrackerSpec::parse(&v.name, &v.params_as_strings(), "")
+            .map(|_| ())
+            .map_err(|e| e.reason)
+    }
+
+    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {
+        let mut rec = base_record(spec);
+        let Some(tv) = &spec.tracker else {
+            let n = spec.scenario.legs.len();
+            let legs = plan_legs(spec, n)?;
+            let progress = fill_planning(&legs, n, spec, &mut rec);
+            return Ok(RunOutput {
+                record: rec,
+                progress,
+            });
+        };
+        let legs = plan_legs(spec, 1)?;
+        let progress = fill_planning(&legs, 1, spec, &mut rec);
+        let first = legs.into_iter().next().expect("one leg planned");
+        let tspec = TrackerSpec::parse(&tv.name, &tv.params_as_strings(), &spec.experiment)
+            .map_err(|e| e.reason)?;
+        let preset_name = spec.preset.as_deref().unwrap_or("ideal");
+        let preset = DisturbancePreset::by_name(preset_name)
+            .ok_or_else(|| format!("unknown preset {preset_name:?}"))?;
+        let mut planner = registry::create_in(
+            &spec.experiment,
+            &spec.planner.name,
+            &planner_params(&spec.planner),
+        )
+        .map_err(|e| e.reason)?;
+        let limits = problem(spec, 0, &spec.scenario.start)?.limits;
+        let mission = Mission {
+            scenario: &spec.scenario,
+            plan: Some(first.plan),
+            plan_time_s: first.time_s,
+            plan_solved: first.solved,
+            planner: Some(planner.as_mut()),
+            limits: Some(limits),
+            seed: spec.seed,
+        };
+        let mut tracker = tspec.build();
+        let opts = tspec.loop_options();
+        let t0 = Instant::now();
+        let out = simulate(mission, tracker.as_mut(), &preset, &opts);
+        let m = &out.metrics;
+        rec.track_status = m.status.as_str().to_string();
+        rec.reached_goal = Some(m.reached_goal);
+        rec.time_to_goal_s = m.time_to_goal_s;
+        rec.rms_error_bl = Some(m.rms_error_bl);
+        rec.max_error_bl = Some(m.max_error_bl);
+        rec.rms_error_worst_agent_bl = Some(m.rms_error_worst_agent_bl);
+        rec.legs_completed = Some(m.legs_completed as u64);
+        rec.final_distance_bl = Some(m.final_goal_distance_bl);
+        rec.agent_contact = Some(m.agent_contact);
+        rec.wall_contacts = Some(m.wall_contacts as u64);
+        rec.missed_frames = Some(m.missed_frames as u64);
+        rec.replans = Some(m.replans as u64);
+        rec.track_duration_s = Some(m.duration_s);
+        rec.track_time_s = Some(t0.elapsed().as_secs_f64());
+        if let Some(msg) = &out.message {
+            rec.error = msg.clone();
+        }
+        Ok(RunOutput {
+            record: rec,
+            progress,
+        })
+    }
+}

@@ -1,0 +1,258 @@
+//! The tidy result row of one run and its progress trace.
+
+use serde::{Deserialize, Serialize};
+
+/// How a run ended, named after OMPL's `PlannerStatus`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// The planner found a plan that ends in the goal region.
+    Exact,
+    /// The planner stopped with a plan that ends near the goal.
+    Approximate,
+    /// The planner stopped without a plan.
+    Timeout,
+    /// The run panicked or returned an error (see the `error` column).
+    Crash,
+    /// The problem was rejected (an invalid start or goal).
+    InvalidStart,
+}
+
+impl Status {
+    /// The value of OMPL's `ompl::base::PlannerStatus::StatusType` enum.
+    pub fn ompl_code(self) -> u32 {
+        match self {
+            Status::InvalidStart => 1,
+            Status::Timeout => 4,
+            Status::Approximate => 5,
+            Status::Exact => 6,
+            Status::Crash => 7,
+        }
+    }
+
+    /// The CSV spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Status::Exact => "exact",
+            Status::Approximate => "approximate",
+            Status::Timeout => "timeout",
+            Status::Crash => "crash",
+            Status::InvalidStart => "invalid-start",
+        }
+    }
+}
+
+/// One row of `runs.csv`: every input column, every planner metric and every tracker metric.
+/// Tracker columns are empty for runs without a tracker; optional metrics are empty when they
+/// do not exist (e.g. `cost` of an unsolved run).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// Position in the experiment's run matrix.
+    pub run: usize,
+    /// `scenario|planner|tracker|preset|seed`.
+    pub run_id: String,
+    /// Experiment name.
+    pub experiment: String,
+    /// Scenario (built-in name or path, as in the experiment file).
+    pub scenario: String,
+    /// Number of agents.
+    pub agents: usize,
+    /// Planner variant label, e.g. `goal-zoom-rrt{k=5}`.
+    pub planner: String,
+    /// Planner registry name.
+    pub planner_name: String,
+    /// Planner parameter overrides, `a=1,b=2`.
+    pub planner_params: String,
+    /// Tracker variant label (empty: planning only).
+    pub tracker: String,
+    /// Disturbance preset (empty: planning only).
+    pub preset: String,
+    /// Seed.
+    pub seed: u64,
+    /// Iteration limit.
+    pub max_iterations: Option<u64>,
+    /// Planning time limit (s).
+    pub time_limit_s: Option<f64>,
+
+    /// How the planner ended.
+    pub status: Status,
+    /// Exact solution found.
+    pub solved: bool,
+    /// Approximate solution only.
+    pub approximate: bool,
+    /// Iterations run.
+    pub iterations: u64,
+    /// Nodes in the tree at the end.
+    pub nodes: u64,
+    /// Planning wall time (s).
+    pub plan_time_s: f64,
+    /// Cost of the plan (solved runs).
+    pub cost: Option<f64>,
+    /// Largest distance of an agent from its goal centre at the plan's end (BL).
+    pub goal_distance: f64,
+    /// Iteration of the first exact solution.
+    pub first_solution_iteration: Option<u64>,
+    /// Time of the first exact solution (s).
+    pub first_solution_time_s: Option<f64>,
+    /// Edges in the plan.
+    pub plan_edges: u64,
+    /// Duration of the plan (s of motion).
+    pub plan_duration_s: f64,
+
+    /// How tracking ended (`reached-goal`, `timeout`, `agent-contact`, ...; empty: no tracking).
+    pub track_status: String,
+    /// The tracked run reached the goal.
+    pub reached_goal: Option<bool>,
+    /// Simulated time to reach the goal (s).
+    pub time_to_goal_s: Option<f64>,
+    /// RMS distance to the reference path, over agents and ticks (BL).
+    pub rms_error_bl: Option<f64>,
+    /// Largest distance to the reference path (BL).
+    pub max_error_bl: Option<f64>,
+    /// RMS tracking error of the worst agent (BL).
+    pub rms_error_worst_agent_bl: Option<f64>,
+    /// Legs completed while tracking.
+    pub legs_completed: Option<u64>,
+    /// Largest agent distance from its goal centre at the end of tracking (BL).
+    pub final_distance_bl: Option<f64>,
+    /// Agents touched (they stick: a failure).
+    pub agent_contact: Option<bool>,
+    /// Wall contact events.
+    pub wall_contacts: Option<u64>,
+    /// Missed camera frames.
+    pub missed_frames: Option<u64>,
+    /// Replans during tracking.
+    pub replans: Option<u64>,
+    /// Simulated duration of tracking (s).
+    pub track_duration_s: Option<f64>,
+    /// Tracking wall time (s).
+    pub track_time_s: Option<f64>,
+
+    /// Error message of a crashed run.
+    pub error: String,
+}
+
+impl RunRecord {
+    /// Columns that hold wall-clock times: they differ between two executions of the same run.
+    pub const TIMING_COLUMNS: [&'static str; 4] = [
+        "plan_time_s",
+        "first_solution_time_s",
+        "track_time_s",
+        "time_limit_s",
+    ];
+
+    /// The CSV header.
+    pub fn header() -> Vec<String> {
+        let mut w = csv::WriterBuilder::new()
+            .has_headers(true)
+            .from_writer(vec![]);
+        w.serialize(RunRecord::example()).expect("serialize");
+        let text = String::from_utf8(w.into_inner().expect("flush")).expect("utf8");
+        text.lines()
+            .next()
+            .unwrap_or_default()
+            .split(',')
+            .map(str::to_string)
+            .collect()
+    }
+
+    /// True if the run reached its goal: tracked to the goal, or (planning only) solved.
+    pub fn success(&self) -> bool {
+        match self.reached_goal {
+            Some(r) => r && self.agent_contact != Some(true),
+            None => self.solved,
+        }
+    }
+
+    /// A placeholder record (for headers and tests).
+    pub fn example() -> RunRecord {
+        RunRecord {
+            run: 0,
+            run_id: String::new(),
+            experiment: String::new(),
+            scenario: String::new(),
+            agents: 0,
+            planner: String::new(),
+            planner_name: String::new(),
+            planner_params: String::new(),
+            tracker: String::new(),
+            preset: String::new(),
+            seed: 0,
+            max_iterations: None,
+            time_limit_s: None,
+            status: Status::Timeout,
+            solved: false,
+            approximate: false,
+            iterations: 0,
+            nodes: 0,
+            plan_time_s: 0.0,
+            cost: None,
+            goal_distance: 0.0,
+            first_solution_iteration: None,
+            first_solution_time_s: None,
+            plan_edges: 0,
+            plan_duration_s: 0.0,
+            track_status: String::new(),
+            reached_goal: None,
+            time_to_goal_s: None,
+            rms_error_bl: None,
+            max_error_bl: None,
+            rms_error_worst_agent_bl: None,
+            legs_completed: None,
+            final_distance_bl: None,
+            agent_contact: None,
+            wall_contacts: None,
+            missed_frames: None,
+            replans: None,
+            track_duration_s: None,
+            track_time_s: None,
+            error: String::new(),
+        }
+    }
+}
+
+/// One row of `progress.csv`: a point of a run's progress trace.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProgressRow {
+    /// Position of the run in the run matrix.
+    pub run: usize,
+    /// The run's id.
+    pub run_id: String,
+    /// Iterations done.
+    pub iteration: u64,
+    /// Seconds since the start of planning.
+    pub time_s: f64,
+    /// Best exact-solution cost so far (empty before the first solution).
+    pub best_cost: Option<f64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn header_lists_inputs_then_metrics() {
+        let h = RunRecord::header();
+        assert_eq!(h[0], "run");
+        assert!(h.contains(&"planner".to_string()) && h.contains(&"rms_error_bl".to_string()));
+        for c in RunRecord::TIMING_COLUMNS {
+            assert!(h.contains(&c.to_string()), "{c}");
+        }
+        assert_eq!(h.last().unwrap(), "error");
+    }
+
+    #[test]
+    fn round_trips_through_csv() {
+        let mut r = RunRecord::example();
+        r.run_id = "micro-factory|goal-zoom-rrt{k=5,x=\"a, b\"}|-|-|3".into();
+        r.cost = Some(12.5);
+        r.status = Status::Exact;
+        r.error = "line one\nline two".into();
+        let mut w = csv::Writer::from_writer(vec![]);
+        w.serialize(&r).unwrap();
+        let data = w.into_inner().unwrap();
+        let mut rd = csv::Reader::from_reader(&data[..]);
+        let back: RunRecord = rd.deserialize().next().unwrap().unwrap();
+        assert_eq!(back, r);
+    }
+}

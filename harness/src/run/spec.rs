@@ -1,0 +1,66 @@
+//! What one run is: every input that determines its result.
+
+use std::sync::Arc;
+
+use magbench_env::Scenario;
+
+use super::Variant;
+
+/// When a planner stops. Iteration limits give reproducible runs; a time limit does not.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunLimits {
+    /// Largest number of planner iterations.
+    pub iterations: Option<u64>,
+    /// Largest planning wall time (s).
+    pub time_s: Option<f64>,
+}
+
+/// One run of the run matrix.
+#[derive(Debug, Clone)]
+pub struct RunSpec {
+    /// Position in the full run matrix of the experiment (stable for a given experiment file).
+    pub index: usize,
+    /// The experiment's name.
+    pub experiment: String,
+    /// The scenario as written in the experiment (a built-in name or a path).
+    pub scenario_label: String,
+    /// The loaded scenario.
+    pub scenario: Arc<Scenario>,
+    /// The planner and its parameters.
+    pub planner: Variant,
+    /// The tracker and its parameters, if the run tracks the plan.
+    pub tracker: Option<Variant>,
+    /// The plant's disturbance preset (with a tracker).
+    pub preset: Option<String>,
+    /// The seed of every random stream of the run (planner, plant, camera).
+    pub seed: u64,
+    /// Planner limits.
+    pub limits: RunLimits,
+}
+
+impl RunSpec {
+    /// The run's identity: `scenario|planner|tracker|preset|seed` (`-` for none). Two runs with
+    /// the same id have the same inputs.
+    pub fn id(&self) -> String {
+        let t = self
+            .tracker
+            .as_ref()
+            .map(|t| t.label())
+            .unwrap_or_else(|| "-".into());
+        let p = self.preset.clone().unwrap_or_else(|| "-".into());
+        format!(
+            "{}|{}|{}|{}|{}",
+            self.scenario_label,
+            self.planner.label(),
+            t,
+            p,
+            self.seed
+        )
+    }
+
+    /// The comparison group of the run: everything but the seed.
+    pub fn group(&self) -> String {
+        let id = self.id();
+        id[..id.rfind('|').unwrap_or(id.len())].to_string()
+    }
+}

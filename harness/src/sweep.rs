@@ -1,0 +1,275 @@
+//! Sweeps: the runs of an experiment (or of one shard of it) as independent jobs on a rayon
+//! pool, each row written as soon as its run finishes.
+
+use std::collections::BTreeSet;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use magbench_env::InputError;
+use rayon::prelude::*;
+
+use crate::CliError;
+use crate::experiment::Experiment;
+use crate::results::manifest::{Manifest, Session, host, now};
+use crate::results::store::{RunWriter, repair};
+use crate::results::{self, MANIFEST};
+use crate::run::{Executor, RunOutput, RunSpec, Status, execute_caught};
+
+/// How to display progress.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProgressMode {
+    /// A progress bar if stdout is a terminal, else one plain line per run.
+    Auto,
+    /// One plain line per run.
+    Lines,
+    /// Nothing.
+    Quiet,
+}
+
+/// Options of a sweep.
+#[derive(Debug, Clone)]
+pub struct SweepOptions {
+    /// Results folder.
+    pub out: PathBuf,
+    /// Worker threads.
+    pub threads: usize,
+    /// `(i, n)`: run only the runs whose index is `i − 1` modulo `n` (1 ≤ i ≤ n).
+    pub shard: Option<(usize, usize)>,
+    /// Complete an interrupted sweep in `out` instead of refusing to touch it.
+    pub resume: bool,
+    /// Progress display.
+    pub progress: ProgressMode,
+}
+
+/// What a sweep did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SweepSummary {
+    /// Runs in this sweep's slice of the matrix.
+    pub total: usize,
+    /// Runs found finished in `out` and skipped.
+    pub skipped: usize,
+    /// Runs executed now.
+    pub executed: usize,
+    /// Executed runs that crashed.
+    pub failed: usize,
+}
+
+/// The runs of shard `i` of `n` (1-based): those whose matrix index is `i − 1` modulo `n`.
+pub fn shard(runs: Vec<RunSpec>, shard: Option<(usize, usize)>) -> Vec<RunSpec> {
+    match shard {
+        Some((i, n)) => runs.into_iter().filter(|r| r.index % n == i - 1).collect(),
+        None => runs,
+    }
+}
+
+/// Parses `I/N` with 1 ≤ I ≤ N.
+pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (i, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("{s:?}: expected I/N, e.g. 1/4"))?;
+    let (i, n): (usize, usize) = (
+        i.trim()
+            .parse()
+            .map_err(|_| format!("{s:?}: I is not a number"))?,
+        n.trim()
+            .parse()
+            .map_err(|_| format!("{s:?}: N is not a number"))?,
+    );
+    if n == 0 || i == 0 || i > n {
+        return Err(format!("{s:?}: need 1 ≤ I ≤ N"));
+    }
+    Ok((i, n))
+}
+
+enum Reporter {
+    Bar(ProgressBar),
+    Lines { done: AtomicUsize, total: usize },
+    Quiet,
+}
+
+impl Reporter {
+    fn new(mode: ProgressMode, total: usize, done: usize) -> Reporter {
+        let tty = std::io::stdout().is_terminal();
+        match mode {
+            ProgressMode::Auto if tty => {
+                let bar =
+                    ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stdout());
+                bar.set_style(
+                    ProgressStyle::with_template(
+                        "{elapsed_precise} [{bar:40.cyan/blue}] {pos}/{len} runs, ETA {eta} {msg}",
+                    )
+                    .expect("template")
+                    .progress_chars("=> "),
+                );
+                bar.set_position(done as u64);
+                bar.set_message("0 failed");
+                Reporter::Bar(bar)
+            }
+            ProgressMode::Auto | ProgressMode::Lines => Reporter::Lines {
+                done: AtomicUsize::new(done),
+                total,
+            },
+            ProgressMode::Quiet => Reporter::Quiet,
+        }
+    }
+
+    fn finished(&self, out: &RunOutput, failed: usize) {
+        match self {
+            Reporter::Bar(b) => {
+                b.inc(1);
+                b.set_message(format!("{failed} failed"));
+            }
+            Reporter::Lines { done, total } => {
+                let k = done.fetch_add(1, Ordering::SeqCst) + 1;
+                println!("[{k}/{total}] {}", line(out));
+            }
+            Reporter::Quiet => {}
+        }
+    }
+
+    fn end(&self) {
+        if let Reporter::Bar(b) = self {
+            b.finish();
+        }
+    }
+}
+
+/// A one-line summary of a finished run.
+pub fn line(out: &RunOutput) -> String {
+    let r = &out.record;
+    let mut s = format!("{} {} ", r.scenario, r.planner);
+    if !r.tracker.is_empty() {
+        s += &format!("{} {} ", r.tracker, r.preset);
+    }
+    s += &format!("seed {}: {}", r.seed, r.status.as_str());
+    if let Some(c) = r.cost {
+        s += &format!(", cost {c:.3}");
+    }
+    if let Some(e) = r.rms_error_bl {
+        s += &format!(", rms {e:.3} BL");
+    }
+    if let Some(g) = r.reached_goal {
+        s += if g { ", reached goal" } else { ", missed goal" };
+    }
+    s += &format!(", {:.2} s", r.plan_time_s + r.track_time_s.unwrap_or(0.0));
+    if !r.error.is_empty() {
+        s += &format!(" ({})", r.error);
+    }
+    s
+}
+
+/// Runs the experiment's runs (of one shard, if asked) into `opts.out`, then writes the
+/// folder's derived files (sorted CSVs, `ompl.log`, plots, `report.html`) if every run of the
+/// slice is done.
+pub fn run_sweep(
+    e: &Experiment,
+    ex: &dyn Executor,
+    opts: &SweepOptions,
+) -> Result<SweepSummary, CliError> {
+    let specs = shard(e.runs(), opts.shard);
+    let out = &opts.out;
+    let shard_arr = opts.shard.map(|(i, n)| [i, n]);
+    let manifest_path = out.join(MANIFEST);
+    let (mut manifest, done): (Manifest, BTreeSet<String>) = if manifest_path.exists() {
+        if !opts.resume {
+            return Err(CliError::Input(InputError::new(
+                out.display().to_string(),
+                "--out",
+                "already holds results: pass --resume to complete them, or choose another --out",
+            )));
+        }
+        let m = Manifest::read(out)?;
+        if m.experiment.sha256 != e.hash() {
+            return Err(CliError::Input(InputError::new(
+                out.display().to_string(),
+                "--resume",
+                format!(
+                    "the results are from another version of the experiment (sha256 {} vs {} now); use a new --out",
+                    short(&m.experiment.sha256),
+                    short(&e.hash())
+                ),
+            )));
+        }
+        if m.shard != shard_arr {
+            return Err(CliError::Input(InputError::new(
+                out.display().to_string(),
+                "--shard",
+                format!(
+                    "the results are of shard {:?}, not {:?}",
+                    m.shard, shard_arr
+                ),
+            )));
+        }
+        (m, repair(out)?)
+    } else {
+        std::fs::create_dir_all(out)
+            .map_err(|err| CliError::Failed(format!("{}: {err}", out.display())))?;
+        (
+            Manifest::new(e, ex.name(), opts.threads, shard_arr),
+            repair(out)?,
+        )
+    };
+    let todo: Vec<&RunSpec> = specs.iter().filter(|s| !done.contains(&s.id())).collect();
+    let skipped = specs.len() - todo.len();
+    let t0 = Instant::now();
+    manifest.threads = opts.threads;
+    manifest.host = host();
+    manifest.sessions.push(Session {
+        kind: if opts.resume {
+            "bench --resume".into()
+        } else {
+            "bench".into()
+        },
+        started: now(),
+        finished: None,
+        threads: opts.threads,
+        runs_executed: 0,
+        wall_time_s: None,
+        host: manifest.host.clone(),
+    });
+    manifest.write(out)?;
+
+    let writer = Mutex::new(RunWriter::open(out)?);
+    let failed = AtomicUsize::new(0);
+    let reporter = Reporter::new(opts.progress, specs.len(), skipped);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.max(1))
+        .build()
+        .map_err(|err| CliError::Failed(format!("thread pool: {err}")))?;
+    let result: Result<(), CliError> = pool.install(|| {
+        todo.par_iter().with_max_len(1).try_for_each(|spec| {
+            let o = execute_caught(ex, spec);
+            let f = if o.record.status == Status::Crash {
+                failed.fetch_add(1, Ordering::SeqCst) + 1
+            } else {
+                failed.load(Ordering::SeqCst)
+            };
+            writer.lock().unwrap_or_else(|p| p.into_inner()).write(&o)?;
+            reporter.finished(&o, f);
+            Ok(())
+        })
+    });
+    reporter.end();
+    result?;
+    let failed = failed.into_inner();
+    let session = manifest.sessions.last_mut().expect("pushed above");
+    session.finished = Some(now());
+    session.runs_executed = todo.len();
+    session.wall_time_s = Some(t0.elapsed().as_secs_f64());
+    manifest.write(out)?;
+    results::finalize(out)?;
+    Ok(SweepSummary {
+        total: specs.len(),
+        skipped,
+        executed: todo.len(),
+        failed,
+    })
+}
+
+fn short(h: &str) -> &str {
+    &h[..h.len().min(12)]
+}

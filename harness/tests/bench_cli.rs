@@ -1,0 +1,180 @@
+//! `magbench bench` and `magbench merge` on the command line: bad input exits 2 with
+//! FILE: FIELD: REASON.
+
+mod common;
+
+use std::process::Command;
+
+use common::write;
+
+fn magbench(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_magbench"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+const GOOD: &str =
+    "scenarios = [\"open-field\"]\nplanners = [\"fake\"]\nseeds = 2\n[limits]\niterations = 100\n";
+
+#[test]
+fn bad_experiments_exit_2_naming_file_field_and_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "unknown key",
+            GOOD.replace("seeds = 2", "seeds = 2\ncolour = 1"),
+            "colour",
+        ),
+        (
+            "bad planner",
+            GOOD.replace("[\"fake\"]", "[\"nope\"]"),
+            "planners[0]",
+        ),
+        (
+            "bad param",
+            GOOD.replace("[\"fake\"]", "[\"fake{zz=1}\"]"),
+            "planners[0]",
+        ),
+        (
+            "bad label",
+            GOOD.replace("[\"fake\"]", "[\"fake{k=}\"]"),
+            "planners[0]",
+        ),
+        (
+            "bad scenario",
+            GOOD.replace("open-field", "no-such-maze"),
+            "scenarios[0]",
+        ),
+        ("no limits", GOOD.replace("iterations = 100", ""), "limits"),
+        (
+            "zero seeds",
+            GOOD.replace("seeds = 2", "seeds = 0"),
+            "seeds",
+        ),
+        (
+            "duplicate seed",
+            GOOD.replace("seeds = 2", "seeds = [1, 1]"),
+            "seeds[1]",
+        ),
+        (
+            "presets without trackers",
+            GOOD.replace("seeds = 2", "seeds = 2\npresets = [\"ideal\"]"),
+            "presets",
+        ),
+        (
+            "bad preset",
+            GOOD.replace(
+                "seeds = 2",
+                "seeds = 2\ntrackers = [\"fake\"]\npresets = [\"windy\"]",
+            ),
+            "presets[0]",
+        ),
+        (
+            "negative time",
+            GOOD.replace("iterations = 100", "time = -1.0"),
+            "limits.time",
+        ),
+        (
+            "bad toml",
+            GOOD.replace("seeds = 2", "seeds = "),
+            "invalid TOML",
+        ),
+    ];
+    for (what, text, field) in cases {
+        let p = write(dir.path(), "bad.toml", &text);
+        let (code, _, err) = magbench(&[
+            "bench",
+            p.to_str().unwrap(),
+            "--executor",
+            "fake",
+            "--out",
+            dir.path().join("o").to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{what}: {err}");
+        assert!(
+            err.contains("bad.toml: ") && err.contains(field),
+            "{what}: {err}"
+        );
+        assert!(
+            !dir.path().join("o").exists(),
+            "{what}: wrote results for bad input"
+        );
+    }
+    let (code, _, err) = magbench(&["bench", "/no/such/file.toml"]);
+    assert_eq!(code, 2, "{err}");
+    let p = write(dir.path(), "good.toml", GOOD);
+    for bad in ["0/2", "3/2", "x", "1/0"] {
+        let (code, _, err) = magbench(&[
+            "bench",
+            p.to_str().unwrap(),
+            "--executor",
+            "fake",
+            "--shard",
+            bad,
+        ]);
+        assert_eq!(code, 2, "--shard {bad}: {err}");
+        assert!(err.contains("--shard"), "{err}");
+    }
+}
+
+#[test]
+fn dry_run_counts_the_matrix_and_merge_rejects_mixed_experiments() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(dir.path(), "good.toml", GOOD);
+    let (code, out, _) = magbench(&[
+        "bench",
+        p.to_str().unwrap(),
+        "--executor",
+        "fake",
+        "--dry-run",
+    ]);
+    assert_eq!(code, 0);
+    assert!(out.contains("2 runs"), "{out}");
+    let q = write(
+        dir.path(),
+        "other.toml",
+        &GOOD.replace("seeds = 2", "seeds = 3"),
+    );
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    assert_eq!(
+        magbench(&[
+            "bench",
+            p.to_str().unwrap(),
+            "--executor",
+            "fake",
+            "--quiet",
+            "--out",
+            a.to_str().unwrap()
+        ])
+        .0,
+        0
+    );
+    assert_eq!(
+        magbench(&[
+            "bench",
+            q.to_str().unwrap(),
+            "--executor",
+            "fake",
+            "--quiet",
+            "--out",
+            b.to_str().unwrap()
+        ])
+        .0,
+        0
+    );
+    let (code, _, err) = magbench(&[
+        "merge",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--out",
+        dir.path().join("m").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("differs"), "{err}");
+}

@@ -1,0 +1,116 @@
+//! The sweep with the real planners: a run's row depends only on its spec, so a small sweep
+//! gives the same rows at 1 and 2 threads (wall-clock columns aside).
+
+mod common;
+
+use common::{deterministic_progress, deterministic_runs, write};
+use magbench::experiment::Experiment;
+use magbench::run::real::RealExecutor;
+use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
+
+const EXP: &str = r#"
+name = "real-small"
+scenarios = ["open-field", "cargo-delivery"]
+planners = ["goal-zoom-rrt", "goal-zoom-rrt{k=5, goal_bias=0.2}"]
+seeds = 2
+[limits]
+iterations = 600
+"#;
+
+#[test]
+fn real_planner_runs_are_identical_at_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let e = Experiment::load(&write(dir.path(), "exp.toml", EXP), &RealExecutor).unwrap();
+    let mut outs = vec![];
+    for threads in [1, 2] {
+        let out = dir.path().join(format!("t{threads}"));
+        let s = run_sweep(
+            &e,
+            &RealExecutor,
+            &SweepOptions {
+                out: out.clone(),
+                threads,
+                shard: None,
+                resume: false,
+                progress: ProgressMode::Quiet,
+            },
+        )
+        .unwrap();
+        assert_eq!((s.executed, s.failed), (8, 0));
+        outs.push(out);
+    }
+    let runs = deterministic_runs(&outs[0]);
+    assert_eq!(runs, deterministic_runs(&outs[1]));
+    assert_eq!(
+        deterministic_progress(&outs[0]),
+        deterministic_progress(&outs[1])
+    );
+    assert!(runs.iter().all(|r| r[0] != ""));
+}
+
+#[test]
+fn unknown_planners_and_parameters_are_input_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for (bad, field) in [
+        ("\"no-such-planner\"", "planners[0]"),
+        ("\"goal-zoom-rrt{kk=5}\"", "planners[0]"),
+        ("\"goal-zoom-rrt{objective=\\\"speed\\\"}\"", "planners[0]"),
+    ] {
+        let text = EXP.replace(
+            "\"goal-zoom-rrt\", \"goal-zoom-rrt{k=5, goal_bias=0.2}\"",
+            bad,
+        );
+        let err =
+            Experiment::load(&write(dir.path(), "bad.toml", &text), &RealExecutor).unwrap_err();
+        assert_eq!(err.field, field, "{err}");
+    }
+}
+
+#[test]
+fn tracked_runs_fill_the_tracking_columns_deterministically() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "name = \"real-track\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt\"]\ntrackers = [\"open-loop\"]\npresets = [\"ideal\", \"realistic\"]\nseeds = 2\n[limits]\niterations = 400\n";
+    let e = Experiment::load(&write(dir.path(), "exp.toml", text), &RealExecutor).unwrap();
+    let mut outs = vec![];
+    for threads in [1, 2] {
+        let out = dir.path().join(format!("t{threads}"));
+        let s = run_sweep(
+            &e,
+            &RealExecutor,
+            &SweepOptions {
+                out: out.clone(),
+                threads,
+                shard: None,
+                resume: false,
+                progress: ProgressMode::Quiet,
+            },
+        )
+        .unwrap();
+        assert_eq!((s.executed, s.failed), (4, 0));
+        outs.push(out);
+    }
+    assert_eq!(deterministic_runs(&outs[0]), deterministic_runs(&outs[1]));
+    let runs = magbench::results::store::read_runs(&outs[0]).unwrap();
+    assert!(runs.iter().all(|r| r.rms_error_bl.is_some()
+        && !r.track_status.is_empty()
+        && r.track_duration_s.is_some()));
+    // Under the ideal preset the plant is the planning model: open-loop follows its plan.
+    assert!(
+        runs.iter()
+            .filter(|r| r.preset == "ideal")
+            .all(|r| r.rms_error_bl.unwrap() < 1e-6),
+        "{runs:?}"
+    );
+    // Bad tracker names and parameters are input errors naming the field.
+    for (bad, field) in [
+        ("\"nope\"", "trackers[0]"),
+        ("\"obc{zz=1}\"", "trackers[0]"),
+    ] {
+        let err = Experiment::load(
+            &write(dir.path(), "bad.toml", &text.replace("\"open-loop\"", bad)),
+            &RealExecutor,
+        )
+        .unwrap_err();
+        assert_eq!(err.field, field, "{err}");
+    }
+}

@@ -1,0 +1,65 @@
+//! CI's regression check: the small experiment `experiments/ci.toml` is run again and compared
+//! with the committed baseline `results/baseline/` by `magbench regress`'s statistics. A change
+//! that significantly worsens tracking error, success, cost or iterations to a solution fails
+//! this test. Wall-clock times are left out (CI machines differ). To update the baseline after
+//! an intended change, see docs/readme-harness.md.
+
+use std::path::Path;
+
+use magbench::experiment::Experiment;
+use magbench::regress::{Tolerances, Verdict, compare, table};
+use magbench::results::Manifest;
+use magbench::results::store::read_runs;
+use magbench::run::real::RealExecutor;
+use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
+
+#[test]
+fn the_ci_experiment_shows_no_regression_against_the_baseline() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let baseline = root.join("results/baseline");
+    let e = Experiment::load(&root.join("experiments/ci.toml"), &RealExecutor).unwrap();
+    let m = Manifest::read(&baseline).unwrap();
+    assert_eq!(
+        m.experiment.sha256,
+        e.hash(),
+        "experiments/ci.toml changed since results/baseline was made: regenerate the baseline (docs/readme-harness.md)"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ci");
+    let s = run_sweep(
+        &e,
+        &RealExecutor,
+        &SweepOptions {
+            out: out.clone(),
+            threads: 2,
+            shard: None,
+            resume: false,
+            progress: ProgressMode::Quiet,
+        },
+    )
+    .unwrap();
+    assert_eq!(s.failed, 0);
+    let tol = Tolerances {
+        wall_clock: false,
+        gate_time: false,
+        ..Tolerances::default()
+    };
+    let rows = compare(
+        &read_runs(&baseline).unwrap(),
+        &read_runs(&out).unwrap(),
+        &tol,
+    );
+    let bad: Vec<_> = rows
+        .iter()
+        .filter(|r| matches!(r.verdict, Verdict::Regression | Verdict::Missing))
+        .collect();
+    assert!(
+        bad.is_empty(),
+        "regression against results/baseline:\n{}",
+        table(&rows)
+    );
+    assert!(
+        rows.iter().any(|r| r.metric == "rms_error_bl"),
+        "the check must cover tracking error"
+    );
+}

@@ -1,0 +1,517 @@
+//! The physical code path against the emulator, each in its own process over real I/O
+//! (loopback TCP or a pseudo-terminal): bring-up runs, every injected fault, a killed host.
+//!
+//! Tests run one at a time (a lock) so that two emulators never compete for the 2 cores.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
+const BIN: &str = env!("CARGO_BIN_EXE_magbench");
+
+fn rig_file() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../rigs/emulator.toml")
+}
+
+/// An emulator process, killed when dropped.
+struct Emulator {
+    child: Child,
+    dir: tempfile::TempDir,
+}
+
+impl Emulator {
+    fn start(scenario: &str, args: &[&str]) -> Emulator {
+        let dir = tempfile::tempdir().unwrap();
+        let mut cmd = Command::new(BIN);
+        cmd.args(["rig", "emulate", "--rig"])
+            .arg(rig_file())
+            .arg(scenario);
+        cmd.arg("--write-rig").arg(dir.path().join("live.toml"));
+        cmd.arg("--log").arg(dir.path().join("emulator-log.csv"));
+        if !args.contains(&"--duration") {
+            cmd.args(["--duration", "120"]);
+        }
+        cmd.args(args);
+        let mut child = cmd
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let out = child.stdout.take().unwrap();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(out).lines().map_while(Result::ok) {
+                if line == "ready" {
+                    let _ = tx.send(());
+                }
+            }
+        });
+        let emu = Emulator { child, dir };
+        rx.recv_timeout(Duration::from_secs(30))
+            .expect("the emulator did not get ready in 30 s");
+        emu
+    }
+
+    fn rig(&self) -> PathBuf {
+        self.dir.path().join("live.toml")
+    }
+
+    fn out(&self) -> PathBuf {
+        self.dir.path().join("out")
+    }
+
+    fn log(&self) -> Vec<Event> {
+        let text = std::fs::read_to_string(self.dir.path().join("emulator-log.csv")).unwrap();
+        text.lines().skip(1).map(Event::parse).collect()
+    }
+
+    fn host_log(&self) -> String {
+        std::fs::read_to_string(self.out().join("rig-log.csv")).unwrap_or_default()
+    }
+}
+
+impl Drop for Emulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// One line of the emulator's event log.
+#[derive(Debug, Clone)]
+struct Event {
+    wall: f64,
+    t: f64,
+    name: String,
+    currents: Vec<f64>,
+    detail: String,
+}
+
+impl Event {
+    fn parse(line: &str) -> Event {
+        let f: Vec<&str> = line.split(',').collect();
+        Event {
+            wall: f[0].parse().unwrap(),
+            t: f[1].parse().unwrap(),
+            name: f[2].to_string(),
+            currents: f[4]
+                .split(';')
+                .filter(|s| !s.is_empty())
+                .map(|s| s.parse().unwrap())
+                .collect(),
+            detail: f.get(6).unwrap_or(&"").to_string(),
+        }
+    }
+}
+
+/// Runs `magbench rig check` against the emulator, killing it (and failing) if it hangs.
+fn host(emu: &Emulator, scenario: &str, duration: f64) -> Output {
+    let child = Command::new(BIN)
+        .args(["rig", "check", "--rig"])
+        .arg(emu.rig())
+        .arg(scenario)
+        .args(["--duration", &duration.to_string(), "--out"])
+        .arg(emu.out())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_or_kill(child, Duration::from_secs_f64(duration + 20.0))
+}
+
+fn wait_or_kill(mut child: Child, limit: Duration) -> Output {
+    let start = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            return child.wait_with_output().unwrap();
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let out = child.wait_with_output().unwrap();
+            panic!(
+                "the host hung for {limit:?}; stderr: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The currents in force at the end of the emulator log (after the host is gone).
+fn final_currents(log: &[Event]) -> Vec<f64> {
+    log.iter()
+        .rev()
+        .find(|e| !e.currents.is_empty())
+        .map(|e| e.currents.clone())
+        .unwrap_or_default()
+}
+
+fn any_nonzero(log: &[Event]) -> bool {
+    log.iter()
+        .any(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
+}
+
+/// Waits a moment for the emulator to log the host's departure.
+fn settle() {
+    std::thread::sleep(Duration::from_millis(400));
+}
+
+/// The host either went on to the end (exit 0) or stopped with zero field and a clear message
+/// (exit 1, "field zeroed"), never panicked, and the stop followed the fault it detected within
+/// one control period (host log: the fatal `fault` row, then the `stop` row).
+fn recovered_or_stopped_cleanly(out: &Output, host_log: &str) -> bool {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "the host panicked: {stderr}");
+    match out.status.code() {
+        Some(0) => true,
+        Some(1) => {
+            assert!(
+                stderr.contains("field zeroed"),
+                "unclear stop message: {stderr}"
+            );
+            let rows: Vec<&str> = host_log.lines().collect();
+            let stop = rows
+                .iter()
+                .position(|r| r.split(',').nth(2) == Some("stop"))
+                .expect("a stop row in the host log");
+            let fault = rows[..stop]
+                .iter()
+                .rposition(|r| r.split(',').nth(2) == Some("fault"))
+                .expect("the fault before the stop");
+            let wall = |r: &str| r.split(',').next().unwrap().parse::<f64>().unwrap();
+            let gap = wall(rows[stop]) - wall(rows[fault]);
+            assert!(
+                gap < 1.0 / 60.0,
+                "zeroing took {gap} s after the fault was detected"
+            );
+            false
+        }
+        other => panic!("host exit {other:?}: {stderr}"),
+    }
+}
+
+#[test]
+fn check_over_tcp_turns_the_pair_and_leaves_zero_currents() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let emu = Emulator::start("open-field", &[]);
+    let out = host(&emu, "open-field", 3.0);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{stdout}");
+    settle();
+    let log = emu.log();
+    assert!(any_nonzero(&log), "no current was ever commanded");
+    assert!(
+        final_currents(&log).iter().all(|c| *c == 0.0),
+        "log ends with currents {:?}",
+        final_currents(&log)
+    );
+    assert!(stdout.contains("0 missed"), "{stdout}");
+    // the pair turned in place: it moved, and the separation held
+    let turned: f64 = stdout
+        .split("turned ")
+        .nth(1)
+        .unwrap()
+        .split('°')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(turned.abs() > 30.0, "{stdout}");
+}
+
+#[cfg(unix)]
+#[test]
+fn check_over_a_pseudo_terminal() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let port = dir.path().join("coil-tty");
+    let emu = Emulator::start("open-field", &["--port", port.to_str().unwrap()]);
+    let out = host(&emu, "open-field", 2.0);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("coil serial"));
+    settle();
+    let log = emu.log();
+    assert!(any_nonzero(&log));
+    assert!(final_currents(&log).iter().all(|c| *c == 0.0));
+}
+
+/// Runs one fault; returns (recovered, emulator log, host log).
+fn fault_run(faults: &str, duration: f64) -> (bool, Vec<Event>, String) {
+    let emu = Emulator::start("open-field", &["--faults", faults, "--seed", "3"]);
+    let out = host(&emu, "open-field", duration);
+    let recovered = recovered_or_stopped_cleanly(&out, &emu.host_log());
+    settle();
+    let log = emu.log();
+    assert!(
+        final_currents(&log).iter().all(|c| *c == 0.0),
+        "{faults}: log ends with {:?}",
+        final_currents(&log)
+    );
+    (recovered, log, emu.host_log())
+}
+
+#[test]
+fn dropped_frames_are_counted_and_the_run_goes_on() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (recovered, log, host_log) = fault_run("drop=0.1", 2.0);
+    assert!(recovered);
+    assert!(log.iter().any(|e| e.name == "fault_drop"));
+    assert!(
+        host_log.contains("dropped before frame"),
+        "the host did not notice the dropped frames"
+    );
+}
+
+#[test]
+fn slightly_delayed_frames_are_tolerated() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (recovered, log, _) = fault_run("delay=0.1:30", 2.0);
+    assert!(recovered);
+    assert!(log.iter().any(|e| e.name == "fault_delay"));
+}
+
+#[test]
+fn a_frame_later_than_the_timeout_stops_the_run() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (recovered, _, host_log) = fault_run("delay=0.2:250", 4.0);
+    assert!(
+        !recovered,
+        "a 250 ms gap must stop the run (frame timeout 100 ms)"
+    );
+    assert!(
+        host_log.contains("no camera frame for 100 ms"),
+        "{host_log}"
+    );
+}
+
+#[test]
+fn corrupted_bytes_are_resent_or_stop_cleanly() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (_, log, host_log) = fault_run("corrupt=0.05", 2.0);
+    assert!(log.iter().any(|e| e.name.starts_with("fault_corrupt")));
+    assert!(
+        log.iter()
+            .any(|e| e.name == "bad_frame" || e.name == "currents_repeat"),
+        "no corruption reached the protocol"
+    );
+    assert!(host_log.contains("tries"), "the host never resent");
+}
+
+#[test]
+fn a_coil_disconnect_stops_the_run() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (recovered, log, host_log) = fault_run("disconnect=1.0", 4.0);
+    assert!(!recovered);
+    assert!(log.iter().any(|e| e.name == "fault_disconnect"));
+    assert!(host_log.contains("coil link lost"), "{host_log}");
+}
+
+#[test]
+fn a_camera_disconnect_stops_the_run_and_zeroes_the_field() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (recovered, log, host_log) = fault_run("disconnect=1.0:camera", 4.0);
+    assert!(!recovered);
+    let cut = log
+        .iter()
+        .find(|e| e.name == "fault_disconnect")
+        .expect("cut logged");
+    // the host zeroed the field over the coil link, soon after the camera went silent
+    let zero = log
+        .iter()
+        .find(|e| e.wall > cut.wall && e.name == "zero")
+        .expect("a ZERO from the host");
+    assert!(
+        zero.wall - cut.wall < 0.1 + 0.05,
+        "zeroed {} s after the cut",
+        zero.wall - cut.wall
+    );
+    assert!(host_log.contains("camera"), "{host_log}");
+}
+
+#[test]
+fn a_short_stuck_camera_is_ridden_out() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (recovered, _, host_log) = fault_run("stuck=0.5:0.2", 2.0);
+    assert!(recovered);
+    assert!(
+        host_log.contains("stuck camera"),
+        "the host did not notice the repeated frames"
+    );
+}
+
+#[test]
+fn a_long_stuck_camera_stops_the_run() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (recovered, log, host_log) = fault_run("stuck=0.5:3", 4.0);
+    assert!(!recovered);
+    let start = log.iter().find(|e| e.name == "fault_stuck_start").unwrap();
+    let zero = log
+        .iter()
+        .find(|e| e.t > start.t && e.name == "zero")
+        .expect("a ZERO from the host");
+    // 30 identical frames at 60 fps, plus a frame of slack
+    assert!(
+        zero.t - start.t < 31.0 / 60.0 + 0.05,
+        "zeroed {} s after the camera stuck",
+        zero.t - start.t
+    );
+    assert!(host_log.contains("camera stuck"), "{host_log}");
+}
+
+/// Kills (or freezes) the host mid-run; the emulator must zero its currents after the
+/// watchdog timeout (200 ms) and log it.
+fn silent_host(port: Option<&Path>, freeze: bool) {
+    let mut args = vec![];
+    if let Some(p) = port {
+        args = vec!["--port", p.to_str().unwrap()];
+    }
+    let emu = Emulator::start("open-field", &args);
+    let mut host = Command::new(BIN)
+        .args(["rig", "check", "--rig"])
+        .arg(emu.rig())
+        .args(["open-field", "--duration", "60"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !any_nonzero(&emu.log()) {
+        assert!(
+            start.elapsed() < Duration::from_secs(20),
+            "the host never drove the coil"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let pid = host.id().to_string();
+    let signal = if freeze { "-STOP" } else { "-KILL" };
+    assert!(
+        Command::new("kill")
+            .args([signal, &pid])
+            .status()
+            .unwrap()
+            .success()
+    );
+    std::thread::sleep(Duration::from_millis(600));
+    let log = emu.log();
+    let _ = host.kill();
+    let _ = host.wait();
+    let wd = log
+        .iter()
+        .find(|e| e.name == "watchdog")
+        .unwrap_or_else(|| {
+            panic!(
+                "no watchdog event; log tail: {:?}",
+                &log[log.len().saturating_sub(5)..]
+            )
+        });
+    assert!(wd.currents.iter().all(|c| *c == 0.0));
+    // the last message from the host, and the silence before the trip
+    let last_rx = log
+        .iter()
+        .rfind(|e| {
+            e.wall < wd.wall
+                && matches!(
+                    e.name.as_str(),
+                    "currents" | "heartbeat" | "zero" | "currents_repeat"
+                )
+        })
+        .unwrap();
+    let silence = wd.wall - last_rx.wall;
+    assert!(
+        (0.2..0.3).contains(&silence),
+        "watchdog tripped after {silence} s of silence: {}",
+        wd.detail
+    );
+    assert!(final_currents(&log).iter().all(|c| *c == 0.0));
+}
+
+#[cfg(unix)]
+#[test]
+fn a_killed_host_leaves_the_device_zeroing_after_the_watchdog() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    silent_host(Some(&dir.path().join("coil-tty")), false);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_frozen_host_on_tcp_trips_the_watchdog() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    silent_host(None, true);
+}
+
+/// The end-to-end run: `magbench rig run` on micro-factory against the emulator in its own
+/// process, over loopback TCP. Lockstep, so machine load cannot starve the 60 fps loop and the
+/// frames — so the observed start, and with it the plan — are the same every run (a start
+/// 1e-4 BL away gives another plan).
+#[test]
+#[ignore = "waits on the trackers: passes (65 s) with the trackers branch at d12a7f3; with the trackers on main the obc run times out short of the goal; run with --ignored"]
+fn rig_run_on_micro_factory_reaches_the_goal_and_leaves_zero_currents() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let emu = Emulator::start(
+        "micro-factory",
+        &["--lockstep", "--seed", "1", "--duration", "3000"],
+    );
+    let child = Command::new(BIN)
+        .args(["rig", "run", "--rig"])
+        .arg(emu.rig())
+        .args([
+            "micro-factory",
+            "--planner",
+            "goal-zoom-rrt",
+            "--tracker",
+            "obc",
+            "--json",
+            "--out",
+        ])
+        .arg(emu.out())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = wait_or_kill(child, Duration::from_secs(900));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "rig run failed: {stderr}\n{stdout}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
+    println!("{v}");
+    assert_eq!(v["reached_goal"], true, "{v}");
+    assert_eq!(v["agent_contact"], false, "{v}");
+    assert_eq!(v["error_source"], "observed");
+    settle();
+    let log = emu.log();
+    assert!(any_nonzero(&log));
+    assert!(
+        final_currents(&log).iter().all(|c| *c == 0.0),
+        "log ends with currents {:?}",
+        final_currents(&log)
+    );
+    // the host logged every frame's observation and every command
+    let host_log = emu.host_log();
+    let frames = host_log
+        .lines()
+        .filter(|l| l.split(',').nth(2) == Some("observation"))
+        .count();
+    let commands = host_log
+        .lines()
+        .filter(|l| l.split(',').nth(2) == Some("command"))
+        .count();
+    assert!(
+        frames > 100 && commands > 100,
+        "{frames} observations, {commands} commands logged"
+    );
+}
