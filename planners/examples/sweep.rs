@@ -63,8 +63,29 @@ fn main() {
                         };
                         let mut p = Problem::from_scenario(s, 0, None, seed);
                         p.limits = Limits { max_iterations: Some(max_iters), time_limit: None };
-                        let mut pl = registry::create(planner, params).unwrap();
-                        let r = pl.solve(&p);
+                        let r = if verbose && planner.contains("rrt-star") {
+                            let mut pl = if planner.starts_with("informed") {
+                                magbench_planners::planners::RrtStar::informed()
+                            } else {
+                                magbench_planners::planners::RrtStar::default()
+                            };
+                            for (k, v) in params.iter() {
+                                magbench_planners::Planner::set_param(&mut pl, k, v).unwrap();
+                            }
+                            let (r, st) = pl.solve_with_stats(&p);
+                            eprintln!("seed {seed}: {st:?}");
+                            r
+                        } else if verbose && planner == "sst" {
+                            let mut pl = magbench_planners::planners::Sst::default();
+                            for (k, v) in params.iter() {
+                                magbench_planners::Planner::set_param(&mut pl, k, v).unwrap();
+                            }
+                            let (r, st) = pl.solve_with_stats(&p);
+                            eprintln!("seed {seed}: {st:?}");
+                            r
+                        } else {
+                            registry::create(planner, params).unwrap().solve(&p)
+                        };
                         if r.solved {
                             validate_plan(&p, &r.plan).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
                         }
@@ -74,8 +95,8 @@ fn main() {
                             .collect();
                         if verbose {
                             eprintln!(
-                                "seed {seed}: solved {} first {:?} iters {} nodes {} time {:.3}s cost {:?} gd {:.3}",
-                                r.solved, r.first_solution, r.iterations, r.nodes, r.time_s, r.cost, r.goal_distance
+                                "seed {seed}: solved {} first {:?} iters {} nodes {} time {:.3}s cost {:?} gd {:.3} at {:?}",
+                                r.solved, r.first_solution, r.iterations, r.nodes, r.time_s, r.cost, r.goal_distance, costs
                             );
                         }
                         rows.lock().unwrap().push((seed, r.solved, r.first_solution, r.iterations, r.nodes, r.time_s, r.cost, costs));

@@ -15,6 +15,7 @@ use std::f64::consts::PI;
 use magbench_env::Vec2;
 use rand::RngExt;
 
+use crate::sampler::{GoalZoom, SAMPLE_TRIES, StateSampler};
 use crate::{Problem, Rng};
 
 /// The informed set of one problem.
@@ -67,12 +68,12 @@ impl InformedSet {
     /// some ellipse is empty (no state can improve `c_best`).
     pub fn sample_ellipses(&self, rng: &mut Rng, c_best: f64, out: &mut [Vec2]) -> bool {
         let total: f64 = self.least.iter().sum();
-        for i in 0..out.len() {
+        for (i, slot) in out.iter_mut().enumerate() {
             let (s, g) = (self.starts[i], self.goals[i]);
             let focal = (g - s).norm();
             // transverse diameter: ‖x − s‖ + ‖x − g‖ < c_i + tol
             let major = c_best - (total - self.least[i]) + self.tolerance;
-            if !(major > focal) {
+            if major.is_nan() || major <= focal {
                 return false;
             }
             let a = 0.5 * major;
@@ -85,8 +86,40 @@ impl InformedSet {
             let rho = rng.random::<f64>().sqrt();
             let t = rng.random_range(-PI..PI);
             let (x, y) = (a * rho * t.cos(), b * rho * t.sin());
-            out[i] = (s + g) * 0.5 + Vec2::new(cos * x - sin * y, sin * x + cos * y);
+            *slot = (s + g) * 0.5 + Vec2::new(cos * x - sin * y, sin * x + cos * y);
         }
         true
+    }
+
+    /// Draws a valid sample of the informed set for `c_best` into `out`. The goal-zoom coin
+    /// toss is kept (as OMPL's informed RRT* keeps its goal bias): heads draws from the zoom
+    /// region, tails from the per-agent ellipses (path length) or the whole space (other
+    /// objectives); either way a draw is rejected unless it is in the informed set and valid.
+    /// False when [`SAMPLE_TRIES`] draws were all rejected.
+    pub fn sample(
+        &self,
+        problem: &Problem,
+        rng: &mut Rng,
+        sampler: &StateSampler,
+        zoom: &GoalZoom,
+        c_best: f64,
+        out: &mut [Vec2],
+    ) -> bool {
+        let heads = rng.random::<f64>() < zoom.bias;
+        for _ in 0..SAMPLE_TRIES {
+            let drawn = if heads {
+                sampler.zoom(rng, &problem.goal, zoom.radius, out);
+                true
+            } else if self.uses_ellipses() {
+                self.sample_ellipses(rng, c_best, out)
+            } else {
+                sampler.uniform(rng, out);
+                true
+            };
+            if drawn && self.contains(problem, out, c_best) && problem.checker.is_valid(out) {
+                return true;
+            }
+        }
+        false
     }
 }

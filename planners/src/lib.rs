@@ -15,6 +15,8 @@
 //! The physics is env's: planners propagate with `PlanningModel::propagate_with` and check with
 //! `ValidityChecker`; every edge lasts a whole number of control periods (1/60 s).
 
+#![warn(missing_docs)]
+
 pub mod extend;
 pub mod informed;
 pub mod metric;

@@ -9,10 +9,11 @@ use magbench_env::{MAX_AGENTS, Vec2};
 pub const MAX_DIMS: usize = 2 * MAX_AGENTS;
 
 /// A distance on team states `(P_1, …, P_N)`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Metric {
     /// The seed's DISTANCE ρ: Euclidean distance on the stacked agent positions,
     /// `‖P̃‖ = (Σ_i ‖P_i − Q_i‖²)^{1/2}`. EXTEND minimises its square, as in Algorithm 3.
+    #[default]
     Positions,
     /// Centroid and shape weighted apart: `(w_c² N ‖Δc‖² + w_s² Σ_i ‖Δ(P_i − c)‖²)^{1/2}`,
     /// with `c` the centroid. Equal to [`Metric::Positions`] when both weights are 1; a larger
@@ -24,12 +25,6 @@ pub enum Metric {
         /// Weight of the shape (positions relative to the centroid) displacement.
         shape: f64,
     },
-}
-
-impl Default for Metric {
-    fn default() -> Self {
-        Metric::Positions
-    }
 }
 
 impl Metric {

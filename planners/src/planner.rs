@@ -1,5 +1,6 @@
 //! The planner seam.
 
+use crate::tree::Tree;
 use crate::{Plan, Problem};
 
 /// A planner. `solve` is deterministic for a given problem and seed when only iterations
@@ -21,6 +22,10 @@ pub trait Planner: Send {
     /// Checks the parameters together, once all are set (e.g. a duration range).
     fn check_params(&self) -> Result<(), ParamError> {
         Ok(())
+    }
+    /// The search tree of the last `solve`, if the planner keeps one (for plots).
+    fn tree(&self) -> Option<&Tree> {
+        None
     }
 }
 

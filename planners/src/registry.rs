@@ -137,3 +137,135 @@ pub fn set_metric(source: &str, problem: &mut Problem, name: &str) -> Result<(),
     problem.metric = Metric::parse(name).map_err(|r| InputError::new(source, "metric", r))?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
+        pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
+    }
+
+    #[test]
+    fn creates_every_planner_with_defaults_and_parameters() {
+        for (name, summary, params) in list() {
+            assert!(!summary.is_empty() && !params.is_empty());
+            let p = create(name, &[]).unwrap();
+            assert_eq!(p.name(), name);
+            // every listed parameter accepts its own default
+            let defaults: Vec<(String, String)> = params
+                .iter()
+                .map(|p| (p.name.to_string(), p.value.clone()))
+                .collect();
+            let again = create(name, &defaults).unwrap();
+            assert_eq!(again.params(), params, "{name}");
+        }
+        let p = create("goal-zoom-rrt", &kv(&[("k", "7"), ("goal_bias", "0.3")])).unwrap();
+        let params = p.params();
+        assert_eq!(params.iter().find(|p| p.name == "k").unwrap().value, "7");
+        assert_eq!(
+            params.iter().find(|p| p.name == "goal_bias").unwrap().value,
+            "0.3"
+        );
+        assert_eq!(
+            create("informed-rrt-star", &[])
+                .unwrap()
+                .params()
+                .iter()
+                .find(|p| p.name == "informed")
+                .unwrap()
+                .value,
+            "true"
+        );
+    }
+
+    #[test]
+    fn bad_input_is_an_input_error_naming_the_field() {
+        let e = create("rrt", &[]).err().unwrap();
+        assert_eq!(
+            (e.file.as_str(), e.field.as_str()),
+            ("<command line>", "planner")
+        );
+        assert!(
+            e.reason.contains("goal-zoom-rrt") && e.reason.contains("sst"),
+            "{e}"
+        );
+
+        let e = create("sst", &kv(&[("radius", "1")])).err().unwrap();
+        assert_eq!(e.field, "param.radius");
+        assert!(e.reason.contains("pruning_radius"), "{e}");
+
+        let e = create_in("exp.toml", "sst", &kv(&[("pruning_radius", "-1")]))
+            .err()
+            .unwrap();
+        assert_eq!(
+            (e.file.as_str(), e.field.as_str()),
+            ("exp.toml", "param.pruning_radius")
+        );
+
+        for (k, v) in [
+            ("k", "0"),
+            ("k", "many"),
+            ("goal_bias", "1.5"),
+            ("max_duration", "nan"),
+            ("zoom_radius", "inf"),
+        ] {
+            assert!(
+                create("goal-zoom-rrt", &kv(&[(k, v)])).is_err(),
+                "{k}={v} accepted"
+            );
+        }
+        let e = create(
+            "rrt-star",
+            &kv(&[("min_duration", "3"), ("max_duration", "2")]),
+        )
+        .err()
+        .unwrap();
+        assert!(e.reason.contains("exceeds"), "{e}");
+        assert!(
+            create(
+                "rrt-star",
+                &kv(&[("min_duration", "3"), ("max_duration", "4")])
+            )
+            .is_ok()
+        );
+        assert!(parse_assignment("<command line>", "k7").is_err());
+        assert_eq!(
+            parse_assignment("x", " k = 7 ").unwrap(),
+            ("k".to_string(), "7".to_string())
+        );
+    }
+
+    #[test]
+    fn objectives_and_metrics_by_name() {
+        let s = magbench_env::Scenario::load("open-field").unwrap();
+        let mut p = Problem::from_scenario(&s, 0, None, 0);
+        for name in OBJECTIVES {
+            set_objective("<command line>", &mut p, name).unwrap();
+            assert_eq!(p.objective.name(), name);
+        }
+        assert_eq!(
+            set_objective("<command line>", &mut p, "energy")
+                .unwrap_err()
+                .field,
+            "objective"
+        );
+        set_metric("<command line>", &mut p, "centroid-shape:1:2").unwrap();
+        assert_eq!(
+            p.metric,
+            Metric::CentroidShape {
+                centroid: 1.0,
+                shape: 2.0
+            }
+        );
+        assert_eq!(
+            set_metric("<command line>", &mut p, "l1")
+                .unwrap_err()
+                .field,
+            "metric"
+        );
+    }
+}

@@ -173,7 +173,7 @@ impl Connect {
             .model
             .propagate_with(from, &u, problem.periods(hi), &mut out[..n], |s| {
                 step += 1;
-                if step % steps_per_period == 0 {
+                if step.is_multiple_of(steps_per_period) {
                     let p = (step / steps_per_period) as u32;
                     if p >= lo {
                         let d2 = problem.metric.distance_squared(s, target);

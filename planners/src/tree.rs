@@ -1,8 +1,9 @@
 //! The search tree: node states, the edge into each node, cost-to-come and child links.
 //!
 //! Storage is struct-of-arrays with the agent positions of all nodes in one flat vector, so a
-//! two-agent node costs 32 B of state + 32 B of control + 24 B of links, period count and cost.
-//! Removed nodes (SST's pruning) go to a free list and their slots are reused.
+//! two-agent node costs 32 B of state + 24 B of planar control (θ_B, G_x, G_y) + 24 B of links,
+//! period count and cost. The arrays grow by a quarter at a time rather than doubling, so the
+//! slack stays small. Removed nodes (SST's pruning) go to a free list and their slots are reused.
 
 use magbench_env::{Control, Vec2};
 
@@ -17,7 +18,7 @@ pub struct Tree {
     agents: usize,
     states: Vec<Vec2>,
     parent: Vec<u32>,
-    control: Vec<Control>,
+    control: Vec<[f64; 3]>,
     periods: Vec<u32>,
     cost: Vec<f64>,
     first_child: Vec<u32>,
@@ -41,7 +42,7 @@ impl Tree {
         };
         t.states.extend_from_slice(start);
         t.parent.push(NONE);
-        t.control.push(Control::default());
+        t.control.push([0.0; 3]);
         t.periods.push(0);
         t.cost.push(0.0);
         t.first_child.push(NONE);
@@ -87,7 +88,8 @@ impl Tree {
     /// The control of the edge into node `i`.
     #[inline]
     pub fn control(&self, i: u32) -> Control {
-        self.control[i as usize]
+        let [theta, gx, gy] = self.control[i as usize];
+        Control::planar(theta, gx, gy)
     }
 
     /// The duration of the edge into node `i`, in control periods.
@@ -123,7 +125,7 @@ impl Tree {
                 let i = id as usize;
                 self.state_mut(id).copy_from_slice(state);
                 self.parent[i] = parent;
-                self.control[i] = control;
+                self.control[i] = planar(&control);
                 self.periods[i] = periods;
                 self.cost[i] = cost;
                 self.first_child[i] = NONE;
@@ -131,9 +133,10 @@ impl Tree {
             }
             None => {
                 let id = self.parent.len() as u32;
+                self.reserve();
                 self.states.extend_from_slice(state);
                 self.parent.push(parent);
-                self.control.push(control);
+                self.control.push(planar(&control));
                 self.periods.push(periods);
                 self.cost.push(cost);
                 self.first_child.push(NONE);
@@ -143,6 +146,22 @@ impl Tree {
         };
         self.link(parent, id);
         id
+    }
+
+    /// Grows every array by a quarter when full (doubling would leave up to half unused).
+    fn reserve(&mut self) {
+        let len = self.parent.len();
+        if len < self.parent.capacity() {
+            return;
+        }
+        let more = (len / 4).max(64);
+        self.states.reserve_exact(more * self.agents);
+        self.parent.reserve_exact(more);
+        self.control.reserve_exact(more);
+        self.periods.reserve_exact(more);
+        self.cost.reserve_exact(more);
+        self.first_child.reserve_exact(more);
+        self.next_sibling.reserve_exact(more);
     }
 
     fn link(&mut self, parent: u32, child: u32) {
@@ -172,9 +191,17 @@ impl Tree {
         self.unlink(self.parent[i as usize], i);
         let k = i as usize;
         self.parent[k] = parent;
-        self.control[k] = control;
+        self.control[k] = planar(&control);
         self.periods[k] = periods;
         self.link(parent, i);
+    }
+
+    /// Every edge `(parent, child)` of the tree, children in slot order.
+    pub fn edges(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        (1..self.parent.len() as u32).filter_map(|i| {
+            let p = self.parent[i as usize];
+            (p != NONE).then_some((p, i))
+        })
     }
 
     /// The children of node `i`.
@@ -244,9 +271,15 @@ impl Tree {
             + (self.parent.capacity() + self.periods.capacity() + self.first_child.capacity())
                 * size_of::<u32>()
             + (self.next_sibling.capacity() + self.free.capacity()) * size_of::<u32>()
-            + self.control.capacity() * size_of::<Control>()
+            + self.control.capacity() * size_of::<[f64; 3]>()
             + self.cost.capacity() * size_of::<f64>()
     }
+}
+
+/// The stored form of a control: planners sample planar controls (α = 0).
+fn planar(u: &Control) -> [f64; 3] {
+    debug_assert_eq!(u.alpha, 0.0, "the tree stores planar controls");
+    [u.theta, u.grad[0], u.grad[1]]
 }
 
 /// Iterator over a node's children.

@@ -76,11 +76,17 @@ pub enum PlanError {
     },
 }
 
+/// Largest agent distance between two states; NaN if any coordinate is NaN.
 fn deviation(a: &[Vec2], b: &[Vec2]) -> f64 {
     a.iter()
         .zip(b)
         .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max)
+        .fold(0.0, |m, d| if d.is_nan() || d > m { d } else { m })
+}
+
+/// True unless `dev` is a number within the replay tolerance.
+fn too_far(dev: f64) -> bool {
+    dev.is_nan() || dev > REPLAY_TOLERANCE
 }
 
 /// Checks everything but the goal: shape, start, controls, durations, replay and the
@@ -102,7 +108,7 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
         )));
     }
     let dev = deviation(&plan.states[0], &problem.start);
-    if !(dev <= REPLAY_TOLERANCE) {
+    if too_far(dev) {
         return Err(PlanError::WrongStart { deviation: dev });
     }
     if !problem.checker.is_valid(&problem.start) {
@@ -133,7 +139,7 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
             return Err(PlanError::InvalidMotion { edge });
         }
         let dev = deviation(&next, &plan.states[edge + 1]);
-        if !(dev <= REPLAY_TOLERANCE) {
+        if too_far(dev) {
             return Err(PlanError::ReplayMismatch {
                 edge,
                 deviation: dev,

@@ -3,6 +3,7 @@
 mod bench;
 mod figures;
 mod merge;
+mod plan;
 mod regress;
 mod rig;
 mod scenario;
@@ -34,6 +35,8 @@ pub enum Command {
     Scenario(scenario::ScenarioCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
+    /// Plan a scenario with one planner; report the result or write plan, trace and plot.
+    Plan(plan::PlanArgs),
     /// Run an experiment (default experiments/default.toml) into results/<name>/.
     Bench(bench::BenchArgs),
     /// Join the results folders of shards (`bench --shard I/N`) into one.
@@ -59,6 +62,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Regress(a) => regress::run(a),
         Command::Figures(a) => figures::run(a),
         Command::Track(a) => track::run(*a),
+        Command::Plan(a) => plan::run(a),
         Command::Rig(c) => rig::run(c),
     }
 }

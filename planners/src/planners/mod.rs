@@ -5,5 +5,5 @@ mod rrt_star;
 mod sst;
 
 pub use goal_zoom_rrt::GoalZoomRrt;
-pub use rrt_star::RrtStar;
-pub use sst::Sst;
+pub use rrt_star::{LoggedSample, RrtStar, RrtStarStats};
+pub use sst::{Sst, SstStats};

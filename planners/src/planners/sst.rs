@@ -30,8 +30,12 @@
 //! Active nodes are at most one per witness, so the tree stays about as large as the witness
 //! set, which a δ_s-cover of the reachable space bounds.
 //!
-//! MONTE_CARLO_PROP draws one random control and one random duration (`k = 1`); with `k > 1`
-//! it runs EXTEND's k tries toward the sample instead. SAMPLE is the goal-zoom coin toss.
+//! MONTE_CARLO_PROP draws one random control and one random duration when `k = 1`, as in the
+//! paper; with `k > 1` it runs EXTEND's k tries toward the sample and keeps the closest. The
+//! default `k = 5` solved micro-factory in 6 of 6 seeds within 60k iterations (median 7.2k)
+//! where `k = 1` solved 4 of 6; δ_s = 0.25 and δ_BN = 0.5 BL (metric) keep the witnesses finer
+//! than one edge, so that a node can escape its parent's witness. SAMPLE is the goal-zoom coin
+//! toss.
 //! A node that enters the goal region cheaper than the best solution becomes the best solution
 //! (kept as a plan, so later pruning cannot take it away).
 
@@ -42,7 +46,7 @@ use crate::extend::Extend;
 use crate::motion::propagate_checked;
 use crate::nn::NearestNeighbors;
 use crate::objective::Motion;
-use crate::params::{check_durations, number, positive, to_periods, whole};
+use crate::params::{boolean, check_durations, number, positive, to_periods, whole};
 use crate::planner::{Param, ParamError};
 use crate::progress::Progress;
 use crate::result::{Best, finish};
@@ -51,7 +55,7 @@ use crate::tree::{NONE, Tree};
 use crate::{Plan, Planner, PlannerResult, Problem, Rng};
 
 /// Stable Sparse RRT.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Sst {
     /// δ_BN: the selection radius (metric, BL).
     pub selection_radius: f64,
@@ -67,18 +71,24 @@ pub struct Sst {
     pub goal_bias: f64,
     /// Radius of the goal-zoom region about each agent's goal centre (BL).
     pub zoom_radius: f64,
+    /// Stop at the first exact solution instead of improving until the limits.
+    pub stop_on_solution: bool,
+    /// The tree of the last solve.
+    pub last_tree: Option<Tree>,
 }
 
 impl Default for Sst {
     fn default() -> Self {
         Sst {
-            selection_radius: 1.0,
-            pruning_radius: 0.5,
-            tries: 1,
+            selection_radius: 0.5,
+            pruning_radius: 0.25,
+            tries: 5,
             min_duration: 0.25,
             max_duration: 2.0,
             goal_bias: 0.1,
             zoom_radius: 1.5,
+            stop_on_solution: false,
+            last_tree: None,
         }
     }
 }
@@ -92,6 +102,8 @@ pub struct SstStats {
     pub active: usize,
     /// Nodes in the tree (active and inactive).
     pub nodes: usize,
+    /// Nodes added over the run (what a tree that never prunes would hold, plus the root).
+    pub added: u64,
     /// Nodes pruned over the run.
     pub pruned: u64,
 }
@@ -123,6 +135,7 @@ impl Sst {
         witnesses.add(&problem.start, 0);
         let mut rep: Vec<u32> = vec![0];
         let mut pruned = 0u64;
+        let mut added = 0u64;
 
         let mut best = Best {
             plan: Plan::at(&problem.start),
@@ -148,7 +161,7 @@ impl Sst {
         let mut x_new = [Vec2::zeros(); MAX_AGENTS];
         let mut near = Vec::new();
         let mut i = 0u64;
-        while !progress.done(i) {
+        while !progress.done(i) && !(self.stop_on_solution && best.solved) {
             i += 1;
             // x_selected ← BEST_FIRST_SELECTION(V_active, δ_BN)
             if !zoom.sample(problem, &sampler, &mut rng, &mut x_rand[..n]) {
@@ -216,6 +229,7 @@ impl Sst {
                 active[id as usize] = true;
             }
             v_active.add(&x_new[..n], id);
+            added += 1;
 
             // PRUNE_DOMINATED_NODES
             if x_peer != NONE && x_peer != 0 {
@@ -257,9 +271,12 @@ impl Sst {
             witnesses: rep.len(),
             active: v_active.len(),
             nodes: tree.len(),
+            added,
             pruned,
         };
-        (finish(problem, best, i, tree.len(), progress, first), stats)
+        let nodes = tree.len();
+        self.last_tree = Some(tree);
+        (finish(problem, best, i, nodes, progress, first), stats)
     }
 }
 
@@ -309,6 +326,11 @@ impl Planner for Sst {
                 value: self.zoom_radius.to_string(),
                 help: "radius of each agent's goal-zoom disk (BL)",
             },
+            Param {
+                name: "stop_on_solution",
+                value: self.stop_on_solution.to_string(),
+                help: "stop at the first solution (success-rate runs)",
+            },
         ]
     }
 
@@ -321,9 +343,14 @@ impl Planner for Sst {
             "max_duration" => self.max_duration = positive(key, value)?,
             "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
             "zoom_radius" => self.zoom_radius = positive(key, value)?,
+            "stop_on_solution" => self.stop_on_solution = boolean(key, value)?,
             _ => return Err(ParamError::Unknown(key.into())),
         }
         Ok(())
+    }
+
+    fn tree(&self) -> Option<&Tree> {
+        self.last_tree.as_ref()
     }
 
     fn check_params(&self) -> Result<(), ParamError> {

@@ -1,134 +1,23 @@
-//! `rrt-star` and `informed-rrt-star`: kinodynamic RRT* (Karaman & Frazzoli) with shooting
-//! connections, and its informed variant (Gammell, Srinivasa & Barfoot).
-//!
-//! ```text
-//! for i = 1, 2, … until the limits:
-//!   x_rand ← SAMPLE()               goal-zoom coin toss; informed: only states with ĝ + ĥ < c_best
-//!   x_nearest ← NEAREST(x_rand)
-//!   (x_new, u, T) ← EXTEND(x_nearest, x_rand); continue unless collision-free
-//!   X_near ← the k_RRT·ln(n) nearest nodes of x_new within η
-//!   // choose the parent by cost
-//!   x_min ← x_nearest; c_min ← c(x_nearest) + c(u, T)
-//!   for x_near ∈ X_near with c(x_near) + ĉ(x_near, x_new) < c_min:
-//!     if CONNECT(x_near, x_new) lands within ε, is collision-free and costs less: x_min ← x_near
-//!   add x_new — where x_min's edge ends — with parent x_min
-//!   // rewire
-//!   for x_near ∈ X_near with c(x_new) + ĉ(x_new, x_near) < c(x_near):
-//!     if CONNECT(x_new, x_near) lands within ε at x′_near, is collision-free and costs less, and
-//!     x_near's subtree replayed from x′_near stays valid: move x_near to x′_near under x_new and
-//!     re-propagate its descendants, updating their states and costs
-//!   a node that enters the goal region cheaper than c_best becomes the best solution
-//! ```
-//!
-//! **The approximation.** No exact steering function exists for this system (underactuated,
-//! with drift). CONNECT shoots: it runs the EXTEND optimiser (random (control, duration) tries,
-//! keep the end closest to the target) with `connect_tries` tries and accepts the connection
-//! only when the best end lies within `connect_tolerance` (metric distance, BL) of the target.
-//! A connection therefore reaches a point *near* its target, not the target itself:
-//!
-//! - choosing a parent, the new node is placed where the chosen parent's edge ends;
-//! - rewiring moves `x_near` to where the new edge ends, and its descendants' states change
-//!   when their stored controls are replayed from there. The whole subtree is re-propagated
-//!   (and re-checked) before the rewire is accepted, so every stored state is exactly what its
-//!   edge replays to; rewires whose subtree would collide, or that exceed `max_subtree` nodes,
-//!   are skipped.
-//!
-//! Costs are re-computed along the replayed edges, so they stay exact. The best solution is
-//! kept as a plan snapshot whenever it improves, so its cost never increases even if a later
-//! rewire moves its goal node. The asymptotic optimality of RRT* holds for this scheme only up
-//! to the tolerance ε.
+//! The RRT* search: the iteration loop, choosing parents, CONNECT and rewiring.
 
 use magbench_env::{MAX_AGENTS, Vec2};
 use rand::SeedableRng;
 
+use super::{LoggedSample, RrtStar};
 use crate::extend::{Extend, Extension};
 use crate::informed::InformedSet;
 use crate::motion::propagate_checked;
 use crate::nn::NearestNeighbors;
 use crate::objective::Motion;
-use crate::params::{boolean, check_durations, number, positive, to_periods, whole};
-use crate::planner::{Param, ParamError};
+use crate::params::to_periods;
 use crate::progress::Progress;
 use crate::result::{Best, finish};
-use crate::sampler::{GoalZoom, SAMPLE_TRIES, StateSampler, valid_sample};
+use crate::sampler::{GoalZoom, StateSampler};
 use crate::steer::Connect;
 use crate::tree::Tree;
-use crate::{Planner, PlannerResult, Problem, Rng};
-
-/// One sample drawn by RRT*, with the best cost when it was drawn (for tests and diagnostics).
-#[derive(Debug, Clone, PartialEq)]
-pub struct LoggedSample {
-    /// The iteration.
-    pub iteration: u64,
-    /// The sampled state.
-    pub state: Vec<Vec2>,
-    /// The best solution cost at that moment.
-    pub c_best: Option<f64>,
-}
-
-/// Kinodynamic RRT* (and informed RRT* when `informed`).
-#[derive(Debug, Clone)]
-pub struct RrtStar {
-    /// Sample only the informed set once a solution exists.
-    pub informed: bool,
-    /// EXTEND's random tries toward a sample.
-    pub tries: usize,
-    /// Shortest edge duration (s), rounded to whole control periods.
-    pub min_duration: f64,
-    /// Longest edge duration (s), rounded to whole control periods.
-    pub max_duration: f64,
-    /// Probability of sampling the goal-zoom region.
-    pub goal_bias: f64,
-    /// Radius of the goal-zoom region about each agent's goal centre (BL).
-    pub zoom_radius: f64,
-    /// CONNECT's random seeding tries (the shooting steer).
-    pub connect_tries: usize,
-    /// CONNECT's Gauss–Newton refinement iterations.
-    pub connect_iterations: usize,
-    /// Largest distance (metric, BL) between a connection's end and its target.
-    pub connect_tolerance: f64,
-    /// Refine a connection only when its best seed ends this close to the target (BL).
-    pub connect_basin: f64,
-    /// η: neighbours farther than this (metric, BL) are not connected to.
-    pub near_radius: f64,
-    /// Multiplies k_RRT = e (1 + 1/d) in the k_RRT·ln(n) nearest neighbours.
-    pub rewire_factor: f64,
-    /// Largest subtree a rewire re-propagates.
-    pub max_subtree: usize,
-    /// When `Some`, every sample is appended here (tests, diagnostics).
-    pub sample_log: Option<Vec<LoggedSample>>,
-}
-
-impl Default for RrtStar {
-    fn default() -> Self {
-        RrtStar {
-            informed: false,
-            tries: 5,
-            min_duration: 0.25,
-            max_duration: 2.0,
-            goal_bias: 0.1,
-            zoom_radius: 1.5,
-            connect_tries: 4,
-            connect_iterations: 8,
-            connect_basin: 0.75,
-            near_radius: 1.0,
-            connect_tolerance: 0.1,
-            rewire_factor: 1.0,
-            max_subtree: 500,
-            sample_log: None,
-        }
-    }
-}
+use crate::{PlannerResult, Problem, Rng};
 
 impl RrtStar {
-    /// Informed RRT* with the default parameters.
-    pub fn informed() -> Self {
-        RrtStar {
-            informed: true,
-            ..RrtStar::default()
-        }
-    }
-
     /// Runs RRT* and also returns its counts.
     pub fn solve_with_stats(&mut self, problem: &Problem) -> (PlannerResult, RrtStarStats) {
         let n = problem.agents();
@@ -198,13 +87,13 @@ impl RrtStar {
         let mut x_rand = [Vec2::zeros(); MAX_AGENTS];
         let mut near = Vec::new();
         let mut i = 0u64;
-        while !progress.done(i) {
+        while !progress.done(i) && !(self.stop_on_solution && s.best.solved) {
             i += 1;
             let c_best = s.best.solved_cost();
             // x_rand ← SAMPLE()
             let sampled = match c_best {
                 Some(c) if self.informed => {
-                    sample_informed(&mut s, &informed, &sampler, c, &mut x_rand[..n])
+                    informed.sample(problem, &mut s.rng, &sampler, &zoom, c, &mut x_rand[..n])
                 }
                 _ => zoom.sample(problem, &sampler, &mut s.rng, &mut x_rand[..n]),
             };
@@ -235,6 +124,7 @@ impl RrtStar {
         }
         let nodes = s.tree.len();
         let stats = s.stats;
+        self.last_tree = Some(std::mem::replace(&mut s.tree, Tree::new(&problem.start)));
         (finish(problem, s.best, i, nodes, progress, first), stats)
     }
 }
@@ -250,6 +140,10 @@ pub struct RrtStarStats {
     pub rewires: u64,
     /// Nodes moved by rewires (each rewired node and its descendants).
     pub moved: u64,
+    /// Rewires skipped because the subtree exceeded `max_subtree`.
+    pub too_big: u64,
+    /// Rewires skipped because a descendant's replayed edge was invalid.
+    pub broke: u64,
 }
 
 /// What one run keeps.
@@ -272,137 +166,6 @@ struct Search<'a> {
     new_states: Vec<Vec2>,
     new_costs: Vec<f64>,
     stats: RrtStarStats,
-}
-
-impl Planner for RrtStar {
-    fn name(&self) -> &str {
-        if self.informed {
-            "informed-rrt-star"
-        } else {
-            "rrt-star"
-        }
-    }
-
-    fn solve(&mut self, problem: &Problem) -> PlannerResult {
-        self.solve_with_stats(problem).0
-    }
-
-    fn params(&self) -> Vec<Param> {
-        vec![
-            Param {
-                name: "k",
-                value: self.tries.to_string(),
-                help: "EXTEND's random (control, duration) tries toward a sample",
-            },
-            Param {
-                name: "min_duration",
-                value: self.min_duration.to_string(),
-                help: "shortest edge (s), rounded to whole 1/60 s periods",
-            },
-            Param {
-                name: "max_duration",
-                value: self.max_duration.to_string(),
-                help: "longest edge (s), rounded to whole 1/60 s periods",
-            },
-            Param {
-                name: "goal_bias",
-                value: self.goal_bias.to_string(),
-                help: "probability of sampling the goal-zoom region",
-            },
-            Param {
-                name: "zoom_radius",
-                value: self.zoom_radius.to_string(),
-                help: "radius of each agent's goal-zoom disk (BL)",
-            },
-            Param {
-                name: "connect_tries",
-                value: self.connect_tries.to_string(),
-                help: "CONNECT's random seeding tries (shooting steer)",
-            },
-            Param {
-                name: "connect_iterations",
-                value: self.connect_iterations.to_string(),
-                help: "CONNECT's Gauss-Newton refinement iterations",
-            },
-            Param {
-                name: "connect_tolerance",
-                value: self.connect_tolerance.to_string(),
-                help: "largest metric distance (BL) a connection may miss its target by",
-            },
-            Param {
-                name: "connect_basin",
-                value: self.connect_basin.to_string(),
-                help: "refine a connection only when its best seed ends this close (BL)",
-            },
-            Param {
-                name: "near_radius",
-                value: self.near_radius.to_string(),
-                help: "η: largest metric distance (BL) of a neighbour to connect",
-            },
-            Param {
-                name: "rewire_factor",
-                value: self.rewire_factor.to_string(),
-                help: "multiplies k_RRT in the k_RRT·ln(n) near neighbours",
-            },
-            Param {
-                name: "max_subtree",
-                value: self.max_subtree.to_string(),
-                help: "largest subtree a rewire re-propagates",
-            },
-            Param {
-                name: "informed",
-                value: self.informed.to_string(),
-                help: "sample only states that can improve the best solution",
-            },
-        ]
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "k" => self.tries = whole(key, value, 1, 100_000)? as usize,
-            "min_duration" => self.min_duration = positive(key, value)?,
-            "max_duration" => self.max_duration = positive(key, value)?,
-            "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
-            "zoom_radius" => self.zoom_radius = positive(key, value)?,
-            "connect_tries" => self.connect_tries = whole(key, value, 1, 100_000)? as usize,
-            "connect_iterations" => self.connect_iterations = whole(key, value, 0, 1000)? as usize,
-            "connect_tolerance" => self.connect_tolerance = positive(key, value)?,
-            "connect_basin" => self.connect_basin = positive(key, value)?,
-            "near_radius" => self.near_radius = positive(key, value)?,
-            "rewire_factor" => self.rewire_factor = positive(key, value)?,
-            "max_subtree" => self.max_subtree = whole(key, value, 1, u32::MAX as u64)? as usize,
-            "informed" => self.informed = boolean(key, value)?,
-            _ => return Err(ParamError::Unknown(key.into())),
-        }
-        Ok(())
-    }
-
-    fn check_params(&self) -> Result<(), ParamError> {
-        check_durations(self.min_duration, self.max_duration)
-    }
-}
-
-/// x_rand from the informed set for `c_best`: per-agent ellipses for path length, else the
-/// fallback sampler, rejected on the heuristic and on validity.
-fn sample_informed(
-    s: &mut Search,
-    set: &InformedSet,
-    sampler: &StateSampler,
-    c_best: f64,
-    out: &mut [Vec2],
-) -> bool {
-    let problem = s.problem;
-    for _ in 0..SAMPLE_TRIES {
-        let drawn = if set.uses_ellipses() {
-            set.sample_ellipses(&mut s.rng, c_best, out)
-        } else {
-            valid_sample(problem, 1, out, |x| sampler.uniform(&mut s.rng, x))
-        };
-        if drawn && set.contains(problem, out, c_best) && problem.checker.is_valid(out) {
-            return true;
-        }
-    }
-    false
 }
 
 impl Search<'_> {
@@ -514,6 +277,7 @@ impl Search<'_> {
         let (problem, n) = (self.problem, self.n);
         self.tree.subtree(x_near, &mut self.subtree);
         if self.subtree.len() > self.max_subtree {
+            self.stats.too_big += 1;
             return;
         }
         // dry run: replay every descendant's edge from its parent's new state
@@ -532,7 +296,10 @@ impl Search<'_> {
             let from = &self.new_states[p * n..(p + 1) * n];
             let length = match propagate_checked(problem, from, &u, d, &mut end[..n]) {
                 Some(l) => l,
-                None => return,
+                None => {
+                    self.stats.broke += 1;
+                    return;
+                }
             };
             let c = self.new_costs[p]
                 + problem.objective.motion_cost(&Motion {

@@ -1,0 +1,140 @@
+//! Planning building blocks and one whole plan, on micro-factory:
+//!
+//! - `propagate/step`: one RK4 step of the planning model (two agents);
+//! - `propagate/period`, `propagate/1s`: one control period (2 steps), one second (120 steps);
+//! - `extend/default`: one EXTEND call with goal-zoom-rrt's defaults (5 tries of 0.25–2 s);
+//! - `nearest/10k`: a nearest-neighbour query among 10 000 team states (k-d tree);
+//! - `motion_valid/1s`: checking a 1 s edge (propagation + capsule sweeps + proximity range);
+//! - `goal_zoom_rrt/micro_factory`: a whole plan to the first solution, seeds 0, 1, 2, … in turn.
+//!
+//! ```sh
+//! cargo bench -p magbench-benches --bench planning
+//! ```
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use magbench_env::{Control, LocalView, Scenario, Vec2};
+use magbench_planners::extend::Extend;
+use magbench_planners::nn::NearestNeighbors;
+use magbench_planners::{Limits, Metric, Planner, Problem, Rng, registry};
+use rand::{RngExt, SeedableRng};
+
+fn problem() -> Problem {
+    let s = Scenario::load("micro-factory").unwrap();
+    Problem::from_scenario(&s, 0, None, 0)
+}
+
+fn mid_state() -> Vec<Vec2> {
+    LocalView {
+        xc: 20.0,
+        yc: 14.0,
+        r: 2.5,
+        phi: 0.4,
+    }
+    .to_pair()
+    .to_vec()
+}
+
+fn bench(c: &mut Criterion) {
+    let p = problem();
+    let x = mid_state();
+    let g = p.model.coil.gradient_limit();
+    let u = Control::planar(0.7, 0.5 * g, -0.3 * g);
+    let mut out = vec![Vec2::zeros(); 2];
+
+    let mut group = c.benchmark_group("propagate");
+    group.bench_function("step", |b| {
+        b.iter(|| {
+            p.model
+                .propagate_with(black_box(&x), &u, p.model.dt, &mut out, |_| true)
+        })
+    });
+    group.bench_function("period", |b| {
+        b.iter(|| {
+            p.model
+                .propagate_with(black_box(&x), &u, p.control_period, &mut out, |_| true)
+        })
+    });
+    group.bench_function("1s", |b| {
+        b.iter(|| {
+            p.model
+                .propagate_with(black_box(&x), &u, 1.0, &mut out, |_| true)
+        })
+    });
+    group.finish();
+
+    let extend = Extend {
+        tries: 5,
+        min_periods: 15,
+        max_periods: 120,
+    };
+    let target = LocalView {
+        xc: 20.5,
+        yc: 14.3,
+        r: 3.0,
+        phi: 1.0,
+    }
+    .to_pair()
+    .to_vec();
+    let mut rng = Rng::seed_from_u64(1);
+    c.bench_function("extend/default", |b| {
+        b.iter(|| extend.run(&p, &mut rng, black_box(&x), &target))
+    });
+
+    let mut nn = NearestNeighbors::new(Metric::Positions, 2);
+    let mut rng = Rng::seed_from_u64(2);
+    let team = |rng: &mut Rng| {
+        LocalView {
+            xc: rng.random_range(0.0..48.0),
+            yc: rng.random_range(0.0..32.0),
+            r: rng.random_range(1.25..6.0),
+            phi: rng.random_range(-3.14..3.14),
+        }
+        .to_pair()
+    };
+    for i in 0..10_000u32 {
+        nn.add(&team(&mut rng), i);
+    }
+    let queries: Vec<[Vec2; 2]> = (0..1024).map(|_| team(&mut rng)).collect();
+    let mut k = 0;
+    c.bench_function("nearest/10k", |b| {
+        b.iter(|| {
+            k = (k + 1) % queries.len();
+            nn.nearest(black_box(&queries[k]))
+        })
+    });
+
+    // the first field angle (in 0.05 rad steps) whose 1 s edge is valid: the check runs to the end
+    let soft = (0..126)
+        .map(|k| Control::planar(-3.14 + 0.05 * k as f64, 0.3 * g, 0.2 * g))
+        .find(|u| p.checker.motion_valid(&p.model, &x, u, 1.0, &mut out))
+        .expect("some 1 s edge from the benchmark state is valid");
+    c.bench_function("motion_valid/1s", |b| {
+        b.iter(|| {
+            p.checker
+                .motion_valid(&p.model, black_box(&x), &soft, 1.0, &mut out)
+        })
+    });
+
+    let mut group = c.benchmark_group("goal_zoom_rrt");
+    group.sample_size(20);
+    let mut seed = 0;
+    group.bench_function("micro_factory", |b| {
+        b.iter(|| {
+            let mut q = p.clone();
+            q.seed = seed;
+            q.limits = Limits {
+                max_iterations: Some(200_000),
+                time_limit: None,
+            };
+            seed += 1;
+            let mut planner: Box<dyn Planner> = registry::create("goal-zoom-rrt", &[]).unwrap();
+            planner.solve(&q).solved
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,355 @@
+//! `magbench plan`: plan a scenario with one planner and report (or write) the result.
+//!
+//! A scenario with several legs is planned leg by leg, each leg from where the previous plan
+//! ends; planning stops at the first leg that is not solved.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use magbench_env::{MAX_AGENTS, Scenario, Vec2};
+use magbench_planners::{Limits, Plan, Planner, PlannerResult, Problem, registry, validate_path};
+use serde_json::{Value, json};
+
+use crate::CliError;
+use crate::plot::world::{WorldPlot, render};
+
+/// Arguments of `magbench plan`.
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// A built-in scenario name or a scenario file.
+    #[arg(required_unless_present = "list")]
+    pub scenario: Option<String>,
+    /// The planner: goal-zoom-rrt, rrt-star, informed-rrt-star or sst (see --list).
+    #[arg(long, required_unless_present = "list")]
+    pub planner: Option<String>,
+    /// Seed of the planner's random stream (leg k uses seed + k).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Iteration limit per leg (default 200000 when no limit is given).
+    #[arg(long)]
+    pub max_iters: Option<u64>,
+    /// Wall-time limit per leg (s). Results are reproducible only with an iteration limit.
+    #[arg(long)]
+    pub time_limit: Option<f64>,
+    /// A planner parameter, key=value (repeatable; see --list).
+    #[arg(long = "param", value_name = "KEY=VALUE")]
+    pub params: Vec<String>,
+    /// Cost objective: path-length (default), duration or control-effort.
+    #[arg(long, default_value = "path-length")]
+    pub objective: String,
+    /// Distance metric: positions (default) or centroid-shape:W_CENTROID:W_SHAPE.
+    #[arg(long, default_value = "positions")]
+    pub metric: String,
+    /// Print exactly one JSON object on stdout instead of a summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the plan (JSON and CSV), the result with its progress trace, and a world plot
+    /// with the tree, the plan's agent paths, start and goal here.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// List the planners and their parameters with defaults, and exit.
+    #[arg(long)]
+    pub list: bool,
+}
+
+/// One planned leg.
+struct LegRun {
+    problem: Problem,
+    result: PlannerResult,
+    tree: Vec<(Vec2, Vec2)>,
+}
+
+/// Runs `magbench plan`.
+pub fn run(a: PlanArgs) -> Result<(), CliError> {
+    if a.list {
+        print!("{}", planner_list());
+        return Ok(());
+    }
+    let (Some(scenario_name), Some(planner_name)) = (a.scenario.as_deref(), a.planner.as_deref())
+    else {
+        return Err(CliError::arg(
+            "SCENARIO",
+            "a scenario and --planner are required",
+        ));
+    };
+    let scenario = Scenario::load(scenario_name)?;
+    let params = a
+        .params
+        .iter()
+        .map(|kv| registry::parse_assignment("<command line>", kv))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut planner = registry::create(planner_name, &params)?;
+    let limits = limits(&a)?;
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::Failed(format!("{}: cannot create: {e}", dir.display())))?;
+    }
+
+    let mut runs: Vec<LegRun> = Vec::new();
+    let mut start: Option<Vec<Vec2>> = None;
+    for leg in 0..scenario.legs.len() {
+        let mut problem = Problem::from_scenario(
+            &scenario,
+            leg,
+            start.as_deref(),
+            a.seed.wrapping_add(leg as u64),
+        );
+        problem.limits = limits;
+        registry::set_objective("<command line>", &mut problem, &a.objective)?;
+        registry::set_metric("<command line>", &mut problem, &a.metric)?;
+        if !problem.checker.is_valid(&problem.start) {
+            return Err(CliError::Failed(format!(
+                "leg {}: the previous leg ends in a state that is invalid in this leg's map",
+                leg + 1
+            )));
+        }
+        let result = planner.solve(&problem);
+        // never hand out a plan the validator refuses
+        validate_path(&problem, &result.plan).map_err(|e| {
+            CliError::Failed(format!(
+                "leg {}: {planner_name} returned an invalid plan: {e}",
+                leg + 1
+            ))
+        })?;
+        let tree = tree_edges(&*planner);
+        let solved = result.solved;
+        start = Some(result.plan.end().to_vec());
+        runs.push(LegRun {
+            problem,
+            result,
+            tree,
+        });
+        if !solved {
+            break;
+        }
+    }
+
+    let summary = summary_json(&scenario, planner_name, &a, &runs);
+    if let Some(dir) = &a.out {
+        write_outputs(dir, &scenario, planner_name, &summary, &runs)?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string(&summary).expect("json"));
+    } else {
+        print!("{}", summary_text(&summary, &runs));
+        if let Some(dir) = &a.out {
+            println!("wrote       {}", dir.display());
+        }
+    }
+    Ok(())
+}
+
+fn limits(a: &PlanArgs) -> Result<Limits, CliError> {
+    if let Some(t) = a.time_limit
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(CliError::arg(
+            "--time-limit",
+            format!("must be a number of seconds > 0, got {t}"),
+        ));
+    }
+    if a.max_iters == Some(0) {
+        return Err(CliError::arg("--max-iters", "must be at least 1"));
+    }
+    if a.max_iters.is_none() && a.time_limit.is_none() {
+        return Ok(Limits::default());
+    }
+    Ok(Limits {
+        max_iterations: a.max_iters,
+        time_limit: a.time_limit.map(std::time::Duration::from_secs_f64),
+    })
+}
+
+/// The planners and their parameters, for `--list`.
+pub fn planner_list() -> String {
+    let mut s = String::new();
+    for (name, summary, params) in registry::list() {
+        s += &format!("{name}\n    {summary}\n");
+        for p in params {
+            s += &format!("    {:<20} {:<10} {}\n", p.name, p.value, p.help);
+        }
+    }
+    s += "objectives: path-length (default), duration, control-effort\n";
+    s += "metrics:    positions (default), centroid-shape:W_CENTROID:W_SHAPE\n";
+    s
+}
+
+/// The planner's tree projected on the team's centroid (at most 20000 edges, evenly chosen).
+fn tree_edges(planner: &dyn Planner) -> Vec<(Vec2, Vec2)> {
+    let Some(tree) = planner.tree() else {
+        return vec![];
+    };
+    let centroid = |s: &[Vec2]| s.iter().sum::<Vec2>() / s.len() as f64;
+    let edges: Vec<(u32, u32)> = tree.edges().collect();
+    let stride = edges.len().div_ceil(20_000).max(1);
+    edges
+        .iter()
+        .step_by(stride)
+        .map(|&(p, c)| (centroid(tree.state(p)), centroid(tree.state(c))))
+        .collect()
+}
+
+fn summary_json(s: &Scenario, planner: &str, a: &PlanArgs, runs: &[LegRun]) -> Value {
+    let solved = runs.len() == s.legs.len() && runs.iter().all(|r| r.result.solved);
+    let last = runs.last().expect("at least one leg is planned");
+    let cost: Option<f64> = if solved {
+        runs.iter().map(|r| r.result.cost).sum()
+    } else {
+        None
+    };
+    let mut v = json!({
+        "scenario": s.name,
+        "planner": planner,
+        "seed": a.seed,
+        "solved": solved,
+        "approximate": !solved,
+        "iterations": runs.iter().map(|r| r.result.iterations).sum::<u64>(),
+        "nodes": runs.iter().map(|r| r.result.nodes).sum::<usize>(),
+        "time_s": runs.iter().map(|r| r.result.time_s).sum::<f64>(),
+        "cost": cost,
+        "goal_distance": last.result.goal_distance,
+    });
+    if s.legs.len() > 1 {
+        v["legs"] = runs
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                json!({
+                    "leg": k + 1,
+                    "solved": r.result.solved,
+                    "iterations": r.result.iterations,
+                    "nodes": r.result.nodes,
+                    "time_s": r.result.time_s,
+                    "cost": r.result.cost,
+                    "goal_distance": r.result.goal_distance,
+                })
+            })
+            .collect();
+    }
+    v
+}
+
+fn summary_text(v: &Value, runs: &[LegRun]) -> String {
+    let mut s = format!(
+        "scenario    {}\nplanner     {}  (seed {})\n",
+        v["scenario"].as_str().unwrap_or(""),
+        v["planner"].as_str().unwrap_or(""),
+        v["seed"]
+    );
+    for (k, r) in runs.iter().enumerate() {
+        let res = &r.result;
+        let what = if res.solved {
+            "solved"
+        } else {
+            "NOT solved (closest approach)"
+        };
+        let first = res
+            .first_solution
+            .map(|(i, t)| format!(", first solution at iteration {i} ({t:.3} s)"))
+            .unwrap_or_default();
+        s += &format!(
+            "leg {}       {what}: {} edges, {:.2} s of motion, cost {}, goal distance {:.3} BL\n            {} iterations, {} nodes, {:.3} s{first}\n",
+            k + 1,
+            res.plan.edges(),
+            res.plan.duration(),
+            res.cost.map_or("-".to_string(), |c| format!(
+                "{c:.3} ({})",
+                r.problem.objective.name()
+            )),
+            res.goal_distance,
+            res.iterations,
+            res.nodes,
+            res.time_s,
+        );
+    }
+    s
+}
+
+/// The plan's agent paths along its integration samples (for the plot).
+fn agent_paths(problem: &Problem, plan: &Plan) -> Vec<Vec<Vec2>> {
+    let n = problem.agents();
+    let mut paths: Vec<Vec<Vec2>> = plan.start().iter().map(|p| vec![*p]).collect();
+    let mut out = [Vec2::zeros(); MAX_AGENTS];
+    for (k, (u, &d)) in plan.controls.iter().zip(&plan.durations).enumerate() {
+        problem
+            .model
+            .propagate_with(&plan.states[k], u, d, &mut out[..n], |s| {
+                for (path, p) in paths.iter_mut().zip(s) {
+                    path.push(*p);
+                }
+                true
+            });
+    }
+    paths
+}
+
+fn write_outputs(
+    dir: &Path,
+    s: &Scenario,
+    planner: &str,
+    summary: &Value,
+    runs: &[LegRun],
+) -> Result<(), CliError> {
+    let fail = |what: &Path, e: &dyn std::fmt::Display| {
+        CliError::Failed(format!("{}: {e}", what.display()))
+    };
+    let multi = s.legs.len() > 1;
+    let mut result = summary.clone();
+    result["progress"] = runs
+        .iter()
+        .map(|r| {
+            r.result
+                .progress
+                .iter()
+                .map(|p| json!({"iteration": p.iteration, "time_s": p.time_s, "best_cost": p.best_cost}))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let path = dir.join("result.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&result).expect("json"))
+        .map_err(|e| fail(&path, &e))?;
+    for (k, r) in runs.iter().enumerate() {
+        let stem = if multi {
+            format!("plan-leg{}", k + 1)
+        } else {
+            "plan".to_string()
+        };
+        let path = dir.join(format!("{stem}.json"));
+        std::fs::write(
+            &path,
+            serde_json::to_string_pretty(&r.result.plan).expect("json"),
+        )
+        .map_err(|e| fail(&path, &e))?;
+        let path = dir.join(format!("{stem}.csv"));
+        std::fs::write(&path, r.result.plan.to_csv()).map_err(|e| fail(&path, &e))?;
+
+        let world = &r.problem.world;
+        let mut plot = WorldPlot::new(world);
+        plot.tree = r.tree.clone();
+        plot.planned = agent_paths(&r.problem, &r.result.plan);
+        plot.starts = r.problem.start.clone();
+        plot.goals = vec![r.problem.goal.clone()];
+        let status = if r.result.solved {
+            "solved".to_string()
+        } else {
+            format!("not solved, {:.2} BL from the goal", r.result.goal_distance)
+        };
+        plot.title = Some(format!(
+            "{}{} · {planner} · {status} · tree of {} nodes (centroids)",
+            s.name,
+            if multi {
+                format!(" leg {}", k + 1)
+            } else {
+                String::new()
+            },
+            r.result.nodes
+        ));
+        let stem = if multi {
+            format!("world-leg{}", k + 1)
+        } else {
+            "world".to_string()
+        };
+        render(&plot, &dir.join(stem))?;
+    }
+    Ok(())
+}

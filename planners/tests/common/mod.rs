@@ -1,0 +1,130 @@
+//! Shared helpers: small problems and the checks every solved plan must pass.
+#![allow(dead_code)]
+
+use magbench_env::scenario::parse_scenario;
+use magbench_env::{Scenario, Vec2};
+use magbench_planners::{Limits, Plan, PlannerResult, Problem, plan_cost, validate_plan};
+
+/// A small walled field with one block: start and goal 7 BL apart, the pair turns by 90°.
+pub const SMALL: &str = r#"
+name = "small"
+[world]
+width = 16.0
+height = 12.0
+[[world.obstacles]]
+polygon = [[7.0, 0.0], [9.0, 0.0], [9.0, 4.0], [7.0, 4.0]]
+[start]
+agents = [[3.0, 3.0], [5.0, 3.0]]
+[goal]
+agents = [[11.0, 3.0], [11.0, 5.5]]
+tolerance = 0.5
+"#;
+
+/// A large empty field where start and goal are close: the informed set is much smaller than
+/// the world.
+pub const ROOMY: &str = r#"
+name = "roomy"
+[world]
+width = 40.0
+height = 30.0
+[start]
+agents = [[10.0, 15.0], [12.0, 15.0]]
+[goal]
+agents = [[17.0, 15.0], [19.0, 15.0]]
+tolerance = 0.5
+"#;
+
+/// A small empty box: SST's witnesses cover it in a long run.
+pub const BOX: &str = r#"
+name = "box"
+[world]
+width = 8.0
+height = 8.0
+[start]
+agents = [[2.5, 4.0], [4.5, 4.0]]
+[goal]
+agents = [[4.0, 2.5], [4.0, 5.5]]
+tolerance = 0.5
+"#;
+
+/// Three agents in a wide triangle move by (3, 1) BL (a three-agent team has far less freedom
+/// than a pair: every pair must stay in the proximity range under one field).
+pub const TRIO: &str = r#"
+name = "trio"
+[world]
+width = 16.0
+height = 14.0
+[start]
+agents = [[4.0, 5.0], [8.5, 5.0], [6.25, 8.9]]
+[goal]
+agents = [[7.0, 6.0], [11.5, 6.0], [9.25, 9.9]]
+tolerance = 1.0
+"#;
+
+/// Parses a scenario written in a test.
+pub fn scenario(text: &str) -> Scenario {
+    parse_scenario(text, "<test>").expect("test scenario parses")
+}
+
+/// The problem of leg 0 with an iteration limit.
+pub fn problem(s: &Scenario, seed: u64, iterations: u64) -> Problem {
+    let mut p = Problem::from_scenario(s, 0, None, seed);
+    p.limits = Limits {
+        max_iterations: Some(iterations),
+        time_limit: None,
+    };
+    p
+}
+
+/// Replays `plan` through the planning model and returns the states it passes.
+pub fn replay(problem: &Problem, plan: &Plan) -> Vec<Vec<Vec2>> {
+    let mut states = vec![plan.states[0].clone()];
+    for (u, &d) in plan.controls.iter().zip(&plan.durations) {
+        let mut next = vec![Vec2::zeros(); problem.agents()];
+        problem
+            .model
+            .propagate_with(states.last().unwrap(), u, d, &mut next, |_| true);
+        states.push(next);
+    }
+    states
+}
+
+/// Every check a solved result must pass: the validator, bit-exact replay (same model, same
+/// arithmetic: any other code path would only agree approximately — the pair dynamics are
+/// extremely sensitive), the reported cost equals a replayed cost, the goal distance, and
+/// durations in whole control periods.
+pub fn assert_solution(problem: &Problem, r: &PlannerResult) {
+    assert!(
+        r.solved && !r.approximate,
+        "not solved (goal distance {})",
+        r.goal_distance
+    );
+    validate_plan(problem, &r.plan).unwrap_or_else(|e| panic!("invalid plan: {e}"));
+    assert_eq!(
+        replay(problem, &r.plan),
+        r.plan.states,
+        "replay is not bit-exact"
+    );
+    assert_eq!(
+        Some(plan_cost(problem, &r.plan)),
+        r.cost,
+        "reported cost differs from the replayed cost"
+    );
+    assert_eq!(r.goal_distance, problem.goal.distance(r.plan.end()));
+    for &d in &r.plan.durations {
+        let k = d / problem.control_period;
+        assert!(
+            k >= 1.0 && (k - k.round()).abs() < 1e-9,
+            "duration {d} is not a whole number of periods"
+        );
+    }
+    assert!(r.first_solution.is_some());
+}
+
+/// Best costs along a progress trace (ignoring times).
+pub fn trace(r: &PlannerResult) -> Vec<(u64, Option<f64>)> {
+    r.progress
+        .iter()
+        .map(|p| (p.iteration, p.best_cost))
+        .collect()
+}
