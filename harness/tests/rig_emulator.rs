@@ -459,7 +459,6 @@ fn a_frozen_host_on_tcp_trips_the_watchdog() {
 /// frames — so the observed start, and with it the plan — are the same every run (a start
 /// 1e-4 BL away gives another plan).
 #[test]
-#[ignore = "waits on the trackers: passes (65 s) with the trackers branch at d12a7f3; with the trackers on main the obc run times out short of the goal; run with --ignored"]
 fn rig_run_on_micro_factory_reaches_the_goal_and_leaves_zero_currents() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let emu = Emulator::start(
