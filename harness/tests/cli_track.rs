@@ -162,10 +162,6 @@ fn bad_input_exits_2_with_a_clear_message() {
             ],
             "unknown planner",
         ),
-        (
-            &["track", "open-field", "--tracker", "obc"],
-            "a planner is needed",
-        ),
     ];
     for (args, want) in cases {
         let (code, _, stderr) = magbench(args);

@@ -2,7 +2,7 @@
 //! with the committed baseline `results/baseline/` by `magbench regress`'s statistics. A change
 //! that significantly worsens tracking error, success, cost or iterations to a solution fails
 //! this test. Wall-clock times are left out (CI machines differ). To update the baseline after
-//! an intended change, see docs/readme-harness.md.
+//! an intended change, see README.md ("Benchmarks").
 
 use std::path::Path;
 
@@ -22,7 +22,7 @@ fn the_ci_experiment_shows_no_regression_against_the_baseline() {
     assert_eq!(
         m.experiment.sha256,
         e.hash(),
-        "experiments/ci.toml changed since results/baseline was made: regenerate the baseline (docs/readme-harness.md)"
+        "experiments/ci.toml changed since results/baseline was made: regenerate the baseline (README.md ("Benchmarks"))"
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("ci");

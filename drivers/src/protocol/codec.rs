@@ -154,7 +154,7 @@ mod tests {
 
     #[test]
     fn documented_example_frames() {
-        // the examples in docs/readme-physical-runs.md, byte for byte
+        // the examples in README.md ("Physical runs"), byte for byte
         let hex = |m: Message, seq: u16| {
             encode(seq, &m)
                 .iter()

@@ -22,7 +22,7 @@ use crate::plot::world::{WorldPlot, render};
 pub struct TrackArgs {
     /// A built-in scenario name or a scenario file.
     pub scenario: String,
-    /// The planner that makes the plan (and every replan).
+    /// The planner that makes the plan (and every replan); goal-zoom-rrt unless --plan is given.
     #[arg(long)]
     pub planner: Option<String>,
     /// The tracker: open-loop, obc or lookahead.
@@ -100,7 +100,13 @@ pub fn run(a: TrackArgs) -> Result<(), CliError> {
     })?;
     let spec = TrackerSpec::parse(&a.tracker, &kv_list(&a.params)?, "<command line>")?;
     let limits = limits(&a)?;
-    let mut planner = match &a.planner {
+    // without a plan file, the seed's planner makes the plan unless another is named
+    let planner_name = match (&a.planner, &a.plan) {
+        (Some(name), _) => Some(name.as_str()),
+        (None, None) => Some("goal-zoom-rrt"),
+        (None, Some(_)) => None,
+    };
+    let mut planner = match planner_name {
         Some(name) => Some(make_planner(name, &kv_list(&a.planner_params)?)?),
         None => None,
     };
@@ -108,12 +114,6 @@ pub fn run(a: TrackArgs) -> Result<(), CliError> {
         Some(p) => Some(read_plan(p, scenario.agents())?),
         None => None,
     };
-    if planner.is_none() && given.is_none() {
-        return Err(CliError::arg(
-            "--planner",
-            "a planner is needed (or a plan file with --plan)",
-        ));
-    }
     // the first plan: from the file, or planned from the scenario's start (as `magbench plan`)
     let (plan, plan_time, solved) = match given {
         Some(p) => {

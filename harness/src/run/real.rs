@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::registry;
-use magbench_planners::{Limits, Plan, PlannerResult, Problem};
+use magbench_planners::{Limits, Plan, PlannerResult, Problem, validate_path, validate_plan};
 use magbench_trackers::{Mission, TrackerSpec, simulate};
 
 use super::executor::base_record;
@@ -76,6 +76,14 @@ pub fn plan_legs(spec: &RunSpec, legs: usize) -> Result<Vec<PlannerResult>, Stri
         let p = problem(spec, leg, &start)?;
         let r = planner.solve(&p);
         let solved = r.solved;
+        // every plan must pass the independent validator (solved ones must also end in the
+        // goal region); a failure becomes a crash row
+        let verdict = if solved {
+            validate_plan(&p, &r.plan)
+        } else {
+            validate_path(&p, &r.plan).map(|_| ())
+        };
+        verdict.map_err(|e| format!("leg {}: the planner's plan is invalid: {e}", leg + 1))?;
         start = r.plan.end().to_vec();
         out.push(r);
         if !solved {
