@@ -100,7 +100,7 @@ fn json_has_the_required_fields_and_out_writes_every_file() {
 
 #[test]
 fn bad_input_exits_2_with_a_clear_message() {
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 5] = [
         (
             &[
                 "track",

@@ -22,7 +22,7 @@ fn the_ci_experiment_shows_no_regression_against_the_baseline() {
     assert_eq!(
         m.experiment.sha256,
         e.hash(),
-        "experiments/ci.toml changed since results/baseline was made: regenerate the baseline (README.md ("Benchmarks"))"
+        "experiments/ci.toml changed since results/baseline was made: regenerate the baseline (README.md, section Benchmarks)"
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("ci");
