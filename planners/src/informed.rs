@@ -64,20 +64,38 @@ impl InformedSet {
         self.ellipses
     }
 
+    /// Agent `i`'s ellipse for `c_best`: its semi-axes `(a, b)`, or `None` when it is empty.
+    fn semi_axes(&self, i: usize, c_best: f64) -> Option<(f64, f64)> {
+        let total: f64 = self.least.iter().sum();
+        let focal = (self.goals[i] - self.starts[i]).norm();
+        // transverse diameter: ‖x − s‖ + ‖x − g‖ < c_i + tol
+        let major = c_best - (total - self.least[i]) + self.tolerance;
+        if major.is_nan() || major <= focal {
+            return None;
+        }
+        let a = 0.5 * major;
+        Some((a, (a * a - 0.25 * focal * focal).sqrt()))
+    }
+
+    /// True when some agent's ellipse for `c_best` is larger than the world: then most ellipse
+    /// draws fall outside the map, and drawing from the whole space and rejecting is the more
+    /// efficient way to sample the same set (OMPL's direct informed sampler does the same).
+    pub fn ellipses_exceed(&self, c_best: f64, world_area: f64) -> bool {
+        (0..self.starts.len()).any(|i| {
+            self.semi_axes(i, c_best)
+                .is_some_and(|(a, b)| PI * a * b > world_area)
+        })
+    }
+
     /// Draws each agent uniformly from its prolate ellipse for `c_best` into `out`. False when
     /// some ellipse is empty (no state can improve `c_best`).
     pub fn sample_ellipses(&self, rng: &mut Rng, c_best: f64, out: &mut [Vec2]) -> bool {
-        let total: f64 = self.least.iter().sum();
         for (i, slot) in out.iter_mut().enumerate() {
             let (s, g) = (self.starts[i], self.goals[i]);
             let focal = (g - s).norm();
-            // transverse diameter: ‖x − s‖ + ‖x − g‖ < c_i + tol
-            let major = c_best - (total - self.least[i]) + self.tolerance;
-            if major.is_nan() || major <= focal {
+            let Some((a, b)) = self.semi_axes(i, c_best) else {
                 return false;
-            }
-            let a = 0.5 * major;
-            let b = (a * a - 0.25 * focal * focal).sqrt();
+            };
             let (cos, sin) = if focal > 0.0 {
                 ((g.x - s.x) / focal, (g.y - s.y) / focal)
             } else {
@@ -93,8 +111,9 @@ impl InformedSet {
 
     /// Draws a valid sample of the informed set for `c_best` into `out`. The goal-zoom coin
     /// toss is kept (as OMPL's informed RRT* keeps its goal bias): heads draws from the zoom
-    /// region, tails from the per-agent ellipses (path length) or the whole space (other
-    /// objectives); either way a draw is rejected unless it is in the informed set and valid.
+    /// region, tails from the per-agent ellipses (path length, while no ellipse is larger than
+    /// the world) or the whole space (otherwise); either way a draw is rejected unless it is in
+    /// the informed set and valid.
     /// False when [`SAMPLE_TRIES`] draws were all rejected.
     pub fn sample(
         &self,
@@ -106,11 +125,13 @@ impl InformedSet {
         out: &mut [Vec2],
     ) -> bool {
         let heads = rng.random::<f64>() < zoom.bias;
+        let ellipses = self.uses_ellipses()
+            && !self.ellipses_exceed(c_best, problem.world.width * problem.world.height);
         for _ in 0..SAMPLE_TRIES {
             let drawn = if heads {
                 sampler.zoom(rng, &problem.goal, zoom.radius, out);
                 true
-            } else if self.uses_ellipses() {
+            } else if ellipses {
                 self.sample_ellipses(rng, c_best, out)
             } else {
                 sampler.uniform(rng, out);

@@ -7,6 +7,19 @@ use magbench_planners::Planner;
 use magbench_planners::informed::InformedSet;
 use magbench_planners::planners::{RrtStar, Sst};
 
+/// Ellipse sampling gives way to drawing from the whole space (then rejecting) once an agent's
+/// ellipse is larger than the world: on micro-factory a first solution costs ≈ 270 BL against
+/// a straight-line bound of ≈ 72 BL, and the ellipses would put nearly every draw off the map.
+#[test]
+fn ellipses_larger_than_the_world_are_not_sampled() {
+    let s = magbench_env::Scenario::load("micro-factory").unwrap();
+    let p = problem(&s, 0, 10);
+    let set = InformedSet::new(&p);
+    let area = s.world.width * s.world.height;
+    assert!(set.ellipses_exceed(270.0, area));
+    assert!(!set.ellipses_exceed(80.0, area));
+}
+
 /// Every sample informed RRT* draws after its first solution lies in the informed set of the
 /// best cost at that moment; plain RRT* (same seed) draws samples outside it, so the test can
 /// tell the two apart.
