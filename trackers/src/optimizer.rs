@@ -75,7 +75,7 @@ impl Default for ObcWeights {
             safety: 2.0,
             wall_margin: 0.05,
             w_wall: 1.0,
-            grid: 72,
+            grid: 48,
             refine: 12,
             horizon: 1,
         }

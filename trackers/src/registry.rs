@@ -166,7 +166,7 @@ const OPTIMIZER_PARAMS: &[ParamSpec] = &[
     ),
     int(
         "grid",
-        72.0,
+        48.0,
         4.0,
         100_000.0,
         "field angles on the brute-force grid over [0, π)",
