@@ -330,71 +330,44 @@ impl<'a> Run<'a> {
             }
             self.last_estimate = x.clone();
             self.last_observed = obs.agents.clone();
-            if self.agent_contact {
-                self.end(RunStatus::AgentContact);
-                self.log(
-                    &x,
-                    &obs,
-                    truth.map(|g| g.positions),
-                    errors,
-                    None,
-                    tracker,
-                    false,
-                );
-                break;
-            }
-            let in_goal = self.goal_check(&x, now, t0, rig, tracker, period);
-            if self.status.is_some() {
-                self.log(
-                    &x,
-                    &obs,
-                    truth.map(|g| g.positions),
-                    errors,
-                    None,
-                    tracker,
-                    in_goal,
-                );
-                break;
-            }
-            let reference = self.reference.as_ref().expect("a reference");
-            if now - self.ref_start
-                > self.opts.time_factor * reference.duration() + self.opts.time_slack
-            {
-                self.end(RunStatus::Timeout);
-                self.log(
-                    &x,
-                    &obs,
-                    truth.map(|g| g.positions),
-                    errors,
-                    None,
-                    tracker,
-                    in_goal,
-                );
-                break;
-            }
-            self.error_replan(&x, now, tracker, period);
-            let mut u = self.tracker_command(tracker, &x, &obs, period);
-            if tracker.finished() {
-                // an open-loop plan played to its end: the leg is done if the team is in the goal
-                if self.mission.scenario.legs[self.leg].goal.contains(&x) {
-                    self.complete_leg(&x, now, t0, rig, tracker, period);
+            // the tick's command, or None when the run ends at this tick
+            let (in_goal, command) = 'tick: {
+                if self.agent_contact {
+                    self.end(RunStatus::AgentContact);
+                    break 'tick (false, None);
                 }
-                if self.status.is_none() && !tracker.finished() {
+                let in_goal = self.goal_check(&x, now, t0, rig, tracker, period);
+                if self.status.is_some() {
+                    break 'tick (in_goal, None);
+                }
+                let reference = self.reference.as_ref().expect("a reference");
+                if now - self.ref_start
+                    > self.opts.time_factor * reference.duration() + self.opts.time_slack
+                {
+                    self.end(RunStatus::Timeout);
+                    break 'tick (in_goal, None);
+                }
+                self.error_replan(&x, now, tracker, period);
+                let mut u = self.tracker_command(tracker, &x, &obs, period);
+                if tracker.finished() {
+                    // an open-loop plan played to its end: the leg is done if the team is in
+                    // the goal
+                    if self.mission.scenario.legs[self.leg].goal.contains(&x) {
+                        self.complete_leg(&x, now, t0, rig, tracker, period);
+                    }
+                    if self.status.is_some() || tracker.finished() {
+                        self.end(RunStatus::PlanFinished);
+                        break 'tick (in_goal, None);
+                    }
                     u = self.tracker_command(tracker, &x, &obs, period);
-                } else {
-                    self.end(RunStatus::PlanFinished);
-                    self.log(
-                        &x,
-                        &obs,
-                        truth.map(|g| g.positions),
-                        errors,
-                        None,
-                        tracker,
-                        in_goal,
-                    );
-                    break;
                 }
-            }
+                (in_goal, Some(u))
+            };
+            let truth = truth.map(|g| g.positions);
+            let Some(u) = command else {
+                self.log(&x, &obs, truth, errors, None, tracker, in_goal);
+                break;
+            };
             match rig.command(&u) {
                 Ok(()) => {}
                 Err(RigError::Recoverable(_)) => self.rig_faults += 1,
@@ -404,15 +377,7 @@ impl<'a> Run<'a> {
                 }
             }
             est.command_sent(now, &u);
-            self.log(
-                &x,
-                &obs,
-                truth.map(|g| g.positions),
-                errors,
-                Some(u),
-                tracker,
-                in_goal,
-            );
+            self.log(&x, &obs, truth, errors, Some(u), tracker, in_goal);
         }
     }
 

@@ -276,31 +276,41 @@ pub fn write_all(
         };
         w.save(sc, "cost-vs-iterations", &fig, &title)?;
 
-        let boxes = |f: &dyn Fn(&RunRecord) -> Option<f64>,
-                     groups: &[&Vec<&RunRecord>]|
-         -> Vec<Series<Vec<f64>>> {
-            groups
-                .iter()
-                .map(|g| Series {
-                    label: label(g),
-                    data: g.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect(),
-                })
-                .collect()
+        // one box per configuration of a per-run figure
+        let mut save_box = |name: &str,
+                            what: &str,
+                            value_label: &str,
+                            f: &dyn Fn(&RunRecord) -> Option<f64>,
+                            groups: &[&Vec<&RunRecord>]|
+         -> Result<(), CliError> {
+            let title = format!("{sc}: {what}");
+            let fig = BoxChart {
+                title: title.clone(),
+                value_label: value_label.into(),
+                groups: groups
+                    .iter()
+                    .map(|g| Series {
+                        label: label(g),
+                        data: g.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect(),
+                    })
+                    .collect(),
+            };
+            w.save(sc, name, &fig, &title)
         };
-        let title = format!("{sc}: time to first solution");
-        let fig = BoxChart {
-            title: title.clone(),
-            value_label: "time to first solution (s)".into(),
-            groups: boxes(&|r| r.first_solution_time_s, &planning),
-        };
-        w.save(sc, "time-to-first-solution", &fig, &title)?;
-        let title = format!("{sc}: final cost of solved runs");
-        let fig = BoxChart {
-            title: title.clone(),
-            value_label: "cost (objective units)".into(),
-            groups: boxes(&|r| r.cost, &planning),
-        };
-        w.save(sc, "final-cost", &fig, &title)?;
+        save_box(
+            "time-to-first-solution",
+            "time to first solution",
+            "time to first solution (s)",
+            &|r| r.first_solution_time_s,
+            &planning,
+        )?;
+        save_box(
+            "final-cost",
+            "final cost of solved runs",
+            "cost (objective units)",
+            &|r| r.cost,
+            &planning,
+        )?;
 
         let tracked: Vec<&Vec<&RunRecord>> = gs
             .iter()
@@ -308,20 +318,20 @@ pub fn write_all(
             .filter(|g| !g[0].tracker.is_empty())
             .collect();
         if !tracked.is_empty() {
-            let title = format!("{sc}: RMS tracking error");
-            let fig = BoxChart {
-                title: title.clone(),
-                value_label: "RMS distance to the planned path (BL)".into(),
-                groups: boxes(&|r| r.rms_error_bl, &tracked),
-            };
-            w.save(sc, "rms-error", &fig, &title)?;
-            let title = format!("{sc}: max tracking error");
-            let fig = BoxChart {
-                title: title.clone(),
-                value_label: "max distance to the planned path (BL)".into(),
-                groups: boxes(&|r| r.max_error_bl, &tracked),
-            };
-            w.save(sc, "max-error", &fig, &title)?;
+            save_box(
+                "rms-error",
+                "RMS tracking error",
+                "RMS distance to the planned path (BL)",
+                &|r| r.rms_error_bl,
+                &tracked,
+            )?;
+            save_box(
+                "max-error",
+                "max tracking error",
+                "max distance to the planned path (BL)",
+                &|r| r.max_error_bl,
+                &tracked,
+            )?;
             let title = format!("{sc}: distribution of RMS tracking error");
             let fig = CdfChart {
                 title: title.clone(),
