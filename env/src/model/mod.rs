@@ -1,16 +1,20 @@
-//! Overdamped kinematics, the fixed-step integrator and the deterministic planning model.
+//! Overdamped kinematics, the fixed-step integrator, the exact pair flow and the deterministic
+//! planning model.
 //!
-//! The planning model is the seed's eq. (3): agents move with (pair forces + pull)/σ, integrated
-//! by classic RK4 at the preset's fixed step `dt_s` (1/120 s by default). A plan replays exactly
-//! only through this same arithmetic; see [`PlanningModel`].
+//! The planning model is the seed's eq. (3): agents move with (pair forces + pull)/σ. Two
+//! identical agents under a planar command move by the exact flow ([`pair_flow`]); every other
+//! motion is integrated by classic RK4 at the preset's fixed step `dt_s` (1/120 s by default).
+//! A plan replays exactly only through this same arithmetic; see [`PlanningModel`].
 
 mod integrator;
 mod kinematics;
+pub mod pair_flow;
 mod planning;
 
 pub use integrator::{rk4_step, step_schedule};
 pub use kinematics::Kinematics;
-pub use planning::PlanningModel;
+pub use pair_flow::PairEdge;
+pub use planning::{Flow, PlanningModel};
 
 use crate::coil::Control;
 use crate::math::Vec2;
@@ -32,6 +36,13 @@ pub trait Propagator: Send + Sync {
     /// Integrates `start` under `u` for `duration` seconds into `out`.
     fn propagate(&self, start: &[Vec2], u: &Control, duration: f64, out: &mut [Vec2]) {
         self.propagate_visit(start, u, duration, out, &mut |_| true);
+    }
+
+    /// The motion in closed form, when this propagator solves it exactly (a checker then
+    /// checks the curve itself instead of the samples).
+    fn closed_form(&self, start: &[Vec2], u: &Control) -> Option<PairEdge> {
+        let _ = (start, u);
+        None
     }
 
     /// The fixed integration step (s).

@@ -1,5 +1,10 @@
 //! The deterministic planning model (the seed's eq. 3 over the vector physics).
 //!
+//! [`Flow::PairExact`] (the default) moves two identical agents under a planar command by the
+//! exact flow ([`super::pair_flow`]) and everything else (three or more agents, an elevated
+//! field, unequal agents) by classic RK4 at the fixed step; [`Flow::Rk4`] uses RK4 everywhere,
+//! as magbench did before the exact flow. A plan records its flow, and replay uses it.
+//!
 //! Replaying a plan's controls through this model from the plan's start reproduces its states
 //! bit for bit. The pair dynamics are extremely sensitive (a 1e-9 BL start error grew to
 //! 4–53 BL on long mazes in another implementation), so any other path of code — another
@@ -7,20 +12,53 @@
 
 use std::sync::Arc;
 
+use serde::{Deserialize, Serialize};
+
+use super::pair_flow::PairEdge;
 use super::{Kinematics, Propagator, rk4_step, step_schedule};
 use crate::coil::{Coil, Control, TriaxialMaxwell};
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::PhysicalParams;
 
-/// Nominal kinematics + coil + fixed step: what planners and the OBC predict with.
+/// How the planning model solves a motion under a constant command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Flow {
+    /// The exact flow for two identical agents under a planar command; RK4 otherwise.
+    #[default]
+    PairExact,
+    /// Classic RK4 at the fixed step for every motion.
+    Rk4,
+}
+
+impl Flow {
+    /// The name used in plan files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Flow::PairExact => "pair-exact",
+            Flow::Rk4 => "rk4",
+        }
+    }
+
+    /// The flow of a name, if known.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Flow::PairExact, Flow::Rk4]
+            .into_iter()
+            .find(|f| f.name() == name)
+    }
+}
+
+/// Nominal kinematics + coil + flow: what planners and the OBC predict with.
 #[derive(Debug, Clone)]
 pub struct PlanningModel {
     /// The velocity field (nominal factors).
     pub kinematics: Kinematics,
     /// The coil that realises controls.
     pub coil: Arc<dyn Coil>,
-    /// Integration step (s).
+    /// Integration step of RK4, and the sampling step of visits (s).
     pub dt: f64,
+    /// How motions are solved.
+    pub flow: Flow,
 }
 
 impl PlanningModel {
@@ -35,7 +73,61 @@ impl PlanningModel {
             kinematics: Kinematics::nominal(p),
             coil,
             dt: p.dt_s,
+            flow: Flow::default(),
         }
+    }
+
+    /// The same model with another flow.
+    pub fn with_flow(&self, flow: Flow) -> Self {
+        Self {
+            flow,
+            ..self.clone()
+        }
+    }
+
+    /// The exact motion from `start` under `u`, when the flow is [`Flow::PairExact`] and the
+    /// closed form applies: two agents with equal moment and mobility factors and an in-plane
+    /// field. The uniform background flow and the pull then only move the centre of mass.
+    #[inline]
+    pub fn pair_edge(&self, start: &[Vec2], u: &Control) -> Option<PairEdge> {
+        if self.flow != Flow::PairExact || start.len() != 2 {
+            return None;
+        }
+        self.kinematics.pair_edge(start, &self.coil.actuation(u))
+    }
+
+    /// The end of the motion from `start` under `u` for `duration` seconds, into `out`; equal
+    /// bit for bit to the last sample of [`PlanningModel::propagate_with`].
+    #[inline]
+    pub fn propagate(&self, start: &[Vec2], u: &Control, duration: f64, out: &mut [Vec2]) {
+        match self.pair_edge(start, u) {
+            Some(edge) => edge.at(duration, out),
+            None => {
+                self.propagate_with(start, u, duration, out, |_| true);
+            }
+        }
+    }
+
+    /// The agents' summed path length from `start` under `u` for `duration` (BL): along the
+    /// exact curve (Gauss–Legendre quadrature) for an exact motion, along the polyline through
+    /// the integration samples otherwise. Planners and `plan_cost` both measure with this.
+    pub fn path_length(&self, start: &[Vec2], u: &Control, duration: f64) -> f64 {
+        if let Some(edge) = self.pair_edge(start, u) {
+            return edge.path_length(duration);
+        }
+        let n = start.len();
+        let mut prev = [Vec2::zeros(); MAX_AGENTS];
+        prev[..n].copy_from_slice(start);
+        let mut out = [Vec2::zeros(); MAX_AGENTS];
+        let mut length = 0.0;
+        self.propagate_rk4(start, u, duration, &mut out[..n], |s| {
+            for (p, q) in prev[..n].iter_mut().zip(s) {
+                length += (q - *p).norm();
+                *p = *q;
+            }
+            true
+        });
+        length
     }
 
     /// Agent velocities (BL/s) at `p` under `u`.
@@ -44,9 +136,43 @@ impl PlanningModel {
         self.kinematics.velocities(p, &act, v);
     }
 
-    /// Integrates under a constant control, visiting each sample; see [`Propagator`].
+    /// Solves the motion under a constant control, visiting a sample every step `dt` and at
+    /// the end; see [`Propagator`]. An exact motion is evaluated at each sample time from the
+    /// start (nothing accumulates), an RK4 motion is integrated step by step.
     #[inline]
     pub fn propagate_with(
+        &self,
+        start: &[Vec2],
+        u: &Control,
+        duration: f64,
+        out: &mut [Vec2],
+        mut visit: impl FnMut(&[Vec2]) -> bool,
+    ) -> bool {
+        let Some(edge) = self.pair_edge(start, u) else {
+            return self.propagate_rk4(start, u, duration, out, visit);
+        };
+        let (steps, rest) = step_schedule(duration, self.dt);
+        let samples = steps + usize::from(rest > 0.0);
+        for k in 1..=samples {
+            let t = if k == samples {
+                duration
+            } else {
+                k as f64 * self.dt
+            };
+            edge.at(t, out);
+            if !visit(out) {
+                return false;
+            }
+        }
+        if samples == 0 {
+            out.copy_from_slice(start);
+        }
+        true
+    }
+
+    /// RK4 at the fixed step, visiting each step's end.
+    #[inline]
+    fn propagate_rk4(
         &self,
         start: &[Vec2],
         u: &Control,
@@ -77,10 +203,10 @@ impl PlanningModel {
 }
 
 impl PlanningModel {
-    /// Integrates `start` under each `(controls[i], durations[i])` into `ends[i]` (first N
-    /// entries), advancing the independent integrations step by step together so that the CPU
-    /// overlaps them (about 3× faster than one at a time for two agents). Each end equals
-    /// [`PlanningModel::propagate_with`]'s for that pair bit for bit: same steps, same arithmetic.
+    /// Solves `start` under each `(controls[i], durations[i])` into `ends[i]` (first N
+    /// entries). Exact motions are evaluated directly; RK4 integrations advance step by step
+    /// together so that the CPU overlaps them (about 3× faster than one at a time for two
+    /// agents). Each end equals [`PlanningModel::propagate`]'s bit for bit.
     pub fn propagate_many(
         &self,
         start: &[Vec2],
@@ -91,13 +217,24 @@ impl PlanningModel {
         let n = start.len();
         let k = controls.len();
         assert!(n <= MAX_AGENTS && durations.len() == k && ends.len() >= k);
+        let mut exact = vec![false; k];
+        for i in 0..k {
+            if let Some(edge) = self.pair_edge(start, &controls[i]) {
+                edge.at(durations[i], &mut ends[i][..n]);
+                exact[i] = true;
+            }
+        }
+        if exact.iter().all(|&e| e) {
+            return;
+        }
         let acts: Vec<_> = controls.iter().map(|u| self.coil.actuation(u)).collect();
         let schedules: Vec<_> = durations
             .iter()
-            .map(|&d| step_schedule(d, self.dt))
+            .zip(&exact)
+            .map(|(&d, &e)| if e { (0, 0.0) } else { step_schedule(d, self.dt) })
             .collect();
         let most = schedules.iter().map(|s| s.0).max().unwrap_or(0);
-        for e in ends[..k].iter_mut() {
+        for (e, _) in ends[..k].iter_mut().zip(&exact).filter(|(_, x)| !**x) {
             e[..n].copy_from_slice(start);
         }
         for step in 0..most {
@@ -121,6 +258,14 @@ impl PlanningModel {
 }
 
 impl Propagator for PlanningModel {
+    fn propagate(&self, start: &[Vec2], u: &Control, duration: f64, out: &mut [Vec2]) {
+        PlanningModel::propagate(self, start, u, duration, out);
+    }
+
+    fn closed_form(&self, start: &[Vec2], u: &Control) -> Option<PairEdge> {
+        self.pair_edge(start, u)
+    }
+
     fn propagate_visit(
         &self,
         start: &[Vec2],
