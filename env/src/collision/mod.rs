@@ -1,9 +1,12 @@
 //! Collision: parry2d shapes and queries behind [`CollisionWorld`], the configuration and
-//! motion checks behind [`ValidityChecker`].
+//! motion checks behind [`ValidityChecker`], and conservative advancement ([`advance`]) for
+//! motions known in closed form.
 //!
 //! parry2d-f64 0.31 works in glam vectors; the conversion from the workspace's nalgebra
 //! [`Vec2`](crate::math::Vec2) lives here only ([`to_parry`]).
 
+pub mod advance;
+pub mod grid;
 mod shapes;
 mod validity;
 

@@ -2,10 +2,11 @@
 
 use std::sync::Arc;
 
-use super::CollisionWorld;
+use super::{CollisionWorld, advance};
 use crate::coil::Control;
 use crate::math::Vec2;
-use crate::model::Propagator;
+use crate::model::pair_flow::SpeedSummary;
+use crate::model::{PairEdge, Propagator};
 
 /// Answers "is this configuration valid?" and "is this motion valid?" (it only checks).
 ///
@@ -64,7 +65,8 @@ impl ValidityChecker {
     }
 
     /// Integrates `start` under `u` for `duration` with `model` into `out` and reports whether
-    /// the whole motion is valid. Stops at the first invalid sample (`out` then holds it).
+    /// the whole motion is valid. A sampled motion stops at the first invalid sample (`out`
+    /// then holds it); a closed-form motion leaves its end in `out`.
     pub fn motion_valid(
         &self,
         model: &dyn Propagator,
@@ -73,6 +75,10 @@ impl ValidityChecker {
         duration: f64,
         out: &mut [Vec2],
     ) -> bool {
+        if let Some(edge) = model.closed_form(start, u) {
+            edge.at(duration, out);
+            return self.edge_valid(&edge, duration);
+        }
         let mut prev = [Vec2::zeros(); crate::MAX_AGENTS];
         let n = start.len();
         prev[..n].copy_from_slice(start);
@@ -83,10 +89,40 @@ impl ValidityChecker {
         })
     }
 
+    /// True when the exact motion `edge` is valid over `[0, duration]`: its separation stays
+    /// strictly inside the proximity range (checked exactly, not at samples) and both agents
+    /// keep clear of every obstacle ([`advance::clear_along`] with the edge's speed bound).
+    pub fn edge_valid(&self, edge: &PairEdge, duration: f64) -> bool {
+        let (lo, hi) = edge.separation_range(duration);
+        if !(lo > self.r_min && hi < self.r_max) {
+            return false;
+        }
+        advance::clear_along(&self.collision, &PairMotion(edge), duration)
+    }
+
     /// Smallest agent clearance to walls and obstacles (BL).
     pub fn clearance(&self, s: &[Vec2]) -> f64 {
         s.iter()
             .map(|p| self.collision.clearance(*p))
             .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// A [`PairEdge`] as conservative advancement follows it.
+struct PairMotion<'a>(&'a PairEdge);
+
+impl advance::Motion for PairMotion<'_> {
+    type Summary = SpeedSummary;
+
+    fn agents(&self) -> usize {
+        2
+    }
+
+    fn at(&self, t: f64, out: &mut [Vec2]) -> SpeedSummary {
+        self.0.at_with_speed(t, out)
+    }
+
+    fn bound(&self, a: &SpeedSummary, b: &SpeedSummary) -> f64 {
+        self.0.speed_bound(a, b)
     }
 }

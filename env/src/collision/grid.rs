@@ -1,0 +1,134 @@
+//! A lazily filled grid of clearances: cheap lower bounds on an agent's clearance.
+//!
+//! Clearance is 1-Lipschitz in the agent's position, so the clearance at a grid node less the
+//! distance to it bounds the clearance at any point from below. Nodes are computed (by the
+//! exact query) the first time a point near them is asked about, and kept; a node's value
+//! depends only on the geometry, so the order in which threads fill the grid never changes an
+//! answer.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::math::Vec2;
+
+/// Grid spacing (BL) for worlds up to [`MAX_NODES`] nodes; larger worlds get a coarser grid.
+pub const SPACING: f64 = 0.25;
+
+/// Largest number of grid nodes of one world.
+pub const MAX_NODES: usize = 1 << 20;
+
+/// A node not yet computed (a NaN no query returns).
+const UNSET: u64 = u64::MAX;
+
+/// Clearances at the nodes of a regular grid over the world's rectangle, computed on demand.
+#[derive(Debug)]
+pub struct ClearanceGrid {
+    spacing: f64,
+    columns: usize,
+    rows: usize,
+    nodes: Vec<AtomicU64>,
+}
+
+impl Clone for ClearanceGrid {
+    fn clone(&self) -> Self {
+        ClearanceGrid {
+            spacing: self.spacing,
+            columns: self.columns,
+            rows: self.rows,
+            nodes: self
+                .nodes
+                .iter()
+                .map(|n| AtomicU64::new(n.load(Ordering::Relaxed)))
+                .collect(),
+        }
+    }
+}
+
+impl ClearanceGrid {
+    /// An empty grid over `[0, width] × [0, height]`.
+    pub fn new(width: f64, height: f64) -> Self {
+        let area = (width.max(0.0) + SPACING) * (height.max(0.0) + SPACING);
+        let spacing = SPACING.max((area / MAX_NODES as f64).sqrt() * 1.01);
+        let count = |l: f64| ((l.max(0.0) / spacing).ceil() as usize).saturating_add(1);
+        let (columns, rows) = (count(width), count(height));
+        let total = columns.saturating_mul(rows);
+        if !spacing.is_finite() || total > 2 * MAX_NODES {
+            return ClearanceGrid {
+                spacing: f64::INFINITY,
+                columns: 0,
+                rows: 0,
+                nodes: Vec::new(),
+            };
+        }
+        ClearanceGrid {
+            spacing,
+            columns,
+            rows,
+            nodes: (0..total).map(|_| AtomicU64::new(UNSET)).collect(),
+        }
+    }
+
+    /// A lower bound on the clearance at `p`, from the nearest node (computed by `exact` on
+    /// first use); `None` outside the grid.
+    #[inline]
+    pub fn lower_bound(&self, p: Vec2, exact: impl Fn(Vec2) -> f64) -> Option<f64> {
+        self.bounds(p, exact).map(|(lo, _)| lo)
+    }
+
+    /// Lower and upper bounds on the clearance at `p`: the nearest node's clearance (computed
+    /// by `exact` on first use) less and plus the distance to it; `None` outside the grid.
+    #[inline]
+    pub fn bounds(&self, p: Vec2, exact: impl Fn(Vec2) -> f64) -> Option<(f64, f64)> {
+        let (i, j) = ((p.x / self.spacing).round(), (p.y / self.spacing).round());
+        if !(i >= 0.0 && j >= 0.0 && (i as usize) < self.columns && (j as usize) < self.rows) {
+            return None;
+        }
+        let node = Vec2::new(i * self.spacing, j * self.spacing);
+        let cell = &self.nodes[j as usize * self.columns + i as usize];
+        let bits = cell.load(Ordering::Relaxed);
+        let value = if bits == UNSET {
+            let v = exact(node);
+            cell.store(v.to_bits(), Ordering::Relaxed);
+            v
+        } else {
+            f64::from_bits(bits)
+        };
+        let gap = (p - node).norm();
+        Some((value - gap, value + gap))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounds_from_below_and_fills_once() {
+        let g = ClearanceGrid::new(10.0, 5.0);
+        // clearance of the disk of radius 1 about (5, 2.5)
+        let exact = |q: Vec2| (q - Vec2::new(5.0, 2.5)).norm() - 1.0;
+        let calls = std::cell::Cell::new(0);
+        let counted = |q: Vec2| {
+            calls.set(calls.get() + 1);
+            exact(q)
+        };
+        for k in 0..400 {
+            let p = Vec2::new(0.03 * k as f64 % 10.0, 0.017 * k as f64 % 5.0);
+            let b = g.lower_bound(p, &counted).unwrap();
+            assert!(b <= exact(p) + 1e-12, "{p:?}: {b} > {}", exact(p));
+            assert!(b >= exact(p) - SPACING * 2f64.sqrt(), "{p:?}: {b} too loose");
+        }
+        let first = calls.get();
+        for k in 0..400 {
+            let p = Vec2::new(0.03 * k as f64 % 10.0, 0.017 * k as f64 % 5.0);
+            g.lower_bound(p, &counted).unwrap();
+        }
+        assert_eq!(calls.get(), first, "nodes are computed once");
+        assert!(g.lower_bound(Vec2::new(-1.0, 1.0), exact).is_none());
+        assert!(g.lower_bound(Vec2::new(1.0, 9.0), exact).is_none());
+        // a huge world gets a coarser grid, not a huge allocation
+        let big = ClearanceGrid::new(1e6, 1e6);
+        assert!(big.nodes.len() <= 2 * MAX_NODES);
+        let absurd = ClearanceGrid::new(1e300, 1e300);
+        assert!(absurd.nodes.is_empty());
+    }
+}
