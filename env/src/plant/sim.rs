@@ -10,14 +10,18 @@ use super::DisturbancePreset;
 use crate::coil::{Coil, Control};
 use crate::collision::CollisionWorld;
 use crate::math::{MAX_AGENTS, Vec2};
-use crate::model::{Kinematics, rk4_step, step_schedule};
+use crate::model::{Kinematics, PairEdge, rk4_step, step_schedule};
 use crate::physics::PhysicalParams;
 
 /// The simulated plant of one run.
 ///
-/// Each integration step: RK4 of the perturbed kinematics under the commanded field (with the
-/// run's field-angle bias and a fresh jitter), then a Brownian increment `√(2D dt)·N(0,1)`,
-/// then wall handling — an agent that overlaps a wall or obstacle slides along its surface
+/// A noiseless plant of two identical agents (no jitter, no Brownian motion, equal moment and
+/// drag factors: the `ideal` preset) follows each constant command exactly, like the planning
+/// model: while the command stays the same it is the exact flow from where that command began
+/// ([`PairEdge`]), sampled every integration step for contacts. So a plan followed open loop
+/// is reproduced bit for bit. Every other plant integrates, each integration step: RK4 of the
+/// perturbed kinematics under the commanded field (with the run's field-angle bias and a fresh
+/// jitter), then a Brownian increment `√(2D dt)·N(0,1)`, then wall handling — an agent that overlaps a wall or obstacle slides along its surface
 /// (it is projected back into contact; never through) and a new contact counts as one wall
 /// contact event. When two agents touch (r ≤ 1 BL) they stick: the run is failed and frozen.
 #[derive(Debug, Clone)]
@@ -35,6 +39,20 @@ pub struct Plant {
     stuck: bool,
     touching_wall: Vec<bool>,
     wall_contacts: usize,
+    /// The noiseless pair case: constant commands are followed exactly.
+    exact: bool,
+    /// The exact constant-command motion in progress.
+    segment: Option<Segment>,
+}
+
+/// A constant command the noiseless plant is following exactly: `runs` calls of [`Plant::run`]
+/// of `run` seconds each under `command` (as applied, bias included) from the edge's start.
+#[derive(Debug, Clone)]
+struct Segment {
+    edge: PairEdge,
+    command: Control,
+    run: f64,
+    runs: u32,
 }
 
 impl Plant {
@@ -68,6 +86,11 @@ impl Plant {
         }
         let normal = |rng: &mut ChaCha8Rng| -> f64 { StandardNormal.sample(rng) };
         let angle_bias = preset.field_angle_bias_deg.to_radians() * normal(&mut rng);
+        let exact = start.len() == 2
+            && preset.field_angle_jitter_deg == 0.0
+            && !preset.brownian
+            && kinematics.moment[0] == kinematics.moment[1]
+            && kinematics.mobility[0] == kinematics.mobility[1];
         Self {
             kinematics,
             coil,
@@ -86,6 +109,8 @@ impl Plant {
             stuck: false,
             touching_wall: vec![false; start.len()],
             wall_contacts: 0,
+            exact,
+            segment: None,
         }
     }
 
@@ -126,13 +151,96 @@ impl Plant {
 
     /// Advances by `duration` under `u`, with the planning model's step schedule.
     pub fn run(&mut self, u: &Control, duration: f64) {
+        if self.exact && !self.stuck && self.run_exact(u, duration) {
+            return;
+        }
+        self.run_steps(u, duration, 0);
+    }
+
+    /// RK4 steps of the schedule of `duration`, from step `from` on.
+    fn run_steps(&mut self, u: &Control, duration: f64, from: usize) {
         let (steps, rest) = step_schedule(duration, self.dt);
-        for _ in 0..steps {
-            self.step_by(u, self.dt);
+        for k in 0..steps + usize::from(rest > 0.0) {
+            if k >= from {
+                self.step_by(u, if k < steps { self.dt } else { rest });
+            }
         }
-        if rest > 0.0 {
-            self.step_by(u, rest);
+    }
+
+    /// [`Plant::run`] of the noiseless pair: the exact flow of the constant command, continued
+    /// from where the command began, sampled at the integration steps for agent and wall
+    /// contacts. False when no closed form applies (the caller integrates instead).
+    fn run_exact(&mut self, u: &Control, duration: f64) -> bool {
+        let (u, _) = self.coil.clamp(u);
+        let applied = Control {
+            theta: u.theta + self.angle_bias,
+            ..u
+        };
+        let continuing = self
+            .segment
+            .as_ref()
+            .is_some_and(|s| s.command == applied && s.run == duration);
+        if !continuing {
+            let act = self.coil.actuation(&applied);
+            let Some(edge) = self.kinematics.pair_edge(&self.positions, &act) else {
+                self.segment = None;
+                return false;
+            };
+            self.segment = Some(Segment {
+                edge,
+                command: applied,
+                run: duration,
+                runs: 0,
+            });
         }
+        let seg = self.segment.as_mut().expect("a segment was just set");
+        seg.runs += 1;
+        let (edge, t1) = (seg.edge, seg.runs as f64 * duration);
+        let t0 = t1 - duration;
+        let (steps, rest) = step_schedule(duration, self.dt);
+        let samples = steps + usize::from(rest > 0.0);
+        for k in 1..=samples {
+            self.time += if k <= steps { self.dt } else { rest };
+            let mut before = [Vec2::zeros(); 2];
+            before.copy_from_slice(&self.positions);
+            let t = if k == samples {
+                t1
+            } else {
+                t0 + k as f64 * self.dt
+            };
+            edge.at(t, &mut self.positions);
+            if self.contact_during_step(&before) {
+                self.segment = None;
+                return true;
+            }
+            if self.slide_along_walls() {
+                // the agents left the exact curve: integrate the rest of this run
+                self.segment = None;
+                self.run_steps(&u, duration, k);
+                return true;
+            }
+        }
+        true
+    }
+
+    /// Projects agents that overlap a wall or obstacle back into contact, counting new
+    /// contacts; true when any agent was moved.
+    fn slide_along_walls(&mut self) -> bool {
+        let mut moved = false;
+        for (i, p) in self.positions.iter_mut().enumerate() {
+            match self.collision.push_out(*p) {
+                Some(q) => {
+                    *p = q;
+                    moved = true;
+                    if !self.touching_wall[i] {
+                        self.wall_contacts += 1;
+                    }
+                    self.touching_wall[i] = true;
+                }
+                None => self.touching_wall[i] = false,
+            }
+        }
+        moved
     }
 
     /// Advances one integration step under `u`.
@@ -141,6 +249,7 @@ impl Plant {
     }
 
     fn step_by(&mut self, u: &Control, h: f64) {
+        self.segment = None;
         self.time += h;
         if self.stuck {
             return;
@@ -178,18 +287,7 @@ impl Plant {
                 *p += Vec2::new(nx, ny) * s;
             }
         }
-        for (i, p) in self.positions.iter_mut().enumerate() {
-            match self.collision.push_out(*p) {
-                Some(q) => {
-                    *p = q;
-                    if !self.touching_wall[i] {
-                        self.wall_contacts += 1;
-                    }
-                    self.touching_wall[i] = true;
-                }
-                None => self.touching_wall[i] = false,
-            }
-        }
+        self.slide_along_walls();
         self.contact_during_step(&before[..n]);
     }
 
