@@ -4,12 +4,50 @@
 //! model and keep the one whose end is closest to the target under the problem's metric (the
 //! seed's DISTANCE ρ = ‖P̃‖², P̃ = P_new − P_sample). Collision is checked by the caller on the
 //! winner only, as in Algorithm 2. RRT* reuses it as its shooting steer.
+//!
+//! The seed's EXTEND keeps "the physical kinematic constraints satisfied", the first of which is
+//! the proximity range. For a motion the exact flow solves, the separation's whole range over the
+//! try is known at no extra cost, so a try that leaves the range (a pair collapsing into contact,
+//! or flying apart) is no candidate. Without this, a collapsing try would win: the exact flow
+//! ends it at contact, next to many targets, where RK4 used to blow up and land far away. RK4
+//! tries (three or more agents, an elevated field) are compared by their ends only, as before.
+//!
+//! [`Timing`] picks each try's duration: a random one (the seed's Algorithm 3, the default),
+//! or the whole control period at which the try's motion passes closest to the target
+//! ([`Timing::Closest`]: the exact flow makes a look along the whole motion cheap).
 
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
 use crate::motion::random_control;
 use crate::{Problem, Rng};
+
+/// How EXTEND picks the duration of each try.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Timing {
+    /// A random whole number of control periods in the range (the seed's Algorithm 3).
+    #[default]
+    Random,
+    /// The whole number of periods in the range at which the try comes closest to the target.
+    Closest,
+}
+
+impl Timing {
+    /// The parameter value naming it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Timing::Random => "random",
+            Timing::Closest => "closest",
+        }
+    }
+
+    /// The timing of a parameter value.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Timing::Random, Timing::Closest]
+            .into_iter()
+            .find(|t| t.name() == name)
+    }
+}
 
 /// The EXTEND optimiser's settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,6 +58,8 @@ pub struct Extend {
     pub min_periods: u32,
     /// Longest duration, in control periods.
     pub max_periods: u32,
+    /// How each try's duration is picked.
+    pub timing: Timing,
 }
 
 /// The best try of one EXTEND call.
@@ -67,21 +107,42 @@ impl Extend {
         let mut durations = Vec::with_capacity(k);
         for _ in 0..k {
             controls.push(random_control(rng, g));
-            let p = self.random_periods(rng);
-            periods.push(p);
-            durations.push(problem.periods(p));
+            if self.timing == Timing::Random {
+                let p = self.random_periods(rng);
+                periods.push(p);
+                durations.push(problem.periods(p));
+            }
         }
         let mut ends = vec![[Vec2::zeros(); MAX_AGENTS]; k];
-        problem
-            .model
-            .propagate_many(near, &controls, &durations, &mut ends);
+        if self.timing == Timing::Closest {
+            for i in 0..k {
+                let p = self.closest_period(problem, near, &controls[i], target, &mut ends[i]);
+                periods.push(p);
+                durations.push(problem.periods(p));
+            }
+        }
+        let mut candidate = vec![true; k];
+        let (r_min, r_max) = (problem.checker.r_min, problem.checker.r_max);
+        let mut exact = 0;
+        for i in 0..k {
+            if let Some(edge) = problem.model.pair_edge(near, &controls[i]) {
+                let (lo, hi) = edge.end_and_range(durations[i], &mut ends[i][..n]);
+                candidate[i] = lo > r_min && hi < r_max;
+                exact += 1;
+            }
+        }
+        if exact < k && self.timing == Timing::Random {
+            problem
+                .model
+                .propagate_many(near, &controls, &durations, &mut ends);
+        }
         let mut best = Extension {
             control: Control::default(),
             periods: 0,
             end: [Vec2::zeros(); MAX_AGENTS],
             distance: f64::INFINITY,
         };
-        for i in 0..k {
+        for i in (0..k).filter(|&i| candidate[i]) {
             let d2 = problem.metric.distance_squared(&ends[i][..n], target);
             if d2 < best.distance {
                 best = Extension {
@@ -95,4 +156,75 @@ impl Extend {
         best.distance = best.distance.sqrt();
         best
     }
+
+    /// The whole number of periods in `[min_periods, max_periods]` at which the motion from
+    /// `near` under `u` comes closest to `target`; its end goes to `end`. An exact motion is
+    /// looked at on a coarse grid of periods, then by ternary search about the best of them; an
+    /// integrated one at every period.
+    fn closest_period(
+        &self,
+        problem: &Problem,
+        near: &[Vec2],
+        u: &Control,
+        target: &[Vec2],
+        end: &mut [Vec2; MAX_AGENTS],
+    ) -> u32 {
+        let n = near.len();
+        let (lo, hi) = (self.min_periods, self.max_periods.max(self.min_periods));
+        let Some(edge) = problem.model.pair_edge(near, u) else {
+            let mut best = (lo, f64::INFINITY);
+            let mut step = 0u64;
+            let per = (problem.control_period / problem.model.dt).round().max(1.0) as u64;
+            let mut out = [Vec2::zeros(); MAX_AGENTS];
+            problem
+                .model
+                .propagate_with(near, u, problem.periods(hi), &mut out[..n], |s| {
+                    step += 1;
+                    let p = (step / per) as u32;
+                    if step.is_multiple_of(per) && p >= lo {
+                        let d2 = problem.metric.distance_squared(s, target);
+                        if d2 < best.1 {
+                            best = (p, d2);
+                            end[..n].copy_from_slice(s);
+                        }
+                    }
+                    true
+                });
+            return best.0;
+        };
+        let mut out = [Vec2::zeros(); MAX_AGENTS];
+        let mut dist = |p: u32| {
+            edge.at(problem.periods(p), &mut out[..n]);
+            problem.metric.distance_squared(&out[..n], target)
+        };
+        let step = ((hi - lo) / CLOSEST_GRID).max(1);
+        let mut best = (lo, dist(lo));
+        let mut p = lo;
+        while p < hi {
+            p = (p + step).min(hi);
+            let d = dist(p);
+            if d < best.1 {
+                best = (p, d);
+            }
+        }
+        let (mut a, mut b) = (best.0.saturating_sub(step - 1).max(lo), (best.0 + step - 1).min(hi));
+        while b - a >= 3 {
+            let (m1, m2) = (a + (b - a) / 3, b - (b - a) / 3);
+            if dist(m1) <= dist(m2) {
+                b = m2 - 1;
+            } else {
+                a = m1 + 1;
+            }
+        }
+        for p in a..=b {
+            let d = dist(p);
+            if d < best.1 {
+                best = (p, d);
+            }
+        }
+        best.0
+    }
 }
+
+/// Coarse grid intervals of [`Timing::Closest`]'s search over the duration range.
+const CLOSEST_GRID: u32 = 12;

@@ -21,22 +21,42 @@ pub fn random_control(rng: &mut impl RngExt, gradient_limit: f64) -> Control {
     )
 }
 
-/// Integrates `start` under `u` for `duration` into `out` (no checks).
+/// Solves `start` under `u` for `duration` into `out` (no checks).
 #[inline]
 pub fn propagate(problem: &Problem, start: &[Vec2], u: &Control, duration: f64, out: &mut [Vec2]) {
-    problem
-        .model
-        .propagate_with(start, u, duration, out, |_| true);
+    problem.model.propagate(start, u, duration, out);
+}
+
+/// Solves `start` under `u` for `duration` into `out` and checks the whole motion, as
+/// [`propagate_checked`] does, without measuring its length (for planners that keep no costs).
+#[inline]
+pub fn propagate_valid(
+    problem: &Problem,
+    start: &[Vec2],
+    u: &Control,
+    duration: f64,
+    out: &mut [Vec2],
+) -> bool {
+    match problem.model.pair_edge(start, u) {
+        Some(edge) => {
+            edge.at(duration, out);
+            problem.checker.edge_valid(&edge, duration)
+        }
+        None => propagate_checked(problem, start, u, duration, out).is_some(),
+    }
 }
 
 /// Safety margin (BL) kept below a clearance before sweeps are skipped.
 const CLEARANCE_MARGIN: f64 = 1e-9;
 
-/// Integrates `start` under `u` for `duration` into `out`, checking every integration step.
-/// Returns the agents' summed path length along the samples if the whole motion is valid, and
-/// `None` at the first invalid step (`out` then holds that sample).
+/// Solves `start` under `u` for `duration` into `out` and checks the whole motion. Returns the
+/// agents' summed path length ([`PlanningModel::path_length`](magbench_env::PlanningModel))
+/// if the motion is valid.
 ///
-/// The check is `ValidityChecker::segment_valid`'s — the proximity range at every sample, each
+/// An exact motion is checked by env's `ValidityChecker::edge_valid` (the separation's exact
+/// range, conservative advancement against obstacles) and leaves its end in `out`. An RK4
+/// motion is checked at every integration step and stops at the first invalid one (`out` then
+/// holds that sample). Its check is `ValidityChecker::segment_valid`'s — the proximity range at every sample, each
 /// agent's capsule sweep between samples — with one shortcut through env's own queries: an
 /// agent whose path since its last clearance query is shorter than that clearance cannot
 /// touch an obstacle (every point of its chords lies within the clear disk), so its sweeps are
@@ -50,8 +70,14 @@ pub fn propagate_checked(
     duration: f64,
     out: &mut [Vec2],
 ) -> Option<f64> {
-    let n = start.len();
     let checker = &problem.checker;
+    if let Some(edge) = problem.model.pair_edge(start, u) {
+        edge.at(duration, out);
+        return checker
+            .edge_valid(&edge, duration)
+            .then(|| edge.path_length(duration));
+    }
+    let n = start.len();
     let world = &checker.collision;
     let mut prev = [Vec2::zeros(); MAX_AGENTS];
     prev[..n].copy_from_slice(start);

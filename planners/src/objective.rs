@@ -139,25 +139,16 @@ pub fn objective_by_name(name: &str, model: &PlanningModel) -> Option<Arc<dyn Ob
 }
 
 /// The cost of `plan` under `problem`'s objective, from a replay of its controls from its first
-/// state (each edge's path length measured along the integration samples, as planners do).
+/// state with the plan's flow (each edge's path length measured as planners measure it,
+/// [`PlanningModel::path_length`]).
 pub fn plan_cost(problem: &crate::Problem, plan: &crate::Plan) -> f64 {
-    use magbench_env::Propagator;
-    let n = problem.agents();
+    let model = problem.model.with_flow(plan.flow);
     let mut state = plan.states[0].clone();
     let mut next = state.clone();
     let mut cost = 0.0;
     for (u, &d) in plan.controls.iter().zip(&plan.durations) {
-        let mut prev = state.clone();
-        let mut length = 0.0;
-        problem
-            .model
-            .propagate_visit(&state, u, d, &mut next, &mut |s| {
-                for (p, q) in prev[..n].iter_mut().zip(s) {
-                    length += (q - *p).norm();
-                    *p = *q;
-                }
-                true
-            });
+        let length = model.path_length(&state, u, d);
+        model.propagate(&state, u, d, &mut next);
         cost += problem.objective.motion_cost(&Motion {
             control: *u,
             duration: d,

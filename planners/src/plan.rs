@@ -1,13 +1,19 @@
 //! A plan: states, the coil controls between them, and their durations.
 
+use magbench_env::model::Flow;
 use magbench_env::{Control, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// A kinodynamic plan, like OMPL's `PathControl`: `states[0]` is the start, and control
 /// `controls[i]` held for `durations[i]` seconds takes `states[i]` to `states[i + 1]` under the
-/// planning model. The control is what the coil applies (θ_B, α, gradient), not the local ψ.
+/// planning model with the plan's [`Flow`]. The control is what the coil applies (θ_B, α,
+/// gradient), not the local ψ.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct Plan {
+    /// How the planning model solved the edges (`pair-exact` or `rk4`); replay uses the same.
+    /// Plan files written before the exact flow have no such field and are `rk4`.
+    #[serde(default = "legacy_flow")]
+    pub flow: Flow,
     /// Agent positions at each waypoint (BL); one more than there are controls.
     pub states: Vec<Vec<Vec2>>,
     /// Control of each edge.
@@ -16,10 +22,16 @@ pub struct Plan {
     pub durations: Vec<f64>,
 }
 
+/// The flow of a plan file that does not name one: every plan before the exact flow was RK4.
+fn legacy_flow() -> Flow {
+    Flow::Rk4
+}
+
 impl Plan {
-    /// A plan that stays at `start`.
+    /// A plan that stays at `start`, made with the default flow.
     pub fn at(start: &[Vec2]) -> Self {
         Plan {
+            flow: Flow::default(),
             states: vec![start.to_vec()],
             controls: vec![],
             durations: vec![],

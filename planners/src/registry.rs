@@ -132,6 +132,19 @@ pub fn set_objective(source: &str, problem: &mut Problem, name: &str) -> Result<
     Ok(())
 }
 
+/// Sets how the problem's planning model solves motions, by name (`pair-exact`, `rk4`).
+pub fn set_flow(source: &str, problem: &mut Problem, name: &str) -> Result<(), InputError> {
+    let flow = magbench_env::model::Flow::from_name(name).ok_or_else(|| {
+        InputError::new(
+            source,
+            "flow",
+            format!("unknown flow {name:?} (known: pair-exact, rk4)"),
+        )
+    })?;
+    problem.model.flow = flow;
+    Ok(())
+}
+
 /// Sets the problem's distance metric by name (`positions`, `centroid-shape:W_C:W_S`).
 pub fn set_metric(source: &str, problem: &mut Problem, name: &str) -> Result<(), InputError> {
     problem.metric = Metric::parse(name).map_err(|r| InputError::new(source, "metric", r))?;

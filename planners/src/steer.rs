@@ -160,7 +160,6 @@ impl Connect {
         if lo > hi {
             return None;
         }
-        let steps_per_period = (problem.control_period / problem.model.dt).round() as u64;
         let mut best = Extension {
             control: u,
             periods: 0,
@@ -168,6 +167,24 @@ impl Connect {
             distance: f64::INFINITY,
         };
         let mut out = [Vec2::zeros(); MAX_AGENTS];
+        let keep = |p: u32, s: &[Vec2], best: &mut Extension| {
+            let d2 = problem.metric.distance_squared(s, target);
+            if d2 < best.distance {
+                best.distance = d2;
+                best.periods = p;
+                best.end[..n].copy_from_slice(s);
+            }
+        };
+        if let Some(edge) = problem.model.pair_edge(from, &u) {
+            // the exact flow at each period boundary, as `propagate` would end there
+            for p in lo..=hi {
+                edge.at(problem.periods(p), &mut out[..n]);
+                keep(p, &out[..n], &mut best);
+            }
+            best.distance = best.distance.sqrt();
+            return (best.periods > 0).then_some(best);
+        }
+        let steps_per_period = (problem.control_period / problem.model.dt).round() as u64;
         let mut step = 0u64;
         problem
             .model
@@ -176,12 +193,7 @@ impl Connect {
                 if step.is_multiple_of(steps_per_period) {
                     let p = (step / steps_per_period) as u32;
                     if p >= lo {
-                        let d2 = problem.metric.distance_squared(s, target);
-                        if d2 < best.distance {
-                            best.distance = d2;
-                            best.periods = p;
-                            best.end[..n].copy_from_slice(s);
-                        }
+                        keep(p, s, &mut best);
                     }
                 }
                 true

@@ -254,6 +254,7 @@ impl Tree {
         }
         path.reverse();
         let mut plan = Plan::at(self.state(path[0]));
+        plan.flow = problem.model.flow;
         for &k in &path[1..] {
             plan.push(
                 self.control(k),

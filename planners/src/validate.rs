@@ -6,6 +6,9 @@
 //! one, checks the controls against the coil and the durations against the control period, and
 //! confirms that the replay ends in the goal region.
 //!
+//! The replay uses the flow the plan records (`pair-exact` or `rk4`), with the problem's
+//! physics and coil.
+//!
 //! Replay agrees with the stored states bit for bit when the plan came from this model: the
 //! pair dynamics are so sensitive that a plan made with any other arithmetic (integrator, step,
 //! force formula) fails here even if it was valid there.
@@ -115,10 +118,11 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
         return Err(PlanError::InvalidStart);
     }
     let period = problem.control_period;
+    let model = problem.model.with_flow(plan.flow);
     let mut state = problem.start.clone();
     let mut next = state.clone();
     for (edge, (u, &d)) in plan.controls.iter().zip(&plan.durations).enumerate() {
-        if !u.is_finite() || problem.model.coil.clamp(u).1 {
+        if !u.is_finite() || model.coil.clamp(u).1 {
             return Err(PlanError::BadControl {
                 edge,
                 control: format!("{u:?}"),
@@ -134,7 +138,7 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
         }
         if !problem
             .checker
-            .motion_valid(&problem.model, &state, u, d, &mut next)
+            .motion_valid(&model, &state, u, d, &mut next)
         {
             return Err(PlanError::InvalidMotion { edge });
         }

@@ -122,16 +122,19 @@ fn progress_is_recorded_at_every_percent_and_best_cost_never_increases() {
 
 #[test]
 fn optimizing_planners_keep_improving_after_the_first_solution() {
+    // within 3000 iterations rrt-star improves on about 4 seeds in 5 and sst on about 1 in 2
+    // (measured on 20 seeds); a planner that stopped improving would improve on none
     let s = scenario(ROOMY);
     for name in ["rrt-star", "informed-rrt-star", "sst"] {
-        let p = problem(&s, 4, 3000);
-        let r = registry::create(name, &[]).unwrap().solve(&p);
-        assert_solution(&p, &r);
-        let first = r.progress.iter().find_map(|q| q.best_cost).unwrap();
-        assert!(
-            r.cost.unwrap() < first,
-            "{name}: no improvement over the first solution {first}"
-        );
+        let mut improved = 0;
+        for seed in 0..8 {
+            let p = problem(&s, seed, 3000);
+            let r = registry::create(name, &[]).unwrap().solve(&p);
+            assert_solution(&p, &r);
+            let first = r.progress.iter().find_map(|q| q.best_cost).unwrap();
+            improved += usize::from(r.cost.unwrap() < first);
+        }
+        assert!(improved >= 2, "{name}: improved on {improved} of 8 seeds");
     }
 }
 

@@ -3,6 +3,7 @@
 mod common;
 
 use common::*;
+use magbench_env::model::Flow;
 use magbench_env::{Control, Vec2};
 use magbench_planners::{Plan, PlanError, registry, validate_path, validate_plan};
 
@@ -122,20 +123,34 @@ fn rejects_a_motion_through_an_obstacle() {
 
 #[test]
 fn a_plan_made_with_other_arithmetic_fails_replay() {
-    // replay through a model with half the step: the same controls, slightly different ends
+    // the same controls solved by RK4 end slightly elsewhere than by the exact flow: a plan
+    // that claims the other flow than the one that made it does not replay
     let (p, plan) = solved();
-    let mut fine = p.model.clone();
-    fine.dt /= 2.0;
+    assert_eq!(plan.flow, Flow::PairExact);
+    let rk4 = p.model.with_flow(Flow::Rk4);
     let mut other = Plan::at(&plan.states[0]);
     let mut state = plan.states[0].clone();
     for (u, &d) in plan.controls.iter().zip(&plan.durations) {
         let mut next = vec![Vec2::zeros(); 2];
-        fine.propagate_with(&state, u, d, &mut next, |_| true);
+        rk4.propagate(&state, u, d, &mut next);
         other.push(*u, d, next.clone());
         state = next;
     }
     assert!(matches!(
         validate_path(&p, &other),
+        Err(PlanError::ReplayMismatch { .. })
+    ));
+    // labelled with the flow that made it, the RK4 plan replays (it may collide or miss the
+    // goal: the controls were chosen for the exact motion)
+    other.flow = Flow::Rk4;
+    assert!(!matches!(
+        validate_path(&p, &other),
+        Err(PlanError::ReplayMismatch { .. })
+    ));
+    let mut relabelled = plan.clone();
+    relabelled.flow = Flow::Rk4;
+    assert!(matches!(
+        validate_path(&p, &relabelled),
         Err(PlanError::ReplayMismatch { .. })
     ));
 }

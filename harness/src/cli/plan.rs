@@ -40,6 +40,10 @@ pub struct PlanArgs {
     /// Distance metric: positions (default) or centroid-shape:W_CENTROID:W_SHAPE.
     #[arg(long, default_value = "positions")]
     pub metric: String,
+    /// How the planning model solves motions: pair-exact (default; the exact flow for two
+    /// agents under a planar field, RK4 otherwise) or rk4 (RK4 everywhere).
+    #[arg(long, default_value = "pair-exact")]
+    pub flow: String,
     /// Print exactly one JSON object on stdout instead of a summary.
     #[arg(long)]
     pub json: bool,
@@ -97,6 +101,7 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
         problem.limits = limits;
         registry::set_objective("<command line>", &mut problem, &a.objective)?;
         registry::set_metric("<command line>", &mut problem, &a.metric)?;
+        registry::set_flow("--flow", &mut problem, &a.flow)?;
         if !problem.checker.is_valid(&problem.start) {
             return Err(CliError::Failed(format!(
                 "leg {}: the previous leg ends in a state that is invalid in this leg's map",

@@ -18,6 +18,9 @@
 //!   k random (u, δt); keep argmin ρ(P_new, P_sample) = ‖P_new − P_sample‖²
 //! ```
 //!
+//! Like the seed's, this RRT keeps no costs: the plan's cost under the problem's objective is
+//! measured once, on the plan it returns (`plan_cost`).
+//!
 //! Defaults, tuned for time to the first solution on micro-factory (10–20 seeds each):
 //! `k = 5` tries (k = 3 needed twice the iterations; k = 8–20 fewer iterations but more time);
 //! durations from 0.25 s to 2 s — an edge moves the centroid up to 1 BL (the pull is at most
@@ -29,10 +32,10 @@
 use magbench_env::{MAX_AGENTS, Vec2};
 use rand::SeedableRng;
 
-use crate::extend::Extend;
-use crate::motion::propagate_checked;
+use crate::extend::{Extend, Timing};
+use crate::motion::propagate_valid;
 use crate::nn::NearestNeighbors;
-use crate::objective::Motion;
+use crate::objective::plan_cost;
 use crate::params::{check_durations, number, positive, to_periods, whole};
 use crate::planner::{Param, ParamError};
 use crate::progress::Progress;
@@ -54,6 +57,8 @@ pub struct GoalZoomRrt {
     pub goal_bias: f64,
     /// Radius of the goal-zoom region about each agent's goal centre (BL).
     pub zoom_radius: f64,
+    /// How EXTEND picks each try's duration (the seed's: random).
+    pub timing: Timing,
     /// The tree of the last solve.
     pub last_tree: Option<Tree>,
 }
@@ -66,6 +71,7 @@ impl Default for GoalZoomRrt {
             max_duration: 2.0,
             goal_bias: 0.1,
             zoom_radius: 1.5,
+            timing: Timing::Random,
             last_tree: None,
         }
     }
@@ -83,6 +89,7 @@ impl Planner for GoalZoomRrt {
             tries: self.tries,
             min_periods: to_periods(self.min_duration, problem.control_period),
             max_periods: to_periods(self.max_duration, problem.control_period),
+            timing: self.timing,
         };
         let zoom = GoalZoom {
             bias: self.goal_bias,
@@ -110,16 +117,9 @@ impl Planner for GoalZoomRrt {
                 let (u, periods) = (ext.control, ext.periods);
                 let d = problem.periods(periods);
                 if periods > 0
-                    && let Some(length) =
-                        propagate_checked(problem, tree.state(near), &u, d, &mut q_new[..n])
+                    && propagate_valid(problem, tree.state(near), &u, d, &mut q_new[..n])
                 {
-                    let cost = tree.cost(near)
-                        + problem.objective.motion_cost(&Motion {
-                            control: u,
-                            duration: d,
-                            path_length: length,
-                        });
-                    let id = tree.add(near, &q_new[..n], u, periods, cost);
+                    let id = tree.add(near, &q_new[..n], u, periods, 0.0);
                     nn.add(&q_new[..n], id);
                     let dist = problem.goal.distance(&q_new[..n]);
                     if dist < closest.1 {
@@ -130,17 +130,25 @@ impl Planner for GoalZoomRrt {
                     }
                 }
             }
-            progress.record(i, reached.map(|g| tree.cost(g)));
+            if reached.is_none() {
+                progress.record(i, None);
+            }
         }
+
+        let first = reached.map(|_| (i, progress.elapsed()));
 
         // τ ← computePlan(T) by backtracking
         let node = reached.unwrap_or(closest.0);
+        let plan = tree.plan_to(node, problem);
+        let cost = plan_cost(problem, &plan);
+        if reached.is_some() {
+            progress.record(i, Some(cost));
+        }
         let best = Best {
-            plan: tree.plan_to(node, problem),
+            plan,
             solved: reached.is_some(),
-            cost: tree.cost(node),
+            cost,
         };
-        let first = reached.map(|_| (i, progress.elapsed()));
         let nodes = tree.len();
         self.last_tree = Some(tree);
         finish(problem, best, i, nodes, progress, first)
@@ -173,6 +181,11 @@ impl Planner for GoalZoomRrt {
                 value: self.zoom_radius.to_string(),
                 help: "radius of each agent's goal-zoom disk (BL)",
             },
+            Param {
+                name: "timing",
+                value: self.timing.name().to_string(),
+                help: "each EXTEND try's duration: random (the seed's) or closest (the period at which it passes closest to the sample)",
+            },
         ]
     }
 
@@ -183,6 +196,11 @@ impl Planner for GoalZoomRrt {
             "max_duration" => self.max_duration = positive(key, value)?,
             "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
             "zoom_radius" => self.zoom_radius = positive(key, value)?,
+            "timing" => {
+                self.timing = Timing::from_name(value.trim()).ok_or_else(|| {
+                    ParamError::BadValue(format!("{key}: {value:?} is not random or closest"))
+                })?
+            }
             _ => return Err(ParamError::Unknown(key.into())),
         }
         Ok(())

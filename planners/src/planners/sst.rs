@@ -42,7 +42,7 @@
 use magbench_env::{MAX_AGENTS, Vec2};
 use rand::SeedableRng;
 
-use crate::extend::Extend;
+use crate::extend::{Extend, Timing};
 use crate::motion::propagate_checked;
 use crate::nn::NearestNeighbors;
 use crate::objective::Motion;
@@ -118,6 +118,7 @@ impl Sst {
             tries: self.tries,
             min_periods: to_periods(self.min_duration, period),
             max_periods: to_periods(self.max_duration, period),
+            timing: Timing::Random,
         };
         let zoom = GoalZoom {
             bias: self.goal_bias,

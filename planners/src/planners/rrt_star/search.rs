@@ -4,7 +4,7 @@ use magbench_env::{MAX_AGENTS, Vec2};
 use rand::SeedableRng;
 
 use super::{LoggedSample, RrtStar};
-use crate::extend::{Extend, Extension};
+use crate::extend::{Extend, Extension, Timing};
 use crate::informed::InformedSet;
 use crate::motion::propagate_checked;
 use crate::nn::NearestNeighbors;
@@ -38,12 +38,14 @@ impl RrtStar {
                 tries: self.tries,
                 min_periods: lo,
                 max_periods: hi,
+                timing: Timing::Random,
             },
             connect: Connect {
                 seed: Extend {
                     tries: self.connect_tries,
                     min_periods: lo,
                     max_periods: hi,
+                    timing: Timing::Random,
                 },
                 iterations: self.connect_iterations,
                 window: 3,
