@@ -96,7 +96,7 @@ impl Estimator {
             let end = self.commands.get(j + 1).map_or(f64::INFINITY, |c| c.0);
             let (a, b) = (tj.max(from), end.min(to));
             if b - a > eps {
-                self.model.propagate_with(&x, u, b - a, &mut out, |_| true);
+                self.model.propagate(&x, u, b - a, &mut out);
                 x.copy_from_slice(&out);
             }
         }
@@ -130,13 +130,13 @@ mod tests {
         // the frame captured at 0 shows the start; now (t) the team has moved under u
         let (_, est) = e.update(&obs(0.0, &[Some(start[0]), Some(start[1])]));
         let mut want = vec![Vec2::zeros(); 2];
-        model.propagate_with(&start, &u, t, &mut want, |_| true);
+        model.propagate(&start, &u, t, &mut want);
         assert_eq!(est, want);
         e.command_sent(t, &u);
         // agent 1 missed: its prior (the estimate at capture time) is predicted forward
         let (_, est) = e.update(&obs(t, &[Some(want[0]), None]));
         let mut want2 = vec![Vec2::zeros(); 2];
-        model.propagate_with(&want, &u, t, &mut want2, |_| true);
+        model.propagate(&want, &u, t, &mut want2);
         assert!((est[1] - want2[1]).norm() < 1e-12);
         assert!(est.iter().all(|p| p.x.is_finite() && p.y.is_finite()));
     }

@@ -342,12 +342,11 @@ impl ObcOptimizer {
     fn evaluate_with(&self, s: &Setup, theta: f64, ax: Vec2, ay: Vec2) -> Candidate {
         let n = s.x.len();
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
-        self.model.propagate_with(
+        self.model.propagate(
             s.x,
             &Control::planar(theta, 0.0, 0.0),
             self.horizon_s,
             &mut pred[..n],
-            |_| true,
         );
         let c0 = pred[..n].iter().sum::<Vec2>() / n as f64;
         let mut want = s.ct - c0;
@@ -392,7 +391,7 @@ impl ObcOptimizer {
         let u = Control { alpha: 0.0, ..u };
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
         self.model
-            .propagate_with(s.x, &u, self.horizon_s, &mut pred[..n], |_| true);
+            .propagate(s.x, &u, self.horizon_s, &mut pred[..n]);
         let c = pred[..n].iter().sum::<Vec2>() / n as f64;
         let cost = self.score(s, &pred[..n], c, u.theta);
         Candidate {
@@ -578,7 +577,7 @@ mod tests {
             Control::planar(-2.0, 0.06, 0.01),
         ] {
             let mut target = [Vec2::zeros(); 2];
-            model.propagate_with(&x, &u, 1.0 / 60.0, &mut target, |_| true);
+            model.propagate(&x, &u, 1.0 / 60.0, &mut target);
             let s = opt.solve(&x, &target, None, None);
             let err: f64 = s
                 .predicted

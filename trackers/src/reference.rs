@@ -35,11 +35,12 @@ pub struct Reference {
 const CHUNK: usize = 32;
 
 impl Reference {
-    /// Resamples `plan` at every integration step of `model`.
+    /// Resamples `plan` at every integration step of `model`, solved with the plan's flow.
     ///
     /// Each edge is replayed from the plan's own state at the edge start, so a plan made by the
     /// same model is reproduced bit for bit at its waypoints.
     pub fn from_plan(plan: &Plan, model: &PlanningModel) -> Self {
+        let model = &model.with_flow(plan.flow);
         let n = plan.start().len();
         let mut r = Reference::empty(n);
         r.push_sample(0.0, plan.start());
