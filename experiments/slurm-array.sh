@@ -81,6 +81,7 @@ merge() {
   if [ -e "$out" ]; then mv "$out" "$out.old"; fi
   mv -T "$new" "$out"
   rm -rf "$out.old"
+  echo "slurm-array.sh: the merge of ${#dirs[@]} of $N shards is in $out"
 }
 
 case "$MODE" in

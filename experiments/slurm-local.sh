@@ -5,8 +5,8 @@
 #   experiments/slurm-local.sh start DIR   # prints: export SLURM_CONF=DIR/slurm.conf
 #   experiments/slurm-local.sh stop DIR    # cancels its jobs, stops its daemons
 #
-# Needs Debian's slurm-wlm and munge (`apt-get install slurm-wlm munge`) and, as Slurm does to
-# run jobs, root. `start` writes a minimal slurm.conf (one node named after `hostname -s`, free
+# Needs Debian's slurm-wlm and munge (`apt-get install slurm-wlm munge`). Run it as root or as
+# yourself: the daemons run as the user who starts them, and so do the jobs. `start` writes a minimal slurm.conf (one node named after `hostname -s`, free
 # ports, proctrack/linuxproc, task/none, select/cons_tres), a munge key and socket, and the
 # state, spool and log folders, all inside DIR; then starts munged, slurmctld and slurmd by hand
 # (no systemd) and waits until the node is idle. `stop` stops only the processes whose PIDs
@@ -24,6 +24,8 @@ mkdir -p "$2"
 DIR="$(cd "$2" && pwd)"
 export SLURM_CONF="$DIR/slurm.conf"
 HOST="$(hostname -s)"
+# Debian puts the daemons in /usr/sbin, which a user's PATH may lack.
+PATH="$PATH:/usr/sbin:/sbin"
 DEADLINE_S="${SLURM_LOCAL_DEADLINE_S:-60}"
 
 # Waits until the command "$@" succeeds, polling, for at most DEADLINE_S seconds.
@@ -34,7 +36,7 @@ wait_for() {
   until "$@" >/dev/null 2>&1; do
     local pid
     for pid in $(cat "$DIR/pids" 2>/dev/null); do
-      if ! ours "$pid"; then
+      if ! alive "$pid"; then
         echo "slurm-local: $what: a daemon exited (logs in $DIR/log)" >&2
         return 1
       fi
@@ -47,8 +49,15 @@ wait_for() {
   done
 }
 
+# True while PID runs (a zombie does not). Just after a start, its command line may still be
+# this script's: the child has not yet executed the daemon.
+alive() {
+  local state
+  state="$(cut -d' ' -f3 2>/dev/null <"/proc/$1/stat")" && [ -n "$state" ] && [ "$state" != Z ]
+}
+
 # True while PID is alive and is one of the daemons started for DIR (guards against PID reuse).
-ours() { [ -r "/proc/$1/cmdline" ] && tr '\0' ' ' <"/proc/$1/cmdline" | grep -qF "$DIR/"; }
+ours() { tr '\0' ' ' 2>/dev/null <"/proc/$1/cmdline" | grep -qF "$DIR/"; }
 
 # A TCP port that nothing listens on (from /proc/net/tcp*), between 20000 and 59999.
 free_port() {

@@ -1,7 +1,7 @@
 //! `experiments/slurm-array.sh` under real Slurm daemons (munged, slurmctld, slurmd started by
 //! `experiments/slurm-local.sh`): a job array of 4 and its merge job give the unsharded sweep;
 //! a task cancelled part-way and resubmitted alone resumes without losing or repeating a run.
-//! Without Slurm (`apt-get install slurm-wlm munge`, as root) the real-cluster test says so
+//! Without Slurm (`apt-get install slurm-wlm munge`) the real-cluster test says so
 //! loudly and passes, unless `MAGBENCH_REQUIRE_SLURM=1` (set by `.ci/run`). The script's merge
 //! step, which needs no Slurm, is also tested on its own.
 
@@ -130,7 +130,7 @@ fn skip_or_fail(why: &str) {
     let msg = format!(
         "\n{bar}\nSLURM TEST NOT RUN: no local Slurm cluster could be started, so \
          experiments/slurm-array.sh was NOT tested under Slurm.\nInstall it with \
-         `apt-get install slurm-wlm munge` and run the tests as root.\n{why}\n{bar}\n"
+         `apt-get install slurm-wlm munge` (daemon logs below).\n{why}\n{bar}\n"
     );
     if std::env::var("MAGBENCH_REQUIRE_SLURM").as_deref() == Ok("1") {
         panic!("MAGBENCH_REQUIRE_SLURM=1 and {msg}");
