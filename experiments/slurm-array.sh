@@ -36,7 +36,7 @@ bad() {
   echo "slurm-array.sh: $*; $USAGE" >&2
   exit 2
 }
-[ $# -ge 2 ] && [ $# -le 3 ] || bad "expected 2 or 3 arguments, got $#"
+if [ $# -lt 2 ] || [ $# -gt 3 ]; then bad "expected 2 or 3 arguments, got $#"; fi
 FILE="$1"
 N="$2"
 MODE="${3:-task}"

@@ -6,12 +6,13 @@
 #   experiments/slurm-local.sh stop DIR    # cancels its jobs, stops its daemons
 #
 # Needs Debian's slurm-wlm and munge (`apt-get install slurm-wlm munge`). Run it as root or as
-# yourself: the daemons run as the user who starts them, and so do the jobs. `start` writes a minimal slurm.conf (one node named after `hostname -s`, free
-# ports, proctrack/linuxproc, task/none, select/cons_tres), a munge key and socket, and the
-# state, spool and log folders, all inside DIR; then starts munged, slurmctld and slurmd by hand
-# (no systemd) and waits until the node is idle. `stop` stops only the processes whose PIDs
-# `start` recorded in DIR/pids. Nothing outside DIR is written, so it runs beside a system Slurm
-# and beside other local clusters. Daemon logs: DIR/log/.
+# yourself: the daemons run as the user who starts them, and so do the jobs. `start` writes a
+# minimal slurm.conf (one node named after `hostname -s`, free ports, proctrack/linuxproc,
+# task/none, select/cons_tres), a munge key and socket, and the state, spool and log folders,
+# all inside DIR; then starts munged, slurmctld and slurmd by hand (no systemd) and waits until
+# the node is idle. `stop` stops only the processes whose PIDs `start` recorded in DIR/pids.
+# Nothing outside DIR is written, so it runs beside a system Slurm and beside other local
+# clusters. Daemon logs: DIR/log/.
 set -euo pipefail
 
 usage() {
@@ -35,7 +36,7 @@ wait_for() {
   local end=$((SECONDS + DEADLINE_S))
   until "$@" >/dev/null 2>&1; do
     local pid
-    for pid in $(cat "$DIR/pids" 2>/dev/null); do
+    for pid in $(tac "$DIR/pids" 2>/dev/null); do
       if ! alive "$pid"; then
         echo "slurm-local: $what: a daemon exited (logs in $DIR/log)" >&2
         return 1
