@@ -50,13 +50,12 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, CliError> {
     let mut runs = BTreeMap::new();
     let mut progress = vec![];
     for s in shards {
-        store::repair(s)?;
+        // Read only (complete rows, first copy of a run): a task may still be writing `s`.
+        let mut ids = std::collections::BTreeSet::new();
         let kept: Vec<_> = store::read_runs(s)?
             .into_iter()
-            .filter(|r| !runs.contains_key(&r.run_id))
+            .filter(|r| !runs.contains_key(&r.run_id) && ids.insert(r.run_id.clone()))
             .collect();
-        let ids: std::collections::BTreeSet<String> =
-            kept.iter().map(|r| r.run_id.clone()).collect();
         progress.extend(
             store::read_progress(s)?
                 .into_iter()
