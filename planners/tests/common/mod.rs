@@ -83,7 +83,8 @@ pub fn replay(problem: &Problem, plan: &Plan) -> Vec<Vec<Vec2>> {
         let mut next = vec![Vec2::zeros(); problem.agents()];
         problem
             .model
-            .propagate_with(states.last().unwrap(), u, d, &mut next, |_| true);
+            .with_flow(plan.flow)
+            .propagate(states.last().unwrap(), u, d, &mut next);
         states.push(next);
     }
     states
