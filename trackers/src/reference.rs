@@ -29,6 +29,9 @@ pub struct Reference {
     /// Bounding circles of each agent's polyline in chunks of [`CHUNK`] segments:
     /// `chunks[i]` holds (centre, radius) of chunk `j` covering samples `CHUNK·j ..= CHUNK·(j+1)`.
     chunks: Vec<Vec<(Vec2, f64)>>,
+    /// Bounding circles of [`CHUNK`] consecutive chunks: `groups[i][g]` encloses chunks
+    /// `CHUNK·g .. CHUNK·(g+1)` of agent `i`.
+    groups: Vec<Vec<(Vec2, f64)>>,
 }
 
 /// Segments per bounding circle of the path-distance index.
@@ -97,6 +100,7 @@ impl Reference {
             edges: vec![],
             arc: vec![],
             chunks: vec![vec![]; agents],
+            groups: vec![vec![]; agents],
         }
     }
 
@@ -121,6 +125,19 @@ impl Reference {
                 v.push((c, r));
                 lo += CHUNK;
             }
+            self.groups[i] = v
+                .chunks(CHUNK)
+                .map(|g| {
+                    let (mut min, mut max) =
+                        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY));
+                    for (c, r) in g {
+                        min = min.inf(&c.add_scalar(-r));
+                        max = max.sup(&c.add_scalar(*r));
+                    }
+                    let c = (min + max) * 0.5;
+                    (c, g.iter().map(|(d, r)| (d - c).norm() + r).fold(0.0, f64::max))
+                })
+                .collect();
             self.chunks[i] = v;
         }
     }
@@ -289,27 +306,42 @@ impl Reference {
         best
     }
 
-    /// Distance from `p` to agent `i`'s whole planned polyline (BL). Chunks whose bounding
-    /// circle is further than the best distance so far are skipped.
+    /// Distance from `p` to agent `i`'s whole planned polyline (BL): the nearest chunk of the
+    /// group whose bounding circle is nearest first, then every chunk nearer than the best
+    /// distance so far, looking into a group only when its circle is nearer. The minimum does
+    /// not depend on the order in which chunks are measured.
     pub fn distance_to_path(&self, i: usize, p: Vec2) -> f64 {
         if self.last() == 0 {
             return (p - self.point(0, i)).norm();
         }
-        let chunks = &self.chunks[i];
-        let mut order: Vec<(f64, usize)> = chunks
-            .iter()
-            .enumerate()
-            .map(|(j, (c, r))| ((p - c).norm() - r, j))
-            .collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut best = f64::INFINITY;
-        for (lb, j) in order {
-            if lb >= best {
-                break;
-            }
+        let (chunks, groups) = (&self.chunks[i], &self.groups[i]);
+        let bound = |(c, r): &(Vec2, f64)| (p - c).norm() - r;
+        let nearest = |items: &[(Vec2, f64)]| {
+            items
+                .iter()
+                .enumerate()
+                .map(|(j, c)| (bound(c), j))
+                .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a })
+                .1
+        };
+        let chunk = |j: usize| {
             let lo = j * CHUNK;
             let hi = (lo + CHUNK).min(self.last());
-            best = best.min(self.distance_to_path_in(i, p, lo..hi + 1).0);
+            self.distance_to_path_in(i, p, lo..hi + 1).0
+        };
+        let group = |g: usize| g * CHUNK..((g + 1) * CHUNK).min(chunks.len());
+        let g0 = nearest(groups);
+        let first = group(g0).start + nearest(&chunks[group(g0)]);
+        let mut best = chunk(first);
+        for (g, circle) in groups.iter().enumerate() {
+            if bound(circle) >= best {
+                continue;
+            }
+            for j in group(g) {
+                if j != first && bound(&chunks[j]) < best {
+                    best = best.min(chunk(j));
+                }
+            }
         }
         best
     }
