@@ -33,7 +33,8 @@
 //! around the best grid angle. The winner is checked exactly against the walls: if a predicted
 //! agent would touch one, the next best candidate (or its zero-gradient variant) is taken.
 
-use magbench_env::{Control, MAX_AGENTS, PlanningModel, ValidityChecker, Vec2};
+use magbench_env::model::pair_flow::PairStart;
+use magbench_env::{Actuation, Control, MAX_AGENTS, PlanningModel, ValidityChecker, Vec2};
 
 /// Weights and search settings of the optimizer.
 #[derive(Debug, Clone, PartialEq)]
@@ -113,8 +114,9 @@ pub struct ObcOptimizer {
     horizon_s: f64,
     pull_coeff: f64,
     g_max: f64,
-    /// The grid angles and their pull axes (they do not change from tick to tick).
-    grid: Vec<(f64, Vec2, Vec2)>,
+    /// The grid angles, their pull axes and their gradient-free actuation (they do not change
+    /// from tick to tick).
+    grid: Vec<(f64, Vec2, Vec2, Actuation)>,
 }
 
 impl ObcOptimizer {
@@ -143,7 +145,8 @@ impl ObcOptimizer {
             .map(|k| {
                 let theta = k as f64 * std::f64::consts::PI / n as f64;
                 let (ax, ay) = opt.pull_axes(theta);
-                (theta, ax, ay)
+                let act = opt.model.coil.actuation(&Control::planar(theta, 0.0, 0.0));
+                (theta, ax, ay, act)
             })
             .collect();
         opt
@@ -192,14 +195,13 @@ impl ObcOptimizer {
         let mut cands: Vec<Candidate> = self
             .grid
             .iter()
-            .map(|&(theta, ax, ay)| self.evaluate_with(&setup, theta, ax, ay))
+            .map(|(theta, ax, ay, act)| self.evaluate_with(&setup, *theta, *ax, *ay, act))
             .collect();
         if let Some(h) = hint.filter(|h| h.is_finite()) {
             cands.push(self.evaluate_exact(&setup, h));
         }
-        let mut best = cands
+        let mut best = *cands
             .iter()
-            .copied()
             .min_by(|a, b| a.cost.total_cmp(&b.cost))
             .expect("a grid");
         // refine the winner by golden-section search over [θ − step, θ + step]
@@ -266,8 +268,18 @@ impl ObcOptimizer {
                 });
             }
         }
+        let mut separations = [0.0; MAX_PAIRS];
+        let mut k = 0;
+        for i in 0..n {
+            for j in (i + 1)..n {
+                separations[k] = (x[j] - x[i]).norm();
+                k += 1;
+            }
+        }
         Setup {
             x,
+            pair: self.model.pair_start(x),
+            separations,
             target,
             ct: target.iter().sum::<Vec2>() * inv_n,
             prev,
@@ -335,19 +347,23 @@ impl ObcOptimizer {
     /// Scores field angle `theta` with its best gradient.
     fn evaluate(&self, s: &Setup, theta: f64) -> Candidate {
         let (ax, ay) = self.pull_axes(theta);
-        self.evaluate_with(s, theta, ax, ay)
+        let act = self.model.coil.actuation(&Control::planar(theta, 0.0, 0.0));
+        self.evaluate_with(s, theta, ax, ay, &act)
     }
 
-    /// [`Self::evaluate`] with the pull axes of `theta` given.
-    fn evaluate_with(&self, s: &Setup, theta: f64, ax: Vec2, ay: Vec2) -> Candidate {
+    /// [`Self::evaluate`] with the pull axes and the gradient-free actuation of `theta` given.
+    fn evaluate_with(
+        &self,
+        s: &Setup,
+        theta: f64,
+        ax: Vec2,
+        ay: Vec2,
+        act: &Actuation,
+    ) -> Candidate {
         let n = s.x.len();
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
-        self.model.propagate(
-            s.x,
-            &Control::planar(theta, 0.0, 0.0),
-            self.horizon_s,
-            &mut pred[..n],
-        );
+        self.model
+            .propagate_from(s.x, s.pair.as_ref(), act, self.horizon_s, &mut pred[..n]);
         let c0 = pred[..n].iter().sum::<Vec2>() / n as f64;
         let mut want = s.ct - c0;
         let mut grad = self.best_gradient(ax, ay, want);
@@ -418,12 +434,14 @@ impl ObcOptimizer {
             self.checker.r_max - w.prox_margin,
         );
         let x = s.x;
+        let mut pair = 0;
         for i in 0..pred.len() {
             for j in (i + 1)..pred.len() {
                 let r = (pred[j] - pred[i]).norm();
                 // where the separation heads if the same rate lasted `safety` more ticks: a fast
                 // approach is refused before it is too late to stop (latency, model mismatch)
-                let r_ahead = r + (r - (x[j] - x[i]).norm()) * w.safety;
+                let r_ahead = r + (r - s.separations[pair]) * w.safety;
+                pair += 1;
                 let v = (lo - r.min(r_ahead)).max(0.0) + (r.max(r_ahead) - hi).max(0.0);
                 cost += w.w_prox * v * v;
                 if r <= self.checker.r_min || r >= self.checker.r_max {
@@ -490,6 +508,9 @@ impl ObcOptimizer {
     }
 }
 
+/// Pairs of a team of [`MAX_AGENTS`].
+const MAX_PAIRS: usize = MAX_AGENTS * (MAX_AGENTS - 1) / 2;
+
 /// The smallest wall margin (BL), even where the plan itself is closer to a wall.
 const WALL_FLOOR: f64 = 0.04;
 
@@ -504,6 +525,10 @@ const WALL_REACH: f64 = 0.3;
 /// The shared inputs of one solve.
 struct Setup<'a> {
     x: &'a [Vec2],
+    /// The start every candidate's prediction shares (a pair under the exact flow).
+    pair: Option<PairStart>,
+    /// The current separation of each pair of agents, in `score`'s order.
+    separations: [f64; MAX_PAIRS],
     target: &'a [Vec2],
     ct: Vec2,
     prev: Option<f64>,

@@ -5,7 +5,7 @@
 //! aligned dipole force in units of Ω (BL), `s` the per-agent moment factors and `μ` the
 //! per-agent mobility (inverse drag) factors, both 1 in the planning model.
 
-use super::pair_flow::PairEdge;
+use super::pair_flow::{PairEdge, PairStart};
 use crate::coil::Actuation;
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::PhysicalParams;
@@ -43,8 +43,17 @@ impl Kinematics {
     /// then only move the centre of mass; the pair moves with `κ = 2 c_F m² μ`.
     #[inline]
     pub fn pair_edge(&self, start: &[Vec2], act: &Actuation) -> Option<PairEdge> {
-        if start.len() != 2
-            || self.moment[0] != self.moment[1]
+        if start.len() != 2 {
+            return None;
+        }
+        self.pair_edge_from(&PairStart::new(start)?, act)
+    }
+
+    /// [`Kinematics::pair_edge`] from a start already prepared (for many commands from one
+    /// state).
+    #[inline]
+    pub fn pair_edge_from(&self, start: &PairStart, act: &Actuation) -> Option<PairEdge> {
+        if self.moment[0] != self.moment[1]
             || self.mobility[0] != self.mobility[1]
             || act.b_hat.z != 0.0
         {
@@ -53,12 +62,7 @@ impl Kinematics {
         let (m, mu) = (self.moment[0], self.mobility[0]);
         let kappa = 2.0 * self.force_coeff * m * m * mu;
         let velocity = Vec2::new(act.pull.x, act.pull.y) * (self.pull_coeff * m * mu) + self.flow;
-        PairEdge::new(
-            kappa,
-            velocity,
-            start,
-            Vec2::new(act.b_hat.x, act.b_hat.y),
-        )
+        start.edge(kappa, velocity, Vec2::new(act.b_hat.x, act.b_hat.y))
     }
 
     /// Writes the velocity of every agent at positions `p` under `act` into `v`.

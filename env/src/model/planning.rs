@@ -14,9 +14,9 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::pair_flow::PairEdge;
+use super::pair_flow::{PairEdge, PairStart};
 use super::{Kinematics, Propagator, rk4_step, step_schedule};
-use crate::coil::{Coil, Control, TriaxialMaxwell};
+use crate::coil::{Actuation, Coil, Control, TriaxialMaxwell};
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::PhysicalParams;
 
@@ -178,13 +178,73 @@ impl PlanningModel {
         u: &Control,
         duration: f64,
         out: &mut [Vec2],
+        visit: impl FnMut(&[Vec2]) -> bool,
+    ) -> bool {
+        self.integrate(start, &self.coil.actuation(u), duration, out, visit)
+    }
+
+    /// The end of the motion from `start` under the field and pull `act` (what the coil makes
+    /// of a command) for `duration` seconds, into `out`: [`PlanningModel::propagate`] for a
+    /// caller that already holds the actuation of its command.
+    #[inline]
+    pub fn propagate_actuated(
+        &self,
+        start: &[Vec2],
+        act: &Actuation,
+        duration: f64,
+        out: &mut [Vec2],
+    ) {
+        let edge = (self.flow == Flow::PairExact && start.len() == 2)
+            .then(|| self.kinematics.pair_edge(start, act))
+            .flatten();
+        match edge {
+            Some(edge) => edge.at(duration, out),
+            None => {
+                self.integrate(start, act, duration, out, |_| true);
+            }
+        }
+    }
+
+    /// The shared start of many motions from `start`, when the flow is [`Flow::PairExact`] and
+    /// `start` is a pair: pass it to [`PlanningModel::propagate_from`].
+    #[inline]
+    pub fn pair_start(&self, start: &[Vec2]) -> Option<PairStart> {
+        (self.flow == Flow::PairExact && start.len() == 2)
+            .then(|| PairStart::new(start))
+            .flatten()
+    }
+
+    /// [`PlanningModel::propagate_actuated`] from `start`, with `prepared` its
+    /// [`PlanningModel::pair_start`]: the same result, less work per command.
+    #[inline]
+    pub fn propagate_from(
+        &self,
+        start: &[Vec2],
+        prepared: Option<&PairStart>,
+        act: &Actuation,
+        duration: f64,
+        out: &mut [Vec2],
+    ) {
+        match prepared.and_then(|s| self.kinematics.pair_edge_from(s, act)) {
+            Some(edge) => edge.at(duration, out),
+            None => self.propagate_actuated(start, act, duration, out),
+        }
+    }
+
+    /// RK4 under `act` at the fixed step, visiting each step's end.
+    #[inline]
+    fn integrate(
+        &self,
+        start: &[Vec2],
+        act: &Actuation,
+        duration: f64,
+        out: &mut [Vec2],
         mut visit: impl FnMut(&[Vec2]) -> bool,
     ) -> bool {
         let n = start.len();
         assert!(n <= MAX_AGENTS && out.len() == n);
         out.copy_from_slice(start);
-        let act = self.coil.actuation(u);
-        let f = |p: &[Vec2], v: &mut [Vec2]| self.kinematics.velocities(p, &act, v);
+        let f = |p: &[Vec2], v: &mut [Vec2]| self.kinematics.velocities(p, act, v);
         let (steps, rest) = step_schedule(duration, self.dt);
         for _ in 0..steps {
             rk4_step(&f, out, self.dt);

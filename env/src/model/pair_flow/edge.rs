@@ -12,6 +12,57 @@ pub struct SpeedSummary {
     pub separation: f64,
 }
 
+/// What every edge from one start shares, whatever the command: the positions, their centre
+/// and the separation (for evaluating many commands from one state, as the OBC does).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairStart {
+    start: [Vec2; 2],
+    centre: Vec2,
+    rel: Vec2,
+    r0: f64,
+    heading: Vec2,
+}
+
+impl PairStart {
+    /// The start of two agents; `None` when they coincide or a coordinate is not finite.
+    pub fn new(start: &[Vec2]) -> Option<Self> {
+        let rel = start[1] - start[0];
+        let r0 = rel.norm();
+        if !(r0 > 0.0 && r0.is_finite()) {
+            return None;
+        }
+        Some(PairStart {
+            start: [start[0], start[1]],
+            centre: (start[0] + start[1]) * 0.5,
+            rel,
+            r0,
+            heading: Vec2::new(rel.x / r0, rel.y / r0),
+        })
+    }
+
+    /// The edge from this start under in-plane unit field direction `field`, with
+    /// relative-motion constant `kappa` and centre-of-mass velocity `velocity`; `None` when a
+    /// number is not finite or `kappa` not positive.
+    #[inline]
+    pub fn edge(&self, kappa: f64, velocity: Vec2, field: Vec2) -> Option<PairEdge> {
+        let finite = velocity.x.is_finite() && velocity.y.is_finite();
+        if !(finite && kappa > 0.0 && field.x.is_finite() && field.y.is_finite()) {
+            return None;
+        }
+        let (rx, ry) = (self.heading.x, self.heading.y);
+        // ψ = θ_B − φ: cos ψ = b̂·r̂, sin ψ = r̂ × b̂
+        let cos_psi = field.x * rx + field.y * ry;
+        let sin_psi = rx * field.y - ry * field.x;
+        Some(PairEdge {
+            start: self.start,
+            centre: self.centre,
+            velocity,
+            rel: self.rel,
+            orbit: Orbit::new(kappa, self.r0, sin_psi, cos_psi),
+        })
+    }
+}
+
 /// The exact motion of two identical agents under one constant planar command.
 ///
 /// The pair forces are equal and opposite, so the centre of mass moves at the constant pull
@@ -31,23 +82,7 @@ impl PairEdge {
     /// relative-motion constant `kappa` and centre-of-mass velocity `velocity`. `None` when the
     /// agents coincide or a number is not finite (no closed form applies).
     pub fn new(kappa: f64, velocity: Vec2, start: &[Vec2], field: Vec2) -> Option<Self> {
-        let rel = start[1] - start[0];
-        let r0 = rel.norm();
-        let finite = r0.is_finite() && velocity.x.is_finite() && velocity.y.is_finite();
-        if !(r0 > 0.0 && finite && kappa > 0.0 && field.x.is_finite() && field.y.is_finite()) {
-            return None;
-        }
-        let (rx, ry) = (rel.x / r0, rel.y / r0);
-        // ψ = θ_B − φ: cos ψ = b̂·r̂, sin ψ = r̂ × b̂
-        let cos_psi = field.x * rx + field.y * ry;
-        let sin_psi = rx * field.y - ry * field.x;
-        Some(PairEdge {
-            start: [start[0], start[1]],
-            centre: (start[0] + start[1]) * 0.5,
-            velocity,
-            rel,
-            orbit: Orbit::new(kappa, r0, sin_psi, cos_psi),
-        })
+        PairStart::new(start)?.edge(kappa, velocity, field)
     }
 
     /// The orbit of the separation.

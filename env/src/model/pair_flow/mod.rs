@@ -14,7 +14,7 @@ mod orbit;
 mod quadrature;
 mod special;
 
-pub use edge::{PATH_TOLERANCE, PairEdge, SpeedSummary};
+pub use edge::{PATH_TOLERANCE, PairEdge, PairStart, SpeedSummary};
 pub use orbit::{Orbit, OrbitPoint};
 pub use special::{g, g_complement};
 
