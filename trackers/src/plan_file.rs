@@ -13,8 +13,7 @@ use magbench_planners::Plan;
 /// Reads and checks a plan file for a team of `agents`.
 pub fn read_plan(path: &Path, agents: usize) -> Result<Plan, InputError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, "", format!("cannot read: {e}")))?;
+    let text = magbench_env::input::read_text(path, &file)?;
     parse_plan(&text, &file, agents)
 }
 

@@ -7,6 +7,7 @@ use serde::Deserialize;
 use super::{Goal, Leg, Scenario};
 use crate::collision::{CollisionWorld, ValidityChecker};
 use crate::error::InputError;
+use crate::input::parse_toml;
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::{PhysicalOverrides, PhysicalParams};
 use crate::world::{Obstacle, World, check_polygon};
@@ -70,38 +71,8 @@ struct LegFile {
 
 /// Parses and validates scenario TOML `text`; `file` names it in errors.
 pub fn parse_scenario(text: &str, file: &str) -> Result<Scenario, InputError> {
-    let raw: ScenarioFile = deserialize(text, file)?;
+    let raw: ScenarioFile = parse_toml(text, file)?;
     Validator { file }.scenario(raw)
-}
-
-fn deserialize<T: for<'de> Deserialize<'de>>(text: &str, file: &str) -> Result<T, InputError> {
-    let de = toml::Deserializer::parse(text).map_err(|e| syntax_error(file, text, &e))?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        let field = if path == "." { String::new() } else { path };
-        let line = inner
-            .span()
-            .map(|s| format!(" (line {})", line_of(text, s.start)))
-            .unwrap_or_default();
-        InputError::new(file, field, format!("{}{line}", inner.message().trim()))
-    })
-}
-
-fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> InputError {
-    let line = e
-        .span()
-        .map(|s| format!(" (line {})", line_of(text, s.start)))
-        .unwrap_or_default();
-    InputError::new(
-        file,
-        "",
-        format!("invalid TOML: {}{line}", e.message().trim()),
-    )
-}
-
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].matches('\n').count() + 1
 }
 
 struct Validator<'a> {

@@ -5,6 +5,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use magbench_env::InputError;
+use magbench_env::input::parse_toml;
 use serde::Deserialize;
 
 use super::{Experiment, resolve_scenario};
@@ -38,34 +39,6 @@ struct ComponentTable {
     name: String,
     #[serde(default)]
     params: toml::Table,
-}
-
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].matches('\n').count() + 1
-}
-
-fn deserialize(text: &str, file: &str) -> Result<ExperimentFile, InputError> {
-    let de = toml::Deserializer::parse(text).map_err(|e| {
-        let line = e
-            .span()
-            .map(|s| format!(" (line {})", line_of(text, s.start)))
-            .unwrap_or_default();
-        InputError::new(
-            file,
-            "",
-            format!("invalid TOML: {}{line}", e.message().trim()),
-        )
-    })?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        let field = if path == "." { String::new() } else { path };
-        let line = inner
-            .span()
-            .map(|s| format!(" (line {})", line_of(text, s.start)))
-            .unwrap_or_default();
-        InputError::new(file, field, format!("{}{line}", inner.message().trim()))
-    })
 }
 
 fn component(v: &toml::Value, file: &str, field: &str) -> Result<Variant, InputError> {
@@ -164,7 +137,7 @@ pub fn parse(
     default_name: &str,
     ex: &dyn Executor,
 ) -> Result<Experiment, InputError> {
-    let raw = deserialize(text, file)?;
+    let raw: ExperimentFile = parse_toml(text, file)?;
     let name = raw.name.unwrap_or_else(|| default_name.to_string());
     if name.is_empty()
         || !name

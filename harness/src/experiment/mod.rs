@@ -54,8 +54,7 @@ impl Experiment {
     /// (or to the working directory).
     pub fn load(path: &Path, ex: &dyn Executor) -> Result<Experiment, InputError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| InputError::new(&file, "", format!("cannot read: {e}")))?;
+        let text = magbench_env::input::read_text(path, &file)?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let stem = path
             .file_stem()
