@@ -81,6 +81,9 @@ impl Feedback {
         };
         rec.observation(&observation);
         let (now, estimate) = self.estimator.update(&observation);
+        if self.first.is_some() {
+            rec.tick_gap(now - self.now, self.period);
+        }
         self.now = now;
         let first = *self.first.get_or_insert(now);
         Ok(TickContext {

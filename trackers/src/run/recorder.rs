@@ -29,6 +29,8 @@ pub struct Recorder {
     missed_detections: usize,
     rig_faults: usize,
     planning_time: f64,
+    /// Wall time of the planning calls since the last tick (s).
+    planning_since_tick: f64,
     /// Rig time that passed while the loop planned (s): already in the run's duration.
     planning_in_rig_time: f64,
     tracker_time: f64,
@@ -74,6 +76,7 @@ impl Recorder {
             missed_detections: 0,
             rig_faults: 0,
             planning_time,
+            planning_since_tick: 0.0,
             planning_in_rig_time: 0.0,
             tracker_time: 0.0,
             last_compute: 0.0,
@@ -102,15 +105,23 @@ impl Recorder {
         self.missed_frames += usize::from(misses > 0);
     }
 
-    /// A planning call took `wall_s` seconds of wall time.
+    /// A planning call in the loop took `wall_s` seconds of wall time.
     pub fn planning(&mut self, wall_s: f64) {
         self.planning_time += wall_s;
+        self.planning_since_tick += wall_s;
     }
 
-    /// `s` seconds of rig time passed while the loop was planning: they are in the duration
-    /// already, so the total time must not count them again.
-    pub fn planning_overlapped(&mut self, s: f64) {
-        self.planning_in_rig_time += s;
+    /// The next tick came `gap` seconds of rig time after the previous one, `period` apart
+    /// nominally. A rig whose clock keeps running while the host plans (a physical rig) shows
+    /// the planning as a longer gap; that rig time is in the run's duration already, so the
+    /// total time must not count it twice. A simulated rig's clock stands still while the
+    /// host plans: its gaps are one period, and nothing is taken off.
+    pub fn tick_gap(&mut self, gap: f64, period: f64) {
+        let planned = std::mem::take(&mut self.planning_since_tick);
+        let extra = gap - period;
+        if planned > 0.0 && extra > 0.5 * period {
+            self.planning_in_rig_time += planned.min(extra);
+        }
     }
 
     /// A plan was adopted.
@@ -200,7 +211,7 @@ impl Recorder {
         let final_state = self.last_truth.unwrap_or(self.last_estimate);
         let reached = end.status == RunStatus::ReachedGoal && end.goal.contains(&final_state);
         let per_agent = self.errors.per_agent();
-        // the duration is rig time; planning the rig's clock did not run through is added
+        // the duration is rig time; planning that the rig's clock did not run through is added
         let total = self.planning_time + end.duration;
         let total = if self.planning_in_rig_time > 0.0 {
             total - self.planning_in_rig_time
