@@ -10,6 +10,7 @@
 //!   stream, a recorded folder, a V4L2 device behind the `v4l2` feature);
 //! - [`detector`] and [`pixel_map`]: sub-pixel agent centres and pixel ↔ BL calibration;
 //! - [`coil_session`] and [`hardware`]: the hardware rig, which zeroes the field on every exit;
+//! - [`rigs`]: the rig factory — a simulated rig or a rig file, opened for a plan-track run;
 //! - [`check`] and [`replay`]: rig bring-up and offline detection;
 //! - [`emulator`]: the device side — protocol, watchdog, env's plant, rendered frames, faults.
 //!
@@ -31,6 +32,7 @@ pub mod protocol;
 pub mod replay;
 pub mod rig_log;
 pub mod rigfile;
+pub mod rigs;
 pub mod stats;
 pub mod transport;
 

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::output::outln;
 use crate::CliError;
 use crate::figures::{svgs, write_all};
 
@@ -25,7 +26,7 @@ pub fn run(a: FiguresArgs) -> Result<(), CliError> {
     }
     let files = write_all(&a.out, a.maze_iterations, &|m| eprintln!("{m}"))?;
     for f in svgs(&files) {
-        println!("{}  (+ .png)", f.display());
+        outln!("{}  (+ .png)", f.display());
     }
     Ok(())
 }

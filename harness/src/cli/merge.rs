@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::output::outln;
 use crate::CliError;
 use crate::results::merge::merge;
 
@@ -21,7 +22,7 @@ pub struct MergeArgs {
 /// Runs `magbench merge`.
 pub fn run(a: MergeArgs) -> Result<(), CliError> {
     let m = merge(&a.dirs, &a.out)?;
-    println!(
+    outln!(
         "{}: merged {} folders into {}: {} of {} runs",
         m.experiment.name,
         a.dirs.len(),

@@ -10,6 +10,7 @@ use magbench_env::{MAX_AGENTS, Scenario, Vec2};
 use magbench_planners::{Limits, Plan, Planner, PlannerResult, Problem, registry, validate_path};
 use serde_json::{Value, json};
 
+use super::output::{out, outln};
 use crate::CliError;
 use crate::plot::world::{WorldPlot, render};
 
@@ -62,7 +63,7 @@ struct LegRun {
 /// Runs `magbench plan`.
 pub fn run(a: PlanArgs) -> Result<(), CliError> {
     if a.list {
-        print!("{}", planner_list());
+        out!("{}", planner_list());
         return Ok(());
     }
     let (Some(scenario_name), Some(planner_name)) = (a.scenario.as_deref(), a.planner.as_deref())
@@ -129,11 +130,11 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
         write_outputs(dir, &scenario, planner_name, &summary, &runs)?;
     }
     if a.json {
-        println!("{}", serde_json::to_string(&summary).expect("json"));
+        outln!("{}", serde_json::to_string(&summary).expect("json"));
     } else {
-        print!("{}", summary_text(&summary, &runs));
+        out!("{}", summary_text(&summary, &runs));
         if let Some(dir) = &a.out {
-            println!("wrote       {}", dir.display());
+            outln!("wrote       {}", dir.display());
         }
     }
     Ok(())

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::output::{out, outln};
 use crate::CliError;
 use crate::regress::{Tolerances, Verdict, compare, table};
 use crate::results::store::read_runs;
@@ -70,12 +71,12 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
         gate_time: a.gate_time,
     };
     let rows = compare(&read_runs(&a.baseline)?, &read_runs(&a.current)?, &tol);
-    print!("{}", table(&rows));
+    out!("{}", table(&rows));
     let bad = rows
         .iter()
         .filter(|r| matches!(r.verdict, Verdict::Regression | Verdict::Missing))
         .count();
-    println!(
+    outln!(
         "\n{} metrics compared (one-sided tests at α = {}, Holm-adjusted; tolerances: success −{:.0} points, error/cost +{:.0}%, time +{:.0}%): {}",
         rows.len(),
         tol.alpha,

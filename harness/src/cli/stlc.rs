@@ -5,6 +5,7 @@ use magbench_env::PhysicalParams;
 use magbench_env::controllability::{closed_form, larc, velocity_ellipse};
 use magbench_env::model::Kinematics;
 
+use super::output::outln;
 use crate::CliError;
 
 /// Arguments of `magbench stlc`.
@@ -35,16 +36,23 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
     let p = PhysicalParams::default();
     let kin = Kinematics::nominal(&p);
     let kappa = p.kappa();
-    println!(
+    outln!(
         "LARC of the local model (r, φ, ψ), g = ∂/∂ψ, at r = {} BL, κ = {:.4} BL⁵/s",
-        a.r, kappa
+        a.r,
+        kappa
     );
-    println!(
+    outln!(
         "Δ = [g, [f,g], [f,[f,g]]] by finite differences of the vector physics; margin = σ_min of Δ with unit columns"
     );
-    println!(
+    outln!(
         "{:>9} {:>5} {:>10} {:>12} {:>10} {:>9} {:>9}",
-        "ψ (deg)", "rank", "margin", "det Δ", "|Δ−closed|", "ṙ r⁴/κ", "rφ̇ r⁴/κ"
+        "ψ (deg)",
+        "rank",
+        "margin",
+        "det Δ",
+        "|Δ−closed|",
+        "ṙ r⁴/κ",
+        "rφ̇ r⁴/κ"
     );
     let mut angles: Vec<f64> = Vec::new();
     let mut d = -90.0;
@@ -66,15 +74,18 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
             .map(|c| (rep.delta.column(c) - cf.column(c)).norm() / cf.column(c).norm().max(1e-300))
             .fold(0.0, f64::max);
         let (er, et) = velocity_ellipse(psi);
-        println!(
+        outln!(
             "{d:>9.3} {:>5} {:>10.4} {:>12.4e} {:>10.1e} {er:>9.4} {et:>9.4}",
-            rep.rank, rep.margin, rep.det, rel
+            rep.rank,
+            rep.margin,
+            rep.det,
+            rel
         );
     }
-    println!(
+    outln!(
         "rank 3 except at ψ ∈ {{0°, ±90°}} (sin 2ψ = 0). As ψ sweeps, (ṙ, rφ̇)·r⁴/κ = (1 − 3cos²ψ, sin 2ψ)"
     );
-    println!(
+    outln!(
         "traces an ellipse centred at (−½, 0) with semi-axes 3/2 and 1: zero lies strictly inside it."
     );
     Ok(())
