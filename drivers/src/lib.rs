@@ -9,6 +9,7 @@
 //! - [`frame`] and [`camera`]: grey-level frames and where they come from (the emulator's
 //!   stream, a recorded folder, a V4L2 device behind the `v4l2` feature);
 //! - [`detector`] and [`pixel_map`]: sub-pixel agent centres and pixel ↔ BL calibration;
+//! - [`clock`]: the time of the safety timers (wall, or a manual clock a test moves);
 //! - [`coil_session`] and [`hardware`]: the hardware rig, which zeroes the field on every exit;
 //! - [`rigs`]: the rig factory — a simulated rig or a rig file, opened for a plan-track run;
 //! - [`check`] and [`replay`]: rig bring-up and offline detection;
@@ -19,6 +20,7 @@
 pub mod calibration;
 pub mod camera;
 pub mod check;
+pub mod clock;
 pub mod coil_driver;
 pub mod coil_session;
 pub mod detector;

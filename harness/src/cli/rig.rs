@@ -239,6 +239,7 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
             ..RenderParams::default()
         },
         seed: a.seed,
+        clock: magbench_drivers::clock::wall(),
         speed: a.speed,
         lockstep: a.lockstep,
         duration: a.duration,
