@@ -181,7 +181,7 @@ impl FaultInjector {
             && !self.camera_cut
         {
             self.camera_cut = true;
-            cut_camera();
+            // logged before the cut, so that the host's reaction is logged after it
             log.event(
                 t,
                 "fault_disconnect",
@@ -190,6 +190,7 @@ impl FaultInjector {
                 &[],
                 "camera stream cut",
             );
+            cut_camera();
         }
         if self.camera_cut {
             return Delivery::Withhold;

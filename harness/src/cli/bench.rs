@@ -111,6 +111,7 @@ pub fn run(a: BenchArgs) -> Result<(), CliError> {
         );
         return Ok(());
     }
+    super::output::prepare_dir(&out, "--out")?;
     let progress = if a.quiet {
         ProgressMode::Quiet
     } else if a.lines {

@@ -24,6 +24,7 @@ pub fn run(a: FiguresArgs) -> Result<(), CliError> {
     if a.maze_iterations == Some(0) {
         return Err(CliError::arg("--maze-iterations", "must be at least 1"));
     }
+    super::output::prepare_dir(&a.out, "--out")?;
     let files = write_all(&a.out, a.maze_iterations, &|m| eprintln!("{m}"))?;
     for f in svgs(&files) {
         outln!("{}  (+ .png)", f.display());

@@ -1,16 +1,11 @@
 //! The planner limits of the command line (`--max-iters`, `--time-limit`), shared by `plan`,
 //! `track` and `rig run`.
 
-use std::time::Duration;
-
 use clap::Args;
 use magbench_planners::Limits;
 
 use crate::CliError;
-
-/// Longest planning time limit accepted (s): a week. Far beyond any useful plan, and far below
-/// what a [`Duration`] can hold.
-pub const MAX_TIME_LIMIT_S: f64 = 7.0 * 24.0 * 3600.0;
+use crate::run::spec::time_limit;
 
 /// `--max-iters` and `--time-limit`.
 #[derive(Debug, Clone, Args)]
@@ -43,18 +38,10 @@ impl LimitArgs {
     }
 }
 
-/// A planning time limit of `t` seconds, or why not.
-pub fn time_limit(t: f64) -> Result<Duration, String> {
-    if !(t.is_finite() && t > 0.0 && t <= MAX_TIME_LIMIT_S) {
-        return Err(format!(
-            "must be a number of seconds in (0, {MAX_TIME_LIMIT_S}] (a week), got {t}"
-        ));
-    }
-    Duration::try_from_secs_f64(t).map_err(|e| format!("{t} s: {e}"))
-}
-
 #[cfg(test)]
 mod tests {
+    use std::time::Duration;
+
     use super::*;
 
     #[test]

@@ -21,6 +21,7 @@ pub struct MergeArgs {
 
 /// Runs `magbench merge`.
 pub fn run(a: MergeArgs) -> Result<(), CliError> {
+    super::output::prepare_dir(&a.out, "--out")?;
     let m = merge(&a.dirs, &a.out)?;
     outln!(
         "{}: merged {} folders into {}: {} of {} runs",

@@ -17,7 +17,7 @@ use magbench_env::plant::DisturbancePreset;
 use magbench_trackers::TrackerSpec;
 
 use super::limits::LimitArgs;
-use super::output::{emit, outln};
+use super::output::{emit, outln, prepare_dir, prepare_file};
 use super::tracked::{TrackRun, kv_list};
 use crate::CliError;
 
@@ -190,6 +190,13 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
     if !(a.noise.is_finite() && a.noise >= 0.0 && a.blur.is_finite() && a.blur >= 0.0) {
         return Err(CliError::arg("--noise/--blur", "must be finite and ≥ 0"));
     }
+    prepare_file(&a.log, "--log")?;
+    if let Some(d) = &a.record {
+        prepare_dir(d, "--record")?;
+    }
+    if let Some(f) = &a.write_rig {
+        prepare_file(f, "--write-rig")?;
+    }
     let endpoint = match (&a.port, &a.listen) {
         (Some(p), _) => DeviceEndpoint::Pty(p.clone()),
         (None, Some(l)) => DeviceEndpoint::Tcp(l.clone()),
@@ -278,7 +285,7 @@ fn check_cmd(a: CheckArgs) -> Result<(), CliError> {
     }
     let log = match &a.out {
         Some(d) => {
-            std::fs::create_dir_all(d)?;
+            prepare_dir(d, "--out")?;
             Some(d.join("rig-log.csv"))
         }
         None => None,
@@ -315,6 +322,9 @@ fn check_cmd(a: CheckArgs) -> Result<(), CliError> {
 
 fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
     let rig = RigConfig::load(&a.rig)?;
+    if let Some(f) = &a.out {
+        prepare_file(f, "--out")?;
+    }
     let prior = match &a.scenario {
         Some(s) => Some(Scenario::load(s)?.start),
         None => None,

@@ -10,7 +10,7 @@ use magbench_drivers::rigs::{self, OpenError, RigSource};
 use magbench_drivers::{RigStats, stats};
 use magbench_env::{Scenario, Vec2};
 use magbench_planners::{Limits, Planner, Problem};
-use magbench_trackers::plan_file::{plan_json, read_plan};
+use magbench_trackers::plan_file::{plan_json, read_plan_for};
 use magbench_trackers::registry::parse_param;
 use magbench_trackers::{
     Mission, RunStatus, TrackOutcome, TrackerSpec, reference_for, track, write_ticks_csv,
@@ -81,7 +81,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         None => None,
     };
     let given = match &r.plan {
-        Some(p) => Some(read_plan(p, s.agents())?),
+        Some(p) => Some(read_plan_for(p, s)?),
         None => None,
     };
     if let Some(dir) = &r.out {
