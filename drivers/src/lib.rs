@@ -17,6 +17,8 @@
 //!
 //! Lengths are in body lengths (BL) and times in seconds unless a name says otherwise.
 
+#![warn(missing_docs)]
+
 pub mod calibration;
 pub mod camera;
 pub mod check;

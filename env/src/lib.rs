@@ -14,6 +14,8 @@
 //!
 //! Lengths are in body lengths (BL = one agent diameter) and times in seconds everywhere.
 
+#![warn(missing_docs)]
+
 pub mod coil;
 pub mod collision;
 pub mod controllability;

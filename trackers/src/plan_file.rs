@@ -38,7 +38,7 @@ pub fn read_plan_for(path: &Path, scenario: &Scenario) -> Result<Plan, InputErro
 pub fn check_plan(plan: &Plan, scenario: &Scenario, file: &str) -> Result<(), InputError> {
     let bad = |field: String, reason: String| InputError::new(file, field, reason);
     let total: f64 = plan.durations.iter().sum();
-    if !(total <= MAX_PLAN_DURATION_S) {
+    if total.is_nan() || total > MAX_PLAN_DURATION_S {
         return Err(bad(
             "durations".into(),
             format!("the plan lasts {total} s; at most {MAX_PLAN_DURATION_S} s"),
