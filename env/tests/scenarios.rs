@@ -30,19 +30,8 @@ fn every_builtin_scenario_validates() {
     );
 }
 
-const GOOD: &str = r#"
-name = "t"
-[world]
-width = 30.0
-height = 20.0
-[[world.obstacles]]
-polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]
-[start]
-agents = [[3.0, 5.0], [5.0, 5.0]]
-[goal]
-agents = [[25.0, 15.0], [27.5, 15.0]]
-tolerance = 0.5
-"#;
+/// A small valid scenario, mutated one field at a time by the tests.
+const GOOD: &str = include_str!("data/good.toml");
 
 fn reject(text: &str) -> InputError {
     match parse_scenario(text, "bad.toml") {
@@ -234,19 +223,7 @@ fn a_10000_vertex_polygon_is_refused_with_the_bound() {
 
 #[test]
 fn a_later_map_covering_an_earlier_goal_is_rejected() {
-    let text = r#"
-name = "t"
-[world]
-width = 30.0
-height = 20.0
-[start]
-agents = [[3.0, 5.0], [5.0, 5.0]]
-[[legs]]
-goal = { agents = [[15.0, 10.0], [17.5, 10.0]], tolerance = 0.5 }
-[[legs]]
-goal = { agents = [[25.0, 15.0], [27.5, 15.0]], tolerance = 0.5 }
-obstacles = [{ circle = { center = [16.0, 10.0], radius = 3.0 } }]
-"#;
+    let text = include_str!("data/leg-blocks-earlier-goal.toml");
     let e = reject(text);
     assert_names(&e, "legs[1].obstacles", "leg 2 starts at leg 1's goal");
 }

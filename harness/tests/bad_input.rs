@@ -33,19 +33,8 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     p
 }
 
-const SCENARIO: &str = r#"
-name = "t"
-[world]
-width = 30.0
-height = 20.0
-[[world.obstacles]]
-polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]
-[start]
-agents = [[3.0, 5.0], [5.0, 5.0]]
-[goal]
-agents = [[25.0, 15.0], [27.5, 15.0]]
-tolerance = 0.5
-"#;
+/// env's small valid scenario, mutated one field at a time.
+const SCENARIO: &str = include_str!("../../env/tests/data/good.toml");
 
 fn scenario(dir: &Path, text: &str) -> String {
     write(dir, "s.toml", text).display().to_string()
@@ -109,23 +98,10 @@ fn a_10000_vertex_polygon_is_refused_with_its_bound() {
 
 #[test]
 fn a_later_map_covering_an_earlier_goal_fails_check() {
-    let d = tempfile::tempdir().unwrap();
-    let f = scenario(
-        d.path(),
-        r#"
-name = "t"
-[world]
-width = 30.0
-height = 20.0
-[start]
-agents = [[3.0, 5.0], [5.0, 5.0]]
-[[legs]]
-goal = { agents = [[15.0, 10.0], [17.5, 10.0]], tolerance = 0.5 }
-[[legs]]
-goal = { agents = [[25.0, 15.0], [27.5, 15.0]], tolerance = 0.5 }
-obstacles = [{ circle = { center = [16.0, 10.0], radius = 3.0 } }]
-"#,
-    );
+    let f = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../env/tests/data/leg-blocks-earlier-goal.toml")
+        .display()
+        .to_string();
     refused(
         &["scenario", "check", &f],
         &["legs[1].obstacles", "leg 2 starts"],
