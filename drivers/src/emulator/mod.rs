@@ -100,132 +100,189 @@ pub struct EmulatorConfig {
 
 /// Runs the emulator until `duration` passes or `stop` is set.
 pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
-    if !(cfg.speed.is_finite() && cfg.speed > 0.0) {
-        return Err(format!("speed must be > 0, got {}", cfg.speed));
+    let mut emu = Emulator::start(cfg, &stop)?;
+    emu.wait_for_host(&stop);
+    let mut result = Ok(());
+    for k in 1u64.. {
+        if stop.load(Ordering::Relaxed) || !emu.within_duration(k) {
+            break;
+        }
+        if let Err(e) = emu.frame(k, &stop) {
+            result = Err(e);
+            break;
+        }
     }
-    let clock = Arc::new(if cfg.lockstep {
-        DeviceClock::lockstep(cfg.clock.clone())
-    } else {
-        DeviceClock::real_time(cfg.clock.clone(), cfg.speed)
-    });
-    let log = Arc::new(
-        EventLog::create(&cfg.log, Instant::now())
-            .map_err(|e| format!("{}: {e}", cfg.log.display()))?,
-    );
-    let shared: Shared = Arc::new(Mutex::new(DeviceShared {
-        device: DeviceState::new(
-            cfg.rig
-                .coil
-                .current_limit_a
-                .iter()
-                .map(|l| l * 1.05)
-                .collect(),
-            Duration::from_millis(cfg.rig.coil.watchdog_ms as u64),
-        ),
-        changes: Vec::new(),
-        hello_t: None,
-        commands: 0,
-    }));
-    let camera = CameraServer::start(&cfg.camera_listen, stop.clone(), log.clone(), clock.clone())?;
-    let coil = CoilServer {
-        shared: shared.clone(),
-        log: log.clone(),
-        clock: clock.clone(),
-        faults: cfg.faults.clone(),
-        seed: cfg.seed,
-        stop: stop.clone(),
-    };
-    let coil_desc = match &cfg.endpoint {
-        DeviceEndpoint::Tcp(addr) => {
-            let (transport, bound) = TcpTransport::bind(addr)?;
-            coil.spawn(transport);
-            format!("tcp {bound}")
-        }
-        #[cfg(unix)]
-        DeviceEndpoint::Pty(link) => {
-            coil.spawn(coil::PtyTransport::open(link)?);
-            format!("serial {}", link.display())
-        }
-        #[cfg(not(unix))]
-        DeviceEndpoint::Pty(_) => return Err("pseudo-terminals need a Unix system".into()),
-    };
+    // leave the device safe, whatever ended the run
+    stop.store(true, Ordering::Relaxed);
+    emu.finish();
+    result
+}
 
-    // the plant, the camera and the frame faults
-    let scenario = &cfg.scenario;
-    let p = &scenario.physics;
-    let coil_model: Arc<dyn Coil> = Arc::new(TriaxialMaxwell::new(p.gradient_limit()));
-    let collision = Arc::new(CollisionWorld::new(&scenario.world, 0.5));
-    let mut plant = PlantStepper::new(
-        Plant::new(
-            p,
-            coil_model,
-            collision,
-            &cfg.preset,
+/// The parts of a running emulator, wired together.
+struct Emulator {
+    clock: Arc<DeviceClock>,
+    log: Arc<EventLog>,
+    shared: Shared,
+    camera: CameraServer,
+    plant: PlantStepper,
+    renderer: Renderer,
+    recorder: Option<FrameRecorder>,
+    faults: FaultInjector,
+    period: f64,
+    duration: Option<f64>,
+    /// Commands handled when the last frame went out (lockstep waits for the next).
+    commands_at_frame: u64,
+}
+
+impl Emulator {
+    /// Starts every part: the clock, the log, the camera server, the coil server on its
+    /// transport (a thread each), the plant stepper, the renderer and the fault injector; then
+    /// reports the live endpoints.
+    fn start(cfg: EmulatorConfig, stop: &Arc<AtomicBool>) -> Result<Self, String> {
+        if !(cfg.speed.is_finite() && cfg.speed > 0.0) {
+            return Err(format!("speed must be > 0, got {}", cfg.speed));
+        }
+        let clock = Arc::new(if cfg.lockstep {
+            DeviceClock::lockstep(cfg.clock.clone())
+        } else {
+            DeviceClock::real_time(cfg.clock.clone(), cfg.speed)
+        });
+        let log = Arc::new(
+            EventLog::create(&cfg.log, Instant::now())
+                .map_err(|e| format!("{}: {e}", cfg.log.display()))?,
+        );
+        let shared: Shared = Arc::new(Mutex::new(DeviceShared {
+            device: DeviceState::new(
+                cfg.rig
+                    .coil
+                    .current_limit_a
+                    .iter()
+                    .map(|l| l * 1.05)
+                    .collect(),
+                Duration::from_millis(cfg.rig.coil.watchdog_ms as u64),
+            ),
+            changes: Vec::new(),
+            hello_t: None,
+            commands: 0,
+        }));
+        let camera =
+            CameraServer::start(&cfg.camera_listen, stop.clone(), log.clone(), clock.clone())?;
+        let coil = CoilServer {
+            shared: shared.clone(),
+            log: log.clone(),
+            clock: clock.clone(),
+            faults: cfg.faults.clone(),
+            seed: cfg.seed,
+            stop: stop.clone(),
+        };
+        let coil_desc = match &cfg.endpoint {
+            DeviceEndpoint::Tcp(addr) => {
+                let (transport, bound) = TcpTransport::bind(addr)?;
+                coil.spawn(transport);
+                format!("tcp {bound}")
+            }
+            #[cfg(unix)]
+            DeviceEndpoint::Pty(link) => {
+                coil.spawn(coil::PtyTransport::open(link)?);
+                format!("serial {}", link.display())
+            }
+            #[cfg(not(unix))]
+            DeviceEndpoint::Pty(_) => return Err("pseudo-terminals need a Unix system".into()),
+        };
+        let scenario = &cfg.scenario;
+        let p = &scenario.physics;
+        let coil_model: Arc<dyn Coil> = Arc::new(TriaxialMaxwell::new(p.gradient_limit()));
+        let collision = Arc::new(CollisionWorld::new(&scenario.world, 0.5));
+        let plant = PlantStepper::new(
+            Plant::new(
+                p,
+                coil_model,
+                collision,
+                &cfg.preset,
+                cfg.seed,
+                &scenario.start,
+            ),
+            cfg.rig.coil.calibration.clone(),
+            0.5 * cfg.rig.coil.field_mt.unwrap_or(p.field_mt) * 1e-3,
+        );
+        let renderer = Renderer::new(
+            cfg.rig.pixels.clone(),
+            cfg.rig.camera.size_px,
+            Some(&scenario.world),
+            cfg.render.clone(),
             cfg.seed,
+        );
+        let recorder = match &cfg.record {
+            Some(dir) => Some(
+                FrameRecorder::create(dir, scenario.agents())
+                    .map_err(|e| format!("{}: {e}", dir.display()))?,
+            ),
+            None => None,
+        };
+        log.event(
+            0.0,
+            "start",
+            None,
+            plant.in_force(),
             &scenario.start,
-        ),
-        cfg.rig.coil.calibration.clone(),
-        0.5 * cfg.rig.coil.field_mt.unwrap_or(p.field_mt) * 1e-3,
-    );
-    let renderer = Renderer::new(
-        cfg.rig.pixels.clone(),
-        cfg.rig.camera.size_px,
-        Some(&scenario.world),
-        cfg.render.clone(),
-        cfg.seed,
-    );
-    let mut recorder = match &cfg.record {
-        Some(dir) => Some(
-            FrameRecorder::create(dir, scenario.agents())
-                .map_err(|e| format!("{}: {e}", dir.display()))?,
-        ),
-        None => None,
-    };
-    let mut faults = FaultInjector::new(cfg.faults.clone(), cfg.seed);
-    log.event(
-        0.0,
-        "start",
-        None,
-        plant.in_force(),
-        &scenario.start,
-        &format!(
-            "scenario {} preset {} speed {}",
-            scenario.name, cfg.preset.name, cfg.speed
-        ),
-    );
-    (cfg.on_ready)(&coil_desc, camera.addr());
+            &format!(
+                "scenario {} preset {} speed {}",
+                scenario.name, cfg.preset.name, cfg.speed
+            ),
+        );
+        (cfg.on_ready)(&coil_desc, camera.addr());
+        Ok(Self {
+            clock,
+            log,
+            shared,
+            camera,
+            plant,
+            renderer,
+            recorder,
+            faults: FaultInjector::new(cfg.faults.clone(), cfg.seed),
+            period: 1.0 / cfg.rig.camera.fps,
+            duration: cfg.duration,
+            commands_at_frame: 0,
+        })
+    }
 
-    let period = 1.0 / cfg.rig.camera.fps;
-    let mut commands_at_frame = 0;
-    if clock.is_lockstep() {
-        // lockstep: frame 1 goes to a host with an open session and a connected camera, so
-        // that a run sees the same frames whatever the timing
+    /// Lockstep: frame 1 goes to a host with an open session and a connected camera, so that
+    /// a run sees the same frames whatever the timing.
+    fn wait_for_host(&self, stop: &AtomicBool) {
+        if !self.clock.is_lockstep() {
+            return;
+        }
         while !stop.load(Ordering::Relaxed)
-            && (lock(&shared).hello_t.is_none() || !camera.connected())
+            && (lock(&self.shared).hello_t.is_none() || !self.camera.connected())
         {
             std::thread::sleep(Duration::from_millis(2));
         }
     }
-    for k in 1u64.. {
-        if stop.load(Ordering::Relaxed) {
-            break;
-        }
-        let t = k as f64 * period;
-        if cfg.duration.is_some_and(|d| t > d) {
-            break;
-        }
-        if clock.is_lockstep() {
+
+    /// Frame `k` is within the run's duration.
+    fn within_duration(&self, k: u64) -> bool {
+        self.duration.is_none_or(|d| k as f64 * self.period <= d)
+    }
+
+    /// Frame `k`: wait for its time, step the plant to it, render it, inject its faults and
+    /// send it.
+    fn frame(&mut self, k: u64, stop: &AtomicBool) -> Result<(), String> {
+        let t = k as f64 * self.period;
+        if self.clock.is_lockstep() {
             // the host's answer to the last frame, or 50 ms
-            clock.wait_for_host(|| lock(&shared).commands != commands_at_frame, &stop);
+            let at_frame = self.commands_at_frame;
+            self.clock
+                .wait_for_host(|| lock(&self.shared).commands != at_frame, stop);
         } else {
-            clock.wait_until(t, &stop);
+            self.clock.wait_until(t, stop);
         }
-        let changes = std::mem::take(&mut lock(&shared).changes);
-        plant.advance_to(t, changes);
-        clock.frame_sent(t);
-        let truth = plant.positions().to_vec();
-        let in_force = plant.in_force().to_vec();
-        if plant.stuck() {
+        let changes = std::mem::take(&mut lock(&self.shared).changes);
+        self.plant.advance_to(t, changes);
+        self.clock.frame_sent(t);
+        let truth = self.plant.positions().to_vec();
+        let in_force = self.plant.in_force().to_vec();
+        let log = &*self.log;
+        if self.plant.stuck() {
             log.event(
                 t,
                 "agents_stuck",
@@ -236,12 +293,13 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
             );
         }
         // the frame, and its faults (fault times count from the host's HELLO)
-        let since_hello = lock(&shared).hello_t.map(|h| t - h);
-        let image = faults.image(
+        let since_hello = lock(&self.shared).hello_t.map(|h| t - h);
+        let renderer = &self.renderer;
+        let image = self.faults.image(
             t,
             since_hello,
             || renderer.render_frame(&truth, k),
-            (&log, &in_force, &truth),
+            (log, &in_force, &truth),
         );
         let frame = Frame {
             index: k,
@@ -250,30 +308,36 @@ pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
             received: Instant::now(),
         };
         log.event(t, "frame", None, &in_force, &truth, &format!("index {k}"));
-        if let Some(r) = recorder.as_mut() {
+        if let Some(r) = self.recorder.as_mut() {
             r.write(&frame, &truth)
                 .map_err(|e| format!("recording: {e}"))?;
         }
-        match faults.delivery(k, t, since_hello, || camera.cut(), (&log, &in_force)) {
-            Delivery::Withhold => continue,
+        let camera = &self.camera;
+        match self
+            .faults
+            .delivery(k, t, since_hello, || camera.cut(), (log, &in_force))
+        {
+            Delivery::Withhold => return Ok(()),
             Delivery::Delay(ms) => std::thread::sleep(Duration::from_secs_f64(ms * 1e-3)),
             Delivery::Send => {}
         }
         let bytes = encode_frame(&frame);
-        commands_at_frame = lock(&shared).commands;
-        camera.send(&bytes, t, &in_force, &log);
+        self.commands_at_frame = lock(&self.shared).commands;
+        self.camera.send(&bytes, t, &in_force, log);
+        Ok(())
     }
-    // leave the device safe
-    stop.store(true, Ordering::Relaxed);
-    let mut sh = lock(&shared);
-    sh.device.zero();
-    log.event(
-        clock.t(),
-        "end",
-        None,
-        sh.device.currents(),
-        plant.positions(),
-        "emulator stopped; currents zero",
-    );
-    Ok(())
+
+    /// Zeroes the device and logs the end.
+    fn finish(&self) {
+        let mut sh = lock(&self.shared);
+        sh.device.zero();
+        self.log.event(
+            self.clock.t(),
+            "end",
+            None,
+            sh.device.currents(),
+            self.plant.positions(),
+            "emulator stopped; currents zero",
+        );
+    }
 }
