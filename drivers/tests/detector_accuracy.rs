@@ -17,6 +17,17 @@ fn rig() -> RigConfig {
     .unwrap()
 }
 
+/// Frames of the emulator's renderer for `rig`, without a world, noise drawn with `seed`.
+fn renderer(rig: &RigConfig, seed: u64) -> Renderer {
+    Renderer::new(
+        rig.pixels.clone(),
+        rig.camera.size_px,
+        None,
+        RenderParams::default(),
+        seed,
+    )
+}
+
 /// What a fresh detector is primed with.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Prior {
@@ -34,13 +45,7 @@ enum Prior {
 /// sub-pixel position, each frame detected by a fresh detector (no memory) primed by `prior`.
 fn rms_px(sep: (f64, f64), frames: usize, seed: u64, prior: Prior) -> (f64, usize) {
     let rig = rig();
-    let mut renderer = Renderer::new(
-        rig.pixels.clone(),
-        rig.camera.size_px,
-        None,
-        RenderParams::default(),
-        seed,
-    );
+    let mut renderer = renderer(&rig, seed);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (mut sum, mut n, mut missed) = (0.0, 0usize, 0usize);
     for _ in 0..frames {
@@ -110,13 +115,7 @@ fn apart_nearly_touching_and_touching_within_a_quarter_pixel() {
 #[test]
 fn tracking_keeps_identity_and_reports_a_missing_agent() {
     let rig = rig();
-    let mut renderer = Renderer::new(
-        rig.pixels.clone(),
-        rig.camera.size_px,
-        None,
-        RenderParams::default(),
-        5,
-    );
+    let mut renderer = renderer(&rig, 5);
     let mut a = [Vec2::new(10.0, 10.0), Vec2::new(12.0, 10.0)];
     let mut det = Detector::new(rig.detector.clone(), rig.pixels.clone(), &a);
     // the pair rotates by 180° in 90 frames: identities must follow
