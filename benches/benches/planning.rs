@@ -17,6 +17,9 @@
 //! cargo bench -p magbench-benches --bench planning
 //! ```
 
+// −3.14 here is a round bound of the sampled angles, not π (π would change the inputs)
+#![allow(clippy::approx_constant)]
+
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};

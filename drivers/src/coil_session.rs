@@ -9,10 +9,11 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use magbench_env::Control;
 
+use crate::clock::Clock;
 use crate::coil_driver::{CoilCommand, CoilDriver};
 use crate::link::{AckInfo, CoilLink, LinkError};
 use crate::protocol::{Message, PROTOCOL_VERSION};
@@ -22,8 +23,10 @@ use crate::transport;
 struct Inner {
     link: CoilLink,
     driver: CoilDriver,
-    last_tx: Instant,
-    last_command: Option<Instant>,
+    /// Clock time of the last message sent.
+    last_tx: Duration,
+    /// Clock time of the last command.
+    last_command: Option<Duration>,
     field_on: bool,
     faults: Vec<String>,
     fatal: Option<String>,
@@ -32,6 +35,7 @@ struct Inner {
 /// A coil session (see the module documentation).
 pub struct CoilSession {
     inner: Arc<Mutex<Inner>>,
+    clock: Arc<dyn Clock>,
     quit: Arc<AtomicBool>,
     abort: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
@@ -44,11 +48,13 @@ fn lock(m: &Mutex<Inner>) -> MutexGuard<'_, Inner> {
 
 impl CoilSession {
     /// Opens the link, says HELLO (channel count, watchdog) and starts the keep-alive thread.
-    /// `abort` zeroes the field from the keep-alive thread as soon as it is raised.
+    /// `abort` zeroes the field from the keep-alive thread as soon as it is raised; `clock`
+    /// times the heartbeat and the hold timeout.
     pub fn open(
         cfg: &CoilConfig,
         field_mt: f64,
         abort: Arc<AtomicBool>,
+        clock: Arc<dyn Clock>,
     ) -> Result<Self, LinkError> {
         let io = transport::open(&cfg.endpoint, Duration::from_secs(2))
             .map_err(|e| LinkError::Lost(e.to_string()))?;
@@ -76,7 +82,7 @@ impl CoilSession {
         let inner = Arc::new(Mutex::new(Inner {
             link,
             driver,
-            last_tx: Instant::now(),
+            last_tx: clock.now(),
             last_command: None,
             field_on: false,
             faults: Vec::new(),
@@ -84,16 +90,18 @@ impl CoilSession {
         }));
         let quit = Arc::new(AtomicBool::new(false));
         let thread = {
-            let (inner, quit, abort) = (inner.clone(), quit.clone(), abort.clone());
+            let (inner, quit, abort, clock) =
+                (inner.clone(), quit.clone(), abort.clone(), clock.clone());
             let heartbeat = Duration::from_millis(cfg.heartbeat_ms as u64);
             let hold = Duration::from_millis(cfg.hold_timeout_ms as u64);
             std::thread::Builder::new()
                 .name("coil-keepalive".into())
-                .spawn(move || keep_alive(&inner, &quit, &abort, heartbeat, hold))
+                .spawn(move || keep_alive(&inner, &quit, &abort, &*clock, heartbeat, hold))
                 .map_err(|e| LinkError::Lost(e.to_string()))?
         };
         Ok(Self {
             inner,
+            clock,
             quit,
             abort,
             thread: Some(thread),
@@ -125,10 +133,10 @@ impl CoilSession {
         };
         let currents: Vec<f32> = cmd.currents.iter().map(|x| *x as f32).collect();
         let r = s.link.request(&Message::SetCurrents(currents));
-        s.last_tx = Instant::now();
+        s.last_tx = self.clock.now();
         match r {
             Ok(ack) => {
-                s.last_command = Some(Instant::now());
+                s.last_command = Some(self.clock.now());
                 s.field_on = cmd.currents.iter().any(|c| *c != 0.0);
                 Ok((cmd, ack))
             }
@@ -149,7 +157,7 @@ impl CoilSession {
         s.driver.zero();
         s.field_on = false;
         let r = s.link.request(&Message::Zero);
-        s.last_tx = Instant::now();
+        s.last_tx = self.clock.now();
         r
     }
 
@@ -183,6 +191,7 @@ fn keep_alive(
     inner: &Mutex<Inner>,
     quit: &AtomicBool,
     abort: &AtomicBool,
+    clock: &dyn Clock,
     heartbeat: Duration,
     hold: Duration,
 ) {
@@ -194,7 +203,7 @@ fn keep_alive(
         if s.link.is_lost() {
             continue;
         }
-        let now = Instant::now();
+        let now = clock.now();
         if abort.load(Ordering::Relaxed) && !aborted {
             aborted = true;
             s.driver.zero();
@@ -211,7 +220,7 @@ fn keep_alive(
             ));
             continue;
         }
-        if s.field_on && s.last_command.is_some_and(|t| now.duration_since(t) > hold) {
+        if s.field_on && s.last_command.is_some_and(|t| now.saturating_sub(t) > hold) {
             s.driver.zero();
             s.field_on = false;
             let r = s.link.request(&Message::Zero);
@@ -226,7 +235,7 @@ fn keep_alive(
             }
             continue;
         }
-        if now.duration_since(s.last_tx) >= heartbeat {
+        if now.saturating_sub(s.last_tx) >= heartbeat {
             let r = s.link.request(&Message::Heartbeat);
             s.last_tx = now;
             match r {

@@ -94,7 +94,20 @@ impl HardwareRig {
         abort: Arc<AtomicBool>,
         log: Option<&Path>,
     ) -> Result<Self, HardwareError> {
-        let coil = CoilSession::open(&rig.coil, field_mt, abort)?;
+        Self::open_with_clock(rig, field_mt, prior, abort, log, crate::clock::wall())
+    }
+
+    /// [`HardwareRig::open`] with the clock of the safety timers (hold timeout, heartbeat)
+    /// given: a test injects a [`crate::clock::ManualClock`].
+    pub fn open_with_clock(
+        rig: &RigConfig,
+        field_mt: f64,
+        prior: &[Vec2],
+        abort: Arc<AtomicBool>,
+        log: Option<&Path>,
+        clock: Arc<dyn crate::clock::Clock>,
+    ) -> Result<Self, HardwareError> {
+        let coil = CoilSession::open(&rig.coil, field_mt, abort, clock)?;
         let camera = camera::open(&rig.camera)?;
         let start = Instant::now();
         let log = match log {

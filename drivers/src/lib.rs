@@ -9,15 +9,20 @@
 //! - [`frame`] and [`camera`]: grey-level frames and where they come from (the emulator's
 //!   stream, a recorded folder, a V4L2 device behind the `v4l2` feature);
 //! - [`detector`] and [`pixel_map`]: sub-pixel agent centres and pixel ↔ BL calibration;
+//! - [`clock`]: the time of the safety timers (wall, or a manual clock a test moves);
 //! - [`coil_session`] and [`hardware`]: the hardware rig, which zeroes the field on every exit;
+//! - [`rigs`]: the rig factory — a simulated rig or a rig file, opened for a plan-track run;
 //! - [`check`] and [`replay`]: rig bring-up and offline detection;
 //! - [`emulator`]: the device side — protocol, watchdog, env's plant, rendered frames, faults.
 //!
 //! Lengths are in body lengths (BL) and times in seconds unless a name says otherwise.
 
+#![warn(missing_docs)]
+
 pub mod calibration;
 pub mod camera;
 pub mod check;
+pub mod clock;
 pub mod coil_driver;
 pub mod coil_session;
 pub mod detector;
@@ -31,6 +36,7 @@ pub mod protocol;
 pub mod replay;
 pub mod rig_log;
 pub mod rigfile;
+pub mod rigs;
 pub mod stats;
 pub mod transport;
 

@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use magbench_env::InputError;
+use magbench_env::input::{parse_toml, read_text};
 use serde::Deserialize;
 
 use crate::calibration::Calibration;
@@ -259,8 +260,7 @@ impl RigConfig {
     /// Reads and validates a rig file.
     pub fn load(path: &Path) -> Result<RigConfig, InputError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| InputError::new(&file, "", format!("cannot read: {e}")))?;
+        let text = read_text(path, &file)?;
         let mut cfg = Self::parse(&text, &file)?;
         // a recorded-frames folder is relative to the rig file
         if let CameraSource::Recorded(p) = &cfg.camera.source
@@ -274,7 +274,7 @@ impl RigConfig {
 
     /// Parses and validates rig TOML `text`; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<RigConfig, InputError> {
-        let raw: RigFile = deserialize(text, file)?;
+        let raw: RigFile = parse_toml(text, file)?;
         let v = V { file };
         let coil = v.coil(raw.coil)?;
         let camera = v.camera(raw.camera)?;
@@ -317,17 +317,6 @@ impl RigConfig {
         }
         toml::to_string(&doc).map_err(|e| e.to_string())
     }
-}
-
-fn deserialize<T: for<'de> Deserialize<'de>>(text: &str, file: &str) -> Result<T, InputError> {
-    let de = toml::Deserializer::parse(text)
-        .map_err(|e| InputError::new(file, "", format!("invalid TOML: {}", e.message().trim())))?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        let field = if path == "." { String::new() } else { path };
-        InputError::new(file, field, inner.message().trim().to_string())
-    })
 }
 
 struct V<'a> {

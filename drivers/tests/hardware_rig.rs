@@ -1,12 +1,17 @@
 //! The hardware rig against an in-process emulator (TCP): the field goes to zero on a panic,
 //! on a stalled loop (host hold timeout) and on a non-finite command.
+//!
+//! Host and emulator share one [`ManualClock`] and the emulator runs in lockstep, so no timer
+//! (hold timeout, heartbeat, device watchdog) moves unless the test moves it: "the loop stalls
+//! for 300 ms" is `clock.advance(300 ms)`, whatever the machine's load.
 
 use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
+use magbench_drivers::clock::{Clock, ManualClock};
 use magbench_drivers::emulator::faults::FaultPlan;
 use magbench_drivers::emulator::render::RenderParams;
 use magbench_drivers::emulator::{self, DeviceEndpoint, EmulatorConfig};
@@ -20,6 +25,7 @@ struct Emu {
     thread: Option<std::thread::JoinHandle<()>>,
     rig: RigConfig,
     log: std::path::PathBuf,
+    clock: Arc<ManualClock>,
     _dir: tempfile::TempDir,
 }
 
@@ -39,6 +45,7 @@ fn emulator() -> Emu {
     let log = dir.path().join("log.csv");
     let (tx, rx) = mpsc::channel();
     let stop = Arc::new(AtomicBool::new(false));
+    let clock = Arc::new(ManualClock::new());
     let cfg = EmulatorConfig {
         rig: rig.clone(),
         scenario: Scenario::load("open-field").unwrap(),
@@ -48,9 +55,10 @@ fn emulator() -> Emu {
         preset: DisturbancePreset::ideal(),
         render: RenderParams::default(),
         seed: 1,
+        clock: clock.clone(),
         speed: 1.0,
-        lockstep: false,
-        duration: Some(60.0),
+        lockstep: true,
+        duration: None,
         log: log.clone(),
         record: None,
         on_ready: Box::new(move |coil: &str, cam: &str| {
@@ -68,6 +76,7 @@ fn emulator() -> Emu {
         thread: Some(thread),
         rig,
         log,
+        clock,
         _dir: dir,
     }
 }
@@ -89,14 +98,33 @@ fn events(log: &Path) -> Vec<(String, bool)> {
         .collect()
 }
 
+/// Polls the emulator log until `done` holds (a generous deadline fails the test instead of
+/// hanging it).
+fn wait_for(log: &Path, what: &str, done: impl Fn(&[(String, bool)]) -> bool) {
+    let start = Instant::now();
+    while !done(&events(log)) {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the emulator never logged {what}: {:?}",
+            events(log)
+        );
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+fn count(ev: &[(String, bool)], name: &str) -> usize {
+    ev.iter().filter(|(e, _)| e == name).count()
+}
+
 fn open(emu: &Emu) -> HardwareRig {
     let s = Scenario::load("open-field").unwrap();
-    HardwareRig::open(
+    HardwareRig::open_with_clock(
         &emu.rig,
         5.0,
         &s.start,
         Arc::new(AtomicBool::new(false)),
         None,
+        emu.clock.clone(),
     )
     .unwrap()
 }
@@ -108,6 +136,13 @@ fn drive(rig: &mut HardwareRig, frames: usize) {
     }
 }
 
+/// The field was on, and a ZERO came after the last non-zero currents.
+fn zeroed_after_on(ev: &[(String, bool)]) -> bool {
+    ev.iter()
+        .rposition(|(e, z)| e == "currents" && !z)
+        .is_some_and(|on| ev[on..].iter().any(|(e, z)| e == "zero" && *z))
+}
+
 #[test]
 fn a_panic_in_the_loop_zeroes_the_field() {
     let emu = emulator();
@@ -117,33 +152,40 @@ fn a_panic_in_the_loop_zeroes_the_field() {
         panic!("a bug in the loop");
     }));
     assert!(r.is_err());
-    std::thread::sleep(Duration::from_millis(100));
+    // the rig's Drop waited for the device's acknowledgement of ZERO, which the device logs
+    // before it answers: the log has it now
     let ev = events(&emu.log);
-    let last_on = ev
-        .iter()
-        .rposition(|(e, z)| e == "currents" && !z)
-        .expect("the field was on");
-    assert!(
-        ev[last_on..].iter().any(|(e, z)| e == "zero" && *z),
-        "no ZERO after the panic: {:?}",
-        &ev[last_on..]
-    );
+    assert!(zeroed_after_on(&ev), "no ZERO after the panic: {ev:?}");
 }
 
 #[test]
 fn a_stalled_loop_is_zeroed_by_the_hold_timeout() {
     let emu = emulator();
+    let cfg = &emu.rig.coil;
+    let (heartbeat, hold) = (cfg.heartbeat_ms as u64, cfg.hold_timeout_ms as u64);
+    assert!(heartbeat < cfg.watchdog_ms as u64 && hold % heartbeat == 0);
     let mut rig = open(&emu);
     drive(&mut rig, 10);
-    std::thread::sleep(Duration::from_millis(400)); // > hold_timeout_ms = 250
+    // the loop stalls: every heartbeat period the keep-alive thread renews the device's
+    // watchdog, until the hold timeout zeroes the field
+    let beats = count(&events(&emu.log), "heartbeat");
+    for k in 1..=hold / heartbeat {
+        emu.clock.advance(Duration::from_millis(heartbeat));
+        wait_for(&emu.log, "a heartbeat", |ev| {
+            count(ev, "heartbeat") >= beats + k as usize
+        });
+    }
     let ev = events(&emu.log);
-    let last_on = ev.iter().rposition(|(e, z)| e == "currents" && !z).unwrap();
+    assert!(!zeroed_after_on(&ev), "zeroed before the hold timeout");
+    emu.clock.advance(Duration::from_millis(1));
+    wait_for(&emu.log, "the hold-timeout ZERO", zeroed_after_on);
     assert!(
-        ev[last_on..].iter().any(|(e, z)| e == "zero" && *z),
-        "the keep-alive thread did not zero the field"
+        emu.clock.now() > Duration::from_millis(cfg.watchdog_ms as u64),
+        "the stall outlasted the device watchdog"
     );
-    assert!(
-        !ev.iter().any(|(e, _)| e == "watchdog"),
+    assert_eq!(
+        count(&events(&emu.log), "watchdog"),
+        0,
         "the heartbeat must keep the device watchdog quiet"
     );
     match rig.observe() {
@@ -163,16 +205,14 @@ fn a_non_finite_command_is_never_sent() {
         ..Default::default()
     };
     assert!(rig.command(&bad).is_err());
-    std::thread::sleep(Duration::from_millis(50));
+    // the rig zeroed the field before returning the error (acknowledged, so logged)
     let ev = events(&emu.log);
+    assert_eq!(count(&ev, "refused"), 0, "a NaN reached the device");
     assert!(
-        !ev.iter().any(|(e, _)| e == "refused"),
-        "a NaN reached the device"
-    );
-    assert!(ev.last().is_some_and(|_| {
         ev.iter()
             .rev()
             .find(|(e, _)| e == "zero" || e == "currents")
-            .is_some_and(|(_, z)| *z)
-    }));
+            .is_some_and(|(_, z)| *z),
+        "{ev:?}"
+    );
 }

@@ -8,15 +8,19 @@
 //! - [`model`]: overdamped kinematics, the fixed-step integrator and the deterministic planning model;
 //! - [`plant`]: the simulated plant (model mismatch, field-angle error, drift, Brownian motion, camera);
 //! - [`world`] and [`collision`]: maps, parry2d collision and the validity checker;
+//! - [`input`]: the one loader of input files (bounded reads, TOML with field and line);
 //! - [`scenario`]: the TOML scenario format, its validation and the built-in scenarios;
 //! - [`controllability`]: the numerical Lie-bracket (LARC) tool.
 //!
 //! Lengths are in body lengths (BL = one agent diameter) and times in seconds everywhere.
 
+#![warn(missing_docs)]
+
 pub mod coil;
 pub mod collision;
 pub mod controllability;
 pub mod error;
+pub mod input;
 pub mod math;
 pub mod model;
 pub mod physics;

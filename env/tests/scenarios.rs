@@ -30,19 +30,8 @@ fn every_builtin_scenario_validates() {
     );
 }
 
-const GOOD: &str = r#"
-name = "t"
-[world]
-width = 30.0
-height = 20.0
-[[world.obstacles]]
-polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]
-[start]
-agents = [[3.0, 5.0], [5.0, 5.0]]
-[goal]
-agents = [[25.0, 15.0], [27.5, 15.0]]
-tolerance = 0.5
-"#;
+/// A small valid scenario, mutated one field at a time by the tests.
+const GOOD: &str = include_str!("data/good.toml");
 
 fn reject(text: &str) -> InputError {
     match parse_scenario(text, "bad.toml") {
@@ -171,4 +160,70 @@ fn missing_file_is_a_clear_error() {
         e.reason.contains("no such file") && e.reason.contains("micro-factory"),
         "{e}"
     );
+}
+
+/// Issue 11's reproducers: inputs that panicked, hung or passed `check` and failed later.
+#[test]
+fn huge_coordinates_are_rejected_naming_the_vertex() {
+    for x in ["1e308", "1e25", "-1e20"] {
+        let e = reject(&GOOD.replace(
+            "[[10.0, 0.0], [12.0, 0.0]",
+            &format!("[[{x}, 0.0], [12.0, 0.0]"),
+        ));
+        assert_names(
+            &e,
+            "world.obstacles[0].polygon[0]",
+            "outside the 30 × 20 BL world",
+        );
+    }
+    // a vertex just outside the walls is fine (obstacles may overlap them)
+    assert!(parse_scenario(&GOOD.replace("[10.0, 0.0]", "[10.0, -1.0]"), "ok.toml").is_ok());
+    let e = reject(&GOOD.replace(
+        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        "circle = { center = [1e300, 5.0], radius = 1.0 }",
+    ));
+    assert_names(&e, "world.obstacles[0].circle.center", "outside");
+    let e = reject(&GOOD.replace(
+        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        "circle = { center = [15.0, 5.0], radius = 1e300 }",
+    ));
+    assert_names(&e, "world.obstacles[0].circle.radius", "at most");
+    let e = reject(&GOOD.replace("[3.0, 5.0], [5.0, 5.0]", "[3.0, 5.0], [1e30, 5.0]"));
+    assert_names(&e, "start.agents[1]", "outside the world");
+}
+
+#[test]
+fn a_huge_world_is_rejected() {
+    let e = reject(&GOOD.replace("width = 30.0", "width = 1e20"));
+    assert_names(&e, "world.width", "at most 10000 BL");
+}
+
+#[test]
+fn a_tiny_integration_step_is_rejected() {
+    let e = reject(&format!("{GOOD}[physics]\ndt_s = 1e-12\n"));
+    assert_names(&e, "physics.dt_s", "must be in [0.0001, 0.05]");
+}
+
+#[test]
+fn a_10000_vertex_polygon_is_refused_with_the_bound() {
+    let n = 10_000;
+    let ring: Vec<String> = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            format!("[{}, {}]", 15.0 + 3.0 * a.cos(), 10.0 + 3.0 * a.sin())
+        })
+        .collect();
+    let text = GOOD.replace(
+        "[[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        &format!("[{}]", ring.join(", ")),
+    );
+    let e = reject(&text);
+    assert_names(&e, "world.obstacles[0].polygon", "at most 2000 vertices");
+}
+
+#[test]
+fn a_later_map_covering_an_earlier_goal_is_rejected() {
+    let text = include_str!("data/leg-blocks-earlier-goal.toml");
+    let e = reject(text);
+    assert_names(&e, "legs[1].obstacles", "leg 2 starts at leg 1's goal");
 }

@@ -3,10 +3,13 @@
 //! The harness of magbench: the command line, experiments, results, plots and figures.
 //! The physics, planners, trackers and rig drivers live in their own crates.
 
+#![warn(missing_docs)]
+
 pub mod cli;
 pub mod error;
 pub mod experiment;
 pub mod figures;
+pub mod fuzz;
 pub mod plot;
 pub mod regress;
 pub mod results;

@@ -1,5 +1,7 @@
 //! The `magbench` command. See `magbench --help`.
 
+#![warn(missing_docs)]
+
 use std::process::ExitCode;
 
 use clap::Parser;

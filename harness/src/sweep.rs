@@ -125,7 +125,7 @@ impl Reporter {
             }
             Reporter::Lines { done, total } => {
                 let k = done.fetch_add(1, Ordering::SeqCst) + 1;
-                println!("[{k}/{total}] {}", line(out));
+                let _ = crate::cli::output::emit(&format!("[{k}/{total}] {}\n", line(out)));
             }
             Reporter::Quiet => {}
         }

@@ -1,5 +1,8 @@
 //! A real SIGKILL of a `magbench bench` process mid-sweep keeps every finished run, and
 //! `--resume` completes the sweep without duplicating or losing a run.
+//!
+//! The killed sweep cannot finish before the kill whatever the load: its fake runs stall for
+//! good after 25 have finished (`MAGBENCH_FAKE_STALL_AFTER`).
 
 mod common;
 
@@ -11,7 +14,7 @@ use common::{deterministic_runs, write};
 const EXP: &str = r#"
 name = "kill-test"
 scenarios = ["open-field", "narrow-passage"]
-planners = ["fake{sleep_ms=15}", "fake{p=0.5, sleep_ms=15}"]
+planners = ["fake", "fake{p=0.5}"]
 seeds = 30
 [limits]
 iterations = 500
@@ -36,11 +39,13 @@ fn sigkill_mid_sweep_then_resume_loses_and_duplicates_nothing() {
         "2",
         "--lines",
     ])
+    .env("MAGBENCH_FAKE_STALL_AFTER", "25")
     .stdout(Stdio::piped())
     .stderr(Stdio::null())
     .spawn()
     .unwrap();
-    // Wait until 25 runs have reported (each line is printed after its row is written).
+    // Wait until 25 runs have reported (each line is printed after its row is written); the
+    // sweep then stalls.
     let mut reported = 0;
     let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
     while reported < 25 {

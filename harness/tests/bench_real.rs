@@ -45,7 +45,7 @@ fn real_planner_runs_are_identical_at_one_and_two_threads() {
         deterministic_progress(&outs[0]),
         deterministic_progress(&outs[1])
     );
-    assert!(runs.iter().all(|r| r[0] != ""));
+    assert!(runs.iter().all(|r| !r[0].is_empty()));
 }
 
 #[test]

@@ -1,7 +1,11 @@
 //! The physical code path against the emulator, each in its own process over real I/O
 //! (loopback TCP or a pseudo-terminal): bring-up runs, every injected fault, a killed host.
 //!
-//! Tests run one at a time (a lock) so that two emulators never compete for the 2 cores.
+//! The emulator runs in lockstep: a frame goes out when the host has answered the last one,
+//! and fault times count frames, so machine load cannot reorder what a test checks. Nothing
+//! here sleeps to wait for something: the tests poll the logs for the condition, with a
+//! generous overall deadline. Tests run one at a time (a lock) so that two emulators never
+//! compete for the 2 cores.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -27,7 +31,7 @@ impl Emulator {
     fn start(scenario: &str, args: &[&str]) -> Emulator {
         let dir = tempfile::tempdir().unwrap();
         let mut cmd = Command::new(BIN);
-        cmd.args(["rig", "emulate", "--rig"])
+        cmd.args(["rig", "emulate", "--lockstep", "--rig"])
             .arg(rig_file())
             .arg(scenario);
         cmd.arg("--write-rig").arg(dir.path().join("live.toml"));
@@ -155,14 +159,34 @@ fn any_nonzero(log: &[Event]) -> bool {
         .any(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
 }
 
-/// Waits a moment for the emulator to log the host's departure.
-fn settle() {
-    std::thread::sleep(Duration::from_millis(400));
+/// Polls the emulator log until `done` holds; fails (does not hang) after a generous deadline.
+fn wait_for_log(emu: &Emulator, what: &str, done: impl Fn(&[Event]) -> bool) -> Vec<Event> {
+    let start = Instant::now();
+    loop {
+        let log = emu.log();
+        if done(&log) {
+            return log;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the emulator never logged {what}; log tail: {:?}",
+            &log[log.len().saturating_sub(5)..]
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// The emulator's log once the currents it has in force are zero (the host gone or stopped).
+fn log_after_zero(emu: &Emulator) -> Vec<Event> {
+    wait_for_log(emu, "zero currents at the end", |log| {
+        final_currents(log).iter().all(|c| *c == 0.0)
+    })
 }
 
 /// The host either went on to the end (exit 0) or stopped with zero field and a clear message
 /// (exit 1, "field zeroed"), never panicked, and the stop followed the fault it detected within
-/// one control period (host log: the fatal `fault` row, then the `stop` row).
+/// one control period: in the host log the fatal `fault` row, then the `stop` row, with no
+/// `command` between them.
 fn recovered_or_stopped_cleanly(out: &Output, host_log: &str) -> bool {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "the host panicked: {stderr}");
@@ -182,11 +206,13 @@ fn recovered_or_stopped_cleanly(out: &Output, host_log: &str) -> bool {
                 .iter()
                 .rposition(|r| r.split(',').nth(2) == Some("fault"))
                 .expect("the fault before the stop");
-            let wall = |r: &str| r.split(',').next().unwrap().parse::<f64>().unwrap();
-            let gap = wall(rows[stop]) - wall(rows[fault]);
-            assert!(
-                gap < 1.0 / 60.0,
-                "zeroing took {gap} s after the fault was detected"
+            let commands = rows[fault..stop]
+                .iter()
+                .filter(|r| r.split(',').nth(2) == Some("command"))
+                .count();
+            assert_eq!(
+                commands, 0,
+                "the host sent commands between the fault and the stop"
             );
             false
         }
@@ -206,14 +232,8 @@ fn check_over_tcp_turns_the_pair_and_leaves_zero_currents() {
         String::from_utf8_lossy(&out.stderr)
     );
     println!("{stdout}");
-    settle();
-    let log = emu.log();
+    let log = log_after_zero(&emu);
     assert!(any_nonzero(&log), "no current was ever commanded");
-    assert!(
-        final_currents(&log).iter().all(|c| *c == 0.0),
-        "log ends with currents {:?}",
-        final_currents(&log)
-    );
     assert!(stdout.contains("0 missed"), "{stdout}");
     // the pair turned in place: it moved, and the separation held
     let turned: f64 = stdout
@@ -242,10 +262,8 @@ fn check_over_a_pseudo_terminal() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(String::from_utf8_lossy(&out.stdout).contains("coil serial"));
-    settle();
-    let log = emu.log();
+    let log = log_after_zero(&emu);
     assert!(any_nonzero(&log));
-    assert!(final_currents(&log).iter().all(|c| *c == 0.0));
 }
 
 /// Runs one fault; returns (recovered, emulator log, host log).
@@ -253,13 +271,7 @@ fn fault_run(faults: &str, duration: f64) -> (bool, Vec<Event>, String) {
     let emu = Emulator::start("open-field", &["--faults", faults, "--seed", "3"]);
     let out = host(&emu, "open-field", duration);
     let recovered = recovered_or_stopped_cleanly(&out, &emu.host_log());
-    settle();
-    let log = emu.log();
-    assert!(
-        final_currents(&log).iter().all(|c| *c == 0.0),
-        "{faults}: log ends with {:?}",
-        final_currents(&log)
-    );
+    let log = log_after_zero(&emu);
     (recovered, log, emu.host_log())
 }
 
@@ -322,36 +334,25 @@ fn a_coil_disconnect_stops_the_run() {
 #[test]
 fn a_camera_disconnect_stops_the_run_and_zeroes_the_field() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    // The emulator runs in real time here, so a heavily loaded machine can make the host stop
-    // for another reason (a late frame, a lost acknowledgement) before the camera is cut; such a
-    // run says nothing about the cut and is run again, up to three times in all.
-    let mut attempt = 0;
-    let (recovered, host_log, cut, zero) = loop {
-        attempt += 1;
-        let (recovered, log, host_log) = fault_run("disconnect=1.0:camera", 4.0);
-        let cut = log
-            .iter()
-            .find(|e| e.name == "fault_disconnect")
-            .cloned()
-            .expect("cut logged");
-        // the host zeroed the field over the coil link, soon after the camera went silent
-        let zero = log
-            .iter()
-            .find(|e| e.wall > cut.wall && e.name == "zero")
-            .cloned();
-        match zero {
-            Some(zero) => break (recovered, host_log, cut, zero),
-            None if attempt < 3 => {
-                eprintln!("attempt {attempt}: no ZERO after the cut\n{host_log}")
-            }
-            None => panic!("no ZERO from the host after the cut in 3 runs\n{host_log}"),
-        }
-    };
+    let (recovered, log, host_log) = fault_run("disconnect=1.0:camera", 4.0);
     assert!(!recovered);
+    let cut = log
+        .iter()
+        .position(|e| e.name == "fault_disconnect")
+        .expect("cut logged");
+    // after the cut the host received no frame: it answered at most the last one it had,
+    // then zeroed the field over the coil link
+    let after: Vec<&Event> = log[cut..]
+        .iter()
+        .filter(|e| matches!(e.name.as_str(), "currents" | "currents_repeat" | "zero"))
+        .collect();
+    let zero = after
+        .iter()
+        .position(|e| e.name == "zero")
+        .unwrap_or_else(|| panic!("no ZERO from the host after the cut\n{host_log}"));
     assert!(
-        zero.wall - cut.wall < 0.1 + 0.05,
-        "zeroed {} s after the cut",
-        zero.wall - cut.wall
+        zero <= 1,
+        "the host kept commanding after the camera was cut: {after:?}"
     );
     assert!(host_log.contains("camera"), "{host_log}");
 }
@@ -402,15 +403,13 @@ fn silent_host(port: Option<&Path>, freeze: bool) {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    let start = Instant::now();
-    while !any_nonzero(&emu.log()) {
-        assert!(
-            start.elapsed() < Duration::from_secs(20),
-            "the host never drove the coil"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    std::thread::sleep(Duration::from_millis(300));
+    // let the host drive for a while (a few dozen commands), then silence it
+    wait_for_log(&emu, "the host driving the coil", |log| {
+        log.iter()
+            .filter(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
+            .count()
+            >= 30
+    });
     let pid = host.id().to_string();
     let signal = if freeze { "-STOP" } else { "-KILL" };
     assert!(
@@ -420,19 +419,12 @@ fn silent_host(port: Option<&Path>, freeze: bool) {
             .unwrap()
             .success()
     );
-    std::thread::sleep(Duration::from_millis(600));
-    let log = emu.log();
+    let log = wait_for_log(&emu, "a watchdog trip", |log| {
+        log.iter().any(|e| e.name == "watchdog")
+    });
     let _ = host.kill();
     let _ = host.wait();
-    let wd = log
-        .iter()
-        .find(|e| e.name == "watchdog")
-        .unwrap_or_else(|| {
-            panic!(
-                "no watchdog event; log tail: {:?}",
-                &log[log.len().saturating_sub(5)..]
-            )
-        });
+    let wd = log.iter().find(|e| e.name == "watchdog").unwrap();
     assert!(wd.currents.iter().all(|c| *c == 0.0));
     // the last message from the host, and the silence before the trip
     let last_rx = log
@@ -445,10 +437,11 @@ fn silent_host(port: Option<&Path>, freeze: bool) {
                 )
         })
         .unwrap();
+    // never before the watchdog time (200 ms) of silence; how much later depends on the load
     let silence = wd.wall - last_rx.wall;
     assert!(
-        (0.2..0.3).contains(&silence),
-        "watchdog tripped after {silence} s of silence: {}",
+        silence >= 0.2,
+        "watchdog tripped after only {silence} s of silence: {}",
         wd.detail
     );
     assert!(final_currents(&log).iter().all(|c| *c == 0.0));
@@ -476,10 +469,7 @@ fn a_frozen_host_on_tcp_trips_the_watchdog() {
 #[test]
 fn rig_run_on_micro_factory_reaches_the_goal_and_leaves_zero_currents() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let emu = Emulator::start(
-        "micro-factory",
-        &["--lockstep", "--seed", "1", "--duration", "3000"],
-    );
+    let emu = Emulator::start("micro-factory", &["--seed", "1", "--duration", "3000"]);
     let child = Command::new(BIN)
         .args(["rig", "run", "--rig"])
         .arg(emu.rig())
@@ -506,14 +496,22 @@ fn rig_run_on_micro_factory_reaches_the_goal_and_leaves_zero_currents() {
     assert_eq!(v["reached_goal"], true, "{v}");
     assert_eq!(v["agent_contact"], false, "{v}");
     assert_eq!(v["error_source"], "observed");
-    settle();
-    let log = emu.log();
+    // the same metrics.json as `magbench track` writes: the parameters too
+    let metrics: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(emu.out().join("metrics.json")).unwrap())
+            .unwrap();
+    assert_eq!(metrics["params"]["hold"], 0.5, "{metrics}");
+    for f in [
+        "ticks.csv",
+        "plans.json",
+        "plan.json",
+        "world.svg",
+        "run.gif",
+    ] {
+        assert!(emu.out().join(f).is_file(), "{f} missing");
+    }
+    let log = log_after_zero(&emu);
     assert!(any_nonzero(&log));
-    assert!(
-        final_currents(&log).iter().all(|c| *c == 0.0),
-        "log ends with currents {:?}",
-        final_currents(&log)
-    );
     // the host logged every frame's observation and every command
     let host_log = emu.host_log();
     let frames = host_log

@@ -14,6 +14,8 @@
 //! - [`run`]: the loop, replanning, and [`metrics`];
 //! - [`plan_file`]: plans as JSON, read back bit for bit.
 
+#![warn(missing_docs)]
+
 pub mod estimator;
 pub mod log;
 pub mod lookahead;

@@ -59,7 +59,8 @@ pub struct TrackMetrics {
     pub planning_time_s: f64,
     /// Wall time spent in the tracker's commands (s).
     pub tracker_compute_s: f64,
-    /// Planning time plus tracking time (s).
+    /// Planning time plus tracking time (s), counting once the planning that a rig's running
+    /// clock (a physical rig's) has in the tracking time already.
     pub total_time_s: f64,
 }
 

@@ -372,8 +372,8 @@ impl ObcOptimizer {
         // agent's linearised clearance below WALL_KEEP (a few projections, then re-clamped)
         for _ in 0..3 {
             let mut moved = false;
-            for i in 0..n {
-                if let Some(w) = s.near[i] {
+            for (i, near) in s.near.iter().enumerate().take(n) {
+                if let Some(w) = near {
                     let cl = w.now + w.normal.dot(&(pred[i] + shift - s.x[i]));
                     let keep = (0.5 * w.margin).max(WALL_KEEP);
                     if cl < keep {

@@ -7,15 +7,79 @@
 
 use std::path::Path;
 
-use magbench_env::InputError;
-use magbench_planners::Plan;
+use magbench_env::{InputError, Scenario};
+use magbench_planners::{Plan, PlanError, Problem, validate_path};
 
-/// Reads and checks a plan file for a team of `agents`.
+/// Longest plan accepted (s of motion): an hour, far beyond any scenario's. A plan is resampled
+/// at every integration step to be tracked; 1e10 s would need terabytes.
+pub const MAX_PLAN_DURATION_S: f64 = 3600.0;
+
+/// Reads and checks a plan file for a team of `agents` (its form only).
 pub fn read_plan(path: &Path, agents: usize) -> Result<Plan, InputError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, "", format!("cannot read: {e}")))?;
+    let text = magbench_env::input::read_text(path, &file)?;
     parse_plan(&text, &file, agents)
+}
+
+/// Reads a plan file and validates it for the first leg of `scenario`, as a scenario file is
+/// validated: [`parse_plan`], then [`check_plan`].
+pub fn read_plan_for(path: &Path, scenario: &Scenario) -> Result<Plan, InputError> {
+    let file = path.display().to_string();
+    let plan = read_plan(path, scenario.agents())?;
+    check_plan(&plan, scenario, &file)?;
+    Ok(plan)
+}
+
+/// Checks a well-formed plan against the first leg of `scenario`: at most
+/// [`MAX_PLAN_DURATION_S`] long, every state inside the world, and then the planners' own
+/// validator from the plan's start — controls within the coil's limits, durations in whole
+/// control periods, no collision or proximity violation along any edge, and every stored
+/// state what the planning model replays. `file` names the plan in errors.
+pub fn check_plan(plan: &Plan, scenario: &Scenario, file: &str) -> Result<(), InputError> {
+    let bad = |field: String, reason: String| InputError::new(file, field, reason);
+    let total: f64 = plan.durations.iter().sum();
+    if total.is_nan() || total > MAX_PLAN_DURATION_S {
+        return Err(bad(
+            "durations".into(),
+            format!("the plan lasts {total} s; at most {MAX_PLAN_DURATION_S} s"),
+        ));
+    }
+    let w = &scenario.world;
+    for (k, s) in plan.states.iter().enumerate() {
+        if let Some((i, p)) = s
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !((0.0..=w.width).contains(&p.x) && (0.0..=w.height).contains(&p.y)))
+        {
+            return Err(bad(
+                format!("states[{k}][{i}]"),
+                format!(
+                    "({}, {}) is outside the world [0, {}] × [0, {}] of {}",
+                    p.x, p.y, w.width, w.height, scenario.name
+                ),
+            ));
+        }
+    }
+    let problem = Problem::from_scenario(scenario, 0, Some(plan.start()), 0);
+    validate_path(&problem, plan).map(|_| ()).map_err(|e| {
+        let field = match &e {
+            PlanError::Malformed(_) | PlanError::WrongStart { .. } => "states".to_string(),
+            PlanError::InvalidStart => "states[0]".to_string(),
+            PlanError::BadControl { edge, .. } | PlanError::InvalidMotion { edge } => {
+                format!("controls[{edge}]")
+            }
+            PlanError::BadDuration { edge, .. } => format!("durations[{edge}]"),
+            PlanError::ReplayMismatch { edge, .. } => format!("states[{}]", edge + 1),
+            PlanError::NotInGoal { .. } => "states".to_string(),
+        };
+        bad(
+            field,
+            format!(
+                "{e} (the plan is not a valid motion for leg 1 of {})",
+                scenario.name
+            ),
+        )
+    })
 }
 
 /// Parses and checks plan JSON `text` (`file` names it in errors).
@@ -74,6 +138,66 @@ pub fn plan_json(plan: &Plan) -> String {
 mod tests {
     use super::*;
     use magbench_env::{Control, Vec2};
+
+    /// A short valid plan on open-field, and the scenario.
+    fn valid() -> (Plan, Scenario) {
+        let s = Scenario::load("open-field").unwrap();
+        let p = Problem::from_scenario(&s, 0, None, 0);
+        let mut plan = Plan::at(&s.start);
+        let mut x = s.start.clone();
+        let mut out = x.clone();
+        let d = 1.0 / 60.0;
+        for _ in 0..5 {
+            // the field at the magic angle to the pair: it turns without closing in
+            let phi = (x[1] - x[0]).y.atan2((x[1] - x[0]).x);
+            let u = Control::planar(phi + 0.955, 0.02, 0.01);
+            assert!(p.checker.motion_valid(&p.model, &x, &u, d, &mut out));
+            plan.push(u, d, out.clone());
+            x.copy_from_slice(&out);
+        }
+        (plan, s)
+    }
+
+    #[test]
+    fn plans_are_validated_like_scenarios() {
+        let (plan, s) = valid();
+        check_plan(&plan, &s, "p.json").unwrap();
+        // issue 11's reproducers: a 1e10 s duration, a state at x = 1e20, a huge gradient
+        let mut long = plan.clone();
+        long.durations[2] = 1e10;
+        let e = check_plan(&long, &s, "p.json").unwrap_err();
+        assert_eq!((e.file.as_str(), e.field.as_str()), ("p.json", "durations"));
+        let mut far = plan.clone();
+        far.states[3][1].x = 1e20;
+        assert_eq!(
+            check_plan(&far, &s, "p.json").unwrap_err().field,
+            "states[3][1]"
+        );
+        let mut strong = plan.clone();
+        strong.controls[1].grad[0] = 1e3;
+        assert_eq!(
+            check_plan(&strong, &s, "p.json").unwrap_err().field,
+            "controls[1]"
+        );
+        let mut alpha = plan.clone();
+        alpha.controls[0].alpha = 1e19;
+        assert_eq!(
+            check_plan(&alpha, &s, "p.json").unwrap_err().field,
+            "controls[0]"
+        );
+        // a state the controls do not lead to
+        let mut moved = plan.clone();
+        moved.states[4][0].y += 0.5;
+        let e = check_plan(&moved, &s, "p.json").unwrap_err();
+        assert_eq!(e.field, "states[4]", "{e}");
+        // a duration off the control period
+        let mut odd = plan.clone();
+        odd.durations[0] = 0.1234;
+        assert_eq!(
+            check_plan(&odd, &s, "p.json").unwrap_err().field,
+            "durations[0]"
+        );
+    }
 
     #[test]
     fn round_trip_is_bit_exact() {

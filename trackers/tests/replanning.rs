@@ -118,3 +118,99 @@ fn persistent_error_triggers_a_replan() {
     assert_eq!(out.plans[1].reason, PlanReason::Error);
     assert_eq!(m.status, RunStatus::ReachedGoal, "{m:?}");
 }
+
+/// A simulated rig whose clock, like a physical rig's, runs on while the host replans at the
+/// map switch: the first frame after `set_world` comes `JUMP` seconds late.
+struct RunningClockRig {
+    inner: magbench_trackers::SimRig,
+    offset: f64,
+    switched: bool,
+}
+
+const JUMP: f64 = 100.0;
+
+impl magbench_trackers::Rig for RunningClockRig {
+    fn frame_period(&self) -> f64 {
+        self.inner.frame_period()
+    }
+    fn observe(&mut self) -> Result<magbench_env::plant::Observation, magbench_trackers::RigError> {
+        let mut o = self.inner.observe()?;
+        if std::mem::take(&mut self.switched) {
+            self.offset += JUMP;
+        }
+        o.t += self.offset;
+        Ok(o)
+    }
+    fn command(&mut self, u: &magbench_env::Control) -> Result<(), magbench_trackers::RigError> {
+        self.inner.command(u)
+    }
+    fn stop(&mut self) -> Result<(), magbench_trackers::RigError> {
+        self.inner.stop()
+    }
+    fn latency(&self) -> f64 {
+        self.inner.latency()
+    }
+    fn set_world(&mut self, w: &magbench_env::World) -> Result<(), magbench_trackers::RigError> {
+        self.switched = true;
+        self.inner.set_world(w)
+    }
+    fn ground_truth(&self) -> Option<magbench_trackers::GroundTruth> {
+        self.inner.ground_truth()
+    }
+}
+
+/// `total_time_s` counts the map switch's replan once: on a rig whose clock ran through it the
+/// replan is in the tracking time already; on the simulated rig (clock paused) it is added.
+#[test]
+fn total_time_counts_a_replan_once_whatever_the_rig_clock() {
+    let s = scenario("cargo-delivery");
+    let first_plan_time = 1.5;
+    let run = |running: bool| {
+        let mut planner = WaypointPlanner {
+            legs: cargo_waypoints(&s),
+            calls: 0,
+        };
+        let first = planner.solve(&Problem::from_scenario(&s, 0, None, 3)).plan;
+        let mission = Mission {
+            scenario: &s,
+            plan: Some(first),
+            plan_time_s: first_plan_time,
+            plan_solved: true,
+            planner: Some(&mut planner as &mut dyn Planner),
+            limits: None,
+            seed: 3,
+        };
+        let spec = TrackerSpec::parse("obc", &[], "test").unwrap();
+        let mut opts = spec.loop_options();
+        opts.record_ticks = false;
+        let preset = DisturbancePreset::ideal();
+        let sim = magbench_trackers::SimRig::new(&s, &preset, 3);
+        let out = if running {
+            let mut rig = RunningClockRig {
+                inner: sim,
+                offset: 0.0,
+                switched: false,
+            };
+            magbench_trackers::track(&mut rig, spec.build().as_mut(), mission, &opts)
+        } else {
+            let mut rig = sim;
+            magbench_trackers::track(&mut rig, spec.build().as_mut(), mission, &opts)
+        };
+        out.metrics
+    };
+    let paused = run(false);
+    assert!(paused.replans >= 1 && paused.planning_time_s > first_plan_time);
+    assert_eq!(
+        paused.total_time_s,
+        paused.planning_time_s + paused.duration_s
+    );
+    let running = run(true);
+    assert!(running.replans >= 1, "{running:?}");
+    assert!(running.duration_s > JUMP, "{running:?}");
+    // the replan's wall time is inside the 100 s the clock jumped: only the first plan (made
+    // before the first tick) is added to the rig time
+    assert!(
+        (running.total_time_s - (first_plan_time + running.duration_s)).abs() < 1e-9,
+        "{running:?}"
+    );
+}

@@ -1,6 +1,6 @@
 //! The device end of the coil protocol: acknowledgements, device limits and the watchdog.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use crate::protocol::{AckStatus, Decoded, Message, PROTOCOL_VERSION, ack_flags};
 
@@ -32,15 +32,16 @@ pub struct DeviceState {
     currents: Vec<f64>,
     limits: Vec<f64>,
     watchdog: Duration,
-    last_rx: Option<Instant>,
+    /// Clock time of the last valid frame.
+    last_rx: Option<Duration>,
     tripped: bool,
     last_seq: Option<u16>,
-    start: Instant,
 }
 
 impl DeviceState {
-    /// A device with `limits.len()` channels, refusing currents beyond `limits` (A).
-    pub fn new(limits: Vec<f64>, watchdog: Duration, start: Instant) -> Self {
+    /// A device with `limits.len()` channels, refusing currents beyond `limits` (A). Times
+    /// given to it are its clock's (the emulator's [`crate::clock::Clock`]).
+    pub fn new(limits: Vec<f64>, watchdog: Duration) -> Self {
         Self {
             currents: vec![0.0; limits.len()],
             limits,
@@ -48,7 +49,6 @@ impl DeviceState {
             last_rx: None,
             tripped: false,
             last_seq: None,
-            start,
         }
     }
 
@@ -62,8 +62,8 @@ impl DeviceState {
         self.watchdog
     }
 
-    /// When the last valid frame arrived.
-    pub fn last_rx(&self) -> Option<Instant> {
+    /// When (clock time) the last valid frame arrived.
+    pub fn last_rx(&self) -> Option<Duration> {
         self.last_rx
     }
 
@@ -81,9 +81,9 @@ impl DeviceState {
 
     /// Zeroes the currents when nothing valid arrived for the watchdog time; true when it
     /// tripped now (currents were non-zero).
-    pub fn check_watchdog(&mut self, now: Instant) -> bool {
+    pub fn check_watchdog(&mut self, now: Duration) -> bool {
         match self.last_rx {
-            Some(t) if now.duration_since(t) > self.watchdog && !self.is_zero() => {
+            Some(t) if now.saturating_sub(t) > self.watchdog && !self.is_zero() => {
                 self.zero();
                 self.tripped = true;
                 true
@@ -93,7 +93,7 @@ impl DeviceState {
     }
 
     /// Handles one decoded frame: the reply to send and what happened.
-    pub fn handle(&mut self, d: Decoded, now: Instant) -> (Message, DeviceEvent) {
+    pub fn handle(&mut self, d: Decoded, now: Duration) -> (Message, DeviceEvent) {
         let (seq, result) = match d {
             Decoded::BadChecksum => return (Message::Nak, DeviceEvent::BadFrame),
             Decoded::Invalid { seq, status, .. } => (seq, Err(status)),
@@ -157,7 +157,7 @@ impl DeviceState {
         if self.is_zero() {
             flags |= ack_flags::CURRENTS_ZERO;
         }
-        let device_ms = now.duration_since(self.start).as_millis() as u32;
+        let device_ms = now.as_millis() as u32;
         (
             Message::Ack {
                 seq,
@@ -176,8 +176,8 @@ mod tests {
 
     #[test]
     fn watchdog_zeroes_after_silence_and_reports_it() {
-        let t0 = Instant::now();
-        let mut d = DeviceState::new(vec![8.0; 5], Duration::from_millis(200), t0);
+        let t0 = Duration::from_secs(7);
+        let mut d = DeviceState::new(vec![8.0; 5], Duration::from_millis(200));
         let (ack, ev) = d.handle(
             Decoded::Message {
                 seq: 1,
@@ -212,8 +212,8 @@ mod tests {
 
     #[test]
     fn over_limit_is_refused_and_zeroes() {
-        let t0 = Instant::now();
-        let mut d = DeviceState::new(vec![8.0; 2], Duration::from_millis(200), t0);
+        let t0 = Duration::from_secs(7);
+        let mut d = DeviceState::new(vec![8.0; 2], Duration::from_millis(200));
         d.handle(
             Decoded::Message {
                 seq: 1,

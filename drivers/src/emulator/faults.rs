@@ -1,7 +1,11 @@
 //! Fault injection for the emulator: `--faults drop=0.05,delay=0.1:30,corrupt=0.02,...`.
 
-use rand::RngExt;
+use image::GrayImage;
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+use super::log::EventLog;
+use magbench_env::Vec2;
 
 /// Which link a disconnect cuts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,6 +95,131 @@ impl FaultPlan {
     /// True when a frame at time `t` is repeated from the stuck frame.
     pub fn stuck_at(&self, t: f64) -> bool {
         self.stuck.is_some_and(|(t0, d)| t >= t0 && t < t0 + d)
+    }
+}
+
+/// What becomes of one frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Delivery {
+    /// Send it.
+    Send,
+    /// Send it this many milliseconds late.
+    Delay(f64),
+    /// Never send it (dropped, or the stream is cut).
+    Withhold,
+}
+
+/// The frame faults of a run, drawn from their own seeded stream: a stuck camera, dropped and
+/// delayed frames, a cut stream. Link faults (corruption, a coil disconnect) are the coil
+/// server's.
+pub struct FaultInjector {
+    plan: FaultPlan,
+    rng: ChaCha8Rng,
+    stuck_frame: Option<GrayImage>,
+    was_stuck: bool,
+    camera_cut: bool,
+}
+
+impl FaultInjector {
+    /// The injector of `plan`, drawing with `seed`.
+    pub fn new(plan: FaultPlan, seed: u64) -> Self {
+        Self {
+            plan,
+            rng: ChaCha8Rng::seed_from_u64(seed ^ 0xF4A3E5),
+            stuck_frame: None,
+            was_stuck: false,
+            camera_cut: false,
+        }
+    }
+
+    /// The image of the frame at device time `t` (`since_hello` after the host's HELLO): the
+    /// repeated frame while the camera is stuck, else `render()`. Logs when sticking starts
+    /// and ends.
+    pub fn image(
+        &mut self,
+        t: f64,
+        since_hello: Option<f64>,
+        render: impl FnOnce() -> GrayImage,
+        (log, in_force, truth): (&EventLog, &[f64], &[Vec2]),
+    ) -> GrayImage {
+        let stuck = since_hello.is_some_and(|s| self.plan.stuck_at(s));
+        let image = match (&self.stuck_frame, stuck) {
+            (Some(img), true) => img.clone(),
+            _ => render(),
+        };
+        if stuck && !self.was_stuck {
+            self.stuck_frame = Some(image.clone());
+            log.event(
+                t,
+                "fault_stuck_start",
+                None,
+                in_force,
+                truth,
+                "the camera repeats this frame",
+            );
+        }
+        if !stuck && self.was_stuck {
+            self.stuck_frame = None;
+            log.event(t, "fault_stuck_end", None, in_force, truth, "");
+        }
+        self.was_stuck = stuck;
+        image
+    }
+
+    /// Whether frame `k` at device time `t` goes out, and when. `cut_camera` is called once,
+    /// when the camera stream is cut.
+    pub fn delivery(
+        &mut self,
+        k: u64,
+        t: f64,
+        since_hello: Option<f64>,
+        cut_camera: impl FnOnce(),
+        (log, in_force): (&EventLog, &[f64]),
+    ) -> Delivery {
+        if let Some((tc, Cut::Camera)) = self.plan.disconnect
+            && since_hello.is_some_and(|s| s >= tc)
+            && !self.camera_cut
+        {
+            self.camera_cut = true;
+            // logged before the cut, so that the host's reaction is logged after it
+            log.event(
+                t,
+                "fault_disconnect",
+                None,
+                in_force,
+                &[],
+                "camera stream cut",
+            );
+            cut_camera();
+        }
+        if self.camera_cut {
+            return Delivery::Withhold;
+        }
+        if self.plan.drop > 0.0 && self.rng.random::<f64>() < self.plan.drop {
+            log.event(
+                t,
+                "fault_drop",
+                None,
+                in_force,
+                &[],
+                &format!("frame {k} dropped"),
+            );
+            return Delivery::Withhold;
+        }
+        if let Some((p, ms)) = self.plan.delay
+            && self.rng.random::<f64>() < p
+        {
+            log.event(
+                t,
+                "fault_delay",
+                None,
+                in_force,
+                &[],
+                &format!("frame {k} delayed {ms} ms"),
+            );
+            return Delivery::Delay(ms);
+        }
+        Delivery::Send
     }
 }
 

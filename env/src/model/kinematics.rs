@@ -70,8 +70,8 @@ impl Kinematics {
     pub fn velocities(&self, p: &[Vec2], act: &Actuation, v: &mut [Vec2]) {
         let n = p.len();
         let pull = Vec2::new(act.pull.x, act.pull.y) * self.pull_coeff;
-        for j in 0..n {
-            v[j] = pull * (self.moment[j] * self.mobility[j]) + self.flow;
+        for (j, vj) in v.iter_mut().enumerate().take(n) {
+            *vj = pull * (self.moment[j] * self.mobility[j]) + self.flow;
         }
         for i in 0..n {
             for j in (i + 1)..n {

@@ -7,6 +7,7 @@ use serde::Deserialize;
 use super::{Goal, Leg, Scenario};
 use crate::collision::{CollisionWorld, ValidityChecker};
 use crate::error::InputError;
+use crate::input::parse_toml;
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::{PhysicalOverrides, PhysicalParams};
 use crate::world::{Obstacle, World, check_polygon};
@@ -68,44 +69,43 @@ struct LegFile {
     obstacles: Option<Vec<ObstacleFile>>,
 }
 
+/// Largest world side (BL): ten thousand body lengths, a metre of 100 µm agents.
+pub const MAX_WORLD_BL: f64 = 10_000.0;
+
+/// Most obstacles in one map.
+pub const MAX_OBSTACLES: usize = 1000;
+
+/// Most legs of a scenario.
+pub const MAX_LEGS: usize = 100;
+
 /// Parses and validates scenario TOML `text`; `file` names it in errors.
 pub fn parse_scenario(text: &str, file: &str) -> Result<Scenario, InputError> {
-    let raw: ScenarioFile = deserialize(text, file)?;
+    let raw: ScenarioFile = parse_toml(text, file)?;
     Validator { file }.scenario(raw)
-}
-
-fn deserialize<T: for<'de> Deserialize<'de>>(text: &str, file: &str) -> Result<T, InputError> {
-    let de = toml::Deserializer::parse(text).map_err(|e| syntax_error(file, text, &e))?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        let field = if path == "." { String::new() } else { path };
-        let line = inner
-            .span()
-            .map(|s| format!(" (line {})", line_of(text, s.start)))
-            .unwrap_or_default();
-        InputError::new(file, field, format!("{}{line}", inner.message().trim()))
-    })
-}
-
-fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> InputError {
-    let line = e
-        .span()
-        .map(|s| format!(" (line {})", line_of(text, s.start)))
-        .unwrap_or_default();
-    InputError::new(
-        file,
-        "",
-        format!("invalid TOML: {}{line}", e.message().trim()),
-    )
-}
-
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].matches('\n').count() + 1
 }
 
 struct Validator<'a> {
     file: &'a str,
+}
+
+/// The world's extent, for checking where things are.
+#[derive(Clone, Copy)]
+struct Extent {
+    width: f64,
+    height: f64,
+}
+
+impl Extent {
+    /// Inside the walls.
+    fn inside(&self, p: Vec2) -> bool {
+        (0.0..=self.width).contains(&p.x) && (0.0..=self.height).contains(&p.y)
+    }
+
+    /// Within one world size of the walls: where an obstacle's vertices may be.
+    fn near(&self, p: Vec2) -> bool {
+        (-self.width..=2.0 * self.width).contains(&p.x)
+            && (-self.height..=2.0 * self.height).contains(&p.y)
+    }
 }
 
 impl Validator<'_> {
@@ -135,7 +135,34 @@ impl Validator<'_> {
             .collect()
     }
 
-    fn obstacles(&self, field: &str, obs: &[ObstacleFile]) -> Result<Vec<Obstacle>, InputError> {
+    fn obstacles(
+        &self,
+        field: &str,
+        obs: &[ObstacleFile],
+        ext: Extent,
+    ) -> Result<Vec<Obstacle>, InputError> {
+        if obs.len() > MAX_OBSTACLES {
+            return Err(self.err(
+                field,
+                format!(
+                    "a map has at most {MAX_OBSTACLES} obstacles, got {}",
+                    obs.len()
+                ),
+            ));
+        }
+        let near = |f: &str, p: Vec2| {
+            if ext.near(p) {
+                Ok(p)
+            } else {
+                Err(self.err(
+                    f,
+                    format!(
+                        "({}, {}) is more than one world size outside the {} × {} BL world",
+                        p.x, p.y, ext.width, ext.height
+                    ),
+                ))
+            }
+        };
         let mut out = Vec::with_capacity(obs.len());
         for (i, o) in obs.iter().enumerate() {
             let f = format!("{field}[{i}]");
@@ -143,16 +170,23 @@ impl Validator<'_> {
                 (Some(poly), None) => {
                     let f = format!("{f}.polygon");
                     let v = self.points(&f, poly)?;
+                    for (k, p) in v.iter().enumerate() {
+                        near(&format!("{f}[{k}]"), *p)?;
+                    }
                     check_polygon(&v).map_err(|r| self.err(&f, r))?;
                     out.push(Obstacle::Polygon(v));
                 }
                 (None, Some(c)) => {
                     let center = self.point(&format!("{f}.circle.center"), c.center)?;
+                    near(&format!("{f}.circle.center"), center)?;
                     let radius = self.finite(&format!("{f}.circle.radius"), c.radius)?;
-                    if radius <= 0.0 {
+                    let largest = ext.width.max(ext.height);
+                    if radius <= 0.0 || radius > largest {
                         return Err(self.err(
                             format!("{f}.circle.radius"),
-                            format!("must be > 0, got {radius}"),
+                            format!(
+                                "must be > 0 and at most the world's larger side ({largest} BL), got {radius}"
+                            ),
                         ));
                     }
                     out.push(Obstacle::Circle { center, radius });
@@ -165,8 +199,31 @@ impl Validator<'_> {
         Ok(out)
     }
 
-    fn goal(&self, field: &str, g: &GoalFile, n_agents: usize) -> Result<Goal, InputError> {
-        let agents = self.points(&format!("{field}.agents"), &g.agents)?;
+    /// Agent positions `ps` (field `field`), each inside the world.
+    fn agents(&self, field: &str, ps: &[[f64; 2]], ext: Extent) -> Result<Vec<Vec2>, InputError> {
+        let v = self.points(field, ps)?;
+        for (i, p) in v.iter().enumerate() {
+            if !ext.inside(*p) {
+                return Err(self.err(
+                    format!("{field}[{i}]"),
+                    format!(
+                        "({}, {}) is outside the world [0, {}] × [0, {}]",
+                        p.x, p.y, ext.width, ext.height
+                    ),
+                ));
+            }
+        }
+        Ok(v)
+    }
+
+    fn goal(
+        &self,
+        field: &str,
+        g: &GoalFile,
+        n_agents: usize,
+        ext: Extent,
+    ) -> Result<Goal, InputError> {
+        let agents = self.agents(&format!("{field}.agents"), &g.agents, ext)?;
         if agents.len() != n_agents {
             return Err(self.err(
                 format!("{field}.agents"),
@@ -229,16 +286,20 @@ impl Validator<'_> {
         let width = self.finite("world.width", raw.world.width)?;
         let height = self.finite("world.height", raw.world.height)?;
         for (f, v) in [("world.width", width), ("world.height", height)] {
-            if v <= 2.0 {
-                return Err(self.err(f, format!("must be > 2 BL, got {v}")));
+            if v <= 2.0 || v > MAX_WORLD_BL {
+                return Err(self.err(
+                    f,
+                    format!("must be > 2 BL and at most {MAX_WORLD_BL} BL, got {v}"),
+                ));
             }
         }
+        let ext = Extent { width, height };
         let world = World {
             width,
             height,
-            obstacles: self.obstacles("world.obstacles", &raw.world.obstacles)?,
+            obstacles: self.obstacles("world.obstacles", &raw.world.obstacles, ext)?,
         };
-        let start = self.points("start.agents", &raw.start.agents)?;
+        let start = self.agents("start.agents", &raw.start.agents, ext)?;
         if !(2..=MAX_AGENTS).contains(&start.len()) {
             return Err(self.err(
                 "start.agents",
@@ -253,18 +314,21 @@ impl Validator<'_> {
                 return Err(self.err("goal", "missing: a scenario needs `[goal]` or `[[legs]]`"));
             }
             (Some(g), None) => vec![Leg {
-                goal: self.goal("goal", g, start.len())?,
+                goal: self.goal("goal", g, start.len(), ext)?,
                 obstacles: None,
             }],
             (None, Some(ls)) => {
-                if ls.is_empty() {
-                    return Err(self.err("legs", "needs at least one leg"));
+                if ls.is_empty() || ls.len() > MAX_LEGS {
+                    return Err(self.err(
+                        "legs",
+                        format!("needs 1 to {MAX_LEGS} legs, got {}", ls.len()),
+                    ));
                 }
                 let mut legs = Vec::with_capacity(ls.len());
                 for (i, l) in ls.iter().enumerate() {
-                    let goal = self.goal(&format!("legs[{i}].goal"), &l.goal, start.len())?;
+                    let goal = self.goal(&format!("legs[{i}].goal"), &l.goal, start.len(), ext)?;
                     let obstacles = match &l.obstacles {
-                        Some(o) => Some(self.obstacles(&format!("legs[{i}].obstacles"), o)?),
+                        Some(o) => Some(self.obstacles(&format!("legs[{i}].obstacles"), o, ext)?),
                         None => None,
                     };
                     legs.push(Leg { goal, obstacles });
@@ -297,6 +361,29 @@ impl Validator<'_> {
                 &scenario.legs[i].goal.agents,
                 &checker(&scenario.world_for_leg(i)),
             )?;
+            // the next leg starts where this one ends: its map must leave that place free
+            if scenario
+                .legs
+                .get(i + 1)
+                .is_some_and(|l| l.obstacles.is_some())
+            {
+                self.placement(
+                    &field,
+                    &scenario.legs[i].goal.agents,
+                    &checker(&scenario.world_for_leg(i + 1)),
+                )
+                .map_err(|e| {
+                    self.err(
+                        format!("legs[{}].obstacles", i + 1),
+                        format!(
+                            "leg {} starts at leg {}'s goal ({field}), which this map blocks: {}",
+                            i + 2,
+                            i + 1,
+                            e.reason
+                        ),
+                    )
+                })?;
+            }
         }
         Ok(scenario)
     }

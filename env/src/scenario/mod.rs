@@ -85,8 +85,7 @@ impl Scenario {
                 format!("no such file, and not a built-in scenario (built-ins: {names})"),
             ));
         }
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| InputError::new(name_or_path, "", format!("cannot read: {e}")))?;
+        let text = crate::input::read_text(path, name_or_path)?;
         parse_scenario(&text, name_or_path)
     }
 

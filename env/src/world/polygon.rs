@@ -10,12 +10,25 @@ pub fn signed_area(v: &[Vec2]) -> f64 {
     (0..n).map(|i| v[i].perp(&v[(i + 1) % n])).sum::<f64>() * 0.5
 }
 
-/// Checks that `v` is a simple polygon: ≥ 3 distinct vertices, non-zero area, and no two
-/// non-adjacent edges touching. Returns the reason when it is not.
+/// Most vertices of one polygon. Far more than any map needs; the bound keeps a checked
+/// scenario's collision queries fast and the self-intersection check's worst case small.
+pub const MAX_POLYGON_VERTICES: usize = 2000;
+
+/// Checks that `v` is a simple polygon: at most [`MAX_POLYGON_VERTICES`] vertices, ≥ 3
+/// distinct ones, non-zero area, and no two non-adjacent edges touching. Returns the reason
+/// when it is not.
+///
+/// Edges are swept in order of their smallest x: only edges whose x-ranges overlap are tested
+/// against each other, so an ordinary polygon is checked in about n log n.
 pub fn check_polygon(v: &[Vec2]) -> Result<(), String> {
     let n = v.len();
     if n < 3 {
         return Err(format!("a polygon needs at least 3 vertices, got {n}"));
+    }
+    if n > MAX_POLYGON_VERTICES {
+        return Err(format!(
+            "a polygon has at most {MAX_POLYGON_VERTICES} vertices, got {n}: simplify it or split it into several obstacles"
+        ));
     }
     for i in 0..n {
         if (v[i] - v[(i + 1) % n]).norm() < 1e-9 {
@@ -26,18 +39,38 @@ pub fn check_polygon(v: &[Vec2]) -> Result<(), String> {
         }
     }
     let p = |i: usize| Vector::new(v[i % n].x, v[i % n].y);
-    for i in 0..n {
-        for j in (i + 1)..n {
-            let adjacent = j == i + 1 || (i == 0 && j == n - 1);
-            if adjacent {
+    let x_range = |i: usize| {
+        let (a, b) = (v[i].x, v[(i + 1) % n].x);
+        (a.min(b), a.max(b))
+    };
+    let y_range = |i: usize| {
+        let (a, b) = (v[i].y, v[(i + 1) % n].y);
+        (a.min(b), a.max(b))
+    };
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| x_range(a).0.total_cmp(&x_range(b).0));
+    // edges whose x-range still reaches the sweep position
+    let mut active: Vec<usize> = Vec::new();
+    for &j in &order {
+        let xj0 = x_range(j).0;
+        let (yj0, yj1) = y_range(j);
+        active.retain(|&i| x_range(i).1 >= xj0 - 1e-12);
+        for &i in &active {
+            let (a, b) = (i.min(j), i.max(j));
+            if b == a + 1 || (a == 0 && b == n - 1) {
+                continue; // adjacent edges share a vertex
+            }
+            let (yi0, yi1) = y_range(i);
+            if yi1 < yj0 - 1e-12 || yj1 < yi0 - 1e-12 {
                 continue;
             }
-            if segments_intersection2d(p(i), p(i + 1), p(j), p(j + 1), 1e-12).is_some() {
+            if segments_intersection2d(p(a), p(a + 1), p(b), p(b + 1), 1e-12).is_some() {
                 return Err(format!(
-                    "self-intersecting polygon: edge {i} crosses edge {j}"
+                    "self-intersecting polygon: edge {a} crosses edge {b}"
                 ));
             }
         }
+        active.push(j);
     }
     if signed_area(v).abs() < 1e-9 {
         return Err("degenerate polygon: zero area".into());
@@ -70,5 +103,54 @@ mod tests {
         let flat = check_polygon(&pts(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]));
         assert!(flat.unwrap_err().contains("degenerate"));
         assert!(check_polygon(&pts(&[[0.0, 0.0], [1.0, 0.0]])).is_err());
+    }
+
+    /// A regular polygon of `n` vertices, optionally with vertex `k` pulled across the centre.
+    fn star(n: usize, bad: Option<usize>) -> Vec<Vec2> {
+        (0..n)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                let r = if Some(i) == bad { -20.0 } else { 10.0 };
+                Vec2::new(20.0 + r * a.cos(), 20.0 + r * a.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn large_polygons_are_checked_or_bounded() {
+        assert!(check_polygon(&star(MAX_POLYGON_VERTICES, None)).is_ok());
+        let e = check_polygon(&star(MAX_POLYGON_VERTICES, Some(7))).unwrap_err();
+        assert!(e.contains("self-intersecting"), "{e}");
+        let e = check_polygon(&star(10_000, None)).unwrap_err();
+        assert!(e.contains("at most 2000 vertices"), "{e}");
+    }
+
+    #[test]
+    fn the_sweep_finds_what_the_all_pairs_check_finds() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..2000 {
+            let n = rng.random_range(3..9);
+            let v: Vec<Vec2> = (0..n)
+                .map(|_| Vec2::new(rng.random_range(0..5) as f64, rng.random_range(0..5) as f64))
+                .collect();
+            let pairs = (0..n).any(|i| {
+                ((i + 1)..n).any(|j| {
+                    let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+                    let q = |k: usize| Vector::new(v[k % n].x, v[k % n].y);
+                    !adjacent
+                        && segments_intersection2d(q(i), q(i + 1), q(j), q(j + 1), 1e-12).is_some()
+                })
+            });
+            let r = check_polygon(&v);
+            let degenerate = (0..n).any(|i| (v[i] - v[(i + 1) % n]).norm() < 1e-9);
+            if !degenerate {
+                assert_eq!(
+                    r.as_ref().is_err_and(|e| e.contains("self-intersecting")),
+                    pairs,
+                    "{v:?}: {r:?}"
+                );
+            }
+        }
     }
 }

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
+use super::output::outln;
 use crate::CliError;
 use crate::experiment::Experiment;
 use crate::run::Executor;
@@ -96,7 +97,7 @@ pub fn run(a: BenchArgs) -> Result<(), CliError> {
     });
     let total = crate::sweep::shard(e.runs(), shard).len();
     if a.dry_run {
-        println!(
+        outln!(
             "{}: {} runs ({} scenarios × {} planners × {} tracker/preset combinations × {} seeds){}",
             e.source,
             total,
@@ -110,6 +111,7 @@ pub fn run(a: BenchArgs) -> Result<(), CliError> {
         );
         return Ok(());
     }
+    super::output::prepare_dir(&out, "--out")?;
     let progress = if a.quiet {
         ProgressMode::Quiet
     } else if a.lines {
@@ -126,7 +128,7 @@ pub fn run(a: BenchArgs) -> Result<(), CliError> {
     };
     let t0 = std::time::Instant::now();
     let s = run_sweep(&e, ex, &opts)?;
-    println!(
+    outln!(
         "{}: {} runs in {} ({} done before, {} now, {} crashed) in {:.1} s on {threads} threads",
         e.name,
         s.total,

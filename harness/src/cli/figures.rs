@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::output::outln;
 use crate::CliError;
 use crate::figures::{svgs, write_all};
 
@@ -23,9 +24,10 @@ pub fn run(a: FiguresArgs) -> Result<(), CliError> {
     if a.maze_iterations == Some(0) {
         return Err(CliError::arg("--maze-iterations", "must be at least 1"));
     }
+    super::output::prepare_dir(&a.out, "--out")?;
     let files = write_all(&a.out, a.maze_iterations, &|m| eprintln!("{m}"))?;
     for f in svgs(&files) {
-        println!("{}  (+ .png)", f.display());
+        outln!("{}  (+ .png)", f.display());
     }
     Ok(())
 }

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::output::outln;
 use crate::CliError;
 use crate::results::merge::merge;
 
@@ -20,8 +21,9 @@ pub struct MergeArgs {
 
 /// Runs `magbench merge`.
 pub fn run(a: MergeArgs) -> Result<(), CliError> {
+    super::output::prepare_dir(&a.out, "--out")?;
     let m = merge(&a.dirs, &a.out)?;
-    println!(
+    outln!(
         "{}: merged {} folders into {}: {} of {} runs",
         m.experiment.name,
         a.dirs.len(),

@@ -2,13 +2,16 @@
 
 mod bench;
 mod figures;
+mod limits;
 mod merge;
+pub(crate) mod output;
 mod plan;
 mod regress;
 mod rig;
 mod scenario;
 mod stlc;
 mod track;
+mod tracked;
 
 use clap::{Parser, Subcommand};
 

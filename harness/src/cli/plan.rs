@@ -7,9 +7,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use magbench_env::{MAX_AGENTS, Scenario, Vec2};
-use magbench_planners::{Limits, Plan, Planner, PlannerResult, Problem, registry, validate_path};
+use magbench_planners::{Plan, Planner, PlannerResult, Problem, registry, validate_path};
 use serde_json::{Value, json};
 
+use super::limits::LimitArgs;
+use super::output::{out, outln};
 use crate::CliError;
 use crate::plot::world::{WorldPlot, render};
 
@@ -25,12 +27,9 @@ pub struct PlanArgs {
     /// Seed of the planner's random stream (leg k uses seed + k).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Iteration limit per leg (default 200000 when no limit is given).
-    #[arg(long)]
-    pub max_iters: Option<u64>,
-    /// Wall-time limit per leg (s). Results are reproducible only with an iteration limit.
-    #[arg(long)]
-    pub time_limit: Option<f64>,
+    /// Planner limits per leg (200000 iterations when no limit is given).
+    #[command(flatten)]
+    pub limits: LimitArgs,
     /// A planner parameter, key=value (repeatable; see --list).
     #[arg(long = "param", value_name = "KEY=VALUE")]
     pub params: Vec<String>,
@@ -66,7 +65,7 @@ struct LegRun {
 /// Runs `magbench plan`.
 pub fn run(a: PlanArgs) -> Result<(), CliError> {
     if a.list {
-        print!("{}", planner_list());
+        out!("{}", planner_list());
         return Ok(());
     }
     let (Some(scenario_name), Some(planner_name)) = (a.scenario.as_deref(), a.planner.as_deref())
@@ -83,10 +82,9 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
         .map(|kv| registry::parse_assignment("<command line>", kv))
         .collect::<Result<Vec<_>, _>>()?;
     let mut planner = registry::create(planner_name, &params)?;
-    let limits = limits(&a)?;
+    let limits = a.limits.limits()?.unwrap_or_default();
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::Failed(format!("{}: cannot create: {e}", dir.display())))?;
+        super::output::prepare_dir(dir, "--out")?;
     }
 
     let mut runs: Vec<LegRun> = Vec::new();
@@ -134,35 +132,14 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
         write_outputs(dir, &scenario, planner_name, &summary, &runs)?;
     }
     if a.json {
-        println!("{}", serde_json::to_string(&summary).expect("json"));
+        outln!("{}", serde_json::to_string(&summary).expect("json"));
     } else {
-        print!("{}", summary_text(&summary, &runs));
+        out!("{}", summary_text(&summary, &runs));
         if let Some(dir) = &a.out {
-            println!("wrote       {}", dir.display());
+            outln!("wrote       {}", dir.display());
         }
     }
     Ok(())
-}
-
-fn limits(a: &PlanArgs) -> Result<Limits, CliError> {
-    if let Some(t) = a.time_limit
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(CliError::arg(
-            "--time-limit",
-            format!("must be a number of seconds > 0, got {t}"),
-        ));
-    }
-    if a.max_iters == Some(0) {
-        return Err(CliError::arg("--max-iters", "must be at least 1"));
-    }
-    if a.max_iters.is_none() && a.time_limit.is_none() {
-        return Ok(Limits::default());
-    }
-    Ok(Limits {
-        max_iterations: a.max_iters,
-        time_limit: a.time_limit.map(std::time::Duration::from_secs_f64),
-    })
 }
 
 /// The planners and their parameters, for `--list`.

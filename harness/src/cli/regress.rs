@@ -5,8 +5,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::output::out;
 use crate::CliError;
-use crate::regress::{Tolerances, Verdict, compare, table};
+use crate::regress::report::regressions;
+use crate::regress::{Tolerances, compare, footer, table};
 use crate::results::store::read_runs;
 
 /// Arguments of `magbench regress`.
@@ -69,25 +71,10 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
         wall_clock: !a.no_time,
         gate_time: a.gate_time,
     };
+    // analysis, then report
     let rows = compare(&read_runs(&a.baseline)?, &read_runs(&a.current)?, &tol);
-    print!("{}", table(&rows));
-    let bad = rows
-        .iter()
-        .filter(|r| matches!(r.verdict, Verdict::Regression | Verdict::Missing))
-        .count();
-    println!(
-        "\n{} metrics compared (one-sided tests at α = {}, Holm-adjusted; tolerances: success −{:.0} points, error/cost +{:.0}%, time +{:.0}%): {}",
-        rows.len(),
-        tol.alpha,
-        100.0 * tol.success,
-        100.0 * tol.relative,
-        100.0 * tol.time,
-        if bad == 0 {
-            "no regression".to_string()
-        } else {
-            format!("{bad} REGRESSION(S)")
-        }
-    );
+    out!("{}\n{}", table(&rows), footer(&rows, &tol));
+    let bad = regressions(&rows);
     if bad > 0 {
         return Err(CliError::Failed(format!(
             "{bad} significant regression(s) against {}",

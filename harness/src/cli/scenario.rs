@@ -4,6 +4,7 @@ use clap::Subcommand;
 use magbench_env::scenario::builtin_names;
 use magbench_env::{Obstacle, Scenario};
 
+use super::output::{out, outln};
 use crate::CliError;
 
 /// Scenario subcommands.
@@ -29,13 +30,13 @@ pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
         ScenarioCmd::List => {
             for name in builtin_names() {
                 let s = Scenario::load(name)?;
-                println!("{name:<16} {}", s.description);
+                outln!("{name:<16} {}", s.description);
             }
         }
-        ScenarioCmd::Show { scenario } => print!("{}", summary(&Scenario::load(&scenario)?)),
+        ScenarioCmd::Show { scenario } => out!("{}", summary(&Scenario::load(&scenario)?)),
         ScenarioCmd::Check { file } => {
             let s = Scenario::load(&file)?;
-            println!(
+            outln!(
                 "{file}: ok ({} agents, {} leg(s), {} obstacles)",
                 s.agents(),
                 s.legs.len(),

@@ -5,9 +5,11 @@ use std::path::Path;
 use std::sync::Arc;
 
 use magbench_env::InputError;
+use magbench_env::input::parse_toml;
 use serde::Deserialize;
 
 use super::{Experiment, resolve_scenario};
+use crate::run::spec::time_limit;
 use crate::run::{Executor, ParamValue, RunLimits, Variant};
 
 #[derive(Deserialize)]
@@ -38,34 +40,6 @@ struct ComponentTable {
     name: String,
     #[serde(default)]
     params: toml::Table,
-}
-
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].matches('\n').count() + 1
-}
-
-fn deserialize(text: &str, file: &str) -> Result<ExperimentFile, InputError> {
-    let de = toml::Deserializer::parse(text).map_err(|e| {
-        let line = e
-            .span()
-            .map(|s| format!(" (line {})", line_of(text, s.start)))
-            .unwrap_or_default();
-        InputError::new(
-            file,
-            "",
-            format!("invalid TOML: {}{line}", e.message().trim()),
-        )
-    })?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        let field = if path == "." { String::new() } else { path };
-        let line = inner
-            .span()
-            .map(|s| format!(" (line {})", line_of(text, s.start)))
-            .unwrap_or_default();
-        InputError::new(file, field, format!("{}{line}", inner.message().trim()))
-    })
 }
 
 fn component(v: &toml::Value, file: &str, field: &str) -> Result<Variant, InputError> {
@@ -125,11 +99,27 @@ fn components(
     Ok(out)
 }
 
+/// Most seeds of an experiment.
+pub const MAX_SEEDS: usize = 100_000;
+
+/// Most runs in an experiment's run matrix.
+pub const MAX_RUNS: usize = 1_000_000;
+
+/// Longest experiment name (it names a folder, with `-shard-I-of-N` added).
+pub const MAX_NAME_CHARS: usize = 64;
+
 fn seeds(v: &toml::Value, file: &str) -> Result<Vec<u64>, InputError> {
     let err = |r: String| InputError::new(file, "seeds", r);
     match v {
-        toml::Value::Integer(n) if *n >= 1 => Ok((0..*n as u64).collect()),
-        toml::Value::Integer(n) => Err(err(format!("a seed count must be at least 1, got {n}"))),
+        toml::Value::Integer(n) if (1..=MAX_SEEDS as i64).contains(n) => {
+            Ok((0..*n as u64).collect())
+        }
+        toml::Value::Integer(n) => Err(err(format!(
+            "a seed count must be 1 to {MAX_SEEDS}, got {n}"
+        ))),
+        toml::Value::Array(a) if a.len() > MAX_SEEDS => {
+            Err(err(format!("at most {MAX_SEEDS} seeds, got {}", a.len())))
+        }
         toml::Value::Array(a) if !a.is_empty() => {
             let mut seen = BTreeSet::new();
             let mut out = vec![];
@@ -156,6 +146,31 @@ fn seeds(v: &toml::Value, file: &str) -> Result<Vec<u64>, InputError> {
     }
 }
 
+/// Checks an experiment name: it names the results folder.
+fn check_name(name: &str) -> Result<(), String> {
+    let chars_ok = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c));
+    if !chars_ok {
+        return Err(format!(
+            "{name:?}: use letters, digits, '-', '_' and '.' (it names the results folder)"
+        ));
+    }
+    if name.starts_with('.') {
+        return Err(format!(
+            "{name:?}: must not start with '.' (`.` and `..` would put results in the parent folder; a dot-folder is hidden)"
+        ));
+    }
+    if name.chars().count() > MAX_NAME_CHARS {
+        return Err(format!(
+            "{name:?}: at most {MAX_NAME_CHARS} characters (it names the results folder), got {}",
+            name.chars().count()
+        ));
+    }
+    Ok(())
+}
+
 /// Parses and validates an experiment.
 pub fn parse(
     text: &str,
@@ -164,21 +179,9 @@ pub fn parse(
     default_name: &str,
     ex: &dyn Executor,
 ) -> Result<Experiment, InputError> {
-    let raw = deserialize(text, file)?;
+    let raw: ExperimentFile = parse_toml(text, file)?;
     let name = raw.name.unwrap_or_else(|| default_name.to_string());
-    if name.is_empty()
-        || !name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
-    {
-        return Err(InputError::new(
-            file,
-            "name",
-            format!(
-                "{name:?}: use letters, digits, '-', '_' and '.' (it names the results folder)"
-            ),
-        ));
-    }
+    check_name(&name).map_err(|r| InputError::new(file, "name", r))?;
     if raw.scenarios.is_empty() {
         return Err(InputError::new(
             file,
@@ -254,13 +257,9 @@ pub fn parse(
         None => None,
     };
     let time_s = match raw.limits.time {
-        Some(t) if t.is_finite() && t > 0.0 => Some(t),
         Some(t) => {
-            return Err(InputError::new(
-                file,
-                "limits.time",
-                format!("must be a positive number of seconds, got {t}"),
-            ));
+            time_limit(t).map_err(|r| InputError::new(file, "limits.time", r))?;
+            Some(t)
         }
         None => None,
     };
@@ -269,6 +268,30 @@ pub fn parse(
             file,
             "limits",
             "give `iterations` and/or `time`",
+        ));
+    }
+    let runs = [
+        scenarios.len(),
+        planners.len(),
+        trackers.len().max(1),
+        presets.len().max(1),
+        seeds.len(),
+    ]
+    .iter()
+    .try_fold(1usize, |n, k| n.checked_mul(*k))
+    .filter(|n| *n <= MAX_RUNS);
+    if runs.is_none() {
+        return Err(InputError::new(
+            file,
+            "seeds",
+            format!(
+                "the run matrix ({} scenarios × {} planners × {} trackers × {} presets × {} seeds) has more than {MAX_RUNS} runs",
+                scenarios.len(),
+                planners.len(),
+                trackers.len().max(1),
+                presets.len().max(1),
+                seeds.len()
+            ),
         ));
     }
     Ok(Experiment {

@@ -5,7 +5,7 @@
 //! name = "default"                       # optional, defaults to the file name
 //! description = "all planners on the built-in scenarios"
 //! scenarios = ["micro-factory", "scenarios/my-maze.toml"]   # names or paths
-//! planners = ["goal-zoom-rrt{k=5}", "goal-zoom-rrt{k=20}", { name = "sst", params = { delta = 0.5 } }]
+//! planners = ["goal-zoom-rrt{k=5}", "goal-zoom-rrt{k=20}", { name = "sst", params = { pruning_radius = 0.5 } }]
 //! trackers = ["obc", "lookahead{gain=0.5}"] # optional: plan, then track in closed loop
 //! presets = ["ideal", "realistic"]          # with trackers; default ["ideal"]
 //! seeds = 10                                # a count (seeds 0..9) or a list [1, 5, 9]
@@ -54,8 +54,7 @@ impl Experiment {
     /// (or to the working directory).
     pub fn load(path: &Path, ex: &dyn Executor) -> Result<Experiment, InputError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| InputError::new(&file, "", format!("cannot read: {e}")))?;
+        let text = magbench_env::input::read_text(path, &file)?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let stem = path
             .file_stem()
@@ -136,4 +135,30 @@ pub fn resolve_scenario(label: &str, base_dir: &Path) -> Result<Scenario, InputE
         return Scenario::load(&rel.display().to_string());
     }
     Scenario::load(label)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::run::real::RealExecutor;
+
+    /// The example at the top of this file is a valid experiment (it went stale once: `sst`
+    /// has no `delta`).
+    #[test]
+    fn the_documented_example_is_valid() {
+        let src = include_str!("mod.rs");
+        let example: String = src
+            .lines()
+            .map_while(|l| l.strip_prefix("//!"))
+            .skip_while(|l| !l.contains("```toml"))
+            .skip(1)
+            .take_while(|l| !l.contains("```"))
+            .map(|l| format!("{}\n", l.trim_start()))
+            .collect::<String>()
+            .replace("\"scenarios/my-maze.toml\"", "\"open-field\"");
+        assert!(example.contains("planners"), "{example}");
+        let e = Experiment::parse(&example, "doc", Path::new("."), "doc", &RealExecutor)
+            .unwrap_or_else(|e| panic!("{e}\n{example}"));
+        assert_eq!(e.planners.len(), 3);
+    }
 }

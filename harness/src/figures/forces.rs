@@ -51,7 +51,7 @@ fn entries(scale: f64) -> Vec<Entry> {
         Entry::new(Symbol::Line(palette::agent(1), 3), "agent 2 planned"),
         Entry::new(Symbol::Band(ATTRACT), "attractive (f_r < 0)"),
         Entry::new(Symbol::Band(REPEL), "repulsive (f_r > 0)"),
-        Entry::new(Symbol::Line(BLACK.into(), 2), "transverse ±ê_φ"),
+        Entry::new(Symbol::Line(BLACK, 2), "transverse ±ê_φ"),
         Entry::new(
             Symbol::Line(RGBColor(90, 90, 90), 1),
             format!("scale: 1 BL = {:.2} BL/s of ṙ, rφ̇", 1.0 / scale),
@@ -192,8 +192,8 @@ impl Figure for ForceEllipse {
         )))?;
         let z = zero_radial_psi().to_degrees();
         let marks: [(f64, &str, RGBColor); 7] = [
-            (z, "ψ = +54.74°: f_r = 0", BLACK.into()),
-            (-z, "ψ = −54.74°: f_r = 0", BLACK.into()),
+            (z, "ψ = +54.74°: f_r = 0", BLACK),
+            (-z, "ψ = −54.74°: f_r = 0", BLACK),
             (0.0, "ψ = 0°: strongest attraction (−2)", ATTRACT),
             (90.0, "ψ = ±90°: repulsion (+1)", REPEL),
             (45.0, "ψ = +45°", palette::series(1)),

@@ -7,8 +7,12 @@
 //! Tracker `fake{gain=1}`: RMS error ≈ 0.1/gain BL, reaching the goal while the error is small.
 //! Everything is drawn from a ChaCha8 stream seeded by a hash of the run id. The environment
 //! variable `MAGBENCH_FAKE_TRACKER_GAIN_SCALE` scales every fake tracker's gain, to inject a
-//! "code change" without changing the configuration's label (regression-check tests).
+//! "code change" without changing the configuration's label (regression-check tests). With
+//! `MAGBENCH_FAKE_STALL_AFTER=N`, once N runs of the process have finished every later run
+//! blocks until the process is killed: a sweep that is certainly unfinished when a test kills
+//! it, whatever the machine's load.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use rand::{RngExt, SeedableRng};
@@ -17,6 +21,21 @@ use sha2::{Digest, Sha256};
 
 use super::executor::base_record;
 use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
+
+/// Runs of this process the fake executor has finished.
+static FINISHED: AtomicUsize = AtomicUsize::new(0);
+
+/// Blocks for good once `MAGBENCH_FAKE_STALL_AFTER` runs have finished (see the module docs).
+fn stall_if_asked() {
+    let after = std::env::var("MAGBENCH_FAKE_STALL_AFTER")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok());
+    if after.is_some_and(|n| FINISHED.load(Ordering::SeqCst) >= n) {
+        loop {
+            std::thread::park();
+        }
+    }
+}
 
 /// The fake executor.
 #[derive(Debug, Clone, Copy, Default)]
@@ -81,6 +100,7 @@ impl Executor for FakeExecutor {
     }
 
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {
+        stall_if_asked();
         let t0 = Instant::now();
         let pv = &spec.planner;
         if matches!(pv.params.get("panic"), Some(super::ParamValue::Bool(true))) {
@@ -171,6 +191,7 @@ impl Executor for FakeExecutor {
             r.track_time_s = Some(0.0);
         }
         r.plan_time_s = t0.elapsed().as_secs_f64();
+        FINISHED.fetch_add(1, Ordering::SeqCst);
         Ok(RunOutput {
             record: r,
             progress,

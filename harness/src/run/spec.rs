@@ -1,6 +1,7 @@
 //! What one run is: every input that determines its result.
 
 use std::sync::Arc;
+use std::time::Duration;
 
 use magbench_env::Scenario;
 
@@ -13,6 +14,20 @@ pub struct RunLimits {
     pub iterations: Option<u64>,
     /// Largest planning wall time (s).
     pub time_s: Option<f64>,
+}
+
+/// Longest planning time limit accepted (s): a week. Far beyond any useful plan, and far below
+/// what a [`Duration`] can hold (1e20 s panicked converting).
+pub const MAX_TIME_LIMIT_S: f64 = 7.0 * 24.0 * 3600.0;
+
+/// A planning time limit of `t` seconds, or why not.
+pub fn time_limit(t: f64) -> Result<Duration, String> {
+    if !(t.is_finite() && t > 0.0 && t <= MAX_TIME_LIMIT_S) {
+        return Err(format!(
+            "must be a number of seconds in (0, {MAX_TIME_LIMIT_S}] (a week), got {t}"
+        ));
+    }
+    Duration::try_from_secs_f64(t).map_err(|e| format!("{t} s: {e}"))
 }
 
 /// One run of the run matrix.

@@ -162,7 +162,7 @@ impl Sst {
         let mut x_new = [Vec2::zeros(); MAX_AGENTS];
         let mut near = Vec::new();
         let mut i = 0u64;
-        while !progress.done(i) && !(self.stop_on_solution && best.solved) {
+        while !progress.done(i) && (!self.stop_on_solution || !best.solved) {
             i += 1;
             // x_selected ← BEST_FIRST_SELECTION(V_active, δ_BN)
             if !zoom.sample(problem, &sampler, &mut rng, &mut x_rand[..n]) {

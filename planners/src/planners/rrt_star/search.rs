@@ -89,7 +89,7 @@ impl RrtStar {
         let mut x_rand = [Vec2::zeros(); MAX_AGENTS];
         let mut near = Vec::new();
         let mut i = 0u64;
-        while !progress.done(i) && !(self.stop_on_solution && s.best.solved) {
+        while !progress.done(i) && (!self.stop_on_solution || !s.best.solved) {
             i += 1;
             let c_best = s.best.solved_cost();
             // x_rand ← SAMPLE()

@@ -1,0 +1,277 @@
+//! The coil server: the emulated coil driver on its link, one server for every transport.
+//!
+//! A [`CoilTransport`] hands out host connections (a TCP listener: one per connecting host; a
+//! pseudo-terminal: the one line, once). The server serves each with the device protocol,
+//! checks the watchdog all along, injects the link faults, and publishes every current change
+//! to the plant stepper through [`DeviceShared`].
+
+use std::net::TcpListener;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::clock::DeviceClock;
+use super::device::{DeviceEvent, DeviceState};
+use super::faults::{Cut, FaultPlan, maybe_corrupt};
+use super::io::DeviceIo;
+use super::log::EventLog;
+use crate::protocol::{Decoded, Decoder, encode};
+
+/// The device state the coil server and the frame loop share.
+pub struct DeviceShared {
+    /// The coil driver.
+    pub device: DeviceState,
+    /// (device time, currents) at each change, consumed by the plant stepper.
+    pub changes: Vec<(f64, Vec<f64>)>,
+    /// Device time of the first HELLO: fault times count from here.
+    pub hello_t: Option<f64>,
+    /// Current-setting messages (SET_CURRENTS, ZERO) handled so far.
+    pub commands: u64,
+}
+
+/// The shared device state behind its lock.
+pub type Shared = Arc<Mutex<DeviceShared>>;
+
+/// Locks the shared state (a panicked holder does not poison it for the others).
+pub fn lock(s: &Mutex<DeviceShared>) -> MutexGuard<'_, DeviceShared> {
+    s.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Where host connections come from.
+pub trait CoilTransport: Send + 'static {
+    /// The next host connection and a description of it, if one is waiting now.
+    fn accept(&mut self) -> Option<(Box<dyn DeviceIo>, String)>;
+}
+
+/// Hosts connecting over TCP.
+pub struct TcpTransport(TcpListener);
+
+impl TcpTransport {
+    /// Listens on `addr`; returns the transport and the bound address.
+    pub fn bind(addr: &str) -> Result<(Self, String), String> {
+        let l = TcpListener::bind(addr).map_err(|e| format!("coil listen {addr}: {e}"))?;
+        let bound = l.local_addr().map_err(|e| e.to_string())?.to_string();
+        l.set_nonblocking(true).map_err(|e| e.to_string())?;
+        Ok((Self(l), bound))
+    }
+}
+
+impl CoilTransport for TcpTransport {
+    fn accept(&mut self) -> Option<(Box<dyn DeviceIo>, String)> {
+        let (s, peer) = self.0.accept().ok()?;
+        let _ = s.set_nonblocking(false);
+        let _ = s.set_nodelay(true);
+        Some((Box::new(s), peer.to_string()))
+    }
+}
+
+/// The one line of a pseudo-terminal, handed out once (a host opens it as a serial port).
+#[cfg(unix)]
+pub struct PtyTransport(Option<super::io::pty::Pty>);
+
+#[cfg(unix)]
+impl PtyTransport {
+    /// Opens a pseudo-terminal linked at `link`.
+    pub fn open(link: &std::path::Path) -> Result<Self, String> {
+        super::io::pty::Pty::open(link)
+            .map(|p| Self(Some(p)))
+            .map_err(|e| format!("pty {}: {e}", link.display()))
+    }
+}
+
+#[cfg(unix)]
+impl CoilTransport for PtyTransport {
+    fn accept(&mut self) -> Option<(Box<dyn DeviceIo>, String)> {
+        self.0
+            .take()
+            .map(|p| (Box::new(p) as Box<dyn DeviceIo>, "pty".into()))
+    }
+}
+
+/// What the coil server needs besides its transport.
+pub struct CoilServer {
+    /// The shared device state.
+    pub shared: Shared,
+    /// The event log.
+    pub log: Arc<EventLog>,
+    /// The device clock.
+    pub clock: Arc<DeviceClock>,
+    /// The link faults to inject (corruption, a coil disconnect).
+    pub faults: FaultPlan,
+    /// Seed of the corruption draws.
+    pub seed: u64,
+    /// Ends the server.
+    pub stop: Arc<AtomicBool>,
+}
+
+impl CoilServer {
+    /// Serves hosts from `transport` on a thread of its own until `stop`; a cut link stays
+    /// cut (as a pulled cable does).
+    pub fn spawn(self, mut transport: impl CoilTransport) {
+        std::thread::spawn(move || {
+            let mut rng = ChaCha8Rng::seed_from_u64(self.seed ^ 0xFA_0175);
+            let mut cut = false;
+            while !self.stop.load(Ordering::Relaxed) {
+                self.watchdog();
+                match transport.accept() {
+                    Some(_) if cut => {} // the cable stays cut
+                    Some((mut io, peer)) => {
+                        self.log
+                            .event(self.clock.t(), "coil_connect", None, &[], &[], &peer);
+                        cut = self.serve(io.as_mut(), &mut rng);
+                    }
+                    None => std::thread::sleep(Duration::from_millis(2)),
+                }
+            }
+        });
+    }
+
+    /// Trips the watchdog if the host has been silent too long.
+    fn watchdog(&self) {
+        let mut sh = lock(&self.shared);
+        let now = self.clock.timer();
+        if sh.device.check_watchdog(now) {
+            let t = self.clock.t();
+            let silent = sh
+                .device
+                .last_rx()
+                .map(|r| now.saturating_sub(r).as_secs_f64() * 1e3)
+                .unwrap_or(0.0);
+            let cur = sh.device.currents().to_vec();
+            sh.changes.push((t, cur.clone()));
+            self.log.event(
+                t,
+                "watchdog",
+                None,
+                &cur,
+                &[],
+                &format!(
+                    "no message for {silent:.0} ms (timeout {} ms): currents zeroed",
+                    sh.device.watchdog().as_millis()
+                ),
+            );
+        }
+    }
+
+    /// Zeroes the currents on a link event `why`.
+    fn zero_on(&self, why: &str) {
+        let mut sh = lock(&self.shared);
+        sh.device.zero();
+        let cur = sh.device.currents().to_vec();
+        let t = self.clock.t();
+        sh.changes.push((t, cur.clone()));
+        self.log.event(t, why, None, &cur, &[], "currents zeroed");
+    }
+
+    /// Serves one host connection until it closes or the link is cut; returns true when cut.
+    fn serve(&self, io: &mut dyn DeviceIo, rng: &mut ChaCha8Rng) -> bool {
+        let mut dec = Decoder::new();
+        let mut buf = [0u8; 512];
+        let mut idle = Duration::ZERO;
+        while !self.stop.load(Ordering::Relaxed) {
+            self.watchdog();
+            let since_hello = lock(&self.shared).hello_t.map(|h| self.clock.t() - h);
+            if let Some((tc, Cut::Coil)) = self.faults.disconnect
+                && since_hello.is_some_and(|s| s >= tc)
+            {
+                self.zero_on("fault_disconnect");
+                return true;
+            }
+            let n = match io.read_timeout(&mut buf, Duration::from_millis(2)) {
+                Ok(None) => {
+                    idle += Duration::from_millis(2);
+                    if idle >= Duration::from_millis(4) && dec.pending() > 0 {
+                        dec.drop_stalled();
+                    }
+                    continue;
+                }
+                Ok(Some(0)) => {
+                    self.zero_on("coil_disconnect");
+                    return false;
+                }
+                Ok(Some(n)) => n,
+                Err(e) => {
+                    self.zero_on(&format!("coil_error {e}"));
+                    return false;
+                }
+            };
+            idle = Duration::ZERO;
+            let chunk = &mut buf[..n];
+            if maybe_corrupt(chunk, self.faults.corrupt, rng) {
+                self.log.event(
+                    self.clock.t(),
+                    "fault_corrupt_rx",
+                    None,
+                    &[],
+                    &[],
+                    "one received byte flipped",
+                );
+            }
+            dec.feed(chunk);
+            while let Some(d) = dec.next_frame() {
+                if !self.answer(io, d, rng) {
+                    return false;
+                }
+            }
+        }
+        false
+    }
+
+    /// Handles one decoded frame and sends the reply; false when the link failed.
+    fn answer(&self, io: &mut dyn DeviceIo, d: Decoded, rng: &mut ChaCha8Rng) -> bool {
+        let now = self.clock.timer();
+        let t = self.clock.t();
+        let (reply, seq, cur, event) = {
+            let mut sh = lock(&self.shared);
+            let seq = match &d {
+                Decoded::Message { seq, .. } | Decoded::Invalid { seq, .. } => Some(*seq),
+                _ => None,
+            };
+            let before = sh.device.currents().to_vec();
+            let (reply, event) = sh.device.handle(d, now);
+            let cur = sh.device.currents().to_vec();
+            if cur != before {
+                sh.changes.push((t, cur.clone()));
+            }
+            if matches!(
+                event,
+                DeviceEvent::Currents | DeviceEvent::Duplicate | DeviceEvent::Zero
+            ) {
+                sh.commands += 1;
+            }
+            if matches!(event, DeviceEvent::Hello { .. }) && sh.hello_t.is_none() {
+                sh.hello_t = Some(t);
+            }
+            (reply, seq, cur, event)
+        };
+        let (name, detail) = match &event {
+            DeviceEvent::Hello { watchdog_ms } => ("hello", format!("watchdog {watchdog_ms} ms")),
+            DeviceEvent::Currents => ("currents", String::new()),
+            DeviceEvent::Duplicate => ("currents_repeat", String::new()),
+            DeviceEvent::Heartbeat => ("heartbeat", String::new()),
+            DeviceEvent::Zero => ("zero", String::new()),
+            DeviceEvent::Refused(s) => ("refused", format!("{s:?}")),
+            DeviceEvent::BadFrame => ("bad_frame", "checksum failed: NAK".into()),
+        };
+        self.log.event(t, name, seq, &cur, &[], &detail);
+        let mut bytes = encode(seq.unwrap_or(0), &reply);
+        if maybe_corrupt(&mut bytes, self.faults.corrupt, rng) {
+            self.log.event(
+                t,
+                "fault_corrupt_tx",
+                seq,
+                &cur,
+                &[],
+                "one reply byte flipped",
+            );
+        }
+        if let Err(e) = io.send(&bytes) {
+            self.zero_on(&format!("coil_error {e}"));
+            return false;
+        }
+        true
+    }
+}

@@ -1,0 +1,120 @@
+//! The one loader of input files: read a file (bounded in size), parse TOML into a serde type,
+//! and report every failure as an [`InputError`] naming the file, the field and the line.
+//!
+//! Scenario, experiment and rig files all load through here, so their messages read alike:
+//! `FILE: FIELD: REASON (line N)`.
+
+use std::io::Read;
+use std::path::Path;
+
+use serde::de::DeserializeOwned;
+
+use crate::error::InputError;
+
+/// Largest input file read (bytes). Scenario, experiment, rig and plan files are far smaller;
+/// the bound keeps `/dev/zero` or a mistaken multi-gigabyte file from exhausting memory.
+pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+
+/// Reads a text file of at most [`MAX_INPUT_BYTES`]; `file` names it in errors.
+pub fn read_text(path: &Path, file: &str) -> Result<String, InputError> {
+    let cannot = |e: std::io::Error| InputError::new(file, "", format!("cannot read: {e}"));
+    let f = std::fs::File::open(path).map_err(cannot)?;
+    let mut text = String::new();
+    f.take(MAX_INPUT_BYTES + 1)
+        .read_to_string(&mut text)
+        .map_err(cannot)?;
+    if text.len() as u64 > MAX_INPUT_BYTES {
+        return Err(InputError::new(
+            file,
+            "",
+            format!(
+                "cannot read: larger than {} MiB; is it the right file?",
+                MAX_INPUT_BYTES >> 20
+            ),
+        ));
+    }
+    Ok(text)
+}
+
+/// Parses TOML `text` into `T`; `file` names it in errors, which carry the dotted field path
+/// and the line of the offending value.
+pub fn parse_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, InputError> {
+    let de = toml::Deserializer::parse(text).map_err(|e| {
+        InputError::new(
+            file,
+            "",
+            format!(
+                "invalid TOML: {}{}",
+                e.message().trim(),
+                at_line(text, e.span())
+            ),
+        )
+    })?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let field = if path == "." { String::new() } else { path };
+        InputError::new(
+            file,
+            field,
+            format!("{}{}", inner.message().trim(), at_line(text, inner.span())),
+        )
+    })
+}
+
+/// ` (line N)` for a byte span of `text`, or nothing without one.
+fn at_line(text: &str, span: Option<std::ops::Range<usize>>) -> String {
+    span.map(|s| {
+        let upto = s.start.min(text.len());
+        // a span inside a multi-byte character must not split it
+        let upto = (0..=upto)
+            .rev()
+            .find(|&i| text.is_char_boundary(i))
+            .unwrap_or(0);
+        format!(" (line {})", text[..upto].matches('\n').count() + 1)
+    })
+    .unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct T {
+        a: f64,
+        b: Option<Vec<u32>>,
+    }
+
+    #[test]
+    fn errors_name_the_field_and_the_line() {
+        let e = parse_toml::<T>("a = 1.0\n\nb = [1, \"x\"]\n", "t.toml").unwrap_err();
+        assert_eq!(e.file, "t.toml");
+        assert_eq!(e.field, "b[1]");
+        assert!(e.reason.ends_with("(line 3)"), "{e}");
+        let e = parse_toml::<T>("a = 1.0\nc = 2\n", "t.toml").unwrap_err();
+        assert!(
+            e.reason.contains("unknown field") && e.reason.contains("line 2"),
+            "{e}"
+        );
+        let e = parse_toml::<T>("a = [\n", "t.toml").unwrap_err();
+        assert!(e.reason.starts_with("invalid TOML"), "{e}");
+    }
+
+    #[test]
+    fn reads_bounded_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("x.toml");
+        std::fs::write(&p, "a = 1.0").unwrap();
+        assert_eq!(read_text(&p, "x.toml").unwrap(), "a = 1.0");
+        let e = read_text(dir.path(), "dir").unwrap_err();
+        assert!(e.reason.starts_with("cannot read"), "{e}");
+        #[cfg(unix)]
+        {
+            let e = read_text(Path::new("/dev/zero"), "/dev/zero").unwrap_err();
+            assert!(e.reason.contains("larger than"), "{e}");
+        }
+    }
+}

@@ -1,0 +1,487 @@
+//! Plan → track → write outputs: the one runner behind `magbench track` (a simulated rig) and
+//! `magbench rig run` (a coil-and-camera rig, or the emulator).
+//!
+//! The rig comes from the drivers' rig factory ([`magbench_drivers::rigs`]), so this runner,
+//! like the command line, does not know which rigs exist.
+
+use std::path::{Path, PathBuf};
+
+use magbench_drivers::rigs::{self, OpenError, RigSource};
+use magbench_drivers::{RigStats, stats};
+use magbench_env::{Scenario, Vec2};
+use magbench_planners::{Limits, Planner, Problem};
+use magbench_trackers::plan_file::{plan_json, read_plan_for};
+use magbench_trackers::registry::parse_param;
+use magbench_trackers::{
+    Mission, RunStatus, TrackOutcome, TrackerSpec, reference_for, track, write_ticks_csv,
+};
+use serde_json::{Value, json};
+
+use super::output::{emit, prepare_dir};
+use crate::CliError;
+use crate::plot::anim::{Frame, GifOptions, render_gif};
+use crate::plot::world::{WorldPlot, render};
+
+/// One plan-track run, as the command line asked for it.
+pub struct TrackRun<'a> {
+    /// The scenario.
+    pub scenario: &'a Scenario,
+    /// The rig, and the option that chose it (for messages).
+    pub rig: (RigSource, &'static str),
+    /// The planner of the first plan (unless `plan` is given) and of every replan.
+    pub planner: Option<String>,
+    /// The planner's `key=value` parameters.
+    pub planner_params: &'a [String],
+    /// A plan file to track instead of planning the first leg.
+    pub plan: Option<PathBuf>,
+    /// The tracker and its (and the loop's) parameters.
+    pub tracker: TrackerSpec,
+    /// Seed of the planner and of the simulated disturbances.
+    pub seed: u64,
+    /// Limits of every planning call.
+    pub limits: Option<Limits>,
+    /// The output folder.
+    pub out: Option<PathBuf>,
+    /// Print one JSON object instead of a summary.
+    pub json: bool,
+}
+
+/// `key=value` list of the command line.
+pub fn kv_list(list: &[String]) -> Result<Vec<(String, String)>, CliError> {
+    list.iter()
+        .map(|kv| parse_param(kv, "<command line>").map_err(CliError::from))
+        .collect()
+}
+
+impl From<OpenError> for CliError {
+    fn from(e: OpenError) -> Self {
+        match e {
+            OpenError::Input(e) => CliError::Input(e),
+            OpenError::Failed(m) => CliError::Failed(m),
+        }
+    }
+}
+
+/// The first plan and where it came from.
+struct FirstPlan {
+    plan: magbench_planners::Plan,
+    time_s: f64,
+    solved: bool,
+}
+
+/// Runs it: open the rig, find the start, make (or read) the first plan, track it, stop the
+/// rig, write the outputs and print the summary.
+pub fn run(r: TrackRun) -> Result<(), CliError> {
+    let s = r.scenario;
+    let mut planner = match &r.planner {
+        Some(name) => Some(magbench_planners::registry::create(
+            name,
+            &kv_list(r.planner_params)?,
+        )?),
+        None => None,
+    };
+    let given = match &r.plan {
+        Some(p) => Some(read_plan_for(p, s)?),
+        None => None,
+    };
+    if let Some(dir) = &r.out {
+        prepare_dir(dir, "--out")?;
+    }
+    let mut rig = rigs::open(&r.rig.0, r.rig.1, s, r.seed, r.out.as_deref())?;
+    if let Some(d) = rig.describe() {
+        eprintln!("rig: {d}");
+    }
+    // the start: the scenario's, or as the rig observes it (the field is zero meanwhile)
+    let observed = rig.observe_start(s).map_err(|m| {
+        let _ = rig.stop();
+        CliError::Failed(m)
+    })?;
+    if let Some(start) = &observed {
+        eprintln!("observed start: {}", describe_start(start, &s.start));
+    }
+    let first = match given {
+        Some(plan) => {
+            let solved = s.legs[0].goal.contains(plan.end());
+            FirstPlan {
+                plan,
+                time_s: 0.0,
+                solved,
+            }
+        }
+        None => {
+            let planner = planner.as_mut().expect("a planner without a plan file");
+            let mut problem = Problem::from_scenario(s, 0, observed.as_deref(), r.seed);
+            if let Some(l) = r.limits {
+                problem.limits = l;
+            }
+            let result = planner.solve(&problem);
+            if rig.describe().is_some() {
+                eprintln!(
+                    "plan: {} in {:.2} s ({} edges, {:.1} s long)",
+                    if result.solved {
+                        "solved"
+                    } else if result.approximate {
+                        "approximate"
+                    } else {
+                        "not found"
+                    },
+                    result.time_s,
+                    result.plan.edges(),
+                    result.plan.duration()
+                );
+            }
+            if !magbench_trackers::run::replanner::usable(&result) {
+                let _ = rig.stop();
+                return Err(CliError::Failed(format!(
+                    "{} found no plan from the {} start{}",
+                    planner.name(),
+                    if observed.is_some() {
+                        "observed"
+                    } else {
+                        "scenario's"
+                    },
+                    match r.limits {
+                        Some(l) => format!(" within its limits ({l:?})"),
+                        None => String::new(),
+                    }
+                )));
+            }
+            FirstPlan {
+                plan: result.plan,
+                time_s: result.time_s,
+                solved: result.solved,
+            }
+        }
+    };
+    let mission = Mission {
+        scenario: s,
+        plan: Some(first.plan),
+        plan_time_s: first.time_s,
+        plan_solved: first.solved,
+        planner: planner.as_deref_mut().map(|p| p as &mut dyn Planner),
+        limits: r.limits,
+        seed: r.seed,
+    };
+    let mut tracker = r.tracker.build();
+    let mut opts = r.tracker.loop_options();
+    opts.record_ticks = r.out.is_some();
+    opts.cancel = rig.cancel_flag();
+    let outcome = track(rig.as_rig(), tracker.as_mut(), mission, &opts);
+    let stopped = rig.stop();
+    let rig_stats = rig.stats();
+    let planner_label = r.planner.as_deref().unwrap_or("file");
+    let summary = summary_json(
+        &r,
+        planner_label,
+        &rig.label(),
+        first.solved,
+        &outcome,
+        observed.as_deref(),
+        rig_stats.as_ref(),
+    );
+    let log = rig.log_path();
+    drop(rig);
+    if let Some(dir) = &r.out {
+        write_outputs(
+            dir,
+            s,
+            &outcome,
+            &summary,
+            planner_label,
+            &r.tracker.label(),
+        )?;
+    }
+    if r.json {
+        emit(&format!(
+            "{}\n",
+            serde_json::to_string(&summary).expect("json")
+        ))?;
+    } else {
+        emit(&summary_text(&summary))?;
+        if let Some(st) = &rig_stats {
+            emit(&rig_text(st))?;
+        }
+        if let Some(l) = log {
+            emit(&format!("log           {}\n", l.display()))?;
+        }
+    }
+    if outcome.metrics.status == RunStatus::RigFault {
+        return Err(CliError::Failed(format!(
+            "rig fault: {}",
+            outcome.message.unwrap_or_else(|| "unknown".into())
+        )));
+    }
+    if let Err(e) = stopped {
+        return Err(CliError::Failed(format!("stopping the rig: {e}")));
+    }
+    Ok(())
+}
+
+/// `(x, y) (x, y) (at most D BL from the scenario's start)`.
+fn describe_start(start: &[Vec2], scenario_start: &[Vec2]) -> String {
+    let offset = start
+        .iter()
+        .zip(scenario_start)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max);
+    format!(
+        "{} (at most {offset:.3} BL from the scenario's start)",
+        start
+            .iter()
+            .map(|p| format!("({:.3}, {:.3})", p.x, p.y))
+            .collect::<Vec<_>>()
+            .join(" ")
+    )
+}
+
+/// The `--json` object and `metrics.json`: the run's identity, then every metric, the
+/// parameters, and what the rig observed and counted.
+fn summary_json(
+    r: &TrackRun,
+    planner: &str,
+    rig_label: &str,
+    solved: bool,
+    out: &TrackOutcome,
+    observed: Option<&[Vec2]>,
+    rig: Option<&RigStats>,
+) -> Value {
+    let mut v = json!({
+        "scenario": r.scenario.name,
+        "planner": planner,
+        "tracker": r.tracker.name,
+        "tracker_label": r.tracker.label(),
+        "seed": r.seed,
+        "preset": rig_label,
+        "solved": solved,
+    });
+    let m = serde_json::to_value(&out.metrics).expect("metrics serialize");
+    if let (Value::Object(o), Value::Object(mm)) = (&mut v, m) {
+        o.extend(mm);
+        o.insert(
+            "per_agent".into(),
+            serde_json::to_value(&out.per_agent).expect("serialize"),
+        );
+        o.insert(
+            "params".into(),
+            r.tracker
+                .values
+                .iter()
+                .map(|(k, x)| ((*k).to_string(), json!(x)))
+                .collect(),
+        );
+        o.insert("message".into(), json!(out.message));
+        if let Some(start) = observed {
+            o.insert(
+                "observed_start".into(),
+                json!(start.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>()),
+            );
+        }
+        if let Some(st) = rig {
+            let lat = |q: f64| stats::percentile(&st.latencies_ms, q);
+            o.insert(
+                "rig".into(),
+                json!({
+                    "frames": st.frames,
+                    "dropped_frames": st.dropped_frames,
+                    "skipped_frames": st.skipped_frames,
+                    "stuck_frames": st.stuck_frames,
+                    "missed_detections": st.missed_detections,
+                    "commands": st.commands,
+                    "clamped_commands": st.clamped_commands,
+                    "faults": st.faults,
+                    "latency_median_ms": lat(0.5),
+                    "latency_p99_ms": lat(0.99),
+                }),
+            );
+        }
+    }
+    v
+}
+
+/// The summary printed without `--json`.
+pub(crate) fn summary_text(v: &Value) -> String {
+    let g = |k: &str| v.get(k).cloned().unwrap_or(Value::Null);
+    let f = |k: &str| g(k).as_f64().map_or("-".to_string(), |x| format!("{x:.3}"));
+    let mut s = String::new();
+    s += &format!(
+        "{} · planner {} · tracker {} · preset {} · seed {}\n",
+        g("scenario").as_str().unwrap_or(""),
+        g("planner").as_str().unwrap_or(""),
+        g("tracker_label").as_str().unwrap_or(""),
+        g("preset").as_str().unwrap_or(""),
+        g("seed")
+    );
+    s += &format!(
+        "status        {}  (reached goal: {}, legs {}/{}, plan solved: {})\n",
+        g("status").as_str().unwrap_or(""),
+        g("reached_goal"),
+        g("legs_completed"),
+        g("legs"),
+        g("solved")
+    );
+    s += &format!(
+        "error         RMS {} BL, max {} BL (distance to the planned path, {} positions)\n",
+        f("rms_error_bl"),
+        f("max_error_bl"),
+        g("error_source").as_str().unwrap_or("")
+    );
+    s += &format!(
+        "goal          final distance {} BL, time to goal {} s\n",
+        f("final_goal_distance_bl"),
+        f("time_to_goal_s")
+    );
+    s += &format!(
+        "events        agent contact {}, wall contacts {}, missed frames {}, replans {}\n",
+        g("agent_contact"),
+        g("wall_contacts"),
+        g("missed_frames"),
+        g("replans")
+    );
+    s += &format!(
+        "time          tracking {} s, planning {} s, tracker compute {} s\n",
+        f("duration_s"),
+        f("planning_time_s"),
+        f("tracker_compute_s")
+    );
+    if let Some(m) = g("message").as_str() {
+        s += &format!("note          {m}\n");
+    }
+    s
+}
+
+/// The rig's counters, for the summary.
+fn rig_text(st: &RigStats) -> String {
+    let mut s = format!(
+        "rig           {} frames ({} dropped, {} skipped while planning or busy, {} stuck), {} missed detections, {} commands ({} clamped), {} faults\n",
+        st.frames,
+        st.dropped_frames,
+        st.skipped_frames,
+        st.stuck_frames,
+        st.missed_detections,
+        st.commands,
+        st.clamped_commands,
+        st.faults
+    );
+    let lat = |q: f64| stats::percentile(&st.latencies_ms, q);
+    if let (Some(m), Some(p)) = (lat(0.5), lat(0.99)) {
+        s += &format!(
+            "latency       frame arrival → command sent: median {m:.3} ms, p99 {p:.3} ms\n"
+        );
+    }
+    s
+}
+
+/// Writes `what` to `path`, naming the path on failure.
+fn write(path: &Path, what: impl AsRef<[u8]>) -> Result<(), CliError> {
+    std::fs::write(path, what).map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
+}
+
+/// Writes ticks.csv, metrics.json, plans.json, plan.json, the world plot(s) and the GIF(s).
+fn write_outputs(
+    dir: &Path,
+    s: &Scenario,
+    out: &TrackOutcome,
+    summary: &Value,
+    planner: &str,
+    tracker: &str,
+) -> Result<(), CliError> {
+    let ticks = dir.join("ticks.csv");
+    let csv_file = std::fs::File::create(&ticks)
+        .map_err(|e| CliError::Failed(format!("{}: {e}", ticks.display())))?;
+    write_ticks_csv(std::io::BufWriter::new(csv_file), &out.ticks)
+        .map_err(|e| CliError::Failed(format!("{}: {e}", ticks.display())))?;
+    write(
+        &dir.join("metrics.json"),
+        serde_json::to_string_pretty(summary).expect("json"),
+    )?;
+    let plans: Vec<Value> = out
+        .plans
+        .iter()
+        .map(|p| json!({"leg": p.leg, "start_t_s": p.start_t, "reason": p.reason, "solved": p.solved, "planning_time_s": p.planning_time_s, "plan": p.plan}))
+        .collect();
+    write(
+        &dir.join("plans.json"),
+        serde_json::to_string_pretty(&plans).expect("json"),
+    )?;
+    if let Some(first) = out.plans.first() {
+        write(&dir.join("plan.json"), plan_json(&first.plan))?;
+    }
+    let model = magbench_env::PlanningModel::new(&s.physics);
+    let legs = s.legs.len();
+    for leg in 0..legs {
+        let ticks: Vec<_> = out.ticks.iter().filter(|t| t.leg == leg).collect();
+        if ticks.is_empty() {
+            continue;
+        }
+        let world = s.world_for_leg(leg);
+        let mut plot = WorldPlot::new(&world);
+        let leg_name = |prefix: &str, single: &str, ext: &str| {
+            if legs > 1 {
+                format!("{prefix}-leg{}{ext}", leg + 1)
+            } else {
+                format!("{single}{ext}")
+            }
+        };
+        plot.title = Some(format!(
+            "{}{} · {planner} + {tracker}",
+            s.name,
+            if legs > 1 {
+                format!(" leg {}", leg + 1)
+            } else {
+                String::new()
+            }
+        ));
+        plot.goals = vec![s.legs[leg].goal.clone()];
+        plot.planned = planned_paths(out, s, leg, &model);
+        plot.starts = ticks[0].estimate.clone();
+        plot.tracked = (0..s.agents())
+            .map(|i| ticks.iter().map(|t| t.position(i)).collect())
+            .collect();
+        render(&plot, &dir.join(leg_name("world", "world", "")))?;
+        let frames: Vec<Frame> = ticks
+            .iter()
+            .map(|t| Frame {
+                time_s: t.t,
+                agents: (0..s.agents()).map(|i| t.position(i)).collect(),
+            })
+            .collect();
+        render_gif(
+            &plot,
+            &frames,
+            &dir.join(leg_name("run", "run", ".gif")),
+            &GifOptions::default(),
+        )?;
+    }
+    Ok(())
+}
+
+/// Each agent's planned path during `leg`: every plan of the leg, cut where the next plan took
+/// over (at the tracker's progress then), joined in order.
+fn planned_paths(
+    out: &TrackOutcome,
+    s: &Scenario,
+    leg: usize,
+    model: &magbench_env::PlanningModel,
+) -> Vec<Vec<Vec2>> {
+    let agents = s.agents();
+    let mut paths = vec![vec![]; agents];
+    let idx: Vec<usize> = (0..out.plans.len())
+        .filter(|&p| out.plans[p].leg == leg)
+        .collect();
+    for (n, &p) in idx.iter().enumerate() {
+        let r = reference_for(&out.plans[p].plan, model, &s.legs[leg].goal);
+        let upto = match idx.get(n + 1) {
+            Some(&next) => out
+                .ticks
+                .iter()
+                .rev()
+                .find(|t| t.plan == p && t.t < out.plans[next].start_t + 1e-9)
+                .map_or(r.last(), |t| r.index_at(t.progress_s)),
+            None => r.last(),
+        };
+        for (i, path) in paths.iter_mut().enumerate() {
+            path.extend((0..=upto).map(|k| r.point(k, i)));
+        }
+    }
+    paths
+}

@@ -1,0 +1,153 @@
+//! The input formats under fuzzing: scenario, experiment, rig and plan files, each through the
+//! parser and validator a command runs on it.
+//!
+//! [`Target::run`] takes raw bytes (read as a file would be: invalid UTF-8 replaced) and must
+//! return for every input — an `Err` is a fine answer, a panic, an abort or a hang is a bug.
+//! Two drivers use it: the `cargo fuzz` targets in `fuzz/` (nightly, coverage-guided), and
+//! the deterministic mutation test `harness/tests/mutation.rs` (stable, in CI), which mutates
+//! [`Target::seeds`] with [`mutate`].
+
+pub mod mutate;
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use magbench_env::Scenario;
+
+use crate::experiment::Experiment;
+use crate::run::real::RealExecutor;
+
+pub use mutate::mutate;
+
+/// One input format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// Scenario TOML: parse and validate.
+    Scenario,
+    /// Experiment TOML: parse and validate (scenarios resolved, planners and trackers checked).
+    Experiment,
+    /// Rig TOML: parse and validate.
+    Rig,
+    /// Plan JSON: parse, then validate for open-field (replay included).
+    Plan,
+}
+
+impl Target {
+    /// Every target.
+    pub const ALL: [Target; 4] = [
+        Target::Scenario,
+        Target::Experiment,
+        Target::Rig,
+        Target::Plan,
+    ];
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Scenario => "scenario",
+            Target::Experiment => "experiment",
+            Target::Rig => "rig",
+            Target::Plan => "plan",
+        }
+    }
+
+    /// The target of that name.
+    pub fn by_name(name: &str) -> Option<Target> {
+        Target::ALL.into_iter().find(|t| t.name() == name)
+    }
+
+    /// Parses and validates `data`; `Ok` when the input was accepted.
+    pub fn run(self, data: &[u8]) -> Result<(), String> {
+        let text = String::from_utf8_lossy(data);
+        let file = format!(
+            "fuzz.{}",
+            if self == Target::Plan { "json" } else { "toml" }
+        );
+        match self {
+            Target::Scenario => magbench_env::scenario::parse_scenario(&text, &file)
+                .map(|_| ())
+                .map_err(|e| e.to_string()),
+            Target::Experiment => {
+                Experiment::parse(&text, &file, Path::new("."), "fuzz", &RealExecutor)
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            }
+            Target::Rig => magbench_drivers::RigConfig::parse(&text, &file)
+                .map(|_| ())
+                .map_err(|e| e.to_string()),
+            Target::Plan => {
+                let s = open_field();
+                let plan = magbench_trackers::plan_file::parse_plan(&text, &file, s.agents())
+                    .map_err(|e| e.to_string())?;
+                magbench_trackers::plan_file::check_plan(&plan, s, &file).map_err(|e| e.to_string())
+            }
+        }
+    }
+
+    /// Valid inputs to start from: every built-in scenario, every experiment file of the
+    /// repository, the example rig file, and a planned open-field plan.
+    pub fn seeds(self) -> Vec<String> {
+        match self {
+            Target::Scenario => magbench_env::scenario::builtin_names()
+                .iter()
+                .map(|n| {
+                    magbench_env::scenario::builtin_source(n)
+                        .expect("a built-in")
+                        .to_string()
+                })
+                .collect(),
+            Target::Experiment => [
+                include_str!("../../../experiments/ci.toml"),
+                include_str!("../../../experiments/default.toml"),
+                include_str!("../../../experiments/trackers.toml"),
+                include_str!("../../../experiments/cargo-delivery.toml"),
+                include_str!("../../../experiments/informed.toml"),
+                include_str!("../../../experiments/planners-success.toml"),
+            ]
+            .map(String::from)
+            .to_vec(),
+            Target::Rig => vec![include_str!("../../../rigs/emulator.toml").to_string()],
+            Target::Plan => vec![plan_seed().to_string()],
+        }
+    }
+}
+
+/// The scenario plans are checked against.
+fn open_field() -> &'static Scenario {
+    static S: OnceLock<Scenario> = OnceLock::new();
+    S.get_or_init(|| Scenario::load("open-field").expect("a built-in"))
+}
+
+/// A plan of open-field from the seed's planner (deterministic: an iteration limit).
+fn plan_seed() -> &'static str {
+    static P: OnceLock<String> = OnceLock::new();
+    P.get_or_init(|| {
+        let s = open_field();
+        let mut planner =
+            magbench_planners::registry::create("goal-zoom-rrt", &[]).expect("a planner");
+        let mut problem = magbench_planners::Problem::from_scenario(s, 0, None, 0);
+        problem.limits = magbench_planners::Limits {
+            max_iterations: Some(3000),
+            time_limit: None,
+        };
+        let plan = planner.solve(&problem).plan;
+        magbench_trackers::plan_file::plan_json(&plan)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_seed_is_accepted() {
+        for t in Target::ALL {
+            let seeds = t.seeds();
+            assert!(!seeds.is_empty());
+            for s in seeds {
+                t.run(s.as_bytes())
+                    .unwrap_or_else(|e| panic!("{}: a seed is refused: {e}", t.name()));
+            }
+        }
+    }
+}

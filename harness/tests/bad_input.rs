@@ -1,0 +1,329 @@
+//! Issue 11's reproducers, each from the outside: an input that panicked, hung, aborted or
+//! failed late now exits 2 at once, naming the file or option, the field and the reason.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+const BIN: &str = env!("CARGO_BIN_EXE_magbench");
+
+/// Runs magbench; (exit code, stdout, stderr).
+fn magbench(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(BIN).args(args).output().expect("run magbench");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Exit 2 with every part in the message, and no panic.
+fn refused(args: &[&str], parts: &[&str]) {
+    let (code, _, stderr) = magbench(args);
+    assert_eq!(code, 2, "{args:?}: exit {code}, stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    for p in parts {
+        assert!(stderr.contains(p), "{args:?}: {p:?} missing from: {stderr}");
+    }
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// env's small valid scenario, mutated one field at a time.
+const SCENARIO: &str = include_str!("../../env/tests/data/good.toml");
+
+fn scenario(dir: &Path, text: &str) -> String {
+    write(dir, "s.toml", text).display().to_string()
+}
+
+#[test]
+fn scenario_values_that_crashed_later_are_refused_by_check_and_plan() {
+    let d = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            SCENARIO.replace("[[10.0, 0.0], [12.0", "[[1e308, 0.0], [12.0"),
+            "world.obstacles[0].polygon[0]",
+        ),
+        (
+            SCENARIO.replace("width = 30.0", "width = 1e20"),
+            "world.width",
+        ),
+        (
+            format!("{SCENARIO}[physics]\ndt_s = 1e-12\n"),
+            "physics.dt_s",
+        ),
+    ];
+    for (text, field) in cases {
+        let f = scenario(d.path(), &text);
+        refused(&["scenario", "check", &f], &[&f, field]);
+        refused(
+            &[
+                "plan",
+                &f,
+                "--planner",
+                "goal-zoom-rrt",
+                "--max-iters",
+                "10",
+            ],
+            &[&f, field],
+        );
+    }
+}
+
+#[test]
+fn a_10000_vertex_polygon_is_refused_with_its_bound() {
+    let d = tempfile::tempdir().unwrap();
+    let ring: Vec<String> = (0..10_000)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 10_000.0;
+            format!("[{}, {}]", 15.0 + 3.0 * a.cos(), 10.0 + 3.0 * a.sin())
+        })
+        .collect();
+    let f = scenario(
+        d.path(),
+        &SCENARIO.replace(
+            "[[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+            &format!("[{}]", ring.join(", ")),
+        ),
+    );
+    refused(
+        &["scenario", "check", &f],
+        &["world.obstacles[0].polygon", "at most 2000 vertices"],
+    );
+}
+
+#[test]
+fn a_later_map_covering_an_earlier_goal_fails_check() {
+    let f = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../env/tests/data/leg-blocks-earlier-goal.toml")
+        .display()
+        .to_string();
+    refused(
+        &["scenario", "check", &f],
+        &["legs[1].obstacles", "leg 2 starts"],
+    );
+}
+
+#[test]
+fn huge_time_limits_and_zero_iterations_are_refused_everywhere() {
+    let rig = Path::new(env!("CARGO_MANIFEST_DIR")).join("../rigs/emulator.toml");
+    let rig = rig.to_str().unwrap();
+    for limit in [["--time-limit", "1e20"], ["--max-iters", "0"]] {
+        let opt = limit[0];
+        refused(
+            &["plan", "open-field", "--planner", "sst", limit[0], limit[1]],
+            &["<command line>", opt],
+        );
+        refused(
+            &[
+                "track",
+                "open-field",
+                "--tracker",
+                "obc",
+                limit[0],
+                limit[1],
+            ],
+            &["<command line>", opt],
+        );
+        refused(
+            &[
+                "rig",
+                "run",
+                "--rig",
+                rig,
+                "open-field",
+                "--planner",
+                "sst",
+                "--tracker",
+                "obc",
+                limit[0],
+                limit[1],
+            ],
+            &["<command line>", opt],
+        );
+    }
+}
+
+const EXPERIMENT: &str = r#"
+name = "x"
+scenarios = ["open-field"]
+planners = ["goal-zoom-rrt"]
+seeds = 2
+[limits]
+iterations = 100
+"#;
+
+#[test]
+fn experiment_values_that_crashed_are_refused_even_in_a_dry_run() {
+    let d = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            EXPERIMENT.replace("seeds = 2", "seeds = 9223372036854775807"),
+            "seeds",
+        ),
+        (
+            EXPERIMENT.replace("seeds = 2", "seeds = 100000000000"),
+            "seeds",
+        ),
+        (EXPERIMENT.replace("seeds = 2", "seeds = 1e11"), "seeds"),
+        (
+            EXPERIMENT.replace("iterations = 100", "time = 1e20"),
+            "limits.time",
+        ),
+        (EXPERIMENT.replace("name = \"x\"", "name = \"..\""), "name"),
+        (EXPERIMENT.replace("name = \"x\"", "name = \".\""), "name"),
+        (
+            EXPERIMENT.replace("name = \"x\"", &format!("name = \"{}\"", "a".repeat(300))),
+            "name",
+        ),
+    ];
+    for (text, field) in cases {
+        let f = write(d.path(), "e.toml", &text);
+        let f = f.to_str().unwrap();
+        let out = d.path().join("out");
+        let out = out.to_str().unwrap();
+        refused(&["bench", f, "--dry-run"], &[f, field]);
+        refused(&["bench", f, "--out", out, "--quiet"], &[f, field]);
+    }
+    assert!(
+        !d.path().join("..").join("runs.csv").exists(),
+        "results went into the parent folder"
+    );
+}
+
+/// A valid plan for open-field from `magbench plan --out`.
+fn plan_file(dir: &Path) -> serde_json::Value {
+    let out = dir.join("p");
+    let (code, _, stderr) = magbench(&[
+        "plan",
+        "open-field",
+        "--planner",
+        "goal-zoom-rrt",
+        "--max-iters",
+        "3000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    serde_json::from_str(&std::fs::read_to_string(out.join("plan.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn plan_files_are_validated_before_tracking() {
+    let d = tempfile::tempdir().unwrap();
+    let plan = plan_file(d.path());
+    let track = |p: &serde_json::Value, parts: &[&str]| {
+        let f = write(d.path(), "bad.json", &p.to_string());
+        let f = f.to_str().unwrap();
+        let mut want = vec![f];
+        want.extend_from_slice(parts);
+        refused(
+            &["track", "open-field", "--tracker", "obc", "--plan", f],
+            &want,
+        );
+    };
+    let mut long = plan.clone();
+    long["durations"][3] = serde_json::json!(1e10);
+    track(&long, &["durations", "3600"]);
+    let mut far = plan.clone();
+    far["states"][5][1][0] = serde_json::json!(1e20);
+    track(&far, &["states[5][1]", "outside the world"]);
+    let mut alpha = plan.clone();
+    alpha["controls"][2]["alpha"] = serde_json::json!(1e19);
+    track(&alpha, &["controls[2]"]);
+    let mut grad = plan.clone();
+    grad["controls"][4]["grad"][0] = serde_json::json!(5.0);
+    track(&grad, &["controls[4]"]);
+    let mut replay = plan.clone();
+    replay["states"][7][0][1] =
+        serde_json::json!(replay["states"][7][0][1].as_f64().unwrap() + 0.01);
+    track(&replay, &["states[7]", "replay"]);
+    // the unchanged plan tracks
+    let f = write(d.path(), "good.json", &plan.to_string());
+    let (code, _, stderr) = magbench(&[
+        "track",
+        "open-field",
+        "--tracker",
+        "open-loop",
+        "--preset",
+        "ideal",
+        "--plan",
+        f.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+}
+
+#[test]
+fn stlc_refuses_unphysical_separations_and_survives_a_closed_pipe() {
+    for r in ["1e308", "1", "0.5", "NaN", "1000"] {
+        refused(&["stlc", "--r", r], &["--r", "separation"]);
+    }
+    for args in [
+        vec!["stlc", "--step", "0.005"], // 2.5 MB: far more than a pipe holds
+        vec!["scenario", "list"],
+        vec!["plan", "--list"],
+    ] {
+        // `| head -1`: read one line and close the pipe
+        let mut child = Command::new(BIN)
+            .args(&args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut first)
+            .unwrap();
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(out.status.success(), "{args:?}: {:?} {stderr}", out.status);
+    }
+}
+
+#[test]
+fn output_folders_that_cannot_be_written_are_named() {
+    let d = tempfile::tempdir().unwrap();
+    let file = write(d.path(), "a-file", "x");
+    let under = file.join("sub");
+    let exp = write(d.path(), "e.toml", EXPERIMENT);
+    let exp = exp.to_str().unwrap();
+    let mut cases = vec![(file.clone(), "is a file"), (under.clone(), "is a file")];
+    if cfg!(target_os = "linux") {
+        // read-only even for root
+        cases.push((PathBuf::from("/proc/magbench-out"), "cannot create"));
+    }
+    for (out, why) in cases {
+        let out_s = out.to_str().unwrap();
+        for args in [
+            vec![
+                "plan",
+                "open-field",
+                "--planner",
+                "sst",
+                "--max-iters",
+                "10",
+                "--out",
+                out_s,
+            ],
+            vec![
+                "track",
+                "open-field",
+                "--tracker",
+                "obc",
+                "--max-iters",
+                "10",
+                "--out",
+                out_s,
+            ],
+            vec!["bench", exp, "--out", out_s, "--quiet"],
+        ] {
+            refused(&args, &["--out", out_s, why]);
+        }
+    }
+}

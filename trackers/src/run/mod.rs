@@ -1,0 +1,518 @@
+//! The tracking loop: one loop for every rig, every tracker and every scenario.
+//!
+//! It reads like the seed's Fig. 3A: the **planner** makes a plan (the first one, one per new
+//! leg, and one when the tracking error persists); the **tracker**, whose model-based command
+//! is the proximity controller, turns the estimate into one coil command per camera frame;
+//! the **rig** applies it; the camera's frame comes back as **visual feedback**.
+//!
+//! Per control tick: visual feedback ([`feedback`]: observe, estimate) →
+//! score the tick ([`recorder`]) and detect contact ([`contact`]) → the goal, time and replan
+//! rules ([`course`], [`replanner`]) → the tracker's command → send it. The rig is stopped
+//! (zero field) on every exit path: a normal end, a fault, a cancel and a panic (a guard stops
+//! it while unwinding).
+//!
+//! Replanning uses a [`Planner`]: at the start of every leg after the first, from the current
+//! estimate and against that leg's obstacles (`Problem::from_scenario(scenario, leg,
+//! Some(start), seed)`), and when the tracking error (of the estimate) stays above
+//! `replan_error` for longer than `replan_after`.
+
+pub mod contact;
+pub mod course;
+pub mod feedback;
+pub mod recorder;
+pub mod replanner;
+pub mod tick;
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use magbench_env::plant::DisturbancePreset;
+use magbench_env::{Control, Goal, PlanningModel, Scenario};
+use magbench_planners::{Limits, Plan, Planner};
+
+use self::contact::ContactDetector;
+use self::course::{Course, GoalHold};
+use self::feedback::Feedback;
+use self::recorder::{Recorder, RunEnd};
+use self::replanner::Replanner;
+use self::tick::TickContext;
+use crate::log::{PlanReason, PlanRecord, TickRecord};
+use crate::metrics::{AgentError, RunStatus, TrackMetrics};
+use crate::reference::Reference;
+use crate::rig::{Rig, RigError};
+use crate::sim_rig::SimRig;
+use crate::tracker::{Tick, Tracker, TrackerContext};
+
+/// Settings of the loop (not of a tracker); set by `--param` like tracker parameters.
+#[derive(Debug, Clone)]
+pub struct LoopOptions {
+    /// Tracking error (BL, largest agent distance from its path, of the estimate) that counts
+    /// as persistent when it lasts `replan_after` seconds.
+    pub replan_error: f64,
+    /// Seconds the error must stay above `replan_error` before a replan; 0 disables.
+    pub replan_after: f64,
+    /// Most replans for a persistent error per run.
+    pub max_replans: usize,
+    /// Time limit per plan: `time_factor` × its duration + `time_slack` seconds.
+    pub time_factor: f64,
+    /// See `time_factor` (s).
+    pub time_slack: f64,
+    /// Seconds the team must stay in the goal region to complete a leg.
+    pub hold: f64,
+    /// The estimate must be this far inside the goal tolerance (BL).
+    pub goal_margin: f64,
+    /// How much a measurement moves the estimator's prior (1 = take it as it is).
+    pub obs_weight: f64,
+    /// Keep the per-tick log.
+    pub record_ticks: bool,
+    /// Set to end the run (Ctrl-C).
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+impl Default for LoopOptions {
+    fn default() -> Self {
+        LoopOptions {
+            replan_error: 1.0,
+            replan_after: 2.0,
+            max_replans: 5,
+            time_factor: 3.0,
+            time_slack: 20.0,
+            hold: 0.5,
+            goal_margin: 0.05,
+            obs_weight: 1.0,
+            record_ticks: true,
+            cancel: None,
+        }
+    }
+}
+
+/// What to do: the scenario, its first plan (or a planner to make it), and the planner for
+/// replans.
+pub struct Mission<'a> {
+    /// The scenario (legs, goals, maps, physics).
+    pub scenario: &'a Scenario,
+    /// The first leg's plan, if it is already made.
+    pub plan: Option<Plan>,
+    /// Wall time that first plan took (s), for the metrics.
+    pub plan_time_s: f64,
+    /// Whether that first plan was an exact solution.
+    pub plan_solved: bool,
+    /// The planner for the first plan (when `plan` is `None`), new legs and replans.
+    pub planner: Option<&'a mut dyn Planner>,
+    /// Limits of every planning call (the problem's defaults if `None`).
+    pub limits: Option<Limits>,
+    /// Seed of the run; replans use seeds derived from it.
+    pub seed: u64,
+}
+
+impl<'a> Mission<'a> {
+    /// A mission that tracks `plan` with no replanning.
+    pub fn with_plan(scenario: &'a Scenario, plan: Plan) -> Self {
+        Mission {
+            scenario,
+            plan: Some(plan),
+            plan_time_s: 0.0,
+            plan_solved: true,
+            planner: None,
+            limits: None,
+            seed: 0,
+        }
+    }
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct TrackOutcome {
+    /// The run's metrics.
+    pub metrics: TrackMetrics,
+    /// Per-agent tracking error.
+    pub per_agent: Vec<AgentError>,
+    /// The plans tracked, in order.
+    pub plans: Vec<PlanRecord>,
+    /// The per-tick log (empty unless `record_ticks`).
+    pub ticks: Vec<TickRecord>,
+    /// A message for an abnormal end (a rig fault, a planning failure).
+    pub message: Option<String>,
+}
+
+/// The reference the loop tracks for `plan`: the plan resampled at every integration step and,
+/// when the plan ends inside `goal` (anywhere within the tolerance of the goal centres), a
+/// settle segment from its end to the goal centres at half the largest pull speed, so that
+/// closed-loop trackers finish by holding the team at the centres.
+pub fn reference_for(plan: &Plan, model: &PlanningModel, goal: &Goal) -> Reference {
+    let r = Reference::from_plan(plan, model);
+    if goal.contains(r.end()) && goal.agents.len() == r.agents() {
+        let speed = 0.5 * model.kinematics.pull_coeff * model.coil.gradient_limit();
+        r.with_settle(&goal.agents, speed, model.dt)
+    } else {
+        r
+    }
+}
+
+/// Stops the rig when dropped (also while unwinding from a panic).
+struct StopGuard<'r> {
+    rig: &'r mut dyn Rig,
+}
+
+impl Drop for StopGuard<'_> {
+    fn drop(&mut self) {
+        let _ = self.rig.stop();
+    }
+}
+
+/// Simulates a run: a [`SimRig`] of `scenario` under `preset` with `seed`, then [`track`].
+pub fn simulate(
+    mission: Mission,
+    tracker: &mut dyn Tracker,
+    preset: &DisturbancePreset,
+    opts: &LoopOptions,
+) -> TrackOutcome {
+    let mut rig = SimRig::new(mission.scenario, preset, mission.seed);
+    track(&mut rig, tracker, mission, opts)
+}
+
+/// Runs `tracker` on `rig` until the final goal, a failure, the time limit or a cancel; the
+/// rig is stopped on every exit path.
+pub fn track(
+    rig: &mut dyn Rig,
+    tracker: &mut dyn Tracker,
+    mission: Mission,
+    opts: &LoopOptions,
+) -> TrackOutcome {
+    let guard = StopGuard { rig };
+    let mut run = Run::new(mission, opts, &*guard.rig);
+    while run.status.is_none() {
+        run.tick(&mut *guard.rig, tracker);
+    }
+    if let Err(e) = guard.rig.stop() {
+        run.rec.note(format!("stopping the rig failed: {e}"));
+    }
+    drop(guard);
+    run.finish()
+}
+
+/// The plan being followed: its reference and the rig time it started.
+struct Following {
+    reference: Reference,
+    start: f64,
+}
+
+/// The first plan, made before the loop.
+struct FirstPlan {
+    plan: Plan,
+    solved: bool,
+    time_s: f64,
+}
+
+/// One run: the planner side ([`Replanner`], the [`Course`] of legs, the plan followed), the
+/// feedback side ([`Feedback`], [`ContactDetector`]) and the [`Recorder`].
+struct Run<'a> {
+    opts: LoopOptions,
+    model: PlanningModel,
+    course: Course<'a>,
+    first_plan: Option<FirstPlan>,
+    replanner: Replanner<'a>,
+    following: Option<Following>,
+    feedback: Feedback,
+    contacts: ContactDetector,
+    rec: Recorder,
+    status: Option<RunStatus>,
+}
+
+impl<'a> Run<'a> {
+    fn new(mission: Mission<'a>, opts: &LoopOptions, rig: &dyn Rig) -> Self {
+        let s = mission.scenario;
+        let model = PlanningModel::new(&s.physics);
+        Run {
+            course: Course::new(s, opts.hold, opts.goal_margin),
+            first_plan: mission.plan.map(|plan| FirstPlan {
+                plan,
+                solved: mission.plan_solved,
+                time_s: mission.plan_time_s,
+            }),
+            replanner: Replanner::new(
+                mission.planner,
+                mission.limits,
+                mission.seed,
+                (opts.replan_error, opts.replan_after, opts.max_replans),
+            ),
+            following: None,
+            feedback: Feedback::new(
+                &model,
+                rig.frame_period(),
+                rig.latency(),
+                opts.obs_weight,
+                &s.start,
+            ),
+            contacts: ContactDetector::new(s.agents()),
+            rec: Recorder::new(&s.start, mission.plan_time_s, opts.record_ticks),
+            status: None,
+            model,
+            opts: opts.clone(),
+        }
+    }
+
+    /// Ends the run (the first reason given stands).
+    fn end(&mut self, status: RunStatus) {
+        self.status.get_or_insert(status);
+    }
+
+    /// A fatal fault: noted, and the run ends.
+    fn fail(&mut self, message: String, status: RunStatus) {
+        self.rec.note(message);
+        self.end(status);
+    }
+
+    fn cancelled(&self) -> bool {
+        self.opts
+            .cancel
+            .as_ref()
+            .is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+
+    /// One control tick: visual feedback → planner → tracker → rig.
+    fn tick(&mut self, rig: &mut dyn Rig, tracker: &mut dyn Tracker) {
+        if self.cancelled() {
+            return self.end(RunStatus::Cancelled);
+        }
+        // visual feedback: the frame, through the estimator
+        let tick = match self.feedback.sense(rig, &mut self.rec) {
+            Ok(t) => t,
+            Err(m) => return self.fail(m, RunStatus::RigFault),
+        };
+        // the planner's first plan, before the first command
+        if self.following.is_none() && !self.start_following(&tick, tracker) {
+            return;
+        }
+        let following = self.following.as_ref().expect("a plan is followed");
+        let errors = self.rec.score(&tick, &following.reference);
+        self.contacts.update(
+            tick.truth.as_ref(),
+            &tick.observation,
+            self.course.checker(),
+        );
+        // the goal, time and replan rules, then the tracker's command
+        let (in_goal, command) = self.decide(&tick, rig, tracker);
+        if let Some(u) = &command {
+            match rig.command(u) {
+                Ok(()) => {}
+                Err(RigError::Recoverable(_)) => self.rec.rig_fault(),
+                Err(e) => self.fail(e.to_string(), RunStatus::RigFault),
+            }
+            self.feedback.command_sent(u);
+        }
+        let reference = self.following.as_ref().map(|f| &f.reference);
+        self.rec.tick(
+            &tick,
+            self.course.leg(),
+            reference,
+            tracker.status(),
+            errors,
+            command,
+            in_goal,
+        );
+    }
+
+    /// The tick's command, or `None` when the run ends at this tick; and whether the team is
+    /// in the goal.
+    fn decide(
+        &mut self,
+        tick: &TickContext,
+        rig: &mut dyn Rig,
+        tracker: &mut dyn Tracker,
+    ) -> (bool, Option<Control>) {
+        if self.contacts.agent_contact() {
+            self.end(RunStatus::AgentContact);
+            return (false, None);
+        }
+        let hold = self.course.hold(&tick.estimate, tick.now);
+        if hold == GoalHold::Held {
+            self.complete_leg(tick, rig, tracker);
+        }
+        let in_goal = hold != GoalHold::Outside;
+        if self.status.is_some() {
+            return (in_goal, None);
+        }
+        let following = self.following.as_ref().expect("a plan is followed");
+        let limit = self.opts.time_factor * following.reference.duration() + self.opts.time_slack;
+        if tick.now - following.start > limit {
+            self.end(RunStatus::Timeout);
+            return (in_goal, None);
+        }
+        self.error_replan(tick, tracker);
+        let mut u = self.command(tracker, tick);
+        if tracker.finished() {
+            // an open-loop plan played to its end: the leg is done if the team is in the goal
+            if self.course.goal().contains(&tick.estimate) {
+                self.complete_leg(tick, rig, tracker);
+            }
+            if self.status.is_some() || tracker.finished() {
+                self.end(RunStatus::PlanFinished);
+                return (in_goal, None);
+            }
+            u = self.command(tracker, tick);
+        }
+        (in_goal, Some(u))
+    }
+
+    /// The reference being followed.
+    fn reference(&self) -> &Reference {
+        &self
+            .following
+            .as_ref()
+            .expect("a plan is followed")
+            .reference
+    }
+
+    /// What the tracker may use now.
+    fn tracker_context<'r>(&'r self, reference: &'r Reference) -> TrackerContext<'r> {
+        TrackerContext {
+            reference,
+            model: &self.model,
+            checker: self.course.checker(),
+            period: self.feedback.period(),
+            goal: self.course.goal(),
+        }
+    }
+
+    /// The tracker's command for this tick (timed).
+    fn command(&mut self, tracker: &mut dyn Tracker, tick: &TickContext) -> Control {
+        let following = self.following.as_ref().expect("a plan is followed");
+        let ctx = self.tracker_context(&following.reference);
+        let started = Instant::now();
+        let u = tracker.command(
+            &ctx,
+            &Tick {
+                t: tick.now - following.start,
+                estimate: &tick.estimate,
+                observation: &tick.observation,
+            },
+        );
+        self.rec.tracker_compute(started.elapsed().as_secs_f64());
+        u
+    }
+
+    /// Follows the mission's first plan, or plans leg 0 from the first estimate; false (the
+    /// run ended) when there is no plan.
+    fn start_following(&mut self, tick: &TickContext, tracker: &mut dyn Tracker) -> bool {
+        match self.first_plan.take() {
+            Some(p) => {
+                self.adopt(
+                    p.plan,
+                    PlanReason::Initial,
+                    p.solved,
+                    p.time_s,
+                    tick,
+                    tracker,
+                );
+                true
+            }
+            None => {
+                let ok = self.replan(tick, PlanReason::Initial, tracker);
+                if !ok {
+                    self.end(RunStatus::PlanningFailed);
+                }
+                ok
+            }
+        }
+    }
+
+    /// Starts following `plan`.
+    fn adopt(
+        &mut self,
+        plan: Plan,
+        reason: PlanReason,
+        solved: bool,
+        time: f64,
+        tick: &TickContext,
+        tracker: &mut dyn Tracker,
+    ) {
+        let reference = reference_for(&plan, &self.model, self.course.goal());
+        tracker.reset(&self.tracker_context(&reference));
+        self.following = Some(Following {
+            reference,
+            start: tick.now,
+        });
+        self.replanner.plan_adopted();
+        self.rec.plan(PlanRecord {
+            leg: self.course.leg(),
+            start_t: tick.elapsed(),
+            reason,
+            solved,
+            planning_time_s: time,
+            plan,
+        });
+    }
+
+    /// Plans the current leg from the estimate; false when no usable plan came back.
+    fn replan(
+        &mut self,
+        tick: &TickContext,
+        reason: PlanReason,
+        tracker: &mut dyn Tracker,
+    ) -> bool {
+        let result = self.replanner.plan(
+            self.course.scenario(),
+            self.course.leg(),
+            self.course.checker(),
+            &tick.estimate,
+            self.rec.plans(),
+            reason,
+            &mut self.rec,
+        );
+        match result {
+            Some(r) => {
+                self.adopt(r.plan, reason, r.solved, r.time_s, tick, tracker);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The current leg is done: ends the run after the last leg, else switches the map and
+    /// plans the next leg from the estimate.
+    fn complete_leg(&mut self, tick: &TickContext, rig: &mut dyn Rig, tracker: &mut dyn Tracker) {
+        let Some(world) = self.course.complete(tick.elapsed()) else {
+            return self.end(RunStatus::ReachedGoal);
+        };
+        match rig.set_world(&world) {
+            Ok(()) => {}
+            Err(RigError::Recoverable(_)) => self.rec.rig_fault(),
+            Err(e) => return self.fail(e.to_string(), RunStatus::RigFault),
+        }
+        if !self.replan(tick, PlanReason::Leg, tracker) {
+            self.end(RunStatus::PlanningFailed);
+        }
+    }
+
+    /// Replans when the estimate has stayed far from the path for too long.
+    fn error_replan(&mut self, tick: &TickContext, tracker: &mut dyn Tracker) {
+        if !self.replanner.watches_error() {
+            return;
+        }
+        let reference = self.reference();
+        let e = (0..tick.estimate.len())
+            .map(|i| reference.distance_to_path(i, tick.estimate[i]))
+            .fold(0.0, f64::max);
+        if self.replanner.error_calls_for_replan(e, tick.now)
+            && !self.replan(tick, PlanReason::Error, tracker)
+        {
+            self.replanner.error_replan_failed();
+        }
+    }
+
+    fn finish(self) -> TrackOutcome {
+        let sc = self.course.scenario();
+        self.rec.finish(RunEnd {
+            status: self.status.unwrap_or(RunStatus::Timeout),
+            goal: sc.final_goal(),
+            legs: self.course.legs(),
+            time_to_goal: self.course.time_to_goal(),
+            duration: self.feedback.duration(),
+            agent_contact: self.contacts.agent_contact(),
+            wall_contacts: self.contacts.wall_contacts(),
+            error_replans: self.replanner.error_replans(),
+        })
+    }
+}

@@ -1,0 +1,144 @@
+//! The replanner: a new plan from the current estimate, at the start of every leg after the
+//! first and when the tracking error stays high, with the mission's planner.
+
+use std::time::Instant;
+
+use magbench_env::{Scenario, ValidityChecker, Vec2};
+use magbench_planners::{Limits, Planner, PlannerResult, Problem};
+
+use super::recorder::Recorder;
+use crate::log::PlanReason;
+
+/// Seeds of successive plans of a run: the run's seed plus the plan's index times the 64-bit
+/// golden ratio, so that every replan draws a fresh, reproducible random stream.
+const SEED_STEP: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// Plans the current leg on demand, and watches for a persistent tracking error.
+pub struct Replanner<'a> {
+    planner: Option<&'a mut dyn Planner>,
+    limits: Option<Limits>,
+    seed: u64,
+    replan_error: f64,
+    replan_after: f64,
+    max_replans: usize,
+    error_high_since: Option<f64>,
+    error_replans: usize,
+}
+
+impl<'a> Replanner<'a> {
+    /// A replanner with `planner` (none: every replan fails with a note), the limits of every
+    /// planning call (the problem's defaults if `None`) and the run's `seed`. A replan for the
+    /// error comes when the error stays above `replan_error` BL for `replan_after` s (0: never),
+    /// at most `max_replans` times.
+    pub fn new(
+        planner: Option<&'a mut dyn Planner>,
+        limits: Option<Limits>,
+        seed: u64,
+        (replan_error, replan_after, max_replans): (f64, f64, usize),
+    ) -> Self {
+        Self {
+            planner,
+            limits,
+            seed,
+            replan_error,
+            replan_after,
+            max_replans,
+            error_high_since: None,
+            error_replans: 0,
+        }
+    }
+
+    /// A new plan is being followed: the error watch starts over.
+    pub fn plan_adopted(&mut self) {
+        self.error_high_since = None;
+    }
+
+    /// Folds in this tick's tracking error `e` (BL, largest agent distance from its path, of
+    /// the estimate) at rig time `now`; true when it calls for a replan now (and counts it).
+    pub fn error_calls_for_replan(&mut self, e: f64, now: f64) -> bool {
+        if e <= self.replan_error {
+            self.error_high_since = None;
+            return false;
+        }
+        let since = *self.error_high_since.get_or_insert(now);
+        if now - since >= self.replan_after && self.error_replans < self.max_replans {
+            self.error_replans += 1;
+            return true;
+        }
+        false
+    }
+
+    /// An error replan failed: the error watch starts over.
+    pub fn error_replan_failed(&mut self) {
+        self.error_high_since = None;
+    }
+
+    /// Watches the tracking error at all (a planner, and a positive `replan_after`).
+    pub fn watches_error(&self) -> bool {
+        self.replan_after > 0.0 && self.planner.is_some()
+    }
+
+    /// Plans leg `leg` of `scenario` from `x` (agents pushed out of any wall first) as the
+    /// `k`-th plan of the run. The planning time goes to `rec`; a missing planner or an
+    /// unusable result is noted there and gives `None`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn plan(
+        &mut self,
+        scenario: &Scenario,
+        leg: usize,
+        checker: &ValidityChecker,
+        x: &[Vec2],
+        k: usize,
+        reason: PlanReason,
+        rec: &mut Recorder,
+    ) -> Option<PlannerResult> {
+        let Some(planner) = self.planner.as_deref_mut() else {
+            rec.note(format!(
+                "a {} plan was needed but there is no planner",
+                reason_name(reason)
+            ));
+            return None;
+        };
+        let mut start = x.to_vec();
+        for p in &mut start {
+            if let Some(q) = checker.collision.push_out(*p) {
+                *p = q;
+            }
+        }
+        let seed = self.seed.wrapping_add((k as u64).wrapping_mul(SEED_STEP));
+        let mut problem = Problem::from_scenario(scenario, leg, Some(&start), seed);
+        if let Some(l) = self.limits {
+            problem.limits = l;
+        }
+        let started = Instant::now();
+        let result = planner.solve(&problem);
+        rec.planning(started.elapsed().as_secs_f64());
+        if !usable(&result) {
+            rec.note(format!(
+                "{} planning for leg {} found no plan",
+                reason_name(reason),
+                leg + 1
+            ));
+            return None;
+        }
+        Some(result)
+    }
+
+    /// Error replans started so far.
+    pub fn error_replans(&self) -> usize {
+        self.error_replans
+    }
+}
+
+/// A result the loop can follow: a plan with at least one edge, exact or approximate.
+pub fn usable(r: &PlannerResult) -> bool {
+    (r.solved || r.approximate) && r.plan.edges() > 0
+}
+
+fn reason_name(r: PlanReason) -> &'static str {
+    match r {
+        PlanReason::Initial => "initial",
+        PlanReason::Leg => "new-leg",
+        PlanReason::Error => "error",
+    }
+}
