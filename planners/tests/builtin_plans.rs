@@ -10,12 +10,7 @@ use magbench_planners::{Limits, Problem, registry, validate_plan};
 
 #[test]
 fn every_plan_of_the_built_in_scenarios_passes_the_validator() {
-    let planners = [
-        "goal-zoom-rrt",
-        "rrt-star",
-        "informed-rrt-star",
-        "sst",
-    ];
+    let planners = ["goal-zoom-rrt", "rrt-star", "informed-rrt-star", "sst"];
     let mut plans = 0;
     for name in builtin_names() {
         let s = Scenario::load(name).unwrap();
@@ -34,7 +29,10 @@ fn every_plan_of_the_built_in_scenarios_passes_the_validator() {
                         time_limit: None,
                     };
                     let r = registry::create(planner, &params).unwrap().solve(&p);
-                    assert!(r.solved, "{name} leg {leg}, {planner}, seed {seed}: not solved");
+                    assert!(
+                        r.solved,
+                        "{name} leg {leg}, {planner}, seed {seed}: not solved"
+                    );
                     validate_plan(&p, &r.plan)
                         .unwrap_or_else(|e| panic!("{name} leg {leg}, {planner}: {e}"));
                     assert_solution(&p, &r);

@@ -135,7 +135,12 @@ impl Reference {
                         max = max.sup(&c.add_scalar(*r));
                     }
                     let c = (min + max) * 0.5;
-                    (c, g.iter().map(|(d, r)| (d - c).norm() + r).fold(0.0, f64::max))
+                    (
+                        c,
+                        g.iter()
+                            .map(|(d, r)| (d - c).norm() + r)
+                            .fold(0.0, f64::max),
+                    )
                 })
                 .collect();
             self.chunks[i] = v;

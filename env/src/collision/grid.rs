@@ -113,14 +113,17 @@ mod tests {
         };
         for k in 0..400 {
             let p = Vec2::new(0.03 * k as f64 % 10.0, 0.017 * k as f64 % 5.0);
-            let b = g.lower_bound(p, &counted).unwrap();
+            let b = g.lower_bound(p, counted).unwrap();
             assert!(b <= exact(p) + 1e-12, "{p:?}: {b} > {}", exact(p));
-            assert!(b >= exact(p) - SPACING * 2f64.sqrt(), "{p:?}: {b} too loose");
+            assert!(
+                b >= exact(p) - SPACING * 2f64.sqrt(),
+                "{p:?}: {b} too loose"
+            );
         }
         let first = calls.get();
         for k in 0..400 {
             let p = Vec2::new(0.03 * k as f64 % 10.0, 0.017 * k as f64 % 5.0);
-            g.lower_bound(p, &counted).unwrap();
+            g.lower_bound(p, counted).unwrap();
         }
         assert_eq!(calls.get(), first, "nodes are computed once");
         assert!(g.lower_bound(Vec2::new(-1.0, 1.0), exact).is_none());
