@@ -550,7 +550,12 @@ struct Near {
 /// Wraps an angle to (−π/2, π/2]: field angles that differ by π give the same pair force.
 pub fn wrap_half(a: f64) -> f64 {
     let pi = std::f64::consts::PI;
-    let mut w = a.rem_euclid(pi);
+    // `rem_euclid` is a software fmod; for |a| < π fmod is `a` itself, so skip it (same bits)
+    let mut w = if a.abs() < pi {
+        if a < 0.0 { a + pi } else { a }
+    } else {
+        a.rem_euclid(pi)
+    };
     if w > 0.5 * pi {
         w -= pi;
     }
@@ -560,6 +565,32 @@ pub fn wrap_half(a: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wrap_half_is_the_euclidean_remainder_bit_for_bit() {
+        let pi = std::f64::consts::PI;
+        let slow = |a: f64| {
+            let w = a.rem_euclid(pi);
+            if w > 0.5 * pi { w - pi } else { w }
+        };
+        let mut a = -12.0f64;
+        while a < 12.0 {
+            for x in [
+                a,
+                a.next_up(),
+                -a,
+                pi,
+                -pi,
+                pi.next_down(),
+                (-pi).next_up(),
+                0.0,
+                -0.0,
+            ] {
+                assert_eq!(wrap_half(x).to_bits(), slow(x).to_bits(), "{x}");
+            }
+            a += 0.0137;
+        }
+    }
     use magbench_env::physics::LocalView;
     use magbench_env::{PhysicalParams, Scenario};
     use std::sync::Arc;
