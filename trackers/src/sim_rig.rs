@@ -134,6 +134,7 @@ impl Rig for SimRig {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::FRAC_PI_2;
 
     fn world() -> World {
         World {
@@ -185,5 +186,38 @@ mod tests {
             assert_eq!(a.unwrap(), *b);
         }
         assert_ne!(truth[0], start[0], "the plant moved under the command");
+    }
+
+    #[test]
+    fn hardware_rig_tells_the_nominal_latency() {
+        let start = [Vec2::new(10.0, 10.0), Vec2::new(12.5, 10.0)];
+        let rig = SimRig::from_parts(
+            &PhysicalParams::default(),
+            &world(),
+            &DisturbancePreset::hardware(),
+            4,
+            &start,
+        );
+        assert!((rig.latency() - 2.0 * rig.frame_period()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_map_is_centred_in_the_coil() {
+        let mut preset = DisturbancePreset::ideal();
+        preset.nonuniform_field.enabled = true;
+        // agent 0 at the map's centre, agent 1 5 BL to its right
+        let start = [Vec2::new(15.0, 10.0), Vec2::new(20.0, 10.0)];
+        let p = PhysicalParams::default();
+        let mut rig = SimRig::from_parts(&p, &world(), &preset, 4, &start);
+        rig.observe().unwrap();
+        rig.command(&Control::planar(FRAC_PI_2, p.gradient_limit(), 0.0))
+            .unwrap();
+        rig.observe().unwrap();
+        let b = rig.plant().fields().unwrap();
+        let angle = |v: &magbench_env::Vec3| v.y.atan2(v.x);
+        assert!((angle(&b[0]) - FRAC_PI_2).abs() < 1e-4, "{}", angle(&b[0]));
+        // 2.5 mm × 85 mT/m = 0.21 mT across 5 mT: bent by 2.4°
+        let bend = (FRAC_PI_2 - angle(&b[1])).to_degrees();
+        assert!((bend - 2.43).abs() < 0.02, "{bend}°");
     }
 }

@@ -50,8 +50,8 @@ impl CapillaryLaw {
         let gamma = iface.surface_tension_mn_per_m * 1e-3;
         let scale = (q / (2.0 * std::f64::consts::PI * gamma) / (p.drag() * p.bl_m())).sqrt();
         let mut charge = [0.0; MAX_AGENTS];
-        for i in 0..n {
-            charge[i] = iface.net_vertical_force(p, f.contact_angle[i]) * scale;
+        for (c, a) in charge.iter_mut().zip(&f.contact_angle[..n]) {
+            *c = iface.net_vertical_force(p, *a) * scale;
         }
         Self {
             charge,

@@ -151,8 +151,8 @@ impl Dynamics {
     ) -> ([Vec3; MAX_AGENTS], Matrix3<f64>) {
         let (b, g) = self.field.realise(c);
         let mut out = [Vec3::zeros(); MAX_AGENTS];
-        for i in 0..self.n {
-            out[i] = self.field.at(&b, &g, centre, s.p[i]);
+        for (o, p) in out.iter_mut().zip(&s.p[..self.n]) {
+            *o = self.field.at(&b, &g, centre, *p);
         }
         (out, g)
     }
@@ -195,9 +195,9 @@ impl Dynamics {
         for i in 0..n {
             let mut v = force[i] * f.mobility[i] + self.flow.at(s.p[i], t);
             if self.hydrodynamics {
-                for j in 0..n {
+                for (j, (pj, fj)) in s.p[..n].iter().zip(&force[..n]).enumerate() {
                     if j != i {
-                        v += rotne_prager(s.p[i] - s.p[j], force[j]);
+                        v += rotne_prager(s.p[i] - pj, *fj);
                     }
                 }
             }
@@ -253,9 +253,9 @@ impl Dynamics {
     /// Sets every moment along the field its agent feels (a settled start).
     pub fn align_moments(&self, s: &mut State, c: &CoilOutput, centre: Vec2) {
         let (b, _) = self.fields(c, centre, s);
-        for i in 0..self.n {
-            if let Some(u) = b[i].try_normalize(0.0) {
-                s.m[i] = u;
+        for (m, bi) in s.m[..self.n].iter_mut().zip(&b) {
+            if let Some(u) = bi.try_normalize(0.0) {
+                *m = u;
             }
         }
     }
@@ -264,15 +264,15 @@ impl Dynamics {
     /// unstable equilibrium that any perturbation leaves; it is turned by 1 µrad about z.
     fn renormalise(&self, s: &mut State, c: &CoilOutput, centre: Vec2) {
         let (b, _) = self.fields(c, centre, s);
-        for i in 0..self.n {
-            let mut m = s.m[i].try_normalize(0.0).unwrap_or(Vec3::x());
-            if let Some(bh) = b[i].try_normalize(0.0)
+        for (mi, bi) in s.m[..self.n].iter_mut().zip(&b) {
+            let mut m = mi.try_normalize(0.0).unwrap_or(Vec3::x());
+            if let Some(bh) = bi.try_normalize(0.0)
                 && m.dot(&bh) < -1.0 + 1e-12
             {
                 let (sn, cs) = 1e-6f64.sin_cos();
                 m = Vec3::new(cs * m.x - sn * m.y, sn * m.x + cs * m.y, m.z);
             }
-            s.m[i] = m;
+            *mi = m;
         }
     }
 }
