@@ -37,11 +37,15 @@ fn bench(c: &mut Criterion) {
                 // every half second, while the gradient pulls; start over every 10 s or when
                 // the pair sticks (a stuck plant does no work)
                 k += 1;
-                if k % 600 == 0 || plant.stuck() {
+                if k.is_multiple_of(600) || plant.stuck() {
                     plant = Plant::new(p, coil.clone(), collision.clone(), &preset, k, &start);
                     plant.set_coil_centre(Vec2::new(s.world.width, s.world.height) * 0.5);
                 }
-                let side = if (k / 30) % 2 == 0 { 1.0 } else { -1.0 };
+                let side = if (k / 30).is_multiple_of(2) {
+                    1.0
+                } else {
+                    -1.0
+                };
                 let d = plant.positions()[1] - plant.positions()[0];
                 let u = Control::planar(d.y.atan2(d.x) + side * magic, 0.5 * g, -0.3 * g);
                 plant.run(black_box(&u), 1.0 / 60.0);

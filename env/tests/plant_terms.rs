@@ -383,3 +383,36 @@ fn the_hardware_plant_runs_a_micro_factory_minute_without_blowing_up() {
         assert!((m.norm() - 1.0).abs() < 1e-12);
     }
 }
+
+#[test]
+fn extreme_but_valid_presets_run_without_panicking() {
+    use magbench_env::plant::{Camera, Medium};
+    let mut p = DisturbancePreset::hardware();
+    p.coil_lag.field_tau_ms = 1000.0;
+    p.coil_lag.field_slew_mt_per_s = 1e-9;
+    p.nonuniform_field.centre_offset_mm = 100.0;
+    p.ambient_field.field_ut = 10_000.0;
+    p.coil_calibration.axis_gain_error = 0.5;
+    p.coil_calibration.gradient_crosstalk = 0.5;
+    p.heterogeneity.moment_spread = 1.0;
+    p.heterogeneity.drag_spread = 1.0;
+    p.flow.rms_speed_bl_s = 100.0;
+    p.flow.length_bl = 1e-6;
+    if let Medium::Interface(i) = &mut p.medium {
+        i.contact_angle_deg = 170.0;
+        i.contact_angle_spread_deg = 30.0;
+    }
+    p.camera.latency.frames = 100.0;
+    p.camera.latency.jitter_frames = 10.0;
+    p.check().unwrap();
+    for seed in 0..3 {
+        let mut plant = plant(&p, &pair(3.0, 0.2), seed);
+        let mut camera = Camera::new(p.camera.clone(), seed);
+        for k in 0..120 {
+            plant.run(&Control::planar(k as f64 * 0.3, 0.05, -0.05), 1.0 / 60.0);
+            let o = camera.capture(k as f64 / 60.0, plant.positions()).unwrap();
+            assert_eq!(o.agents.len(), 2);
+        }
+        assert!(plant.stuck() || plant.positions().iter().all(|q| q.x.is_finite()));
+    }
+}

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative};
+use super::check::{Rejection, within};
 
 /// The ambient-field term of a preset: a constant in-plane field of this magnitude, in a
 /// direction drawn per run (the rig's orientation to north is arbitrary).
@@ -18,6 +18,12 @@ pub struct AmbientField {
 impl AmbientField {
     /// Checks every value; returns (field, reason).
     pub fn check(&self) -> Result<(), Rejection> {
-        non_negative("ambient_field.field_ut", self.field_ut)
+        within(
+            "ambient_field.field_ut",
+            self.field_ut,
+            0.0,
+            10_000.0,
+            " µT",
+        )
     }
 }

@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative, within};
+use super::check::{Rejection, within};
 
 /// The coil-calibration term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -51,9 +51,12 @@ impl CoilCalibration {
             0.5,
             "",
         )?;
-        non_negative(
+        within(
             "coil_calibration.gradient_crosstalk",
             self.gradient_crosstalk,
+            0.0,
+            0.5,
+            "",
         )
     }
 }

@@ -17,7 +17,7 @@ use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative, positive, probability};
+use super::check::{Rejection, non_negative, positive, probability, within};
 use super::streams::{Stream, normal, stream};
 use crate::math::Vec2;
 
@@ -109,10 +109,7 @@ impl Default for CameraParams {
 impl CameraParams {
     /// Checks every value; returns (field, reason).
     pub fn check(&self) -> Result<(), Rejection> {
-        positive("camera.fps", self.fps)?;
-        if self.fps > 10_000.0 {
-            return Err(("camera.fps", format!("must be ≤ 10000, got {}", self.fps)));
-        }
+        within("camera.fps", self.fps, 1.0, 10_000.0, "")?;
         non_negative("camera.latency.frames", self.latency.frames)?;
         if self.latency.frames > 100.0 {
             return Err((

@@ -9,7 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative};
+use super::check::{Rejection, non_negative, within};
 
 /// The coil-dynamics term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -30,8 +30,20 @@ pub struct CoilLag {
 impl CoilLag {
     /// Checks every value; returns (field, reason).
     pub fn check(&self) -> Result<(), Rejection> {
-        non_negative("coil_lag.field_tau_ms", self.field_tau_ms)?;
-        non_negative("coil_lag.gradient_tau_ms", self.gradient_tau_ms)?;
+        within(
+            "coil_lag.field_tau_ms",
+            self.field_tau_ms,
+            0.0,
+            1000.0,
+            " ms",
+        )?;
+        within(
+            "coil_lag.gradient_tau_ms",
+            self.gradient_tau_ms,
+            0.0,
+            1000.0,
+            " ms",
+        )?;
         non_negative("coil_lag.field_slew_mt_per_s", self.field_slew_mt_per_s)?;
         non_negative(
             "coil_lag.gradient_slew_mt_per_m_per_s",

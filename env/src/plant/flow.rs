@@ -10,7 +10,7 @@
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative, positive};
+use super::check::{Rejection, positive, within};
 use super::streams::{Stream, stream};
 use crate::math::Vec2;
 
@@ -42,14 +42,26 @@ pub struct Flow {
 impl Drift {
     /// Checks every value; returns (field, reason).
     pub fn check(&self) -> Result<(), Rejection> {
-        non_negative("drift.max_speed_bl_s", self.max_speed_bl_s)
+        within(
+            "drift.max_speed_bl_s",
+            self.max_speed_bl_s,
+            0.0,
+            100.0,
+            " BL/s",
+        )
     }
 }
 
 impl Flow {
     /// Checks every value; returns (field, reason).
     pub fn check(&self) -> Result<(), Rejection> {
-        non_negative("flow.rms_speed_bl_s", self.rms_speed_bl_s)?;
+        within(
+            "flow.rms_speed_bl_s",
+            self.rms_speed_bl_s,
+            0.0,
+            100.0,
+            " BL/s",
+        )?;
         positive("flow.length_bl", self.length_bl)?;
         positive("flow.period_s", self.period_s)
     }

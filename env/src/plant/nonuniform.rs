@@ -8,7 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative};
+use super::check::{Rejection, within};
 
 /// The field-non-uniformity term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -24,6 +24,12 @@ pub struct NonuniformField {
 impl NonuniformField {
     /// Checks every value; returns (field, reason).
     pub fn check(&self) -> Result<(), Rejection> {
-        non_negative("nonuniform_field.centre_offset_mm", self.centre_offset_mm)
+        within(
+            "nonuniform_field.centre_offset_mm",
+            self.centre_offset_mm,
+            0.0,
+            100.0,
+            " mm",
+        )
     }
 }
