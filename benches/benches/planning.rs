@@ -71,10 +71,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| rk4.propagate(black_box(&x), &soft, 1.0, &mut out))
     });
     group.bench_function("exact/period", |b| {
-        b.iter(|| {
-            p.model
-                .propagate(black_box(&x), &u, p.control_period, &mut out)
-        })
+        b.iter(|| p.model.propagate(black_box(&x), &u, p.control_period, &mut out))
     });
     group.bench_function("exact/1s", |b| {
         b.iter(|| p.model.propagate(black_box(&x), &soft, 1.0, &mut out))

@@ -2,8 +2,8 @@
 //! teams of three or more, elevated fields and the plant).
 
 use magbench_env::math::wrap_angle;
-use magbench_env::model::Flow;
 use magbench_env::scenario::builtin_names;
+use magbench_env::model::Flow;
 use magbench_env::{Control, PlanningModel, Scenario, Vec2};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -207,10 +207,7 @@ impl Extend {
                 best = (p, d);
             }
         }
-        let (mut a, mut b) = (
-            best.0.saturating_sub(step - 1).max(lo),
-            (best.0 + step - 1).min(hi),
-        );
+        let (mut a, mut b) = (best.0.saturating_sub(step - 1).max(lo), (best.0 + step - 1).min(hi));
         while b - a >= 3 {
             let (m1, m2) = (a + (b - a) / 3, b - (b - a) / 3);
             if dist(m1) <= dist(m2) {

@@ -115,10 +115,7 @@ mod tests {
             let p = Vec2::new(0.03 * k as f64 % 10.0, 0.017 * k as f64 % 5.0);
             let b = g.lower_bound(p, &counted).unwrap();
             assert!(b <= exact(p) + 1e-12, "{p:?}: {b} > {}", exact(p));
-            assert!(
-                b >= exact(p) - SPACING * 2f64.sqrt(),
-                "{p:?}: {b} too loose"
-            );
+            assert!(b >= exact(p) - SPACING * 2f64.sqrt(), "{p:?}: {b} too loose");
         }
         let first = calls.get();
         for k in 0..400 {

@@ -53,7 +53,12 @@ impl Kinematics {
         let (m, mu) = (self.moment[0], self.mobility[0]);
         let kappa = 2.0 * self.force_coeff * m * m * mu;
         let velocity = Vec2::new(act.pull.x, act.pull.y) * (self.pull_coeff * m * mu) + self.flow;
-        PairEdge::new(kappa, velocity, start, Vec2::new(act.b_hat.x, act.b_hat.y))
+        PairEdge::new(
+            kappa,
+            velocity,
+            start,
+            Vec2::new(act.b_hat.x, act.b_hat.y),
+        )
     }
 
     /// Writes the velocity of every agent at positions `p` under `act` into `v`.

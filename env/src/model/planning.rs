@@ -231,13 +231,7 @@ impl PlanningModel {
         let schedules: Vec<_> = durations
             .iter()
             .zip(&exact)
-            .map(|(&d, &e)| {
-                if e {
-                    (0, 0.0)
-                } else {
-                    step_schedule(d, self.dt)
-                }
-            })
+            .map(|(&d, &e)| if e { (0, 0.0) } else { step_schedule(d, self.dt) })
             .collect();
         let most = schedules.iter().map(|s| s.0).max().unwrap_or(0);
         for (e, _) in ends[..k].iter_mut().zip(&exact).filter(|(_, x)| !**x) {

@@ -116,7 +116,8 @@ impl Planner for GoalZoomRrt {
                 let ext = extend.run(problem, &mut rng, tree.state(near), &q_sample[..n]);
                 let (u, periods) = (ext.control, ext.periods);
                 let d = problem.periods(periods);
-                if periods > 0 && propagate_valid(problem, tree.state(near), &u, d, &mut q_new[..n])
+                if periods > 0
+                    && propagate_valid(problem, tree.state(near), &u, d, &mut q_new[..n])
                 {
                     let id = tree.add(near, &q_new[..n], u, periods, 0.0);
                     nn.add(&q_new[..n], id);

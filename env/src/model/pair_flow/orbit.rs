@@ -34,12 +34,7 @@ pub struct Orbit {
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Half {
     /// `ψ̂₀ ≤ π/4`: `ρ⁵ H(ρ² x₀) = h₀ − rate·t`, with `sin ψ̂ = ρ sin ψ̂₀`.
-    Lower {
-        x0: f64,
-        y0: f64,
-        h0: f64,
-        rate: f64,
-    },
+    Lower { x0: f64, y0: f64, h0: f64, rate: f64 },
     /// `ψ̂₀ > π/4`: `μ^{5/2} L(μ² y₀) = l₀ + rate·t`, with `cos ψ̂ = μ cos ψ̂₀`, while
     /// `G(π/2) − G = y₀^{5/4}(l₀ + rate·t)` stays below `G(π/2) − G(π/4)`; then the lower form.
     Upper {

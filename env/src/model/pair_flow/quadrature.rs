@@ -18,14 +18,7 @@ pub(super) fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     halves(&f, [a, m, b], [fa, fm, fb], whole, abs_tol, MAX_DEPTH)
 }
 
-fn halves(
-    f: &impl Fn(f64) -> f64,
-    x: [f64; 3],
-    y: [f64; 3],
-    whole: f64,
-    tol: f64,
-    depth: u32,
-) -> f64 {
+fn halves(f: &impl Fn(f64) -> f64, x: [f64; 3], y: [f64; 3], whole: f64, tol: f64, depth: u32) -> f64 {
     let [a, m, b] = x;
     let [fa, fm, fb] = y;
     let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));

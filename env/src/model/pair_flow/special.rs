@@ -202,22 +202,14 @@ mod tests {
     use super::*;
 
     fn rel(a: f64, b: f64) -> f64 {
-        if b == 0.0 {
-            a.abs()
-        } else {
-            (a - b).abs() / b.abs()
-        }
+        if b == 0.0 { a.abs() } else { (a - b).abs() / b.abs() }
     }
 
     #[test]
     fn g_and_its_complement_match_40_digit_references() {
         for &(psi, g_ref, k_ref) in &G_REFERENCE {
             let (s, c) = psi.sin_cos();
-            assert!(
-                rel(g(s, c), g_ref) < 1e-13,
-                "G({psi}) = {} vs {g_ref}",
-                g(s, c)
-            );
+            assert!(rel(g(s, c), g_ref) < 1e-13, "G({psi}) = {} vs {g_ref}", g(s, c));
             assert!(
                 rel(g_complement(s, c), k_ref) < 1e-12,
                 "G(π/2) − G({psi}) = {} vs {k_ref}",
@@ -290,11 +282,7 @@ mod count_tests {
                 let z = r2 * x0;
                 let w = 1.0 - z;
                 let q = w.sqrt().sqrt();
-                (
-                    r2 * r2 * rho * h(z) - target,
-                    r2 * r2 * q,
-                    r2 * rho * q * (4.0 - 0.5 * z / w),
-                )
+                (r2 * r2 * rho * h(z) - target, r2 * r2 * q, r2 * rho * q * (4.0 - 0.5 * z / w))
             });
             hist[c.get()] += 1;
             let y0 = 0.5 * (1 + k % 100) as f64 / 100.0;
@@ -307,28 +295,11 @@ mod count_tests {
                 let z = mu * mu * y0;
                 let s = mu.sqrt();
                 let w = 1.0 - z;
-                (
-                    mu * mu * s * l(z) - target,
-                    mu * s * w * w.sqrt(),
-                    1.5 * s * w.sqrt() * (1.0 - 3.0 * z),
-                )
+                (mu * mu * s * l(z) - target, mu * s * w * w.sqrt(), 1.5 * s * w.sqrt() * (1.0 - 3.0 * z))
             });
             hist_u[c.get()] += 1;
         }
-        eprintln!(
-            "lower {:?}",
-            hist.iter()
-                .enumerate()
-                .filter(|(_, c)| **c > 0)
-                .collect::<Vec<_>>()
-        );
-        eprintln!(
-            "upper {:?}",
-            hist_u
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| **c > 0)
-                .collect::<Vec<_>>()
-        );
+        eprintln!("lower {:?}", hist.iter().enumerate().filter(|(_, c)| **c > 0).collect::<Vec<_>>());
+        eprintln!("upper {:?}", hist_u.iter().enumerate().filter(|(_, c)| **c > 0).collect::<Vec<_>>());
     }
 }
