@@ -84,13 +84,8 @@ fn with_every_term_off_the_dynamics_are_the_planning_kinematics() {
         k.velocities(&pos, &coil.actuation(&u), &mut v);
         let c = d.field.target(&u, 0.0);
         let r = d.rates(0.0, &c, Vec2::zeros(), &s);
-        for i in 0..3 {
-            assert!(
-                (r.p[i] - v[i]).norm() < 1e-12,
-                "agent {i}: {} vs {}",
-                r.p[i],
-                v[i]
-            );
+        for (i, (a, b)) in r.p.iter().zip(&v).enumerate() {
+            assert!((a - b).norm() < 1e-12, "agent {i}: {a} vs {b}");
         }
     }
     assert!(d.is_exact_pair());
