@@ -12,11 +12,14 @@ use crate::rig::{GroundTruth, Rig, RigError};
 ///
 /// Frame `k` is at `t = k·T` (`T` = the camera's frame period). [`Rig::observe`] advances the
 /// plant by one frame under the command in force, captures the frame, and returns the
-/// observation the camera delivers now: the one captured `latency_frames` frames earlier (the
-/// camera has been running on the agents at rest before the run, so there is one from the
-/// first call on). Commands take effect at once. Without a field (before the first command
-/// and after [`Rig::stop`]) the plant is not advanced: with zero field only the slow drift and
-/// Brownian motion would move the agents, which the simulation leaves out.
+/// observation the camera delivers now: the agents as they were one (jittering) latency ago,
+/// stamped with the nominal latency (the camera has been running on the agents at rest before
+/// the run, so there is one from the first call on). [`Rig::latency`] is the nominal latency:
+/// all the estimator is told. Commands go to the plant at once; with the coil-dynamics term
+/// the field then follows them with its lag. The map is centred in the coil. Without a field
+/// (before the first command and after [`Rig::stop`]) the plant is not advanced: with zero
+/// field only the slow flow and Brownian motion would move the agents, which the simulation
+/// leaves out.
 #[derive(Debug, Clone)]
 pub struct SimRig {
     plant: Plant,
@@ -53,18 +56,15 @@ impl SimRig {
         let coil: Arc<dyn Coil> = Arc::new(TriaxialMaxwell::new(params.gradient_limit()));
         let agent_radius = 0.5;
         let collision = Arc::new(CollisionWorld::new(world, agent_radius));
-        let plant = Plant::new(params, coil, collision, preset, seed, start);
-        let mut camera = Camera::new(preset.camera.clone(), seed);
-        let period = camera.frame_period();
-        let latency_frames = preset.camera.latency_frames;
-        for k in (1..=latency_frames).rev() {
-            let _ = camera.capture(-(k as f64) * period, start);
-        }
+        let mut plant = Plant::new(params, coil, collision, preset, seed, start);
+        plant.set_coil_centre(Vec2::new(world.width, world.height) * 0.5);
+        let camera = Camera::new(preset.camera.clone(), seed);
+        let (period, latency) = (camera.frame_period(), camera.nominal_latency());
         Self {
             plant,
             camera,
             period,
-            latency: latency_frames as f64 * period,
+            latency,
             frame: 0,
             command: None,
             stopped: false,
@@ -134,6 +134,7 @@ impl Rig for SimRig {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::FRAC_PI_2;
 
     fn world() -> World {
         World {
@@ -185,5 +186,38 @@ mod tests {
             assert_eq!(a.unwrap(), *b);
         }
         assert_ne!(truth[0], start[0], "the plant moved under the command");
+    }
+
+    #[test]
+    fn hardware_rig_tells_the_nominal_latency() {
+        let start = [Vec2::new(10.0, 10.0), Vec2::new(12.5, 10.0)];
+        let rig = SimRig::from_parts(
+            &PhysicalParams::default(),
+            &world(),
+            &DisturbancePreset::hardware(),
+            4,
+            &start,
+        );
+        assert!((rig.latency() - 2.0 * rig.frame_period()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_map_is_centred_in_the_coil() {
+        let mut preset = DisturbancePreset::ideal();
+        preset.nonuniform_field.enabled = true;
+        // agent 0 at the map's centre, agent 1 5 BL to its right
+        let start = [Vec2::new(15.0, 10.0), Vec2::new(20.0, 10.0)];
+        let p = PhysicalParams::default();
+        let mut rig = SimRig::from_parts(&p, &world(), &preset, 4, &start);
+        rig.observe().unwrap();
+        rig.command(&Control::planar(FRAC_PI_2, p.gradient_limit(), 0.0))
+            .unwrap();
+        rig.observe().unwrap();
+        let b = rig.plant().fields().unwrap();
+        let angle = |v: &magbench_env::Vec3| v.y.atan2(v.x);
+        assert!((angle(&b[0]) - FRAC_PI_2).abs() < 1e-4, "{}", angle(&b[0]));
+        // 2.5 mm × 85 mT/m = 0.21 mT across 5 mT: bent by 2.4°
+        let bend = (FRAC_PI_2 - angle(&b[1])).to_degrees();
+        assert!((bend - 2.43).abs() < 0.02, "{bend}°");
     }
 }

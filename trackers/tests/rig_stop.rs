@@ -53,7 +53,9 @@ impl Rig for Counting {
     }
 }
 
-/// A tracker that panics on its 10th command.
+/// A tracker that panics on its 10th command. Until then it holds the field across the pair
+/// (ψ = 90°, repulsion), so the agents cannot touch and end the run first, whatever the
+/// preset draws.
 struct Panicky(usize);
 
 impl Tracker for Panicky {
@@ -64,7 +66,7 @@ impl Tracker for Panicky {
     fn command(&mut self, _ctx: &TrackerContext, _tick: &Tick) -> Control {
         self.0 += 1;
         assert!(self.0 < 10, "tracker bug");
-        Control::default()
+        Control::planar(std::f64::consts::FRAC_PI_2, 0.0, 0.0)
     }
     fn status(&self) -> TrackerStatus {
         TrackerStatus::default()

@@ -1,76 +1,412 @@
-//! Named disturbance presets: "ideal" and "realistic".
+//! Disturbance presets as data: one TOML table per term, each with `enabled` and its values.
+//!
+//! A table left out of a file is off. `ideal`, `realistic` and `hardware` ship as files in
+//! `presets/` and are built in (embedded), so their names work from any directory.
+
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::CameraParams;
+use super::check::Rejection;
+use super::{
+    AmbientField, Brownian, CameraParams, Capillary, CoilCalibration, CoilLag, Drift, FieldError,
+    Flow, Heterogeneity, Hydrodynamics, MagnetLag, Medium, NonuniformField,
+};
+use crate::error::InputError;
 
-/// The disturbances a plant run draws from (see the module documentation).
+/// Everything the simulated plant and camera add to the planning model (see the README,
+/// "The simulated plant", for each term's physics and the `hardware` values' sources).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DisturbancePreset {
     /// Preset name.
     pub name: String,
-    /// Per-agent moment factor drawn uniformly from `[1 − s, 1 + s]` once per run.
-    pub moment_spread: f64,
-    /// Per-agent drag factor drawn uniformly from `[1 − s, 1 + s]` once per run.
-    pub drag_spread: f64,
-    /// Standard deviation of a per-run field-angle bias (degrees).
-    pub field_angle_bias_deg: f64,
-    /// Standard deviation of white field-angle jitter, drawn every integration step (degrees).
-    pub field_angle_jitter_deg: f64,
-    /// Largest speed of the uniform drift flow (BL/s); speed and direction drawn once per run.
-    pub drift_speed_bl_s: f64,
-    /// Brownian motion at the physical diffusion constant of the preset.
-    pub brownian: bool,
-    /// The camera that observes the plant.
+    /// One line on what the preset describes.
+    #[serde(default)]
+    pub description: String,
+    /// Where the agents move: `bulk` or `interface`.
+    #[serde(default)]
+    pub medium: Medium,
+    /// Coil dynamics: first-order lag and slew limit of field and gradient.
+    #[serde(default)]
+    pub coil_lag: CoilLag,
+    /// Magnet rotation lag, τ = πηd³/(mB).
+    #[serde(default)]
+    pub magnet_lag: MagnetLag,
+    /// Field-angle bias and jitter.
+    #[serde(default)]
+    pub field_error: FieldError,
+    /// The gradient's non-uniform field, B(x) = B₀b̂ + ∇B·(x − x_c).
+    #[serde(default)]
+    pub nonuniform_field: NonuniformField,
+    /// Coil axis gain errors, non-orthogonality, gradient gain error and cross-talk.
+    #[serde(default)]
+    pub coil_calibration: CoilCalibration,
+    /// A small ambient field.
+    #[serde(default)]
+    pub ambient_field: AmbientField,
+    /// Per-agent moment and drag spread.
+    #[serde(default)]
+    pub heterogeneity: Heterogeneity,
+    /// Hydrodynamic interaction (Rotne–Prager).
+    #[serde(default)]
+    pub hydrodynamics: Hydrodynamics,
+    /// Capillary attraction at an interface.
+    #[serde(default)]
+    pub capillary: Capillary,
+    /// A uniform, steady drift.
+    #[serde(default)]
+    pub drift: Drift,
+    /// A flow varying in space and time.
+    #[serde(default)]
+    pub flow: Flow,
+    /// Brownian motion.
+    #[serde(default)]
+    pub brownian: Brownian,
+    /// The camera.
+    #[serde(default)]
     pub camera: CameraParams,
 }
 
+const IDEAL: &str = include_str!("../../../presets/ideal.toml");
+const REALISTIC: &str = include_str!("../../../presets/realistic.toml");
+const HARDWARE: &str = include_str!("../../../presets/hardware.toml");
+
 impl DisturbancePreset {
-    /// No disturbance, a perfect camera with no latency: the plant is the planning model.
+    /// Names of the built-in presets.
+    pub const NAMES: [&'static str; 3] = ["ideal", "realistic", "hardware"];
+
+    /// Every term that can be switched on and off, by its table name.
+    pub const TERMS: [&'static str; 16] = [
+        "coil_lag",
+        "magnet_lag",
+        "field_error",
+        "nonuniform_field",
+        "coil_calibration",
+        "ambient_field",
+        "heterogeneity",
+        "hydrodynamics",
+        "capillary",
+        "drift",
+        "flow",
+        "brownian",
+        "camera.latency",
+        "camera.noise",
+        "camera.misses",
+        "camera.swaps",
+    ];
+
+    /// No disturbance and a perfect camera with no latency: the plant is the planning model.
     pub fn ideal() -> Self {
-        Self {
-            name: "ideal".into(),
-            moment_spread: 0.0,
-            drag_spread: 0.0,
-            field_angle_bias_deg: 0.0,
-            field_angle_jitter_deg: 0.0,
-            drift_speed_bl_s: 0.0,
-            brownian: false,
-            camera: CameraParams {
-                fps: 60.0,
-                latency_frames: 0,
-                noise_bl: 0.0,
-                miss_prob: 0.0,
-            },
-        }
+        Self::builtin("ideal", IDEAL)
     }
 
-    /// What a bench-top rig looks like: ±10% moment and drag, a 1° field bias with 0.5°
-    /// jitter, a drift flow up to 0.02 BL/s, Brownian motion, and a 60 fps camera with one frame
-    /// of latency, 0.02 BL (≈ 1 px at 50 px/BL) detection noise and 1% missed detections.
+    /// A bench-top rig as magbench first modelled it: ±10% moment and drag (uniform), a 1°
+    /// field bias with 0.5° jitter, a drift flow up to 0.02 BL/s, Brownian motion, and a 60 fps
+    /// camera with one frame of latency, 0.02 BL detection noise and 1% missed detections.
     pub fn realistic() -> Self {
-        Self {
-            name: "realistic".into(),
-            moment_spread: 0.10,
-            drag_spread: 0.10,
-            field_angle_bias_deg: 1.0,
-            field_angle_jitter_deg: 0.5,
-            drift_speed_bl_s: 0.02,
-            brownian: true,
-            camera: CameraParams::default(),
-        }
+        Self::builtin("realistic", REALISTIC)
     }
 
-    /// The preset of that name.
+    /// Every term, with values from sources or derivations (README, "The simulated plant").
+    pub fn hardware() -> Self {
+        Self::builtin("hardware", HARDWARE)
+    }
+
+    fn builtin(name: &str, text: &str) -> Self {
+        Self::parse(text, &format!("<built-in {name}>"))
+            .unwrap_or_else(|e| panic!("the built-in preset is valid (a test checks it): {e}"))
+    }
+
+    /// The built-in preset of that name.
     pub fn by_name(name: &str) -> Option<Self> {
         match name {
             "ideal" => Some(Self::ideal()),
             "realistic" => Some(Self::realistic()),
+            "hardware" => Some(Self::hardware()),
             _ => None,
         }
     }
 
-    /// Names accepted by [`DisturbancePreset::by_name`].
-    pub const NAMES: [&'static str; 2] = ["ideal", "realistic"];
+    /// The TOML text of a built-in preset, as shipped in `presets/`.
+    pub fn builtin_text(name: &str) -> Option<&'static str> {
+        match name {
+            "ideal" => Some(IDEAL),
+            "realistic" => Some(REALISTIC),
+            "hardware" => Some(HARDWARE),
+            _ => None,
+        }
+    }
+
+    /// A built-in name, or else the path of a preset file.
+    pub fn resolve(name_or_file: &str) -> Result<Self, InputError> {
+        match Self::by_name(name_or_file) {
+            Some(p) => Ok(p),
+            None => Self::load(Path::new(name_or_file)),
+        }
+    }
+
+    /// Reads and validates a preset file.
+    pub fn load(path: &Path) -> Result<Self, InputError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            InputError::new(
+                &file,
+                "",
+                format!(
+                    "cannot read the preset file ({e}); built-in presets: {}",
+                    Self::NAMES.join(", ")
+                ),
+            )
+        })?;
+        Self::parse(&text, &file)
+    }
+
+    /// Parses and validates preset TOML `text`; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Self, InputError> {
+        let de = toml::Deserializer::parse(text)
+            .map_err(|e| InputError::new(file, "", format!("invalid TOML: {}", e.message())))?;
+        let preset: Self = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let field = if path == "." { String::new() } else { path };
+            InputError::new(file, field, e.into_inner().message().trim().to_string())
+        })?;
+        preset
+            .check()
+            .map_err(|(field, reason)| InputError::new(file, field, reason))?;
+        Ok(preset)
+    }
+
+    /// The preset as TOML (every table written out).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a preset serialises")
+    }
+
+    /// Checks every value (finite, in range); returns (field, reason).
+    pub fn check(&self) -> Result<(), Rejection> {
+        if self.name.trim().is_empty() {
+            return Err(("name", "must not be empty".into()));
+        }
+        self.medium.check()?;
+        self.coil_lag.check()?;
+        self.field_error.check()?;
+        self.nonuniform_field.check()?;
+        self.coil_calibration.check()?;
+        self.ambient_field.check()?;
+        self.heterogeneity.check()?;
+        self.drift.check()?;
+        if self.flow.enabled {
+            self.flow.check()?;
+        }
+        self.camera.check()
+    }
+
+    fn switch(&mut self, term: &str) -> Option<&mut bool> {
+        Some(match term {
+            "coil_lag" => &mut self.coil_lag.enabled,
+            "magnet_lag" => &mut self.magnet_lag.enabled,
+            "field_error" => &mut self.field_error.enabled,
+            "nonuniform_field" => &mut self.nonuniform_field.enabled,
+            "coil_calibration" => &mut self.coil_calibration.enabled,
+            "ambient_field" => &mut self.ambient_field.enabled,
+            "heterogeneity" => &mut self.heterogeneity.enabled,
+            "hydrodynamics" => &mut self.hydrodynamics.enabled,
+            "capillary" => &mut self.capillary.enabled,
+            "drift" => &mut self.drift.enabled,
+            "flow" => &mut self.flow.enabled,
+            "brownian" => &mut self.brownian.enabled,
+            "camera.latency" => &mut self.camera.latency.enabled,
+            "camera.noise" => &mut self.camera.noise.enabled,
+            "camera.misses" => &mut self.camera.misses.enabled,
+            "camera.swaps" => &mut self.camera.swaps.enabled,
+            _ => return None,
+        })
+    }
+
+    /// Switches a term (one of [`DisturbancePreset::TERMS`]) on or off, keeping its values.
+    pub fn set_enabled(&mut self, term: &str, on: bool) -> Result<(), String> {
+        match self.switch(term) {
+            Some(e) => {
+                *e = on;
+                Ok(())
+            }
+            None => Err(format!(
+                "unknown term {term:?}; terms: {}",
+                Self::TERMS.join(", ")
+            )),
+        }
+    }
+
+    /// Whether a term is on (`None` for an unknown name).
+    pub fn enabled(&self, term: &str) -> Option<bool> {
+        self.clone().switch(term).map(|e| *e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn built_in_presets_load_and_round_trip() {
+        for name in DisturbancePreset::NAMES {
+            let p = DisturbancePreset::by_name(name).unwrap();
+            assert_eq!(p.name, name);
+            let text = p.to_toml();
+            let back = DisturbancePreset::parse(&text, "round-trip").unwrap();
+            assert_eq!(back, p, "{name} round-trips:\n{text}");
+        }
+    }
+
+    #[test]
+    fn shipped_files_are_the_built_in_presets() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../presets");
+        for name in DisturbancePreset::NAMES {
+            let file = DisturbancePreset::load(&dir.join(format!("{name}.toml"))).unwrap();
+            assert_eq!(file, DisturbancePreset::by_name(name).unwrap());
+            assert_eq!(
+                DisturbancePreset::resolve(dir.join(format!("{name}.toml")).to_str().unwrap())
+                    .unwrap(),
+                file
+            );
+        }
+    }
+
+    #[test]
+    fn ideal_has_every_term_off_and_hardware_every_term_on() {
+        let (ideal, hw) = (DisturbancePreset::ideal(), DisturbancePreset::hardware());
+        for t in DisturbancePreset::TERMS {
+            assert_eq!(ideal.enabled(t), Some(false), "ideal: {t}");
+        }
+        for t in DisturbancePreset::TERMS {
+            // the hardware rig has no uniform drift: its flow varies
+            assert_eq!(hw.enabled(t), Some(t != "drift"), "hardware: {t}");
+        }
+        assert!(hw.medium.interface().is_some());
+        assert_eq!(ideal.camera.fps, 60.0);
+    }
+
+    #[test]
+    fn realistic_keeps_its_values() {
+        let r = DisturbancePreset::realistic();
+        assert_eq!(
+            (r.heterogeneity.moment_spread, r.heterogeneity.drag_spread),
+            (0.1, 0.1)
+        );
+        assert_eq!(
+            (r.field_error.angle_bias_deg, r.field_error.angle_jitter_deg),
+            (1.0, 0.5)
+        );
+        assert_eq!(r.drift.max_speed_bl_s, 0.02);
+        assert!(r.brownian.enabled);
+        let c = &r.camera;
+        assert_eq!(
+            (c.fps, c.latency.frames, c.noise.sigma_bl, c.misses.prob),
+            (60.0, 1.0, 0.02, 0.01)
+        );
+        for t in [
+            "coil_lag",
+            "magnet_lag",
+            "nonuniform_field",
+            "coil_calibration",
+            "ambient_field",
+            "hydrodynamics",
+            "capillary",
+            "flow",
+            "camera.swaps",
+        ] {
+            assert_eq!(r.enabled(t), Some(false), "realistic: {t}");
+        }
+    }
+
+    #[test]
+    fn terms_switch_one_at_a_time() {
+        let mut p = DisturbancePreset::hardware();
+        for t in DisturbancePreset::TERMS {
+            p.set_enabled(t, false).unwrap();
+            assert_eq!(p.enabled(t), Some(false));
+        }
+        assert!(p.set_enabled("gravity", true).is_err());
+        assert_eq!(p.enabled("gravity"), None);
+    }
+
+    fn rejected(edit: &str) -> InputError {
+        let text = format!(
+            "{}\n{edit}",
+            DisturbancePreset::builtin_text("hardware").unwrap()
+        );
+        DisturbancePreset::parse(&text, "bad.toml").unwrap_err()
+    }
+
+    #[test]
+    fn validation_names_the_field() {
+        let hw = DisturbancePreset::hardware();
+        let mut p = hw.clone();
+        p.coil_lag.field_tau_ms = f64::NAN;
+        assert_eq!(p.check().unwrap_err().0, "coil_lag.field_tau_ms");
+        let mut p = hw.clone();
+        p.coil_lag.gradient_slew_mt_per_m_per_s = -1.0;
+        assert_eq!(
+            p.check().unwrap_err().0,
+            "coil_lag.gradient_slew_mt_per_m_per_s"
+        );
+        let mut p = hw.clone();
+        p.camera.misses.close_prob = 2.0;
+        assert_eq!(p.check().unwrap_err().0, "camera.misses.close_prob");
+        let mut p = hw.clone();
+        p.heterogeneity.moment_spread = f64::INFINITY;
+        assert_eq!(p.check().unwrap_err().0, "heterogeneity.moment_spread");
+        let mut p = hw.clone();
+        if let Medium::Interface(i) = &mut p.medium {
+            i.contact_angle_deg = 180.0;
+        }
+        assert_eq!(p.check().unwrap_err().0, "medium.contact_angle_deg");
+        let mut p = hw.clone();
+        p.flow.length_bl = 0.0;
+        assert_eq!(p.check().unwrap_err().0, "flow.length_bl");
+        let mut p = hw;
+        p.camera.fps = 0.0;
+        assert_eq!(p.check().unwrap_err().0, "camera.fps");
+        // through the file: FILE: FIELD: REASON
+        let e = DisturbancePreset::parse(
+            "name = \"x\"\n[drift]\nenabled = true\nmax_speed_bl_s = -0.1\n",
+            "bad.toml",
+        )
+        .unwrap_err();
+        assert_eq!(
+            (e.file.as_str(), e.field.as_str()),
+            ("bad.toml", "drift.max_speed_bl_s")
+        );
+        assert!(
+            e.to_string()
+                .starts_with("bad.toml: drift.max_speed_bl_s: must be")
+        );
+    }
+
+    #[test]
+    fn unknown_and_missing_fields_are_rejected() {
+        let e = DisturbancePreset::parse(
+            "name = \"x\"\n[coil_lag]\nenabled = true\nfield_tau_ms = 1.0\n",
+            "f.toml",
+        )
+        .unwrap_err();
+        assert!(e.reason.contains("missing field"), "{e}");
+        let e = DisturbancePreset::parse(
+            "name = \"x\"\n[hydrodynamics]\nenabled = true\nstrength = 2\n",
+            "f.toml",
+        )
+        .unwrap_err();
+        assert!(e.reason.contains("unknown field"), "{e}");
+        assert_eq!(e.field, "hydrodynamics.strength");
+        let e = rejected("[gravity]\nenabled = true");
+        assert!(
+            e.reason.contains("duplicate") || e.reason.contains("unknown"),
+            "{e}"
+        );
+        assert!(
+            DisturbancePreset::parse("name = \"x\"\n[medium]\nkind = \"vacuum\"\n", "f.toml")
+                .is_err()
+        );
+        assert!(DisturbancePreset::resolve("/no/such/preset.toml").is_err());
+    }
 }

@@ -2,39 +2,51 @@
 
 use std::sync::Arc;
 
-use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, StandardNormal};
 
 use super::DisturbancePreset;
+use super::dynamics::{Dynamics, State};
+use super::field::CoilOutput;
+use super::streams::{Stream, normal, stream};
 use crate::coil::{Coil, Control};
 use crate::collision::CollisionWorld;
-use crate::math::{MAX_AGENTS, Vec2};
-use crate::model::{Kinematics, PairEdge, rk4_step, step_schedule};
+use crate::math::{MAX_AGENTS, Vec2, Vec3};
+use crate::model::{Kinematics, PairEdge, step_schedule};
 use crate::physics::PhysicalParams;
 
 /// The simulated plant of one run.
 ///
-/// A noiseless plant of two identical agents (no jitter, no Brownian motion, equal moment and
-/// drag factors: the `ideal` preset) follows each constant command exactly, like the planning
-/// model: while the command stays the same it is the exact flow from where that command began
-/// ([`PairEdge`]), sampled every integration step for contacts. So a plan followed open loop
-/// is reproduced bit for bit. Every other plant integrates, each integration step: RK4 of the
-/// perturbed kinematics under the commanded field (with the run's field-angle bias and a fresh
-/// jitter), then a Brownian increment `√(2D dt)·N(0,1)`, then wall handling — an agent that overlaps a wall or obstacle slides along its surface
-/// (it is projected back into contact; never through) and a new contact counts as one wall
-/// contact event. When two agents touch (r ≤ 1 BL) they stick: the run is failed and frozen.
+/// A noiseless plant of two identical agents (the `ideal` preset; a field bias and a uniform
+/// drift may be on) follows each constant command exactly, like the planning model: while the
+/// command stays the same it is the exact flow from where that command began ([`PairEdge`]),
+/// sampled every integration step for contacts. So a plan followed open loop is reproduced
+/// bit for bit. Every other plant integrates, each integration step `h` (the physical preset's
+/// `dt_s`, or the shorter rest of a duration): the coil's outputs follow the command (with the
+/// run's field bias and a fresh jitter) through the coil dynamics, and RK4 advances positions
+/// and moments through the [`Dynamics`] of every term (in sub-steps with the magnet-lag
+/// term); then a Brownian increment `√(2D h)·N(0,1)`, then wall handling — an agent that
+/// overlaps a wall or obstacle slides along its surface (it is projected back into contact;
+/// never through) and a new contact counts as one wall contact event. When two agents touch
+/// (r ≤ 1 BL) they stick: the run is failed and frozen.
+///
+/// The run starts with the field switched on: at the first command the coil is settled on it
+/// and every moment is aligned with the field its agent feels.
 #[derive(Debug, Clone)]
 pub struct Plant {
     kinematics: Kinematics,
+    dynamics: Dynamics,
     coil: Arc<dyn Coil>,
     collision: Arc<CollisionWorld>,
     dt: f64,
-    rng: ChaCha8Rng,
-    angle_bias: f64,
-    jitter: f64,
+    jitter_rng: ChaCha8Rng,
+    brownian_rng: ChaCha8Rng,
     diffusion: f64,
-    positions: Vec<Vec2>,
+    n: usize,
+    state: State,
+    /// The coil's outputs now; `None` before the first command.
+    coil_out: Option<CoilOutput>,
+    /// Where the coil is centred (BL), before the run's placement offset.
+    centre: Vec2,
     time: f64,
     stuck: bool,
     touching_wall: Vec<bool>,
@@ -57,6 +69,8 @@ struct Segment {
 
 impl Plant {
     /// A plant for one run: disturbances drawn from `preset` with `seed`, agents at `start`.
+    /// The coil is centred on the agents' centroid until [`Plant::set_coil_centre`] says
+    /// otherwise.
     pub fn new(
         params: &PhysicalParams,
         coil: Arc<dyn Coil>,
@@ -65,58 +79,71 @@ impl Plant {
         seed: u64,
         start: &[Vec2],
     ) -> Self {
-        assert!(start.len() <= MAX_AGENTS);
-        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x9147_A11E_0000_0001);
+        let n = start.len();
+        assert!((1..=MAX_AGENTS).contains(&n), "1 to {MAX_AGENTS} agents");
+        let dynamics = Dynamics::draw(preset, params, n, seed);
         let mut kinematics = Kinematics::nominal(params);
-        let spread = |s: f64, rng: &mut ChaCha8Rng| {
-            if s > 0.0 {
-                rng.random_range(1.0 - s..=1.0 + s)
-            } else {
-                1.0
-            }
-        };
-        for i in 0..start.len() {
-            kinematics.moment[i] = spread(preset.moment_spread, &mut rng);
-            kinematics.mobility[i] = 1.0 / spread(preset.drag_spread, &mut rng);
-        }
-        if preset.drift_speed_bl_s > 0.0 {
-            let speed = rng.random_range(0.0..=preset.drift_speed_bl_s);
-            let dir = rng.random_range(0.0..std::f64::consts::TAU);
-            kinematics.flow = Vec2::new(dir.cos(), dir.sin()) * speed;
-        }
-        let normal = |rng: &mut ChaCha8Rng| -> f64 { StandardNormal.sample(rng) };
-        let angle_bias = preset.field_angle_bias_deg.to_radians() * normal(&mut rng);
-        let exact = start.len() == 2
-            && preset.field_angle_jitter_deg == 0.0
-            && !preset.brownian
+        kinematics.moment = dynamics.factors.moment;
+        kinematics.mobility = dynamics.factors.mobility;
+        kinematics.flow = dynamics.flow.drift;
+        let exact = n == 2
+            && dynamics.is_exact_pair()
+            && !preset.brownian.enabled
             && kinematics.moment[0] == kinematics.moment[1]
             && kinematics.mobility[0] == kinematics.mobility[1];
+        let mut state = State {
+            p: [Vec2::zeros(); MAX_AGENTS],
+            m: [Vec3::zeros(); MAX_AGENTS],
+        };
+        state.p[..n].copy_from_slice(start);
+        let centre = start.iter().sum::<Vec2>() / n as f64;
         Self {
             kinematics,
+            dynamics,
             coil,
             collision,
             dt: params.dt_s,
-            rng,
-            angle_bias,
-            jitter: preset.field_angle_jitter_deg.to_radians(),
-            diffusion: if preset.brownian {
+            jitter_rng: stream(seed, Stream::FieldJitter),
+            brownian_rng: stream(seed, Stream::Brownian),
+            diffusion: if preset.brownian.enabled {
                 params.diffusion()
             } else {
                 0.0
             },
-            positions: start.to_vec(),
+            n,
+            state,
+            coil_out: None,
+            centre,
             time: 0.0,
             stuck: false,
-            touching_wall: vec![false; start.len()],
+            touching_wall: vec![false; n],
             wall_contacts: 0,
             exact,
             segment: None,
         }
     }
 
+    /// Centres the coil on `centre` (BL; the run's placement offset comes on top): the map's
+    /// centre for a map centred in the coil.
+    pub fn set_coil_centre(&mut self, centre: Vec2) {
+        self.centre = centre;
+    }
+
     /// True agent positions (BL).
     pub fn positions(&self) -> &[Vec2] {
-        &self.positions
+        &self.state.p[..self.n]
+    }
+
+    /// Unit moment directions, with the magnet-lag term, once the field is on.
+    pub fn moments(&self) -> Option<&[Vec3]> {
+        (self.dynamics.tracks_moments() && self.coil_out.is_some()).then(|| &self.state.m[..self.n])
+    }
+
+    /// The field (T) each agent feels now; `None` before the first command.
+    pub fn fields(&self) -> Option<Vec<Vec3>> {
+        let c = self.coil_out?;
+        let (b, _) = self.dynamics.fields(&c, self.centre, &self.state);
+        Some(b[..self.n].to_vec())
     }
 
     /// Simulated time (s).
@@ -139,9 +166,14 @@ impl Plant {
         self.dt
     }
 
-    /// The run's drawn kinematics (mismatch factors and flow), for logs.
-    pub fn kinematics(&self) -> &Kinematics {
-        &self.kinematics
+    /// The run's drawn dynamics (agent factors, field model, flow), for logs.
+    pub fn dynamics(&self) -> &Dynamics {
+        &self.dynamics
+    }
+
+    /// True when constant commands are followed by the exact pair flow.
+    pub fn is_exact(&self) -> bool {
+        self.exact
     }
 
     /// Switches the map (the obstacles of a new leg).
@@ -157,7 +189,7 @@ impl Plant {
         self.run_steps(u, duration, 0);
     }
 
-    /// RK4 steps of the schedule of `duration`, from step `from` on.
+    /// Integration steps of the schedule of `duration`, from step `from` on.
     fn run_steps(&mut self, u: &Control, duration: f64, from: usize) {
         let (steps, rest) = step_schedule(duration, self.dt);
         for k in 0..steps + usize::from(rest > 0.0) {
@@ -173,7 +205,7 @@ impl Plant {
     fn run_exact(&mut self, u: &Control, duration: f64) -> bool {
         let (u, _) = self.coil.clamp(u);
         let applied = Control {
-            theta: u.theta + self.angle_bias,
+            theta: u.theta + self.dynamics.field.bias,
             ..u
         };
         let continuing = self
@@ -182,7 +214,7 @@ impl Plant {
             .is_some_and(|s| s.command == applied && s.run == duration);
         if !continuing {
             let act = self.coil.actuation(&applied);
-            let Some(edge) = self.kinematics.pair_edge(&self.positions, &act) else {
+            let Some(edge) = self.kinematics.pair_edge(self.positions(), &act) else {
                 self.segment = None;
                 return false;
             };
@@ -202,13 +234,13 @@ impl Plant {
         for k in 1..=samples {
             self.time += if k <= steps { self.dt } else { rest };
             let mut before = [Vec2::zeros(); 2];
-            before.copy_from_slice(&self.positions);
+            before.copy_from_slice(self.positions());
             let t = if k == samples {
                 t1
             } else {
                 t0 + k as f64 * self.dt
             };
-            edge.at(t, &mut self.positions);
+            edge.at(t, &mut self.state.p[..2]);
             if self.contact_during_step(&before) {
                 self.segment = None;
                 return true;
@@ -227,7 +259,7 @@ impl Plant {
     /// contacts; true when any agent was moved.
     fn slide_along_walls(&mut self) -> bool {
         let mut moved = false;
-        for (i, p) in self.positions.iter_mut().enumerate() {
+        for (i, p) in self.state.p[..self.n].iter_mut().enumerate() {
             match self.collision.push_out(*p) {
                 Some(q) => {
                     *p = q;
@@ -250,39 +282,39 @@ impl Plant {
 
     fn step_by(&mut self, u: &Control, h: f64) {
         self.segment = None;
+        let t0 = self.time;
         self.time += h;
         if self.stuck {
             return;
         }
         let (u, _) = self.coil.clamp(u);
-        let mut applied = u;
-        if self.angle_bias != 0.0 || self.jitter > 0.0 {
-            let j: f64 = if self.jitter > 0.0 {
-                StandardNormal.sample(&mut self.rng)
-            } else {
-                0.0
-            };
-            applied.theta += self.angle_bias + self.jitter * j;
-        }
-        let act = self.coil.actuation(&applied);
-        let kin = &self.kinematics;
-        let n = self.positions.len();
+        let jitter = self.dynamics.field.jitter_sample(&mut self.jitter_rng);
+        let target = self.dynamics.field.target(&u, jitter);
+        let c0 = match self.coil_out {
+            Some(c) => c,
+            None => {
+                if self.dynamics.tracks_moments() {
+                    self.dynamics
+                        .align_moments(&mut self.state, &target, self.centre);
+                }
+                target
+            }
+        };
+        let n = self.n;
         let mut before = [Vec2::zeros(); MAX_AGENTS];
-        before[..n].copy_from_slice(&self.positions);
-        rk4_step(
-            &|p: &[Vec2], v: &mut [Vec2]| kin.velocities(p, &act, v),
-            &mut self.positions,
-            h,
-        );
+        before[..n].copy_from_slice(self.positions());
+        self.dynamics
+            .advance(&mut self.state, t0, &c0, &target, self.centre, h);
+        self.coil_out = Some(self.dynamics.coil_at(&c0, &target, h));
         if self.contact_during_step(&before[..n]) {
             return;
         }
         if self.diffusion > 0.0 {
             let s = (2.0 * self.diffusion * h).sqrt();
-            for p in &mut self.positions {
-                let (nx, ny): (f64, f64) = (
-                    StandardNormal.sample(&mut self.rng),
-                    StandardNormal.sample(&mut self.rng),
+            for p in &mut self.state.p[..n] {
+                let (nx, ny) = (
+                    normal(&mut self.brownian_rng),
+                    normal(&mut self.brownian_rng),
                 );
                 *p += Vec2::new(nx, ny) * s;
             }
@@ -295,10 +327,11 @@ impl Plant {
     /// within 1 BL of contact anywhere along the step's chord (a fast attraction can carry an
     /// integration step past r = 1). The touching pair is left in contact, stuck.
     fn contact_during_step(&mut self, before: &[Vec2]) -> bool {
-        let n = self.positions.len();
+        let n = self.n;
+        let positions = &mut self.state.p;
         for i in 0..n {
             for j in (i + 1)..n {
-                let (d0, d1) = (before[j] - before[i], self.positions[j] - self.positions[i]);
+                let (d0, d1) = (before[j] - before[i], positions[j] - positions[i]);
                 let seg = d1 - d0;
                 let t = if seg.norm_squared() > 0.0 {
                     (-d0.dot(&seg) / seg.norm_squared()).clamp(0.0, 1.0)
@@ -312,9 +345,9 @@ impl Plant {
                     } else {
                         Vec2::new(1.0, 0.0)
                     };
-                    self.positions[..n].copy_from_slice(before);
-                    self.positions[i] = mid - dir * 0.5;
-                    self.positions[j] = mid + dir * 0.5;
+                    positions[..n].copy_from_slice(before);
+                    positions[i] = mid - dir * 0.5;
+                    positions[j] = mid + dir * 0.5;
                     self.stuck = true;
                     return true;
                 }

@@ -1,0 +1,29 @@
+//! A small ambient field (the Earth's and the building's) added to the coil's.
+
+use serde::{Deserialize, Serialize};
+
+use super::check::{Rejection, within};
+
+/// The ambient-field term of a preset: a constant in-plane field of this magnitude, in a
+/// direction drawn per run (the rig's orientation to north is arbitrary).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AmbientField {
+    /// Whether the term acts.
+    pub enabled: bool,
+    /// In-plane magnitude (µT).
+    pub field_ut: f64,
+}
+
+impl AmbientField {
+    /// Checks every value; returns (field, reason).
+    pub fn check(&self) -> Result<(), Rejection> {
+        within(
+            "ambient_field.field_ut",
+            self.field_ut,
+            0.0,
+            10_000.0,
+            " µT",
+        )
+    }
+}

@@ -1,0 +1,62 @@
+//! Coil calibration errors: what the coil really produces for a command.
+//!
+//! Each Helmholtz axis has a gain error (`B_k = (1 + g_k) B_k,cmd`) and the y axis is not quite
+//! at 90° to the x axis (skew δ); each Maxwell axis has a gain error, and each gradient command
+//! leaks into the in-plane shear component `∂B_x/∂y = ∂B_y/∂x` (cross-talk). The realised
+//! gradient stays curl- and divergence-free (symmetric, trace zero). All are drawn per run.
+
+use serde::{Deserialize, Serialize};
+
+use super::check::{Rejection, within};
+
+/// The coil-calibration term of a preset.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoilCalibration {
+    /// Whether the term acts.
+    pub enabled: bool,
+    /// Standard deviation of each field axis's relative gain error.
+    pub axis_gain_error: f64,
+    /// Standard deviation of the angle by which the y field axis departs from 90° to x
+    /// (degrees).
+    pub axis_skew_deg: f64,
+    /// Standard deviation of each gradient axis's relative gain error.
+    pub gradient_gain_error: f64,
+    /// Standard deviation of the shear gradient each gradient command leaks, as a fraction of
+    /// that command.
+    pub gradient_crosstalk: f64,
+}
+
+impl CoilCalibration {
+    /// Checks every value; returns (field, reason).
+    pub fn check(&self) -> Result<(), Rejection> {
+        within(
+            "coil_calibration.axis_gain_error",
+            self.axis_gain_error,
+            0.0,
+            0.5,
+            "",
+        )?;
+        within(
+            "coil_calibration.axis_skew_deg",
+            self.axis_skew_deg,
+            0.0,
+            20.0,
+            "°",
+        )?;
+        within(
+            "coil_calibration.gradient_gain_error",
+            self.gradient_gain_error,
+            0.0,
+            0.5,
+            "",
+        )?;
+        within(
+            "coil_calibration.gradient_crosstalk",
+            self.gradient_crosstalk,
+            0.0,
+            0.5,
+            "",
+        )
+    }
+}

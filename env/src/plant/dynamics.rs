@@ -1,0 +1,278 @@
+//! The plant's equations of motion with every term of a preset.
+//!
+//! State: each agent's position `P_i` (BL) and, with the magnet-lag term, the unit direction
+//! `m̂_i` of its moment (otherwise `m̂_i` is the direction of the field it feels). The coil's
+//! five outputs follow their command exactly in closed form ([`super::coil_lag`]). Per agent:
+//!
+//! ```text
+//! B_i   = A B_coil + B_ambient + ∇B (P_i − x_c)               (field it feels, T)
+//! F_i   = k_pull s_i ∇B m̂_i + Σ_j c_F s_i s_j F̂(m̂_j, m̂_i, P_i − P_j) + Σ_j F_cap,ij
+//! Ṗ_i   = μ_i F_i + Σ_{j≠i} M_RP(P_i − P_j) F_j + u_flow(P_i, t)
+//! dm̂_i/dt = (s_i μ_i / (τ₀ B₀)) (B_i − (B_i·m̂_i) m̂_i)
+//! ```
+//!
+//! with forces in velocity units of a nominal agent (BL/s), `s_i`, `μ_i` the agent's moment
+//! and mobility factors, `F̂` the general dipole–dipole force ([`crate::physics::dipole`]) in
+//! the plane, `M_RP` the Rotne–Prager coupling and τ₀ the nominal rotation time. With every
+//! term off this is exactly the planning model's kinematics. Integration: classic RK4, in
+//! `n` equal sub-steps of each plant step, `n` the smallest with a sub-step under the fastest
+//! rotation time at 1.5 B₀ (one sub-step without the magnet-lag term).
+
+use nalgebra::Matrix3;
+
+use super::DisturbancePreset;
+use super::capillary::CapillaryLaw;
+use super::coil_lag::AxisResponse;
+use super::field::{CoilOutput, FieldModel};
+use super::flow::FlowField;
+use super::heterogeneity::AgentFactors;
+use super::hydrodynamics::rotne_prager;
+use super::magnet_lag::rotation_time;
+use super::medium::Interface;
+use crate::math::{MAX_AGENTS, Vec2, Vec3};
+use crate::physics::PhysicalParams;
+use crate::physics::dipole::dipole_force;
+
+/// Positions and moment directions of the team.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct State {
+    /// Positions (BL).
+    pub p: [Vec2; MAX_AGENTS],
+    /// Unit moment directions (used with the magnet-lag term).
+    pub m: [Vec3; MAX_AGENTS],
+}
+
+impl State {
+    const ZERO: Self = Self {
+        p: [Vec2::new(0.0, 0.0); MAX_AGENTS],
+        m: [Vec3::new(0.0, 0.0, 0.0); MAX_AGENTS],
+    };
+
+    /// `self + k·d` over the first `n` agents.
+    fn plus(&self, d: &State, k: f64, n: usize) -> State {
+        let mut s = *self;
+        for i in 0..n {
+            s.p[i] += d.p[i] * k;
+            s.m[i] += d.m[i] * k;
+        }
+        s
+    }
+}
+
+/// The drawn equations of motion of one run.
+#[derive(Debug, Clone)]
+pub struct Dynamics {
+    n: usize,
+    force_coeff: f64,
+    pull_coeff: f64,
+    /// The drawn per-agent factors.
+    pub factors: AgentFactors,
+    /// The drawn field model.
+    pub field: FieldModel,
+    axes: [AxisResponse; 5],
+    /// Rotation rate per tesla of each agent, s_i μ_i/(τ₀ B₀) (1/(T·s)); `None` without the
+    /// magnet-lag term.
+    rotation: Option<[f64; MAX_AGENTS]>,
+    hydrodynamics: bool,
+    capillary: Option<CapillaryLaw>,
+    /// The drawn background flow.
+    pub flow: FlowField,
+}
+
+impl Dynamics {
+    /// Draws the dynamics of `n` agents for the run seeded with `seed`.
+    pub fn draw(preset: &DisturbancePreset, p: &PhysicalParams, n: usize, seed: u64) -> Self {
+        let factors = preset.heterogeneity.draw(&preset.medium, n, seed);
+        let field = FieldModel::draw(preset, p, seed);
+        let (fa, ga) = (
+            preset.coil_lag.field_axis(),
+            preset.coil_lag.gradient_axis(),
+        );
+        let rotation = preset.magnet_lag.enabled.then(|| {
+            let fraction = preset
+                .medium
+                .interface()
+                .map(|i| Interface::drag_fraction(i.contact_angle_deg.to_radians()))
+                .unwrap_or(1.0);
+            let tau0 = rotation_time(p, fraction);
+            let mut r = [0.0; MAX_AGENTS];
+            for (i, ri) in r.iter_mut().enumerate().take(n) {
+                *ri = factors.moment[i] * factors.mobility[i] / (tau0 * field.b0);
+            }
+            r
+        });
+        let capillary = match (preset.capillary.enabled, preset.medium.interface()) {
+            (true, Some(iface)) => Some(CapillaryLaw::new(iface, p, &factors, n)),
+            _ => None,
+        };
+        Self {
+            n,
+            force_coeff: p.force_coeff(),
+            pull_coeff: p.pull_coeff(),
+            factors,
+            field,
+            axes: [fa, fa, fa, ga, ga],
+            rotation,
+            hydrodynamics: preset.hydrodynamics.enabled,
+            capillary,
+            flow: FlowField::draw(&preset.drift, &preset.flow, seed),
+        }
+    }
+
+    /// True when the motion is the planning model's up to a field bias and a uniform drift:
+    /// no jitter, an exact and instant coil, aligned moments, no pair term beyond the dipole
+    /// force, a uniform steady flow.
+    pub fn is_exact_pair(&self) -> bool {
+        self.field.jitter == 0.0
+            && self.field.is_exact()
+            && self.axes.iter().all(AxisResponse::is_instant)
+            && self.rotation.is_none()
+            && !self.hydrodynamics
+            && self.capillary.is_none()
+            && self.flow.is_uniform()
+    }
+
+    /// True with the magnet-lag term: the state's moment directions are integrated.
+    pub fn tracks_moments(&self) -> bool {
+        self.rotation.is_some()
+    }
+
+    /// The coil outputs `t` seconds after they were `c0`, under the constant target `u`.
+    pub fn coil_at(&self, c0: &CoilOutput, u: &CoilOutput, t: f64) -> CoilOutput {
+        std::array::from_fn(|k| self.axes[k].at(c0[k], u[k], t))
+    }
+
+    /// The field (T) each agent of `s` feels under coil outputs `c`, and the gradient tensor.
+    pub fn fields(
+        &self,
+        c: &CoilOutput,
+        centre: Vec2,
+        s: &State,
+    ) -> ([Vec3; MAX_AGENTS], Matrix3<f64>) {
+        let (b, g) = self.field.realise(c);
+        let mut out = [Vec3::zeros(); MAX_AGENTS];
+        for (o, p) in out.iter_mut().zip(&s.p[..self.n]) {
+            *o = self.field.at(&b, &g, centre, *p);
+        }
+        (out, g)
+    }
+
+    /// The rates of state `s` at time `t` under coil outputs `c`, coil centred on `centre`.
+    pub fn rates(&self, t: f64, c: &CoilOutput, centre: Vec2, s: &State) -> State {
+        let n = self.n;
+        let (b, g) = self.fields(c, centre, s);
+        let f = &self.factors;
+        let mut d = State::ZERO;
+        let mut m = [Vec3::zeros(); MAX_AGENTS];
+        for i in 0..n {
+            match &self.rotation {
+                Some(rate) => {
+                    m[i] = s.m[i];
+                    d.m[i] = (b[i] - m[i] * b[i].dot(&m[i])) * rate[i];
+                }
+                None => m[i] = b[i].try_normalize(0.0).unwrap_or(s.m[i]),
+            }
+        }
+        // forces, in velocity units of a nominal agent
+        let mut force = [Vec2::zeros(); MAX_AGENTS];
+        for i in 0..n {
+            let pull = g * m[i] * (self.pull_coeff * f.moment[i]);
+            force[i] = Vec2::new(pull.x, pull.y);
+        }
+        for i in 0..n {
+            for j in (i + 1)..n {
+                let r = s.p[j] - s.p[i];
+                let fd = dipole_force(m[i], m[j], Vec3::new(r.x, r.y, 0.0))
+                    * (self.force_coeff * f.moment[i] * f.moment[j]);
+                let mut fj = Vec2::new(fd.x, fd.y);
+                if let Some(cap) = &self.capillary {
+                    fj += cap.pair(i, j, r);
+                }
+                force[j] += fj;
+                force[i] -= fj;
+            }
+        }
+        for i in 0..n {
+            let mut v = force[i] * f.mobility[i] + self.flow.at(s.p[i], t);
+            if self.hydrodynamics {
+                for (j, (pj, fj)) in s.p[..n].iter().zip(&force[..n]).enumerate() {
+                    if j != i {
+                        v += rotne_prager(s.p[i] - pj, *fj);
+                    }
+                }
+            }
+            d.p[i] = v;
+        }
+        d
+    }
+
+    /// Number of RK4 sub-steps for a plant step of `h` seconds.
+    pub fn substeps(&self, h: f64) -> usize {
+        match &self.rotation {
+            Some(rate) => {
+                let fastest = rate[..self.n].iter().fold(0.0f64, |a, r| a.max(*r));
+                ((h * fastest * 1.5 * self.field.b0).ceil() as usize).max(1)
+            }
+            None => 1,
+        }
+    }
+
+    /// Advances `s` by `h` seconds from time `t0` with the coil starting at `c0` under the
+    /// target `u`, in RK4 sub-steps.
+    pub fn advance(
+        &self,
+        s: &mut State,
+        t0: f64,
+        c0: &CoilOutput,
+        u: &CoilOutput,
+        centre: Vec2,
+        h: f64,
+    ) {
+        let n = self.n;
+        let k = self.substeps(h);
+        let dh = h / k as f64;
+        for q in 0..k {
+            let a = q as f64 * dh;
+            let at = |x: f64| self.coil_at(c0, u, x);
+            let (c_a, c_m, c_b) = (at(a), at(a + 0.5 * dh), at(a + dh));
+            let k1 = self.rates(t0 + a, &c_a, centre, s);
+            let k2 = self.rates(t0 + a + 0.5 * dh, &c_m, centre, &s.plus(&k1, 0.5 * dh, n));
+            let k3 = self.rates(t0 + a + 0.5 * dh, &c_m, centre, &s.plus(&k2, 0.5 * dh, n));
+            let k4 = self.rates(t0 + a + dh, &c_b, centre, &s.plus(&k3, dh, n));
+            let h6 = dh / 6.0;
+            for i in 0..n {
+                s.p[i] += (k1.p[i] + (k2.p[i] + k3.p[i]) * 2.0 + k4.p[i]) * h6;
+                s.m[i] += (k1.m[i] + (k2.m[i] + k3.m[i]) * 2.0 + k4.m[i]) * h6;
+            }
+            if self.tracks_moments() {
+                self.renormalise(s, &c_b, centre);
+            }
+        }
+    }
+
+    /// Sets every moment along the field its agent feels (a settled start).
+    pub fn align_moments(&self, s: &mut State, c: &CoilOutput, centre: Vec2) {
+        let (b, _) = self.fields(c, centre, s);
+        for (m, bi) in s.m[..self.n].iter_mut().zip(&b) {
+            if let Some(u) = bi.try_normalize(0.0) {
+                *m = u;
+            }
+        }
+    }
+
+    /// Keeps each moment a unit vector. A moment exactly antiparallel to its field is an
+    /// unstable equilibrium that any perturbation leaves; it is turned by 1 µrad about z.
+    fn renormalise(&self, s: &mut State, c: &CoilOutput, centre: Vec2) {
+        let (b, _) = self.fields(c, centre, s);
+        for (mi, bi) in s.m[..self.n].iter_mut().zip(&b) {
+            let mut m = mi.try_normalize(0.0).unwrap_or(Vec3::x());
+            if let Some(bh) = bi.try_normalize(0.0)
+                && m.dot(&bh) < -1.0 + 1e-12
+            {
+                let (sn, cs) = 1e-6f64.sin_cos();
+                m = Vec3::new(cs * m.x - sn * m.y, sn * m.x + cs * m.y, m.z);
+            }
+            *mi = m;
+        }
+    }
+}
