@@ -6,7 +6,9 @@
 //!   pair view `(x_c, y_c, r, φ)` and the physical preset that maps body lengths (BL) to SI;
 //! - [`coil`]: what a coil can apply (field angle, elevation, pulling gradient) behind [`coil::Coil`];
 //! - [`model`]: overdamped kinematics, the fixed-step integrator and the deterministic planning model;
-//! - [`plant`]: the simulated plant (model mismatch, field-angle error, drift, Brownian motion, camera);
+//! - [`plant`]: the simulated plant: presets as data (`presets/`), one term per file (coil and
+//!   magnet lag, field errors and non-uniformity, heterogeneity, hydrodynamic interaction,
+//!   capillarity, flow, Brownian motion) and the camera;
 //! - [`world`] and [`collision`]: maps, parry2d collision and the validity checker;
 //! - [`input`]: the one loader of input files (bounded reads, TOML with field and line);
 //! - [`scenario`]: the TOML scenario format, its validation and the built-in scenarios;
