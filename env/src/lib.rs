@@ -9,6 +9,7 @@
 //! - [`plant`]: the simulated plant (model mismatch, field-angle error, drift, Brownian motion, camera);
 //! - [`world`] and [`collision`]: maps, parry2d collision and the validity checker;
 //! - [`input`]: the one loader of input files (bounded reads, TOML with field and line);
+//! - [`params`]: parameters declared once ([`declare_params!`]), for planners and trackers;
 //! - [`scenario`]: the TOML scenario format, its validation and the built-in scenarios;
 //! - [`controllability`]: the numerical Lie-bracket (LARC) tool.
 //!
@@ -23,6 +24,7 @@ pub mod error;
 pub mod input;
 pub mod math;
 pub mod model;
+pub mod params;
 pub mod physics;
 pub mod plant;
 pub mod scenario;
