@@ -142,7 +142,8 @@ impl CoilServer {
                 .unwrap_or(0.0);
             let cur = sh.device.currents().to_vec();
             sh.changes.push((t, cur.clone()));
-            self.log.event(
+            self.log.event_at(
+                now,
                 t,
                 "watchdog",
                 None,
@@ -256,7 +257,8 @@ impl CoilServer {
             DeviceEvent::Refused(s) => ("refused", format!("{s:?}")),
             DeviceEvent::BadFrame => ("bad_frame", "checksum failed: NAK".into()),
         };
-        self.log.event(t, name, seq, &cur, &[], &detail);
+        // stamped with the reading the device judged the message by (its watchdog's clock)
+        self.log.event_at(now, t, name, seq, &cur, &[], &detail);
         let mut bytes = encode(seq.unwrap_or(0), &reply);
         if maybe_corrupt(&mut bytes, self.faults.corrupt, rng) {
             self.log.event(
