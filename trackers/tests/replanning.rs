@@ -24,7 +24,7 @@ fn cargo_delivery_completes_both_legs_with_replanning() {
             plan_time_s: 0.0,
             plan_solved: false,
             planner: Some(&mut planner as &mut dyn Planner),
-            limits: None,
+            setup: Default::default(),
             seed: 3,
         };
         let mut opts = spec.loop_options();
@@ -104,7 +104,7 @@ fn persistent_error_triggers_a_replan() {
         plan_time_s: first.time_s,
         plan_solved: true,
         planner: Some(&mut planner as &mut dyn Planner),
-        limits: None,
+        setup: Default::default(),
         seed: 1,
     };
     let out = simulate(
@@ -177,7 +177,7 @@ fn total_time_counts_a_replan_once_whatever_the_rig_clock() {
             plan_time_s: first_plan_time,
             plan_solved: true,
             planner: Some(&mut planner as &mut dyn Planner),
-            limits: None,
+            setup: Default::default(),
             seed: 3,
         };
         let spec = TrackerSpec::parse("obc", &[], "test").unwrap();

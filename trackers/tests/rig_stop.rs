@@ -56,6 +56,8 @@ impl Rig for Counting {
 /// A tracker that panics on its 10th command.
 struct Panicky(usize);
 
+impl magbench_env::params::ParamSet for Panicky {}
+
 impl Tracker for Panicky {
     fn name(&self) -> &str {
         "panicky"
