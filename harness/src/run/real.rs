@@ -281,3 +281,44 @@ impl Executor for RealExecutor {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::experiment::Experiment;
+
+    #[test]
+    fn a_run_plans_under_its_variants_setup_keys_limits_and_presets_frames() {
+        let text = r#"
+scenarios = ["cargo-delivery"]
+planners = ["rrt-star{objective=\"duration\", flow=\"rk4\", metric=\"centroid-shape:1:2\", k=3}"]
+seeds = 1
+[limits]
+iterations = 1234
+[tracking]
+trackers = ["obc"]
+presets = ["realistic"]
+"#;
+        let e = Experiment::parse(text, "x.toml", Path::new("."), "x", &RealExecutor).unwrap();
+        let runs = e.runs();
+        assert_eq!(runs.len(), 2, "a planning run and a tracked run");
+        for spec in &runs {
+            let s = setup(spec).unwrap();
+            assert_eq!(s.objective, "duration");
+            assert_eq!(s.flow, magbench_env::model::Flow::Rk4);
+            assert_eq!(s.limits.max_iterations, Some(1234));
+            assert_eq!(
+                s.control_period,
+                1.0 / 60.0,
+                "the realistic preset's camera"
+            );
+        }
+        // the setup keys do not reach the planner, the planner's own parameters do
+        assert_eq!(
+            planner_params(&runs[0].planner),
+            [("k".to_string(), "3".to_string())]
+        );
+    }
+}
