@@ -115,6 +115,7 @@ macro_rules! declare_params {
         }
 
         impl $crate::params::ParamSet for $name {
+            #[allow(unused_mut, clippy::vec_init_then_push)]
             fn params(&self) -> ::std::vec::Vec<$crate::params::ParamInfo> {
                 let mut out = ::std::vec::Vec::new();
                 $($crate::__declared!(@list self out $entry);)*
