@@ -6,12 +6,12 @@ mod common;
 
 use std::path::Path;
 
-use common::{deterministic_progress, deterministic_runs, write};
+use common::{deterministic_progress, deterministic_runs, opts, write};
 use magbench::experiment::{Experiment, Tracking};
 use magbench::results::merge::merge;
 use magbench::results::store::read_runs;
 use magbench::run::fake::FakeExecutor;
-use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
+use magbench::sweep::{SweepOptions, run_sweep};
 
 const MIXED: &str = r#"
 name = "mixed"
@@ -31,16 +31,6 @@ const MIXED_RUNS: usize = 2 * (3 + 4) * 3;
 
 fn parse(text: &str) -> Result<Experiment, magbench_env::InputError> {
     Experiment::parse(text, "exp.toml", Path::new("."), "exp", &FakeExecutor)
-}
-
-fn opts(out: &Path, threads: usize) -> SweepOptions {
-    SweepOptions {
-        out: out.to_path_buf(),
-        threads,
-        shard: None,
-        resume: false,
-        progress: ProgressMode::Quiet,
-    }
 }
 
 #[test]

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{deterministic_progress, deterministic_runs, write};
+use common::{deterministic_progress, deterministic_runs, opts, write};
 use magbench::experiment::Experiment;
 use magbench::run::real::RealExecutor;
 use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
@@ -135,18 +135,7 @@ presets = ["ideal"]
 "#;
     let e = Experiment::load(&write(dir.path(), "exp.toml", text), &RealExecutor).unwrap();
     let out = dir.path().join("r");
-    let s = run_sweep(
-        &e,
-        &RealExecutor,
-        &SweepOptions {
-            out: out.clone(),
-            threads: 2,
-            shard: None,
-            resume: false,
-            progress: ProgressMode::Quiet,
-        },
-    )
-    .unwrap();
+    let s = run_sweep(&e, &RealExecutor, &opts(&out, 2)).unwrap();
     assert_eq!((s.executed, s.failed), (3 * 2 + 2, 0));
     let runs = magbench::results::store::read_runs(&out).unwrap();
     let tracked: Vec<_> = runs.iter().filter(|r| !r.tracker.is_empty()).collect();

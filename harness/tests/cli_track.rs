@@ -110,7 +110,7 @@ fn bad_input_exits_2_with_a_clear_message() {
                 "--tracker",
                 "pid",
             ],
-            "unknown tracker `pid`",
+            "tracker: unknown tracker \"pid\"",
         ),
         (
             &[

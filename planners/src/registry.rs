@@ -5,45 +5,24 @@
 //! [`InputError`]s naming the source, the field (`planner`, `param.KEY`) and the reason.
 
 use magbench_env::InputError;
-use magbench_env::params::{ParamInfo, apply};
+use magbench_env::params::{ParamInfo, apply, lookup};
 
 use crate::Planner;
 use crate::planners::PLANNERS;
 
 /// A registered planner: its name, a one-line summary and a constructor with defaults.
-pub struct Entry {
-    /// The registry name.
-    pub name: &'static str,
-    /// One line on what it is.
-    pub summary: &'static str,
-    make: fn() -> Box<dyn Planner>,
-}
-
-impl Entry {
-    /// The entry of planner `name`, made with its defaults by `make`.
-    pub const fn new(
-        name: &'static str,
-        summary: &'static str,
-        make: fn() -> Box<dyn Planner>,
-    ) -> Self {
-        Entry {
-            name,
-            summary,
-            make,
-        }
-    }
-}
+pub type Entry = magbench_env::params::Entry<dyn Planner>;
 
 /// Names of the registered planners.
 pub fn names() -> Vec<&'static str> {
-    PLANNERS.iter().map(|e| e.name).collect()
+    magbench_env::params::names(PLANNERS)
 }
 
 /// Every planner's name, summary and parameters with their defaults.
 pub fn list() -> Vec<(&'static str, &'static str, Vec<ParamInfo>)> {
     PLANNERS
         .iter()
-        .map(|e| (e.name, e.summary, (e.make)().params()))
+        .map(|e| (e.name, e.summary, e.make().params()))
         .collect()
 }
 
@@ -59,14 +38,7 @@ pub fn create_in(
     name: &str,
     params: &[(String, String)],
 ) -> Result<Box<dyn Planner>, InputError> {
-    let entry = PLANNERS.iter().find(|e| e.name == name).ok_or_else(|| {
-        InputError::new(
-            source,
-            "planner",
-            format!("unknown planner {name:?} (known: {})", names().join(", ")),
-        )
-    })?;
-    let mut planner = (entry.make)();
+    let mut planner = lookup(PLANNERS, source, "planner", name)?.make();
     apply(source, name, &mut *planner, params)?;
     Ok(planner)
 }

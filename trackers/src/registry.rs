@@ -7,50 +7,31 @@
 //! the field (`tracker`, `param.KEY`) and the reason.
 
 use magbench_env::InputError;
-use magbench_env::params::{Both, ParamInfo, ParamSet, apply, changed};
+use magbench_env::params::{Both, ParamInfo, ParamSet, apply, changed, lookup, names};
 
 use crate::run::LoopOptions;
 use crate::tracker::Tracker;
 use crate::trackers::TRACKERS;
 
 /// A registered tracker: its name, a one-line summary and a constructor with defaults.
-pub struct Entry {
-    /// The registry name.
-    pub name: &'static str,
-    /// One line on what it does.
-    pub about: &'static str,
-    make: fn() -> Box<dyn Tracker>,
+pub type Entry = magbench_env::params::Entry<dyn Tracker>;
+
+/// A fresh tracker and the loop's options, with their defaults.
+fn fresh(entry: &Entry) -> (Box<dyn Tracker>, LoopOptions) {
+    let t = entry.make();
+    let opts = t.loop_options();
+    (t, opts)
 }
 
-impl Entry {
-    /// The entry of tracker `name`, made with its defaults by `make`.
-    pub const fn new(
-        name: &'static str,
-        about: &'static str,
-        make: fn() -> Box<dyn Tracker>,
-    ) -> Self {
-        Entry { name, about, make }
-    }
-
-    /// A fresh tracker and the loop's options, with their defaults.
-    fn fresh(&self) -> (Box<dyn Tracker>, LoopOptions) {
-        let t = (self.make)();
-        let opts = t.loop_options();
-        (t, opts)
-    }
-
-    /// Every parameter it takes (its own, then the loop's) with its defaults.
-    pub fn params(&self) -> Vec<ParamInfo> {
-        let (t, opts) = self.fresh();
-        let mut v = t.params();
-        v.extend(opts.params());
-        v
-    }
+/// Every parameter tracker `entry` takes (its own, then the loop's) with its defaults.
+pub fn params(entry: &Entry) -> Vec<ParamInfo> {
+    let (mut t, mut opts) = fresh(entry);
+    Both(&mut *t, &mut opts).params()
 }
 
 /// Names of the registered trackers.
 pub fn tracker_names() -> Vec<&'static str> {
-    TRACKERS.iter().map(|t| t.name).collect()
+    names(TRACKERS)
 }
 
 /// The registry entry of `name`.
@@ -74,17 +55,7 @@ impl TrackerSpec {
         params: &[(String, String)],
         source: &str,
     ) -> Result<Self, InputError> {
-        let entry = tracker_info(name).ok_or_else(|| {
-            InputError::new(
-                source,
-                "tracker",
-                format!(
-                    "unknown tracker `{name}` (known: {})",
-                    tracker_names().join(", ")
-                ),
-            )
-        })?;
-        let (mut t, mut opts) = entry.fresh();
+        let (mut t, mut opts) = fresh(lookup(TRACKERS, source, "tracker", name)?);
         apply(source, name, &mut Both(&mut *t, &mut opts), params)?;
         Ok(TrackerSpec {
             name: name.to_string(),
@@ -98,7 +69,7 @@ impl TrackerSpec {
 
     /// The tracker and the loop's options, with the parameters set.
     fn configured(&self) -> (Box<dyn Tracker>, LoopOptions) {
-        let (mut t, mut opts) = self.entry().fresh();
+        let (mut t, mut opts) = fresh(self.entry());
         apply("", &self.name, &mut Both(&mut *t, &mut opts), &self.params)
             .expect("parameters checked when parsed");
         (t, opts)
@@ -112,7 +83,7 @@ impl TrackerSpec {
 
     /// The parameters that differ from their defaults, as `name{key=value,...}` (for labels).
     pub fn label(&self) -> String {
-        let changed = changed(&self.values(), &self.entry().params());
+        let changed = changed(&self.values(), &params(self.entry()));
         if changed.is_empty() {
             self.name.clone()
         } else {
@@ -155,9 +126,7 @@ mod tests {
             let (t, _) = build_tracker(name, &[], "<command line>").unwrap();
             assert_eq!(t.name(), name);
             // every listed parameter accepts its own default
-            let entry = tracker_info(name).unwrap();
-            let defaults: Vec<(String, String)> = entry
-                .params()
+            let defaults: Vec<(String, String)> = params(tracker_info(name).unwrap())
                 .iter()
                 .map(|p| kv(p.name, &p.value.to_string()))
                 .collect();
@@ -183,7 +152,8 @@ mod tests {
     #[test]
     fn rejects_unknown_names_params_and_bad_values() {
         let e = build_tracker("pid", &[], "<command line>").err().unwrap();
-        assert!(e.to_string().contains("unknown tracker `pid`"), "{e}");
+        assert_eq!(e.field, "tracker");
+        assert!(e.to_string().contains("unknown tracker \"pid\""), "{e}");
         let e = build_tracker("obc", &[kv("gain", "0.5")], "exp.toml")
             .err()
             .unwrap();

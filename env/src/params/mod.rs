@@ -7,11 +7,14 @@
 //! - [`ParamType`]: how one value type parses and what values it allows ([`Reals`], a range of
 //!   whole numbers, a flag, a named choice);
 //! - [`apply`] and [`split_assignment`]: the one way `key=value` text reaches a [`ParamSet`],
-//!   with one error convention (`FILE: param.KEY: REASON`).
+//!   with one error convention (`FILE: param.KEY: REASON`);
+//! - [`Entry`] and [`lookup`]: the tables that name planners and trackers.
 
 mod declare;
+mod registry;
 mod types;
 
+pub use registry::{Entry, lookup, names};
 pub use types::{ParamType, Reals, Value, choose};
 
 use crate::InputError;

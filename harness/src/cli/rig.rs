@@ -13,13 +13,11 @@ use magbench_drivers::rigfile::{CoilEndpoint, RigConfig};
 use magbench_drivers::rigs::RigSource;
 use magbench_drivers::{HardwareRig, check, interrupt, replay};
 use magbench_env::Scenario;
-use magbench_env::params::split_all;
 use magbench_env::plant::DisturbancePreset;
-use magbench_trackers::TrackerSpec;
 
 use super::output::{emit, outln, prepare_dir, prepare_file};
 use super::setup::SetupArgs;
-use super::tracked::TrackRun;
+use super::tracked::{TrackRun, tracker_spec};
 use crate::CliError;
 
 /// Rig subcommands.
@@ -343,11 +341,7 @@ fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
 
 fn run_cmd(a: RunArgs) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
-    let tracker = TrackerSpec::parse(
-        &a.tracker,
-        &split_all("<command line>", &a.params)?,
-        "<command line>",
-    )?;
+    let tracker = tracker_spec(&a.tracker, &a.params)?;
     let setup = a.setup.setup()?;
     super::tracked::run(TrackRun {
         scenario: &scenario,

@@ -5,11 +5,9 @@ use std::path::PathBuf;
 use clap::Args;
 use magbench_drivers::rigs::RigSource;
 use magbench_env::Scenario;
-use magbench_env::params::split_all;
-use magbench_trackers::TrackerSpec;
 
 use super::setup::SetupArgs;
-use super::tracked::TrackRun;
+use super::tracked::{TrackRun, tracker_spec};
 use crate::CliError;
 
 /// Arguments of `magbench track`.
@@ -53,11 +51,7 @@ pub struct TrackArgs {
 /// Runs `magbench track`.
 pub fn run(a: TrackArgs) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
-    let tracker = TrackerSpec::parse(
-        &a.tracker,
-        &split_all("<command line>", &a.params)?,
-        "<command line>",
-    )?;
+    let tracker = tracker_spec(&a.tracker, &a.params)?;
     let setup = a.setup.setup()?;
     // without a plan file, the seed's planner makes the plan unless another is named
     let planner = match (&a.planner, &a.plan) {

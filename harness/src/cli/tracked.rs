@@ -46,6 +46,12 @@ pub struct TrackRun<'a> {
     pub json: bool,
 }
 
+/// The tracker `name` with its (and the loop's) `--param key=value` options.
+pub fn tracker_spec(name: &str, params: &[String]) -> Result<TrackerSpec, CliError> {
+    let params = split_all("<command line>", params)?;
+    Ok(TrackerSpec::parse(name, &params, "<command line>")?)
+}
+
 impl From<OpenError> for CliError {
     fn from(e: OpenError) -> Self {
         match e {

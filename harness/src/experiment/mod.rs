@@ -194,43 +194,41 @@ mod tests {
     use super::*;
     use crate::run::real::RealExecutor;
 
-    /// The example at the top of this file is a valid experiment (it went stale once: `sst`
-    /// has no `delta`).
-    #[test]
-    fn the_documented_example_is_valid() {
-        let src = include_str!("mod.rs");
-        let example: String = src
+    /// The TOML example of this file's documentation that follows the line containing
+    /// `after`.
+    fn doc_example(after: &str) -> String {
+        include_str!("mod.rs")
             .lines()
             .map_while(|l| l.strip_prefix("//!"))
+            .skip_while(|l| !l.contains(after))
             .skip_while(|l| !l.contains("```toml"))
             .skip(1)
             .take_while(|l| !l.contains("```"))
             .map(|l| format!("{}\n", l.trim_start()))
-            .collect::<String>()
-            .replace("\"scenarios/my-maze.toml\"", "\"open-field\"");
+            .collect()
+    }
+
+    fn parse(example: &str) -> Experiment {
+        Experiment::parse(example, "doc", Path::new("."), "doc", &RealExecutor)
+            .unwrap_or_else(|e| panic!("{e}\n{example}"))
+    }
+
+    /// The example at the top of this file is a valid experiment (it went stale once: `sst`
+    /// has no `delta`).
+    #[test]
+    fn the_documented_example_is_valid() {
+        let example =
+            doc_example("Experiment files").replace("\"scenarios/my-maze.toml\"", "\"open-field\"");
         assert!(example.contains("planners"), "{example}");
-        let e = Experiment::parse(&example, "doc", Path::new("."), "doc", &RealExecutor)
-            .unwrap_or_else(|e| panic!("{e}\n{example}"));
-        assert_eq!(e.planners.len(), 3);
+        assert_eq!(parse(&example).planners.len(), 3);
     }
 
     /// The `[tracking]` example of this file is valid too.
     #[test]
     fn the_documented_tracking_example_is_valid() {
-        let src = include_str!("mod.rs");
-        let example: String = src
-            .lines()
-            .map_while(|l| l.strip_prefix("//!"))
-            .skip_while(|l| !l.contains("[tracking]` table"))
-            .skip_while(|l| !l.contains("```toml"))
-            .skip(1)
-            .take_while(|l| !l.contains("```"))
-            .map(|l| format!("{}\n", l.trim_start()))
-            .collect();
+        let example = doc_example("[tracking]` table");
         assert!(example.contains("[tracking]"), "{example}");
-        let e = Experiment::parse(&example, "doc", Path::new("."), "doc", &RealExecutor)
-            .unwrap_or_else(|e| panic!("{e}\n{example}"));
         // 3 planners × 10 planning runs + goal-zoom-rrt × 2 trackers × 2 presets × 10
-        assert_eq!(e.runs().len(), 30 + 40);
+        assert_eq!(parse(&example).runs().len(), 30 + 40);
     }
 }

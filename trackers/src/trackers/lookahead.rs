@@ -25,7 +25,7 @@
 use magbench_env::params::Reals;
 use magbench_env::{Control, Vec2, declare_params};
 
-use crate::optimizer::{ObcOptimizer, ObcWeights};
+use super::steering::Steering;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
 declare_params! {
@@ -46,15 +46,12 @@ declare_params! {
         /// plan's pace by themselves (while the team is within `lookahead` of the path).
         #[param("stall", Reals::closed(0.0, 1e3))]
         pub stall: f64 = 0.1,
-        /// The optimizer's weights and search settings.
+        /// The optimizer that turns the targets into the command, and its weights.
         #[params]
-        pub weights: ObcWeights,
-        opt: Option<ObcOptimizer> = None,
+        pub steering: Steering,
         k: usize = 0,
         stalled: f64 = 0.0,
         holding: bool = false,
-        last: Option<Control> = None,
-        targets: Vec<Vec2> = vec![],
     }
 }
 
@@ -69,24 +66,18 @@ impl Tracker for Lookahead {
     }
 
     fn reset(&mut self, ctx: &TrackerContext) {
-        self.opt = Some(ObcOptimizer::new(
-            ctx.model.clone(),
-            ctx.checker.clone(),
-            ctx.period,
-            self.weights.clone(),
-        ));
+        self.steering.reset(ctx);
         self.k = 0;
         self.stalled = 0.0;
         self.holding = false;
     }
 
     fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
-        let opt = self.opt.as_ref().expect("reset before command");
         let r = ctx.reference;
         let x = tick.estimate;
         let n = x.len();
         let dt = ctx.model.dt;
-        let lead = ((opt.horizon() / dt).round() as usize).max(1);
+        let lead = ((self.steering.optimizer().horizon() / dt).round() as usize).max(1);
         let window = self.k..self.k + ((self.window / dt).round() as usize).max(lead) + 1;
         // project each agent on its own path ahead of k; the team moves on with the slowest
         let proj: Vec<(f64, f64)> = (0..n)
@@ -134,17 +125,14 @@ impl Tracker for Lookahead {
                 .collect()
         };
         let path = if near_end { &target } else { &on_path };
-        let sol = opt.solve_along(x, &target, path, self.last.as_ref(), None);
-        self.targets = target;
-        self.last = Some(sol.control);
-        sol.control
+        self.steering.command(x, &target, path, None)
     }
 
     fn status(&self) -> TrackerStatus {
         TrackerStatus {
             mode: if self.holding { "hold" } else { "pursue" },
             progress: self.k,
-            targets: Some(self.targets.clone()),
+            targets: Some(self.steering.targets()),
         }
     }
 }

@@ -7,10 +7,12 @@
 mod lookahead;
 mod obc;
 mod open_loop;
+mod steering;
 
 pub use lookahead::Lookahead;
 pub use obc::Obc;
 pub use open_loop::OpenLoop;
+pub use steering::Steering;
 
 use crate::registry::Entry;
 

@@ -12,9 +12,9 @@
 //! Either way the [`ObcOptimizer`] turns the target into the command.
 
 use magbench_env::params::Reals;
-use magbench_env::{Control, Vec2, declare_params};
+use magbench_env::{Control, declare_params};
 
-use crate::optimizer::{ObcOptimizer, ObcWeights};
+use super::steering::Steering;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
 declare_params! {
@@ -41,15 +41,12 @@ declare_params! {
         /// the plan's pace by itself.
         #[param("stall", Reals::closed(0.0, 1e3))]
         pub stall: f64 = 0.25,
-        /// The optimizer's weights and search settings.
+        /// The optimizer that turns the target into the command, and its weights.
         #[params]
-        pub weights: ObcWeights,
-        opt: Option<ObcOptimizer> = None,
+        pub steering: Steering,
         progress: usize = 0,
         recovering: bool = false,
         stalled: f64 = 0.0,
-        last: Option<Control> = None,
-        targets: Vec<Vec2> = vec![],
     }
 }
 
@@ -59,23 +56,17 @@ impl Tracker for Obc {
     }
 
     fn reset(&mut self, ctx: &TrackerContext) {
-        self.opt = Some(ObcOptimizer::new(
-            ctx.model.clone(),
-            ctx.checker.clone(),
-            ctx.period,
-            self.weights.clone(),
-        ));
+        self.steering.reset(ctx);
         self.progress = 0;
         self.recovering = false;
         self.stalled = 0.0;
     }
 
     fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
-        let opt = self.opt.as_ref().expect("reset before command");
         let r = ctx.reference;
         let dt = ctx.model.dt;
         let per_s = |s: f64| (s / dt).round().max(0.0) as usize;
-        let lead = per_s(opt.horizon()).max(1);
+        let lead = per_s(self.steering.optimizer().horizon()).max(1);
         let x = tick.estimate;
         let lo = if self.recovering {
             self.progress.saturating_sub(per_s(self.back))
@@ -116,17 +107,14 @@ impl Tracker for Obc {
             };
             (r.state(j).to_vec(), hint)
         };
-        let sol = opt.solve(x, &target, self.last.as_ref(), hint.as_ref());
-        self.targets = target;
-        self.last = Some(sol.control);
-        sol.control
+        self.steering.command(x, &target, &target, hint.as_ref())
     }
 
     fn status(&self) -> TrackerStatus {
         TrackerStatus {
             mode: if self.recovering { "recover" } else { "follow" },
             progress: self.progress,
-            targets: Some(self.targets.clone()),
+            targets: Some(self.steering.targets()),
         }
     }
 }
