@@ -29,6 +29,32 @@ pub enum RigSource {
     File(PathBuf),
 }
 
+impl RigSource {
+    /// Seconds between the rig's frames, read without opening it: the control period of every
+    /// plan it runs (a plan must be in whole frames of its rig). Bad input (an unknown preset,
+    /// a bad rig file) names `option`.
+    pub fn frame_period(&self, option: &str) -> Result<f64, OpenError> {
+        Ok(match self {
+            RigSource::Simulated { preset } => 1.0 / preset_named(preset, option)?.camera.fps,
+            RigSource::File(path) => 1.0 / RigConfig::load(path)?.camera.fps,
+        })
+    }
+}
+
+/// The disturbance preset called `name`; an unknown name is an [`InputError`] naming `option`.
+fn preset_named(name: &str, option: &str) -> Result<DisturbancePreset, InputError> {
+    DisturbancePreset::by_name(name).ok_or_else(|| {
+        InputError::new(
+            "<command line>",
+            option,
+            format!(
+                "unknown preset `{name}` (known: {})",
+                DisturbancePreset::NAMES.join(", ")
+            ),
+        )
+    })
+}
+
 /// A rig opened for one run: the loop's [`Rig`] and what the runner needs around it.
 pub trait RunRig: Rig {
     /// What the results call the rig: the preset's name, or `rig:NAME`.
@@ -76,16 +102,7 @@ pub fn open(
 ) -> Result<Box<dyn RunRig>, OpenError> {
     match source {
         RigSource::Simulated { preset } => {
-            let p = DisturbancePreset::by_name(preset).ok_or_else(|| {
-                InputError::new(
-                    "<command line>",
-                    option,
-                    format!(
-                        "unknown preset `{preset}` (known: {})",
-                        DisturbancePreset::NAMES.join(", ")
-                    ),
-                )
-            })?;
+            let p = preset_named(preset, option)?;
             Ok(Box::new(SimulatedRig {
                 rig: SimRig::new(scenario, &p, seed),
                 preset: p.name.to_string(),

@@ -11,6 +11,7 @@
 //!   capillarity, flow, Brownian motion) and the camera;
 //! - [`world`] and [`collision`]: maps, parry2d collision and the validity checker;
 //! - [`input`]: the one loader of input files (bounded reads, TOML with field and line);
+//! - [`params`]: parameters declared once ([`declare_params!`]), for planners and trackers;
 //! - [`scenario`]: the TOML scenario format, its validation and the built-in scenarios;
 //! - [`controllability`]: the numerical Lie-bracket (LARC) tool.
 //!
@@ -25,6 +26,7 @@ pub mod error;
 pub mod input;
 pub mod math;
 pub mod model;
+pub mod params;
 pub mod physics;
 pub mod plant;
 pub mod scenario;

@@ -136,6 +136,23 @@ fn dry_run_counts_the_matrix_and_merge_rejects_mixed_experiments() {
     ]);
     assert_eq!(code, 0);
     assert!(out.contains("2 runs"), "{out}");
+    let mixed = write(
+        dir.path(),
+        "mixed.toml",
+        &(GOOD.to_string() + "[tracking]\ntrackers = [\"fake\", \"fake{gain=2}\"]\n"),
+    );
+    let (code, out, err) = magbench(&[
+        "bench",
+        mixed.to_str().unwrap(),
+        "--executor",
+        "fake",
+        "--dry-run",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("6 runs (1 scenarios × (1 planners' planning runs + 1 tracked planners × 2 tracker/preset combinations) × 2 seeds)"),
+        "{out}"
+    );
     let q = write(
         dir.path(),
         "other.toml",

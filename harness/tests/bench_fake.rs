@@ -5,12 +5,12 @@ mod common;
 
 use std::path::Path;
 
-use common::{deterministic_progress, deterministic_runs, write};
+use common::{deterministic_progress, deterministic_runs, opts, write};
 use magbench::experiment::Experiment;
 use magbench::results::merge::merge;
 use magbench::results::store::read_runs;
 use magbench::run::fake::FakeExecutor;
-use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
+use magbench::sweep::{SweepOptions, run_sweep};
 
 const EXP: &str = r#"
 name = "fake-test"
@@ -25,16 +25,6 @@ iterations = 1000
 
 fn load(dir: &Path, text: &str) -> Experiment {
     Experiment::load(&write(dir, "exp.toml", text), &FakeExecutor).unwrap()
-}
-
-fn opts(out: &Path, threads: usize) -> SweepOptions {
-    SweepOptions {
-        out: out.to_path_buf(),
-        threads,
-        shard: None,
-        resume: false,
-        progress: ProgressMode::Quiet,
-    }
 }
 
 #[test]

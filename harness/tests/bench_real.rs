@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{deterministic_progress, deterministic_runs, write};
+use common::{deterministic_progress, deterministic_runs, opts, write};
 use magbench::experiment::Experiment;
 use magbench::run::real::RealExecutor;
 use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
@@ -55,6 +55,7 @@ fn unknown_planners_and_parameters_are_input_errors() {
         ("\"no-such-planner\"", "planners[0]"),
         ("\"goal-zoom-rrt{kk=5}\"", "planners[0]"),
         ("\"goal-zoom-rrt{objective=\\\"speed\\\"}\"", "planners[0]"),
+        ("\"goal-zoom-rrt{flow=\\\"euler\\\"}\"", "planners[0]"),
     ] {
         let text = EXP.replace(
             "\"goal-zoom-rrt\", \"goal-zoom-rrt{k=5, goal_bias=0.2}\"",
@@ -113,4 +114,63 @@ fn tracked_runs_fill_the_tracking_columns_deterministically() {
         .unwrap_err();
         assert_eq!(err.field, field, "{err}");
     }
+}
+
+/// `[tracking]` with the real executor: every planner's planning runs, and tracked runs for the
+/// listed plans only; the `flow` key sets the planning model of every plan of the run.
+#[test]
+fn a_tracking_table_plans_every_planner_and_tracks_the_listed_plans() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = r#"
+name = "real-mixed"
+scenarios = ["open-field"]
+planners = ["goal-zoom-rrt", "goal-zoom-rrt{flow=\"rk4\"}", "sst{stop_on_solution=true}"]
+seeds = 2
+[limits]
+iterations = 3000
+[tracking]
+plans = ["goal-zoom-rrt"]
+trackers = ["open-loop"]
+presets = ["ideal"]
+"#;
+    let e = Experiment::load(&write(dir.path(), "exp.toml", text), &RealExecutor).unwrap();
+    let out = dir.path().join("r");
+    let s = run_sweep(&e, &RealExecutor, &opts(&out, 2)).unwrap();
+    assert_eq!((s.executed, s.failed), (3 * 2 + 2, 0));
+    let runs = magbench::results::store::read_runs(&out).unwrap();
+    let tracked: Vec<_> = runs.iter().filter(|r| !r.tracker.is_empty()).collect();
+    assert_eq!(tracked.len(), 2);
+    assert!(
+        tracked
+            .iter()
+            .all(|r| r.planner == "goal-zoom-rrt" && r.rms_error_bl.is_some())
+    );
+    assert!(
+        runs.iter()
+            .filter(|r| r.tracker.is_empty())
+            .all(|r| r.rms_error_bl.is_none() && r.status != magbench::run::Status::Crash)
+    );
+    // the tracked run's first plan is its planning run's (open-field has one leg), and
+    // open-loop follows it exactly under the ideal preset (whose plant moves by the exact flow)
+    for t in &tracked {
+        let p = runs
+            .iter()
+            .find(|r| r.tracker.is_empty() && r.planner == t.planner && r.seed == t.seed)
+            .unwrap();
+        assert_eq!(
+            (p.iterations, p.cost, p.plan_edges),
+            (t.iterations, t.cost, t.plan_edges)
+        );
+        assert!(t.rms_error_bl.unwrap() < 1e-6, "{t:?}");
+    }
+    // rk4 and the exact flow give different plans from the same seed
+    let plain = runs
+        .iter()
+        .find(|r| r.tracker.is_empty() && r.planner == "goal-zoom-rrt" && r.seed == 0)
+        .unwrap();
+    let rk4 = runs
+        .iter()
+        .find(|r| r.tracker.is_empty() && r.planner == "goal-zoom-rrt{flow=rk4}" && r.seed == 0)
+        .unwrap();
+    assert_ne!(plain.cost, rk4.cost);
 }

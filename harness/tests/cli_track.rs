@@ -100,7 +100,7 @@ fn json_has_the_required_fields_and_out_writes_every_file() {
 
 #[test]
 fn bad_input_exits_2_with_a_clear_message() {
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 6] = [
         (
             &[
                 "track",
@@ -110,7 +110,7 @@ fn bad_input_exits_2_with_a_clear_message() {
                 "--tracker",
                 "pid",
             ],
-            "unknown tracker `pid`",
+            "tracker: unknown tracker \"pid\"",
         ),
         (
             &[
@@ -123,7 +123,7 @@ fn bad_input_exits_2_with_a_clear_message() {
                 "--param",
                 "gain=0.5",
             ],
-            "no parameter `gain`",
+            "param.gain: obc has no parameter \"gain\"",
         ),
         (
             &[
@@ -136,7 +136,7 @@ fn bad_input_exits_2_with_a_clear_message() {
                 "--param",
                 "gain=2",
             ],
-            "params.gain",
+            "param.gain: must be in [0, 1]",
         ),
         (
             &[
@@ -161,6 +161,10 @@ fn bad_input_exits_2_with_a_clear_message() {
                 "obc",
             ],
             "unknown planner",
+        ),
+        (
+            &["track", "open-field", "--tracker", "obc", "--flow", "euler"],
+            "<command line>: --flow: unknown flow",
         ),
     ];
     for (args, want) in cases {

@@ -33,7 +33,7 @@ fn main() {
             "--first-seed" => first_seed = v.parse().unwrap(),
             "--max-iters" => max_iters = v.parse().unwrap(),
             "--threads" => threads = v.parse().unwrap(),
-            "--param" => params.push(registry::parse_assignment("<args>", &v).unwrap()),
+            "--param" => params.push(magbench_env::params::split_assignment("<args>", &v).unwrap()),
             "--at" => at = v.split(',').map(|x| x.parse().unwrap()).collect(),
             "--verbose" => {
                 verbose = true;
@@ -69,17 +69,13 @@ fn main() {
                             } else {
                                 magbench_planners::planners::RrtStar::default()
                             };
-                            for (k, v) in params.iter() {
-                                magbench_planners::Planner::set_param(&mut pl, k, v).unwrap();
-                            }
+                            magbench_env::params::apply("<args>", planner, &mut pl, params).unwrap();
                             let (r, st) = pl.solve_with_stats(&p);
                             eprintln!("seed {seed}: {st:?}");
                             r
                         } else if verbose && planner == "sst" {
                             let mut pl = magbench_planners::planners::Sst::default();
-                            for (k, v) in params.iter() {
-                                magbench_planners::Planner::set_param(&mut pl, k, v).unwrap();
-                            }
+                            magbench_env::params::apply("<args>", planner, &mut pl, params).unwrap();
                             let (r, st) = pl.solve_with_stats(&p);
                             eprintln!("seed {seed}: {st:?}");
                             r

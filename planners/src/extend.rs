@@ -16,6 +16,7 @@
 //! or the whole control period at which the try's motion passes closest to the target
 //! ([`Timing::Closest`]: the exact flow makes a look along the whole motion cheap).
 
+use magbench_env::params::{ParamType, Value, choose};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
@@ -43,9 +44,27 @@ impl Timing {
 
     /// The timing of a parameter value.
     pub fn from_name(name: &str) -> Option<Self> {
-        [Timing::Random, Timing::Closest]
-            .into_iter()
-            .find(|t| t.name() == name)
+        Timing::ALL.into_iter().find(|t| t.name() == name)
+    }
+
+    /// Every timing.
+    pub const ALL: [Timing; 2] = [Timing::Random, Timing::Closest];
+}
+
+impl ParamType for Timing {
+    type Domain = ();
+
+    fn parse(text: &str, _: &()) -> Result<Self, String> {
+        let options = Timing::ALL.map(|t| (t.name(), t));
+        choose(text, &options)
+    }
+
+    fn value(&self) -> Value {
+        Value::Name(self.name())
+    }
+
+    fn describe(_: &()) -> String {
+        Timing::ALL.map(Timing::name).join("|")
     }
 }
 

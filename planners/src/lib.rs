@@ -13,7 +13,10 @@
 //! - `sst`: Stable Sparse RRT ([`planners::Sst`]).
 //!
 //! The physics is env's: planners propagate with `PlanningModel::propagate_with` and check with
-//! `ValidityChecker`; every edge lasts a whole number of control periods (1/60 s).
+//! `ValidityChecker`; every edge lasts a whole number of control periods (the camera frames of
+//! the rig that will run the plan). A run's [`PlanningSetup`] (objective, metric, limits,
+//! control period, flow) makes every problem it plans, and [`check_result`] is the one rule for
+//! whether a result can be followed.
 
 #![warn(missing_docs)]
 
@@ -23,7 +26,6 @@ pub mod metric;
 pub mod motion;
 pub mod nn;
 pub mod objective;
-pub mod params;
 pub mod plan;
 pub mod planner;
 pub mod planners;
@@ -32,6 +34,8 @@ pub mod progress;
 pub mod registry;
 pub mod result;
 pub mod sampler;
+pub mod sampling;
+pub mod setup;
 pub mod steer;
 pub mod tree;
 pub mod validate;
@@ -41,6 +45,7 @@ pub use objective::{Objective, plan_cost};
 pub use plan::Plan;
 pub use planner::{Planner, PlannerResult, ProgressPoint};
 pub use problem::{Limits, Problem};
+pub use setup::{PlanningSetup, Unusable, check_result};
 pub use validate::{PlanError, validate_path, validate_plan};
 
 /// The planners' random stream: portable and seedable (ChaCha8), never a thread or OS RNG.

@@ -1,54 +1,22 @@
 //! The planner seam.
 
+use magbench_env::params::ParamSet;
+
 use crate::tree::Tree;
 use crate::{Plan, Problem};
 
 /// A planner. `solve` is deterministic for a given problem and seed when only iterations
-/// limit it.
-pub trait Planner: Send {
+/// limit it. Its parameters are declared once ([`magbench_env::declare_params!`]), which makes
+/// it a [`ParamSet`]: listed, set by `key=value` and checked by the [`crate::registry`].
+pub trait Planner: ParamSet + Send {
     /// The registry name, e.g. `goal-zoom-rrt`.
     fn name(&self) -> &str;
     /// Plans for `problem`.
     fn solve(&mut self, problem: &Problem) -> PlannerResult;
-    /// The planner's parameters with their current values (the defaults, unless set).
-    fn params(&self) -> Vec<Param> {
-        Vec::new()
-    }
-    /// Sets parameter `key` from its text `value`; the error says why the value is refused.
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        let _ = value;
-        Err(ParamError::Unknown(key.to_string()))
-    }
-    /// Checks the parameters together, once all are set (e.g. a duration range).
-    fn check_params(&self) -> Result<(), ParamError> {
-        Ok(())
-    }
     /// The search tree of the last `solve`, if the planner keeps one (for plots).
     fn tree(&self) -> Option<&Tree> {
         None
     }
-}
-
-/// One parameter of a planner.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Param {
-    /// Its key, as given in `key=value`.
-    pub name: &'static str,
-    /// Its current value, as text.
-    pub value: String,
-    /// What it does, with its unit.
-    pub help: &'static str,
-}
-
-/// Why [`Planner::set_param`] refused a parameter.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ParamError {
-    /// The planner has no parameter of that name.
-    #[error("unknown parameter {0:?}")]
-    Unknown(String),
-    /// The value does not parse or is out of range.
-    #[error("{0}")]
-    BadValue(String),
 }
 
 /// One point of a planner's progress trace.

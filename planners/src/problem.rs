@@ -6,7 +6,8 @@ use std::time::Duration;
 use magbench_env::{Goal, PlanningModel, Scenario, ValidityChecker, Vec2, World};
 
 use crate::metric::Metric;
-use crate::objective::{Objective, PathLength};
+use crate::objective::Objective;
+use crate::setup::PlanningSetup;
 
 /// When a planner stops: after `max_iterations` and/or after `time_limit`, whichever first.
 /// For bit-for-bit reproducible runs, limit iterations only. With neither set, planners use the
@@ -56,28 +57,17 @@ pub struct Problem {
 }
 
 impl Problem {
-    /// The problem of leg `leg` of `scenario`, from `start` (the scenario's start if `None`).
+    /// The problem of leg `leg` of `scenario`, from `start` (the scenario's start if `None`),
+    /// under the default [`PlanningSetup`]: path length, agent positions, the default limits,
+    /// the default control period (one 60 fps frame) and the default flow. A run that will
+    /// be tracked makes its problems from its own setup ([`PlanningSetup::problem`]).
     pub fn from_scenario(
         scenario: &Scenario,
         leg: usize,
         start: Option<&[Vec2]>,
         seed: u64,
     ) -> Self {
-        Problem {
-            scenario: scenario.name.clone(),
-            world: scenario.world_for_leg(leg),
-            start: start
-                .map(|s| s.to_vec())
-                .unwrap_or_else(|| scenario.start.clone()),
-            goal: scenario.legs[leg].goal.clone(),
-            model: PlanningModel::new(&scenario.physics),
-            checker: scenario.checker_for_leg(leg),
-            control_period: 1.0 / 60.0,
-            limits: Limits::default(),
-            seed,
-            objective: Arc::new(PathLength),
-            metric: Metric::Positions,
-        }
+        PlanningSetup::default().problem(scenario, leg, start, seed)
     }
 
     /// Number of agents.

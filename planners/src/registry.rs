@@ -1,56 +1,28 @@
 //! Planners by name and `key=value` parameters, for the CLI and experiment files.
+//!
+//! The table of planners is [`crate::planners::PLANNERS`]; each planner's parameters are
+//! declared once in its own file. Unknown planners, unknown parameters and bad values are
+//! [`InputError`]s naming the source, the field (`planner`, `param.KEY`) and the reason.
 
 use magbench_env::InputError;
+use magbench_env::params::{ParamInfo, apply, lookup};
 
-use crate::metric::Metric;
-use crate::objective::{OBJECTIVES, objective_by_name};
-use crate::planner::{Param, ParamError};
-use crate::planners::{GoalZoomRrt, RrtStar, Sst};
-use crate::{Planner, Problem};
+use crate::Planner;
+use crate::planners::PLANNERS;
 
 /// A registered planner: its name, a one-line summary and a constructor with defaults.
-pub struct Entry {
-    /// The registry name.
-    pub name: &'static str,
-    /// One line on what it is.
-    pub summary: &'static str,
-    make: fn() -> Box<dyn Planner>,
-}
-
-/// Every registered planner.
-pub const PLANNERS: [Entry; 4] = [
-    Entry {
-        name: "goal-zoom-rrt",
-        summary: "the seed's RRT (Algorithms 1–3): goal-zoom sampling, brute-force EXTEND, stops at the goal",
-        make: || Box::new(GoalZoomRrt::default()),
-    },
-    Entry {
-        name: "rrt-star",
-        summary: "kinodynamic RRT*: shooting connections, parent by cost, rewiring; improves until the limits",
-        make: || Box::new(RrtStar::default()),
-    },
-    Entry {
-        name: "informed-rrt-star",
-        summary: "RRT* that samples only states that can improve the best solution (per-agent ellipses)",
-        make: || Box::new(RrtStar::informed()),
-    },
-    Entry {
-        name: "sst",
-        summary: "Stable Sparse RRT (Li, Littlefield & Bekris): selection and pruning radii, prunes dominated nodes",
-        make: || Box::new(Sst::default()),
-    },
-];
+pub type Entry = magbench_env::params::Entry<dyn Planner>;
 
 /// Names of the registered planners.
 pub fn names() -> Vec<&'static str> {
-    PLANNERS.iter().map(|e| e.name).collect()
+    magbench_env::params::names(PLANNERS)
 }
 
 /// Every planner's name, summary and parameters with their defaults.
-pub fn list() -> Vec<(&'static str, &'static str, Vec<Param>)> {
+pub fn list() -> Vec<(&'static str, &'static str, Vec<ParamInfo>)> {
     PLANNERS
         .iter()
-        .map(|e| (e.name, e.summary, (e.make)().params()))
+        .map(|e| (e.name, e.summary, e.make().params()))
         .collect()
 }
 
@@ -66,89 +38,9 @@ pub fn create_in(
     name: &str,
     params: &[(String, String)],
 ) -> Result<Box<dyn Planner>, InputError> {
-    let entry = PLANNERS.iter().find(|e| e.name == name).ok_or_else(|| {
-        InputError::new(
-            source,
-            "planner",
-            format!("unknown planner {name:?} (known: {})", names().join(", ")),
-        )
-    })?;
-    let mut planner = (entry.make)();
-    for (key, value) in params {
-        planner
-            .set_param(key, value)
-            .map_err(|e| param_error(source, name, &*planner, key, e))?;
-    }
-    planner
-        .check_params()
-        .map_err(|e| InputError::new(source, "param", format!("{name}: {e}")))?;
+    let mut planner = lookup(PLANNERS, source, "planner", name)?.make();
+    apply(source, name, &mut *planner, params)?;
     Ok(planner)
-}
-
-fn param_error(
-    source: &str,
-    name: &str,
-    planner: &dyn Planner,
-    key: &str,
-    e: ParamError,
-) -> InputError {
-    let reason = match e {
-        ParamError::Unknown(_) => {
-            let known: Vec<&str> = planner.params().iter().map(|p| p.name).collect();
-            format!(
-                "{name} has no parameter {key:?} (known: {})",
-                known.join(", ")
-            )
-        }
-        ParamError::BadValue(r) => r,
-    };
-    InputError::new(source, format!("param.{key}"), reason)
-}
-
-/// Splits `key=value` text; an error names `source` and the text.
-pub fn parse_assignment(source: &str, text: &str) -> Result<(String, String), InputError> {
-    match text.split_once('=') {
-        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
-        _ => Err(InputError::new(
-            source,
-            "param",
-            format!("{text:?} is not key=value"),
-        )),
-    }
-}
-
-/// Sets the problem's objective by name (`path-length`, `duration`, `control-effort`).
-pub fn set_objective(source: &str, problem: &mut Problem, name: &str) -> Result<(), InputError> {
-    problem.objective = objective_by_name(name, &problem.model).ok_or_else(|| {
-        InputError::new(
-            source,
-            "objective",
-            format!(
-                "unknown objective {name:?} (known: {})",
-                OBJECTIVES.join(", ")
-            ),
-        )
-    })?;
-    Ok(())
-}
-
-/// Sets how the problem's planning model solves motions, by name (`pair-exact`, `rk4`).
-pub fn set_flow(source: &str, problem: &mut Problem, name: &str) -> Result<(), InputError> {
-    let flow = magbench_env::model::Flow::from_name(name).ok_or_else(|| {
-        InputError::new(
-            source,
-            "flow",
-            format!("unknown flow {name:?} (known: pair-exact, rk4)"),
-        )
-    })?;
-    problem.model.flow = flow;
-    Ok(())
-}
-
-/// Sets the problem's distance metric by name (`positions`, `centroid-shape:W_C:W_S`).
-pub fn set_metric(source: &str, problem: &mut Problem, name: &str) -> Result<(), InputError> {
-    problem.metric = Metric::parse(name).map_err(|r| InputError::new(source, "metric", r))?;
-    Ok(())
 }
 
 #[cfg(test)]
@@ -162,37 +54,61 @@ mod tests {
             .collect()
     }
 
+    fn value(p: &dyn Planner, key: &str) -> String {
+        let params = p.params();
+        params
+            .iter()
+            .find(|p| p.name == key)
+            .unwrap()
+            .value
+            .to_string()
+    }
+
     #[test]
     fn creates_every_planner_with_defaults_and_parameters() {
         for (name, summary, params) in list() {
             assert!(!summary.is_empty() && !params.is_empty());
             let p = create(name, &[]).unwrap();
             assert_eq!(p.name(), name);
+            // every planner takes the shared sampling settings, EXTEND's timing too
+            for key in [
+                "k",
+                "min_duration",
+                "max_duration",
+                "goal_bias",
+                "zoom_radius",
+                "timing",
+            ] {
+                assert!(params.iter().any(|p| p.name == key), "{name} lacks {key}");
+            }
             // every listed parameter accepts its own default
             let defaults: Vec<(String, String)> = params
                 .iter()
-                .map(|p| (p.name.to_string(), p.value.clone()))
+                .map(|p| (p.name.to_string(), p.value.to_string()))
                 .collect();
             let again = create(name, &defaults).unwrap();
             assert_eq!(again.params(), params, "{name}");
         }
         let p = create("goal-zoom-rrt", &kv(&[("k", "7"), ("goal_bias", "0.3")])).unwrap();
-        let params = p.params();
-        assert_eq!(params.iter().find(|p| p.name == "k").unwrap().value, "7");
+        assert_eq!(value(&*p, "k"), "7");
+        assert_eq!(value(&*p, "goal_bias"), "0.3");
         assert_eq!(
-            params.iter().find(|p| p.name == "goal_bias").unwrap().value,
-            "0.3"
-        );
-        assert_eq!(
-            create("informed-rrt-star", &[])
-                .unwrap()
-                .params()
-                .iter()
-                .find(|p| p.name == "informed")
-                .unwrap()
-                .value,
+            value(&*create("informed-rrt-star", &[]).unwrap(), "informed"),
             "true"
         );
+        let p = create("sst", &kv(&[("timing", "closest")])).unwrap();
+        assert_eq!(value(&*p, "timing"), "closest");
+    }
+
+    #[test]
+    fn parameters_never_rename_a_planner() {
+        let p = create("rrt-star", &kv(&[("informed", "true")])).unwrap();
+        assert_eq!(
+            (p.name(), value(&*p, "informed").as_str()),
+            ("rrt-star", "true")
+        );
+        let p = create("informed-rrt-star", &kv(&[("informed", "false")])).unwrap();
+        assert_eq!(p.name(), "informed-rrt-star");
     }
 
     #[test]
@@ -225,6 +141,7 @@ mod tests {
             ("goal_bias", "1.5"),
             ("max_duration", "nan"),
             ("zoom_radius", "inf"),
+            ("timing", "soon"),
         ] {
             assert!(
                 create("goal-zoom-rrt", &kv(&[(k, v)])).is_err(),
@@ -237,6 +154,7 @@ mod tests {
         )
         .err()
         .unwrap();
+        assert_eq!(e.field, "param");
         assert!(e.reason.contains("exceeds"), "{e}");
         assert!(
             create(
@@ -244,41 +162,6 @@ mod tests {
                 &kv(&[("min_duration", "3"), ("max_duration", "4")])
             )
             .is_ok()
-        );
-        assert!(parse_assignment("<command line>", "k7").is_err());
-        assert_eq!(
-            parse_assignment("x", " k = 7 ").unwrap(),
-            ("k".to_string(), "7".to_string())
-        );
-    }
-
-    #[test]
-    fn objectives_and_metrics_by_name() {
-        let s = magbench_env::Scenario::load("open-field").unwrap();
-        let mut p = Problem::from_scenario(&s, 0, None, 0);
-        for name in OBJECTIVES {
-            set_objective("<command line>", &mut p, name).unwrap();
-            assert_eq!(p.objective.name(), name);
-        }
-        assert_eq!(
-            set_objective("<command line>", &mut p, "energy")
-                .unwrap_err()
-                .field,
-            "objective"
-        );
-        set_metric("<command line>", &mut p, "centroid-shape:1:2").unwrap();
-        assert_eq!(
-            p.metric,
-            Metric::CentroidShape {
-                centroid: 1.0,
-                shape: 2.0
-            }
-        );
-        assert_eq!(
-            set_metric("<command line>", &mut p, "l1")
-                .unwrap_err()
-                .field,
-            "metric"
         );
     }
 }

@@ -28,10 +28,8 @@ fn informed_samples_after_the_first_solution_lie_in_the_informed_set() {
     let s = scenario(ROOMY);
     let p = problem(&s, 2, 1500);
     let set = InformedSet::new(&p);
-    let mut informed = RrtStar {
-        sample_log: Some(Vec::new()),
-        ..RrtStar::informed()
-    };
+    let mut informed = RrtStar::informed();
+    informed.sample_log = Some(Vec::new());
     let r = informed.solve(&p);
     assert_solution(&p, &r);
     let log = informed.sample_log.unwrap();
@@ -51,10 +49,8 @@ fn informed_samples_after_the_first_solution_lie_in_the_informed_set() {
         );
     }
 
-    let mut plain = RrtStar {
-        sample_log: Some(Vec::new()),
-        ..RrtStar::default()
-    };
+    let mut plain = RrtStar::default();
+    plain.sample_log = Some(Vec::new());
     plain.solve(&p);
     let outside = plain
         .sample_log

@@ -166,13 +166,12 @@ fn unsolved_runs_return_the_closest_approach() {
 #[test]
 fn other_objectives_and_metrics() {
     let s = scenario(SMALL);
-    let mut p = problem(&s, 1, 1500);
-    registry::set_objective("<test>", &mut p, "duration").unwrap();
+    let p = problem_with(&s, 1, 1500, &[("objective", "duration")]);
     let r = registry::create("rrt-star", &[]).unwrap().solve(&p);
     assert_solution(&p, &r);
     assert_eq!(r.cost, Some(r.plan.duration()));
 
-    registry::set_objective("<test>", &mut p, "control-effort").unwrap();
+    let p = problem_with(&s, 1, 1500, &[("objective", "control-effort")]);
     let r = registry::create("sst", &[]).unwrap().solve(&p);
     assert_solution(&p, &r);
     let g = p.model.coil.gradient_limit();
@@ -185,8 +184,7 @@ fn other_objectives_and_metrics() {
         .sum();
     assert!((r.cost.unwrap() - effort).abs() < 1e-9 * (1.0 + effort));
 
-    let mut p = problem(&s, 1, 20_000);
-    registry::set_metric("<test>", &mut p, "centroid-shape:1:2").unwrap();
+    let p = problem_with(&s, 1, 20_000, &[("metric", "centroid-shape:1:2")]);
     let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
     assert_solution(&p, &r);
 }

@@ -10,7 +10,7 @@
 //!   measured against;
 //! - [`estimator`]: latency compensation and missed detections;
 //! - [`optimizer`]: the OBC's brute-force field-angle search with the closed-form pull;
-//! - the trackers: [`OpenLoop`], [`Obc`], [`Lookahead`], by name in [`registry`];
+//! - [`trackers`]: [`OpenLoop`], [`Obc`], [`Lookahead`], one file each, by name in [`registry`];
 //! - [`run`]: the loop, replanning, and [`metrics`];
 //! - [`plan_file`]: plans as JSON, read back bit for bit.
 
@@ -18,10 +18,7 @@
 
 pub mod estimator;
 pub mod log;
-pub mod lookahead;
 pub mod metrics;
-pub mod obc;
-pub mod open_loop;
 pub mod optimizer;
 pub mod plan_file;
 pub mod reference;
@@ -30,12 +27,10 @@ pub mod rig;
 pub mod run;
 pub mod sim_rig;
 pub mod tracker;
+pub mod trackers;
 
 pub use log::{PlanReason, PlanRecord, TickRecord, write_ticks_csv};
-pub use lookahead::{Lookahead, LookaheadParams};
 pub use metrics::{AgentError, RunStatus, TrackMetrics};
-pub use obc::{Obc, ObcParams};
-pub use open_loop::OpenLoop;
 pub use optimizer::{ObcOptimizer, ObcWeights};
 pub use reference::Reference;
 pub use registry::{TrackerSpec, build_tracker, tracker_names};
@@ -43,3 +38,4 @@ pub use rig::{GroundTruth, Rig, RigError};
 pub use run::{LoopOptions, Mission, TrackOutcome, reference_for, simulate, track};
 pub use sim_rig::SimRig;
 pub use tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
+pub use trackers::{Lookahead, Obc, OpenLoop};

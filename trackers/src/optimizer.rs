@@ -34,52 +34,50 @@
 //! agent would touch one, the next best candidate (or its zero-gradient variant) is taken.
 
 use magbench_env::model::pair_flow::PairStart;
-use magbench_env::{Actuation, Control, MAX_AGENTS, PlanningModel, ValidityChecker, Vec2};
+use magbench_env::params::Reals;
+use magbench_env::{
+    Actuation, Control, MAX_AGENTS, PlanningModel, ValidityChecker, Vec2, declare_params,
+};
 
-/// Weights and search settings of the optimizer.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ObcWeights {
-    /// Weight of the centre-of-mass error.
-    pub w_com: f64,
-    /// Weight of the formation (relative position) error.
-    pub w_rel: f64,
-    /// Weight of the field-angle change (per rad²).
-    pub w_smooth: f64,
-    /// Weight of a predicted separation outside the safe band (per BL²).
-    pub w_prox: f64,
-    /// Safety margin inside the proximity range (BL).
-    pub prox_margin: f64,
-    /// Extra ticks over which the predicted change of separation is extrapolated for the
-    /// proximity check (0 = the prediction only).
-    pub safety: f64,
-    /// Clearance (BL) below which a predicted agent is penalised by `w_wall`; a predicted
-    /// contact is never chosen if anything else is possible.
-    pub wall_margin: f64,
-    /// Weight of a predicted clearance below `wall_margin` (per BL²).
-    pub w_wall: f64,
-    /// Grid points over [0, π).
-    pub grid: usize,
-    /// Golden-section iterations of the local refinement.
-    pub refine: usize,
-    /// Prediction horizon in control ticks.
-    pub horizon: usize,
-}
-
-impl Default for ObcWeights {
-    fn default() -> Self {
-        ObcWeights {
-            w_com: 1.0,
-            w_rel: 1.0,
-            w_smooth: 1e-5,
-            w_prox: 1e3,
-            prox_margin: 0.15,
-            safety: 2.0,
-            wall_margin: 0.05,
-            w_wall: 1.0,
-            grid: 48,
-            refine: 12,
-            horizon: 1,
-        }
+declare_params! {
+    /// Weights and search settings of the optimizer (parameters of `obc` and `lookahead`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct ObcWeights {
+        /// Weight of the centre-of-mass error.
+        #[param("w_com", Reals::closed(0.0, 1e9))]
+        pub w_com: f64 = 1.0,
+        /// Weight of the formation (relative position) error.
+        #[param("w_rel", Reals::closed(0.0, 1e9))]
+        pub w_rel: f64 = 1.0,
+        /// Weight of the field-angle change (per rad²).
+        #[param("w_smooth", Reals::closed(0.0, 1e9))]
+        pub w_smooth: f64 = 1e-5,
+        /// Weight of a predicted separation outside the safe band (per BL²).
+        #[param("w_prox", Reals::closed(0.0, 1e12))]
+        pub w_prox: f64 = 1e3,
+        /// Safety margin inside the proximity range (BL).
+        #[param("prox_margin", Reals::closed(0.0, 2.0))]
+        pub prox_margin: f64 = 0.15,
+        /// Extra ticks over which the predicted change of separation is extrapolated for the
+        /// proximity check (0 = the prediction only).
+        #[param("safety", Reals::closed(0.0, 100.0))]
+        pub safety: f64 = 2.0,
+        /// Clearance (BL) below which a predicted agent is penalised by `w_wall`; a predicted
+        /// contact is never chosen if anything else is possible.
+        #[param("wall_margin", Reals::closed(0.0, 2.0))]
+        pub wall_margin: f64 = 0.05,
+        /// Weight of a predicted clearance below `wall_margin` (per BL²).
+        #[param("w_wall", Reals::closed(0.0, 1e9))]
+        pub w_wall: f64 = 1.0,
+        /// Field angles on the brute-force grid over [0, π).
+        #[param("grid", 4..=100_000)]
+        pub grid: usize = 48,
+        /// Golden-section iterations of the local refinement.
+        #[param("refine", 0..=100)]
+        pub refine: usize = 12,
+        /// Prediction horizon (control ticks).
+        #[param("horizon", 1..=120)]
+        pub horizon: usize = 1,
     }
 }
 

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use magbench_env::{InputError, Scenario};
-use magbench_planners::{Plan, PlanError, Problem, validate_path};
+use magbench_planners::{Plan, PlanError, PlanningSetup, validate_path};
 
 /// Longest plan accepted (s of motion): an hour, far beyond any scenario's. A plan is resampled
 /// at every integration step to be tracked; 1e10 s would need terabytes.
@@ -21,21 +21,32 @@ pub fn read_plan(path: &Path, agents: usize) -> Result<Plan, InputError> {
     parse_plan(&text, &file, agents)
 }
 
-/// Reads a plan file and validates it for the first leg of `scenario`, as a scenario file is
-/// validated: [`parse_plan`], then [`check_plan`].
-pub fn read_plan_for(path: &Path, scenario: &Scenario) -> Result<Plan, InputError> {
+/// Reads a plan file and validates it for the first leg of `scenario` on a rig whose frames
+/// last `control_period` seconds, as a scenario file is validated: [`parse_plan`], then
+/// [`check_plan`].
+pub fn read_plan_for(
+    path: &Path,
+    scenario: &Scenario,
+    control_period: f64,
+) -> Result<Plan, InputError> {
     let file = path.display().to_string();
     let plan = read_plan(path, scenario.agents())?;
-    check_plan(&plan, scenario, &file)?;
+    check_plan(&plan, scenario, &file, control_period)?;
     Ok(plan)
 }
 
 /// Checks a well-formed plan against the first leg of `scenario`: at most
 /// [`MAX_PLAN_DURATION_S`] long, every state inside the world, and then the planners' own
 /// validator from the plan's start — controls within the coil's limits, durations in whole
-/// control periods, no collision or proximity violation along any edge, and every stored
-/// state what the planning model replays. `file` names the plan in errors.
-pub fn check_plan(plan: &Plan, scenario: &Scenario, file: &str) -> Result<(), InputError> {
+/// control periods of `control_period` seconds (the frames of the rig that will run it), no
+/// collision or proximity violation along any edge, and every stored state what the planning
+/// model replays. `file` names the plan in errors.
+pub fn check_plan(
+    plan: &Plan,
+    scenario: &Scenario,
+    file: &str,
+    control_period: f64,
+) -> Result<(), InputError> {
     let bad = |field: String, reason: String| InputError::new(file, field, reason);
     let total: f64 = plan.durations.iter().sum();
     if total.is_nan() || total > MAX_PLAN_DURATION_S {
@@ -60,7 +71,9 @@ pub fn check_plan(plan: &Plan, scenario: &Scenario, file: &str) -> Result<(), In
             ));
         }
     }
-    let problem = Problem::from_scenario(scenario, 0, Some(plan.start()), 0);
+    let problem = PlanningSetup::default()
+        .in_frames_of(control_period)
+        .problem(scenario, 0, Some(plan.start()), 0);
     validate_path(&problem, plan).map(|_| ()).map_err(|e| {
         let field = match &e {
             PlanError::Malformed(_) | PlanError::WrongStart { .. } => "states".to_string(),
@@ -138,6 +151,10 @@ pub fn plan_json(plan: &Plan) -> String {
 mod tests {
     use super::*;
     use magbench_env::{Control, Vec2};
+    use magbench_planners::Problem;
+
+    /// The frame period of a 60 fps camera.
+    const F: f64 = 1.0 / 60.0;
 
     /// A short valid plan on open-field, and the scenario.
     fn valid() -> (Plan, Scenario) {
@@ -161,42 +178,46 @@ mod tests {
     #[test]
     fn plans_are_validated_like_scenarios() {
         let (plan, s) = valid();
-        check_plan(&plan, &s, "p.json").unwrap();
+        check_plan(&plan, &s, "p.json", F).unwrap();
         // issue 11's reproducers: a 1e10 s duration, a state at x = 1e20, a huge gradient
         let mut long = plan.clone();
         long.durations[2] = 1e10;
-        let e = check_plan(&long, &s, "p.json").unwrap_err();
+        let e = check_plan(&long, &s, "p.json", F).unwrap_err();
         assert_eq!((e.file.as_str(), e.field.as_str()), ("p.json", "durations"));
         let mut far = plan.clone();
         far.states[3][1].x = 1e20;
         assert_eq!(
-            check_plan(&far, &s, "p.json").unwrap_err().field,
+            check_plan(&far, &s, "p.json", F).unwrap_err().field,
             "states[3][1]"
         );
         let mut strong = plan.clone();
         strong.controls[1].grad[0] = 1e3;
         assert_eq!(
-            check_plan(&strong, &s, "p.json").unwrap_err().field,
+            check_plan(&strong, &s, "p.json", F).unwrap_err().field,
             "controls[1]"
         );
         let mut alpha = plan.clone();
         alpha.controls[0].alpha = 1e19;
         assert_eq!(
-            check_plan(&alpha, &s, "p.json").unwrap_err().field,
+            check_plan(&alpha, &s, "p.json", F).unwrap_err().field,
             "controls[0]"
         );
         // a state the controls do not lead to
         let mut moved = plan.clone();
         moved.states[4][0].y += 0.5;
-        let e = check_plan(&moved, &s, "p.json").unwrap_err();
+        let e = check_plan(&moved, &s, "p.json", F).unwrap_err();
         assert_eq!(e.field, "states[4]", "{e}");
         // a duration off the control period
         let mut odd = plan.clone();
         odd.durations[0] = 0.1234;
         assert_eq!(
-            check_plan(&odd, &s, "p.json").unwrap_err().field,
+            check_plan(&odd, &s, "p.json", F).unwrap_err().field,
             "durations[0]"
         );
+        // a plan in 60 fps frames does not fit a 25 fps rig: its frames are the plan's periods
+        let e = check_plan(&plan, &s, "p.json", 1.0 / 25.0).unwrap_err();
+        assert_eq!(e.field, "durations[0]", "{e}");
+        assert!(e.reason.contains("control period 0.04 s"), "{e}");
     }
 
     #[test]

@@ -1,9 +1,11 @@
 //! The tracker seam: one coil command per control tick.
 
+use magbench_env::params::ParamSet;
 use magbench_env::plant::Observation;
 use magbench_env::{Control, Goal, PlanningModel, ValidityChecker, Vec2};
 
 use crate::Reference;
+use crate::run::LoopOptions;
 
 /// What a tracker may use: the reference, the planning model, the leg's validity checker and
 /// the control period.
@@ -43,10 +45,17 @@ pub struct TrackerStatus {
     pub targets: Option<Vec<Vec2>>,
 }
 
-/// A plan tracker: turns the estimated state into a coil command, once per tick.
-pub trait Tracker: Send {
+/// A plan tracker: turns the estimated state into a coil command, once per tick. Its
+/// parameters are declared once ([`magbench_env::declare_params!`]), which makes it a
+/// [`ParamSet`].
+pub trait Tracker: ParamSet + Send {
     /// The registry name.
     fn name(&self) -> &str;
+    /// The loop's options with this tracker's defaults (the loop's parameters are set like the
+    /// tracker's own).
+    fn loop_options(&self) -> LoopOptions {
+        LoopOptions::default()
+    }
     /// Starts following a new reference (the first plan, a new leg or a replan).
     fn reset(&mut self, ctx: &TrackerContext);
     /// The command for this tick.

@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use magbench_env::Vec2;
 use magbench_env::plant::DisturbancePreset;
-use magbench_planners::{Planner, Problem};
+use magbench_planners::{Limits, Planner, PlanningSetup, Problem};
 use magbench_trackers::{Mission, PlanReason, RunStatus, TrackerSpec, simulate};
 
 #[test]
@@ -24,7 +24,7 @@ fn cargo_delivery_completes_both_legs_with_replanning() {
             plan_time_s: 0.0,
             plan_solved: false,
             planner: Some(&mut planner as &mut dyn Planner),
-            limits: None,
+            setup: Default::default(),
             seed: 3,
         };
         let mut opts = spec.loop_options();
@@ -104,7 +104,7 @@ fn persistent_error_triggers_a_replan() {
         plan_time_s: first.time_s,
         plan_solved: true,
         planner: Some(&mut planner as &mut dyn Planner),
-        limits: None,
+        setup: Default::default(),
         seed: 1,
     };
     let out = simulate(
@@ -177,7 +177,7 @@ fn total_time_counts_a_replan_once_whatever_the_rig_clock() {
             plan_time_s: first_plan_time,
             plan_solved: true,
             planner: Some(&mut planner as &mut dyn Planner),
-            limits: None,
+            setup: Default::default(),
             seed: 3,
         };
         let spec = TrackerSpec::parse("obc", &[], "test").unwrap();
@@ -213,4 +213,99 @@ fn total_time_counts_a_replan_once_whatever_the_rig_clock() {
         (running.total_time_s - (first_plan_time + running.duration_s)).abs() < 1e-9,
         "{running:?}"
     );
+}
+
+/// A planner that records the problem of every call, then plans with goal-zoom-rrt.
+struct Recording {
+    inner: Box<dyn Planner>,
+    seen: Vec<Problem>,
+}
+
+impl magbench_env::params::ParamSet for Recording {}
+
+impl Planner for Recording {
+    fn name(&self) -> &str {
+        "recording"
+    }
+
+    fn solve(&mut self, problem: &Problem) -> magbench_planners::PlannerResult {
+        self.seen.push(problem.clone());
+        self.inner.solve(problem)
+    }
+}
+
+/// The planning setup reaches every plan of a run, the first and each new leg's, and every plan
+/// is in whole frames of the rig that runs it (a 30 fps camera here), whatever control period
+/// the mission's setup carried.
+#[test]
+fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
+    let s = scenario("cargo-delivery");
+    let mut planner = Recording {
+        inner: magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap(),
+        seen: vec![],
+    };
+    let mut setup = PlanningSetup {
+        limits: Limits {
+            max_iterations: Some(60_000),
+            time_limit: None,
+        },
+        ..PlanningSetup::default()
+    };
+    setup.set("test", "objective", "duration").unwrap();
+    setup.set("test", "metric", "centroid-shape:1:1").unwrap();
+    setup.set("test", "flow", "rk4").unwrap();
+    let mut preset = DisturbancePreset::ideal();
+    preset.camera.fps = 30.0;
+    let spec = TrackerSpec::parse("obc", &[], "test").unwrap();
+    let mission = Mission {
+        scenario: &s,
+        plan: None,
+        plan_time_s: 0.0,
+        plan_solved: false,
+        planner: Some(&mut planner as &mut dyn Planner),
+        setup,
+        seed: 5,
+    };
+    let out = simulate(
+        mission,
+        spec.build().as_mut(),
+        &preset,
+        &spec.loop_options(),
+    );
+    assert!(
+        out.metrics.legs_completed >= 1,
+        "{:?} {:?}",
+        out.metrics,
+        out.message
+    );
+    let legs: Vec<usize> = out.plans.iter().map(|p| p.leg).collect();
+    assert!(legs.contains(&1), "the second leg was planned: {legs:?}");
+    assert_eq!(planner.seen.len(), out.plans.len());
+    for p in &planner.seen {
+        assert_eq!(p.objective.name(), "duration");
+        assert_eq!(
+            p.metric,
+            magbench_planners::Metric::CentroidShape {
+                centroid: 1.0,
+                shape: 1.0
+            }
+        );
+        assert_eq!(p.model.flow, magbench_env::model::Flow::Rk4);
+        assert_eq!(p.limits.max_iterations, Some(60_000));
+        assert_eq!(
+            p.control_period,
+            1.0 / 30.0,
+            "the rig's frame, not the setup's"
+        );
+    }
+    for record in &out.plans {
+        assert_eq!(record.plan.flow, magbench_env::model::Flow::Rk4);
+        for d in &record.plan.durations {
+            let frames = d * 30.0;
+            assert!(
+                (frames - frames.round()).abs() < 1e-9 && frames >= 1.0,
+                "{d} s is not whole 30 fps frames"
+            );
+        }
+    }
 }

@@ -58,6 +58,8 @@ impl Rig for Counting {
 /// preset draws.
 struct Panicky(usize);
 
+impl magbench_env::params::ParamSet for Panicky {}
+
 impl Tracker for Panicky {
     fn name(&self) -> &str {
         "panicky"

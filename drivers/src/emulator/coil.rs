@@ -129,10 +129,14 @@ impl CoilServer {
         });
     }
 
-    /// Trips the watchdog if the host has been silent too long.
+    /// Trips the watchdog if the host has been silent too long (no host connected: silent now).
     fn watchdog(&self) {
+        self.watchdog_at(self.clock.timer());
+    }
+
+    /// Trips the watchdog if the host had been silent too long at clock time `now`.
+    fn watchdog_at(&self, now: Duration) {
         let mut sh = lock(&self.shared);
-        let now = self.clock.timer();
         if sh.device.check_watchdog(now) {
             let t = self.clock.t();
             let silent = sh
@@ -142,7 +146,8 @@ impl CoilServer {
                 .unwrap_or(0.0);
             let cur = sh.device.currents().to_vec();
             sh.changes.push((t, cur.clone()));
-            self.log.event(
+            self.log.event_at(
+                now,
                 t,
                 "watchdog",
                 None,
@@ -167,12 +172,16 @@ impl CoilServer {
     }
 
     /// Serves one host connection until it closes or the link is cut; returns true when cut.
+    ///
+    /// The watchdog judges the silence at the clock reading taken before each read, once that
+    /// read's bytes are handled: a message that was already waiting then (received, but not
+    /// yet handled by a thread the machine was slow to schedule) counts as received, as on a
+    /// device whose receiver works by interrupt.
     fn serve(&self, io: &mut dyn DeviceIo, rng: &mut ChaCha8Rng) -> bool {
         let mut dec = Decoder::new();
         let mut buf = [0u8; 512];
         let mut idle = Duration::ZERO;
         while !self.stop.load(Ordering::Relaxed) {
-            self.watchdog();
             let since_hello = lock(&self.shared).hello_t.map(|h| self.clock.t() - h);
             if let Some((tc, Cut::Coil)) = self.faults.disconnect
                 && since_hello.is_some_and(|s| s >= tc)
@@ -180,12 +189,14 @@ impl CoilServer {
                 self.zero_on("fault_disconnect");
                 return true;
             }
+            let before_read = self.clock.timer();
             let n = match io.read_timeout(&mut buf, Duration::from_millis(2)) {
                 Ok(None) => {
                     idle += Duration::from_millis(2);
                     if idle >= Duration::from_millis(4) && dec.pending() > 0 {
                         dec.drop_stalled();
                     }
+                    self.watchdog_at(before_read);
                     continue;
                 }
                 Ok(Some(0)) => {
@@ -216,6 +227,7 @@ impl CoilServer {
                     return false;
                 }
             }
+            self.watchdog_at(before_read);
         }
         false
     }
@@ -256,7 +268,8 @@ impl CoilServer {
             DeviceEvent::Refused(s) => ("refused", format!("{s:?}")),
             DeviceEvent::BadFrame => ("bad_frame", "checksum failed: NAK".into()),
         };
-        self.log.event(t, name, seq, &cur, &[], &detail);
+        // stamped with the reading the device judged the message by (its watchdog's clock)
+        self.log.event_at(now, t, name, seq, &cur, &[], &detail);
         let mut bytes = encode(seq.unwrap_or(0), &reply);
         if maybe_corrupt(&mut bytes, self.faults.corrupt, rng) {
             self.log.event(

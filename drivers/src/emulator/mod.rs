@@ -148,7 +148,7 @@ impl Emulator {
             DeviceClock::real_time(cfg.clock.clone(), cfg.speed)
         });
         let log = Arc::new(
-            EventLog::create(&cfg.log, Instant::now())
+            EventLog::create(&cfg.log, cfg.clock.clone())
                 .map_err(|e| format!("{}: {e}", cfg.log.display()))?,
         );
         let shared: Shared = Arc::new(Mutex::new(DeviceShared {

@@ -6,7 +6,7 @@ use clap::{Args, ValueEnum};
 
 use super::output::outln;
 use crate::CliError;
-use crate::experiment::Experiment;
+use crate::experiment::{Experiment, Tracking};
 use crate::run::Executor;
 use crate::run::fake::FakeExecutor;
 use crate::run::real::RealExecutor;
@@ -97,14 +97,27 @@ pub fn run(a: BenchArgs) -> Result<(), CliError> {
     });
     let total = crate::sweep::shard(e.runs(), shard).len();
     if a.dry_run {
+        let combos = e.trackers.len() * e.presets.len();
+        let matrix = match &e.tracking {
+            Tracking::Plans(p) => format!(
+                "{} scenarios × ({} planners' planning runs + {} tracked planners × {combos} tracker/preset combinations) × {} seeds",
+                e.scenarios.len(),
+                e.planners.len(),
+                p.len(),
+                e.seeds.len(),
+            ),
+            Tracking::None | Tracking::Every => format!(
+                "{} scenarios × {} planners × {} tracker/preset combinations × {} seeds",
+                e.scenarios.len(),
+                e.planners.len(),
+                combos.max(1),
+                e.seeds.len(),
+            ),
+        };
         outln!(
-            "{}: {} runs ({} scenarios × {} planners × {} tracker/preset combinations × {} seeds){}",
+            "{}: {} runs ({matrix}){}",
             e.source,
             total,
-            e.scenarios.len(),
-            e.planners.len(),
-            (e.trackers.len() * e.presets.len()).max(1),
-            e.seeds.len(),
             shard
                 .map(|(i, n)| format!(", shard {i}/{n}"))
                 .unwrap_or_default()

@@ -2,13 +2,13 @@
 
 mod bench;
 mod figures;
-mod limits;
 mod merge;
 pub(crate) mod output;
 mod plan;
 mod regress;
 mod rig;
 mod scenario;
+mod setup;
 mod stlc;
 mod track;
 mod tracked;

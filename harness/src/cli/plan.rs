@@ -6,12 +6,13 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use magbench_env::params::split_all;
 use magbench_env::{MAX_AGENTS, Scenario, Vec2};
-use magbench_planners::{Plan, Planner, PlannerResult, Problem, registry, validate_path};
+use magbench_planners::{Plan, Planner, PlannerResult, Problem, Unusable, check_result, registry};
 use serde_json::{Value, json};
 
-use super::limits::LimitArgs;
 use super::output::{out, outln};
+use super::setup::SetupArgs;
 use crate::CliError;
 use crate::plot::world::{WorldPlot, render};
 
@@ -27,22 +28,16 @@ pub struct PlanArgs {
     /// Seed of the planner's random stream (leg k uses seed + k).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Planner limits per leg (200000 iterations when no limit is given).
+    /// Planner limits per leg, objective, metric and flow.
     #[command(flatten)]
-    pub limits: LimitArgs,
+    pub setup: SetupArgs,
     /// A planner parameter, key=value (repeatable; see --list).
     #[arg(long = "param", value_name = "KEY=VALUE")]
     pub params: Vec<String>,
-    /// Cost objective: path-length (default), duration or control-effort.
-    #[arg(long, default_value = "path-length")]
-    pub objective: String,
-    /// Distance metric: positions (default) or centroid-shape:W_CENTROID:W_SHAPE.
-    #[arg(long, default_value = "positions")]
-    pub metric: String,
-    /// How the planning model solves motions: pair-exact (default; the exact flow for two
-    /// agents under a planar field, RK4 otherwise) or rk4 (RK4 everywhere).
-    #[arg(long, default_value = "pair-exact")]
-    pub flow: String,
+    /// Camera frames per second of the rig that will run the plan: every edge lasts a whole
+    /// number of its frames (default 60, the presets' camera).
+    #[arg(long, default_value_t = 60.0)]
+    pub fps: f64,
     /// Print exactly one JSON object on stdout instead of a summary.
     #[arg(long)]
     pub json: bool,
@@ -54,6 +49,9 @@ pub struct PlanArgs {
     #[arg(long)]
     pub list: bool,
 }
+
+/// Highest `--fps` accepted (a rig file's `camera.fps` has the same bound).
+const MAX_FPS: f64 = 10_000.0;
 
 /// One planned leg.
 struct LegRun {
@@ -76,13 +74,15 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
         ));
     };
     let scenario = Scenario::load(scenario_name)?;
-    let params = a
-        .params
-        .iter()
-        .map(|kv| registry::parse_assignment("<command line>", kv))
-        .collect::<Result<Vec<_>, _>>()?;
+    let params = split_all("<command line>", &a.params)?;
     let mut planner = registry::create(planner_name, &params)?;
-    let limits = a.limits.limits()?.unwrap_or_default();
+    if !(a.fps.is_finite() && a.fps > 0.0 && a.fps <= MAX_FPS) {
+        return Err(CliError::arg(
+            "--fps",
+            format!("must be in (0, {MAX_FPS}], got {}", a.fps),
+        ));
+    }
+    let setup = a.setup.setup()?.in_frames_of(1.0 / a.fps);
     if let Some(dir) = &a.out {
         super::output::prepare_dir(dir, "--out")?;
     }
@@ -90,16 +90,12 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
     let mut runs: Vec<LegRun> = Vec::new();
     let mut start: Option<Vec<Vec2>> = None;
     for leg in 0..scenario.legs.len() {
-        let mut problem = Problem::from_scenario(
+        let problem = setup.problem(
             &scenario,
             leg,
             start.as_deref(),
             a.seed.wrapping_add(leg as u64),
         );
-        problem.limits = limits;
-        registry::set_objective("<command line>", &mut problem, &a.objective)?;
-        registry::set_metric("<command line>", &mut problem, &a.metric)?;
-        registry::set_flow("--flow", &mut problem, &a.flow)?;
         if !problem.checker.is_valid(&problem.start) {
             return Err(CliError::Failed(format!(
                 "leg {}: the previous leg ends in a state that is invalid in this leg's map",
@@ -107,13 +103,13 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
             )));
         }
         let result = planner.solve(&problem);
-        // never hand out a plan the validator refuses
-        validate_path(&problem, &result.plan).map_err(|e| {
-            CliError::Failed(format!(
+        // never hand out a plan the validator refuses (a plan without motion is reported)
+        if let Err(Unusable::Invalid(e)) = check_result(&problem, &result) {
+            return Err(CliError::Failed(format!(
                 "leg {}: {planner_name} returned an invalid plan: {e}",
                 leg + 1
-            ))
-        })?;
+            )));
+        }
         let tree = tree_edges(&*planner);
         let solved = result.solved;
         start = Some(result.plan.end().to_vec());
@@ -148,11 +144,18 @@ pub fn planner_list() -> String {
     for (name, summary, params) in registry::list() {
         s += &format!("{name}\n    {summary}\n");
         for p in params {
-            s += &format!("    {:<20} {:<10} {}\n", p.name, p.value, p.help);
+            s += &format!(
+                "    {:<20} {:<10} {:<16} {}\n",
+                p.name,
+                p.value.to_string(),
+                p.range,
+                p.help
+            );
         }
     }
-    s += "objectives: path-length (default), duration, control-effort\n";
-    s += "metrics:    positions (default), centroid-shape:W_CENTROID:W_SHAPE\n";
+    s += "objectives: path-length (default), duration, control-effort (--objective)\n";
+    s += "metrics:    positions (default), centroid-shape:W_CENTROID:W_SHAPE (--metric)\n";
+    s += "flows:      pair-exact (default), rk4 (--flow)\n";
     s
 }
 

@@ -14,11 +14,10 @@ use magbench_drivers::rigs::RigSource;
 use magbench_drivers::{HardwareRig, check, interrupt, replay};
 use magbench_env::Scenario;
 use magbench_env::plant::DisturbancePreset;
-use magbench_trackers::TrackerSpec;
 
-use super::limits::LimitArgs;
 use super::output::{emit, outln, prepare_dir, prepare_file};
-use super::tracked::{TrackRun, kv_list};
+use super::setup::SetupArgs;
+use super::tracked::{TrackRun, tracker_spec};
 use crate::CliError;
 
 /// Rig subcommands.
@@ -59,9 +58,9 @@ pub struct RunArgs {
     /// A planner parameter, key=value (repeatable).
     #[arg(long = "planner-param", value_name = "KEY=VALUE")]
     pub planner_params: Vec<String>,
-    /// Planner limits.
+    /// Planner limits, objective, metric and flow of every planning call.
     #[command(flatten)]
-    pub limits: LimitArgs,
+    pub setup: SetupArgs,
     /// Folder for rig-log.csv (every observation, command, fault), ticks.csv, metrics.json,
     /// plans.json, plan.json, the world plot and a GIF of the run.
     #[arg(long, default_value = "rig-run")]
@@ -342,8 +341,8 @@ fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
 
 fn run_cmd(a: RunArgs) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
-    let tracker = TrackerSpec::parse(&a.tracker, &kv_list(&a.params)?, "<command line>")?;
-    let limits = a.limits.limits()?;
+    let tracker = tracker_spec(&a.tracker, &a.params)?;
+    let setup = a.setup.setup()?;
     super::tracked::run(TrackRun {
         scenario: &scenario,
         rig: (RigSource::File(a.rig), "--rig"),
@@ -352,7 +351,7 @@ fn run_cmd(a: RunArgs) -> Result<(), CliError> {
         plan: None,
         tracker,
         seed: a.seed,
-        limits,
+        setup,
         out: Some(a.out),
         json: a.json,
     })

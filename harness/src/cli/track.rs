@@ -5,10 +5,9 @@ use std::path::PathBuf;
 use clap::Args;
 use magbench_drivers::rigs::RigSource;
 use magbench_env::Scenario;
-use magbench_trackers::TrackerSpec;
 
-use super::limits::LimitArgs;
-use super::tracked::{TrackRun, kv_list};
+use super::setup::SetupArgs;
+use super::tracked::{TrackRun, tracker_spec};
 use crate::CliError;
 
 /// Arguments of `magbench track`.
@@ -38,9 +37,9 @@ pub struct TrackArgs {
     /// the first leg; the planner, if given, still makes the replans.
     #[arg(long, value_name = "FILE")]
     pub plan: Option<PathBuf>,
-    /// Planner limits.
+    /// Planner limits, objective, metric and flow of every planning call.
     #[command(flatten)]
-    pub limits: LimitArgs,
+    pub setup: SetupArgs,
     /// Print one JSON object on stdout instead of a summary.
     #[arg(long)]
     pub json: bool,
@@ -52,8 +51,8 @@ pub struct TrackArgs {
 /// Runs `magbench track`.
 pub fn run(a: TrackArgs) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
-    let tracker = TrackerSpec::parse(&a.tracker, &kv_list(&a.params)?, "<command line>")?;
-    let limits = a.limits.limits()?;
+    let tracker = tracker_spec(&a.tracker, &a.params)?;
+    let setup = a.setup.setup()?;
     // without a plan file, the seed's planner makes the plan unless another is named
     let planner = match (&a.planner, &a.plan) {
         (Some(name), _) => Some(name.clone()),
@@ -68,7 +67,7 @@ pub fn run(a: TrackArgs) -> Result<(), CliError> {
         plan: a.plan,
         tracker,
         seed: a.seed,
-        limits,
+        setup,
         out: a.out,
         json: a.json,
     })

@@ -8,10 +8,10 @@ use std::path::{Path, PathBuf};
 
 use magbench_drivers::rigs::{self, OpenError, RigSource};
 use magbench_drivers::{RigStats, stats};
+use magbench_env::params::split_all;
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{Limits, Planner, Problem};
+use magbench_planners::{Limits, Planner, PlanningSetup, Unusable, check_result};
 use magbench_trackers::plan_file::{plan_json, read_plan_for};
-use magbench_trackers::registry::parse_param;
 use magbench_trackers::{
     Mission, RunStatus, TrackOutcome, TrackerSpec, reference_for, track, write_ticks_csv,
 };
@@ -38,19 +38,18 @@ pub struct TrackRun<'a> {
     pub tracker: TrackerSpec,
     /// Seed of the planner and of the simulated disturbances.
     pub seed: u64,
-    /// Limits of every planning call.
-    pub limits: Option<Limits>,
+    /// What every planning call is made under (its control period becomes the rig's).
+    pub setup: PlanningSetup,
     /// The output folder.
     pub out: Option<PathBuf>,
     /// Print one JSON object instead of a summary.
     pub json: bool,
 }
 
-/// `key=value` list of the command line.
-pub fn kv_list(list: &[String]) -> Result<Vec<(String, String)>, CliError> {
-    list.iter()
-        .map(|kv| parse_param(kv, "<command line>").map_err(CliError::from))
-        .collect()
+/// The tracker `name` with its (and the loop's) `--param key=value` options.
+pub fn tracker_spec(name: &str, params: &[String]) -> Result<TrackerSpec, CliError> {
+    let params = split_all("<command line>", params)?;
+    Ok(TrackerSpec::parse(name, &params, "<command line>")?)
 }
 
 impl From<OpenError> for CliError {
@@ -76,12 +75,14 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     let mut planner = match &r.planner {
         Some(name) => Some(magbench_planners::registry::create(
             name,
-            &kv_list(r.planner_params)?,
+            &split_all("<command line>", r.planner_params)?,
         )?),
         None => None,
     };
+    // every plan, the first and each replan, is in whole frames of the rig that runs it
+    let setup = r.setup.clone().in_frames_of(r.rig.0.frame_period(r.rig.1)?);
     let given = match &r.plan {
-        Some(p) => Some(read_plan_for(p, s)?),
+        Some(p) => Some(read_plan_for(p, s, setup.control_period)?),
         None => None,
     };
     if let Some(dir) = &r.out {
@@ -110,10 +111,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         }
         None => {
             let planner = planner.as_mut().expect("a planner without a plan file");
-            let mut problem = Problem::from_scenario(s, 0, observed.as_deref(), r.seed);
-            if let Some(l) = r.limits {
-                problem.limits = l;
-            }
+            let problem = setup.problem(s, 0, observed.as_deref(), r.seed);
             let result = planner.solve(&problem);
             if rig.describe().is_some() {
                 eprintln!(
@@ -130,21 +128,25 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
                     result.plan.duration()
                 );
             }
-            if !magbench_trackers::run::replanner::usable(&result) {
+            if let Err(e) = check_result(&problem, &result) {
                 let _ = rig.stop();
-                return Err(CliError::Failed(format!(
-                    "{} found no plan from the {} start{}",
-                    planner.name(),
-                    if observed.is_some() {
-                        "observed"
-                    } else {
-                        "scenario's"
-                    },
-                    match r.limits {
-                        Some(l) => format!(" within its limits ({l:?})"),
-                        None => String::new(),
-                    }
-                )));
+                let from = if observed.is_some() {
+                    "observed"
+                } else {
+                    "scenario's"
+                };
+                return Err(CliError::Failed(match e {
+                    Unusable::NoMotion => format!(
+                        "{} found no plan from the {from} start{}",
+                        planner.name(),
+                        if setup.limits == Limits::default() {
+                            String::new()
+                        } else {
+                            format!(" within its limits ({:?})", setup.limits)
+                        }
+                    ),
+                    Unusable::Invalid(_) => format!("{}: {e}", planner.name()),
+                }));
             }
             FirstPlan {
                 plan: result.plan,
@@ -159,7 +161,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         plan_time_s: first.time_s,
         plan_solved: first.solved,
         planner: planner.as_deref_mut().map(|p| p as &mut dyn Planner),
-        limits: r.limits,
+        setup,
         seed: r.seed,
     };
     let mut tracker = r.tracker.build();
@@ -264,9 +266,9 @@ fn summary_json(
         o.insert(
             "params".into(),
             r.tracker
-                .values
+                .values()
                 .iter()
-                .map(|(k, x)| ((*k).to_string(), json!(x)))
+                .map(|p| (p.name.to_string(), json!(p.value)))
                 .collect(),
         );
         o.insert("message".into(), json!(out.message));

@@ -8,7 +8,7 @@ use magbench_env::InputError;
 use magbench_env::input::parse_toml;
 use serde::Deserialize;
 
-use super::{Experiment, resolve_scenario};
+use super::{Experiment, Tracking, resolve_scenario};
 use crate::run::spec::time_limit;
 use crate::run::{Executor, ParamValue, RunLimits, Variant};
 
@@ -25,6 +25,16 @@ struct ExperimentFile {
     presets: Option<Vec<String>>,
     seeds: toml::Value,
     limits: LimitsFile,
+    tracking: Option<TrackingFile>,
+}
+
+/// `[tracking]`: track only some planners' plans, besides every planner's planning runs.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TrackingFile {
+    plans: Option<Vec<String>>,
+    trackers: Vec<toml::Value>,
+    presets: Option<Vec<String>>,
 }
 
 #[derive(Deserialize)]
@@ -171,6 +181,83 @@ fn check_name(name: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// The presets of `list` (default `["ideal"]`), checked; errors name `field`.
+fn presets(
+    list: Option<Vec<String>>,
+    file: &str,
+    field: &str,
+    ex: &dyn Executor,
+) -> Result<Vec<String>, InputError> {
+    let Some(p) = list else {
+        return Ok(vec!["ideal".to_string()]);
+    };
+    if p.is_empty() {
+        return Err(InputError::new(
+            file,
+            field,
+            format!("list at least one preset, or leave `{field}` out for [\"ideal\"]"),
+        ));
+    }
+    for (i, name) in p.iter().enumerate() {
+        ex.check_preset(name)
+            .map_err(|e| InputError::new(file, format!("{field}[{i}]"), e))?;
+        if p[..i].contains(name) {
+            return Err(InputError::new(
+                file,
+                format!("{field}[{i}]"),
+                format!("{name} is listed twice"),
+            ));
+        }
+    }
+    Ok(p)
+}
+
+/// The labels of the planners whose plans are tracked (`[tracking] plans`; default every
+/// planner): each must be one of `planners`, as written there (compared canonically).
+fn tracked_plans(
+    plans: Option<Vec<String>>,
+    planners: &[Variant],
+    file: &str,
+) -> Result<Vec<String>, InputError> {
+    let labels: Vec<String> = planners.iter().map(Variant::label).collect();
+    let Some(plans) = plans else {
+        return Ok(labels);
+    };
+    if plans.is_empty() {
+        return Err(InputError::new(
+            file,
+            "tracking.plans",
+            "list at least one planner, or leave `plans` out to track every planner's plans",
+        ));
+    }
+    let mut out: Vec<String> = vec![];
+    for (i, text) in plans.iter().enumerate() {
+        let field = format!("tracking.plans[{i}]");
+        let label = Variant::parse(text)
+            .map_err(|e| InputError::new(file, &field, e))?
+            .label();
+        if !labels.contains(&label) {
+            return Err(InputError::new(
+                file,
+                &field,
+                format!(
+                    "{text:?} is not one of the planners ({})",
+                    labels.join(", ")
+                ),
+            ));
+        }
+        if out.contains(&label) {
+            return Err(InputError::new(
+                file,
+                &field,
+                format!("{label} is listed twice"),
+            ));
+        }
+        out.push(label);
+    }
+    Ok(out)
+}
+
 /// Parses and validates an experiment.
 pub fn parse(
     text: &str,
@@ -211,37 +298,49 @@ pub fn parse(
         ));
     }
     let planners = components(&raw.planners, file, "planners", &|v| ex.check_planner(v))?;
-    let trackers = components(&raw.trackers, file, "trackers", &|v| ex.check_tracker(v))?;
-    let presets = match (raw.presets, trackers.is_empty()) {
-        (Some(p), true) if !p.is_empty() => {
-            return Err(InputError::new(
-                file,
-                "presets",
-                "presets apply to tracking: list `trackers` too",
-            ));
-        }
-        (_, true) => vec![],
-        (None, false) => vec!["ideal".to_string()],
-        (Some(p), false) if p.is_empty() => {
-            return Err(InputError::new(
-                file,
-                "presets",
-                "list at least one preset, or leave `presets` out for [\"ideal\"]",
-            ));
-        }
-        (Some(p), false) => {
-            for (i, name) in p.iter().enumerate() {
-                ex.check_preset(name)
-                    .map_err(|e| InputError::new(file, format!("presets[{i}]"), e))?;
-                if p[..i].contains(name) {
+    let (trackers, presets, tracking) = match raw.tracking {
+        None => {
+            let trackers = components(&raw.trackers, file, "trackers", &|v| ex.check_tracker(v))?;
+            if trackers.is_empty() {
+                if raw.presets.as_ref().is_some_and(|p| !p.is_empty()) {
                     return Err(InputError::new(
                         file,
-                        format!("presets[{i}]"),
-                        format!("{name} is listed twice"),
+                        "presets",
+                        "presets apply to tracking: list `trackers` too",
                     ));
                 }
+                (trackers, vec![], Tracking::None)
+            } else {
+                let presets = presets(raw.presets, file, "presets", ex)?;
+                (trackers, presets, Tracking::Every)
             }
-            p
+        }
+        Some(t) => {
+            if !raw.trackers.is_empty() || raw.presets.is_some() {
+                let field = if raw.trackers.is_empty() {
+                    "presets"
+                } else {
+                    "trackers"
+                };
+                return Err(InputError::new(
+                    file,
+                    field,
+                    "give trackers and presets either at the top level (every run tracked) or in [tracking] (some planners' plans tracked), not both",
+                ));
+            }
+            let trackers = components(&t.trackers, file, "tracking.trackers", &|v| {
+                ex.check_tracker(v)
+            })?;
+            if trackers.is_empty() {
+                return Err(InputError::new(
+                    file,
+                    "tracking.trackers",
+                    "list at least one tracker",
+                ));
+            }
+            let presets = presets(t.presets, file, "tracking.presets", ex)?;
+            let plans = tracked_plans(t.plans, &planners, file)?;
+            (trackers, presets, Tracking::Plans(plans))
         }
     };
     let seeds = seeds(&raw.seeds, file)?;
@@ -270,26 +369,27 @@ pub fn parse(
             "give `iterations` and/or `time`",
         ));
     }
-    let runs = [
-        scenarios.len(),
-        planners.len(),
-        trackers.len().max(1),
-        presets.len().max(1),
-        seeds.len(),
-    ]
-    .iter()
-    .try_fold(1usize, |n, k| n.checked_mul(*k))
-    .filter(|n| *n <= MAX_RUNS);
+    let combos = trackers.len() * presets.len();
+    let per_seed = match &tracking {
+        Tracking::None => Some(planners.len()),
+        Tracking::Every => planners.len().checked_mul(combos),
+        Tracking::Plans(p) => p
+            .len()
+            .checked_mul(combos)
+            .and_then(|t| t.checked_add(planners.len())),
+    };
+    let runs = per_seed
+        .and_then(|n| n.checked_mul(scenarios.len()))
+        .and_then(|n| n.checked_mul(seeds.len()))
+        .filter(|n| *n <= MAX_RUNS);
     if runs.is_none() {
         return Err(InputError::new(
             file,
             "seeds",
             format!(
-                "the run matrix ({} scenarios × {} planners × {} trackers × {} presets × {} seeds) has more than {MAX_RUNS} runs",
+                "the run matrix ({} scenarios × {} planner runs (planning and tracking) per seed × {} seeds) has more than {MAX_RUNS} runs",
                 scenarios.len(),
-                planners.len(),
-                trackers.len().max(1),
-                presets.len().max(1),
+                per_seed.map_or("too many".to_string(), |n| n.to_string()),
                 seeds.len()
             ),
         ));
@@ -303,6 +403,7 @@ pub fn parse(
         planners,
         trackers,
         presets,
+        tracking,
         seeds,
         limits: RunLimits { iterations, time_s },
     })

@@ -13,6 +13,24 @@
 //! iterations = 20000                        # and/or
 //! time = 5.0                                # seconds of planning
 //! ```
+//!
+//! Top-level `trackers` make every run a tracked run. To compare every planner by planning runs
+//! and track only some planners' plans, in the same results, give a `[tracking]` table instead:
+//!
+//! ```toml
+//! scenarios = ["micro-factory"]
+//! planners = ["goal-zoom-rrt", "rrt-star", "sst"]
+//! seeds = 10
+//! [limits]
+//! iterations = 5000
+//! [tracking]
+//! plans = ["goal-zoom-rrt"]          # planners (labels as in `planners`) whose plans are tracked; default all
+//! trackers = ["obc", "lookahead"]
+//! presets = ["ideal", "realistic"]   # default ["ideal"]
+//! ```
+//!
+//! Every planner then has its planning runs (untracked), and each planner in `plans` also its
+//! tracked runs with every tracker and preset.
 
 mod file;
 
@@ -43,6 +61,8 @@ pub struct Experiment {
     pub trackers: Vec<Variant>,
     /// Disturbance presets (empty without trackers).
     pub presets: Vec<String>,
+    /// Which runs there are besides the plain planning runs.
+    pub tracking: Tracking,
     /// Seeds.
     pub seeds: Vec<u64>,
     /// Planner limits.
@@ -79,26 +99,30 @@ impl Experiment {
         hex(&Sha256::digest(self.text.as_bytes()))
     }
 
-    /// The tracker × preset combinations of each planner run (`[(None, None)]` without trackers).
-    fn tracking(&self) -> Vec<(Option<Variant>, Option<String>)> {
-        if self.trackers.is_empty() {
-            return vec![(None, None)];
-        }
+    /// The tracker × preset combinations of planner `p`'s runs (`(None, None)`: a planning
+    /// run), in matrix order.
+    fn tracking(&self, p: &Variant) -> Vec<(Option<Variant>, Option<String>)> {
         let mut v = vec![];
-        for t in &self.trackers {
-            for p in &self.presets {
-                v.push((Some(t.clone()), Some(p.clone())));
+        if self.tracking.has_planning_runs() {
+            v.push((None, None));
+        }
+        if self.tracking.tracks(p) {
+            for t in &self.trackers {
+                for pr in &self.presets {
+                    v.push((Some(t.clone()), Some(pr.clone())));
+                }
             }
         }
         v
     }
 
-    /// The full run matrix in a fixed order: scenario, planner, tracker, preset, seed.
+    /// The full run matrix in a fixed order: scenario, planner, tracker, preset, seed (a
+    /// planner's planning runs before its tracked runs).
     pub fn runs(&self) -> Vec<RunSpec> {
         let mut out = vec![];
         for (label, sc) in &self.scenarios {
             for p in &self.planners {
-                for (t, pr) in self.tracking() {
+                for (t, pr) in self.tracking(p) {
                     for &seed in &self.seeds {
                         out.push(RunSpec {
                             index: out.len(),
@@ -116,6 +140,34 @@ impl Experiment {
             }
         }
         out
+    }
+}
+
+/// Which runs an experiment has besides planning runs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Tracking {
+    /// No trackers: every run is a planning run.
+    None,
+    /// Top-level `trackers`: every run plans, then tracks (no planning-only runs).
+    Every,
+    /// A `[tracking]` table: every planner has its planning runs, and the planners with these
+    /// labels also their tracked runs.
+    Plans(Vec<String>),
+}
+
+impl Tracking {
+    /// True when the matrix has planning-only runs.
+    pub fn has_planning_runs(&self) -> bool {
+        !matches!(self, Tracking::Every)
+    }
+
+    /// True when planner `p`'s plans are tracked.
+    pub fn tracks(&self, p: &Variant) -> bool {
+        match self {
+            Tracking::None => false,
+            Tracking::Every => true,
+            Tracking::Plans(labels) => labels.contains(&p.label()),
+        }
     }
 }
 
@@ -142,23 +194,41 @@ mod tests {
     use super::*;
     use crate::run::real::RealExecutor;
 
-    /// The example at the top of this file is a valid experiment (it went stale once: `sst`
-    /// has no `delta`).
-    #[test]
-    fn the_documented_example_is_valid() {
-        let src = include_str!("mod.rs");
-        let example: String = src
+    /// The TOML example of this file's documentation that follows the line containing
+    /// `after`.
+    fn doc_example(after: &str) -> String {
+        include_str!("mod.rs")
             .lines()
             .map_while(|l| l.strip_prefix("//!"))
+            .skip_while(|l| !l.contains(after))
             .skip_while(|l| !l.contains("```toml"))
             .skip(1)
             .take_while(|l| !l.contains("```"))
             .map(|l| format!("{}\n", l.trim_start()))
-            .collect::<String>()
-            .replace("\"scenarios/my-maze.toml\"", "\"open-field\"");
+            .collect()
+    }
+
+    fn parse(example: &str) -> Experiment {
+        Experiment::parse(example, "doc", Path::new("."), "doc", &RealExecutor)
+            .unwrap_or_else(|e| panic!("{e}\n{example}"))
+    }
+
+    /// The example at the top of this file is a valid experiment (it went stale once: `sst`
+    /// has no `delta`).
+    #[test]
+    fn the_documented_example_is_valid() {
+        let example =
+            doc_example("Experiment files").replace("\"scenarios/my-maze.toml\"", "\"open-field\"");
         assert!(example.contains("planners"), "{example}");
-        let e = Experiment::parse(&example, "doc", Path::new("."), "doc", &RealExecutor)
-            .unwrap_or_else(|e| panic!("{e}\n{example}"));
-        assert_eq!(e.planners.len(), 3);
+        assert_eq!(parse(&example).planners.len(), 3);
+    }
+
+    /// The `[tracking]` example of this file is valid too.
+    #[test]
+    fn the_documented_tracking_example_is_valid() {
+        let example = doc_example("[tracking]` table");
+        assert!(example.contains("[tracking]"), "{example}");
+        // 3 planners × 10 planning runs + goal-zoom-rrt × 2 trackers × 2 presets × 10
+        assert_eq!(parse(&example).runs().len(), 30 + 40);
     }
 }

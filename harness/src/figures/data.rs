@@ -1,11 +1,10 @@
 //! The runs behind the paper figures: plan with a registered planner from a fixed seed, then
 //! track the plan in closed loop against the simulated plant, keeping every tick.
 
-use std::time::Duration;
-
+use magbench_drivers::rigs::RigSource;
 use magbench_env::plant::DisturbancePreset;
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{Limits, PlannerResult, Problem, registry};
+use magbench_planners::{Limits, PlannerResult, PlanningSetup, registry};
 use magbench_trackers::{Mission, Reference, TrackerSpec, simulate};
 
 /// A planned and tracked run of a scenario's first leg.
@@ -52,11 +51,20 @@ pub fn plan_and_track(s: &RunSpec) -> Result<TrackedRun, String> {
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     let mut planner = registry::create(s.planner.0, &params).map_err(|e| e.to_string())?;
-    let mut problem = Problem::from_scenario(&scenario, 0, None, s.seed);
-    problem.limits = Limits {
-        max_iterations: Some(s.iterations),
-        time_limit: None::<Duration>,
-    };
+    let period = RigSource::Simulated {
+        preset: s.preset.to_string(),
+    }
+    .frame_period("preset")
+    .map_err(|e| e.to_string())?;
+    let setup = PlanningSetup {
+        limits: Limits {
+            max_iterations: Some(s.iterations),
+            time_limit: None,
+        },
+        ..PlanningSetup::default()
+    }
+    .in_frames_of(period);
+    let problem = setup.problem(&scenario, 0, None, s.seed);
     let planned = planner.solve(&problem);
     let reference = Reference::from_plan(&planned.plan, &problem.model);
     let plan_samples = (0..reference.len())
@@ -71,7 +79,7 @@ pub fn plan_and_track(s: &RunSpec) -> Result<TrackedRun, String> {
         plan_time_s: planned.time_s,
         plan_solved: planned.solved,
         planner: Some(planner.as_mut()),
-        limits: Some(problem.limits),
+        setup,
         seed: s.seed,
     };
     let mut tracker = spec.build();

@@ -79,7 +79,13 @@ impl Target {
                 let s = open_field();
                 let plan = magbench_trackers::plan_file::parse_plan(&text, &file, s.agents())
                     .map_err(|e| e.to_string())?;
-                magbench_trackers::plan_file::check_plan(&plan, s, &file).map_err(|e| e.to_string())
+                magbench_trackers::plan_file::check_plan(
+                    &plan,
+                    s,
+                    &file,
+                    magbench_planners::setup::DEFAULT_CONTROL_PERIOD,
+                )
+                .map_err(|e| e.to_string())
             }
         }
     }

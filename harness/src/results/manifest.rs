@@ -7,7 +7,7 @@ use std::time::SystemTime;
 use serde::{Deserialize, Serialize};
 
 use crate::CliError;
-use crate::experiment::Experiment;
+use crate::experiment::{Experiment, Tracking};
 
 /// `manifest.json`.
 pub const MANIFEST: &str = "manifest.json";
@@ -33,6 +33,10 @@ pub struct ExperimentInfo {
     pub trackers: Vec<String>,
     /// Presets.
     pub presets: Vec<String>,
+    /// With a `[tracking]` table: the planners whose plans are tracked (every planner also has
+    /// planning runs). Absent when top-level trackers track every run, or nothing is tracked.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tracked_plans: Option<Vec<String>>,
     /// Seeds.
     pub seeds: Vec<u64>,
     /// Iteration limit.
@@ -179,6 +183,10 @@ impl ExperimentInfo {
             planners: e.planners.iter().map(|p| p.label()).collect(),
             trackers: e.trackers.iter().map(|t| t.label()).collect(),
             presets: e.presets.clone(),
+            tracked_plans: match &e.tracking {
+                Tracking::Plans(p) => Some(p.clone()),
+                Tracking::None | Tracking::Every => None,
+            },
             seeds: e.seeds.clone(),
             max_iterations: e.limits.iterations,
             time_limit_s: e.limits.time_s,

@@ -178,11 +178,17 @@ pub fn write_all(
                 format!("{} + {} ({})", r.planner, r.tracker, r.preset)
             }
         };
-        // Planning curves: one series per planner variant (tracking repeats the same plans).
+        // Planning curves: one series per planner variant (tracking repeats the same plans):
+        // its planning runs where it has them (they plan every leg; a tracked run's planner
+        // columns describe its first plan), else its first tracked configuration.
         let mut planning: Vec<&Vec<&RunRecord>> = vec![];
         for g in &gs {
-            if !planning.iter().any(|p| p[0].planner == g[0].planner) {
-                planning.push(g);
+            match planning.iter().position(|p| p[0].planner == g[0].planner) {
+                None => planning.push(g),
+                Some(i) if !planning[i][0].tracker.is_empty() && g[0].tracker.is_empty() => {
+                    planning[i] = g
+                }
+                Some(_) => {}
             }
         }
         let max_it = m

@@ -126,7 +126,14 @@ pub fn write(
             String::new()
         } else {
             format!(
-                "<dt>trackers</dt><dd>{}</dd><dt>presets</dt><dd>{}</dd>",
+                "{}<dt>trackers</dt><dd>{}</dd><dt>presets</dt><dd>{}</dd>",
+                match &e.tracked_plans {
+                    Some(p) => format!(
+                        "<dt>tracked plans</dt><dd>{} (every planner also has planning runs)</dd>",
+                        esc(&p.join(", "))
+                    ),
+                    None => String::new(),
+                },
                 esc(&e.trackers.join(", ")),
                 esc(&e.presets.join(", "))
             )

@@ -1,25 +1,32 @@
 //! The real executor: planners from `magbench-planners` (by registry name), the physics from
 //! `magbench-env`.
 //!
-//! Two parameter keys of a planner variant set the problem rather than the planner:
-//! `objective` (`path-length`, `duration`, `control-effort`) and `metric` (`positions`,
-//! `centroid-shape:W_C:W_S`). A scenario with several legs is planned leg by leg, each leg
-//! from the end of the previous leg's plan with the full limits; the run is solved when every
-//! leg is, and its iterations, nodes, times, costs and progress add up over the legs.
+//! Three parameter keys of a planner variant set the run's planning setup rather than the
+//! planner ([`SETUP_KEYS`]): `objective` (`path-length`, `duration`, `control-effort`),
+//! `metric` (`positions`, `centroid-shape:W_C:W_S`) and `flow` (`pair-exact`, `rk4`). Every
+//! planning call of the run — each leg, and in a tracked run each replan — is made under that
+//! one setup ([`setup`]), in whole frames of the preset's camera when the run is tracked. A
+//! scenario with several legs is planned leg by leg, each leg from the end of the previous
+//! leg's plan with the full limits; the run is solved when every leg is, and its iterations,
+//! nodes, times, costs and progress add up over the legs.
 //!
 //! With a tracker, the run plans the first leg (the planner columns describe that plan), then
 //! tracks it in closed loop against env's simulated plant under the run's disturbance preset
 //! (`magbench_trackers::simulate`, seeded by the run's seed); the tracking loop replans each
-//! later leg from the observed state, and on a persistent tracking error, with the same planner.
+//! later leg from the observed state, and on a persistent tracking error, with the same planner
+//! and setup.
 
 use std::time::Duration;
 
 use std::time::Instant;
 
+use magbench_drivers::rigs::RigSource;
 use magbench_env::plant::DisturbancePreset;
-use magbench_planners::registry;
-use magbench_planners::{Limits, Plan, PlannerResult, Problem, validate_path, validate_plan};
-use magbench_trackers::{Mission, TrackerSpec, simulate};
+use magbench_planners::setup::SETUP_KEYS;
+use magbench_planners::{
+    Limits, Plan, PlannerResult, PlanningSetup, Unusable, check_result, registry,
+};
+use magbench_trackers::{Mission, RunStatus, TrackerSpec, simulate};
 
 use super::executor::base_record;
 use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
@@ -28,62 +35,78 @@ use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
 #[derive(Debug, Clone, Copy, Default)]
 pub struct RealExecutor;
 
-/// Keys of a planner variant that configure the problem, not the planner.
-pub const PROBLEM_KEYS: [&str; 2] = ["objective", "metric"];
-
 fn planner_params(v: &Variant) -> Vec<(String, String)> {
     v.params_as_strings()
         .into_iter()
-        .filter(|(k, _)| !PROBLEM_KEYS.contains(&k.as_str()))
+        .filter(|(k, _)| !SETUP_KEYS.contains(&k.as_str()))
         .collect()
 }
 
-fn configure(problem: &mut Problem, v: &Variant, source: &str) -> Result<(), String> {
-    if let Some(o) = v.params.get("objective") {
-        registry::set_objective(source, problem, &o.to_string()).map_err(|e| e.reason)?;
-    }
-    if let Some(m) = v.params.get("metric") {
-        registry::set_metric(source, problem, &m.to_string()).map_err(|e| e.reason)?;
+/// The setup keys of `v` set on `setup`; errors name `source` and the key.
+fn configure(setup: &mut PlanningSetup, v: &Variant, source: &str) -> Result<(), String> {
+    for key in SETUP_KEYS {
+        if let Some(value) = v.params.get(key) {
+            setup
+                .set(source, key, &value.to_string())
+                .map_err(|e| format!("{key}: {}", e.reason))?;
+        }
     }
     Ok(())
 }
 
-/// The problem of leg `leg` of the run, from `start`.
-pub fn problem(
-    spec: &RunSpec,
-    leg: usize,
-    start: &[magbench_env::Vec2],
-) -> Result<Problem, String> {
-    let seed = spec.seed.wrapping_add(leg as u64 * 1_000_003);
-    let mut p = Problem::from_scenario(&spec.scenario, leg, Some(start), seed);
-    p.limits = Limits {
-        max_iterations: spec.limits.iterations,
-        time_limit: spec.limits.time_s.map(Duration::from_secs_f64),
+/// The planning setup of every planning call of the run: the experiment's limits, the
+/// planner variant's setup keys and, for a tracked run, the frame period of its preset.
+pub fn setup(spec: &RunSpec) -> Result<PlanningSetup, String> {
+    let mut setup = PlanningSetup {
+        limits: Limits {
+            max_iterations: spec.limits.iterations,
+            time_limit: spec.limits.time_s.map(Duration::from_secs_f64),
+        },
+        ..PlanningSetup::default()
     };
-    configure(&mut p, &spec.planner, &spec.experiment)?;
-    Ok(p)
+    configure(&mut setup, &spec.planner, &spec.experiment)?;
+    if spec.tracker.is_some() {
+        let preset = RigSource::Simulated {
+            preset: preset_name(spec).to_string(),
+        };
+        let period = preset.frame_period("preset").map_err(|e| e.to_string())?;
+        setup = setup.in_frames_of(period);
+    }
+    Ok(setup)
 }
 
-/// Plans the first `legs` legs of the run's scenario in turn (stopping at an unsolved leg);
-/// returns each leg's result.
-pub fn plan_legs(spec: &RunSpec, legs: usize) -> Result<Vec<PlannerResult>, String> {
+fn preset_name(spec: &RunSpec) -> &str {
+    spec.preset.as_deref().unwrap_or("ideal")
+}
+
+/// The planner seed of leg `leg` of the run.
+fn leg_seed(spec: &RunSpec, leg: usize) -> u64 {
+    spec.seed.wrapping_add(leg as u64 * 1_000_003)
+}
+
+/// Plans the first `legs` legs of the run's scenario in turn under `setup` (stopping at an
+/// unsolved leg); returns each leg's result. A plan the validator refuses is an error (a crash
+/// row).
+pub fn plan_legs(
+    spec: &RunSpec,
+    setup: &PlanningSetup,
+    legs: usize,
+) -> Result<Vec<PlannerResult>, String> {
     let params = planner_params(&spec.planner);
     let mut start = spec.scenario.start.clone();
     let mut out = vec![];
     for leg in 0..legs.min(spec.scenario.legs.len()) {
         let mut planner = registry::create_in(&spec.experiment, &spec.planner.name, &params)
             .map_err(|e| e.reason)?;
-        let p = problem(spec, leg, &start)?;
+        let p = setup.problem(&spec.scenario, leg, Some(&start), leg_seed(spec, leg));
         let r = planner.solve(&p);
         let solved = r.solved;
-        // every plan must pass the independent validator (solved ones must also end in the
-        // goal region); a failure becomes a crash row
-        let verdict = if solved {
-            validate_plan(&p, &r.plan)
-        } else {
-            validate_path(&p, &r.plan).map(|_| ())
-        };
-        verdict.map_err(|e| format!("leg {}: the planner's plan is invalid: {e}", leg + 1))?;
+        if let Err(Unusable::Invalid(e)) = check_result(&p, &r) {
+            return Err(format!(
+                "leg {}: the planner's plan is invalid: {e}",
+                leg + 1
+            ));
+        }
         start = r.plan.end().to_vec();
         out.push(r);
         if !solved {
@@ -178,9 +201,7 @@ impl Executor for RealExecutor {
 
     fn check_planner(&self, v: &Variant) -> Result<(), String> {
         registry::create_in("", &v.name, &planner_params(v)).map_err(|e| e.reason)?;
-        let sc = magbench_env::Scenario::load("open-field").map_err(|e| e.to_string())?;
-        let mut p = Problem::from_scenario(&sc, 0, None, 0);
-        configure(&mut p, v, "")
+        configure(&mut PlanningSetup::default(), v, "")
     }
 
     fn check_tracker(&self, v: &Variant) -> Result<(), String> {
@@ -191,37 +212,45 @@ impl Executor for RealExecutor {
 
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {
         let mut rec = base_record(spec);
+        let setup = setup(spec)?;
         let Some(tv) = &spec.tracker else {
             let n = spec.scenario.legs.len();
-            let legs = plan_legs(spec, n)?;
+            let legs = plan_legs(spec, &setup, n)?;
             let progress = fill_planning(&legs, n, spec, &mut rec);
             return Ok(RunOutput {
                 record: rec,
                 progress,
             });
         };
-        let legs = plan_legs(spec, 1)?;
+        let legs = plan_legs(spec, &setup, 1)?;
         let progress = fill_planning(&legs, 1, spec, &mut rec);
         let first = legs.into_iter().next().expect("one leg planned");
         let tspec = TrackerSpec::parse(&tv.name, &tv.params_as_strings(), &spec.experiment)
             .map_err(|e| e.reason)?;
-        let preset_name = spec.preset.as_deref().unwrap_or("ideal");
-        let preset = DisturbancePreset::by_name(preset_name)
-            .ok_or_else(|| format!("unknown preset {preset_name:?}"))?;
+        if first.plan.edges() == 0 {
+            // nothing to follow (the one rule, `check_result`): the run ends before tracking
+            rec.track_status = RunStatus::PlanningFailed.as_str().to_string();
+            rec.error = format!("{}", Unusable::NoMotion);
+            return Ok(RunOutput {
+                record: rec,
+                progress,
+            });
+        }
+        let preset = DisturbancePreset::by_name(preset_name(spec))
+            .ok_or_else(|| format!("unknown preset {:?}", preset_name(spec)))?;
         let mut planner = registry::create_in(
             &spec.experiment,
             &spec.planner.name,
             &planner_params(&spec.planner),
         )
         .map_err(|e| e.reason)?;
-        let limits = problem(spec, 0, &spec.scenario.start)?.limits;
         let mission = Mission {
             scenario: &spec.scenario,
             plan: Some(first.plan),
             plan_time_s: first.time_s,
             plan_solved: first.solved,
             planner: Some(planner.as_mut()),
-            limits: Some(limits),
+            setup,
             seed: spec.seed,
         };
         let mut tracker = tspec.build();
@@ -250,5 +279,46 @@ impl Executor for RealExecutor {
             record: rec,
             progress,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::experiment::Experiment;
+
+    #[test]
+    fn a_run_plans_under_its_variants_setup_keys_limits_and_presets_frames() {
+        let text = r#"
+scenarios = ["cargo-delivery"]
+planners = ["rrt-star{objective=\"duration\", flow=\"rk4\", metric=\"centroid-shape:1:2\", k=3}"]
+seeds = 1
+[limits]
+iterations = 1234
+[tracking]
+trackers = ["obc"]
+presets = ["realistic"]
+"#;
+        let e = Experiment::parse(text, "x.toml", Path::new("."), "x", &RealExecutor).unwrap();
+        let runs = e.runs();
+        assert_eq!(runs.len(), 2, "a planning run and a tracked run");
+        for spec in &runs {
+            let s = setup(spec).unwrap();
+            assert_eq!(s.objective, "duration");
+            assert_eq!(s.flow, magbench_env::model::Flow::Rk4);
+            assert_eq!(s.limits.max_iterations, Some(1234));
+            assert_eq!(
+                s.control_period,
+                1.0 / 60.0,
+                "the realistic preset's camera"
+            );
+        }
+        // the setup keys do not reach the planner, the planner's own parameters do
+        assert_eq!(
+            planner_params(&runs[0].planner),
+            [("k".to_string(), "3".to_string())]
+        );
     }
 }

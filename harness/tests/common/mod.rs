@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use magbench::run::RunRecord;
+use magbench::sweep::{ProgressMode, SweepOptions};
 
 /// `runs.csv` of `dir` without the wall-clock columns, as rows of strings, sorted by run.
 pub fn deterministic_runs(dir: &Path) -> Vec<Vec<String>> {
@@ -49,4 +50,15 @@ pub fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
     p
+}
+
+/// Options of a quiet, unsharded, fresh sweep into `out` on `threads` threads.
+pub fn opts(out: &Path, threads: usize) -> SweepOptions {
+    SweepOptions {
+        out: out.to_path_buf(),
+        threads,
+        shard: None,
+        resume: false,
+        progress: ProgressMode::Quiet,
+    }
 }

@@ -29,51 +29,28 @@
 //! median first solution took 26.5k iterations; with these defaults about 6k. Goal bias 0.1
 //! into a zoom region of 1.5 BL about each agent's goal centre (0.05 and 0.2 were slower).
 
-use magbench_env::{MAX_AGENTS, Vec2};
+use magbench_env::{MAX_AGENTS, Vec2, declare_params};
 use rand::SeedableRng;
 
-use crate::extend::{Extend, Timing};
 use crate::motion::propagate_valid;
 use crate::nn::NearestNeighbors;
 use crate::objective::plan_cost;
-use crate::params::{check_durations, number, positive, to_periods, whole};
-use crate::planner::{Param, ParamError};
 use crate::progress::Progress;
 use crate::result::{Best, finish};
-use crate::sampler::{GoalZoom, StateSampler};
+use crate::sampler::StateSampler;
+use crate::sampling::Sampling;
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem, Rng};
 
-/// The seed's goal-zoom RRT.
-#[derive(Debug, Clone)]
-pub struct GoalZoomRrt {
-    /// EXTEND's random tries per iteration (the seed's k).
-    pub tries: usize,
-    /// Shortest edge duration (s), rounded to whole control periods.
-    pub min_duration: f64,
-    /// Longest edge duration (s), rounded to whole control periods.
-    pub max_duration: f64,
-    /// Probability of sampling the goal-zoom region.
-    pub goal_bias: f64,
-    /// Radius of the goal-zoom region about each agent's goal centre (BL).
-    pub zoom_radius: f64,
-    /// How EXTEND picks each try's duration (the seed's: random).
-    pub timing: Timing,
-    /// The tree of the last solve.
-    pub last_tree: Option<Tree>,
-}
-
-impl Default for GoalZoomRrt {
-    fn default() -> Self {
-        GoalZoomRrt {
-            tries: 5,
-            min_duration: 0.25,
-            max_duration: 2.0,
-            goal_bias: 0.1,
-            zoom_radius: 1.5,
-            timing: Timing::Random,
-            last_tree: None,
-        }
+declare_params! {
+    /// The seed's goal-zoom RRT.
+    #[derive(Debug, Clone)]
+    pub struct GoalZoomRrt {
+        /// EXTEND's tries and durations, the goal-zoom sampler.
+        #[params]
+        pub sampling: Sampling,
+        /// The tree of the last solve.
+        pub last_tree: Option<Tree> = None,
     }
 }
 
@@ -85,16 +62,8 @@ impl Planner for GoalZoomRrt {
     fn solve(&mut self, problem: &Problem) -> PlannerResult {
         let n = problem.agents();
         let mut rng = Rng::seed_from_u64(problem.seed);
-        let extend = Extend {
-            tries: self.tries,
-            min_periods: to_periods(self.min_duration, problem.control_period),
-            max_periods: to_periods(self.max_duration, problem.control_period),
-            timing: self.timing,
-        };
-        let zoom = GoalZoom {
-            bias: self.goal_bias,
-            radius: self.zoom_radius,
-        };
+        let extend = self.sampling.extend(problem);
+        let zoom = self.sampling.zoom();
         let sampler = StateSampler::new(problem);
         let mut progress = Progress::start(problem);
 
@@ -153,63 +122,7 @@ impl Planner for GoalZoomRrt {
         finish(problem, best, i, nodes, progress, first)
     }
 
-    fn params(&self) -> Vec<Param> {
-        vec![
-            Param {
-                name: "k",
-                value: self.tries.to_string(),
-                help: "EXTEND's random (control, duration) tries per iteration",
-            },
-            Param {
-                name: "min_duration",
-                value: self.min_duration.to_string(),
-                help: "shortest edge (s), rounded to whole 1/60 s periods",
-            },
-            Param {
-                name: "max_duration",
-                value: self.max_duration.to_string(),
-                help: "longest edge (s), rounded to whole 1/60 s periods",
-            },
-            Param {
-                name: "goal_bias",
-                value: self.goal_bias.to_string(),
-                help: "probability of sampling the goal-zoom region",
-            },
-            Param {
-                name: "zoom_radius",
-                value: self.zoom_radius.to_string(),
-                help: "radius of each agent's goal-zoom disk (BL)",
-            },
-            Param {
-                name: "timing",
-                value: self.timing.name().to_string(),
-                help: "each EXTEND try's duration: random (the seed's) or closest (the period at which it passes closest to the sample)",
-            },
-        ]
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "k" => self.tries = whole(key, value, 1, 100_000)? as usize,
-            "min_duration" => self.min_duration = positive(key, value)?,
-            "max_duration" => self.max_duration = positive(key, value)?,
-            "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
-            "zoom_radius" => self.zoom_radius = positive(key, value)?,
-            "timing" => {
-                self.timing = Timing::from_name(value.trim()).ok_or_else(|| {
-                    ParamError::BadValue(format!("{key}: {value:?} is not random or closest"))
-                })?
-            }
-            _ => return Err(ParamError::Unknown(key.into())),
-        }
-        Ok(())
-    }
-
     fn tree(&self) -> Option<&Tree> {
         self.last_tree.as_ref()
-    }
-
-    fn check_params(&self) -> Result<(), ParamError> {
-        check_durations(self.min_duration, self.max_duration)
     }
 }

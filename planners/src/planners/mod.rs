@@ -1,4 +1,8 @@
-//! The planners, one file each.
+//! The planners, one file each, and the table that names them.
+//!
+//! Adding a planner is its own file here (its parameters declared with
+//! [`magbench_env::declare_params!`], embedding [`crate::sampling::Sampling`]; `impl Planner`)
+//! plus its `mod` line and one [`Entry`] below.
 
 mod goal_zoom_rrt;
 mod rrt_star;
@@ -7,3 +11,29 @@ mod sst;
 pub use goal_zoom_rrt::GoalZoomRrt;
 pub use rrt_star::{LoggedSample, RrtStar, RrtStarStats};
 pub use sst::{Sst, SstStats};
+
+use crate::registry::Entry;
+
+/// Every registered planner.
+pub const PLANNERS: &[Entry] = &[
+    Entry::new(
+        "goal-zoom-rrt",
+        "the seed's RRT (Algorithms 1–3): goal-zoom sampling, brute-force EXTEND, stops at the goal",
+        || Box::new(GoalZoomRrt::default()),
+    ),
+    Entry::new(
+        "rrt-star",
+        "kinodynamic RRT*: shooting connections, parent by cost, rewiring; improves until the limits",
+        || Box::new(RrtStar::default()),
+    ),
+    Entry::new(
+        "informed-rrt-star",
+        "RRT* that samples only states that can improve the best solution (per-agent ellipses)",
+        || Box::new(RrtStar::informed()),
+    ),
+    Entry::new(
+        "sst",
+        "Stable Sparse RRT (Li, Littlefield & Bekris): selection and pruning radii, prunes dominated nodes",
+        || Box::new(Sst::default()),
+    ),
+];

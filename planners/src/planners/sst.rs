@@ -39,57 +39,40 @@
 //! A node that enters the goal region cheaper than the best solution becomes the best solution
 //! (kept as a plan, so later pruning cannot take it away).
 
-use magbench_env::{MAX_AGENTS, Vec2};
+use magbench_env::params::Reals;
+use magbench_env::{MAX_AGENTS, Vec2, declare_params};
 use rand::SeedableRng;
 
-use crate::extend::{Extend, Timing};
 use crate::motion::propagate_checked;
 use crate::nn::NearestNeighbors;
 use crate::objective::Motion;
-use crate::params::{boolean, check_durations, number, positive, to_periods, whole};
-use crate::planner::{Param, ParamError};
 use crate::progress::Progress;
 use crate::result::{Best, finish};
-use crate::sampler::{GoalZoom, StateSampler};
+use crate::sampler::StateSampler;
+use crate::sampling::Sampling;
 use crate::tree::{NONE, Tree};
 use crate::{Plan, Planner, PlannerResult, Problem, Rng};
 
-/// Stable Sparse RRT.
-#[derive(Debug, Clone)]
-pub struct Sst {
-    /// δ_BN: the selection radius (metric, BL).
-    pub selection_radius: f64,
-    /// δ_s: the pruning radius, the witnesses' spacing (metric, BL).
-    pub pruning_radius: f64,
-    /// Random tries of the propagation (1 = Monte-Carlo propagation, as in the paper).
-    pub tries: usize,
-    /// Shortest edge duration (s), rounded to whole control periods.
-    pub min_duration: f64,
-    /// Longest edge duration T_prop (s), rounded to whole control periods.
-    pub max_duration: f64,
-    /// Probability of sampling the goal-zoom region.
-    pub goal_bias: f64,
-    /// Radius of the goal-zoom region about each agent's goal centre (BL).
-    pub zoom_radius: f64,
-    /// Stop at the first exact solution instead of improving until the limits.
-    pub stop_on_solution: bool,
-    /// The tree of the last solve.
-    pub last_tree: Option<Tree>,
-}
-
-impl Default for Sst {
-    fn default() -> Self {
-        Sst {
-            selection_radius: 0.5,
-            pruning_radius: 0.25,
-            tries: 5,
-            min_duration: 0.25,
-            max_duration: 2.0,
-            goal_bias: 0.1,
-            zoom_radius: 1.5,
-            stop_on_solution: false,
-            last_tree: None,
-        }
+declare_params! {
+    /// Stable Sparse RRT.
+    #[derive(Debug, Clone)]
+    pub struct Sst {
+        /// δ_BN: best-first selection radius (metric, BL).
+        #[param("selection_radius", Reals::POSITIVE)]
+        pub selection_radius: f64 = 0.5,
+        /// δ_s: witness spacing; a witness keeps only its cheapest node (metric, BL).
+        #[param("pruning_radius", Reals::POSITIVE)]
+        pub pruning_radius: f64 = 0.25,
+        /// MONTE_CARLO_PROP's tries (`k`) and durations (T_prop = `max_duration`), the
+        /// goal-zoom sampler.
+        #[params]
+        pub sampling: Sampling,
+        /// Stop at the first solution (success-rate runs) instead of improving until the
+        /// limits.
+        #[param("stop_on_solution")]
+        pub stop_on_solution: bool = false,
+        /// The tree of the last solve.
+        pub last_tree: Option<Tree> = None,
     }
 }
 
@@ -113,17 +96,8 @@ impl Sst {
     pub fn solve_with_stats(&mut self, problem: &Problem) -> (PlannerResult, SstStats) {
         let n = problem.agents();
         let mut rng = Rng::seed_from_u64(problem.seed);
-        let period = problem.control_period;
-        let propagate = Extend {
-            tries: self.tries,
-            min_periods: to_periods(self.min_duration, period),
-            max_periods: to_periods(self.max_duration, period),
-            timing: Timing::Random,
-        };
-        let zoom = GoalZoom {
-            bias: self.goal_bias,
-            radius: self.zoom_radius,
-        };
+        let propagate = self.sampling.extend(problem);
+        let zoom = self.sampling.zoom();
         let sampler = StateSampler::new(problem);
         let mut progress = Progress::start(problem);
 
@@ -290,71 +264,7 @@ impl Planner for Sst {
         self.solve_with_stats(problem).0
     }
 
-    fn params(&self) -> Vec<Param> {
-        vec![
-            Param {
-                name: "selection_radius",
-                value: self.selection_radius.to_string(),
-                help: "δ_BN: best-first selection radius (metric, BL)",
-            },
-            Param {
-                name: "pruning_radius",
-                value: self.pruning_radius.to_string(),
-                help: "δ_s: witness spacing; a witness keeps only its cheapest node (metric, BL)",
-            },
-            Param {
-                name: "k",
-                value: self.tries.to_string(),
-                help: "propagation tries toward the sample (1 = Monte-Carlo propagation)",
-            },
-            Param {
-                name: "min_duration",
-                value: self.min_duration.to_string(),
-                help: "shortest edge (s), rounded to whole 1/60 s periods",
-            },
-            Param {
-                name: "max_duration",
-                value: self.max_duration.to_string(),
-                help: "T_prop: longest edge (s), rounded to whole 1/60 s periods",
-            },
-            Param {
-                name: "goal_bias",
-                value: self.goal_bias.to_string(),
-                help: "probability of sampling the goal-zoom region",
-            },
-            Param {
-                name: "zoom_radius",
-                value: self.zoom_radius.to_string(),
-                help: "radius of each agent's goal-zoom disk (BL)",
-            },
-            Param {
-                name: "stop_on_solution",
-                value: self.stop_on_solution.to_string(),
-                help: "stop at the first solution (success-rate runs)",
-            },
-        ]
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "selection_radius" => self.selection_radius = positive(key, value)?,
-            "pruning_radius" => self.pruning_radius = positive(key, value)?,
-            "k" => self.tries = whole(key, value, 1, 100_000)? as usize,
-            "min_duration" => self.min_duration = positive(key, value)?,
-            "max_duration" => self.max_duration = positive(key, value)?,
-            "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
-            "zoom_radius" => self.zoom_radius = positive(key, value)?,
-            "stop_on_solution" => self.stop_on_solution = boolean(key, value)?,
-            _ => return Err(ParamError::Unknown(key.into())),
-        }
-        Ok(())
-    }
-
     fn tree(&self) -> Option<&Tree> {
         self.last_tree.as_ref()
-    }
-
-    fn check_params(&self) -> Result<(), ParamError> {
-        check_durations(self.min_duration, self.max_duration)
     }
 }

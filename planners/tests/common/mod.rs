@@ -3,7 +3,9 @@
 
 use magbench_env::scenario::parse_scenario;
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{Limits, Plan, PlannerResult, Problem, plan_cost, validate_plan};
+use magbench_planners::{
+    Limits, Plan, PlannerResult, PlanningSetup, Problem, plan_cost, validate_plan,
+};
 
 /// A small walled field with one block: start and goal 7 BL apart, the pair turns by 90°.
 pub const SMALL: &str = r#"
@@ -68,12 +70,23 @@ pub fn scenario(text: &str) -> Scenario {
 
 /// The problem of leg 0 with an iteration limit.
 pub fn problem(s: &Scenario, seed: u64, iterations: u64) -> Problem {
-    let mut p = Problem::from_scenario(s, 0, None, seed);
-    p.limits = Limits {
-        max_iterations: Some(iterations),
-        time_limit: None,
+    problem_with(s, seed, iterations, &[])
+}
+
+/// The problem of leg 0 with an iteration limit, under a setup with `keys` (objective, metric,
+/// flow) set.
+pub fn problem_with(s: &Scenario, seed: u64, iterations: u64, keys: &[(&str, &str)]) -> Problem {
+    let mut setup = PlanningSetup {
+        limits: Limits {
+            max_iterations: Some(iterations),
+            time_limit: None,
+        },
+        ..PlanningSetup::default()
     };
-    p
+    for (k, v) in keys {
+        setup.set("<test>", k, v).expect("a known key and value");
+    }
+    setup.problem(s, 0, None, seed)
 }
 
 /// Replays `plan` through the planning model and returns the states it passes.

@@ -12,9 +12,10 @@
 //! it while unwinding).
 //!
 //! Replanning uses a [`Planner`]: at the start of every leg after the first, from the current
-//! estimate and against that leg's obstacles (`Problem::from_scenario(scenario, leg,
-//! Some(start), seed)`), and when the tracking error (of the estimate) stays above
-//! `replan_error` for longer than `replan_after`.
+//! estimate and against that leg's obstacles, and when the tracking error (of the estimate)
+//! stays above `replan_error` for longer than `replan_after`. Every plan is made under the
+//! mission's [`PlanningSetup`] (`setup.problem(scenario, leg, Some(start), seed)`) in whole
+//! frames of the rig, and followed only if [`magbench_planners::check_result`] accepts it.
 
 pub mod contact;
 pub mod course;
@@ -27,9 +28,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use magbench_env::params::Reals;
 use magbench_env::plant::DisturbancePreset;
-use magbench_env::{Control, Goal, PlanningModel, Scenario};
-use magbench_planners::{Limits, Plan, Planner};
+use magbench_env::{Control, Goal, PlanningModel, Scenario, declare_params};
+use magbench_planners::{Plan, Planner, PlanningSetup};
 
 use self::contact::ContactDetector;
 use self::course::{Course, GoalHold};
@@ -44,46 +46,40 @@ use crate::rig::{Rig, RigError};
 use crate::sim_rig::SimRig;
 use crate::tracker::{Tick, Tracker, TrackerContext};
 
-/// Settings of the loop (not of a tracker); set by `--param` like tracker parameters.
-#[derive(Debug, Clone)]
-pub struct LoopOptions {
-    /// Tracking error (BL, largest agent distance from its path, of the estimate) that counts
-    /// as persistent when it lasts `replan_after` seconds.
-    pub replan_error: f64,
-    /// Seconds the error must stay above `replan_error` before a replan; 0 disables.
-    pub replan_after: f64,
-    /// Most replans for a persistent error per run.
-    pub max_replans: usize,
-    /// Time limit per plan: `time_factor` × its duration + `time_slack` seconds.
-    pub time_factor: f64,
-    /// See `time_factor` (s).
-    pub time_slack: f64,
-    /// Seconds the team must stay in the goal region to complete a leg.
-    pub hold: f64,
-    /// The estimate must be this far inside the goal tolerance (BL).
-    pub goal_margin: f64,
-    /// How much a measurement moves the estimator's prior (1 = take it as it is).
-    pub obs_weight: f64,
-    /// Keep the per-tick log.
-    pub record_ticks: bool,
-    /// Set to end the run (Ctrl-C).
-    pub cancel: Option<Arc<AtomicBool>>,
-}
-
-impl Default for LoopOptions {
-    fn default() -> Self {
-        LoopOptions {
-            replan_error: 1.0,
-            replan_after: 2.0,
-            max_replans: 5,
-            time_factor: 3.0,
-            time_slack: 20.0,
-            hold: 0.5,
-            goal_margin: 0.05,
-            obs_weight: 1.0,
-            record_ticks: true,
-            cancel: None,
-        }
+declare_params! {
+    /// Settings of the loop (not of a tracker); every tracker takes them as parameters, with
+    /// its own defaults ([`Tracker::loop_options`]).
+    #[derive(Debug, Clone)]
+    pub struct LoopOptions {
+        /// Tracking error (BL, largest agent distance from its path, of the estimate) that
+        /// triggers a replan when it persists for `replan_after`.
+        #[param("replan_error", Reals::closed(0.0, 1e3))]
+        pub replan_error: f64 = 1.0,
+        /// Seconds the error must persist before a replan; 0 = never.
+        #[param("replan_after", Reals::closed(0.0, 1e6))]
+        pub replan_after: f64 = 2.0,
+        /// Most error-triggered replans per run.
+        #[param("max_replans", 0..=10_000)]
+        pub max_replans: usize = 5,
+        /// Time limit per plan: time_factor × the plan's duration + time_slack.
+        #[param("time_factor", Reals::closed(1.0, 1e3))]
+        pub time_factor: f64 = 3.0,
+        /// See time_factor (s).
+        #[param("time_slack", Reals::closed(0.0, 1e6))]
+        pub time_slack: f64 = 20.0,
+        /// Seconds the team must stay in a goal region to complete a leg.
+        #[param("hold", Reals::closed(0.0, 1e3))]
+        pub hold: f64 = 0.5,
+        /// The estimate must be this far inside the goal tolerance (BL).
+        #[param("goal_margin", Reals::closed(0.0, 10.0))]
+        pub goal_margin: f64 = 0.05,
+        /// How far a measurement moves the estimator's prior (1 = all the way).
+        #[param("obs_weight", Reals::closed(0.001, 1.0))]
+        pub obs_weight: f64 = 1.0,
+        /// Keep the per-tick log.
+        pub record_ticks: bool = true,
+        /// Set to end the run (Ctrl-C).
+        pub cancel: Option<Arc<AtomicBool>> = None,
     }
 }
 
@@ -100,8 +96,9 @@ pub struct Mission<'a> {
     pub plan_solved: bool,
     /// The planner for the first plan (when `plan` is `None`), new legs and replans.
     pub planner: Option<&'a mut dyn Planner>,
-    /// Limits of every planning call (the problem's defaults if `None`).
-    pub limits: Option<Limits>,
+    /// What every planning call of the run is made under (objective, metric, limits, flow).
+    /// The loop plans in whole frames of the rig it drives: the control period is the rig's.
+    pub setup: PlanningSetup,
     /// Seed of the run; replans use seeds derived from it.
     pub seed: u64,
 }
@@ -115,7 +112,7 @@ impl<'a> Mission<'a> {
             plan_time_s: 0.0,
             plan_solved: true,
             planner: None,
-            limits: None,
+            setup: PlanningSetup::default(),
             seed: 0,
         }
     }
@@ -233,7 +230,7 @@ impl<'a> Run<'a> {
             }),
             replanner: Replanner::new(
                 mission.planner,
-                mission.limits,
+                mission.setup.in_frames_of(rig.frame_period()),
                 mission.seed,
                 (opts.replan_error, opts.replan_after, opts.max_replans),
             ),

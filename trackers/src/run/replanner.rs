@@ -1,10 +1,10 @@
 //! The replanner: a new plan from the current estimate, at the start of every leg after the
-//! first and when the tracking error stays high, with the mission's planner.
+//! first and when the tracking error stays high, with the mission's planner and planning setup.
 
 use std::time::Instant;
 
 use magbench_env::{Scenario, ValidityChecker, Vec2};
-use magbench_planners::{Limits, Planner, PlannerResult, Problem};
+use magbench_planners::{Planner, PlannerResult, PlanningSetup, Unusable, check_result};
 
 use super::recorder::Recorder;
 use crate::log::PlanReason;
@@ -16,7 +16,7 @@ const SEED_STEP: u64 = 0x9E37_79B9_7F4A_7C15;
 /// Plans the current leg on demand, and watches for a persistent tracking error.
 pub struct Replanner<'a> {
     planner: Option<&'a mut dyn Planner>,
-    limits: Option<Limits>,
+    setup: PlanningSetup,
     seed: u64,
     replan_error: f64,
     replan_after: f64,
@@ -26,19 +26,18 @@ pub struct Replanner<'a> {
 }
 
 impl<'a> Replanner<'a> {
-    /// A replanner with `planner` (none: every replan fails with a note), the limits of every
-    /// planning call (the problem's defaults if `None`) and the run's `seed`. A replan for the
-    /// error comes when the error stays above `replan_error` BL for `replan_after` s (0: never),
-    /// at most `max_replans` times.
+    /// A replanner with `planner` (none: every replan fails with a note), the `setup` of every
+    /// planning call and the run's `seed`. A replan for the error comes when the error stays
+    /// above `replan_error` BL for `replan_after` s (0: never), at most `max_replans` times.
     pub fn new(
         planner: Option<&'a mut dyn Planner>,
-        limits: Option<Limits>,
+        setup: PlanningSetup,
         seed: u64,
         (replan_error, replan_after, max_replans): (f64, f64, usize),
     ) -> Self {
         Self {
             planner,
-            limits,
+            setup,
             seed,
             replan_error,
             replan_after,
@@ -106,33 +105,32 @@ impl<'a> Replanner<'a> {
             }
         }
         let seed = self.seed.wrapping_add((k as u64).wrapping_mul(SEED_STEP));
-        let mut problem = Problem::from_scenario(scenario, leg, Some(&start), seed);
-        if let Some(l) = self.limits {
-            problem.limits = l;
-        }
+        let problem = self.setup.problem(scenario, leg, Some(&start), seed);
         let started = Instant::now();
         let result = planner.solve(&problem);
         rec.planning(started.elapsed().as_secs_f64());
-        if !usable(&result) {
-            rec.note(format!(
-                "{} planning for leg {} found no plan",
-                reason_name(reason),
-                leg + 1
-            ));
-            return None;
+        match check_result(&problem, &result) {
+            Ok(()) => Some(result),
+            Err(e) => {
+                rec.note(match e {
+                    Unusable::NoMotion => format!(
+                        "{} planning for leg {} found no plan",
+                        reason_name(reason),
+                        leg + 1
+                    ),
+                    Unusable::Invalid(_) => {
+                        format!("{} planning for leg {}: {e}", reason_name(reason), leg + 1)
+                    }
+                });
+                None
+            }
         }
-        Some(result)
     }
 
     /// Error replans started so far.
     pub fn error_replans(&self) -> usize {
         self.error_replans
     }
-}
-
-/// A result the loop can follow: a plan with at least one edge, exact or approximate.
-pub fn usable(r: &PlannerResult) -> bool {
-    (r.solved || r.approximate) && r.plan.edges() > 0
 }
 
 fn reason_name(r: PlanReason) -> &'static str {

@@ -156,6 +156,8 @@ pub struct WaypointPlanner {
     pub calls: usize,
 }
 
+impl magbench_env::params::ParamSet for WaypointPlanner {}
+
 impl Planner for WaypointPlanner {
     fn name(&self) -> &str {
         "waypoints"

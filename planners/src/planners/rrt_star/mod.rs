@@ -45,10 +45,10 @@ mod search;
 
 pub use search::RrtStarStats;
 
-use magbench_env::Vec2;
+use magbench_env::params::Reals;
+use magbench_env::{Vec2, declare_params};
 
-use crate::params::{boolean, check_durations, number, positive, whole};
-use crate::planner::{Param, ParamError};
+use crate::sampling::Sampling;
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem};
 
@@ -63,70 +63,56 @@ pub struct LoggedSample {
     pub c_best: Option<f64>,
 }
 
-/// Kinodynamic RRT* (and informed RRT* when `informed`).
-#[derive(Debug, Clone)]
-pub struct RrtStar {
-    /// Sample only the informed set once a solution exists.
-    pub informed: bool,
-    /// EXTEND's random tries toward a sample.
-    pub tries: usize,
-    /// Shortest edge duration (s), rounded to whole control periods.
-    pub min_duration: f64,
-    /// Longest edge duration (s), rounded to whole control periods.
-    pub max_duration: f64,
-    /// Probability of sampling the goal-zoom region.
-    pub goal_bias: f64,
-    /// Radius of the goal-zoom region about each agent's goal centre (BL).
-    pub zoom_radius: f64,
-    /// CONNECT's random seeding tries (the shooting steer).
-    pub connect_tries: usize,
-    /// CONNECT's Gauss–Newton refinement iterations.
-    pub connect_iterations: usize,
-    /// Largest distance (metric, BL) between a connection's end and its target.
-    pub connect_tolerance: f64,
-    /// Refine a connection only when its best seed ends this close to the target (BL).
-    pub connect_basin: f64,
-    /// η: neighbours farther than this (metric, BL) are not connected to.
-    pub near_radius: f64,
-    /// Multiplies k_RRT = e (1 + 1/d) in the k_RRT·ln(n) nearest neighbours.
-    pub rewire_factor: f64,
-    /// Largest subtree a rewire re-propagates.
-    pub max_subtree: usize,
-    /// Stop at the first exact solution instead of improving until the limits.
-    pub stop_on_solution: bool,
-    /// When `Some`, every sample is appended here (tests, diagnostics).
-    pub sample_log: Option<Vec<LoggedSample>>,
-    /// The tree of the last solve.
-    pub last_tree: Option<Tree>,
-}
-
-impl Default for RrtStar {
-    fn default() -> Self {
-        RrtStar {
-            informed: false,
-            tries: 5,
-            min_duration: 0.25,
-            max_duration: 2.0,
-            goal_bias: 0.1,
-            zoom_radius: 1.5,
-            connect_tries: 4,
-            connect_iterations: 8,
-            connect_basin: 0.75,
-            near_radius: 1.0,
-            connect_tolerance: 0.1,
-            rewire_factor: 1.0,
-            max_subtree: 500,
-            stop_on_solution: false,
-            sample_log: None,
-            last_tree: None,
-        }
+declare_params! {
+    /// Kinodynamic RRT* (and informed RRT* when `informed`).
+    #[derive(Debug, Clone)]
+    pub struct RrtStar {
+        /// The registry name it was made as (`rrt-star` or `informed-rrt-star`); parameters
+        /// never rename it.
+        name: &'static str = "rrt-star",
+        /// EXTEND's tries (toward a sample) and durations, the goal-zoom sampler.
+        #[params]
+        pub sampling: Sampling,
+        /// CONNECT's random seeding tries (the shooting steer).
+        #[param("connect_tries", 1..=100_000)]
+        pub connect_tries: usize = 4,
+        /// CONNECT's Gauss-Newton refinement iterations.
+        #[param("connect_iterations", 0..=1000)]
+        pub connect_iterations: usize = 8,
+        /// Largest metric distance (BL) a connection may miss its target by (ε).
+        #[param("connect_tolerance", Reals::POSITIVE)]
+        pub connect_tolerance: f64 = 0.1,
+        /// Refine a connection only when its best seed ends this close to the target (BL).
+        #[param("connect_basin", Reals::POSITIVE)]
+        pub connect_basin: f64 = 0.75,
+        /// η: largest metric distance (BL) of a neighbour to connect.
+        #[param("near_radius", Reals::POSITIVE)]
+        pub near_radius: f64 = 1.0,
+        /// Multiplies k_RRT = e (1 + 1/d) in the k_RRT·ln(n) near neighbours.
+        #[param("rewire_factor", Reals::POSITIVE)]
+        pub rewire_factor: f64 = 1.0,
+        /// Largest subtree a rewire re-propagates.
+        #[param("max_subtree", 1..=u32::MAX as usize)]
+        pub max_subtree: usize = 500,
+        /// Stop at the first solution (success-rate runs) instead of improving until the
+        /// limits.
+        #[param("stop_on_solution")]
+        pub stop_on_solution: bool = false,
+        /// Sample only states that can improve the best solution, once there is one.
+        #[param("informed")]
+        pub informed: bool = false,
+        /// When `Some`, every sample is appended here (tests, diagnostics).
+        pub sample_log: Option<Vec<LoggedSample>> = None,
+        /// The tree of the last solve.
+        pub last_tree: Option<Tree> = None,
     }
 }
 
 impl RrtStar {
-    /// Informed RRT* with the default parameters.
+    /// Informed RRT* with the default parameters (registered as `informed-rrt-star`).
     pub fn informed() -> Self {
         RrtStar {
+            name: "informed-rrt-star",
             informed: true,
             ..RrtStar::default()
         }
@@ -135,118 +121,14 @@ impl RrtStar {
 
 impl Planner for RrtStar {
     fn name(&self) -> &str {
-        if self.informed {
-            "informed-rrt-star"
-        } else {
-            "rrt-star"
-        }
+        self.name
     }
 
     fn solve(&mut self, problem: &Problem) -> PlannerResult {
         self.solve_with_stats(problem).0
     }
 
-    fn params(&self) -> Vec<Param> {
-        vec![
-            Param {
-                name: "k",
-                value: self.tries.to_string(),
-                help: "EXTEND's random (control, duration) tries toward a sample",
-            },
-            Param {
-                name: "min_duration",
-                value: self.min_duration.to_string(),
-                help: "shortest edge (s), rounded to whole 1/60 s periods",
-            },
-            Param {
-                name: "max_duration",
-                value: self.max_duration.to_string(),
-                help: "longest edge (s), rounded to whole 1/60 s periods",
-            },
-            Param {
-                name: "goal_bias",
-                value: self.goal_bias.to_string(),
-                help: "probability of sampling the goal-zoom region",
-            },
-            Param {
-                name: "zoom_radius",
-                value: self.zoom_radius.to_string(),
-                help: "radius of each agent's goal-zoom disk (BL)",
-            },
-            Param {
-                name: "connect_tries",
-                value: self.connect_tries.to_string(),
-                help: "CONNECT's random seeding tries (shooting steer)",
-            },
-            Param {
-                name: "connect_iterations",
-                value: self.connect_iterations.to_string(),
-                help: "CONNECT's Gauss-Newton refinement iterations",
-            },
-            Param {
-                name: "connect_tolerance",
-                value: self.connect_tolerance.to_string(),
-                help: "largest metric distance (BL) a connection may miss its target by",
-            },
-            Param {
-                name: "connect_basin",
-                value: self.connect_basin.to_string(),
-                help: "refine a connection only when its best seed ends this close (BL)",
-            },
-            Param {
-                name: "near_radius",
-                value: self.near_radius.to_string(),
-                help: "η: largest metric distance (BL) of a neighbour to connect",
-            },
-            Param {
-                name: "rewire_factor",
-                value: self.rewire_factor.to_string(),
-                help: "multiplies k_RRT in the k_RRT·ln(n) near neighbours",
-            },
-            Param {
-                name: "max_subtree",
-                value: self.max_subtree.to_string(),
-                help: "largest subtree a rewire re-propagates",
-            },
-            Param {
-                name: "stop_on_solution",
-                value: self.stop_on_solution.to_string(),
-                help: "stop at the first solution (success-rate runs)",
-            },
-            Param {
-                name: "informed",
-                value: self.informed.to_string(),
-                help: "sample only states that can improve the best solution",
-            },
-        ]
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "k" => self.tries = whole(key, value, 1, 100_000)? as usize,
-            "min_duration" => self.min_duration = positive(key, value)?,
-            "max_duration" => self.max_duration = positive(key, value)?,
-            "goal_bias" => self.goal_bias = number(key, value, 0.0, 1.0)?,
-            "zoom_radius" => self.zoom_radius = positive(key, value)?,
-            "connect_tries" => self.connect_tries = whole(key, value, 1, 100_000)? as usize,
-            "connect_iterations" => self.connect_iterations = whole(key, value, 0, 1000)? as usize,
-            "connect_tolerance" => self.connect_tolerance = positive(key, value)?,
-            "connect_basin" => self.connect_basin = positive(key, value)?,
-            "near_radius" => self.near_radius = positive(key, value)?,
-            "rewire_factor" => self.rewire_factor = positive(key, value)?,
-            "max_subtree" => self.max_subtree = whole(key, value, 1, u32::MAX as u64)? as usize,
-            "informed" => self.informed = boolean(key, value)?,
-            "stop_on_solution" => self.stop_on_solution = boolean(key, value)?,
-            _ => return Err(ParamError::Unknown(key.into())),
-        }
-        Ok(())
-    }
-
     fn tree(&self) -> Option<&Tree> {
         self.last_tree.as_ref()
-    }
-
-    fn check_params(&self) -> Result<(), ParamError> {
-        check_durations(self.min_duration, self.max_duration)
     }
 }

@@ -4,15 +4,14 @@ use magbench_env::{MAX_AGENTS, Vec2};
 use rand::SeedableRng;
 
 use super::{LoggedSample, RrtStar};
-use crate::extend::{Extend, Extension, Timing};
+use crate::extend::{Extend, Extension};
 use crate::informed::InformedSet;
 use crate::motion::propagate_checked;
 use crate::nn::NearestNeighbors;
 use crate::objective::Motion;
-use crate::params::to_periods;
 use crate::progress::Progress;
 use crate::result::{Best, finish};
-use crate::sampler::{GoalZoom, StateSampler};
+use crate::sampler::StateSampler;
 use crate::steer::Connect;
 use crate::tree::Tree;
 use crate::{PlannerResult, Problem, Rng};
@@ -21,11 +20,7 @@ impl RrtStar {
     /// Runs RRT* and also returns its counts.
     pub fn solve_with_stats(&mut self, problem: &Problem) -> (PlannerResult, RrtStarStats) {
         let n = problem.agents();
-        let period = problem.control_period;
-        let (lo, hi) = (
-            to_periods(self.min_duration, period),
-            to_periods(self.max_duration, period),
-        );
+        let extend = self.sampling.extend(problem);
         let speed =
             problem.model.kinematics.pull_coeff * problem.model.coil.gradient_limit() * 2f64.sqrt();
         let mut s = Search {
@@ -34,19 +29,9 @@ impl RrtStar {
             rng: Rng::seed_from_u64(problem.seed),
             tree: Tree::new(&problem.start),
             nn: NearestNeighbors::new(problem.metric, n),
-            extend: Extend {
-                tries: self.tries,
-                min_periods: lo,
-                max_periods: hi,
-                timing: Timing::Random,
-            },
+            extend,
             connect: Connect {
-                seed: Extend {
-                    tries: self.connect_tries,
-                    min_periods: lo,
-                    max_periods: hi,
-                    timing: Timing::Random,
-                },
+                seed: self.sampling.extend_with(problem, self.connect_tries),
                 iterations: self.connect_iterations,
                 window: 3,
                 tolerance: self.connect_tolerance,
@@ -54,7 +39,7 @@ impl RrtStar {
             },
             near_radius: self.near_radius,
             tolerance: self.connect_tolerance,
-            reach: speed * problem.periods(hi),
+            reach: speed * problem.periods(extend.max_periods),
             max_subtree: self.max_subtree,
             best: Best {
                 plan: crate::Plan::at(&problem.start),
@@ -67,10 +52,7 @@ impl RrtStar {
             stats: RrtStarStats::default(),
         };
         s.nn.add(&problem.start, 0);
-        let zoom = GoalZoom {
-            bias: self.goal_bias,
-            radius: self.zoom_radius,
-        };
+        let zoom = self.sampling.zoom();
         let sampler = StateSampler::new(problem);
         let informed = InformedSet::new(problem);
         let k_rrt = self.rewire_factor * std::f64::consts::E * (1.0 + 1.0 / (2 * n) as f64);

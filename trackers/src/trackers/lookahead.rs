@@ -22,63 +22,36 @@
 //! end of the reference (every agent within `lookahead` of its final point) the targets become
 //! the final state. The [`ObcOptimizer`] turns the targets into the coil command.
 
-use magbench_env::{Control, Vec2};
+use magbench_env::params::Reals;
+use magbench_env::{Control, Vec2, declare_params};
 
-use crate::optimizer::{ObcOptimizer, ObcWeights};
+use super::steering::Steering;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
-/// Parameters of the lookahead tracker.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LookaheadParams {
-    /// Gain `L` of eq. (6): 0 = pure pursuit of the lookahead point, 1 = back to the path only.
-    pub gain: f64,
-    /// Lookahead distance along the path (BL).
-    pub lookahead: f64,
-    /// How far ahead of `k` agents are projected onto their paths (s of reference).
-    pub window: f64,
-    /// Seconds without progress after which the targets move on along the path at the plan's
-    /// pace by themselves (while the team is within `lookahead` of the path).
-    pub stall: f64,
-    /// The optimizer's weights.
-    pub weights: ObcWeights,
-}
-
-impl Default for LookaheadParams {
-    fn default() -> Self {
-        LookaheadParams {
-            gain: 0.5,
-            lookahead: 0.3,
-            window: 1.0,
-            stall: 0.1,
-            weights: ObcWeights::default(),
-        }
-    }
-}
-
-/// The lookahead (pure pursuit) tracker.
-#[derive(Debug, Clone)]
-pub struct Lookahead {
-    params: LookaheadParams,
-    opt: Option<ObcOptimizer>,
-    k: usize,
-    stalled: f64,
-    holding: bool,
-    last: Option<Control>,
-    targets: Vec<Vec2>,
-}
-
-impl Lookahead {
-    /// A lookahead tracker with `params`.
-    pub fn new(params: LookaheadParams) -> Self {
-        Lookahead {
-            params,
-            opt: None,
-            k: 0,
-            stalled: 0.0,
-            holding: false,
-            last: None,
-            targets: vec![],
-        }
+declare_params! {
+    /// The lookahead (pure pursuit) tracker.
+    #[derive(Debug, Clone)]
+    pub struct Lookahead {
+        /// Gain L of eq. (6): weight of the direction back to the path (0 = pure pursuit of
+        /// the lookahead point, 1 = back to the path only).
+        #[param("gain", Reals::closed(0.0, 1.0))]
+        pub gain: f64 = 0.5,
+        /// Lookahead distance along the path (BL).
+        #[param("lookahead", Reals::closed(0.0, 1e3))]
+        pub lookahead: f64 = 0.3,
+        /// How far ahead agents are projected onto their paths (s of reference).
+        #[param("window", Reals::closed(0.0, 1e4))]
+        pub window: f64 = 1.0,
+        /// Seconds without progress after which the targets move on along the path at the
+        /// plan's pace by themselves (while the team is within `lookahead` of the path).
+        #[param("stall", Reals::closed(0.0, 1e3))]
+        pub stall: f64 = 0.1,
+        /// The optimizer that turns the targets into the command, and its weights.
+        #[params]
+        pub steering: Steering,
+        k: usize = 0,
+        stalled: f64 = 0.0,
+        holding: bool = false,
     }
 }
 
@@ -93,25 +66,19 @@ impl Tracker for Lookahead {
     }
 
     fn reset(&mut self, ctx: &TrackerContext) {
-        self.opt = Some(ObcOptimizer::new(
-            ctx.model.clone(),
-            ctx.checker.clone(),
-            ctx.period,
-            self.params.weights.clone(),
-        ));
+        self.steering.reset(ctx);
         self.k = 0;
         self.stalled = 0.0;
         self.holding = false;
     }
 
     fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
-        let opt = self.opt.as_ref().expect("reset before command");
         let r = ctx.reference;
         let x = tick.estimate;
         let n = x.len();
         let dt = ctx.model.dt;
-        let lead = ((opt.horizon() / dt).round() as usize).max(1);
-        let window = self.k..self.k + ((self.params.window / dt).round() as usize).max(lead) + 1;
+        let lead = ((self.steering.optimizer().horizon() / dt).round() as usize).max(1);
+        let window = self.k..self.k + ((self.window / dt).round() as usize).max(lead) + 1;
         // project each agent on its own path ahead of k; the team moves on with the slowest
         let proj: Vec<(f64, f64)> = (0..n)
             .map(|i| r.distance_to_path_in(i, x[i], window.clone()))
@@ -124,17 +91,15 @@ impl Tracker for Lookahead {
             self.stalled + ctx.period
         };
         self.k = moved_to;
-        if self.stalled >= self.params.stall
-            && r.distance_to_sample(x, self.k) < self.params.lookahead
-        {
+        if self.stalled >= self.stall && r.distance_to_sample(x, self.k) < self.lookahead {
             // the projections are stuck (a path that doubles back, a pair that cannot do both
             // pursuits at once): the targets move on along the path by themselves
             self.k = (self.k + lead).min(r.last());
         }
         let k = self.k;
         let end = r.end();
-        let near_end = (0..n).all(|i| (x[i] - end[i]).norm() <= self.params.lookahead)
-            || r.index_ahead(k, self.params.lookahead) >= r.last()
+        let near_end = (0..n).all(|i| (x[i] - end[i]).norm() <= self.lookahead)
+            || r.index_ahead(k, self.lookahead) >= r.last()
                 && (0..n).all(|i| proj[i].1 >= (r.last() - 1) as f64);
         self.holding = near_end;
         // each agent's projection on its own path
@@ -147,8 +112,8 @@ impl Tracker for Lookahead {
         let target: Vec<Vec2> = if near_end {
             end.to_vec()
         } else {
-            let j = r.index_ahead(k, self.params.lookahead);
-            let l = self.params.gain;
+            let j = r.index_ahead(k, self.lookahead);
+            let l = self.gain;
             (0..n)
                 .map(|i| {
                     let d1 = unit(on_path[i] - x[i]);
@@ -160,17 +125,14 @@ impl Tracker for Lookahead {
                 .collect()
         };
         let path = if near_end { &target } else { &on_path };
-        let sol = opt.solve_along(x, &target, path, self.last.as_ref(), None);
-        self.targets = target;
-        self.last = Some(sol.control);
-        sol.control
+        self.steering.command(x, &target, path, None)
     }
 
     fn status(&self) -> TrackerStatus {
         TrackerStatus {
             mode: if self.holding { "hold" } else { "pursue" },
             progress: self.k,
-            targets: Some(self.targets.clone()),
+            targets: Some(self.steering.targets()),
         }
     }
 }

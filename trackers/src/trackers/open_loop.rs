@@ -1,15 +1,18 @@
 //! `open-loop`: replays the plan's controls on their schedule and ignores observations (the
 //! seed's open-loop tracker, Sec. V-A).
 
-use magbench_env::Control;
+use magbench_env::{Control, declare_params};
 
+use crate::run::LoopOptions;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
-/// Replays the reference's controls by time; finished at the reference's end.
-#[derive(Debug, Clone, Default)]
-pub struct OpenLoop {
-    progress: usize,
-    done: bool,
+declare_params! {
+    /// Replays the reference's controls by time; finished at the reference's end.
+    #[derive(Debug, Clone)]
+    pub struct OpenLoop {
+        progress: usize = 0,
+        done: bool = false,
+    }
 }
 
 impl OpenLoop {
@@ -22,6 +25,14 @@ impl OpenLoop {
 impl Tracker for OpenLoop {
     fn name(&self) -> &str {
         "open-loop"
+    }
+
+    /// An open-loop plan is not replanned on error (it ignores the error it would see).
+    fn loop_options(&self) -> LoopOptions {
+        LoopOptions {
+            replan_after: 0.0,
+            ..LoopOptions::default()
+        }
     }
 
     fn reset(&mut self, _ctx: &TrackerContext) {

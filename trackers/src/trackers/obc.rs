@@ -11,70 +11,42 @@
 //! back, a target the pair cannot quite reach), it moves on at the plan's pace by itself.
 //! Either way the [`ObcOptimizer`] turns the target into the command.
 
-use magbench_env::{Control, Vec2};
+use magbench_env::params::Reals;
+use magbench_env::{Control, declare_params};
 
-use crate::optimizer::{ObcOptimizer, ObcWeights};
+use super::steering::Steering;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
-/// Parameters of the OBC tracker.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ObcParams {
-    /// Distance to the path (BL, RMS over agents) above which the proximity controller takes
-    /// over.
-    pub eps: f64,
-    /// How far ahead of its progress the tracker looks for the nearest sample (s).
-    pub window: f64,
-    /// How far back the proximity controller looks for the nearest sample (s).
-    pub back: f64,
-    /// Offer the plan's own control to the optimizer as an extra candidate (feedforward).
-    pub feedforward: bool,
-    /// When behind the plan's schedule, how many extra horizons ahead the target may be.
-    pub catchup: f64,
-    /// Seconds without progress (while following) after which the progress moves on at the
-    /// plan's pace by itself.
-    pub stall: f64,
-    /// The optimizer's weights.
-    pub weights: ObcWeights,
-}
-
-impl Default for ObcParams {
-    fn default() -> Self {
-        ObcParams {
-            eps: 0.15,
-            window: 1.0,
-            back: 1.0,
-            feedforward: true,
-            catchup: 2.0,
-            stall: 0.25,
-            weights: ObcWeights::default(),
-        }
-    }
-}
-
-/// The OBC tracker.
-#[derive(Debug, Clone)]
-pub struct Obc {
-    params: ObcParams,
-    opt: Option<ObcOptimizer>,
-    progress: usize,
-    recovering: bool,
-    stalled: f64,
-    last: Option<Control>,
-    targets: Vec<Vec2>,
-}
-
-impl Obc {
-    /// An OBC tracker with `params`.
-    pub fn new(params: ObcParams) -> Self {
-        Obc {
-            params,
-            opt: None,
-            progress: 0,
-            recovering: false,
-            stalled: 0.0,
-            last: None,
-            targets: vec![],
-        }
+declare_params! {
+    /// The OBC tracker.
+    #[derive(Debug, Clone)]
+    pub struct Obc {
+        /// Error (BL, RMS over agents) above which the proximity controller takes over.
+        #[param("eps", Reals::closed(0.0, 1e3))]
+        pub eps: f64 = 0.15,
+        /// How far ahead of its progress the nearest reference sample is sought (s).
+        #[param("window", Reals::closed(0.0, 1e4))]
+        pub window: f64 = 1.0,
+        /// How far back the proximity controller seeks the nearest sample (s).
+        #[param("back", Reals::closed(0.0, 1e4))]
+        pub back: f64 = 1.0,
+        /// Offer the plan's own control to the optimizer as a candidate (feedforward); false
+        /// = the grid only.
+        #[param("feedforward")]
+        pub feedforward: bool = true,
+        /// Behind the plan's schedule, how many extra horizons ahead the target may be.
+        #[param("catchup", Reals::closed(0.0, 100.0))]
+        pub catchup: f64 = 2.0,
+        /// Seconds without progress (while following) after which the progress moves on at
+        /// the plan's pace by itself.
+        #[param("stall", Reals::closed(0.0, 1e3))]
+        pub stall: f64 = 0.25,
+        /// The optimizer that turns the target into the command, and its weights.
+        #[params]
+        pub steering: Steering,
+        progress: usize = 0,
+        recovering: bool = false,
+        stalled: f64 = 0.0,
     }
 }
 
@@ -84,31 +56,25 @@ impl Tracker for Obc {
     }
 
     fn reset(&mut self, ctx: &TrackerContext) {
-        self.opt = Some(ObcOptimizer::new(
-            ctx.model.clone(),
-            ctx.checker.clone(),
-            ctx.period,
-            self.params.weights.clone(),
-        ));
+        self.steering.reset(ctx);
         self.progress = 0;
         self.recovering = false;
         self.stalled = 0.0;
     }
 
     fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
-        let opt = self.opt.as_ref().expect("reset before command");
         let r = ctx.reference;
         let dt = ctx.model.dt;
         let per_s = |s: f64| (s / dt).round().max(0.0) as usize;
-        let lead = per_s(opt.horizon()).max(1);
+        let lead = per_s(self.steering.optimizer().horizon()).max(1);
         let x = tick.estimate;
         let lo = if self.recovering {
-            self.progress.saturating_sub(per_s(self.params.back))
+            self.progress.saturating_sub(per_s(self.back))
         } else {
             self.progress
         };
-        let (mut k, d) = r.nearest_sample(x, lo..self.progress + per_s(self.params.window) + 1);
-        let eps = self.params.eps;
+        let (mut k, d) = r.nearest_sample(x, lo..self.progress + per_s(self.window) + 1);
+        let eps = self.eps;
         self.recovering = if self.recovering {
             d > 0.5 * eps
         } else {
@@ -119,7 +85,7 @@ impl Tracker for Obc {
         } else {
             self.stalled + ctx.period
         };
-        if self.stalled >= self.params.stall && k < r.last() {
+        if self.stalled >= self.stall && k < r.last() {
             // on the path but not getting on along it (a path that doubles back, a target the
             // pair cannot quite reach): the progress moves on at the plan's pace by itself
             k = (self.progress + lead).min(r.last());
@@ -130,28 +96,25 @@ impl Tracker for Obc {
         } else {
             // behind schedule, aim up to `catchup` horizons further ahead to win time back
             let behind = r.index_at(tick.t).saturating_sub(k);
-            let extra = behind.min((self.params.catchup * lead as f64).round() as usize);
+            let extra = behind.min((self.catchup * lead as f64).round() as usize);
             let j = (k + lead + extra).min(r.last());
             // the plan's control is exact only while one edge covers the whole horizon
             let hint = match (r.edge(k), r.edge(j.saturating_sub(1))) {
-                (Some(a), Some(b)) if self.params.feedforward && a == b && j == k + lead => {
+                (Some(a), Some(b)) if self.feedforward && a == b && j == k + lead => {
                     r.control(k).copied()
                 }
                 _ => None,
             };
             (r.state(j).to_vec(), hint)
         };
-        let sol = opt.solve(x, &target, self.last.as_ref(), hint.as_ref());
-        self.targets = target;
-        self.last = Some(sol.control);
-        sol.control
+        self.steering.command(x, &target, &target, hint.as_ref())
     }
 
     fn status(&self) -> TrackerStatus {
         TrackerStatus {
             mode: if self.recovering { "recover" } else { "follow" },
             progress: self.progress,
-            targets: Some(self.targets.clone()),
+            targets: Some(self.steering.targets()),
         }
     }
 }

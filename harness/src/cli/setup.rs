@@ -1,0 +1,145 @@
+//! The planning setup of the command line, shared by `plan`, `track` and `rig run`: the limits
+//! (`--max-iters`, `--time-limit`), `--objective`, `--metric` and `--flow`. The control period
+//! is not an option of `track` and `rig run`: it is the frame period of their rig.
+
+use clap::Args;
+use magbench_planners::{Limits, PlanningSetup};
+
+use crate::CliError;
+use crate::run::spec::time_limit;
+
+/// The planning setup options.
+#[derive(Debug, Clone, Args)]
+pub struct SetupArgs {
+    /// Planner limits.
+    #[command(flatten)]
+    pub limits: LimitArgs,
+    /// Cost objective of every planning call: path-length (default), duration or
+    /// control-effort.
+    #[arg(long, default_value = "path-length")]
+    pub objective: String,
+    /// Distance metric: positions (default) or centroid-shape:W_CENTROID:W_SHAPE.
+    #[arg(long, default_value = "positions")]
+    pub metric: String,
+    /// How the planning model solves motions: pair-exact (default; the exact flow for two
+    /// agents under a planar field, RK4 otherwise) or rk4 (RK4 everywhere).
+    #[arg(long, default_value = "pair-exact")]
+    pub flow: String,
+}
+
+impl SetupArgs {
+    /// The planning setup (default control period; a rig sets its own); exit 2 on a bad value,
+    /// naming the option.
+    pub fn setup(&self) -> Result<PlanningSetup, CliError> {
+        let mut setup = PlanningSetup {
+            limits: self.limits.limits()?.unwrap_or_default(),
+            ..PlanningSetup::default()
+        };
+        for (key, value) in [
+            ("objective", &self.objective),
+            ("metric", &self.metric),
+            ("flow", &self.flow),
+        ] {
+            setup
+                .set("<command line>", key, value)
+                .map_err(|e| CliError::arg(format!("--{key}"), e.reason))?;
+        }
+        Ok(setup)
+    }
+}
+
+/// `--max-iters` and `--time-limit`.
+#[derive(Debug, Clone, Args)]
+pub struct LimitArgs {
+    /// Planner iteration limit of every planning call (200000 when no limit is given).
+    #[arg(long)]
+    pub max_iters: Option<u64>,
+    /// Planner wall-time limit of every planning call (s). Results are reproducible only with
+    /// an iteration limit.
+    #[arg(long)]
+    pub time_limit: Option<f64>,
+}
+
+impl LimitArgs {
+    /// The limits, or `None` when neither is given; exit 2 on a bad value.
+    pub fn limits(&self) -> Result<Option<Limits>, CliError> {
+        if self.max_iters == Some(0) {
+            return Err(CliError::arg("--max-iters", "must be at least 1, got 0"));
+        }
+        let time_limit = match self.time_limit {
+            Some(t) => Some(time_limit(t).map_err(|r| CliError::arg("--time-limit", r))?),
+            None => None,
+        };
+        Ok(
+            (self.max_iters.is_some() || time_limit.is_some()).then_some(Limits {
+                max_iterations: self.max_iters,
+                time_limit,
+            }),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use super::*;
+
+    #[test]
+    fn huge_zero_and_negative_limits_are_refused() {
+        for t in [1e20, f64::INFINITY, f64::NAN, 0.0, -1.0, 1e300] {
+            let a = LimitArgs {
+                max_iters: None,
+                time_limit: Some(t),
+            };
+            let e = a.limits().unwrap_err();
+            assert_eq!(e.exit_code(), 2);
+            assert!(e.to_string().contains("--time-limit"), "{e}");
+        }
+        let a = LimitArgs {
+            max_iters: Some(0),
+            time_limit: None,
+        };
+        assert!(a.limits().unwrap_err().to_string().contains("--max-iters"));
+        let a = LimitArgs {
+            max_iters: Some(5),
+            time_limit: Some(2.5),
+        };
+        let l = a.limits().unwrap().unwrap();
+        assert_eq!(l.max_iterations, Some(5));
+        assert_eq!(l.time_limit, Some(Duration::from_millis(2500)));
+    }
+
+    #[test]
+    fn setup_options_name_themselves_on_bad_values() {
+        let args = |objective: &str, metric: &str, flow: &str| SetupArgs {
+            limits: LimitArgs {
+                max_iters: Some(7),
+                time_limit: None,
+            },
+            objective: objective.into(),
+            metric: metric.into(),
+            flow: flow.into(),
+        };
+        let s = args("duration", "centroid-shape:1:2", "rk4")
+            .setup()
+            .unwrap();
+        assert_eq!(
+            (s.objective, s.flow, s.limits.max_iterations),
+            ("duration", magbench_env::model::Flow::Rk4, Some(7))
+        );
+        for (a, option) in [
+            (args("fun", "positions", "pair-exact"), "--objective"),
+            (args("duration", "l1", "pair-exact"), "--metric"),
+            (args("duration", "positions", "euler"), "--flow"),
+        ] {
+            let e = a.setup().unwrap_err();
+            assert_eq!(e.exit_code(), 2);
+            assert!(
+                e.to_string()
+                    .contains(&format!("<command line>: {option}: ")),
+                "{e}"
+            );
+        }
+    }
+}

@@ -1,0 +1,83 @@
+//! The sampling and extension settings every planner embeds: EXTEND's tries and edge durations
+//! (the seed's Algorithm 3) and the goal-zoom sampler (Algorithm 2). Declared once, so every
+//! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius` and `timing`
+//! alike.
+//!
+//! Durations are given in seconds and used in whole control periods of the problem (the
+//! camera frames of the rig that will run the plan): the nearest whole number, at least one.
+
+use magbench_env::declare_params;
+use magbench_env::params::Reals;
+
+use crate::Problem;
+use crate::extend::{Extend, Timing};
+use crate::sampler::GoalZoom;
+
+declare_params! {
+    /// The sampling and extension settings every planner embeds.
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct Sampling {
+        /// EXTEND's random (control, duration) tries per call (the seed's k; 1 = SST's
+        /// Monte-Carlo propagation).
+        #[param("k", 1..=100_000)]
+        pub tries: usize = 5,
+        /// Shortest edge (s), rounded to whole control periods (camera frames).
+        #[param("min_duration", Reals::POSITIVE)]
+        pub min_duration: f64 = 0.25,
+        /// Longest edge (s; SST's T_prop), rounded to whole control periods (camera frames).
+        #[param("max_duration", Reals::POSITIVE)]
+        pub max_duration: f64 = 2.0,
+        /// Probability of sampling the goal-zoom region.
+        #[param("goal_bias", Reals::closed(0.0, 1.0))]
+        pub goal_bias: f64 = 0.1,
+        /// Radius of each agent's goal-zoom disk about its goal centre (BL).
+        #[param("zoom_radius", Reals::POSITIVE)]
+        pub zoom_radius: f64 = 1.5,
+        /// Each EXTEND try's duration: random (the seed's) or closest (the period at which the
+        /// try passes closest to its target).
+        #[param("timing")]
+        pub timing: Timing = Timing::Random,
+    }
+    check(Sampling::check_durations);
+}
+
+impl Sampling {
+    /// EXTEND with these settings in the problem's control periods.
+    pub fn extend(&self, problem: &Problem) -> Extend {
+        self.extend_with(problem, self.tries)
+    }
+
+    /// EXTEND with `tries` tries and these durations and timing (RRT*'s CONNECT seeds).
+    pub fn extend_with(&self, problem: &Problem, tries: usize) -> Extend {
+        Extend {
+            tries,
+            min_periods: to_periods(self.min_duration, problem.control_period),
+            max_periods: to_periods(self.max_duration, problem.control_period),
+            timing: self.timing,
+        }
+    }
+
+    /// The goal-zoom sampler.
+    pub fn zoom(&self) -> GoalZoom {
+        GoalZoom {
+            bias: self.goal_bias,
+            radius: self.zoom_radius,
+        }
+    }
+
+    fn check_durations(&self) -> Result<(), String> {
+        if self.min_duration > self.max_duration {
+            return Err(format!(
+                "min_duration {} exceeds max_duration {}",
+                self.min_duration, self.max_duration
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// `seconds` in whole control periods of `period` seconds: the nearest whole number, at least
+/// one.
+pub fn to_periods(seconds: f64, period: f64) -> u32 {
+    ((seconds / period).round() as u32).max(1)
+}

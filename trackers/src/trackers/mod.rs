@@ -1,0 +1,36 @@
+//! The trackers, one file each, and the table that names them.
+//!
+//! Adding a tracker is its own file here (its parameters declared with
+//! [`magbench_env::declare_params!`]; `impl Tracker`) plus its `mod` line and one [`Entry`]
+//! below.
+
+mod lookahead;
+mod obc;
+mod open_loop;
+mod steering;
+
+pub use lookahead::Lookahead;
+pub use obc::Obc;
+pub use open_loop::OpenLoop;
+pub use steering::Steering;
+
+use crate::registry::Entry;
+
+/// Every registered tracker.
+pub const TRACKERS: &[Entry] = &[
+    Entry::new(
+        "open-loop",
+        "replays the plan's controls on their schedule, ignoring observations",
+        || Box::new(OpenLoop::default()),
+    ),
+    Entry::new(
+        "obc",
+        "optimization-based controller: follows the path forward, proximity control beyond eps",
+        || Box::new(Obc::default()),
+    ),
+    Entry::new(
+        "lookahead",
+        "pure pursuit (eq. 6) with per-agent moving targets, turned into commands by the OBC optimizer",
+        || Box::new(Lookahead::default()),
+    ),
+];
