@@ -20,16 +20,16 @@ declare_params! {
         /// EXTEND's random (control, duration) tries per call (the seed's k; 1 = SST's
         /// Monte-Carlo propagation).
         #[param("k", 1..=100_000)]
-        pub tries: usize = 5,
+        pub tries: usize = 8,
         /// Shortest edge (s), rounded to whole control periods (camera frames).
         #[param("min_duration", Reals::POSITIVE)]
-        pub min_duration: f64 = 0.25,
+        pub min_duration: f64 = 0.1,
         /// Longest edge (s; SST's T_prop), rounded to whole control periods (camera frames).
         #[param("max_duration", Reals::POSITIVE)]
         pub max_duration: f64 = 2.0,
         /// Probability of sampling the goal-zoom region.
         #[param("goal_bias", Reals::closed(0.0, 1.0))]
-        pub goal_bias: f64 = 0.1,
+        pub goal_bias: f64 = 0.2,
         /// Radius of each agent's goal-zoom disk about its goal centre (BL).
         #[param("zoom_radius", Reals::POSITIVE)]
         pub zoom_radius: f64 = 1.5,

@@ -26,7 +26,7 @@ fn ellipses_larger_than_the_world_are_not_sampled() {
 #[test]
 fn informed_samples_after_the_first_solution_lie_in_the_informed_set() {
     let s = scenario(ROOMY);
-    let p = problem(&s, 2, 1500);
+    let p = problem(&s, 2, 10000);
     let set = InformedSet::new(&p);
     let mut informed = RrtStar::informed();
     informed.sample_log = Some(Vec::new());

@@ -122,13 +122,13 @@ fn progress_is_recorded_at_every_percent_and_best_cost_never_increases() {
 
 #[test]
 fn optimizing_planners_keep_improving_after_the_first_solution() {
-    // within 3000 iterations rrt-star improves on about 4 seeds in 5 and sst on about 1 in 2
-    // (measured on 20 seeds); a planner that stopped improving would improve on none
+    // within 10k iterations rrt-star and informed rrt-star improve on 19–20 seeds of 20 and
+    // sst on 13 (measured on 20 seeds); a planner that stopped improving would improve on none
     let s = scenario(ROOMY);
     for name in ["rrt-star", "informed-rrt-star", "sst"] {
         let mut improved = 0;
         for seed in 0..8 {
-            let p = problem(&s, seed, 3000);
+            let p = problem(&s, seed, 10_000);
             let r = registry::create(name, &[]).unwrap().solve(&p);
             assert_solution(&p, &r);
             let first = r.progress.iter().find_map(|q| q.best_cost).unwrap();

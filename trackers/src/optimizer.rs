@@ -71,10 +71,10 @@ declare_params! {
         pub w_wall: f64 = 1.0,
         /// Field angles on the brute-force grid over [0, π).
         #[param("grid", 4..=100_000)]
-        pub grid: usize = 48,
+        pub grid: usize = 24,
         /// Golden-section iterations of the local refinement.
         #[param("refine", 0..=100)]
-        pub refine: usize = 12,
+        pub refine: usize = 10,
         /// Prediction horizon (control ticks).
         #[param("horizon", 1..=120)]
         pub horizon: usize = 1,
@@ -639,8 +639,10 @@ mod tests {
                 .zip(&target)
                 .map(|(a, b)| (a - b).norm())
                 .fold(0.0, f64::max);
+            // 24 grid angles refined 10 times find θ to ~4e-4 rad: ~1e-5 BL per frame, far
+            // below the camera's noise
             assert!(
-                err < 1e-6,
+                err < 5e-5,
                 "prediction error {err:e} for {u:?} → {:?}",
                 s.control
             );

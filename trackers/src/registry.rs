@@ -179,8 +179,8 @@ mod tests {
         assert!(e.reason.contains("whole number"));
         // a whole number written as a real (a TOML float) and a 0/1 flag still parse
         let s =
-            TrackerSpec::parse("obc", &[kv("grid", "24.0"), kv("feedforward", "0")], "x").unwrap();
-        assert_eq!(s.label(), "obc{feedforward=false,grid=24}");
+            TrackerSpec::parse("obc", &[kv("grid", "36.0"), kv("feedforward", "0")], "x").unwrap();
+        assert_eq!(s.label(), "obc{feedforward=false,grid=36}");
     }
 
     #[test]
