@@ -20,10 +20,10 @@ declare_params! {
         /// EXTEND's random (control, duration) tries per call (the seed's k; 1 = SST's
         /// Monte-Carlo propagation).
         #[param("k", 1..=100_000)]
-        pub tries: usize = 8,
+        pub tries: usize = 12,
         /// Shortest edge (s), rounded to whole control periods (camera frames).
         #[param("min_duration", Reals::POSITIVE)]
-        pub min_duration: f64 = 0.1,
+        pub min_duration: f64 = 0.25,
         /// Longest edge (s; SST's T_prop), rounded to whole control periods (camera frames).
         #[param("max_duration", Reals::POSITIVE)]
         pub max_duration: f64 = 2.0,
