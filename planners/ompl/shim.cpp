@@ -29,6 +29,7 @@
 #include <ompl/util/Console.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -247,29 +248,53 @@ private:
     mutable ompl::RNG rng_;
 };
 
-/// The team's centroid: the grid of KPIECE and EST and PDST's subdivision.
-class Centroid : public ob::ProjectionEvaluator {
+/// The agents' positions themselves (2N dimensions, cells of 1/20 of the world's sides): the
+/// grid of KPIECE1 and EST and PDST's subdivision. A projection to the centroid alone cannot
+/// tell the team's shapes apart, and these problems are about shape.
+class Projection : public ob::ProjectionEvaluator {
 public:
-    Centroid(const ob::StateSpace *space, size_t agents, double width, double height)
-        : ob::ProjectionEvaluator(space), agents_(agents), width_(width), height_(height) {
-        ob::RealVectorBounds b(2);
-        b.setLow(0, 0.0);
-        b.setHigh(0, width);
-        b.setLow(1, 0.0);
-        b.setHigh(1, height);
+    Projection(const ob::StateSpace *space, size_t agents, double width, double height)
+        : ob::ProjectionEvaluator(space), dims_(2 * agents), width_(width), height_(height) {
+        ob::RealVectorBounds b(dims_);
+        for (size_t i = 0; i < dims_; ++i) {
+            b.setLow(i, 0.0);
+            b.setHigh(i, i % 2 == 0 ? width : height);
+        }
         setBounds(b);
     }
-    unsigned int getDimension() const override { return 2; }
-    void defaultCellSizes() override { cellSizes_ = {width_ / 20.0, height_ / 20.0}; }
+    unsigned int getDimension() const override { return dims_; }
+    void defaultCellSizes() override {
+        cellSizes_.resize(dims_);
+        for (size_t i = 0; i < dims_; ++i) cellSizes_[i] = (i % 2 == 0 ? width_ : height_) / 20.0;
+    }
     void project(const ob::State *state, Eigen::Ref<Eigen::VectorXd> projection) const override {
         const double *x = values(state);
-        double cx = 0.0, cy = 0.0;
-        for (size_t i = 0; i < agents_; ++i) {
-            cx += x[2 * i];
-            cy += x[2 * i + 1];
+        for (size_t i = 0; i < dims_; ++i) projection[i] = x[i];
+    }
+
+private:
+    size_t dims_;
+    double width_, height_;
+};
+
+/// The agents' positions; its default projection is [`Projection`] (RealVectorStateSpace's own
+/// default for more than two dimensions is a random linear projection from an unseeded RNG,
+/// registered again at every setup).
+class Positions : public ob::RealVectorStateSpace {
+public:
+    Positions(size_t agents, double width, double height)
+        : ob::RealVectorStateSpace(2 * agents), agents_(agents), width_(width), height_(height) {
+        ob::RealVectorBounds b(2 * agents);
+        for (size_t i = 0; i < agents; ++i) {
+            b.setLow(2 * i, 0.0);
+            b.setHigh(2 * i, width);
+            b.setLow(2 * i + 1, 0.0);
+            b.setHigh(2 * i + 1, height);
         }
-        projection[0] = cx / agents_;
-        projection[1] = cy / agents_;
+        setBounds(b);
+    }
+    void registerProjections() override {
+        registerDefaultProjection(std::make_shared<Projection>(this, agents_, width_, height_));
     }
 
 private:
@@ -288,17 +313,7 @@ int solve(const mb_problem &p, const mb_callbacks *cb, mb_result *r) {
 
     const size_t dims = 2 * p.agents;
     Seeds seeds{p.seed};
-    auto space = std::make_shared<ob::RealVectorStateSpace>(dims);
-    ob::RealVectorBounds sb(dims);
-    for (size_t i = 0; i < p.agents; ++i) {
-        sb.setLow(2 * i, 0.0);
-        sb.setHigh(2 * i, p.width);
-        sb.setLow(2 * i + 1, 0.0);
-        sb.setHigh(2 * i + 1, p.height);
-    }
-    space->setBounds(sb);
-    space->registerDefaultProjection(
-        std::make_shared<Centroid>(space.get(), p.agents, p.width, p.height));
+    auto space = std::make_shared<Positions>(p.agents, p.width, p.height);
     space->setStateSamplerAllocator([&seeds](const ob::StateSpace *s) -> ob::StateSamplerPtr {
         return std::make_shared<SeededStateSampler>(s, seeds.take());
     });
@@ -421,6 +436,39 @@ int mb_ompl_solve(const mb_problem *p, const mb_callbacks *cb, mb_result *r) {
         fail(r, "OMPL: unknown exception");
     }
     return 1;
+}
+
+/// Propagates `state` under `control` for one step through OMPL's SpaceInformation (the
+/// StatePropagator calling back into magbench), `repeats` times; writes the end into `result`
+/// and returns the nanoseconds the loop took (the setup excluded), or -1 on failure.
+int64_t mb_ompl_propagate(const mb_problem *p, const mb_callbacks *cb, const double *state,
+                          const double *control, double *result, uint64_t repeats) {
+    try {
+        const size_t dims = 2 * p->agents;
+        auto space = std::make_shared<Positions>(p->agents, p->width, p->height);
+        auto cspace = std::make_shared<oc::RealVectorControlSpace>(space, CONTROL_DIMS);
+        auto si = std::make_shared<oc::SpaceInformation>(space, cspace);
+        si->setStatePropagator(std::make_shared<Propagator>(si, cb, dims));
+        si->setStateValidityChecker(std::make_shared<Checker>(si, cb, dims));
+        si->setPropagationStepSize(p->step);
+        si->setMinMaxControlDuration(1, 1);
+        si->setup();
+        ob::State *from = si->allocState(), *to = si->allocState();
+        oc::Control *u = si->allocControl();
+        std::copy(state, state + dims, values(from));
+        std::copy(control, control + CONTROL_DIMS,
+                  u->as<oc::RealVectorControlSpace::ControlType>()->values);
+        auto t0 = std::chrono::steady_clock::now();
+        for (uint64_t i = 0; i < repeats; ++i) si->propagate(from, u, 1, to);
+        auto t1 = std::chrono::steady_clock::now();
+        std::copy(values(to), values(to) + dims, result);
+        si->freeState(from);
+        si->freeState(to);
+        si->freeControl(u);
+        return std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count();
+    } catch (...) {
+        return -1;
+    }
 }
 
 /// Frees the arrays of a result.

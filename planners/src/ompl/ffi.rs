@@ -105,6 +105,15 @@ unsafe extern "C" {
     pub fn mb_ompl_solve(p: *const CProblem, cb: *const Callbacks, r: *mut CResult) -> c_int;
     /// Frees a result's arrays.
     pub fn mb_ompl_free(r: *mut CResult);
+    /// One propagation step through OMPL, `repeats` times; nanoseconds of the loop, or −1.
+    pub fn mb_ompl_propagate(
+        p: *const CProblem,
+        cb: *const Callbacks,
+        state: *const f64,
+        control: *const f64,
+        result: *mut f64,
+        repeats: u64,
+    ) -> i64;
 }
 
 /// What changes while OMPL runs.
@@ -125,6 +134,21 @@ pub struct Run<'a> {
     pub problem: &'a Problem,
     /// What changes.
     pub live: RefCell<Live>,
+}
+
+impl<'a> Run<'a> {
+    /// A run of `problem` whose clock starts now.
+    pub fn new(problem: &'a Problem) -> Self {
+        Run {
+            problem,
+            live: RefCell::new(Live {
+                progress: Progress::start(problem),
+                iterations: 0,
+                best: None,
+                first: None,
+            }),
+        }
+    }
 }
 
 /// A state of `n` agents from OMPL's 2N values.

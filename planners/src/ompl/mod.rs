@@ -40,18 +40,16 @@ mod ffi;
 mod params;
 mod path;
 
-use std::cell::RefCell;
 use std::ffi::{CStr, CString};
 
 use magbench_env::params::{ParamError, ParamInfo, ParamSet};
 
-use crate::progress::Progress;
 use crate::result::{Best, finish};
 use crate::{Planner, PlannerResult, Problem, plan_cost};
 
 pub use params::{Durations, Est, Kpiece, OmplParams, Pdst, Rrt, Sst};
 
-use ffi::{CProblem, CResult, Callbacks, Live, Run, mb_ompl_free, mb_ompl_solve};
+use ffi::{CProblem, CResult, Callbacks, Run, mb_ompl_free, mb_ompl_solve};
 
 /// OMPL's counts at the end of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -86,51 +84,17 @@ impl<P: OmplParams> Ompl<P> {
 
     /// Runs OMPL's planner on `problem`; also returns OMPL's counts.
     pub fn solve_with_stats(&mut self, problem: &Problem) -> (PlannerResult, OmplStats) {
-        let run = Run {
-            problem,
-            live: RefCell::new(Live {
-                progress: Progress::start(problem),
-                iterations: 0,
-                best: None,
-                first: None,
-            }),
-        };
+        let run = Run::new(problem);
         let callbacks = Callbacks::of(&run);
-        let flat =
-            |v: &[magbench_env::Vec2]| -> Vec<f64> { v.iter().flat_map(|p| [p.x, p.y]).collect() };
-        let start = flat(&problem.start);
-        let goal = flat(&problem.goal.agents);
-        let planner = CString::new(self.planner).expect("no NUL in a planner name");
-        let pairs = self.params.ompl_params();
-        let names: Vec<CString> = pairs
-            .iter()
-            .map(|(k, _)| CString::new(k.as_str()).expect("no NUL in a key"))
-            .collect();
-        let values: Vec<CString> = pairs
-            .iter()
-            .map(|(_, v)| CString::new(v.as_str()).expect("no NUL in a number"))
-            .collect();
-        let name_ptrs: Vec<_> = names.iter().map(|c| c.as_ptr()).collect();
-        let value_ptrs: Vec<_> = values.iter().map(|c| c.as_ptr()).collect();
         let (min_steps, max_steps) = self.params.durations().steps(problem);
-        let cproblem = CProblem {
-            planner: planner.as_ptr(),
-            agents: problem.agents(),
-            width: problem.world.width,
-            height: problem.world.height,
-            start: start.as_ptr(),
-            goal_centres: goal.as_ptr(),
-            goal_tolerance: problem.goal.tolerance,
-            gradient_limit: problem.model.coil.gradient_limit(),
-            step: problem.control_period,
-            min_steps,
-            max_steps,
-            seed: problem.seed,
-            stop_on_solution: self.params.stop_on_solution() as i32,
-            n_params: pairs.len(),
-            param_names: name_ptrs.as_ptr(),
-            param_values: value_ptrs.as_ptr(),
-        };
+        let owned = Owned::new(
+            problem,
+            self.planner,
+            &self.params.ompl_params(),
+            (min_steps, max_steps),
+        );
+        let mut cproblem = owned.c_problem(problem);
+        cproblem.stop_on_solution = self.params.stop_on_solution() as i32;
         // SAFETY: every pointer lives until the call returns; the result is zeroed by the shim.
         let mut r: CResult = unsafe { std::mem::zeroed() };
         let code = unsafe { mb_ompl_solve(&cproblem, &callbacks, &mut r) };
@@ -191,6 +155,99 @@ impl<P: OmplParams> Ompl<P> {
             stats,
         )
     }
+}
+
+/// The buffers a [`CProblem`] points into.
+struct Owned {
+    planner: CString,
+    start: Vec<f64>,
+    goal: Vec<f64>,
+    _names: Vec<CString>,
+    _values: Vec<CString>,
+    name_ptrs: Vec<*const std::ffi::c_char>,
+    value_ptrs: Vec<*const std::ffi::c_char>,
+    steps: (u32, u32),
+}
+
+impl Owned {
+    fn new(
+        problem: &Problem,
+        planner: &str,
+        params: &[(String, String)],
+        steps: (u32, u32),
+    ) -> Self {
+        let flat =
+            |v: &[magbench_env::Vec2]| -> Vec<f64> { v.iter().flat_map(|p| [p.x, p.y]).collect() };
+        let c = |s: &str| CString::new(s).expect("no NUL in names and numbers");
+        let names: Vec<CString> = params.iter().map(|(k, _)| c(k)).collect();
+        let values: Vec<CString> = params.iter().map(|(_, v)| c(v)).collect();
+        Owned {
+            planner: c(planner),
+            start: flat(&problem.start),
+            goal: flat(&problem.goal.agents),
+            name_ptrs: names.iter().map(|c| c.as_ptr()).collect(),
+            value_ptrs: values.iter().map(|c| c.as_ptr()).collect(),
+            _names: names,
+            _values: values,
+            steps,
+        }
+    }
+
+    /// The problem, pointing into `self`.
+    fn c_problem(&self, problem: &Problem) -> CProblem {
+        CProblem {
+            planner: self.planner.as_ptr(),
+            agents: problem.agents(),
+            width: problem.world.width,
+            height: problem.world.height,
+            start: self.start.as_ptr(),
+            goal_centres: self.goal.as_ptr(),
+            goal_tolerance: problem.goal.tolerance,
+            gradient_limit: problem.model.coil.gradient_limit(),
+            step: problem.control_period,
+            min_steps: self.steps.0,
+            max_steps: self.steps.1,
+            seed: problem.seed,
+            stop_on_solution: 0,
+            n_params: self.name_ptrs.len(),
+            param_names: self.name_ptrs.as_ptr(),
+            param_values: self.value_ptrs.as_ptr(),
+        }
+    }
+}
+
+/// One propagation step of one control period from `start` under `u` through OMPL's
+/// `SpaceInformation::propagate` (OMPL's StatePropagator calling back into magbench), repeated
+/// `repeats` times: the end state and the time the repeats took (for the C ABI's overhead).
+pub fn propagate_through_ompl(
+    problem: &Problem,
+    start: &[magbench_env::Vec2],
+    u: &magbench_env::Control,
+    repeats: u64,
+) -> Option<(Vec<magbench_env::Vec2>, std::time::Duration)> {
+    let run = Run::new(problem);
+    let callbacks = Callbacks::of(&run);
+    let owned = Owned::new(problem, "rrt", &[], (1, 1));
+    let cproblem = owned.c_problem(problem);
+    let x: Vec<f64> = start.iter().flat_map(|p| [p.x, p.y]).collect();
+    let control = [u.theta, u.grad[0], u.grad[1]];
+    let mut out = vec![0.0; x.len()];
+    // SAFETY: every pointer lives until the call returns; `out` holds 2N doubles.
+    let ns = unsafe {
+        ffi::mb_ompl_propagate(
+            &cproblem,
+            &callbacks,
+            x.as_ptr(),
+            control.as_ptr(),
+            out.as_mut_ptr(),
+            repeats,
+        )
+    };
+    let end = out
+        .chunks_exact(2)
+        .map(|p| magbench_env::Vec2::new(p[0], p[1]))
+        .collect();
+    (ns >= 0).then(|| (end, std::time::Duration::from_nanos(ns as u64)))
 }
 
 impl<P: OmplParams> ParamSet for Ompl<P> {

@@ -111,7 +111,7 @@ declare_params! {
 }
 
 declare_params! {
-    /// OMPL's `control::KPIECE1` (grid over the team's centroid, 20 × 20 cells).
+    /// OMPL's `control::KPIECE1` (grid over the agents' positions, 20 cells per side).
     #[derive(Debug, Clone)]
     pub struct Kpiece {
         /// Probability of extending from the goal-closest cell.
@@ -136,7 +136,7 @@ declare_params! {
 }
 
 declare_params! {
-    /// OMPL's `control::EST` (grid over the team's centroid).
+    /// OMPL's `control::EST` (grid over the agents' positions).
     #[derive(Debug, Clone)]
     pub struct Est {
         /// Probability of steering toward a goal sample.
@@ -152,7 +152,7 @@ declare_params! {
 }
 
 declare_params! {
-    /// OMPL's `control::PDST` (subdivision of the team's centroid).
+    /// OMPL's `control::PDST` (subdivision of the agents' positions).
     #[derive(Debug, Clone)]
     pub struct Pdst {
         /// Probability of steering toward a goal sample.
