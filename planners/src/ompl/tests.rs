@@ -201,3 +201,20 @@ fn a_time_limit_stops_ompl() {
     let r = create("ompl:pdst", &[]).unwrap().solve(&p);
     assert!(r.time_s >= 0.3 && r.iterations > 0, "{} s", r.time_s);
 }
+
+/// The figures of the SST defect for the README (not part of the suite):
+/// `cargo test -p magbench-planners --features ompl --lib -- --ignored sst_node_counts --nocapture`
+#[test]
+#[ignore]
+fn sst_node_counts() {
+    eprintln!("iterations | OMPL SST motions, witnesses, dominated leaves | magbench SST nodes, witnesses, added, pruned");
+    for n in [5_000, 20_000, 50_000] {
+        let p = problem("micro-factory", 1, n);
+        let (_, o) = Ompl::<Sst>::new("ompl:sst", "sst").solve_with_stats(&p);
+        let (_, m) = MagbenchSst::default().solve_with_stats(&p);
+        eprintln!(
+            "{n} | {} {} {} | {} {} {} {}",
+            o.vertices, o.witnesses, o.dominated, m.nodes, m.witnesses, m.added, m.pruned
+        );
+    }
+}
