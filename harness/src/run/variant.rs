@@ -131,9 +131,9 @@ impl Variant {
         };
         let name = name.trim();
         // a plugin family's names have a prefix: `ompl:rrt`
-        let plain =
-            name.split_once(':')
-                .map_or(name, |(family, n)| if is_word(family) { n } else { "" });
+        let plain = name
+            .split_once(':')
+            .map_or(name, |(family, n)| if is_word(family) { n } else { "" });
         if !is_word(plain) {
             return Err(format!(
                 "{label:?}: a name is letters, digits, '_' and '-' (with a family prefix such as `ompl:`), optionally followed by {{key=value, ...}}"

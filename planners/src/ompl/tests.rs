@@ -207,7 +207,9 @@ fn a_time_limit_stops_ompl() {
 #[test]
 #[ignore]
 fn sst_node_counts() {
-    eprintln!("iterations | OMPL SST motions, witnesses, dominated leaves | magbench SST nodes, witnesses, added, pruned");
+    eprintln!(
+        "iterations | OMPL SST motions, witnesses, dominated leaves | magbench SST nodes, witnesses, added, pruned"
+    );
     for n in [5_000, 20_000, 50_000] {
         let p = problem("micro-factory", 1, n);
         let (_, o) = Ompl::<Sst>::new("ompl:sst", "sst").solve_with_stats(&p);
