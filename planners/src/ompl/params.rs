@@ -3,13 +3,13 @@
 //!
 //! Defaults are OMPL 1.5's, except SST's radii (magbench's `sst` defaults, so that the two
 //! SSTs are compared at the same δ_BN and δ_s; both measure in the same metric, the Euclidean
-//! distance over all agent positions) and the durations (magbench's planners' 0.1–2 s).
+//! distance over all agent positions) and the durations (magbench's planners' own defaults).
 
 use magbench_env::declare_params;
 use magbench_env::params::{ParamSet, Reals};
 
 use crate::Problem;
-use crate::sampling::to_periods;
+use crate::sampling::{Sampling, to_periods};
 
 declare_params! {
     /// OMPL's control duration bounds, in seconds, used in whole control periods.
@@ -17,10 +17,10 @@ declare_params! {
     pub struct Durations {
         /// Shortest control duration (s), rounded to whole control periods.
         #[param("min_duration", Reals::POSITIVE)]
-        pub min_duration: f64 = 0.1,
+        pub min_duration: f64 = Sampling::default().min_duration,
         /// Longest control duration (s), rounded to whole control periods.
         #[param("max_duration", Reals::POSITIVE)]
-        pub max_duration: f64 = 2.0,
+        pub max_duration: f64 = Sampling::default().max_duration,
     }
     check(Durations::check);
 }
