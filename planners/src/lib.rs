@@ -10,7 +10,9 @@
 //! - `goal-zoom-rrt`: the seed's Algorithms 1–3 ([`planners::GoalZoomRrt`]);
 //! - `rrt-star`: kinodynamic RRT* with shooting connections ([`planners::RrtStar`]);
 //! - `informed-rrt-star`: RRT* sampling only states that can improve the solution;
-//! - `sst`: Stable Sparse RRT ([`planners::Sst`]).
+//! - `sst`: Stable Sparse RRT ([`planners::Sst`]);
+//! - `ompl:rrt`, `ompl:sst`, `ompl:kpiece`, `ompl:est`, `ompl:pdst`: OMPL's control planners on
+//!   this model (cargo feature `ompl`; [`ompl`]).
 //!
 //! The physics is env's: planners propagate with `PlanningModel::propagate_with` and check with
 //! `ValidityChecker`; every edge lasts a whole number of control periods (the camera frames of
@@ -26,6 +28,8 @@ pub mod metric;
 pub mod motion;
 pub mod nn;
 pub mod objective;
+#[cfg(feature = "ompl")]
+pub mod ompl;
 pub mod plan;
 pub mod planner;
 pub mod planners;

@@ -130,9 +130,13 @@ impl Variant {
             None => (label, None),
         };
         let name = name.trim();
-        if !is_word(name) {
+        // a plugin family's names have a prefix: `ompl:rrt`
+        let plain = name
+            .split_once(':')
+            .map_or(name, |(family, n)| if is_word(family) { n } else { "" });
+        if !is_word(plain) {
             return Err(format!(
-                "{label:?}: a name is letters, digits, '_' and '-', optionally followed by {{key=value, ...}}"
+                "{label:?}: a name is letters, digits, '_' and '-' (with a family prefix such as `ompl:`), optionally followed by {{key=value, ...}}"
             ));
         }
         let mut params = BTreeMap::new();

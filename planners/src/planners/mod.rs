@@ -36,4 +36,56 @@ pub const PLANNERS: &[Entry] = &[
         "Stable Sparse RRT (Li, Littlefield & Bekris): selection and pruning radii, prunes dominated nodes",
         || Box::new(Sst::default()),
     ),
+    #[cfg(feature = "ompl")]
+    Entry::new(
+        "ompl:rrt",
+        "OMPL 1.5's control::RRT on magbench's model (feature ompl)",
+        || {
+            Box::new(crate::ompl::Ompl::<crate::ompl::Rrt>::new(
+                "ompl:rrt", "rrt",
+            ))
+        },
+    ),
+    #[cfg(feature = "ompl")]
+    Entry::new(
+        "ompl:sst",
+        "OMPL 1.5's control::SST on magbench's model (feature ompl)",
+        || {
+            Box::new(crate::ompl::Ompl::<crate::ompl::Sst>::new(
+                "ompl:sst", "sst",
+            ))
+        },
+    ),
+    #[cfg(feature = "ompl")]
+    Entry::new(
+        "ompl:kpiece",
+        "OMPL 1.5's control::KPIECE1 on magbench's model (feature ompl)",
+        || {
+            Box::new(crate::ompl::Ompl::<crate::ompl::Kpiece>::new(
+                "ompl:kpiece",
+                "kpiece",
+            ))
+        },
+    ),
+    #[cfg(feature = "ompl")]
+    Entry::new(
+        "ompl:est",
+        "OMPL 1.5's control::EST on magbench's model (feature ompl)",
+        || {
+            Box::new(crate::ompl::Ompl::<crate::ompl::Est>::new(
+                "ompl:est", "est",
+            ))
+        },
+    ),
+    #[cfg(feature = "ompl")]
+    Entry::new(
+        "ompl:pdst",
+        "OMPL 1.5's control::PDST on magbench's model (feature ompl)",
+        || {
+            Box::new(crate::ompl::Ompl::<crate::ompl::Pdst>::new(
+                "ompl:pdst",
+                "pdst",
+            ))
+        },
+    ),
 ];
