@@ -66,14 +66,18 @@ impl Sampling {
     }
 
     fn check_durations(&self) -> Result<(), String> {
-        if self.min_duration > self.max_duration {
-            return Err(format!(
-                "min_duration {} exceeds max_duration {}",
-                self.min_duration, self.max_duration
-            ));
-        }
-        Ok(())
+        check_durations(self.min_duration, self.max_duration)
     }
+}
+
+/// The one rule between an edge's duration bounds (s): the shortest may not exceed the longest.
+pub fn check_durations(min_duration: f64, max_duration: f64) -> Result<(), String> {
+    if min_duration > max_duration {
+        return Err(format!(
+            "min_duration {min_duration} exceeds max_duration {max_duration}"
+        ));
+    }
+    Ok(())
 }
 
 /// `seconds` in whole control periods of `period` seconds: the nearest whole number, at least

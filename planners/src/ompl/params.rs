@@ -9,7 +9,7 @@ use magbench_env::declare_params;
 use magbench_env::params::{ParamSet, Reals};
 
 use crate::Problem;
-use crate::sampling::{Sampling, to_periods};
+use crate::sampling::{Sampling, check_durations, to_periods};
 
 declare_params! {
     /// OMPL's control duration bounds, in seconds, used in whole control periods.
@@ -35,13 +35,7 @@ impl Durations {
     }
 
     fn check(&self) -> Result<(), String> {
-        if self.min_duration > self.max_duration {
-            return Err(format!(
-                "min_duration {} exceeds max_duration {}",
-                self.min_duration, self.max_duration
-            ));
-        }
-        Ok(())
+        check_durations(self.min_duration, self.max_duration)
     }
 }
 
