@@ -264,6 +264,9 @@ impl Executor for RealExecutor {
         rec.rms_error_bl = Some(m.rms_error_bl);
         rec.max_error_bl = Some(m.max_error_bl);
         rec.rms_error_worst_agent_bl = Some(m.rms_error_worst_agent_bl);
+        rec.rms_error_true_bl = m.rms_error_true_bl;
+        rec.rms_error_sync_bl = Some(m.rms_error_sync_bl);
+        rec.rms_error_time_bl = Some(m.rms_error_time_bl);
         rec.legs_completed = Some(m.legs_completed as u64);
         rec.final_distance_bl = Some(m.final_goal_distance_bl);
         rec.agent_contact = Some(m.agent_contact);
