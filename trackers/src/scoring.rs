@@ -110,10 +110,7 @@ mod tests {
     /// Two agents moving right along y = 0 and y = 2 at 1 BL/s for 4 s.
     fn straight() -> Reference {
         let times: Vec<f64> = (0..=4).map(f64::from).collect();
-        let states: Vec<Vec<Vec2>> = times
-            .iter()
-            .map(|&t| vec![v(t, 0.0), v(t, 2.0)])
-            .collect();
+        let states: Vec<Vec<Vec2>> = times.iter().map(|&t| vec![v(t, 0.0), v(t, 2.0)]).collect();
         Reference::from_samples(&times, &states)
     }
 

@@ -16,6 +16,7 @@ use crate::collision::{CollisionWorld, ValidityChecker};
 use crate::error::InputError;
 use crate::math::Vec2;
 use crate::physics::PhysicalParams;
+use crate::plant::{DisturbancePreset, Medium};
 use crate::world::{Obstacle, World};
 
 /// A goal region: every agent within `tolerance` of its goal centre.
@@ -68,9 +69,21 @@ pub struct Scenario {
     pub legs: Vec<Leg>,
     /// The physical preset with the scenario's overrides applied.
     pub physics: PhysicalParams,
+    /// Where the agents move (`[medium]`), when the scenario says: it replaces the disturbance
+    /// preset's medium, and with it switches capillary attraction (at an interface).
+    pub medium: Option<Medium>,
 }
 
 impl Scenario {
+    /// `preset` as it applies to this scenario: with the scenario's medium, if it sets one.
+    pub fn plant_preset(&self, preset: &DisturbancePreset) -> DisturbancePreset {
+        let mut p = preset.clone();
+        if let Some(m) = &self.medium {
+            p.medium = m.clone();
+        }
+        p
+    }
+
     /// Loads a built-in scenario by name, or a scenario file by path.
     pub fn load(name_or_path: &str) -> Result<Scenario, InputError> {
         if let Some(src) = builtin_source(name_or_path) {

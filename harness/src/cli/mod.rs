@@ -5,6 +5,7 @@ mod figures;
 mod merge;
 pub(crate) mod output;
 mod plan;
+mod preset;
 mod regress;
 mod rig;
 mod scenario;
@@ -36,6 +37,9 @@ pub enum Command {
     /// List, show or check scenario files.
     #[command(subcommand)]
     Scenario(scenario::ScenarioCmd),
+    /// List, show or check disturbance presets of the simulated plant.
+    #[command(subcommand)]
+    Preset(preset::PresetCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
     /// Plan a scenario with one planner; report the result or write plan, trace and plot.
@@ -59,6 +63,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
+        Command::Preset(c) => preset::run(c),
         Command::Stlc(a) => stlc::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Merge(a) => merge::run(a),
