@@ -1,5 +1,6 @@
 //! Command-line interface: one file per subcommand.
 
+mod ablate;
 mod bench;
 mod figures;
 mod merge;
@@ -46,6 +47,8 @@ pub enum Command {
     Plan(plan::PlanArgs),
     /// Run an experiment (default experiments/default.toml) into results/<name>/.
     Bench(bench::BenchArgs),
+    /// Ablate the plant: a tracker under a preset with each term off in turn and each alone.
+    Ablate(ablate::AblateArgs),
     /// Join the results folders of shards (`bench --shard I/N`) into one.
     Merge(merge::MergeArgs),
     /// Compare a results folder against a baseline; exit 1 on a significant regression.
@@ -67,6 +70,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Stlc(a) => stlc::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Merge(a) => merge::run(a),
+        Command::Ablate(a) => ablate::run(a),
         Command::Regress(a) => regress::run(a),
         Command::Figures(a) => figures::run(a),
         Command::Track(a) => track::run(*a),
