@@ -52,7 +52,10 @@ pub fn variants(base: &DisturbancePreset) -> Vec<AblationVariant> {
         p.name = format!("{}:{name}", base.name);
         AblationVariant { name, preset: p }
     };
-    let mut out = vec![with("all".into(), &|_| true), with("none".into(), &|_| false)];
+    let mut out = vec![
+        with("all".into(), &|_| true),
+        with("none".into(), &|_| false),
+    ];
     for t in &terms {
         out.push(with(format!("no-{}", slug(t)), &|u| u != *t));
         out.push(with(format!("only-{}", slug(t)), &|u| u == *t));
@@ -166,13 +169,23 @@ mod tests {
     fn variants_switch_each_term_off_in_turn_and_alone() {
         let hw = DisturbancePreset::hardware();
         let terms = terms_on(&hw);
-        assert_eq!(terms.len(), DisturbancePreset::TERMS.len() - 1, "all but drift");
+        assert_eq!(
+            terms.len(),
+            DisturbancePreset::TERMS.len() - 1,
+            "all but drift"
+        );
         let v = variants(&hw);
         assert_eq!(v.len(), 2 + 2 * terms.len());
         assert_eq!(v[0].preset.name, "hardware:all");
         for t in &terms {
-            let no = v.iter().find(|x| x.name == format!("no-{}", slug(t))).unwrap();
-            let only = v.iter().find(|x| x.name == format!("only-{}", slug(t))).unwrap();
+            let no = v
+                .iter()
+                .find(|x| x.name == format!("no-{}", slug(t)))
+                .unwrap();
+            let only = v
+                .iter()
+                .find(|x| x.name == format!("only-{}", slug(t)))
+                .unwrap();
             for u in &terms {
                 assert_eq!(no.preset.enabled(u), Some(u != t), "no-{t}: {u}");
                 assert_eq!(only.preset.enabled(u), Some(u == t), "only-{t}: {u}");
@@ -182,7 +195,11 @@ mod tests {
             assert_eq!(DisturbancePreset::parse(&text, "x").unwrap(), no.preset);
         }
         let none = &v[1].preset;
-        assert!(DisturbancePreset::TERMS.iter().all(|t| none.enabled(t) == Some(false)));
+        assert!(
+            DisturbancePreset::TERMS
+                .iter()
+                .all(|t| none.enabled(t) == Some(false))
+        );
     }
 
     fn run(variant: &str, seed: u64, e: f64) -> RunRecord {

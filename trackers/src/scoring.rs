@@ -21,7 +21,7 @@
 
 use magbench_env::Vec2;
 
-use crate::reference::Reference;
+use crate::reference::{CHUNK_SAMPLES, Reference};
 
 /// The path error of each agent (see the module documentation).
 pub fn path_errors(reference: &Reference, positions: &[Vec2]) -> Vec<f64> {
@@ -33,38 +33,80 @@ pub fn path_errors(reference: &Reference, positions: &[Vec2]) -> Vec<f64> {
 }
 
 /// The team-synchronous error: the RMS over agents of the distances to the nearest point of the
-/// team path in joint space (see the module documentation).
+/// team path in joint space (see the module documentation). Chunks of the path whose bounding
+/// circles put them farther than the best point so far are skipped; the minimum is exact.
 pub fn synchronous_error(reference: &Reference, positions: &[Vec2]) -> f64 {
     let n = positions.len() as f64;
-    let msq = |k: usize, s: f64| -> f64 {
-        let (a, b) = (reference.state(k), reference.state(k + 1));
+    let last = reference.last();
+    if last == 0 {
+        return reference.distance_to_sample(positions, 0);
+    }
+    // a lower bound of the mean square distance over chunk j: each agent at least its
+    // distance to the chunk's circle
+    let chunks = reference.chunk_circles(0).len();
+    let bound = |j: usize| -> f64 {
         positions
             .iter()
-            .zip(a.iter().zip(b))
-            .map(|(p, (a, b))| (a + (b - a) * s - p).norm_squared())
+            .enumerate()
+            .map(|(i, p)| {
+                let (c, r) = reference.chunk_circles(i)[j];
+                ((p - c).norm() - r).max(0.0).powi(2)
+            })
             .sum::<f64>()
             / n
     };
+    let exact = |j: usize| -> f64 {
+        let lo = j * CHUNK_SAMPLES;
+        let hi = (lo + CHUNK_SAMPLES).min(last);
+        (lo..hi)
+            .map(|k| segment_msq(reference, positions, k))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let bounds: Vec<f64> = (0..chunks).map(bound).collect();
+    let first = (0..chunks)
+        .min_by(|&a, &b| bounds[a].total_cmp(&bounds[b]))
+        .expect("at least one chunk");
+    let mut best = exact(first);
+    for (j, &b) in bounds.iter().enumerate() {
+        if j != first && b < best {
+            best = best.min(exact(j));
+        }
+    }
+    best.sqrt()
+}
+
+/// The smallest mean square distance (over agents) from `positions` to a point of the team
+/// path's joint-space segment from sample `k` to `k + 1`: the `s ∈ [0, 1]` minimising
+/// `Σ_i |a_i + s(b_i − a_i) − p_i|²`.
+fn segment_msq(reference: &Reference, positions: &[Vec2], k: usize) -> f64 {
+    let (a, b) = (reference.state(k), reference.state(k + 1));
+    let (mut num, mut den) = (0.0, 0.0);
+    for (p, (a, b)) in positions.iter().zip(a.iter().zip(b)) {
+        num += (p - a).dot(&(b - a));
+        den += (b - a).norm_squared();
+    }
+    let s = if den > 0.0 {
+        (num / den).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    positions
+        .iter()
+        .zip(a.iter().zip(b))
+        .map(|(p, (a, b))| (a + (b - a) * s - p).norm_squared())
+        .sum::<f64>()
+        / positions.len() as f64
+}
+
+/// The team-synchronous error by a scan of every segment (the definition; for tests).
+pub fn synchronous_error_scan(reference: &Reference, positions: &[Vec2]) -> f64 {
     if reference.last() == 0 {
         return reference.distance_to_sample(positions, 0);
     }
-    let mut best = f64::INFINITY;
-    for k in 0..reference.last() {
-        // the nearest point of one joint-space segment: minimise Σ_i |a_i + s(b_i − a_i) − p_i|²
-        let (a, b) = (reference.state(k), reference.state(k + 1));
-        let (mut num, mut den) = (0.0, 0.0);
-        for (p, (a, b)) in positions.iter().zip(a.iter().zip(b)) {
-            num += (p - a).dot(&(b - a));
-            den += (b - a).norm_squared();
-        }
-        let s = if den > 0.0 {
-            (num / den).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        best = best.min(msq(k, s));
-    }
-    best.sqrt()
+    (0..reference.last())
+        .map(|k| segment_msq(reference, positions, k))
+        .fold(f64::INFINITY, f64::min)
+        .sqrt()
 }
 
 /// The time-indexed error: the RMS over agents of the distances to the reference at time `t`
@@ -151,6 +193,26 @@ mod tests {
         assert!(d.iter().all(|d| (d - 0.3).abs() < 1e-12));
         assert!((synchronous_error(&r, &p) - 0.3).abs() < 1e-12);
         assert!((time_indexed_error(&r, 2.0, &p) - 0.3).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pruned_search_equals_the_scan() {
+        // two agents on a long spiral (many chunks), out of step
+        let times: Vec<f64> = (0..2000).map(|k| k as f64 * 0.01).collect();
+        let states: Vec<Vec<Vec2>> = times
+            .iter()
+            .map(|&t| {
+                let a = 0.3 * t;
+                vec![v((1.0 + t) * a.cos(), (1.0 + t) * a.sin()), v(t, 0.5 * t)]
+            })
+            .collect();
+        let r = Reference::from_samples(&times, &states);
+        for k in 0..200 {
+            let x = k as f64 * 0.173;
+            let p = [v(x.sin() * 9.0, (1.3 * x).cos() * 9.0), v(x, 0.4 * x - 1.0)];
+            let (fast, scan) = (synchronous_error(&r, &p), synchronous_error_scan(&r, &p));
+            assert!((fast - scan).abs() < 1e-12, "{fast} vs {scan} at {p:?}");
+        }
     }
 
     #[test]

@@ -158,7 +158,8 @@ fn write_tables(
     let mut w = csv::Writer::from_path(out.join("ablation.csv"))
         .map_err(|e| CliError::Failed(e.to_string()))?;
     for r in rows {
-        w.serialize(r).map_err(|e| CliError::Failed(e.to_string()))?;
+        w.serialize(r)
+            .map_err(|e| CliError::Failed(e.to_string()))?;
     }
     w.flush()?;
     let mut text = "variant,median_rms_error_bl,runs\n".to_string();

@@ -47,10 +47,7 @@ impl Figure for BarChart {
     fn size(&self) -> (u32, u32) {
         let rows = self.categories.len().max(1) as u32;
         let per_row = 14 * self.series.len().max(1) as u32 + 16;
-        (
-            W,
-            110 + rows * per_row + legend::height(&self.entries(), W),
-        )
+        (W, 110 + rows * per_row + legend::height(&self.entries(), W))
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
@@ -94,15 +91,16 @@ impl Figure for BarChart {
         let band = 0.8 / k;
         for (si, s) in self.series.iter().enumerate() {
             let col = palette::series(si);
-            c.draw_series(s.data.iter().enumerate().filter(|(_, v)| v.is_finite()).map(
-                |(ci, &v)| {
-                    let y = (n - 1 - ci) as f64 + 0.4 - band * (si as f64 + 0.5);
-                    Rectangle::new(
-                        [(0.0, y - 0.45 * band), (v, y + 0.45 * band)],
-                        col.filled(),
-                    )
-                },
-            ))?;
+            c.draw_series(
+                s.data
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, v)| v.is_finite())
+                    .map(|(ci, &v)| {
+                        let y = (n - 1 - ci) as f64 + 0.4 - band * (si as f64 + 0.5);
+                        Rectangle::new([(0.0, y - 0.45 * band), (v, y + 0.45 * band)], col.filled())
+                    }),
+            )?;
         }
         c.draw_series(std::iter::once(PathElement::new(
             vec![(0.0, -0.5), (0.0, n as f64 - 0.5)],
@@ -137,6 +135,9 @@ mod tests {
         let files = super::super::save(&fig, &dir.path().join("bars")).unwrap();
         assert!(files.iter().all(|f| f.exists()));
         let svg = std::fs::read_to_string(&files[0]).unwrap();
-        assert!(svg.contains("off in turn") && svg.contains("alone"), "legend");
+        assert!(
+            svg.contains("off in turn") && svg.contains("alone"),
+            "legend"
+        );
     }
 }
