@@ -9,7 +9,7 @@ use magbench_env::input::parse_toml;
 use magbench_env::plant::DisturbancePreset;
 use serde::Deserialize;
 
-use super::{Experiment, Tracking, resolve_preset, resolve_scenario};
+use super::{Experiment, LabelledPreset, Tracking, resolve_preset, resolve_scenario};
 use crate::run::spec::time_limit;
 use crate::run::{Executor, ParamValue, RunLimits, Variant};
 
@@ -189,7 +189,7 @@ fn presets(
     file: &str,
     field: &str,
     base_dir: &Path,
-) -> Result<Vec<(String, Arc<DisturbancePreset>)>, InputError> {
+) -> Result<Vec<LabelledPreset>, InputError> {
     let Some(p) = list else {
         return Ok(vec![(
             "ideal".to_string(),

@@ -43,6 +43,9 @@ use sha2::{Digest, Sha256};
 
 use crate::run::{Executor, RunLimits, RunSpec, Variant};
 
+/// A preset as an experiment names it (a built-in name or a file) and the loaded preset.
+pub type LabelledPreset = (String, Arc<DisturbancePreset>);
+
 /// A validated experiment.
 #[derive(Debug, Clone)]
 pub struct Experiment {
@@ -60,9 +63,8 @@ pub struct Experiment {
     pub planners: Vec<Variant>,
     /// Tracker variants (empty: planning only).
     pub trackers: Vec<Variant>,
-    /// Disturbance presets (empty without trackers): the label as written (a built-in name or
-    /// a file) and the loaded preset.
-    pub presets: Vec<(String, Arc<DisturbancePreset>)>,
+    /// Disturbance presets (empty without trackers).
+    pub presets: Vec<LabelledPreset>,
     /// Which runs there are besides the plain planning runs.
     pub tracking: Tracking,
     /// Seeds.
@@ -103,10 +105,7 @@ impl Experiment {
 
     /// The tracker × preset combinations of planner `p`'s runs (`(None, None)`: a planning
     /// run), in matrix order.
-    fn tracking(
-        &self,
-        p: &Variant,
-    ) -> Vec<(Option<Variant>, Option<&(String, Arc<DisturbancePreset>)>)> {
+    fn tracking(&self, p: &Variant) -> Vec<(Option<Variant>, Option<&LabelledPreset>)> {
         let mut v = vec![];
         if self.tracking.has_planning_runs() {
             v.push((None, None));
