@@ -197,7 +197,10 @@ mod tests {
         e.command_sent(0.0, &Control::planar(2.2, -0.085, -0.085));
         let wrong = Vec2::new(10.02, 10.01);
         let (_, est) = e.update(&obs(1.0 / 60.0, &[None, Some(wrong)]));
-        assert!(est.iter().all(|p| p.x.is_finite() && p.y.is_finite()), "{est:?}");
+        assert!(
+            est.iter().all(|p| p.x.is_finite() && p.y.is_finite()),
+            "{est:?}"
+        );
         assert!((est[0] - est[1]).norm() > 1.0, "{est:?}");
         // both detected on top of each other: the one that jumped is dropped
         let (_, est) = e.update(&obs(2.0 / 60.0, &[Some(est[0]), Some(est[0])]));
