@@ -73,14 +73,14 @@ fn flags_a_halved_gain_and_passes_a_rerun_with_other_seeds() {
         .filter(|l| l.ends_with("REGRESSION"))
         .collect();
     assert_eq!(
-        flagged.iter().filter(|l| l.contains("error_bl")).count(),
+        flagged.iter().filter(|l| l.contains("_error")).count(),
         20,
         "{table}"
     );
     assert!(
         flagged
             .iter()
-            .all(|l| l.contains("error_bl") || l.contains("success_rate")),
+            .all(|l| l.contains("_error") || l.contains("success_rate")),
         "{table}"
     );
     for col in ["metric", "baseline", "current", "change", "verdict"] {

@@ -191,6 +191,16 @@ pub fn resolve_preset(label: &str, base_dir: &Path) -> Result<DisturbancePreset,
     if rel.exists() {
         return DisturbancePreset::load(&rel);
     }
+    if !Path::new(label).exists() {
+        return Err(InputError::new(
+            label,
+            "",
+            format!(
+                "unknown preset: neither a built-in preset ({}) nor a file",
+                DisturbancePreset::NAMES.join(", ")
+            ),
+        ));
+    }
     DisturbancePreset::load(Path::new(label))
 }
 
