@@ -20,9 +20,9 @@ use crate::rigfile::RigConfig;
 /// Which rig a run uses.
 #[derive(Debug, Clone, PartialEq)]
 pub enum RigSource {
-    /// env's simulated plant and camera under the named disturbance preset.
+    /// env's simulated plant and camera under a disturbance preset.
     Simulated {
-        /// The preset's name (`ideal`, `realistic`).
+        /// A built-in preset's name (`ideal`, `realistic`, `hardware`) or a preset file.
         preset: String,
     },
     /// The coil-and-camera rig described by a rig file.
@@ -41,18 +41,21 @@ impl RigSource {
     }
 }
 
-/// The disturbance preset called `name`; an unknown name is an [`InputError`] naming `option`.
-fn preset_named(name: &str, option: &str) -> Result<DisturbancePreset, InputError> {
-    DisturbancePreset::by_name(name).ok_or_else(|| {
-        InputError::new(
+/// The disturbance preset `name_or_file`: a built-in name, or a preset file (validated: a bad
+/// file is an [`InputError`] naming the file, the field and its line). A name that is neither
+/// is an [`InputError`] naming `option`.
+pub fn preset_named(name_or_file: &str, option: &str) -> Result<DisturbancePreset, InputError> {
+    if DisturbancePreset::by_name(name_or_file).is_none() && !Path::new(name_or_file).exists() {
+        return Err(InputError::new(
             "<command line>",
             option,
             format!(
-                "unknown preset `{name}` (known: {})",
+                "unknown preset `{name_or_file}`: neither a built-in preset ({}) nor a file",
                 DisturbancePreset::NAMES.join(", ")
             ),
-        )
-    })
+        ));
+    }
+    DisturbancePreset::resolve(name_or_file)
 }
 
 /// A rig opened for one run: the loop's [`Rig`] and what the runner needs around it.
@@ -105,7 +108,7 @@ pub fn open(
             let p = preset_named(preset, option)?;
             Ok(Box::new(SimulatedRig {
                 rig: SimRig::new(scenario, &p, seed),
-                preset: p.name.to_string(),
+                preset: p.name.clone(),
             }))
         }
         RigSource::File(path) => {

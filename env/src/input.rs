@@ -62,6 +62,43 @@ pub fn parse_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, Inpu
     })
 }
 
+/// ` (line N)` for the line of dotted `field` (`table.sub.key`) in TOML `text`: the key's line
+/// inside its table, else the table's header, else nothing. For errors found after parsing
+/// (a value out of range), whose serde span is gone.
+pub fn field_line(text: &str, field: &str) -> String {
+    let (table, key) = match field.rsplit_once('.') {
+        Some((t, k)) => (t, k),
+        None => ("", field),
+    };
+    let header = |l: &str| {
+        let l = l.trim();
+        l.starts_with('[')
+            .then(|| l.trim_matches(|c| c == '[' || c == ']').trim().to_string())
+    };
+    let is_key = |l: &str| {
+        l.trim_start()
+            .strip_prefix(key)
+            .is_some_and(|rest| rest.trim_start().starts_with('='))
+    };
+    let mut current = String::new();
+    let mut table_line = None;
+    for (n, l) in text.lines().enumerate() {
+        if let Some(h) = header(l) {
+            current = h;
+            if current == table {
+                table_line.get_or_insert(n + 1);
+            }
+            continue;
+        }
+        if current == table && !key.is_empty() && is_key(l) {
+            return format!(" (line {})", n + 1);
+        }
+    }
+    table_line
+        .map(|n| format!(" (line {n})"))
+        .unwrap_or_default()
+}
+
 /// ` (line N)` for a byte span of `text`, or nothing without one.
 fn at_line(text: &str, span: Option<std::ops::Range<usize>>) -> String {
     span.map(|s| {
@@ -101,6 +138,16 @@ mod tests {
         );
         let e = parse_toml::<T>("a = [\n", "t.toml").unwrap_err();
         assert!(e.reason.starts_with("invalid TOML"), "{e}");
+    }
+
+    #[test]
+    fn field_lines_point_at_the_key_or_its_table() {
+        let text = "name = \"x\"\n\n[a]\nk = 1\n[a.b]\n  k = 2\nother = 3\n";
+        assert_eq!(field_line(text, "name"), " (line 1)");
+        assert_eq!(field_line(text, "a.k"), " (line 4)");
+        assert_eq!(field_line(text, "a.b.k"), " (line 6)");
+        assert_eq!(field_line(text, "a.b.missing"), " (line 5)");
+        assert_eq!(field_line(text, "c.k"), "");
     }
 
     #[test]

@@ -5,6 +5,7 @@
 
 #![warn(missing_docs)]
 
+pub mod ablation;
 pub mod cli;
 pub mod error;
 pub mod experiment;

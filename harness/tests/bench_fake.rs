@@ -56,6 +56,9 @@ fn results_are_identical_at_one_and_two_threads() {
             "time-to-first-solution",
             "final-cost",
             "rms-error",
+            "rms-error-true",
+            "rms-error-sync",
+            "rms-error-time",
             "max-error",
             "rms-error-cdf",
         ] {
@@ -73,7 +76,7 @@ fn results_are_identical_at_one_and_two_threads() {
     }
     // The report is one self-contained page: inline SVG, no scripts, no remote resources.
     let html = std::fs::read_to_string(a.join("report.html")).unwrap();
-    assert_eq!(html.matches("<svg").count(), 16);
+    assert_eq!(html.matches("<svg").count(), 22);
     let without_ns = html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "");
     assert!(
         !html.contains("<script")

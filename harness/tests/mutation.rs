@@ -1,6 +1,6 @@
 //! The deterministic mutation test of the input parsers and validators (stable Rust, run by
-//! CI): 100 000 mutated inputs per format (scenario, experiment, rig, plan), the same inputs on
-//! every run, each parsed and validated by `magbench::fuzz::Target::run`.
+//! CI): 100 000 mutated inputs per format (scenario, experiment, rig, plan, preset), the same
+//! inputs on every run, each parsed and validated by `magbench::fuzz::Target::run`.
 //!
 //! The inputs run in a child process (this test binary again, the ignored test `child`), which
 //! reports each input's number before trying it. A panic, an abort (say, a failed allocation)
@@ -165,4 +165,9 @@ fn rig_files_never_crash_the_checker() {
 #[test]
 fn plan_files_never_crash_the_checker() {
     supervise(Target::Plan);
+}
+
+#[test]
+fn preset_files_never_crash_the_checker() {
+    supervise(Target::Preset);
 }

@@ -5,7 +5,10 @@
 //! agent by its measurement (blended by `obs_weight`), keeps the prior for a missed agent, and
 //! predicts forward to now through the planning model under the commands sent since the
 //! capture — a Smith predictor. A missed detection therefore never leaves a hole: the agent is
-//! predicted from the model.
+//! predicted from the model. A detection on top of another agent (closer than
+//! [`MIN_DETECTION_GAP_BL`]: a detection assigned to the wrong agent, as a camera's swaps and
+//! misses make when agents are close) is not believed, and an estimate the model cannot predict
+//! from is held rather than lost.
 
 use std::collections::VecDeque;
 
@@ -49,8 +52,8 @@ impl Estimator {
         let now = obs.t + self.latency;
         let prior = self.estimate_at(obs.t);
         let w = self.obs_weight;
-        let at_capture: Vec<Vec2> = obs
-            .agents
+        let believed = believable(&obs.agents, prior.as_deref().unwrap_or(&self.fallback));
+        let at_capture: Vec<Vec2> = believed
             .iter()
             .enumerate()
             .map(|(i, m)| match (m, &prior) {
@@ -60,7 +63,16 @@ impl Estimator {
                 (None, None) => self.fallback[i],
             })
             .collect();
-        let est = self.propagate_span(&at_capture, obs.t, now);
+        let mut est = self.propagate_span(&at_capture, obs.t, now);
+        if !finite(&est) {
+            // the model cannot predict from here (agents inside each other): hold the
+            // positions at capture rather than lose the team
+            est = if finite(&at_capture) {
+                at_capture
+            } else {
+                prior.unwrap_or_else(|| self.fallback.clone())
+            };
+        }
         self.history.push_back((now, est.clone()));
         while self.history.len() > HISTORY {
             self.history.pop_front();
@@ -104,6 +116,39 @@ impl Estimator {
     }
 }
 
+/// Two detections closer than this (BL) cannot be two agents (they are 1 BL across): one of
+/// them is a detection assigned to the wrong agent.
+pub const MIN_DETECTION_GAP_BL: f64 = 0.5;
+
+/// The detections the estimator believes: a detection within [`MIN_DETECTION_GAP_BL`] of
+/// another agent's detection (or, when that one is missed, of its prior) is taken as missed —
+/// of a pair of detections, the one that jumped further from its own prior.
+fn believable(agents: &[Option<Vec2>], prior: &[Vec2]) -> Vec<Option<Vec2>> {
+    let mut out = agents.to_vec();
+    let jump = |i: usize, z: Vec2| (z - prior[i]).norm();
+    for i in 0..out.len() {
+        for j in 0..out.len() {
+            let Some(zi) = out[i] else { continue };
+            if i == j {
+                continue;
+            }
+            let other = out[j].unwrap_or(prior[j]);
+            if (zi - other).norm() >= MIN_DETECTION_GAP_BL {
+                continue;
+            }
+            match out[j] {
+                Some(zj) if jump(j, zj) > jump(i, zi) => out[j] = None,
+                _ => out[i] = None,
+            }
+        }
+    }
+    out
+}
+
+fn finite(s: &[Vec2]) -> bool {
+    s.iter().all(|p| p.x.is_finite() && p.y.is_finite())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,6 +184,35 @@ mod tests {
         model.propagate(&want, &u, t, &mut want2);
         assert!((est[1] - want2[1]).norm() < 1e-12);
         assert!(est.iter().all(|p| p.x.is_finite() && p.y.is_finite()));
+    }
+
+    #[test]
+    fn a_detection_on_top_of_another_agent_is_not_believed() {
+        // agent 0 missed, and agent 1's detection lands where agent 0 is (a misassigned
+        // detection): believing it would put the two agents inside each other
+        let model = PlanningModel::new(&PhysicalParams::default());
+        let start = vec![Vec2::new(10.0, 10.0), Vec2::new(8.6, 8.7)];
+        let mut e = Estimator::new(model, 2.0 / 60.0, 1.0, &start);
+        e.update(&obs(0.0, &[Some(start[0]), Some(start[1])]));
+        e.command_sent(0.0, &Control::planar(2.2, -0.085, -0.085));
+        let wrong = Vec2::new(10.02, 10.01);
+        let (_, est) = e.update(&obs(1.0 / 60.0, &[None, Some(wrong)]));
+        assert!(
+            est.iter().all(|p| p.x.is_finite() && p.y.is_finite()),
+            "{est:?}"
+        );
+        assert!((est[0] - est[1]).norm() > 1.0, "{est:?}");
+        // both detected on top of each other: the one that jumped is dropped
+        let (_, est) = e.update(&obs(2.0 / 60.0, &[Some(est[0]), Some(est[0])]));
+        assert!((est[0] - est[1]).norm() > 1.0, "{est:?}");
+        assert_eq!(
+            believable(&[Some(start[0]), Some(wrong)], &start),
+            vec![Some(start[0]), None]
+        );
+        assert_eq!(
+            believable(&[Some(start[0]), Some(start[1])], &start),
+            vec![Some(start[0]), Some(start[1])]
+        );
     }
 
     #[test]

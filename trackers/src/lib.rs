@@ -11,7 +11,7 @@
 //! - [`estimator`]: latency compensation and missed detections;
 //! - [`optimizer`]: the OBC's brute-force field-angle search with the closed-form pull;
 //! - [`trackers`]: [`OpenLoop`], [`Obc`], [`Lookahead`], one file each, by name in [`registry`];
-//! - [`run`]: the loop, replanning, and [`metrics`];
+//! - [`run`]: the loop, replanning, and [`metrics`], scored per frame by [`scoring`];
 //! - [`plan_file`]: plans as JSON, read back bit for bit.
 
 #![warn(missing_docs)]
@@ -25,6 +25,7 @@ pub mod reference;
 pub mod registry;
 pub mod rig;
 pub mod run;
+pub mod scoring;
 pub mod sim_rig;
 pub mod tracker;
 pub mod trackers;

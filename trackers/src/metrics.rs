@@ -1,16 +1,22 @@
-//! How well a plan was followed.
+//! How well a plan was followed, scored as a rig scores it.
 //!
-//! **Tracking error.** At every control tick and for every agent, the error is the Euclidean
-//! distance (BL) from the agent's position to the nearest point of *that agent's* planned path
-//! — the polyline through the reference's integration samples ([`crate::Reference`]), i.e. the
-//! curve the planning model traces under the plan, not a time-indexed point on it. A tracker
-//! that falls behind but stays on the path scores zero. After a replan or a new leg the path is
-//! the new plan's. The position is the **true** position when the rig knows it (the simulated
-//! rig): the metric then measures the tracking itself, not the camera's 0.02 BL noise or its
-//! latency. On a physical rig it is the **observed** position (the raw detection at capture
-//! time; a missed detection contributes no sample) — a path distance does not depend on when
-//! the frame was taken. `error_source` says which. RMS is over ticks (and, for the team
-//! figure, over ticks and agents); max is the largest sample.
+//! **Tracking error.** At every control tick the positions of the agents are compared with the
+//! reference of the plan being followed (the polyline through its integration samples,
+//! [`crate::Reference`]; after a replan or a new leg, the new plan's). The three errors and
+//! their exact definitions are in [`crate::scoring`]: the **path** error (each agent against
+//! any point of its own path), the **team-synchronous** error (the team against the nearest
+//! common point of the team path, the seed's `‖q_a − q_iτ‖`) and the **time-indexed** error
+//! (the team against the reference at the same elapsed time).
+//!
+//! Every headline figure uses the **observed** positions — the raw detections at capture
+//! time, what a rig's camera measures — so a simulated run and a hardware run report the same
+//! quantity. A missed detection gives no path sample for that agent, and no team sample for
+//! that frame. The time-indexed error compares a detection with the reference at its capture
+//! time. `rms_error_true_bl` keeps the path error of the true positions (when the rig knows
+//! them: a simulation) — the tracking itself without the camera's noise.
+//!
+//! RMS is the root mean square over samples: over ticks and agents for the path error, over
+//! ticks for the team errors; max is the largest sample.
 
 use serde::{Deserialize, Serialize};
 
@@ -29,14 +35,19 @@ pub struct TrackMetrics {
     pub legs_completed: usize,
     /// Legs in the scenario.
     pub legs: usize,
-    /// RMS tracking error over ticks and agents (BL).
+    /// RMS path error of the observed positions, over ticks and agents (BL).
     pub rms_error_bl: f64,
-    /// Largest tracking error of any agent (BL).
+    /// Largest path error of any observed agent position (BL).
     pub max_error_bl: f64,
-    /// RMS tracking error of the worst agent (BL).
+    /// RMS path error of the worst agent, observed positions (BL).
     pub rms_error_worst_agent_bl: f64,
-    /// `true` (simulation) or `observed` (physical rig): which positions the error uses.
-    pub error_source: String,
+    /// RMS path error of the true positions, over ticks and agents (BL); `None` when the rig
+    /// does not know them (a physical rig).
+    pub rms_error_true_bl: Option<f64>,
+    /// RMS team-synchronous error of the observed positions, over ticks (BL).
+    pub rms_error_sync_bl: f64,
+    /// RMS time-indexed error of the observed positions, over ticks (BL).
+    pub rms_error_time_bl: f64,
     /// Two agents touched (and stuck): a failed run.
     pub agent_contact: bool,
     /// Wall contact events.
@@ -166,6 +177,35 @@ impl ErrorAccumulator {
     }
 }
 
+/// Accumulates the samples of one team-wide error (one per tick).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct TeamAccumulator {
+    sum_sq: f64,
+    count: usize,
+}
+
+impl TeamAccumulator {
+    /// Adds one sample.
+    pub fn add(&mut self, e: f64) {
+        self.sum_sq += e * e;
+        self.count += 1;
+    }
+
+    /// RMS over the samples (0 without any).
+    pub fn rms(&self) -> f64 {
+        if self.count == 0 {
+            0.0
+        } else {
+            (self.sum_sq / self.count as f64).sqrt()
+        }
+    }
+
+    /// Samples added.
+    pub fn samples(&self) -> usize {
+        self.count
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -182,6 +222,12 @@ mod tests {
         assert_eq!(p[0].max_bl, 4.0);
         assert!((a.rms() - (26.0f64 / 4.0).sqrt()).abs() < 1e-12);
         assert_eq!(a.max(), 4.0);
+        let mut t = TeamAccumulator::default();
+        assert_eq!(t.rms(), 0.0);
+        t.add(3.0);
+        t.add(4.0);
+        assert!((t.rms() - 12.5f64.sqrt()).abs() < 1e-12);
+        assert_eq!(t.samples(), 2);
     }
 
     #[test]
@@ -196,7 +242,9 @@ mod tests {
             rms_error_bl: 0.05,
             max_error_bl: 0.2,
             rms_error_worst_agent_bl: 0.06,
-            error_source: "true".into(),
+            rms_error_true_bl: Some(0.04),
+            rms_error_sync_bl: 0.07,
+            rms_error_time_bl: 0.3,
             agent_contact: false,
             wall_contacts: 0,
             missed_frames: 1,

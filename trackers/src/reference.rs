@@ -37,6 +37,9 @@ pub struct Reference {
 /// Segments per bounding circle of the path-distance index.
 const CHUNK: usize = 32;
 
+/// Segments per chunk of [`Reference::chunk_circles`].
+pub const CHUNK_SAMPLES: usize = CHUNK;
+
 impl Reference {
     /// Resamples `plan` at every integration step of `model`, solved with the plan's flow.
     ///
@@ -349,6 +352,12 @@ impl Reference {
             }
         }
         best
+    }
+
+    /// Bounding circles (centre, radius) of agent `i`'s polyline in chunks: chunk `j` encloses
+    /// samples `CHUNK_SAMPLES·j ..= min(CHUNK_SAMPLES·(j + 1), last)`, the same for every agent.
+    pub fn chunk_circles(&self, i: usize) -> &[(Vec2, f64)] {
+        &self.chunks[i]
     }
 
     /// Agent `i`'s planned polyline.

@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use magbench_env::collision::CollisionWorld;
-use magbench_env::plant::{Camera, DisturbancePreset, Observation, Plant};
+use magbench_env::plant::{AGENT_RADIUS_BL, Camera, DisturbancePreset, Observation, Plant};
 use magbench_env::{Coil, Control, PhysicalParams, Scenario, TriaxialMaxwell, Vec2, World};
 
 use crate::rig::{GroundTruth, Rig, RigError};
@@ -33,12 +33,13 @@ pub struct SimRig {
 }
 
 impl SimRig {
-    /// The rig of `scenario` (its physics, world and start) under `preset`, drawn with `seed`.
+    /// The rig of `scenario` (its physics, world, start and medium, if it sets one) under
+    /// `preset`, drawn with `seed`.
     pub fn new(scenario: &Scenario, preset: &DisturbancePreset, seed: u64) -> Self {
         Self::from_parts(
             &scenario.physics,
             &scenario.world,
-            preset,
+            &scenario.plant_preset(preset),
             seed,
             &scenario.start,
         )
@@ -54,10 +55,7 @@ impl SimRig {
         start: &[Vec2],
     ) -> Self {
         let coil: Arc<dyn Coil> = Arc::new(TriaxialMaxwell::new(params.gradient_limit()));
-        let agent_radius = 0.5;
-        let collision = Arc::new(CollisionWorld::new(world, agent_radius));
-        let mut plant = Plant::new(params, coil, collision, preset, seed, start);
-        plant.set_coil_centre(Vec2::new(world.width, world.height) * 0.5);
+        let plant = Plant::in_world(params, coil, world, preset, seed, start);
         let camera = Camera::new(preset.camera.clone(), seed);
         let (period, latency) = (camera.frame_period(), camera.nominal_latency());
         Self {
@@ -68,7 +66,7 @@ impl SimRig {
             frame: 0,
             command: None,
             stopped: false,
-            agent_radius,
+            agent_radius: AGENT_RADIUS_BL,
         }
     }
 

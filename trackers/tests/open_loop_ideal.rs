@@ -68,5 +68,10 @@ fn open_loop_reproduces_the_plan_under_the_ideal_preset() {
             "seed {seed}: final deviation {end_err:e} BL"
         );
         assert!(m.rms_error_bl <= 1e-6 && m.max_error_bl <= 1e-6);
+        // the ideal camera sees the truth at once: every error metric agrees, and the team is
+        // on schedule, so the time-indexed error vanishes too
+        assert!(m.rms_error_true_bl.unwrap() <= 1e-6, "{m:?}");
+        assert!(m.rms_error_sync_bl <= 1e-6, "{m:?}");
+        assert!(m.rms_error_time_bl <= 1e-6, "seed {seed}: {m:?}");
     }
 }

@@ -29,7 +29,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use magbench_env::collision::CollisionWorld;
 use magbench_env::plant::{DisturbancePreset, Plant};
 use magbench_env::{Coil, Scenario, TriaxialMaxwell};
 
@@ -192,13 +191,12 @@ impl Emulator {
         let scenario = &cfg.scenario;
         let p = &scenario.physics;
         let coil_model: Arc<dyn Coil> = Arc::new(TriaxialMaxwell::new(p.gradient_limit()));
-        let collision = Arc::new(CollisionWorld::new(&scenario.world, 0.5));
         let plant = PlantStepper::new(
-            Plant::new(
+            Plant::in_world(
                 p,
                 coil_model,
-                collision,
-                &cfg.preset,
+                &scenario.world,
+                &emulated_preset(scenario, &cfg.preset),
                 cfg.seed,
                 &scenario.start,
             ),
@@ -340,4 +338,18 @@ impl Emulator {
             "emulator stopped; currents zero",
         );
     }
+}
+
+/// The preset the emulated coil and agents follow: `preset` with the scenario's medium, and
+/// without the preset's slew limits. The host's coil driver already limits every current's
+/// rate to the rig file's `slew_a_per_s` (the amplifier's V/L, the same physics), so a second
+/// slew limit in the plant would count it twice; the coil's first-order lag (L/R) stays.
+pub fn emulated_preset(
+    scenario: &magbench_env::Scenario,
+    preset: &DisturbancePreset,
+) -> DisturbancePreset {
+    let mut p = scenario.plant_preset(preset);
+    p.coil_lag.field_slew_mt_per_s = 0.0;
+    p.coil_lag.gradient_slew_mt_per_m_per_s = 0.0;
+    p
 }

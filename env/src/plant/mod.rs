@@ -46,4 +46,4 @@ pub use magnet_lag::{MagnetLag, rotation_time};
 pub use medium::{GRAVITY, Interface, Medium};
 pub use nonuniform::NonuniformField;
 pub use preset::DisturbancePreset;
-pub use sim::Plant;
+pub use sim::{AGENT_RADIUS_BL, Plant};

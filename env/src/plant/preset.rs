@@ -13,6 +13,7 @@ use super::{
     Flow, Heterogeneity, Hydrodynamics, MagnetLag, Medium, NonuniformField,
 };
 use crate::error::InputError;
+use crate::input;
 
 /// Everything the simulated plant and camera add to the planning model (see the README,
 /// "The simulated plant", for each term's physics and the `hardware` values' sources).
@@ -146,34 +147,27 @@ impl DisturbancePreset {
         }
     }
 
-    /// Reads and validates a preset file.
+    /// Reads and validates a preset file (through the shared loader, [`crate::input`]).
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| {
+        let text = input::read_text(path, &file).map_err(|e| {
             InputError::new(
                 &file,
                 "",
-                format!(
-                    "cannot read the preset file ({e}); built-in presets: {}",
-                    Self::NAMES.join(", ")
-                ),
+                format!("{}; built-in presets: {}", e.reason, Self::NAMES.join(", ")),
             )
         })?;
         Self::parse(&text, &file)
     }
 
-    /// Parses and validates preset TOML `text`; `file` names it in errors.
+    /// Parses and validates preset TOML `text`; `file` names it in errors, which give the
+    /// field and its line.
     pub fn parse(text: &str, file: &str) -> Result<Self, InputError> {
-        let de = toml::Deserializer::parse(text)
-            .map_err(|e| InputError::new(file, "", format!("invalid TOML: {}", e.message())))?;
-        let preset: Self = serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            let field = if path == "." { String::new() } else { path };
-            InputError::new(file, field, e.into_inner().message().trim().to_string())
+        let preset: Self = input::parse_toml(text, file)?;
+        preset.check().map_err(|(field, reason)| {
+            let line = input::field_line(text, field);
+            InputError::new(file, field, format!("{reason}{line}"))
         })?;
-        preset
-            .check()
-            .map_err(|(field, reason)| InputError::new(file, field, reason))?;
         Ok(preset)
     }
 
@@ -379,8 +373,15 @@ mod tests {
         );
         assert!(
             e.to_string()
-                .starts_with("bad.toml: drift.max_speed_bl_s: must be")
+                .starts_with("bad.toml: drift.max_speed_bl_s: must be"),
+            "{e}"
         );
+        assert!(e.reason.ends_with("(line 4)"), "{e}");
+        // a parse error carries its line too
+        let e = DisturbancePreset::parse("name = \"x\"\n[camera]\nfps = \"fast\"\n", "bad.toml")
+            .unwrap_err();
+        assert_eq!(e.field, "camera.fps");
+        assert!(e.reason.ends_with("(line 3)"), "{e}");
     }
 
     #[test]

@@ -13,6 +13,10 @@ use crate::collision::CollisionWorld;
 use crate::math::{MAX_AGENTS, Vec2, Vec3};
 use crate::model::{Kinematics, PairEdge, step_schedule};
 use crate::physics::PhysicalParams;
+use crate::world::World;
+
+/// Agent radius (BL): an agent is one body length across.
+pub const AGENT_RADIUS_BL: f64 = 0.5;
 
 /// The simulated plant of one run.
 ///
@@ -121,6 +125,23 @@ impl Plant {
             exact,
             segment: None,
         }
+    }
+
+    /// A plant for one run in `world` (its collision geometry for agents of radius 0.5 BL),
+    /// with the map centred in the coil: what every simulated rig (the tracking loop's and the
+    /// emulator's) runs.
+    pub fn in_world(
+        params: &PhysicalParams,
+        coil: Arc<dyn Coil>,
+        world: &World,
+        preset: &DisturbancePreset,
+        seed: u64,
+        start: &[Vec2],
+    ) -> Self {
+        let collision = Arc::new(CollisionWorld::new(world, AGENT_RADIUS_BL));
+        let mut plant = Self::new(params, coil, collision, preset, seed, start);
+        plant.set_coil_centre(Vec2::new(world.width, world.height) * 0.5);
+        plant
     }
 
     /// Centres the coil on `centre` (BL; the run's placement offset comes on top): the map's

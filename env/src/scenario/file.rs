@@ -10,6 +10,7 @@ use crate::error::InputError;
 use crate::input::parse_toml;
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::{PhysicalOverrides, PhysicalParams};
+use crate::plant::Medium;
 use crate::world::{Obstacle, World, check_polygon};
 
 #[derive(Deserialize)]
@@ -24,6 +25,8 @@ struct ScenarioFile {
     legs: Option<Vec<LegFile>>,
     #[serde(default)]
     physics: PhysicalOverrides,
+    /// Where the agents move; replaces the preset's medium.
+    medium: Option<Medium>,
 }
 
 #[derive(Deserialize)]
@@ -81,7 +84,13 @@ pub const MAX_LEGS: usize = 100;
 /// Parses and validates scenario TOML `text`; `file` names it in errors.
 pub fn parse_scenario(text: &str, file: &str) -> Result<Scenario, InputError> {
     let raw: ScenarioFile = parse_toml(text, file)?;
-    Validator { file }.scenario(raw)
+    Validator { file }.scenario(raw).map_err(|mut e| {
+        // a medium out of range: point at its line, as the preset loader does
+        if e.field.starts_with("medium.") {
+            e.reason += &crate::input::field_line(text, &e.field);
+        }
+        e
+    })
 }
 
 struct Validator<'a> {
@@ -337,6 +346,10 @@ impl Validator<'_> {
             }
         };
         let (r_min, r_max) = (physics.r_min, physics.r_max);
+        if let Some(m) = &raw.medium {
+            m.check()
+                .map_err(|(field, reason)| self.err(field, reason))?;
+        }
         let scenario = Scenario {
             name: raw.name,
             description: raw.description,
@@ -345,6 +358,7 @@ impl Validator<'_> {
             start,
             legs,
             physics,
+            medium: raw.medium,
         };
         let checker =
             |w: &World| ValidityChecker::new(Arc::new(CollisionWorld::new(w, 0.5)), r_min, r_max);

@@ -16,6 +16,7 @@ use crate::collision::{CollisionWorld, ValidityChecker};
 use crate::error::InputError;
 use crate::math::Vec2;
 use crate::physics::PhysicalParams;
+use crate::plant::{DisturbancePreset, Medium};
 use crate::world::{Obstacle, World};
 
 /// A goal region: every agent within `tolerance` of its goal centre.
@@ -28,12 +29,19 @@ pub struct Goal {
 }
 
 impl Goal {
-    /// Largest distance of an agent from its goal centre (BL).
+    /// Largest distance of an agent from its goal centre (BL); NaN when a position is not a
+    /// number (so a lost estimate is never inside a goal).
     pub fn distance(&self, s: &[Vec2]) -> f64 {
         s.iter()
             .zip(&self.agents)
             .map(|(p, g)| (p - g).norm())
-            .fold(0.0, f64::max)
+            .fold(0.0, |a: f64, d| {
+                if a.is_nan() || d.is_nan() {
+                    f64::NAN
+                } else {
+                    a.max(d)
+                }
+            })
     }
 
     /// True when every agent is within the tolerance of its goal centre.
@@ -68,9 +76,21 @@ pub struct Scenario {
     pub legs: Vec<Leg>,
     /// The physical preset with the scenario's overrides applied.
     pub physics: PhysicalParams,
+    /// Where the agents move (`[medium]`), when the scenario says: it replaces the disturbance
+    /// preset's medium, and with it switches capillary attraction (at an interface).
+    pub medium: Option<Medium>,
 }
 
 impl Scenario {
+    /// `preset` as it applies to this scenario: with the scenario's medium, if it sets one.
+    pub fn plant_preset(&self, preset: &DisturbancePreset) -> DisturbancePreset {
+        let mut p = preset.clone();
+        if let Some(m) = &self.medium {
+            p.medium = m.clone();
+        }
+        p
+    }
+
     /// Loads a built-in scenario by name, or a scenario file by path.
     pub fn load(name_or_path: &str) -> Result<Scenario, InputError> {
         if let Some(src) = builtin_source(name_or_path) {
@@ -119,5 +139,23 @@ impl Scenario {
             .last()
             .expect("a scenario has at least one leg")
             .goal
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_position_that_is_not_a_number_is_never_in_the_goal() {
+        let g = Goal {
+            agents: vec![Vec2::new(1.0, 1.0), Vec2::new(3.0, 1.0)],
+            tolerance: 0.5,
+        };
+        assert!(g.contains(&[Vec2::new(1.1, 1.0), Vec2::new(3.0, 1.2)]));
+        let lost = [Vec2::new(f64::NAN, f64::NAN), Vec2::new(3.0, 1.0)];
+        assert!(g.distance(&lost).is_nan() && !g.contains(&lost));
+        let lost = [Vec2::new(1.0, 1.0), Vec2::new(f64::NAN, 1.0)];
+        assert!(!g.contains(&lost));
     }
 }

@@ -1,10 +1,12 @@
 //! Command-line interface: one file per subcommand.
 
+mod ablate;
 mod bench;
 mod figures;
 mod merge;
 pub(crate) mod output;
 mod plan;
+mod preset;
 mod regress;
 mod rig;
 mod scenario;
@@ -36,12 +38,17 @@ pub enum Command {
     /// List, show or check scenario files.
     #[command(subcommand)]
     Scenario(scenario::ScenarioCmd),
+    /// List, show or check disturbance presets of the simulated plant.
+    #[command(subcommand)]
+    Preset(preset::PresetCmd),
     /// Small-time local controllability: the Lie-bracket rank test over ψ at separation r.
     Stlc(stlc::StlcArgs),
     /// Plan a scenario with one planner; report the result or write plan, trace and plot.
     Plan(plan::PlanArgs),
     /// Run an experiment (default experiments/default.toml) into results/<name>/.
     Bench(bench::BenchArgs),
+    /// Ablate the plant: a tracker under a preset with each term off in turn and each alone.
+    Ablate(ablate::AblateArgs),
     /// Join the results folders of shards (`bench --shard I/N`) into one.
     Merge(merge::MergeArgs),
     /// Compare a results folder against a baseline; exit 1 on a significant regression.
@@ -59,9 +66,11 @@ pub enum Command {
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenario(c) => scenario::run(c),
+        Command::Preset(c) => preset::run(c),
         Command::Stlc(a) => stlc::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Merge(a) => merge::run(a),
+        Command::Ablate(a) => ablate::run(a),
         Command::Regress(a) => regress::run(a),
         Command::Figures(a) => figures::run(a),
         Command::Track(a) => track::run(*a),

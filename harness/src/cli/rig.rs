@@ -10,10 +10,9 @@ use magbench_drivers::emulator::faults::{FAULT_SYNTAX, FaultPlan};
 use magbench_drivers::emulator::render::RenderParams;
 use magbench_drivers::emulator::{self, DeviceEndpoint, EmulatorConfig};
 use magbench_drivers::rigfile::{CoilEndpoint, RigConfig};
-use magbench_drivers::rigs::RigSource;
+use magbench_drivers::rigs::{RigSource, preset_named};
 use magbench_drivers::{HardwareRig, check, interrupt, replay};
 use magbench_env::Scenario;
-use magbench_env::plant::DisturbancePreset;
 
 use super::output::{emit, outln, prepare_dir, prepare_file};
 use super::setup::SetupArgs;
@@ -90,7 +89,7 @@ pub struct EmulateArgs {
     /// Faults to inject, e.g. `drop=0.05,corrupt=0.02`.
     #[arg(long, default_value = "", help = format!("Faults to inject: {FAULT_SYNTAX}"))]
     pub faults: String,
-    /// Disturbance preset of the plant (ideal or realistic).
+    /// Disturbance preset of the plant: ideal, realistic, hardware or a preset file.
     #[arg(long, default_value = "realistic")]
     pub preset: String,
     /// Seed of the plant, the frames and the faults.
@@ -170,16 +169,7 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
     let rig_text = std::fs::read_to_string(&a.rig)?;
     let scenario = Scenario::load(&a.scenario)?;
     let faults = FaultPlan::parse(&a.faults).map_err(|r| CliError::arg("--faults", r))?;
-    let preset = DisturbancePreset::by_name(&a.preset).ok_or_else(|| {
-        CliError::arg(
-            "--preset",
-            format!(
-                "unknown preset {:?}; use {}",
-                a.preset,
-                DisturbancePreset::NAMES.join(" or ")
-            ),
-        )
-    })?;
+    let preset = preset_named(&a.preset, "--preset")?;
     if !(a.speed.is_finite() && a.speed > 0.0 && a.speed <= 100.0) {
         return Err(CliError::arg(
             "--speed",

@@ -24,7 +24,8 @@ pub struct TrackArgs {
     /// Seed of the planner and of the simulated disturbances.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Disturbance preset of the simulated plant and camera: ideal or realistic.
+    /// Disturbance preset of the simulated plant and camera: ideal, realistic, hardware or a
+    /// preset file (TOML, as in presets/).
     #[arg(long, default_value = "realistic")]
     pub preset: String,
     /// A tracker or loop parameter, key=value (repeatable).

@@ -322,10 +322,15 @@ pub(crate) fn summary_text(v: &Value) -> String {
         g("solved")
     );
     s += &format!(
-        "error         RMS {} BL, max {} BL (distance to the planned path, {} positions)\n",
+        "error         RMS {} BL, max {} BL (observed positions to the planned path; true positions: RMS {} BL)\n",
         f("rms_error_bl"),
         f("max_error_bl"),
-        g("error_source").as_str().unwrap_or("")
+        f("rms_error_true_bl"),
+    );
+    s += &format!(
+        "team error    synchronous RMS {} BL, time-indexed RMS {} BL\n",
+        f("rms_error_sync_bl"),
+        f("rms_error_time_bl"),
     );
     s += &format!(
         "goal          final distance {} BL, time to goal {} s\n",

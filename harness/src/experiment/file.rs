@@ -6,9 +6,10 @@ use std::sync::Arc;
 
 use magbench_env::InputError;
 use magbench_env::input::parse_toml;
+use magbench_env::plant::DisturbancePreset;
 use serde::Deserialize;
 
-use super::{Experiment, Tracking, resolve_scenario};
+use super::{Experiment, LabelledPreset, Tracking, resolve_preset, resolve_scenario};
 use crate::run::spec::time_limit;
 use crate::run::{Executor, ParamValue, RunLimits, Variant};
 
@@ -181,15 +182,19 @@ fn check_name(name: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// The presets of `list` (default `["ideal"]`), checked; errors name `field`.
+/// The presets of `list` (default `["ideal"]`): built-in names or preset files (relative to
+/// `base_dir` or the working directory), loaded and validated; errors name `field`.
 fn presets(
     list: Option<Vec<String>>,
     file: &str,
     field: &str,
-    ex: &dyn Executor,
-) -> Result<Vec<String>, InputError> {
+    base_dir: &Path,
+) -> Result<Vec<LabelledPreset>, InputError> {
     let Some(p) = list else {
-        return Ok(vec!["ideal".to_string()]);
+        return Ok(vec![(
+            "ideal".to_string(),
+            Arc::new(DisturbancePreset::ideal()),
+        )]);
     };
     if p.is_empty() {
         return Err(InputError::new(
@@ -198,9 +203,10 @@ fn presets(
             format!("list at least one preset, or leave `{field}` out for [\"ideal\"]"),
         ));
     }
+    let mut out = vec![];
     for (i, name) in p.iter().enumerate() {
-        ex.check_preset(name)
-            .map_err(|e| InputError::new(file, format!("{field}[{i}]"), e))?;
+        let preset = resolve_preset(name, base_dir)
+            .map_err(|e| InputError::new(file, format!("{field}[{i}]"), e.to_string()))?;
         if p[..i].contains(name) {
             return Err(InputError::new(
                 file,
@@ -208,8 +214,9 @@ fn presets(
                 format!("{name} is listed twice"),
             ));
         }
+        out.push((name.clone(), Arc::new(preset)));
     }
-    Ok(p)
+    Ok(out)
 }
 
 /// The labels of the planners whose plans are tracked (`[tracking] plans`; default every
@@ -311,7 +318,7 @@ pub fn parse(
                 }
                 (trackers, vec![], Tracking::None)
             } else {
-                let presets = presets(raw.presets, file, "presets", ex)?;
+                let presets = presets(raw.presets, file, "presets", base_dir)?;
                 (trackers, presets, Tracking::Every)
             }
         }
@@ -338,7 +345,7 @@ pub fn parse(
                     "list at least one tracker",
                 ));
             }
-            let presets = presets(t.presets, file, "tracking.presets", ex)?;
+            let presets = presets(t.presets, file, "tracking.presets", base_dir)?;
             let plans = tracked_plans(t.plans, &planners, file)?;
             (trackers, presets, Tracking::Plans(plans))
         }

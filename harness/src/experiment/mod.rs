@@ -37,10 +37,14 @@ mod file;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use magbench_env::plant::DisturbancePreset;
 use magbench_env::{InputError, Scenario};
 use sha2::{Digest, Sha256};
 
 use crate::run::{Executor, RunLimits, RunSpec, Variant};
+
+/// A preset as an experiment names it (a built-in name or a file) and the loaded preset.
+pub type LabelledPreset = (String, Arc<DisturbancePreset>);
 
 /// A validated experiment.
 #[derive(Debug, Clone)]
@@ -60,7 +64,7 @@ pub struct Experiment {
     /// Tracker variants (empty: planning only).
     pub trackers: Vec<Variant>,
     /// Disturbance presets (empty without trackers).
-    pub presets: Vec<String>,
+    pub presets: Vec<LabelledPreset>,
     /// Which runs there are besides the plain planning runs.
     pub tracking: Tracking,
     /// Seeds.
@@ -101,7 +105,7 @@ impl Experiment {
 
     /// The tracker × preset combinations of planner `p`'s runs (`(None, None)`: a planning
     /// run), in matrix order.
-    fn tracking(&self, p: &Variant) -> Vec<(Option<Variant>, Option<String>)> {
+    fn tracking(&self, p: &Variant) -> Vec<(Option<Variant>, Option<&LabelledPreset>)> {
         let mut v = vec![];
         if self.tracking.has_planning_runs() {
             v.push((None, None));
@@ -109,7 +113,7 @@ impl Experiment {
         if self.tracking.tracks(p) {
             for t in &self.trackers {
                 for pr in &self.presets {
-                    v.push((Some(t.clone()), Some(pr.clone())));
+                    v.push((Some(t.clone()), Some(pr)));
                 }
             }
         }
@@ -131,7 +135,8 @@ impl Experiment {
                             scenario: sc.clone(),
                             planner: p.clone(),
                             tracker: t.clone(),
-                            preset: pr.clone(),
+                            preset: pr.map(|(label, _)| label.clone()),
+                            plant: pr.map(|(_, p)| p.clone()),
                             seed,
                             limits: self.limits,
                         });
@@ -174,6 +179,29 @@ impl Tracking {
 /// Lower-case hex of `bytes`.
 pub fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Resolves a preset label: a built-in name, a file relative to `base_dir`, or a file relative
+/// to the working directory.
+pub fn resolve_preset(label: &str, base_dir: &Path) -> Result<DisturbancePreset, InputError> {
+    if let Some(p) = DisturbancePreset::by_name(label) {
+        return Ok(p);
+    }
+    let rel: PathBuf = base_dir.join(label);
+    if rel.exists() {
+        return DisturbancePreset::load(&rel);
+    }
+    if !Path::new(label).exists() {
+        return Err(InputError::new(
+            label,
+            "",
+            format!(
+                "unknown preset: neither a built-in preset ({}) nor a file",
+                DisturbancePreset::NAMES.join(", ")
+            ),
+        ));
+    }
+    DisturbancePreset::load(Path::new(label))
 }
 
 /// Resolves a scenario label: a built-in name, a path relative to `base_dir`, or a path

@@ -30,15 +30,18 @@ pub enum Target {
     Rig,
     /// Plan JSON: parse, then validate for open-field (replay included).
     Plan,
+    /// Disturbance preset TOML: parse and validate.
+    Preset,
 }
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 4] = [
+    pub const ALL: [Target; 5] = [
         Target::Scenario,
         Target::Experiment,
         Target::Rig,
         Target::Plan,
+        Target::Preset,
     ];
 
     /// Its name.
@@ -48,6 +51,7 @@ impl Target {
             Target::Experiment => "experiment",
             Target::Rig => "rig",
             Target::Plan => "plan",
+            Target::Preset => "preset",
         }
     }
 
@@ -75,6 +79,9 @@ impl Target {
             Target::Rig => magbench_drivers::RigConfig::parse(&text, &file)
                 .map(|_| ())
                 .map_err(|e| e.to_string()),
+            Target::Preset => magbench_env::plant::DisturbancePreset::parse(&text, &file)
+                .map(|_| ())
+                .map_err(|e| e.to_string()),
             Target::Plan => {
                 let s = open_field();
                 let plan = magbench_trackers::plan_file::parse_plan(&text, &file, s.agents())
@@ -91,7 +98,7 @@ impl Target {
     }
 
     /// Valid inputs to start from: every built-in scenario, every experiment file of the
-    /// repository, the example rig file, and a planned open-field plan.
+    /// repository, the example rig file, a planned open-field plan, and the built-in presets.
     pub fn seeds(self) -> Vec<String> {
         match self {
             Target::Scenario => magbench_env::scenario::builtin_names()
@@ -114,6 +121,14 @@ impl Target {
             .to_vec(),
             Target::Rig => vec![include_str!("../../../rigs/emulator.toml").to_string()],
             Target::Plan => vec![plan_seed().to_string()],
+            Target::Preset => magbench_env::plant::DisturbancePreset::NAMES
+                .iter()
+                .map(|n| {
+                    magbench_env::plant::DisturbancePreset::builtin_text(n)
+                        .expect("a built-in")
+                        .to_string()
+                })
+                .collect(),
         }
     }
 }

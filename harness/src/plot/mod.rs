@@ -6,10 +6,12 @@
 //!
 //! - [`world`]: the world map (walls, obstacles, tree, planned and tracked paths, starts, goals);
 //! - [`anim`]: an animated GIF of agents moving over a world map;
+//! - [`bars`]: grouped horizontal bar charts (the ablation's contributions);
 //! - [`legend`]: a legend strip drawn under a chart;
 //! - [`palette`]: one colour per agent.
 
 pub mod anim;
+pub mod bars;
 pub mod charts;
 pub mod font;
 pub mod legend;

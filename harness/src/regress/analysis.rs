@@ -190,8 +190,11 @@ fn decide(rows: &mut [Comparison], alpha: f64, gate_time: bool) {
 type Metric = (&'static str, fn(&RunRecord) -> Option<f64>, bool);
 
 /// Continuous metrics checked (name, value, wall-clock?).
-pub const METRICS: [Metric; 6] = [
+pub const METRICS: [Metric; 9] = [
     ("rms_error_bl", |r| r.rms_error_bl, false),
+    ("rms_error_true_bl", |r| r.rms_error_true_bl, false),
+    ("rms_error_sync_bl", |r| r.rms_error_sync_bl, false),
+    ("rms_error_time_bl", |r| r.rms_error_time_bl, false),
     ("max_error_bl", |r| r.max_error_bl, false),
     ("cost", |r| r.cost, false),
     (

@@ -182,7 +182,7 @@ impl ExperimentInfo {
             scenarios: e.scenarios.iter().map(|(l, _)| l.clone()).collect(),
             planners: e.planners.iter().map(|p| p.label()).collect(),
             trackers: e.trackers.iter().map(|t| t.label()).collect(),
-            presets: e.presets.clone(),
+            presets: e.presets.iter().map(|(l, _)| l.clone()).collect(),
             tracked_plans: match &e.tracking {
                 Tracking::Plans(p) => Some(p.clone()),
                 Tracking::None | Tracking::Every => None,

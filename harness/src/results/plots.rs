@@ -326,9 +326,30 @@ pub fn write_all(
         if !tracked.is_empty() {
             save_box(
                 "rms-error",
-                "RMS tracking error",
+                "RMS tracking error (observed positions)",
                 "RMS distance to the planned path (BL)",
                 &|r| r.rms_error_bl,
+                &tracked,
+            )?;
+            save_box(
+                "rms-error-true",
+                "RMS tracking error (true positions)",
+                "RMS distance to the planned path (BL)",
+                &|r| r.rms_error_true_bl,
+                &tracked,
+            )?;
+            save_box(
+                "rms-error-sync",
+                "team-synchronous RMS error (observed)",
+                "RMS distance to the nearest common reference point (BL)",
+                &|r| r.rms_error_sync_bl,
+                &tracked,
+            )?;
+            save_box(
+                "rms-error-time",
+                "time-indexed RMS error (observed)",
+                "RMS distance to the reference at the same time (BL)",
+                &|r| r.rms_error_time_bl,
                 &tracked,
             )?;
             save_box(

@@ -32,8 +32,14 @@ pub struct GroupSummary {
     pub cost: Option<Summary>,
     /// Planning time (s), all runs.
     pub plan_time: Option<Summary>,
-    /// RMS tracking error (BL), tracked runs.
+    /// RMS path error of the observed positions (BL), tracked runs.
     pub rms_error: Option<Summary>,
+    /// RMS path error of the true positions (BL), tracked runs that know them.
+    pub rms_error_true: Option<Summary>,
+    /// RMS team-synchronous error (BL), tracked runs.
+    pub rms_error_sync: Option<Summary>,
+    /// RMS time-indexed error (BL), tracked runs.
+    pub rms_error_time: Option<Summary>,
     /// Max tracking error (BL), tracked runs.
     pub max_error: Option<Summary>,
     /// Runs with agent contact.
@@ -116,6 +122,9 @@ pub fn summarize(g: &[&RunRecord]) -> GroupSummary {
                 .map(|r| r.plan_time_s),
         ),
         rms_error: summary_of(g.iter().filter_map(|r| r.rms_error_bl)),
+        rms_error_true: summary_of(g.iter().filter_map(|r| r.rms_error_true_bl)),
+        rms_error_sync: summary_of(g.iter().filter_map(|r| r.rms_error_sync_bl)),
+        rms_error_time: summary_of(g.iter().filter_map(|r| r.rms_error_time_bl)),
         max_error: summary_of(g.iter().filter_map(|r| r.max_error_bl)),
         agent_contacts: g.iter().filter(|r| r.agent_contact == Some(true)).count(),
     }

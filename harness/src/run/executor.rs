@@ -24,17 +24,6 @@ pub trait Executor: Sync {
     fn check_planner(&self, v: &Variant) -> Result<(), String>;
     /// Checks that a tracker exists and accepts these parameters.
     fn check_tracker(&self, v: &Variant) -> Result<(), String>;
-    /// Checks a disturbance preset name.
-    fn check_preset(&self, name: &str) -> Result<(), String> {
-        use magbench_env::plant::DisturbancePreset;
-        match DisturbancePreset::by_name(name) {
-            Some(_) => Ok(()),
-            None => Err(format!(
-                "unknown preset {name:?} (known: {})",
-                DisturbancePreset::NAMES.join(", ")
-            )),
-        }
-    }
     /// Executes one run. An `Err` becomes a `crash` row.
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String>;
 }

@@ -172,6 +172,9 @@ impl Executor for FakeExecutor {
             };
             let rms = 0.1 / gain * noise * (0.7 + 0.6 * trng.random::<f64>());
             r.rms_error_bl = Some(rms);
+            r.rms_error_true_bl = Some(rms * 0.8);
+            r.rms_error_sync_bl = Some(rms * 1.2);
+            r.rms_error_time_bl = Some(rms * 2.0);
             r.max_error_bl = Some(rms * (2.0 + trng.random::<f64>()));
             let reached = solved && rms < 0.3 && trng.random::<f64>() < 0.97;
             r.reached_goal = Some(reached);

@@ -16,11 +16,11 @@
 //! later leg from the observed state, and on a persistent tracking error, with the same planner
 //! and setup.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use std::time::Instant;
 
-use magbench_drivers::rigs::RigSource;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::setup::SETUP_KEYS;
 use magbench_planners::{
@@ -66,17 +66,16 @@ pub fn setup(spec: &RunSpec) -> Result<PlanningSetup, String> {
     };
     configure(&mut setup, &spec.planner, &spec.experiment)?;
     if spec.tracker.is_some() {
-        let preset = RigSource::Simulated {
-            preset: preset_name(spec).to_string(),
-        };
-        let period = preset.frame_period("preset").map_err(|e| e.to_string())?;
-        setup = setup.in_frames_of(period);
+        setup = setup.in_frames_of(1.0 / plant(spec).camera.fps);
     }
     Ok(setup)
 }
 
-fn preset_name(spec: &RunSpec) -> &str {
-    spec.preset.as_deref().unwrap_or("ideal")
+/// The run's disturbance preset (ideal when the run names none).
+fn plant(spec: &RunSpec) -> Arc<DisturbancePreset> {
+    spec.plant
+        .clone()
+        .unwrap_or_else(|| Arc::new(DisturbancePreset::ideal()))
 }
 
 /// The planner seed of leg `leg` of the run.
@@ -236,8 +235,7 @@ impl Executor for RealExecutor {
                 progress,
             });
         }
-        let preset = DisturbancePreset::by_name(preset_name(spec))
-            .ok_or_else(|| format!("unknown preset {:?}", preset_name(spec)))?;
+        let preset = plant(spec);
         let mut planner = registry::create_in(
             &spec.experiment,
             &spec.planner.name,
@@ -264,6 +262,9 @@ impl Executor for RealExecutor {
         rec.rms_error_bl = Some(m.rms_error_bl);
         rec.max_error_bl = Some(m.max_error_bl);
         rec.rms_error_worst_agent_bl = Some(m.rms_error_worst_agent_bl);
+        rec.rms_error_true_bl = m.rms_error_true_bl;
+        rec.rms_error_sync_bl = Some(m.rms_error_sync_bl);
+        rec.rms_error_time_bl = Some(m.rms_error_time_bl);
         rec.legs_completed = Some(m.legs_completed as u64);
         rec.final_distance_bl = Some(m.final_goal_distance_bl);
         rec.agent_contact = Some(m.agent_contact);

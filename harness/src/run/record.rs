@@ -105,12 +105,19 @@ pub struct RunRecord {
     pub reached_goal: Option<bool>,
     /// Simulated time to reach the goal (s).
     pub time_to_goal_s: Option<f64>,
-    /// RMS distance to the reference path, over agents and ticks (BL).
+    /// RMS path error of the observed positions, over agents and ticks (BL): what a rig
+    /// measures (definitions: README, "Tracking metrics").
     pub rms_error_bl: Option<f64>,
-    /// Largest distance to the reference path (BL).
+    /// Largest path error of an observed position (BL).
     pub max_error_bl: Option<f64>,
-    /// RMS tracking error of the worst agent (BL).
+    /// RMS path error of the worst agent, observed positions (BL).
     pub rms_error_worst_agent_bl: Option<f64>,
+    /// RMS path error of the true positions (BL); empty when the rig does not know them.
+    pub rms_error_true_bl: Option<f64>,
+    /// RMS team-synchronous error of the observed positions (BL).
+    pub rms_error_sync_bl: Option<f64>,
+    /// RMS time-indexed error of the observed positions (BL).
+    pub rms_error_time_bl: Option<f64>,
     /// Legs completed while tracking.
     pub legs_completed: Option<u64>,
     /// Largest agent distance from its goal centre at the end of tracking (BL).
@@ -198,6 +205,9 @@ impl RunRecord {
             rms_error_bl: None,
             max_error_bl: None,
             rms_error_worst_agent_bl: None,
+            rms_error_true_bl: None,
+            rms_error_sync_bl: None,
+            rms_error_time_bl: None,
             legs_completed: None,
             final_distance_bl: None,
             agent_contact: None,

@@ -4,6 +4,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use magbench_env::Scenario;
+use magbench_env::plant::DisturbancePreset;
 
 use super::Variant;
 
@@ -45,8 +46,10 @@ pub struct RunSpec {
     pub planner: Variant,
     /// The tracker and its parameters, if the run tracks the plan.
     pub tracker: Option<Variant>,
-    /// The plant's disturbance preset (with a tracker).
+    /// The plant's disturbance preset as the experiment names it (with a tracker).
     pub preset: Option<String>,
+    /// That preset, loaded.
+    pub plant: Option<Arc<DisturbancePreset>>,
     /// The seed of every random stream of the run (planner, plant, camera).
     pub seed: u64,
     /// Planner limits.

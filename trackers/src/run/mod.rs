@@ -283,7 +283,7 @@ impl<'a> Run<'a> {
             return;
         }
         let following = self.following.as_ref().expect("a plan is followed");
-        let errors = self.rec.score(&tick, &following.reference);
+        let errors = self.rec.score(&tick, &following.reference, following.start);
         self.contacts.update(
             tick.truth.as_ref(),
             &tick.observation,

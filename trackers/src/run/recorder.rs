@@ -11,16 +11,23 @@ use magbench_env::{Control, Goal, Vec2};
 use super::TrackOutcome;
 use super::tick::TickContext;
 use crate::log::{PlanRecord, TickRecord};
-use crate::metrics::{ErrorAccumulator, RunStatus, TrackMetrics};
+use crate::metrics::{ErrorAccumulator, RunStatus, TeamAccumulator, TrackMetrics};
 use crate::reference::Reference;
+use crate::scoring;
 use crate::tracker::TrackerStatus;
 
 /// Counts, times and logs of one run.
 #[derive(Debug, Clone)]
 pub struct Recorder {
     record_ticks: bool,
+    /// Path error of the observed positions.
     errors: ErrorAccumulator,
-    error_source_true: bool,
+    /// Path error of the true positions (when the rig knows them).
+    true_errors: Option<ErrorAccumulator>,
+    /// Team-synchronous error of the observed positions.
+    sync_errors: TeamAccumulator,
+    /// Time-indexed error of the observed positions.
+    time_errors: TeamAccumulator,
     plans: Vec<PlanRecord>,
     ticks: Vec<TickRecord>,
     message: Option<String>,
@@ -67,7 +74,9 @@ impl Recorder {
         Self {
             record_ticks,
             errors: ErrorAccumulator::new(start.len()),
-            error_source_true: false,
+            true_errors: None,
+            sync_errors: TeamAccumulator::default(),
+            time_errors: TeamAccumulator::default(),
             plans: vec![],
             ticks: vec![],
             message: None,
@@ -140,25 +149,39 @@ impl Recorder {
         self.last_compute = wall_s;
     }
 
-    /// Scores a tick: the per-agent distance to the current path of the true position (when
-    /// the rig knows it) or of the observed one (a missed detection gives no sample). Returns
-    /// the per-agent errors (NaN where there is no sample) and remembers the team's state.
-    pub fn score(&mut self, tick: &TickContext, reference: &Reference) -> Vec<f64> {
+    /// Scores a tick against the reference adopted at rig time `start` (see
+    /// [`crate::scoring`]): the observed positions' path errors (a missed detection gives no
+    /// sample), their team-synchronous and time-indexed errors (a frame with a miss gives no
+    /// team sample) and the true positions' path errors when the rig knows them. Returns the
+    /// per-agent path errors of the observed positions (NaN where missed) and remembers the
+    /// team's state.
+    pub fn score(&mut self, tick: &TickContext, reference: &Reference, start: f64) -> Vec<f64> {
         self.tick_count += 1;
-        let truth = tick.truth.as_ref();
-        self.error_source_true = truth.is_some();
-        let mut out = vec![f64::NAN; tick.estimate.len()];
-        for (i, e) in out.iter_mut().enumerate() {
-            let p = match truth {
-                Some(g) => Some(g.positions[i]),
-                None => tick.observation.agents[i],
-            };
+        let observed = &tick.observation.agents;
+        let mut out = vec![f64::NAN; observed.len()];
+        for (i, (e, p)) in out.iter_mut().zip(observed).enumerate() {
             if let Some(p) = p {
-                *e = reference.distance_to_path(i, p);
+                *e = reference.distance_to_path(i, *p);
                 self.errors.add(i, *e);
             }
         }
-        if let Some(g) = truth {
+        if let Some(team) = observed.iter().copied().collect::<Option<Vec<Vec2>>>() {
+            self.sync_errors
+                .add(scoring::synchronous_error(reference, &team));
+            let t = tick.observation.t - start;
+            self.time_errors
+                .add(scoring::time_indexed_error(reference, t, &team));
+        }
+        if let Some(g) = tick.truth.as_ref() {
+            let acc = self
+                .true_errors
+                .get_or_insert_with(|| ErrorAccumulator::new(g.positions.len()));
+            for (i, e) in scoring::path_errors(reference, &g.positions)
+                .into_iter()
+                .enumerate()
+            {
+                acc.add(i, e);
+            }
             self.last_truth = Some(g.positions.clone());
         }
         self.last_estimate = tick.estimate.clone();
@@ -228,12 +251,9 @@ impl Recorder {
             rms_error_bl: self.errors.rms(),
             max_error_bl: self.errors.max(),
             rms_error_worst_agent_bl: per_agent.iter().map(|a| a.rms_bl).fold(0.0, f64::max),
-            error_source: if self.error_source_true {
-                "true"
-            } else {
-                "observed"
-            }
-            .into(),
+            rms_error_true_bl: self.true_errors.as_ref().map(ErrorAccumulator::rms),
+            rms_error_sync_bl: self.sync_errors.rms(),
+            rms_error_time_bl: self.time_errors.rms(),
             agent_contact: end.agent_contact,
             wall_contacts: end.wall_contacts,
             missed_frames: self.missed_frames,

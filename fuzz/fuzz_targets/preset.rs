@@ -1,0 +1,10 @@
+//! `cargo fuzz run preset`: disturbance preset files through magbench's parser and validator.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use magbench::fuzz::Target;
+
+fuzz_target!(|data: &[u8]| {
+    // an `Err` is a fine answer; a panic, an abort or a hang is a bug
+    let _ = Target::Preset.run(data);
+});
