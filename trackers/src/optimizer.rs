@@ -721,6 +721,35 @@ mod tests {
         )
     }
 
+    /// Holding an equilateral triangle: in the plane it always contracts, so the elevated
+    /// search tilts the field and does much better.
+    #[test]
+    fn three_agents_tilt_the_field_to_hold_a_triangle() {
+        let (model, checker) = setup();
+        let x = [
+            Vec2::new(10.0, 10.0),
+            Vec2::new(12.5, 10.0),
+            Vec2::new(11.25, 12.165),
+        ];
+        let make = |planar| {
+            let w = ObcWeights {
+                planar,
+                ..Default::default()
+            };
+            ObcOptimizer::new(model.clone(), checker.clone(), 0.5, w)
+        };
+        let flat = make(Planar::Yes).solve(&x, &x, None, None);
+        let free = make(Planar::Auto).solve(&x, &x, None, None);
+        assert_eq!(flat.control.alpha, 0.0);
+        assert!(free.control.alpha > 0.3, "{:?}", free.control);
+        assert!(
+            free.cost < 0.5 * flat.cost,
+            "{} vs {}",
+            free.cost,
+            flat.cost
+        );
+    }
+
     #[test]
     fn recovers_a_known_command() {
         let (model, checker) = setup();
