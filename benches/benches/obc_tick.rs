@@ -1,6 +1,7 @@
 //! One OBC tick: the tracker's command for one camera frame (nearest-sample search, the
 //! brute-force field-angle grid with the closed-form pull, the refinement and the wall check),
-//! on micro-factory, mid-path, with the team 0.05 BL off its reference. After the criterion
+//! on micro-factory, mid-path, with the team 0.05 BL off its reference; the optimizer alone for
+//! the pair and for three agents, planar and elevated. After the criterion
 //! groups, whole simulated runs give the median and 99th percentile of the per-tick time.
 //!
 //! Run: `cargo bench -p magbench-benches --bench obc_tick`.
@@ -8,6 +9,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group};
+use magbench_env::coil::Planar;
 use magbench_env::plant::{DisturbancePreset, Observation};
 use magbench_env::{Control, LocalView, PlanningModel, Scenario, Vec2};
 use magbench_planners::Plan;
@@ -110,6 +112,34 @@ fn bench(c: &mut Criterion) {
             ))
         })
     });
+    // three agents mid-field: the elevated search (θ grid × α levels, alternating refinement)
+    // against the planar one
+    let x3 = [
+        Vec2::new(31.0, 10.0),
+        Vec2::new(33.5, 10.0),
+        Vec2::new(32.25, 12.165),
+    ];
+    let target3: Vec<Vec2> = x3.iter().map(|p| p + Vec2::new(0.02, 0.01)).collect();
+    for (label, planar) in [("planar", Planar::Yes), ("elevated", Planar::Auto)] {
+        let weights = ObcWeights {
+            planar,
+            ..ObcWeights::default()
+        };
+        let opt3 = ObcOptimizer::new(model.clone(), checker.clone(), period, weights);
+        c.bench_function(
+            &format!("obc optimizer solve (three agents, {label})"),
+            |b| {
+                b.iter(|| {
+                    black_box(opt3.solve(
+                        black_box(&x3),
+                        &target3,
+                        Some(&Control::planar(1.0, 0.0, 0.0)),
+                        None,
+                    ))
+                })
+            },
+        );
+    }
     c.bench_function("planning-model prediction (one frame)", |b| {
         let mut out = vec![Vec2::zeros(); 2];
         b.iter(|| {

@@ -121,6 +121,7 @@ fn bench(c: &mut Criterion) {
         min_periods: 15,
         max_periods: 120,
         timing: Timing::Random,
+        alpha_max: None,
     };
     let target = LocalView {
         xc: 20.5,

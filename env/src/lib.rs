@@ -30,6 +30,7 @@ pub mod params;
 pub mod physics;
 pub mod plant;
 pub mod scenario;
+pub mod team_controllability;
 pub mod world;
 
 pub use coil::{Actuation, Coil, Control, TriaxialMaxwell};

@@ -12,6 +12,9 @@
 //! ends it at contact, next to many targets, where RK4 used to blow up and land far away. RK4
 //! tries (three or more agents, an elevated field) are compared by their ends only, as before.
 //!
+//! With `alpha_max` set, each try also draws the field elevation α (for teams of three or more,
+//! where the in-plane field alone cannot hold a formation); such tries are RK4 motions.
+//!
 //! [`Timing`] picks each try's duration: a random one (the seed's Algorithm 3, the default),
 //! or the whole control period at which the try's motion passes closest to the target
 //! ([`Timing::Closest`]: the exact flow makes a look along the whole motion cheap).
@@ -20,7 +23,7 @@ use magbench_env::params::{ParamType, Value, choose};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
-use crate::motion::random_control;
+use crate::motion::{random_control, random_elevated_control};
 use crate::{Problem, Rng};
 
 /// How EXTEND picks the duration of each try.
@@ -79,6 +82,8 @@ pub struct Extend {
     pub max_periods: u32,
     /// How each try's duration is picked.
     pub timing: Timing,
+    /// The largest elevation drawn (rad), or `None` for planar controls only.
+    pub alpha_max: Option<f64>,
 }
 
 /// The best try of one EXTEND call.
@@ -125,7 +130,10 @@ impl Extend {
         let mut periods = Vec::with_capacity(k);
         let mut durations = Vec::with_capacity(k);
         for _ in 0..k {
-            controls.push(random_control(rng, g));
+            controls.push(match self.alpha_max {
+                None => random_control(rng, g),
+                Some(a) => random_elevated_control(rng, g, a),
+            });
             if self.timing == Timing::Random {
                 let p = self.random_periods(rng);
                 periods.push(p);

@@ -21,6 +21,28 @@ pub fn random_control(rng: &mut impl RngExt, gradient_limit: f64) -> Control {
     )
 }
 
+/// A uniformly random elevated control: θ_B in [−π, π), α in [0, `alpha_max`], each gradient
+/// command in [−G, G]. The in-plane motion depends on α only through cos α, so α ≥ 0 loses
+/// nothing.
+#[inline]
+pub fn random_elevated_control(
+    rng: &mut impl RngExt,
+    gradient_limit: f64,
+    alpha_max: f64,
+) -> Control {
+    use std::f64::consts::PI;
+    let theta = rng.random_range(-PI..PI);
+    let alpha = rng.random_range(0.0..=alpha_max);
+    Control {
+        theta,
+        alpha,
+        grad: [
+            rng.random_range(-gradient_limit..=gradient_limit),
+            rng.random_range(-gradient_limit..=gradient_limit),
+        ],
+    }
+}
+
 /// Solves `start` under `u` for `duration` into `out` (no checks).
 #[inline]
 pub fn propagate(problem: &Problem, start: &[Vec2], u: &Control, duration: f64, out: &mut [Vec2]) {

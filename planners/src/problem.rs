@@ -54,6 +54,8 @@ pub struct Problem {
     pub objective: Arc<dyn Objective>,
     /// The distance of nearest-neighbour queries and EXTEND (agent positions by default).
     pub metric: Metric,
+    /// The largest field elevation |α| a plan may command (rad); the validator enforces it.
+    pub alpha_max: f64,
 }
 
 impl Problem {

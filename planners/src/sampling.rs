@@ -1,11 +1,16 @@
 //! The sampling and extension settings every planner embeds: EXTEND's tries and edge durations
 //! (the seed's Algorithm 3) and the goal-zoom sampler (Algorithm 2). Declared once, so every
-//! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius` and `timing`
-//! alike.
+//! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius`, `timing` and
+//! `planar` alike.
+//!
+//! `planar` says whether EXTEND draws the field elevation too: `auto` (the default) keeps two
+//! agents in the plane — the random stream is then exactly the planar one — and draws
+//! (θ_B, α, G_x, G_y) for three or more, with α in [0, α_max] of the planning setup.
 //!
 //! Durations are given in seconds and used in whole control periods of the problem (the
 //! camera frames of the rig that will run the plan): the nearest whole number, at least one.
 
+use magbench_env::coil::Planar;
 use magbench_env::declare_params;
 use magbench_env::params::Reals;
 
@@ -37,6 +42,10 @@ declare_params! {
         /// try passes closest to its target).
         #[param("timing")]
         pub timing: Timing = Timing::Random,
+        /// Whether the field stays in the plane: `auto` (two agents yes, three or more no),
+        /// `true` or `false`.
+        #[param("planar")]
+        pub planar: Planar = Planar::Auto,
     }
     check(Sampling::check_durations);
 }
@@ -54,6 +63,7 @@ impl Sampling {
             min_periods: to_periods(self.min_duration, problem.control_period),
             max_periods: to_periods(self.max_duration, problem.control_period),
             timing: self.timing,
+            alpha_max: (!self.planar.is_planar(problem.agents())).then_some(problem.alpha_max),
         }
     }
 

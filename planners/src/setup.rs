@@ -1,11 +1,12 @@
 //! The planning setup: what every plan of a run is made under — the objective, the metric, the
-//! limits, the control period and the flow — and the one rule for whether a planner's result
+//! limits, the control period, the flow and the largest field elevation — and the one rule for whether a planner's result
 //! can be used.
 //!
 //! A run makes one [`PlanningSetup`] and hands it to every planning call: the first plan, each
 //! new leg's plan and each replan in the tracking loop. So `rrt-star{objective=duration}`
 //! plans every leg under duration, and a plan is in whole frames of the rig that runs it.
 
+use magbench_env::coil::DEFAULT_ALPHA_MAX_DEG;
 use magbench_env::model::Flow;
 use magbench_env::{InputError, PlanningModel, Scenario, Vec2};
 
@@ -19,7 +20,7 @@ pub const DEFAULT_CONTROL_PERIOD: f64 = 1.0 / 60.0;
 
 /// Keys of a planner variant (`rrt-star{objective=duration}` in an experiment file) that set
 /// the planning setup rather than the planner.
-pub const SETUP_KEYS: [&str; 3] = ["objective", "metric", "flow"];
+pub const SETUP_KEYS: [&str; 4] = ["objective", "metric", "flow", "alpha_max"];
 
 /// What every plan of a run is made under.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,6 +36,10 @@ pub struct PlanningSetup {
     pub control_period: f64,
     /// How the planning model solves motions (`pair-exact` or `rk4`).
     pub flow: Flow,
+    /// The largest field elevation |α| a plan may command (degrees, in [0, 90]); used when the
+    /// planner's `planar` setting lets the field leave the plane. The tri-axial coil's whole
+    /// range ([`DEFAULT_ALPHA_MAX_DEG`]) unless set.
+    pub alpha_max_deg: f64,
 }
 
 impl Default for PlanningSetup {
@@ -45,6 +50,7 @@ impl Default for PlanningSetup {
             limits: Limits::default(),
             control_period: DEFAULT_CONTROL_PERIOD,
             flow: Flow::default(),
+            alpha_max_deg: DEFAULT_ALPHA_MAX_DEG,
         }
     }
 }
@@ -74,6 +80,7 @@ impl PlanningSetup {
             limits: self.limits,
             seed,
             metric: self.metric,
+            alpha_max: self.alpha_max_deg.to_radians(),
         }
     }
 
@@ -98,6 +105,18 @@ impl PlanningSetup {
                 self.flow = Flow::from_name(value).ok_or_else(|| {
                     bad(format!("unknown flow {value:?} (known: pair-exact, rk4)"))
                 })?;
+            }
+            "alpha_max" => {
+                self.alpha_max_deg = value
+                    .trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|a| (0.0..=90.0).contains(a))
+                    .ok_or_else(|| {
+                        bad(format!(
+                            "{value:?} is not an elevation in degrees in [0, 90]"
+                        ))
+                    })?;
             }
             _ => {
                 return Err(bad(format!(
@@ -157,6 +176,7 @@ mod tests {
         setup.set("x", "objective", "duration").unwrap();
         setup.set("x", "metric", "centroid-shape:1:2").unwrap();
         setup.set("x", "flow", "rk4").unwrap();
+        setup.set("x", "alpha_max", "40").unwrap();
         let setup = setup.in_frames_of(1.0 / 30.0);
         for leg in 0..s.legs.len() {
             let p = setup.problem(&s, leg, None, 7);
@@ -171,11 +191,14 @@ mod tests {
             assert_eq!(p.model.flow, Flow::Rk4);
             assert_eq!(p.control_period, 1.0 / 30.0);
             assert_eq!(p.seed, 7);
+            assert_eq!(p.alpha_max, 40f64.to_radians());
         }
         for (key, value) in [
             ("objective", "energy"),
             ("metric", "l1"),
             ("flow", "euler"),
+            ("alpha_max", "91"),
+            ("alpha_max", "-1"),
             ("range", "2"),
         ] {
             let e = PlanningSetup::default()

@@ -1,7 +1,7 @@
 //! The search tree: node states, the edge into each node, cost-to-come and child links.
 //!
 //! Storage is struct-of-arrays with the agent positions of all nodes in one flat vector, so a
-//! two-agent node costs 32 B of state + 24 B of planar control (θ_B, G_x, G_y) + 24 B of links,
+//! two-agent node costs 32 B of state + 32 B of control (θ_B, α, G_x, G_y) + 24 B of links,
 //! period count and cost. The arrays grow by a quarter at a time rather than doubling, so the
 //! slack stays small. Removed nodes (SST's pruning) go to a free list and their slots are reused.
 
@@ -18,7 +18,7 @@ pub struct Tree {
     agents: usize,
     states: Vec<Vec2>,
     parent: Vec<u32>,
-    control: Vec<[f64; 3]>,
+    control: Vec<[f64; 4]>,
     periods: Vec<u32>,
     cost: Vec<f64>,
     first_child: Vec<u32>,
@@ -42,7 +42,7 @@ impl Tree {
         };
         t.states.extend_from_slice(start);
         t.parent.push(NONE);
-        t.control.push([0.0; 3]);
+        t.control.push([0.0; 4]);
         t.periods.push(0);
         t.cost.push(0.0);
         t.first_child.push(NONE);
@@ -88,8 +88,12 @@ impl Tree {
     /// The control of the edge into node `i`.
     #[inline]
     pub fn control(&self, i: u32) -> Control {
-        let [theta, gx, gy] = self.control[i as usize];
-        Control::planar(theta, gx, gy)
+        let [theta, alpha, gx, gy] = self.control[i as usize];
+        Control {
+            theta,
+            alpha,
+            grad: [gx, gy],
+        }
     }
 
     /// The duration of the edge into node `i`, in control periods.
@@ -125,7 +129,7 @@ impl Tree {
                 let i = id as usize;
                 self.state_mut(id).copy_from_slice(state);
                 self.parent[i] = parent;
-                self.control[i] = planar(&control);
+                self.control[i] = stored(&control);
                 self.periods[i] = periods;
                 self.cost[i] = cost;
                 self.first_child[i] = NONE;
@@ -136,7 +140,7 @@ impl Tree {
                 self.reserve();
                 self.states.extend_from_slice(state);
                 self.parent.push(parent);
-                self.control.push(planar(&control));
+                self.control.push(stored(&control));
                 self.periods.push(periods);
                 self.cost.push(cost);
                 self.first_child.push(NONE);
@@ -191,7 +195,7 @@ impl Tree {
         self.unlink(self.parent[i as usize], i);
         let k = i as usize;
         self.parent[k] = parent;
-        self.control[k] = planar(&control);
+        self.control[k] = stored(&control);
         self.periods[k] = periods;
         self.link(parent, i);
     }
@@ -272,15 +276,14 @@ impl Tree {
             + (self.parent.capacity() + self.periods.capacity() + self.first_child.capacity())
                 * size_of::<u32>()
             + (self.next_sibling.capacity() + self.free.capacity()) * size_of::<u32>()
-            + self.control.capacity() * size_of::<[f64; 3]>()
+            + self.control.capacity() * size_of::<[f64; 4]>()
             + self.cost.capacity() * size_of::<f64>()
     }
 }
 
-/// The stored form of a control: planners sample planar controls (α = 0).
-fn planar(u: &Control) -> [f64; 3] {
-    debug_assert_eq!(u.alpha, 0.0, "the tree stores planar controls");
-    [u.theta, u.grad[0], u.grad[1]]
+/// The stored form of a control.
+fn stored(u: &Control) -> [f64; 4] {
+    [u.theta, u.alpha, u.grad[0], u.grad[1]]
 }
 
 /// Iterator over a node's children.

@@ -3,7 +3,8 @@
 //! It trusts nothing a planner stored: it replays the plan's controls from the problem's start
 //! through env's planning model (`ValidityChecker::motion_valid`, env's own code path for the
 //! continuous collision and proximity check), compares every replayed waypoint with the stored
-//! one, checks the controls against the coil and the durations against the control period, and
+//! one, checks the controls against the coil (and the elevation against the setup's `alpha_max`)
+//! and the durations against the control period, and
 //! confirms that the replay ends in the goal region.
 //!
 //! The replay uses the flow the plan records (`pair-exact` or `rk4`), with the problem's
@@ -35,8 +36,11 @@ pub enum PlanError {
     /// The start collides or violates the proximity range.
     #[error("the start state is invalid (collision or proximity range)")]
     InvalidStart,
-    /// A control is not finite or exceeds the coil's limits.
-    #[error("edge {edge}: control {control} is not finite or outside the coil's limits")]
+    /// A control is not finite, exceeds the coil's limits or tilts the field beyond the
+    /// problem's largest elevation.
+    #[error(
+        "edge {edge}: control {control} is not finite or outside the coil's limits or the largest elevation"
+    )]
     BadControl {
         /// Edge index.
         edge: usize,
@@ -122,7 +126,7 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
     let mut state = problem.start.clone();
     let mut next = state.clone();
     for (edge, (u, &d)) in plan.controls.iter().zip(&plan.durations).enumerate() {
-        if !u.is_finite() || model.coil.clamp(u).1 {
+        if !u.is_finite() || model.coil.clamp(u).1 || u.alpha.abs() > problem.alpha_max {
             return Err(PlanError::BadControl {
                 edge,
                 control: format!("{u:?}"),

@@ -32,7 +32,16 @@
 //! θ is searched by brute force on a grid over [0, π), then refined by golden-section search
 //! around the best grid angle. The winner is checked exactly against the walls: if a predicted
 //! agent would touch one, the next best candidate (or its zero-gradient variant) is taken.
+//!
+//! When the field may leave the plane (`planar`: `auto` does so for three or more agents), the
+//! elevation α is searched too, without a quadratic grid: the θ grid is repeated at
+//! `alpha_levels` elevations evenly spread over [0, α_max] (one point at α = 90°, where θ does
+//! not matter), and the winner is refined by alternating golden-section searches, one in θ and
+//! one in α, [`ELEVATED_ROUNDS`] times. The in-plane pull scales with cos α, so the closed-form
+//! gradient takes α's pull axes; the smoothness term adds the change of α. Planar solves are
+//! the same arithmetic as before, bit for bit.
 
+use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};
 use magbench_env::model::pair_flow::PairStart;
 use magbench_env::params::Reals;
 use magbench_env::{
@@ -78,8 +87,22 @@ declare_params! {
         /// Prediction horizon (control ticks).
         #[param("horizon", 1..=120)]
         pub horizon: usize = 1,
+        /// Whether the field stays in the plane: `auto` (two agents yes, three or more no),
+        /// `true` or `false`.
+        #[param("planar")]
+        pub planar: Planar = Planar::Auto,
+        /// The largest elevation searched (degrees) when the field may leave the plane.
+        #[param("alpha_max", Reals::closed(0.0, 90.0))]
+        pub alpha_max: f64 = DEFAULT_ALPHA_MAX_DEG,
+        /// Elevations on the brute-force grid, evenly from 0 to `alpha_max`, when the field may
+        /// leave the plane.
+        #[param("alpha_levels", 2..=64)]
+        pub alpha_levels: usize = 4,
     }
 }
+
+/// Alternating θ and α refinements of an elevated solve.
+pub const ELEVATED_ROUNDS: usize = 2;
 
 /// The optimizer's answer.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,6 +121,7 @@ pub struct Solution {
 #[derive(Clone, Copy)]
 struct Candidate {
     theta: f64,
+    alpha: f64,
     cost: f64,
     grad: [f64; 2],
     pred: [Vec2; MAX_AGENTS],
@@ -112,10 +136,17 @@ pub struct ObcOptimizer {
     horizon_s: f64,
     pull_coeff: f64,
     g_max: f64,
-    /// The grid angles, their pull axes and their gradient-free actuation (they do not change
-    /// from tick to tick).
-    grid: Vec<(f64, Vec2, Vec2, Actuation)>,
+    /// The grid angles in the plane, their pull axes and their gradient-free actuation (they do
+    /// not change from tick to tick).
+    grid: Vec<GridPoint>,
+    /// The same for elevated solves: the angles at every elevation level.
+    elevated: Vec<GridPoint>,
+    /// The largest elevation (rad).
+    alpha_max: f64,
 }
+
+/// One grid command: θ, α, the pull axes and the gradient-free actuation.
+type GridPoint = (f64, f64, Vec2, Vec2, Actuation);
 
 impl ObcOptimizer {
     /// An optimizer predicting with `model` one `period` (control tick) × `weights.horizon`
@@ -137,17 +168,39 @@ impl ObcOptimizer {
             pull_coeff,
             g_max,
             grid: vec![],
+            elevated: vec![],
+            alpha_max: 0.0,
         };
+        opt.alpha_max = opt.weights.alpha_max.to_radians();
         let n = opt.weights.grid.max(4);
-        opt.grid = (0..n)
-            .map(|k| {
-                let theta = k as f64 * std::f64::consts::PI / n as f64;
-                let (ax, ay) = opt.pull_axes(theta);
-                let act = opt.model.coil.actuation(&Control::planar(theta, 0.0, 0.0));
-                (theta, ax, ay, act)
-            })
-            .collect();
+        opt.grid = (0..n).map(|k| opt.grid_point(k, n, 0.0)).collect();
+        let levels = opt.weights.alpha_levels.max(2);
+        for l in 0..levels {
+            let alpha = opt.alpha_max * l as f64 / (levels - 1) as f64;
+            // straight up, θ does not matter: one point
+            let angles = if alpha >= std::f64::consts::FRAC_PI_2 - 1e-12 {
+                1
+            } else {
+                n
+            };
+            for k in 0..angles {
+                let p = opt.grid_point(k, n, alpha);
+                opt.elevated.push(p);
+            }
+        }
         opt
+    }
+
+    /// Grid angle `k` of `n` over [0, π) at elevation `alpha`.
+    fn grid_point(&self, k: usize, n: usize, alpha: f64) -> GridPoint {
+        let theta = k as f64 * std::f64::consts::PI / n as f64;
+        let (ax, ay) = self.pull_axes(theta, alpha);
+        let act = self.model.coil.actuation(&Control {
+            theta,
+            alpha,
+            grad: [0.0, 0.0],
+        });
+        (theta, alpha, ax, ay, act)
     }
 
     /// The weights.
@@ -187,13 +240,16 @@ impl ObcOptimizer {
     ) -> Solution {
         let n = x.len();
         assert!(n <= MAX_AGENTS && target.len() == n && path.len() == n && n > 0);
-        let setup = self.setup(x, target, path, last.map(|u| u.theta));
         let w = &self.weights;
+        let elevated = !w.planar.is_planar(n);
+        let setup = self.setup(x, target, path, last, elevated);
         let step = std::f64::consts::PI / self.grid.len() as f64;
-        let mut cands: Vec<Candidate> = self
-            .grid
+        let grid = if elevated { &self.elevated } else { &self.grid };
+        let mut cands: Vec<Candidate> = grid
             .iter()
-            .map(|(theta, ax, ay, act)| self.evaluate_with(&setup, *theta, *ax, *ay, act))
+            .map(|(theta, alpha, ax, ay, act)| {
+                self.evaluate_with(&setup, *theta, *alpha, *ax, *ay, act)
+            })
             .collect();
         if let Some(h) = hint.filter(|h| h.is_finite()) {
             cands.push(self.evaluate_exact(&setup, h));
@@ -202,11 +258,22 @@ impl ObcOptimizer {
             .iter()
             .min_by(|a, b| a.cost.total_cmp(&b.cost))
             .expect("a grid");
-        // refine the winner by golden-section search over [θ − step, θ + step]
+        // refine the winner by golden-section search over [θ − step, θ + step] (and, elevated,
+        // alternately over [α − level step, α + level step])
         if w.refine > 0 {
-            let r = self.refine(&setup, best.theta, step);
-            if r.cost < best.cost {
-                best = r;
+            let rounds = if elevated { ELEVATED_ROUNDS } else { 1 };
+            let a_step = self.alpha_max / (w.alpha_levels.max(2) - 1) as f64;
+            for _ in 0..rounds {
+                let r = self.refine(&setup, best.theta, best.alpha, step);
+                if r.cost < best.cost {
+                    best = r;
+                }
+                if elevated {
+                    let r = self.refine_alpha(&setup, best.theta, best.alpha, a_step);
+                    if r.cost < best.cost {
+                        best = r;
+                    }
+                }
             }
         }
         if self.clear_of_walls(&setup, &best) {
@@ -217,7 +284,14 @@ impl ObcOptimizer {
             if self.clear_of_walls(&setup, c) {
                 return self.finish(*c, &setup, true);
             }
-            let z = self.evaluate_exact(&setup, &Control::planar(c.theta, 0.0, 0.0));
+            let z = self.evaluate_exact(
+                &setup,
+                &Control {
+                    theta: c.theta,
+                    alpha: c.alpha,
+                    grad: [0.0, 0.0],
+                },
+            );
             if self.clear_of_walls(&setup, &z) {
                 return self.finish(z, &setup, true);
             }
@@ -233,7 +307,8 @@ impl ObcOptimizer {
         x: &'a [Vec2],
         target: &'a [Vec2],
         path: &[Vec2],
-        prev: Option<f64>,
+        last: Option<&Control>,
+        elevated: bool,
     ) -> Setup<'a> {
         let n = x.len();
         let inv_n = 1.0 / n as f64;
@@ -280,7 +355,9 @@ impl ObcOptimizer {
             separations,
             target,
             ct: target.iter().sum::<Vec2>() * inv_n,
-            prev,
+            prev: last.map(|u| u.theta),
+            prev_alpha: last.map_or(0.0, |u| u.alpha),
+            elevated,
             near,
         }
     }
@@ -298,7 +375,11 @@ impl ObcOptimizer {
             theta = t2;
         }
         Solution {
-            control: Control::planar(magbench_env::math::wrap_angle(theta), grad[0], grad[1]),
+            control: Control {
+                theta: magbench_env::math::wrap_angle(theta),
+                alpha: c.alpha,
+                grad,
+            },
             cost: c.cost,
             predicted: c.pred[..s.x.len()].to_vec(),
             clear,
@@ -317,43 +398,37 @@ impl ObcOptimizer {
         })
     }
 
-    fn refine(&self, s: &Setup, theta: f64, step: f64) -> Candidate {
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut a, mut b) = (theta - step, theta + step);
-        let mut c = b - g * (b - a);
-        let mut d = a + g * (b - a);
-        let mut fc = self.evaluate(s, c);
-        let mut fd = self.evaluate(s, d);
-        for _ in 0..self.weights.refine {
-            if fc.cost < fd.cost {
-                b = d;
-                d = c;
-                fd = fc;
-                c = b - g * (b - a);
-                fc = self.evaluate(s, c);
-            } else {
-                a = c;
-                c = d;
-                fc = fd;
-                d = a + g * (b - a);
-                fd = self.evaluate(s, d);
-            }
-        }
-        if fc.cost < fd.cost { fc } else { fd }
+    /// Golden-section search of θ over [θ − step, θ + step] at elevation `alpha`.
+    fn refine(&self, s: &Setup, theta: f64, alpha: f64, step: f64) -> Candidate {
+        golden(theta - step, theta + step, self.weights.refine, |t| {
+            self.evaluate(s, t, alpha)
+        })
     }
 
-    /// Scores field angle `theta` with its best gradient.
-    fn evaluate(&self, s: &Setup, theta: f64) -> Candidate {
-        let (ax, ay) = self.pull_axes(theta);
-        let act = self.model.coil.actuation(&Control::planar(theta, 0.0, 0.0));
-        self.evaluate_with(s, theta, ax, ay, &act)
+    /// Golden-section search of α over [α − step, α + step] ∩ [0, α_max] at field angle `theta`.
+    fn refine_alpha(&self, s: &Setup, theta: f64, alpha: f64, step: f64) -> Candidate {
+        let (lo, hi) = ((alpha - step).max(0.0), (alpha + step).min(self.alpha_max));
+        golden(lo, hi, self.weights.refine, |a| self.evaluate(s, theta, a))
     }
 
-    /// [`Self::evaluate`] with the pull axes and the gradient-free actuation of `theta` given.
+    /// Scores field angle `theta` at elevation `alpha` with its best gradient.
+    fn evaluate(&self, s: &Setup, theta: f64, alpha: f64) -> Candidate {
+        let (ax, ay) = self.pull_axes(theta, alpha);
+        let act = self.model.coil.actuation(&Control {
+            theta,
+            alpha,
+            grad: [0.0, 0.0],
+        });
+        self.evaluate_with(s, theta, alpha, ax, ay, &act)
+    }
+
+    /// [`Self::evaluate`] with the pull axes and the gradient-free actuation given.
+    #[allow(clippy::too_many_arguments)]
     fn evaluate_with(
         &self,
         s: &Setup,
         theta: f64,
+        alpha: f64,
         ax: Vec2,
         ay: Vec2,
         act: &Actuation,
@@ -389,9 +464,10 @@ impl ObcOptimizer {
         for p in &mut pred[..n] {
             *p += shift;
         }
-        let cost = self.score(s, &pred[..n], c0 + shift, theta);
+        let cost = self.score(s, &pred[..n], c0 + shift, theta, alpha);
         Candidate {
             theta,
+            alpha,
             cost,
             grad,
             pred,
@@ -402,21 +478,27 @@ impl ObcOptimizer {
     fn evaluate_exact(&self, s: &Setup, u: &Control) -> Candidate {
         let n = s.x.len();
         let (u, _) = self.model.coil.clamp(u);
-        let u = Control { alpha: 0.0, ..u };
+        let alpha = if s.elevated {
+            u.alpha.clamp(-self.alpha_max, self.alpha_max)
+        } else {
+            0.0
+        };
+        let u = Control { alpha, ..u };
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
         self.model
             .propagate(s.x, &u, self.horizon_s, &mut pred[..n]);
         let c = pred[..n].iter().sum::<Vec2>() / n as f64;
-        let cost = self.score(s, &pred[..n], c, u.theta);
+        let cost = self.score(s, &pred[..n], c, u.theta, u.alpha);
         Candidate {
             theta: u.theta,
+            alpha: u.alpha,
             cost,
             grad: u.grad,
             pred,
         }
     }
 
-    fn score(&self, s: &Setup, pred: &[Vec2], c: Vec2, theta: f64) -> f64 {
+    fn score(&self, s: &Setup, pred: &[Vec2], c: Vec2, theta: f64, alpha: f64) -> f64 {
         let w = &self.weights;
         let mut rel = 0.0;
         for (p, t) in pred.iter().zip(s.target) {
@@ -426,6 +508,10 @@ impl ObcOptimizer {
         if let Some(p) = s.prev {
             let d = wrap_half(theta - p);
             cost += w.w_smooth * d * d;
+            if s.elevated {
+                let e = alpha - s.prev_alpha;
+                cost += w.w_smooth * e * e;
+            }
         }
         let (lo, hi) = (
             self.checker.r_min + w.prox_margin,
@@ -458,19 +544,16 @@ impl ObcOptimizer {
         cost
     }
 
-    /// The per-axis pull displacement over the horizon per unit gradient at `theta`.
-    fn pull_axes(&self, theta: f64) -> (Vec2, Vec2) {
+    /// The per-axis pull displacement over the horizon per unit gradient at `theta`, `alpha`.
+    fn pull_axes(&self, theta: f64, alpha: f64) -> (Vec2, Vec2) {
         let k = self.pull_coeff * self.horizon_s;
-        let ax = self
-            .model
-            .coil
-            .actuation(&Control::planar(theta, 1.0, 0.0))
-            .pull;
-        let ay = self
-            .model
-            .coil
-            .actuation(&Control::planar(theta, 0.0, 1.0))
-            .pull;
+        let axis = |grad| {
+            self.model
+                .coil
+                .actuation(&Control { theta, alpha, grad })
+                .pull
+        };
+        let (ax, ay) = (axis([1.0, 0.0]), axis([0.0, 1.0]));
         (Vec2::new(ax.x, ax.y) * k, Vec2::new(ay.x, ay.y) * k)
     }
 
@@ -529,7 +612,12 @@ struct Setup<'a> {
     separations: [f64; MAX_PAIRS],
     target: &'a [Vec2],
     ct: Vec2,
+    /// The field angle of the last command.
     prev: Option<f64>,
+    /// The elevation of the last command (0 if none).
+    prev_alpha: f64,
+    /// The elevation is searched too.
+    elevated: bool,
     /// Each agent near a wall: its clearance, the clearance gradient and its margin.
     near: [Option<Near>; MAX_AGENTS],
 }
@@ -543,6 +631,32 @@ struct Near {
     normal: Vec2,
     /// The clearance below which it is penalised: `wall_margin`, or less if the target is closer.
     margin: f64,
+}
+
+/// Golden-section search of `f`'s cost over [a, b] with `iterations` shrinking steps; the
+/// better of the last two candidates.
+fn golden(mut a: f64, mut b: f64, iterations: usize, f: impl Fn(f64) -> Candidate) -> Candidate {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let mut c = b - g * (b - a);
+    let mut d = a + g * (b - a);
+    let mut fc = f(c);
+    let mut fd = f(d);
+    for _ in 0..iterations {
+        if fc.cost < fd.cost {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+    }
+    if fc.cost < fd.cost { fc } else { fd }
 }
 
 /// Wraps an angle to (−π/2, π/2]: field angles that differ by π give the same pair force.
@@ -605,6 +719,35 @@ mod tests {
             PlanningModel::new(&p),
             ValidityChecker::new(cw, p.r_min, p.r_max),
         )
+    }
+
+    /// Holding an equilateral triangle: in the plane it always contracts, so the elevated
+    /// search tilts the field and does much better.
+    #[test]
+    fn three_agents_tilt_the_field_to_hold_a_triangle() {
+        let (model, checker) = setup();
+        let x = [
+            Vec2::new(10.0, 10.0),
+            Vec2::new(12.5, 10.0),
+            Vec2::new(11.25, 12.165),
+        ];
+        let make = |planar| {
+            let w = ObcWeights {
+                planar,
+                ..Default::default()
+            };
+            ObcOptimizer::new(model.clone(), checker.clone(), 0.5, w)
+        };
+        let flat = make(Planar::Yes).solve(&x, &x, None, None);
+        let free = make(Planar::Auto).solve(&x, &x, None, None);
+        assert_eq!(flat.control.alpha, 0.0);
+        assert!(free.control.alpha > 0.3, "{:?}", free.control);
+        assert!(
+            free.cost < 0.5 * flat.cost,
+            "{} vs {}",
+            free.cost,
+            flat.cost
+        );
     }
 
     #[test]

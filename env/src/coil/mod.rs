@@ -5,9 +5,11 @@
 //! unit field direction (which all moments follow) and the pulling force per unit moment.
 
 mod control;
+mod elevation;
 mod triaxial;
 
 pub use control::Control;
+pub use elevation::{DEFAULT_ALPHA_MAX_DEG, Planar};
 pub use triaxial::TriaxialMaxwell;
 
 use crate::math::Vec3;

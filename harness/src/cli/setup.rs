@@ -1,5 +1,5 @@
 //! The planning setup of the command line, shared by `plan`, `track` and `rig run`: the limits
-//! (`--max-iters`, `--time-limit`), `--objective`, `--metric` and `--flow`. The control period
+//! (`--max-iters`, `--time-limit`), `--objective`, `--metric`, `--flow` and `--alpha-max`. The control period
 //! is not an option of `track` and `rig run`: it is the frame period of their rig.
 
 use clap::Args;
@@ -25,6 +25,10 @@ pub struct SetupArgs {
     /// agents under a planar field, RK4 otherwise) or rk4 (RK4 everywhere).
     #[arg(long, default_value = "pair-exact")]
     pub flow: String,
+    /// Largest field elevation a plan may command (degrees, 0–90), used where the planner's
+    /// `planar` setting frees the elevation (three or more agents by default).
+    #[arg(long, default_value = "45")]
+    pub alpha_max: String,
 }
 
 impl SetupArgs {
@@ -39,10 +43,11 @@ impl SetupArgs {
             ("objective", &self.objective),
             ("metric", &self.metric),
             ("flow", &self.flow),
+            ("alpha_max", &self.alpha_max),
         ] {
             setup
                 .set("<command line>", key, value)
-                .map_err(|e| CliError::arg(format!("--{key}"), e.reason))?;
+                .map_err(|e| CliError::arg(format!("--{}", key.replace('_', "-")), e.reason))?;
         }
         Ok(setup)
     }
@@ -120,6 +125,7 @@ mod tests {
             objective: objective.into(),
             metric: metric.into(),
             flow: flow.into(),
+            alpha_max: "45".into(),
         };
         let s = args("duration", "centroid-shape:1:2", "rk4")
             .setup()

@@ -1,9 +1,15 @@
-//! `magbench stlc`: the Lie-algebra rank condition over ψ.
+//! `magbench stlc`: the Lie-algebra rank condition over ψ (two agents), or the accessibility
+//! rank and drift cancellation of a three-agent team at sample formations, with and without the
+//! elevation (`--agents 3`).
 
 use clap::Args;
 use magbench_env::PhysicalParams;
+use magbench_env::Vec2;
 use magbench_env::controllability::{closed_form, larc, velocity_ellipse};
 use magbench_env::model::Kinematics;
+use magbench_env::team_controllability::{
+    FieldSet, TeamReport, team_report, three_agent_formations,
+};
 
 use super::output::outln;
 use crate::CliError;
@@ -21,6 +27,12 @@ pub struct StlcArgs {
     /// Step of the ψ sweep (degrees).
     #[arg(long, default_value_t = 7.5)]
     pub step: f64,
+    /// Team size: 2 (the pair's local model) or 3 (sample formations of side --r).
+    #[arg(long, default_value_t = 2)]
+    pub agents: usize,
+    /// Largest elevation of the elevated field set (degrees, --agents 3).
+    #[arg(long, default_value_t = 90.0)]
+    pub alpha_max: f64,
 }
 
 /// Prints the rank table.
@@ -38,6 +50,15 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
         return Err(CliError::arg(
             "--step",
             format!("must be in (0, 90] degrees, got {}", a.step),
+        ));
+    }
+    if a.agents == 3 {
+        return team(&a);
+    }
+    if a.agents != 2 {
+        return Err(CliError::arg(
+            "--agents",
+            format!("must be 2 or 3, got {}", a.agents),
         ));
     }
     let p = PhysicalParams::default();
@@ -94,6 +115,98 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
     );
     outln!(
         "traces an ellipse centred at (−½, 0) with semi-axes 3/2 and 1: zero lies strictly inside it."
+    );
+    Ok(())
+}
+
+/// The three-agent tables: sample formations, then a sweep of the isosceles apex angle.
+fn team(a: &StlcArgs) -> Result<(), CliError> {
+    if !(a.alpha_max.is_finite() && a.alpha_max > 0.0 && a.alpha_max <= 90.0) {
+        return Err(CliError::arg(
+            "--alpha-max",
+            format!("must be in (0, 90] degrees, got {}", a.alpha_max),
+        ));
+    }
+    let kin = Kinematics::nominal(&PhysicalParams::default());
+    let elevated = FieldSet::Elevated {
+        alpha_max: a.alpha_max.to_radians(),
+    };
+    outln!(
+        "Three agents, side {} BL: shape s = (P₁−P₀, P₂−P₀) (dimension 4). Controls: the field in the plane",
+        a.r
+    );
+    outln!(
+        "(fields M, A, B) or elevated up to {}° (F₀, M', A, B). rank1 = the fields, rank2 = with their brackets,",
+        a.alpha_max
+    );
+    outln!(
+        "rank3 = with brackets of brackets (the accessibility rank, full = 4). hold = 0 inside the velocity set's"
+    );
+    outln!(
+        "convex hull (every relative position held); hold-shape = the same up to a rotation (side lengths held)."
+    );
+    outln!(
+        "{:<14} {:<9} {:>5} {:>5} {:>5} {:>5} {:>12} {:>10}",
+        "formation",
+        "field",
+        "rank1",
+        "rank2",
+        "rank3",
+        "hold",
+        "hold-shape",
+        "offset"
+    );
+    for f in three_agent_formations(a.r) {
+        for (label, set) in [("planar", FieldSet::Planar), ("elevated", elevated)] {
+            row(f.name, label, &team_report(&kin, &f.positions, set))?;
+        }
+    }
+    outln!();
+    outln!(
+        "Isosceles triangles (two sides {} BL about agent 0) by apex angle: where the rank drops",
+        a.r
+    );
+    outln!(
+        "{:<14} {:<9} {:>5} {:>5} {:>5} {:>5} {:>12} {:>10}",
+        "apex (deg)",
+        "field",
+        "rank1",
+        "rank2",
+        "rank3",
+        "hold",
+        "hold-shape",
+        "offset"
+    );
+    for k in 3..=18 {
+        let apex = (10 * k) as f64;
+        let g = apex.to_radians();
+        let p = [
+            Vec2::zeros(),
+            Vec2::new(a.r, 0.0),
+            Vec2::new(a.r * g.cos(), a.r * g.sin()),
+        ];
+        for (label, set) in [("planar", FieldSet::Planar), ("elevated", elevated)] {
+            row(&format!("{apex}"), label, &team_report(&kin, &p, set))?;
+        }
+    }
+    outln!(
+        "offset: distance of the origin from the velocity set's affine hull (BL/s); > 0 means no mix of field"
+    );
+    outln!("directions cancels the drift in every shape coordinate.");
+    Ok(())
+}
+
+/// One line of a team table.
+fn row(name: &str, field: &str, r: &TeamReport) -> Result<(), CliError> {
+    let yes = |b: bool| if b { "yes" } else { "no" };
+    outln!(
+        "{name:<14} {field:<9} {:>5} {:>5} {:>5} {:>5} {:>12} {:>10.2e}",
+        r.first_order,
+        r.depth1,
+        r.depth2,
+        yes(r.holds),
+        yes(r.holds_shape),
+        r.offset
     );
     Ok(())
 }

@@ -6,7 +6,9 @@
 //! - `fig4b-world`: the world view, planned paths per agent and tracked paths;
 //! - `force-ellipse`: the force ellipse in (f_r, f_φ) as ψ sweeps, ψ = ±54.74° marked;
 //! - `larc-margin`: the LARC margin against ψ;
-//! - `micro-factory`: the micro-factory maze with both agents' planned and tracked paths.
+//! - `micro-factory`: the micro-factory maze with both agents' planned and tracked paths;
+//! - `team-velocity-set`: three agents' achievable side-length rates, field in the plane against
+//!   field elevated (an equilateral triangle and an L).
 //!
 //! Every figure is written as SVG (vector, for publication) and PNG.
 
@@ -14,6 +16,7 @@ pub mod cspace;
 pub mod data;
 pub mod forces;
 pub mod larc;
+pub mod team;
 
 use std::path::{Path, PathBuf};
 
@@ -67,6 +70,11 @@ pub fn write_all(
             separations: vec![1.5, 2.0, 3.0],
         },
         &out.join("larc-margin"),
+    )?);
+    log("team-velocity-set");
+    add(save(
+        &team::TeamVelocityFigure { side: 2.5 },
+        &out.join("team-velocity-set"),
     )?);
 
     log("open-field: plan (goal-zoom-rrt, seed 0) and track (obc, realistic)");
