@@ -18,6 +18,19 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "narrow-passage",
         include_str!("../../../scenarios/narrow-passage.toml"),
     ),
+    ("trio-row", include_str!("../../../scenarios/trio-row.toml")),
+    (
+        "trio-triangle",
+        include_str!("../../../scenarios/trio-triangle.toml"),
+    ),
+    (
+        "trio-maze",
+        include_str!("../../../scenarios/trio-maze.toml"),
+    ),
+    (
+        "quad-square",
+        include_str!("../../../scenarios/quad-square.toml"),
+    ),
 ];
 
 /// The TOML source of a built-in scenario.
