@@ -4,9 +4,9 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::charts::Series;
+use super::charts::{Series, rows_chart};
 use super::legend::{self, Entry, Symbol};
-use super::{Figure, PlotError, label_font, palette, tick_font, tick_label, title_font};
+use super::{Figure, PlotError, palette};
 
 const W: u32 = 900;
 
@@ -62,31 +62,14 @@ impl Figure for BarChart {
             .fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
         let pad = 0.05 * (hi - lo).max(1e-9);
         let (v0, v1) = (lo - if lo < 0.0 { pad } else { 0.0 }, hi + pad);
-        let cats = self.categories.clone();
-        let mut c = ChartBuilder::on(&top)
-            .caption(&self.title, title_font())
-            .margin(12)
-            .x_label_area_size(50)
-            .y_label_area_size(self.label_width())
-            .build_cartesian_2d(v0..v1, -0.5..n as f64 - 0.5)?;
-        c.configure_mesh()
-            .disable_y_mesh()
-            .x_desc(&self.value_label)
-            .axis_desc_style(label_font())
-            .label_style(tick_font())
-            .x_label_formatter(&|v| tick_label(*v))
-            .y_labels(n * 2 + 1)
-            .y_label_formatter(&move |v| {
-                let i = v.round();
-                if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < cats.len() {
-                    cats[n - 1 - i as usize].clone()
-                } else {
-                    String::new()
-                }
-            })
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(215, 215, 215))
-            .draw()?;
+        let mut c = rows_chart(
+            &top,
+            &self.title,
+            &self.value_label,
+            self.categories.clone(),
+            self.label_width(),
+            (v0, v1),
+        )?;
         let k = self.series.len().max(1) as f64;
         let band = 0.8 / k;
         for (si, s) in self.series.iter().enumerate() {

@@ -2,6 +2,7 @@
 //! Each is a [`Figure`], written as SVG and PNG by [`super::save`].
 
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::legend::{self, Entry, Symbol};
@@ -94,6 +95,44 @@ fn step_points(d: &[(f64, f64)]) -> Vec<(f64, f64)> {
         out.push((x, y));
     }
     out
+}
+
+/// A horizontal chart with one row per label (top to bottom) over the values `v0..v1`: the
+/// frame, the value axis and the row labels that box plots and bar charts share.
+pub(super) fn rows_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    value_label: &str,
+    labels: Vec<String>,
+    label_width: u32,
+    (v0, v1): (f64, f64),
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError> {
+    let n = labels.len().max(1);
+    let mut c = ChartBuilder::on(area)
+        .caption(title, title_font())
+        .margin(12)
+        .x_label_area_size(50)
+        .y_label_area_size(label_width)
+        .build_cartesian_2d(v0..v1, -0.5..n as f64 - 0.5)?;
+    c.configure_mesh()
+        .disable_y_mesh()
+        .x_desc(value_label)
+        .axis_desc_style(label_font())
+        .label_style(tick_font())
+        .x_label_formatter(&|v| tick_label(*v))
+        .y_labels(n * 2 + 1)
+        .y_label_formatter(&move |v| {
+            let i = v.round();
+            if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < labels.len() {
+                labels[n - 1 - i as usize].clone()
+            } else {
+                String::new()
+            }
+        })
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(215, 215, 215))
+        .draw()?;
+    Ok(c)
 }
 
 fn legend_entries<T>(series: &[Series<T>], line_w: u32, band: bool) -> Vec<Entry> {
@@ -264,31 +303,14 @@ impl Figure for BoxChart {
                 }
             })
             .collect();
-        let mut c = ChartBuilder::on(root)
-            .caption(&self.title, title_font())
-            .margin(12)
-            .x_label_area_size(50)
-            .y_label_area_size(self.label_width())
-            .build_cartesian_2d(v0..v1, -0.5..n as f64 - 0.5)?;
-        let lab = labels.clone();
-        c.configure_mesh()
-            .disable_y_mesh()
-            .x_desc(&self.value_label)
-            .axis_desc_style(label_font())
-            .label_style(tick_font())
-            .x_label_formatter(&|v| tick_label(*v))
-            .y_labels(n * 2 + 1)
-            .y_label_formatter(&move |v| {
-                let i = v.round();
-                if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < lab.len() {
-                    lab[n - 1 - i as usize].clone()
-                } else {
-                    String::new()
-                }
-            })
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(215, 215, 215))
-            .draw()?;
+        let mut c = rows_chart(
+            root,
+            &self.title,
+            &self.value_label,
+            labels,
+            self.label_width(),
+            (v0, v1),
+        )?;
         for (gi, s) in sorted.iter().enumerate() {
             if s.is_empty() {
                 continue;
