@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::plot::legend::{self, Entry, Symbol};
-use crate::plot::{Figure, PlotError, label_font, palette, tick_font, tick_label, title_font};
+use crate::plot::{Figure, PlotError, palette, title_font, xy_mesh};
 
 /// Local coordinates along a path: (t, x_c, y_c, r, φ unwrapped in degrees).
 pub fn local_path(samples: &[(f64, Vec<Vec2>)]) -> Vec<[f64; 5]> {
@@ -77,16 +77,7 @@ impl Figure for CSpaceFigure {
                 .x_label_area_size(40)
                 .y_label_area_size(70)
                 .build_cartesian_2d(x0 - xpad..x1 + xpad, lo - pad..hi + pad)?;
-            c.configure_mesh()
-                .x_desc("centre of mass x_c (BL)")
-                .y_desc(label)
-                .axis_desc_style(label_font())
-                .label_style(tick_font())
-                .x_label_formatter(&|v| tick_label(*v))
-                .y_label_formatter(&|v| tick_label(*v))
-                .light_line_style(TRANSPARENT)
-                .bold_line_style(RGBColor(225, 225, 225))
-                .draw()?;
+            xy_mesh(&mut c, "centre of mass x_c (BL)", label)?;
             c.draw_series(std::iter::once(PathElement::new(
                 self.planned
                     .iter()

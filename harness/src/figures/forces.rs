@@ -13,7 +13,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::plot::legend::{self, Entry, Symbol};
 use crate::plot::world::{chart, draw_goals, draw_path, draw_starts, draw_world, map_size};
-use crate::plot::{Figure, PlotError, label_font, palette, tick_font, tick_label, title_font};
+use crate::plot::{Figure, PlotError, label_font, palette, tick_font, title_font, xy_mesh};
 
 /// ψ where the radial force vanishes: cos²ψ = 1/3.
 pub fn zero_radial_psi() -> f64 {
@@ -157,16 +157,11 @@ impl Figure for ForceEllipse {
             .x_label_area_size(55)
             .y_label_area_size(75)
             .build_cartesian_2d(-2.4..1.6, -1.4..1.4)?;
-        c.configure_mesh()
-            .x_desc("radial force f_r · r⁴/Ω   (< 0: attraction)")
-            .y_desc("transverse force f_φ · r⁴/Ω")
-            .axis_desc_style(label_font())
-            .label_style(tick_font())
-            .x_label_formatter(&|v| tick_label(*v))
-            .y_label_formatter(&|v| tick_label(*v))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(225, 225, 225))
-            .draw()?;
+        xy_mesh(
+            &mut c,
+            "radial force f_r · r⁴/Ω   (< 0: attraction)",
+            "transverse force f_φ · r⁴/Ω",
+        )?;
         c.draw_series(std::iter::once(Rectangle::new(
             [(-2.4, -1.4), (0.0, 1.4)],
             ATTRACT.mix(0.08).filled(),

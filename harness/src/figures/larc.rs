@@ -9,7 +9,7 @@ use plotters::prelude::*;
 
 use super::forces::zero_radial_psi;
 use crate::plot::legend::{self, Entry, Symbol};
-use crate::plot::{Figure, PlotError, label_font, palette, tick_font, tick_label, title_font};
+use crate::plot::{Figure, PlotError, palette, title_font, xy_mesh};
 
 /// The LARC margin against ψ at several separations.
 pub struct LarcFigure {
@@ -65,16 +65,11 @@ impl Figure for LarcFigure {
             .x_label_area_size(50)
             .y_label_area_size(75)
             .build_cartesian_2d(-90.0..90.0, 0.0..top_y.max(1e-3))?;
-        c.configure_mesh()
-            .x_desc("ψ = θ_B − φ (deg)")
-            .y_desc("LARC margin σ_min(Δ) (unit columns)")
-            .axis_desc_style(label_font())
-            .label_style(tick_font())
-            .x_label_formatter(&|v| tick_label(*v))
-            .y_label_formatter(&|v| tick_label(*v))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(225, 225, 225))
-            .draw()?;
+        xy_mesh(
+            &mut c,
+            "ψ = θ_B − φ (deg)",
+            "LARC margin σ_min(Δ) (unit columns)",
+        )?;
         for d in [-90.0, 0.0, 90.0] {
             c.draw_series(std::iter::once(PathElement::new(
                 vec![(d, 0.0), (d, top_y)],

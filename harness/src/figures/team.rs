@@ -11,7 +11,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::plot::legend::{self, Entry, Symbol};
-use crate::plot::{Figure, PlotError, label_font, tick_font, tick_label, title_font};
+use crate::plot::{Figure, PlotError, title_font, xy_mesh};
 
 /// The velocity-set figure of three agents with side `side` (BL).
 pub struct TeamVelocityFigure {
@@ -106,16 +106,11 @@ impl Figure for TeamVelocityFigure {
                 .x_label_area_size(50)
                 .y_label_area_size(70)
                 .build_cartesian_2d((x0 - mx)..(x1 + mx), (y0 - my)..(y1 + my))?;
-            c.configure_mesh()
-                .x_desc("size rate (ṙ₀₁+ṙ₁₂+ṙ₂₀)/3 (κ/r⁴)")
-                .y_desc("shape rate (2ṙ₀₁−ṙ₁₂−ṙ₂₀)/√6 (κ/r⁴)")
-                .axis_desc_style(label_font())
-                .label_style(tick_font())
-                .x_label_formatter(&|v| tick_label(*v))
-                .y_label_formatter(&|v| tick_label(*v))
-                .light_line_style(TRANSPARENT)
-                .bold_line_style(RGBColor(225, 225, 225))
-                .draw()?;
+            xy_mesh(
+                &mut c,
+                "size rate (ṙ₀₁+ṙ₁₂+ṙ₂₀)/3 (κ/r⁴)",
+                "shape rate (2ṙ₀₁−ṙ₁₂−ṙ₂₀)/√6 (κ/r⁴)",
+            )?;
             c.draw_series(
                 cloud
                     .iter()

@@ -21,6 +21,7 @@ pub mod world;
 use std::path::{Path, PathBuf};
 
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// Why a figure could not be drawn or written.
@@ -99,6 +100,25 @@ pub fn tick_font() -> TextStyle<'static> {
 /// The text style of titles.
 pub fn title_font() -> TextStyle<'static> {
     ("sans-serif", 22).into_font().color(&BLACK)
+}
+
+/// The axes of an x–y figure: both axis titles, tick labels and a light grid.
+pub fn xy_mesh<DB: DrawingBackend>(
+    c: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    x_desc: &str,
+    y_desc: &str,
+) -> Result<(), PlotError> {
+    c.configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .axis_desc_style(label_font())
+        .label_style(tick_font())
+        .x_label_formatter(&|v| tick_label(*v))
+        .y_label_formatter(&|v| tick_label(*v))
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(225, 225, 225))
+        .draw()?;
+    Ok(())
 }
 
 /// A tick label: integers without decimals, other values with up to 3 significant decimals.
