@@ -145,17 +145,7 @@ fn team(a: &StlcArgs) -> Result<(), CliError> {
     outln!(
         "convex hull (every relative position held); hold-shape = the same up to a rotation (side lengths held)."
     );
-    outln!(
-        "{:<14} {:<9} {:>5} {:>5} {:>5} {:>5} {:>12} {:>10}",
-        "formation",
-        "field",
-        "rank1",
-        "rank2",
-        "rank3",
-        "hold",
-        "hold-shape",
-        "offset"
-    );
+    header("formation")?;
     for f in three_agent_formations(a.r) {
         for (label, set) in [("planar", FieldSet::Planar), ("elevated", elevated)] {
             row(f.name, label, &team_report(&kin, &f.positions, set))?;
@@ -166,17 +156,7 @@ fn team(a: &StlcArgs) -> Result<(), CliError> {
         "Isosceles triangles (two sides {} BL about agent 0) by apex angle: where the rank drops",
         a.r
     );
-    outln!(
-        "{:<14} {:<9} {:>5} {:>5} {:>5} {:>5} {:>12} {:>10}",
-        "apex (deg)",
-        "field",
-        "rank1",
-        "rank2",
-        "rank3",
-        "hold",
-        "hold-shape",
-        "offset"
-    );
+    header("apex (deg)")?;
     for k in 3..=18 {
         let apex = (10 * k) as f64;
         let g = apex.to_radians();
@@ -196,7 +176,22 @@ fn team(a: &StlcArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// One line of a team table.
+/// The team table's header, its first column titled `first`.
+fn header(first: &str) -> Result<(), CliError> {
+    outln!(
+        "{first:<14} {:<9} {:>5} {:>5} {:>5} {:>5} {:>12} {:>10}",
+        "field",
+        "rank1",
+        "rank2",
+        "rank3",
+        "hold",
+        "hold-shape",
+        "offset"
+    );
+    Ok(())
+}
+
+/// One row of the team table.
 fn row(name: &str, field: &str, r: &TeamReport) -> Result<(), CliError> {
     let yes = |b: bool| if b { "yes" } else { "no" };
     outln!(
