@@ -327,3 +327,32 @@ fn output_folders_that_cannot_be_written_are_named() {
         }
     }
 }
+
+/// The planning options of the exact flow (issue 10) and the elevation (issue 13): a bad value
+/// names the option or parameter and the reason, before any planning.
+#[test]
+fn planning_options_name_their_bad_values() {
+    let plan = |extra: &[&str]| {
+        let mut a = vec!["plan", "open-field", "--planner", "goal-zoom-rrt"];
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    let cases: [(&[&str], &[&str]); 7] = [
+        (&["--flow", "bogus"], &["--flow", "bogus", "pair-exact"]),
+        (&["--param", "timing=bogus"], &["param.timing", "closest"]),
+        (
+            &["--param", "max_duration=0.1", "--param", "min_duration=0.5"],
+            &["min_duration", "exceeds max_duration"],
+        ),
+        (&["--param", "k=0"], &["param.k"]),
+        (&["--alpha-max", "120"], &["--alpha-max", "[0, 90]"]),
+        (&["--param", "planar=maybe"], &["param.planar", "auto"]),
+        (&["--fps", "0"], &["--fps", "got 0"]),
+    ];
+    for (extra, parts) in cases {
+        let args = plan(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused(&args, parts);
+    }
+    refused(&["stlc", "--agents", "7"], &["--agents", "got 7"]);
+}
