@@ -264,6 +264,8 @@ pub struct BoxChart {
     pub value_label: String,
     /// Groups (top to bottom) and their values (non-finite values are left out and counted).
     pub groups: Vec<Series<Vec<f64>>>,
+    /// The colour of each group (e.g. one per agent); empty: the series palette in order.
+    pub colors: Vec<RGBColor>,
 }
 
 impl BoxChart {
@@ -316,7 +318,11 @@ impl Figure for BoxChart {
                 continue;
             }
             let y = (n - 1 - gi) as f64;
-            let col = palette::series(gi);
+            let col = self
+                .colors
+                .get(gi)
+                .copied()
+                .unwrap_or_else(|| palette::series(gi));
             let (q1, med, q3) = (
                 quantile_sorted(s, 0.25),
                 quantile_sorted(s, 0.5),
