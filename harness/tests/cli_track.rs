@@ -186,3 +186,45 @@ fn bad_input_exits_2_with_a_clear_message() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("plan.json"), "{stderr}");
 }
+
+#[test]
+fn a_three_agent_run_reports_each_agent_and_the_worst() {
+    let (code, stdout, stderr) = magbench(&[
+        "track",
+        "trio-triangle",
+        "--tracker",
+        "open-loop",
+        "--preset",
+        "realistic",
+        "--max-iters",
+        "500",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let each = v["per_agent"].as_array().unwrap();
+    assert_eq!(each.len(), 3, "{v}");
+    let get = |a: &serde_json::Value, k: &str| a[k].as_f64().unwrap();
+    let (mut worst, mut worst_true, mut max_true) = (0, 0.0f64, 0.0f64);
+    for (i, a) in each.iter().enumerate() {
+        assert_eq!(a["agent"], i, "{a}");
+        assert!(
+            get(a, "rms_bl") > 0.0 && a["samples"].as_u64().unwrap() > 0,
+            "{a}"
+        );
+        if get(a, "rms_bl") > get(&each[worst], "rms_bl") {
+            worst = i;
+        }
+        worst_true = worst_true.max(get(a, "rms_true_bl"));
+        max_true = max_true.max(get(a, "max_true_bl"));
+    }
+    assert_eq!(v["worst_agent"], worst, "{v}");
+    assert_eq!(
+        get(&v, "rms_error_worst_agent_bl"),
+        get(&each[worst], "rms_bl")
+    );
+    assert_eq!(get(&v, "rms_error_true_worst_agent_bl"), worst_true);
+    assert_eq!(get(&v, "max_error_true_bl"), max_true);
+    let max_obs = each.iter().map(|a| get(a, "max_bl")).fold(0.0, f64::max);
+    assert_eq!(get(&v, "max_error_bl"), max_obs);
+}
