@@ -3,9 +3,10 @@
 
 mod common;
 
-use std::process::Command;
-
-use common::write;
+use common::{opts, write};
+use magbench::experiment::Experiment;
+use magbench::run::fake::FakeExecutor;
+use magbench::sweep::run_sweep;
 
 #[test]
 fn teams_of_three_and_four_get_per_agent_plots_and_tables_and_a_pair_does_not() {
@@ -16,19 +17,8 @@ fn teams_of_three_and_four_get_per_agent_plots_and_tables_and_a_pair_does_not() 
         "name = \"teams\"\nscenarios = [\"open-field\", \"trio-triangle\", \"quad-square\"]\nplanners = [\"fake\"]\ntrackers = [\"fake\"]\npresets = [\"realistic\"]\nseeds = 4\n[limits]\niterations = 300\n",
     );
     let out = dir.path().join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args([
-            "bench",
-            file.to_str().unwrap(),
-            "--executor",
-            "fake",
-            "--quiet",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let e = Experiment::load(&file, &FakeExecutor).unwrap();
+    run_sweep(&e, &FakeExecutor, &opts(&out, 2)).unwrap();
 
     // runs.csv: columns for four agents, filled as far as each run's team goes
     let mut rd = csv::Reader::from_path(out.join("runs.csv")).unwrap();
