@@ -189,7 +189,9 @@ fn bad_input_exits_2_with_a_clear_message() {
 
 #[test]
 fn a_three_agent_run_reports_each_agent_and_the_worst() {
-    let (code, stdout, stderr) = magbench(&[
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("trio");
+    let (code, _, stderr) = magbench(&[
         "track",
         "trio-triangle",
         "--tracker",
@@ -198,10 +200,12 @@ fn a_three_agent_run_reports_each_agent_and_the_worst() {
         "realistic",
         "--max-iters",
         "500",
-        "--json",
+        "--out",
+        out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{stderr}");
-    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
     let each = v["per_agent"].as_array().unwrap();
     assert_eq!(each.len(), 3, "{v}");
     let get = |a: &serde_json::Value, k: &str| a[k].as_f64().unwrap();
@@ -227,4 +231,21 @@ fn a_three_agent_run_reports_each_agent_and_the_worst() {
     assert_eq!(get(&v, "max_error_true_bl"), max_true);
     let max_obs = each.iter().map(|a| get(a, "max_bl")).fold(0.0, f64::max);
     assert_eq!(get(&v, "max_error_bl"), max_obs);
+
+    // ticks.csv: the commanded elevation next to θ_B (a team of three plans with α free)
+    let mut rd = csv::Reader::from_path(out.join("ticks.csv")).unwrap();
+    let h = rd.headers().unwrap().clone();
+    let col = |c: &str| h.iter().position(|x| x == c).unwrap();
+    assert_eq!(col("alpha_rad"), col("theta_rad") + 1);
+    assert!(h.iter().any(|x| x == "err2_bl"));
+    let alphas: Vec<f64> = rd
+        .records()
+        .map(|r| r.unwrap()[col("alpha_rad")].parse().unwrap())
+        .collect();
+    assert!(alphas.iter().any(|a| *a != 0.0), "no elevation commanded");
+    assert!(
+        alphas
+            .iter()
+            .all(|a| a.abs() <= std::f64::consts::FRAC_PI_2)
+    );
 }
