@@ -233,7 +233,13 @@ pub fn run_sweep(
     });
     manifest.write(out)?;
 
-    let writer = Mutex::new(RunWriter::open(out)?);
+    let agents = specs
+        .iter()
+        .filter(|s| s.tracker.is_some())
+        .map(|s| s.scenario.agents())
+        .max()
+        .unwrap_or(0);
+    let writer = Mutex::new(RunWriter::open(out, agents)?);
     let failed = AtomicUsize::new(0);
     let reporter = Reporter::new(opts.progress, specs.len(), skipped);
     let pool = rayon::ThreadPoolBuilder::new()

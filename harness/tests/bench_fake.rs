@@ -59,6 +59,8 @@ fn results_are_identical_at_one_and_two_threads() {
             "rms-error-true",
             "rms-error-sync",
             "rms-error-time",
+            "rms-error-worst-agent",
+            "rms-error-true-worst-agent",
             "max-error",
             "rms-error-cdf",
         ] {
@@ -76,7 +78,8 @@ fn results_are_identical_at_one_and_two_threads() {
     }
     // The report is one self-contained page: inline SVG, no scripts, no remote resources.
     let html = std::fs::read_to_string(a.join("report.html")).unwrap();
-    assert_eq!(html.matches("<svg").count(), 22);
+    // 13 plots per scenario (two agents: no per-agent plot)
+    assert_eq!(html.matches("<svg").count(), 26);
     let without_ns = html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "");
     assert!(
         !html.contains("<script")

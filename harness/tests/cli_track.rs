@@ -186,3 +186,66 @@ fn bad_input_exits_2_with_a_clear_message() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("plan.json"), "{stderr}");
 }
+
+#[test]
+fn a_three_agent_run_reports_each_agent_and_the_worst() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("trio");
+    let (code, _, stderr) = magbench(&[
+        "track",
+        "trio-triangle",
+        "--tracker",
+        "open-loop",
+        "--preset",
+        "realistic",
+        "--max-iters",
+        "500",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+    let each = v["per_agent"].as_array().unwrap();
+    assert_eq!(each.len(), 3, "{v}");
+    let get = |a: &serde_json::Value, k: &str| a[k].as_f64().unwrap();
+    let (mut worst, mut worst_true, mut max_true) = (0, 0.0f64, 0.0f64);
+    for (i, a) in each.iter().enumerate() {
+        assert_eq!(a["agent"], i, "{a}");
+        assert!(
+            get(a, "rms_bl") > 0.0 && a["samples"].as_u64().unwrap() > 0,
+            "{a}"
+        );
+        if get(a, "rms_bl") > get(&each[worst], "rms_bl") {
+            worst = i;
+        }
+        worst_true = worst_true.max(get(a, "rms_true_bl"));
+        max_true = max_true.max(get(a, "max_true_bl"));
+    }
+    assert_eq!(v["worst_agent"], worst, "{v}");
+    assert_eq!(
+        get(&v, "rms_error_worst_agent_bl"),
+        get(&each[worst], "rms_bl")
+    );
+    assert_eq!(get(&v, "rms_error_true_worst_agent_bl"), worst_true);
+    assert_eq!(get(&v, "max_error_true_bl"), max_true);
+    let max_obs = each.iter().map(|a| get(a, "max_bl")).fold(0.0, f64::max);
+    assert_eq!(get(&v, "max_error_bl"), max_obs);
+
+    // ticks.csv: the commanded elevation next to θ_B (a team of three plans with α free)
+    let mut rd = csv::Reader::from_path(out.join("ticks.csv")).unwrap();
+    let h = rd.headers().unwrap().clone();
+    let col = |c: &str| h.iter().position(|x| x == c).unwrap();
+    assert_eq!(col("alpha_rad"), col("theta_rad") + 1);
+    assert!(h.iter().any(|x| x == "err2_bl"));
+    let alphas: Vec<f64> = rd
+        .records()
+        .map(|r| r.unwrap()[col("alpha_rad")].parse().unwrap())
+        .collect();
+    assert!(alphas.iter().any(|a| *a != 0.0), "no elevation commanded");
+    assert!(
+        alphas
+            .iter()
+            .all(|a| a.abs() <= std::f64::consts::FRAC_PI_2)
+    );
+}

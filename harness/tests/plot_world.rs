@@ -107,10 +107,56 @@ fn animates_agents_to_a_gif() {
     render_gif(&base, &frames, &path, &opts).unwrap();
     let gif = std::fs::read(&path).unwrap();
     assert_eq!(&gif[..3], b"GIF");
-    // One image descriptor (0x2C after a graphic control extension) per frame.
-    let frames_in_file = gif
-        .windows(2)
-        .filter(|w| w[0] == 0x21 && w[1] == 0xF9)
-        .count();
+    // decoded, not counted by byte pattern (0x21 0xF9 also occurs inside compressed data)
+    let mut d = gif::DecodeOptions::new()
+        .read_info(std::fs::File::open(&path).unwrap())
+        .unwrap();
+    let mut frames_in_file = 0;
+    while d.read_next_frame().unwrap().is_some() {
+        frames_in_file += 1;
+    }
     assert_eq!(frames_in_file, 10, "expected 10 frames");
+}
+
+/// The first frame of the GIF at `path` as RGBA pixels.
+fn first_frame(path: &std::path::Path) -> Vec<u8> {
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut d = opts.read_info(std::fs::File::open(path).unwrap()).unwrap();
+    d.read_next_frame().unwrap().unwrap().buffer.to_vec()
+}
+
+#[test]
+fn a_three_agent_gif_draws_the_third_agent_in_its_colour() {
+    use magbench::plot::palette;
+    let dir = tempfile::tempdir().unwrap();
+    let s = Scenario::load("trio-triangle").unwrap();
+    let base = WorldPlot::scenario(&s);
+    let frames = vec![Frame {
+        time_s: 0.0,
+        agents: s.start.clone(),
+    }];
+    let path = dir.path().join("run.gif");
+    render_gif(&base, &frames, &path, &GifOptions::default()).unwrap();
+    let px = first_frame(&path);
+    // GIF frames are quantised to 256 colours: near the palette colour, not exactly it
+    let near = |c: plotters::style::RGBColor| {
+        px.chunks(4)
+            .filter(|p| {
+                (p[0] as i32 - c.0 as i32).abs() <= 24
+                    && (p[1] as i32 - c.1 as i32).abs() <= 24
+                    && (p[2] as i32 - c.2 as i32).abs() <= 24
+            })
+            .count()
+    };
+    for i in 0..3 {
+        assert!(
+            near(palette::agent(i)) > 150,
+            "agent {}: {}",
+            i + 1,
+            near(palette::agent(i))
+        );
+    }
+    // a fourth agent's colour is nowhere
+    assert!(near(palette::agent(3)) < 10, "{}", near(palette::agent(3)));
 }

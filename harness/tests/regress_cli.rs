@@ -66,15 +66,17 @@ fn flags_a_halved_gain_and_passes_a_rerun_with_other_seeds() {
 
     let (code, table) = regress(&base, &broken);
     assert_eq!(code, 1, "a halved gain was not flagged:\n{table}");
-    // the four RMS errors and the max error × 2 scenarios × 2 presets, and possibly success (errors above the fake
-    // tracker's 0.3 BL limit miss the goal); never a planner metric.
+    // 12 error metrics (the team's four RMS errors, the observed and true worst agent, the
+    // observed and true max, each of the two agents' observed and true RMS) × 2 scenarios × 2
+    // presets, and possibly success (errors above the fake tracker's 0.3 BL limit miss the
+    // goal); never a planner metric.
     let flagged: Vec<&str> = table
         .lines()
         .filter(|l| l.ends_with("REGRESSION"))
         .collect();
     assert_eq!(
         flagged.iter().filter(|l| l.contains("_error")).count(),
-        20,
+        48,
         "{table}"
     );
     assert!(
@@ -92,4 +94,75 @@ fn flags_a_halved_gain_and_passes_a_rerun_with_other_seeds() {
     // The same folder against itself is no regression; a folder that is not one is exit 2.
     assert_eq!(regress(&base, &base).0, 0);
     assert_eq!(regress(&base, dir.path()).0, 2);
+}
+
+/// The columns of `runs.csv` before the per-agent and worst-agent columns were added.
+const OLD_COLUMNS: &str = "run,run_id,experiment,scenario,agents,planner,planner_name,planner_params,tracker,preset,seed,max_iterations,time_limit_s,status,solved,approximate,iterations,nodes,plan_time_s,cost,goal_distance,first_solution_iteration,first_solution_time_s,plan_edges,plan_duration_s,track_status,reached_goal,time_to_goal_s,rms_error_bl,max_error_bl,rms_error_worst_agent_bl,rms_error_true_bl,rms_error_sync_bl,rms_error_time_bl,legs_completed,final_distance_bl,agent_contact,wall_contacts,missed_frames,replans,track_duration_s,track_time_s,error";
+
+#[test]
+fn a_baseline_from_before_the_per_agent_columns_compares_cleanly_and_lists_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(
+        dir.path(),
+        "trio.toml",
+        "name = \"trio-regress\"\nscenarios = [\"trio-triangle\", \"open-field\"]\nplanners = [\"fake\"]\ntrackers = [\"fake\"]\npresets = [\"realistic\"]\nseeds = 10\n[limits]\niterations = 500\n",
+    );
+    let (old, cur) = (dir.path().join("old"), dir.path().join("cur"));
+    bench(&file, &old, 1.0);
+    bench(&file, &cur, 1.0);
+    // the baseline as an older magbench wrote it: only the old columns
+    let runs = old.join("runs.csv");
+    let mut rd = csv::Reader::from_path(&runs).unwrap();
+    let header = rd.headers().unwrap().clone();
+    assert!(
+        header.iter().any(|h| h == "rms_error_agent2_bl"),
+        "{header:?}"
+    );
+    let keep: Vec<usize> = OLD_COLUMNS
+        .split(',')
+        .map(|c| header.iter().position(|h| h == c).unwrap())
+        .collect();
+    let mut w = csv::Writer::from_writer(vec![]);
+    w.write_record(OLD_COLUMNS.split(',')).unwrap();
+    for r in rd.records() {
+        let r = r.unwrap();
+        w.write_record(keep.iter().map(|&i| &r[i])).unwrap();
+    }
+    std::fs::write(&runs, w.into_inner().unwrap()).unwrap();
+
+    let (code, table) = regress(&old, &cur);
+    assert_eq!(code, 0, "{table}");
+    assert!(table.contains("no regression"), "{table}");
+    let new = table
+        .lines()
+        .find(|l| l.starts_with("new since the baseline"))
+        .unwrap_or_else(|| panic!("no list of new columns:\n{table}"));
+    for c in [
+        "rms_error_true_worst_agent_bl",
+        "max_error_true_bl",
+        "rms_error_agent0_bl",
+        "rms_error_true_agent2_bl",
+    ] {
+        assert!(new.contains(c), "{c} not listed: {new}");
+    }
+    // the two-agent scenario has no agent 2, the three-agent one has
+    assert!(
+        table.lines().any(|l| l.contains("trio-triangle")
+            && l.contains("rms_error_agent2_bl")
+            && l.contains("new (not in baseline)")),
+        "{table}"
+    );
+    assert!(
+        !table
+            .lines()
+            .any(|l| l.contains("open-field") && l.contains("agent2")),
+        "{table}"
+    );
+    // the columns the baseline has are compared as before
+    assert!(
+        table
+            .lines()
+            .any(|l| l.contains("rms_error_worst_agent_bl") && l.ends_with("ok")),
+        "{table}"
+    );
 }

@@ -31,7 +31,7 @@ pub mod tracker;
 pub mod trackers;
 
 pub use log::{PlanReason, PlanRecord, TickRecord, write_ticks_csv};
-pub use metrics::{AgentError, RunStatus, TrackMetrics};
+pub use metrics::{AgentError, RunStatus, TrackMetrics, worst_agent};
 pub use optimizer::{ObcOptimizer, ObcWeights};
 pub use reference::Reference;
 pub use registry::{TrackerSpec, build_tracker, tracker_names};

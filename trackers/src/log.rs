@@ -76,8 +76,10 @@ fn opt(v: Option<f64>) -> String {
     v.map_or(String::new(), |x| format!("{x}"))
 }
 
-/// Writes the tick log as CSV: one row per tick; per-agent columns are suffixed by the agent
-/// index (`x0_est`, `y0_est`, `x0_obs`, …, `err0`). Missing values are empty.
+/// Writes the tick log as CSV: one row per tick; the command is `theta_rad` (in-plane field
+/// angle θ_B), `alpha_rad` (the commanded elevation α out of the plane; 0 for planar
+/// actuation) and the gradient; per-agent columns are suffixed by the agent index (`x0_est`,
+/// `y0_est`, `x0_obs`, …, `err0_bl`). Missing values are empty.
 pub fn write_ticks_csv<W: Write>(w: W, ticks: &[TickRecord]) -> csv::Result<()> {
     let mut out = csv::Writer::from_writer(w);
     let n = ticks.first().map_or(0, |t| t.estimate.len());
@@ -88,6 +90,7 @@ pub fn write_ticks_csv<W: Write>(w: W, ticks: &[TickRecord]) -> csv::Result<()> 
         "mode",
         "progress_s",
         "theta_rad",
+        "alpha_rad",
         "gx_t_per_m",
         "gy_t_per_m",
         "in_goal",
@@ -112,6 +115,7 @@ pub fn write_ticks_csv<W: Write>(w: W, ticks: &[TickRecord]) -> csv::Result<()> 
             t.mode.to_string(),
             format!("{}", t.progress_s),
             format!("{}", t.command.theta),
+            format!("{}", t.command.alpha),
             format!("{}", t.command.grad[0]),
             format!("{}", t.command.grad[1]),
             t.in_goal.to_string(),
@@ -136,4 +140,46 @@ pub fn write_ticks_csv<W: Write>(w: W, ticks: &[TickRecord]) -> csv::Result<()> 
     }
     out.flush()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_csv_records_the_commanded_elevation_next_to_theta() {
+        let tick = TickRecord {
+            t: 0.1,
+            leg: 0,
+            plan: 0,
+            mode: "track",
+            progress_s: 0.0,
+            estimate: vec![Vec2::new(1.0, 2.0); 3],
+            observed: vec![Some(Vec2::new(1.0, 2.0)), None, Some(Vec2::new(3.0, 4.0))],
+            truth: None,
+            error: vec![0.1, f64::NAN, 0.2],
+            command: Control {
+                theta: 0.5,
+                alpha: 0.25,
+                grad: [0.01, -0.02],
+            },
+            in_goal: false,
+            targets: None,
+            compute_us: 12.0,
+        };
+        let mut buf = vec![];
+        write_ticks_csv(&mut buf, &[tick]).unwrap();
+        let text = String::from_utf8(buf).unwrap();
+        let mut rd = csv::Reader::from_reader(text.as_bytes());
+        let header = rd.headers().unwrap().clone();
+        let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+        assert_eq!(col("alpha_rad"), col("theta_rad") + 1);
+        let row = rd.records().next().unwrap().unwrap();
+        assert_eq!(&row[col("theta_rad")], "0.5");
+        assert_eq!(&row[col("alpha_rad")], "0.25");
+        // one block of columns per agent, the third agent's last
+        assert_eq!(&row[col("err2_bl")], "0.2");
+        assert_eq!(&row[col("x1_obs")], "");
+        assert_eq!(header.len(), 11 + 3 * 9);
+    }
 }

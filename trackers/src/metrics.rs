@@ -17,6 +17,10 @@
 //!
 //! RMS is the root mean square over samples: over ticks and agents for the path error, over
 //! ticks for the team errors; max is the largest sample.
+//!
+//! **Per agent.** Each agent's path error is also kept on its own ([`AgentError`], observed and
+//! true), and the **worst agent** is the one with the largest RMS path error: in a team of
+//! three or more the team's RMS can hide one agent that drifts while the others follow.
 
 use serde::{Deserialize, Serialize};
 
@@ -41,9 +45,17 @@ pub struct TrackMetrics {
     pub max_error_bl: f64,
     /// RMS path error of the worst agent, observed positions (BL).
     pub rms_error_worst_agent_bl: f64,
+    /// The worst agent (0-based): the largest RMS path error of its observed positions;
+    /// `None` without any sample.
+    pub worst_agent: Option<usize>,
     /// RMS path error of the true positions, over ticks and agents (BL); `None` when the rig
     /// does not know them (a physical rig).
     pub rms_error_true_bl: Option<f64>,
+    /// Largest path error of any true agent position (BL); `None` as `rms_error_true_bl`.
+    pub max_error_true_bl: Option<f64>,
+    /// RMS path error of the worst agent by its true positions (the largest true RMS of any
+    /// agent, BL); `None` as `rms_error_true_bl`.
+    pub rms_error_true_worst_agent_bl: Option<f64>,
     /// RMS team-synchronous error of the observed positions, over ticks (BL).
     pub rms_error_sync_bl: f64,
     /// RMS time-indexed error of the observed positions, over ticks (BL).
@@ -110,15 +122,34 @@ impl RunStatus {
     }
 }
 
-/// One agent's tracking error.
+/// One agent's path error (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct AgentError {
-    /// RMS over ticks (BL).
+    /// The agent (0-based, as in `ticks.csv`).
+    pub agent: usize,
+    /// RMS over ticks of the observed positions (BL).
     pub rms_bl: f64,
-    /// Largest sample (BL).
+    /// Largest sample of the observed positions (BL).
     pub max_bl: f64,
-    /// Samples.
+    /// Samples (ticks with a detection of this agent).
     pub samples: usize,
+    /// RMS over ticks of the true positions (BL); `None` when the rig does not know them.
+    pub rms_true_bl: Option<f64>,
+    /// Largest sample of the true positions (BL); `None` as `rms_true_bl`.
+    pub max_true_bl: Option<f64>,
+}
+
+/// The worst of `agents`: the index and RMS of the largest observed RMS path error (the first
+/// of equals), `None` when no agent has a sample.
+pub fn worst_agent(agents: &[AgentError]) -> Option<(usize, f64)> {
+    agents
+        .iter()
+        .filter(|a| a.samples > 0)
+        .fold(None, |best: Option<&AgentError>, a| match best {
+            Some(b) if b.rms_bl >= a.rms_bl => Some(b),
+            _ => Some(a),
+        })
+        .map(|a| (a.agent, a.rms_bl))
 }
 
 /// Accumulates per-agent error samples.
@@ -150,6 +181,7 @@ impl ErrorAccumulator {
     pub fn per_agent(&self) -> Vec<AgentError> {
         (0..self.sum_sq.len())
             .map(|i| AgentError {
+                agent: i,
                 rms_bl: if self.count[i] > 0 {
                     (self.sum_sq[i] / self.count[i] as f64).sqrt()
                 } else {
@@ -157,6 +189,8 @@ impl ErrorAccumulator {
                 },
                 max_bl: self.max[i],
                 samples: self.count[i],
+                rms_true_bl: None,
+                max_true_bl: None,
             })
             .collect()
     }
@@ -222,12 +256,26 @@ mod tests {
         assert_eq!(p[0].max_bl, 4.0);
         assert!((a.rms() - (26.0f64 / 4.0).sqrt()).abs() < 1e-12);
         assert_eq!(a.max(), 4.0);
+        assert_eq!(p[1].agent, 1);
+        assert_eq!(worst_agent(&p), Some((0, p[0].rms_bl)));
         let mut t = TeamAccumulator::default();
         assert_eq!(t.rms(), 0.0);
         t.add(3.0);
         t.add(4.0);
         assert!((t.rms() - 12.5f64.sqrt()).abs() < 1e-12);
         assert_eq!(t.samples(), 2);
+    }
+
+    #[test]
+    fn the_worst_agent_is_the_largest_rms_with_samples() {
+        let mut a = ErrorAccumulator::new(4);
+        a.add(0, 0.1);
+        a.add(1, 0.3);
+        a.add(2, 0.3);
+        // agent 3 has no sample: never the worst
+        let p = a.per_agent();
+        assert_eq!(worst_agent(&p), Some((1, 0.3)));
+        assert_eq!(worst_agent(&ErrorAccumulator::new(3).per_agent()), None);
     }
 
     #[test]
@@ -242,7 +290,10 @@ mod tests {
             rms_error_bl: 0.05,
             max_error_bl: 0.2,
             rms_error_worst_agent_bl: 0.06,
+            worst_agent: Some(1),
             rms_error_true_bl: Some(0.04),
+            max_error_true_bl: Some(0.15),
+            rms_error_true_worst_agent_bl: Some(0.05),
             rms_error_sync_bl: 0.07,
             rms_error_time_bl: 0.3,
             agent_contact: false,

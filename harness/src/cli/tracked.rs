@@ -327,6 +327,24 @@ pub(crate) fn summary_text(v: &Value) -> String {
         f("max_error_bl"),
         f("rms_error_true_bl"),
     );
+    if let (Some(w), Some(each)) = (g("worst_agent").as_u64(), g("per_agent").as_array()) {
+        let rms: Vec<String> = each
+            .iter()
+            .map(|a| {
+                a.get("rms_bl")
+                    .and_then(Value::as_f64)
+                    .map_or("-".into(), |x| format!("{x:.3}"))
+            })
+            .collect();
+        s += &format!(
+            "per agent     RMS {} BL (agents 1–{}); worst agent {}: RMS {} BL (true positions: {} BL)\n",
+            rms.join(", "),
+            rms.len(),
+            w + 1,
+            f("rms_error_worst_agent_bl"),
+            f("rms_error_true_worst_agent_bl"),
+        );
+    }
     s += &format!(
         "team error    synchronous RMS {} BL, time-indexed RMS {} BL\n",
         f("rms_error_sync_bl"),

@@ -97,6 +97,22 @@ fn step_points(d: &[(f64, f64)]) -> Vec<(f64, f64)> {
     out
 }
 
+/// A tick label on an axis spanning `span`: [`tick_label`], with as many decimals as ticks about
+/// a tenth of the span apart need to differ (a narrow range, e.g. 0.124 to 0.130, would
+/// otherwise repeat labels).
+fn span_tick_label(v: f64, span: f64) -> String {
+    let decimals = if span.is_finite() && span > 0.0 {
+        (-(span / 10.0).log10()).ceil().clamp(0.0, 9.0) as usize
+    } else {
+        0
+    };
+    if decimals <= 3 {
+        return tick_label(v);
+    }
+    let s = format!("{v:.decimals$}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// A horizontal chart with one row per label (top to bottom) over the values `v0..v1`: the
 /// frame, the value axis and the row labels that box plots and bar charts share.
 pub(super) fn rows_chart<'a, DB: DrawingBackend>(
@@ -119,7 +135,7 @@ pub(super) fn rows_chart<'a, DB: DrawingBackend>(
         .x_desc(value_label)
         .axis_desc_style(label_font())
         .label_style(tick_font())
-        .x_label_formatter(&|v| tick_label(*v))
+        .x_label_formatter(&|v| span_tick_label(*v, v1 - v0))
         .y_labels(n * 2 + 1)
         .y_label_formatter(&move |v| {
             let i = v.round();
@@ -264,6 +280,8 @@ pub struct BoxChart {
     pub value_label: String,
     /// Groups (top to bottom) and their values (non-finite values are left out and counted).
     pub groups: Vec<Series<Vec<f64>>>,
+    /// The colour of each group (e.g. one per agent); empty: the series palette in order.
+    pub colors: Vec<RGBColor>,
 }
 
 impl BoxChart {
@@ -316,7 +334,11 @@ impl Figure for BoxChart {
                 continue;
             }
             let y = (n - 1 - gi) as f64;
-            let col = palette::series(gi);
+            let col = self
+                .colors
+                .get(gi)
+                .copied()
+                .unwrap_or_else(|| palette::series(gi));
             let (q1, med, q3) = (
                 quantile_sorted(s, 0.25),
                 quantile_sorted(s, 0.5),
@@ -429,5 +451,24 @@ impl Figure for CdfChart {
             )))?;
         }
         legend::draw(&bottom, &entries)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::span_tick_label;
+
+    #[test]
+    fn ticks_of_a_narrow_range_differ() {
+        let (v0, v1) = (0.1243, 0.1301);
+        let labels: Vec<String> = (0..=10)
+            .map(|k| span_tick_label(v0 + (v1 - v0) * k as f64 / 10.0, v1 - v0))
+            .collect();
+        for w in labels.windows(2) {
+            assert_ne!(w[0], w[1], "{labels:?}");
+        }
+        // a wide range keeps the short labels
+        assert_eq!(span_tick_label(0.25, 2.0), "0.25");
+        assert_eq!(span_tick_label(3.0, 10.0), "3");
     }
 }

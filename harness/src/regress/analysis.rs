@@ -51,6 +51,8 @@ pub enum Verdict {
     Missing,
     /// A wall-clock metric significantly slower beyond its tolerance, reported but not gated.
     Slower,
+    /// A metric the baseline does not have (e.g. a column added after it was recorded).
+    New,
 }
 
 impl Verdict {
@@ -63,6 +65,7 @@ impl Verdict {
             Verdict::NoData => "no data",
             Verdict::Missing => "MISSING",
             Verdict::Slower => "slower (not gated)",
+            Verdict::New => "new (not in baseline)",
         }
     }
 }
@@ -189,13 +192,25 @@ fn decide(rows: &mut [Comparison], alpha: f64, gate_time: bool) {
 
 type Metric = (&'static str, fn(&RunRecord) -> Option<f64>, bool);
 
-/// Continuous metrics checked (name, value, wall-clock?).
-pub const METRICS: [Metric; 9] = [
+/// Continuous metrics checked (name, value, wall-clock?); then each agent's, see
+/// [`agent_metrics`].
+pub const METRICS: [Metric; 12] = [
     ("rms_error_bl", |r| r.rms_error_bl, false),
+    (
+        "rms_error_worst_agent_bl",
+        |r| r.rms_error_worst_agent_bl,
+        false,
+    ),
     ("rms_error_true_bl", |r| r.rms_error_true_bl, false),
+    (
+        "rms_error_true_worst_agent_bl",
+        |r| r.rms_error_true_worst_agent_bl,
+        false,
+    ),
     ("rms_error_sync_bl", |r| r.rms_error_sync_bl, false),
     ("rms_error_time_bl", |r| r.rms_error_time_bl, false),
     ("max_error_bl", |r| r.max_error_bl, false),
+    ("max_error_true_bl", |r| r.max_error_true_bl, false),
     ("cost", |r| r.cost, false),
     (
         "first_solution_iteration",
@@ -205,6 +220,34 @@ pub const METRICS: [Metric; 9] = [
     ("first_solution_time_s", |r| r.first_solution_time_s, true),
     ("plan_time_s", |r| Some(r.plan_time_s), true),
 ];
+
+/// A metric by name: its value in a run (boxed: per-agent metrics are made at run time).
+type NamedMetric = (String, Box<dyn Fn(&RunRecord) -> Option<f64>>, bool);
+
+/// Each agent's RMS path error, observed and true (`rms_error_agent{i}_bl`,
+/// `rms_error_true_agent{i}_bl`), for the agents of the largest team in `runs`.
+pub fn agent_metrics<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> Vec<NamedMetric> {
+    let n = runs
+        .into_iter()
+        .map(|r| r.per_agent.len())
+        .max()
+        .unwrap_or(0);
+    let mut out: Vec<NamedMetric> = vec![];
+    for i in 0..n {
+        let [rms, _, rms_true, _] = crate::run::record::agent_columns(i);
+        out.push((
+            rms,
+            Box::new(move |r: &RunRecord| r.per_agent.get(i).and_then(|a| a.rms_bl)),
+            false,
+        ));
+        out.push((
+            rms_true,
+            Box::new(move |r: &RunRecord| r.per_agent.get(i).and_then(|a| a.rms_true_bl)),
+            false,
+        ));
+    }
+    out
+}
 
 fn config_label(r: &RunRecord) -> String {
     let mut s = format!("{} / {}", r.scenario, r.planner);
@@ -263,7 +306,12 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             tests: Some((p_worse, p_better, rb - rc > tol.success, rc > rb)),
             wall: false,
         });
-        for (name, f, wall) in METRICS {
+        let metrics: Vec<NamedMetric> = METRICS
+            .iter()
+            .map(|&(name, f, wall)| -> NamedMetric { (name.to_string(), Box::new(f), wall) })
+            .chain(agent_metrics(b.iter().chain(c.iter()).copied()))
+            .collect();
+        for (name, f, wall) in metrics {
             if wall && !tol.wall_clock {
                 continue;
             }
@@ -280,10 +328,27 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             if xb.is_empty() && xc.is_empty() {
                 continue;
             }
+            if xb.is_empty() {
+                rows.push(Comparison {
+                    config: config.clone(),
+                    metric: name,
+                    baseline: Value::Samples(0),
+                    current: match median(&xc) {
+                        Some(value) => Value::Median { value, n: xc.len() },
+                        None => Value::Samples(xc.len()),
+                    },
+                    change: Change::None,
+                    p: None,
+                    verdict: Verdict::New,
+                    tests: None,
+                    wall,
+                });
+                continue;
+            }
             let (Some(mb), Some(mc)) = (median(&xb), median(&xc)) else {
                 rows.push(Comparison {
                     config: config.clone(),
-                    metric: name.into(),
+                    metric: name.clone(),
                     baseline: Value::Samples(xb.len()),
                     current: Value::Samples(xc.len()),
                     change: Change::None,
@@ -309,6 +374,7 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
                 0.0
             };
             let seed = crate::run::fake::seed_of(&format!("{config}|{name}"));
+            let metric = name;
             let ci = median_diff_ci(&xb, &xc, 0.95, 2000, seed);
             let change = match ci {
                 Some(ci) if mb.abs() > 1e-12 => Change::Relative {
@@ -326,7 +392,7 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             let enough = xb.len() >= 3 && xc.len() >= 3;
             rows.push(Comparison {
                 config: config.clone(),
-                metric: name.into(),
+                metric,
                 baseline: Value::Median {
                     value: mb,
                     n: xb.len(),

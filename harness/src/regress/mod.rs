@@ -21,7 +21,7 @@ pub mod analysis;
 pub mod report;
 
 pub use analysis::{Change, Comparison, METRICS, Tolerances, Value, Verdict, compare, holm};
-pub use report::{footer, table};
+pub use report::{footer, new_metrics, table};
 
 #[cfg(test)]
 mod tests {
@@ -158,5 +158,83 @@ mod tests {
             Verdict::Missing
         );
         assert!(table(&compare(&runs(&e, 29), &other, &tol)).contains("MISSING"));
+    }
+
+    /// Three-agent runs whose agent 2 has RMS error `e2` (agents 0 and 1: 0.1), true errors
+    /// 80% of those.
+    fn trio(e2: &[f64]) -> Vec<RunRecord> {
+        let mut rs = runs(&vec![0.1; e2.len()], e2.len());
+        for (r, &e) in rs.iter_mut().zip(e2) {
+            r.agents = 3;
+            r.per_agent = [0.1, 0.1, e]
+                .iter()
+                .map(|&x| crate::run::record::AgentErrors {
+                    rms_bl: Some(x),
+                    max_bl: Some(3.0 * x),
+                    rms_true_bl: Some(0.8 * x),
+                    max_true_bl: Some(2.4 * x),
+                })
+                .collect();
+            r.rms_error_worst_agent_bl = Some(e.max(0.1));
+        }
+        rs
+    }
+
+    #[test]
+    fn per_agent_errors_are_compared_and_a_drifting_agent_is_flagged() {
+        let base: Vec<f64> = (0..20).map(|i| 0.2 + 0.003 * i as f64).collect();
+        let worse: Vec<f64> = base.iter().map(|v| 2.0 * v).collect();
+        let rows = compare(&trio(&base), &trio(&worse), &Tolerances::default());
+        assert_eq!(verdict(&rows, "rms_error_agent2_bl"), Verdict::Regression);
+        assert_eq!(
+            verdict(&rows, "rms_error_true_agent2_bl"),
+            Verdict::Regression
+        );
+        assert_eq!(
+            verdict(&rows, "rms_error_worst_agent_bl"),
+            Verdict::Regression
+        );
+        assert_eq!(verdict(&rows, "rms_error_agent0_bl"), Verdict::Ok);
+        // the team's RMS did not move: only the per-agent view sees the drift
+        assert_eq!(verdict(&rows, "rms_error_bl"), Verdict::Ok);
+        assert!(new_metrics(&rows).is_empty());
+    }
+
+    #[test]
+    fn a_baseline_without_per_agent_columns_compares_cleanly() {
+        let e: Vec<f64> = (0..20).map(|i| 0.2 + 0.003 * i as f64).collect();
+        // an old baseline: no per-agent, worst-true or true-max values
+        let mut old = trio(&e);
+        for r in &mut old {
+            r.per_agent.clear();
+            r.rms_error_true_worst_agent_bl = None;
+        }
+        let mut cur = trio(&e);
+        for r in &mut cur {
+            r.rms_error_true_worst_agent_bl = Some(0.16);
+        }
+        let rows = compare(&old, &cur, &Tolerances::default());
+        assert_eq!(report::regressions(&rows), 0);
+        assert_eq!(verdict(&rows, "rms_error_agent1_bl"), Verdict::New);
+        assert_eq!(verdict(&rows, "rms_error_bl"), Verdict::Ok);
+        assert_eq!(
+            new_metrics(&rows),
+            [
+                "rms_error_true_worst_agent_bl",
+                "rms_error_agent0_bl",
+                "rms_error_true_agent0_bl",
+                "rms_error_agent1_bl",
+                "rms_error_true_agent1_bl",
+                "rms_error_agent2_bl",
+                "rms_error_true_agent2_bl",
+            ]
+        );
+        let text = footer(&rows, &Tolerances::default());
+        assert!(
+            text.starts_with("new since the baseline (not compared): rms_error_true_worst_agent_bl, rms_error_agent0_bl,"),
+            "{text}"
+        );
+        assert!(text.contains("no regression"), "{text}");
+        assert!(table(&rows).contains("new (not in baseline)"));
     }
 }

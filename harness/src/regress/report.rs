@@ -101,12 +101,33 @@ pub fn regressions(rows: &[Comparison]) -> usize {
         .count()
 }
 
-/// The closing line: what was compared, under which tolerances, and the verdict.
+/// The metrics of `rows` that the baseline does not have, each once, in table order.
+pub fn new_metrics(rows: &[Comparison]) -> Vec<&str> {
+    let mut out: Vec<&str> = vec![];
+    for r in rows.iter().filter(|r| r.verdict == Verdict::New) {
+        if !out.contains(&r.metric.as_str()) {
+            out.push(&r.metric);
+        }
+    }
+    out
+}
+
+/// The closing line: what was compared, under which tolerances, and the verdict; before it,
+/// the metrics new since the baseline (reported, not compared).
 pub fn footer(rows: &[Comparison], tol: &Tolerances) -> String {
     let bad = regressions(rows);
-    format!(
+    let new = new_metrics(rows);
+    let new = if new.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "new since the baseline (not compared): {}\n",
+            new.join(", ")
+        )
+    };
+    new + &format!(
         "{} metrics compared (one-sided tests at α = {}, Holm-adjusted; tolerances: success −{:.0} points, error/cost +{:.0}%, time +{:.0}%): {}\n",
-        rows.len(),
+        rows.iter().filter(|r| r.verdict != Verdict::New).count(),
         tol.alpha,
         100.0 * tol.success,
         100.0 * tol.relative,

@@ -5,7 +5,9 @@
 //! - `cost-vs-iterations`: the median best cost with the interquartile band (unsolved runs
 //!   count as +∞, so the median shows once half the runs are solved);
 //! - `time-to-first-solution`, `final-cost`: box plots over solved runs;
-//! - with trackers: `rms-error` and `max-error` box plots and `rms-error-cdf`.
+//! - with trackers: `rms-error` and `max-error` box plots and `rms-error-cdf`; the worst
+//!   agent's RMS error (`rms-error-worst-agent`, observed and true) and, for a team of three
+//!   or more, each agent's (`rms-error-per-agent`, one colour per agent).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -147,6 +149,48 @@ impl Writer<'_> {
         });
         Ok(())
     }
+}
+
+/// Teams this large or larger get a per-agent box plot (a pair's two agents are in the worst
+/// agent's and the team's plots already).
+const PER_AGENT_PLOT_AGENTS: usize = 3;
+
+/// One box per configuration and agent of the agents' observed RMS errors, in the agents'
+/// colours, when a configuration tracks a team of [`PER_AGENT_PLOT_AGENTS`] or more.
+fn per_agent_box(
+    sc: &str,
+    tracked: &[&Vec<&RunRecord>],
+    label: &dyn Fn(&[&RunRecord]) -> String,
+) -> Option<BoxChart> {
+    let agents = |g: &[&RunRecord]| g.iter().map(|r| r.per_agent.len()).max().unwrap_or(0);
+    if !tracked.iter().any(|g| agents(g) >= PER_AGENT_PLOT_AGENTS) {
+        return None;
+    }
+    let mut groups = vec![];
+    let mut colors = vec![];
+    for g in tracked {
+        for i in 0..agents(g) {
+            groups.push(Series {
+                label: format!("{} · agent {}", label(g), i + 1),
+                data: g
+                    .iter()
+                    .map(|r| {
+                        r.per_agent
+                            .get(i)
+                            .and_then(|a| a.rms_bl)
+                            .unwrap_or(f64::NAN)
+                    })
+                    .collect(),
+            });
+            colors.push(crate::plot::palette::agent(i));
+        }
+    }
+    Some(BoxChart {
+        title: format!("{sc}: RMS tracking error of each agent (observed positions)"),
+        value_label: "RMS distance of the agent to its planned path (BL)".into(),
+        groups,
+        colors,
+    })
 }
 
 /// Writes every plot of the folder into `dir/plots/` and returns them in report order.
@@ -300,6 +344,7 @@ pub fn write_all(
                         data: g.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect(),
                     })
                     .collect(),
+                colors: vec![],
             };
             w.save(sc, name, &fig, &title)
         };
@@ -353,12 +398,35 @@ pub fn write_all(
                 &tracked,
             )?;
             save_box(
+                "rms-error-worst-agent",
+                "RMS tracking error of the worst agent (observed positions)",
+                "RMS distance of the worst agent to its planned path (BL)",
+                &|r| r.rms_error_worst_agent_bl,
+                &tracked,
+            )?;
+            if tracked
+                .iter()
+                .any(|g| g.iter().any(|r| r.rms_error_true_worst_agent_bl.is_some()))
+            {
+                save_box(
+                    "rms-error-true-worst-agent",
+                    "RMS tracking error of the worst agent (true positions)",
+                    "RMS distance of the worst agent to its planned path (BL)",
+                    &|r| r.rms_error_true_worst_agent_bl,
+                    &tracked,
+                )?;
+            }
+            save_box(
                 "max-error",
                 "max tracking error",
                 "max distance to the planned path (BL)",
                 &|r| r.max_error_bl,
                 &tracked,
             )?;
+            if let Some(fig) = per_agent_box(sc, &tracked, &label) {
+                let title = fig.title.clone();
+                w.save(sc, "rms-error-per-agent", &fig, &title)?;
+            }
             let title = format!("{sc}: distribution of RMS tracking error");
             let fig = CdfChart {
                 title: title.clone(),

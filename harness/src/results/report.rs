@@ -34,7 +34,7 @@ fn table(o: &mut String, rows: &[&GroupSummary]) {
     o.push_str("<table><thead><tr><th>configuration</th><th>runs</th><th>success (95% CI)</th><th>crashed</th>");
     o.push_str("<th>time to 1st solution (s)</th><th>iterations to 1st solution</th><th>final cost</th><th>planning time (s)</th>");
     if tracked {
-        o.push_str("<th>RMS error, observed (BL)</th><th>RMS error, true (BL)</th><th>team-synchronous RMS (BL)</th><th>time-indexed RMS (BL)</th><th>max error (BL)</th><th>agent contacts</th>");
+        o.push_str("<th>RMS error, observed (BL)</th><th>RMS error, true (BL)</th><th>worst agent's RMS, observed (BL)</th><th>team-synchronous RMS (BL)</th><th>time-indexed RMS (BL)</th><th>max error (BL)</th><th>agent contacts</th>");
     }
     o.push_str("</tr></thead><tbody>\n");
     for g in rows {
@@ -58,9 +58,10 @@ fn table(o: &mut String, rows: &[&GroupSummary]) {
         if tracked {
             let _ = write!(
                 o,
-                "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+                "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
                 med(&g.rms_error, 3),
                 med(&g.rms_error_true, 3),
+                med(&g.rms_error_worst_agent, 3),
                 med(&g.rms_error_sync, 3),
                 med(&g.rms_error_time, 3),
                 med(&g.max_error, 3),
@@ -69,7 +70,51 @@ fn table(o: &mut String, rows: &[&GroupSummary]) {
         }
         o.push_str("</tr>\n");
     }
-    o.push_str("</tbody></table>\n<p class=\"note\">Medians with [first quartile, third quartile]; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking). Tracking errors: the observed positions' distance to each agent's own path (RMS and max), the true positions' (simulation only), the team against the nearest common point of the team path (synchronous) and against the reference at the same elapsed time (time-indexed); README, \"Tracking metrics\".</p>\n");
+    o.push_str("</tbody></table>\n<p class=\"note\">Medians with [first quartile, third quartile]; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking). Tracking errors: the observed positions' distance to each agent's own path (RMS and max), the true positions' (simulation only), the worst agent's (the agent with the largest RMS), the team against the nearest common point of the team path (synchronous) and against the reference at the same elapsed time (time-indexed); README, \"Tracking metrics\".</p>\n");
+}
+
+/// Teams this large get the per-agent table (a pair's worst agent is in the main table).
+const PER_AGENT_TABLE_AGENTS: usize = 3;
+
+/// Each agent's errors, one row per configuration and agent, for configurations tracking a
+/// team of [`PER_AGENT_TABLE_AGENTS`] or more; nothing otherwise.
+fn agent_table(o: &mut String, rows: &[&GroupSummary]) {
+    let teams: Vec<&&GroupSummary> = rows
+        .iter()
+        .filter(|g| g.per_agent.len() >= PER_AGENT_TABLE_AGENTS)
+        .collect();
+    if teams.is_empty() {
+        return;
+    }
+    o.push_str("<h3>Per agent</h3>\n<table class=\"agents\"><thead><tr><th>configuration</th><th>agent</th><th>RMS error, observed (BL)</th><th>max error, observed (BL)</th><th>RMS error, true (BL)</th><th>worst agent in</th></tr></thead><tbody>\n");
+    for g in teams {
+        for (i, a) in g.per_agent.iter().enumerate() {
+            let c = crate::plot::palette::agent(i);
+            let _ = writeln!(
+                o,
+                "<tr><td>{}</td><td><span style=\"color:#{:02x}{:02x}{:02x}\">&#9679;</span> agent {}</td><td>{}</td><td>{}</td><td>{}</td><td>{} of {} runs</td></tr>",
+                esc(&g.config_label()),
+                c.0,
+                c.1,
+                c.2,
+                i + 1,
+                med(&a.rms_error, 3),
+                med(&a.max_error, 3),
+                med(&a.rms_error_true, 3),
+                a.worst,
+                g.n,
+            );
+        }
+        let _ = writeln!(
+            o,
+            "<tr><td>{}</td><td>worst agent</td><td>{}</td><td>{}</td><td>{}</td><td></td></tr>",
+            esc(&g.config_label()),
+            med(&g.rms_error_worst_agent, 3),
+            med(&g.max_error, 3),
+            med(&g.rms_error_true_worst_agent, 3),
+        );
+    }
+    o.push_str("</tbody></table>\n<p class=\"note\">Agents numbered from 1 as in the plots (column <code>rms_error_agent0_bl</code> of runs.csv is agent 1). Medians with [first quartile, third quartile] over the tracked runs. The worst agent of a run is the one with the largest observed RMS error; its row is the median of that per-run worst, its max the largest error of any agent. README, \"Tracking metrics\".</p>\n");
 }
 
 fn inline_svg(stem: &Path) -> Result<String, CliError> {
@@ -173,6 +218,7 @@ pub fn write(
         let _ = writeln!(o, "<h2>{}</h2>", esc(sc));
         let rows: Vec<&GroupSummary> = sums.iter().filter(|g| g.scenario == sc).collect();
         table(&mut o, &rows);
+        agent_table(&mut o, &rows);
         for p in plots.iter().filter(|p| p.scenario == sc) {
             let rel = p
                 .stem

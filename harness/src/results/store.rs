@@ -4,6 +4,12 @@
 //! one write followed by a flush. A `runs.csv` row is the commit mark of a run. [`repair`]
 //! (called before resuming) drops a trailing partial line and progress rows of runs that have
 //! no `runs.csv` row, so an interrupted sweep loses only the runs that were in flight.
+//!
+//! Per-agent columns: after the fixed columns of [`RunRecord`], `runs.csv` has the columns of
+//! [`agent_columns`] for agents `0..n`, `n` the largest team the experiment tracks (0 for
+//! planning only). A run of a smaller team leaves the columns of the agents it lacks empty, so
+//! one file has one header whatever its teams. The header names `n`: resuming and rewriting
+//! keep it.
 
 use std::collections::BTreeSet;
 use std::fs::{File, OpenOptions};
@@ -11,6 +17,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::CliError;
+use crate::run::record::{AgentErrors, agent_columns};
 use crate::run::{ProgressRow, RunOutput, RunRecord};
 
 /// `runs.csv`.
@@ -29,8 +36,68 @@ fn header_line<T: serde::Serialize>(example: &T) -> String {
     text.lines().next().unwrap_or_default().to_string()
 }
 
-fn runs_header() -> String {
-    header_line(&RunRecord::example())
+/// The header of a `runs.csv` with per-agent columns for `agents` agents.
+pub fn runs_header(agents: usize) -> String {
+    let mut h = header_line(&RunRecord::example());
+    for i in 0..agents {
+        for c in agent_columns(i) {
+            h.push(',');
+            h.push_str(&c);
+        }
+    }
+    h
+}
+
+/// The number of agents whose columns `header` (a `runs.csv` header line) has, if it is a
+/// header of this version.
+fn header_agents(header: &str) -> Option<usize> {
+    let n = header
+        .split(',')
+        .filter(|c| c.starts_with("rms_error_agent"))
+        .count();
+    (runs_header(n) == header).then_some(n)
+}
+
+/// Agents whose columns a torn header is checked against: more than any scenario has.
+const TORN_HEADER_AGENTS: usize = 64;
+
+/// The per-agent columns a set of runs needs: the largest tracked team.
+pub fn tracked_agents<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> usize {
+    runs.into_iter()
+        .filter(|r| !r.tracker.is_empty())
+        .map(|r| r.agents)
+        .max()
+        .unwrap_or(0)
+}
+
+/// The per-agent columns of the existing `runs.csv` of `dir` (0 without one).
+fn file_agents(dir: &Path) -> usize {
+    std::fs::read_to_string(dir.join(RUNS))
+        .ok()
+        .and_then(|t| t.lines().next().and_then(header_agents))
+        .unwrap_or(0)
+}
+
+/// `runs.csv` rows: the serde columns, then `agents` agents' per-agent columns.
+fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
+    let mut out = vec![];
+    for r in rows {
+        let mut line = record_bytes(std::slice::from_ref(r));
+        // the csv writer ends a record with one '\n'; the extra cells are plain numbers
+        debug_assert_eq!(line.last(), Some(&b'\n'));
+        line.pop();
+        for i in 0..agents {
+            for v in r.per_agent.get(i).copied().unwrap_or_default().values() {
+                line.push(b',');
+                if let Some(v) = v {
+                    line.extend(format!("{v}").bytes());
+                }
+            }
+        }
+        line.push(b'\n');
+        out.extend(line);
+    }
+    out
 }
 
 fn progress_header() -> String {
@@ -58,19 +125,22 @@ pub struct RunWriter {
     runs: File,
     progress: File,
     dir: PathBuf,
+    agents: usize,
 }
 
 impl RunWriter {
-    /// Opens (creating with headers if needed) the run files of `dir` for appending. Call
+    /// Opens (creating with headers if needed) the run files of `dir` for appending, with
+    /// per-agent columns for `agents` agents (the largest team the experiment tracks). Call
     /// [`repair`] first on a folder that may hold an interrupted sweep.
-    pub fn open(dir: &Path) -> Result<RunWriter, CliError> {
+    pub fn open(dir: &Path, agents: usize) -> Result<RunWriter, CliError> {
         std::fs::create_dir_all(dir).map_err(|e| failed(dir, e))?;
-        let runs = open_with_header(&dir.join(RUNS), &runs_header())?;
+        let runs = open_with_header(&dir.join(RUNS), &runs_header(agents))?;
         let progress = open_with_header(&dir.join(PROGRESS), &progress_header())?;
         Ok(RunWriter {
             runs,
             progress,
             dir: dir.to_path_buf(),
+            agents,
         })
     }
 
@@ -85,7 +155,7 @@ impl RunWriter {
                 .map_err(|e| failed(&self.dir.join(PROGRESS), e))?;
         }
         self.runs
-            .write_all(&record_bytes(std::slice::from_ref(&out.record)))
+            .write_all(&run_bytes(std::slice::from_ref(&out.record), self.agents))
             .map_err(|e| failed(&self.dir.join(RUNS), e))?;
         self.runs
             .flush()
@@ -115,9 +185,63 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, CliError> {
     Ok(f)
 }
 
-/// Reads the complete rows of `runs.csv` (a trailing partial line is ignored).
+/// Reads the complete rows of `runs.csv` (a trailing partial line is ignored), with their
+/// per-agent columns (a file without them, e.g. of an older version, gives none).
 pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, CliError> {
-    read_rows(&dir.join(RUNS))
+    let path = dir.join(RUNS);
+    if !path.exists() {
+        return Ok(vec![]);
+    }
+    let text = std::fs::read_to_string(&path).map_err(|e| failed(&path, e))?;
+    let mut rd = csv::Reader::from_reader(complete_part(&text).as_bytes());
+    let bad = |row: usize, e: String| {
+        CliError::Input(magbench_env::InputError::new(
+            path.display().to_string(),
+            format!("row {row}"),
+            e,
+        ))
+    };
+    let headers = rd.headers().map_err(|e| bad(0, e.to_string()))?.clone();
+    let col = |name: &str| headers.iter().position(|h| h == name);
+    // the column of each per-agent value, for every agent the header has
+    let agents: Vec<[Option<usize>; 4]> = (0..)
+        .map(|a| agent_columns(a).map(|c| col(&c)))
+        .take_while(|c| c[0].is_some())
+        .collect();
+    let mut out = vec![];
+    for (i, row) in rd.records().enumerate() {
+        let row = row.map_err(|e| bad(i + 1, e.to_string()))?;
+        let mut r: RunRecord = row
+            .deserialize(Some(&headers))
+            .map_err(|e| bad(i + 1, e.to_string()))?;
+        let cell = |c: Option<usize>| -> Result<Option<f64>, CliError> {
+            let Some(c) = c else { return Ok(None) };
+            match row.get(c).filter(|v| !v.is_empty()) {
+                None => Ok(None),
+                Some(v) => v
+                    .parse()
+                    .map(Some)
+                    .map_err(|e| bad(i + 1, format!("{}: {v:?}: {e}", &headers[c]))),
+            }
+        };
+        for cols in &agents {
+            let mut v = [None; 4];
+            for (v, &c) in v.iter_mut().zip(cols) {
+                *v = cell(c)?;
+            }
+            r.per_agent.push(AgentErrors::from_values(v));
+        }
+        // a run of a smaller team: no trailing empty agents
+        while r
+            .per_agent
+            .last()
+            .is_some_and(|a| a.values().iter().all(Option::is_none))
+        {
+            r.per_agent.pop();
+        }
+        out.push(r);
+    }
+    Ok(out)
 }
 
 /// Reads the complete rows of `progress.csv`.
@@ -160,8 +284,10 @@ pub fn repair(dir: &Path) -> Result<BTreeSet<String>, CliError> {
         return Ok(BTreeSet::new());
     }
     let text = std::fs::read_to_string(&runs_path).map_err(|e| failed(&runs_path, e))?;
-    if !text.is_empty() && !text.starts_with(&runs_header()) {
-        if runs_header().starts_with(text.trim_end_matches('\n')) {
+    let agents = file_agents(dir);
+    if !text.is_empty() && !text.starts_with(&format!("{}\n", runs_header(agents))) {
+        // (a torn line is a prefix of the header of the largest team as well)
+        if !text.contains('\n') && runs_header(TORN_HEADER_AGENTS).starts_with(&text) {
             // Killed while writing the header: no run finished.
             std::fs::remove_file(&runs_path).map_err(|e| failed(&runs_path, e))?;
             let _ = std::fs::remove_file(dir.join(PROGRESS));
@@ -191,7 +317,7 @@ pub fn repair(dir: &Path) -> Result<BTreeSet<String>, CliError> {
     let progress_dirty = kept_progress.len() != n_progress
         || complete_part(&progress_text).len() != progress_text.len();
     if runs_dirty {
-        write_atomic(&runs_path, &runs_header(), &kept)?;
+        write_runs_atomic(&runs_path, agents, &kept)?;
     }
     if progress_dirty {
         write_atomic(&dir.join(PROGRESS), &progress_header(), &kept_progress)?;
@@ -205,9 +331,19 @@ pub fn write_atomic<T: serde::Serialize>(
     header: &str,
     rows: &[T],
 ) -> Result<(), CliError> {
+    replace_atomic(path, header, record_bytes(rows))
+}
+
+/// Replaces the `runs.csv` at `path` with `rows` and per-agent columns for `agents` agents,
+/// atomically.
+fn write_runs_atomic(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), CliError> {
+    replace_atomic(path, &runs_header(agents), run_bytes(rows, agents))
+}
+
+fn replace_atomic(path: &Path, header: &str, rows: Vec<u8>) -> Result<(), CliError> {
     let tmp = path.with_extension("csv.tmp");
     let mut bytes = format!("{header}\n").into_bytes();
-    bytes.extend(record_bytes(rows));
+    bytes.extend(rows);
     {
         let mut f = File::create(&tmp).map_err(|e| failed(&tmp, e))?;
         f.write_all(&bytes).map_err(|e| failed(&tmp, e))?;
@@ -229,7 +365,8 @@ pub fn write_sorted(
             .cmp(&(b.run, b.iteration))
             .then(a.time_s.total_cmp(&b.time_s))
     });
-    write_atomic(&dir.join(RUNS), &runs_header(), &runs)?;
+    let agents = file_agents(dir).max(tracked_agents(&runs));
+    write_runs_atomic(&dir.join(RUNS), agents, &runs)?;
     write_atomic(&dir.join(PROGRESS), &progress_header(), &progress)
 }
 
@@ -261,7 +398,7 @@ mod tests {
     #[test]
     fn repair_drops_partial_lines_and_orphan_progress() {
         let dir = tempfile::tempdir().unwrap();
-        let mut w = RunWriter::open(dir.path()).unwrap();
+        let mut w = RunWriter::open(dir.path(), 0).unwrap();
         w.write(&out(0)).unwrap();
         w.write(&out(1)).unwrap();
         drop(w);
@@ -283,7 +420,7 @@ mod tests {
         assert_eq!(read_runs(dir.path()).unwrap().len(), 2);
         assert_eq!(read_progress(dir.path()).unwrap().len(), 6);
         // Appending after a repair gives well-formed files.
-        let mut w = RunWriter::open(dir.path()).unwrap();
+        let mut w = RunWriter::open(dir.path(), 0).unwrap();
         w.write(&out(2)).unwrap();
         assert_eq!(read_runs(dir.path()).unwrap().len(), 3);
         assert_eq!(repair(dir.path()).unwrap().len(), 3);
@@ -292,9 +429,78 @@ mod tests {
     #[test]
     fn a_torn_header_means_no_finished_run() {
         let dir = tempfile::tempdir().unwrap();
-        std::fs::write(dir.path().join(RUNS), &runs_header()[..10]).unwrap();
+        std::fs::write(dir.path().join(RUNS), &runs_header(0)[..10]).unwrap();
         assert!(repair(dir.path()).unwrap().is_empty());
-        RunWriter::open(dir.path()).unwrap().write(&out(0)).unwrap();
+        RunWriter::open(dir.path(), 0)
+            .unwrap()
+            .write(&out(0))
+            .unwrap();
         assert_eq!(read_runs(dir.path()).unwrap().len(), 1);
+    }
+
+    fn tracked(i: usize, agents: usize) -> RunOutput {
+        let mut o = out(i);
+        o.record.tracker = "obc".into();
+        o.record.agents = agents;
+        o.record.per_agent = (0..agents)
+            .map(|a| AgentErrors {
+                rms_bl: Some(0.1 * (a + 1) as f64),
+                max_bl: Some(0.5 + a as f64),
+                rms_true_bl: (a != 1).then_some(0.05),
+                max_true_bl: Some(0.25),
+            })
+            .collect();
+        o
+    }
+
+    #[test]
+    fn per_agent_columns_span_the_largest_team_and_round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut w = RunWriter::open(dir.path(), 4).unwrap();
+        for (i, n) in [(0, 2), (1, 4), (2, 3)] {
+            w.write(&tracked(i, n)).unwrap();
+        }
+        w.write(&out(3)).unwrap();
+        drop(w);
+        let text = std::fs::read_to_string(dir.path().join(RUNS)).unwrap();
+        let header = text.lines().next().unwrap();
+        assert!(header.ends_with(",error,rms_error_agent0_bl,max_error_agent0_bl,rms_error_true_agent0_bl,max_error_true_agent0_bl,rms_error_agent1_bl,max_error_agent1_bl,rms_error_true_agent1_bl,max_error_true_agent1_bl,rms_error_agent2_bl,max_error_agent2_bl,rms_error_true_agent2_bl,max_error_true_agent2_bl,rms_error_agent3_bl,max_error_agent3_bl,rms_error_true_agent3_bl,max_error_true_agent3_bl"), "{header}");
+        // one header, every row as wide: absent agents are empty cells
+        let mut rd = csv::Reader::from_reader(text.as_bytes());
+        let width = rd.headers().unwrap().len();
+        let rows: Vec<csv::StringRecord> = rd.records().map(|r| r.unwrap()).collect();
+        assert!(rows.iter().all(|r| r.len() == width));
+        assert!((width - 8..width).all(|c| rows[0][c].is_empty()));
+        assert!(!rows[0][width - 9].is_empty());
+        let back = read_runs(dir.path()).unwrap();
+        for (i, n) in [(0, 2), (1, 4), (2, 3)] {
+            assert_eq!(back[i], tracked(i, n).record);
+        }
+        assert!(back[3].per_agent.is_empty());
+        // resuming keeps the header; rewriting in run order keeps the columns
+        assert_eq!(repair(dir.path()).unwrap().len(), 4);
+        RunWriter::open(dir.path(), 4).unwrap();
+        write_sorted(dir.path(), back.clone(), vec![]).unwrap();
+        assert_eq!(read_runs(dir.path()).unwrap(), back);
+        let again = std::fs::read_to_string(dir.path().join(RUNS)).unwrap();
+        assert_eq!(again.lines().next().unwrap(), header);
+        // another team size on resume is another version of the file
+        assert!(RunWriter::open(dir.path(), 3).is_err());
+    }
+
+    #[test]
+    fn a_file_without_per_agent_columns_still_reads() {
+        // the header of a version before the per-agent and worst-agent columns
+        let dir = tempfile::tempdir().unwrap();
+        let old = "run,run_id,experiment,scenario,agents,planner,planner_name,planner_params,tracker,preset,seed,max_iterations,time_limit_s,status,solved,approximate,iterations,nodes,plan_time_s,cost,goal_distance,first_solution_iteration,first_solution_time_s,plan_edges,plan_duration_s,track_status,reached_goal,time_to_goal_s,rms_error_bl,max_error_bl,rms_error_worst_agent_bl,rms_error_true_bl,rms_error_sync_bl,rms_error_time_bl,legs_completed,final_distance_bl,agent_contact,wall_contacts,missed_frames,replans,track_duration_s,track_time_s,error\n0,a|b|obc|realistic|0,ci,open-field,2,goal-zoom-rrt,goal-zoom-rrt,,obc,realistic,0,3000,,exact,true,false,10,11,0.1,5.0,0.1,3,0.01,4,5.0,reached-goal,true,6.0,0.07,0.2,0.08,0.06,0.09,0.3,1,0.1,false,0,2,0,6.0,0.5,\n";
+        std::fs::write(dir.path().join(RUNS), old).unwrap();
+        let r = read_runs(dir.path()).unwrap();
+        assert_eq!(r.len(), 1);
+        assert_eq!(r[0].rms_error_worst_agent_bl, Some(0.08));
+        assert_eq!(
+            (r[0].worst_agent, r[0].rms_error_true_worst_agent_bl),
+            (None, None)
+        );
+        assert!(r[0].per_agent.is_empty());
     }
 }

@@ -42,8 +42,27 @@ pub struct GroupSummary {
     pub rms_error_time: Option<Summary>,
     /// Max tracking error (BL), tracked runs.
     pub max_error: Option<Summary>,
+    /// RMS path error of the worst agent, observed positions (BL), tracked runs.
+    pub rms_error_worst_agent: Option<Summary>,
+    /// RMS path error of the worst agent, true positions (BL), tracked runs that know them.
+    pub rms_error_true_worst_agent: Option<Summary>,
+    /// Each agent's errors, for the largest team of the configuration's tracked runs.
+    pub per_agent: Vec<AgentSummary>,
     /// Runs with agent contact.
     pub agent_contacts: usize,
+}
+
+/// One agent's errors over a configuration's tracked runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AgentSummary {
+    /// RMS path error of its observed positions (BL).
+    pub rms_error: Option<Summary>,
+    /// Largest path error of its observed positions (BL).
+    pub max_error: Option<Summary>,
+    /// RMS path error of its true positions (BL).
+    pub rms_error_true: Option<Summary>,
+    /// Runs in which it was the worst agent.
+    pub worst: usize,
 }
 
 impl GroupSummary {
@@ -126,8 +145,31 @@ pub fn summarize(g: &[&RunRecord]) -> GroupSummary {
         rms_error_sync: summary_of(g.iter().filter_map(|r| r.rms_error_sync_bl)),
         rms_error_time: summary_of(g.iter().filter_map(|r| r.rms_error_time_bl)),
         max_error: summary_of(g.iter().filter_map(|r| r.max_error_bl)),
+        rms_error_worst_agent: summary_of(g.iter().filter_map(|r| r.rms_error_worst_agent_bl)),
+        rms_error_true_worst_agent: summary_of(
+            g.iter().filter_map(|r| r.rms_error_true_worst_agent_bl),
+        ),
+        per_agent: agent_summaries(g),
         agent_contacts: g.iter().filter(|r| r.agent_contact == Some(true)).count(),
     }
+}
+
+/// Each agent's summary over `g` (as many as the largest team with per-agent errors).
+fn agent_summaries(g: &[&RunRecord]) -> Vec<AgentSummary> {
+    let n = g.iter().map(|r| r.per_agent.len()).max().unwrap_or(0);
+    (0..n)
+        .map(|i| {
+            let of = |f: fn(&crate::run::record::AgentErrors) -> Option<f64>| {
+                summary_of(g.iter().filter_map(|r| r.per_agent.get(i).and_then(f)))
+            };
+            AgentSummary {
+                rms_error: of(|a| a.rms_bl),
+                max_error: of(|a| a.max_bl),
+                rms_error_true: of(|a| a.rms_true_bl),
+                worst: g.iter().filter(|r| r.worst_agent == Some(i as u64)).count(),
+            }
+        })
+        .collect()
 }
 
 /// Summaries of every configuration.

@@ -20,6 +20,7 @@ use rand_chacha::ChaCha8Rng;
 use sha2::{Digest, Sha256};
 
 use super::executor::base_record;
+use super::record::AgentErrors;
 use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
 
 /// Runs of this process the fake executor has finished.
@@ -176,6 +177,32 @@ impl Executor for FakeExecutor {
             r.rms_error_sync_bl = Some(rms * 1.2);
             r.rms_error_time_bl = Some(rms * 2.0);
             r.max_error_bl = Some(rms * (2.0 + trng.random::<f64>()));
+            // each agent's share, drawn from nothing (the random stream above stays as it was)
+            let agents = spec.scenario.agents();
+            r.per_agent = (0..agents)
+                .map(|i| {
+                    let e = rms * (0.8 + 0.4 * i as f64 / agents.max(2) as f64);
+                    AgentErrors {
+                        rms_bl: Some(e),
+                        max_bl: Some(2.0 * e),
+                        rms_true_bl: Some(0.8 * e),
+                        max_true_bl: Some(1.6 * e),
+                    }
+                })
+                .collect();
+            r.rms_error_worst_agent_bl =
+                r.per_agent.iter().filter_map(|a| a.rms_bl).reduce(f64::max);
+            r.worst_agent = Some(agents.saturating_sub(1) as u64);
+            r.rms_error_true_worst_agent_bl = r
+                .per_agent
+                .iter()
+                .filter_map(|a| a.rms_true_bl)
+                .reduce(f64::max);
+            r.max_error_true_bl = r
+                .per_agent
+                .iter()
+                .filter_map(|a| a.max_true_bl)
+                .reduce(f64::max);
             let reached = solved && rms < 0.3 && trng.random::<f64>() < 0.97;
             r.reached_goal = Some(reached);
             r.track_status = if reached { "reached-goal" } else { "timeout" }.into();

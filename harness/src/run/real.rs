@@ -262,7 +262,11 @@ impl Executor for RealExecutor {
         rec.rms_error_bl = Some(m.rms_error_bl);
         rec.max_error_bl = Some(m.max_error_bl);
         rec.rms_error_worst_agent_bl = Some(m.rms_error_worst_agent_bl);
+        rec.worst_agent = m.worst_agent.map(|i| i as u64);
         rec.rms_error_true_bl = m.rms_error_true_bl;
+        rec.max_error_true_bl = m.max_error_true_bl;
+        rec.rms_error_true_worst_agent_bl = m.rms_error_true_worst_agent_bl;
+        rec.per_agent = out.per_agent.iter().map(Into::into).collect();
         rec.rms_error_sync_bl = Some(m.rms_error_sync_bl);
         rec.rms_error_time_bl = Some(m.rms_error_time_bl);
         rec.legs_completed = Some(m.legs_completed as u64);

@@ -112,8 +112,15 @@ pub struct RunRecord {
     pub max_error_bl: Option<f64>,
     /// RMS path error of the worst agent, observed positions (BL).
     pub rms_error_worst_agent_bl: Option<f64>,
+    /// The worst agent (0-based): the largest RMS path error of its observed positions.
+    pub worst_agent: Option<u64>,
     /// RMS path error of the true positions (BL); empty when the rig does not know them.
     pub rms_error_true_bl: Option<f64>,
+    /// Largest path error of a true position (BL); empty as `rms_error_true_bl`.
+    pub max_error_true_bl: Option<f64>,
+    /// RMS path error of the worst agent by its true positions (BL); empty as
+    /// `rms_error_true_bl`.
+    pub rms_error_true_worst_agent_bl: Option<f64>,
     /// RMS team-synchronous error of the observed positions (BL).
     pub rms_error_sync_bl: Option<f64>,
     /// RMS time-indexed error of the observed positions (BL).
@@ -137,6 +144,65 @@ pub struct RunRecord {
 
     /// Error message of a crashed run.
     pub error: String,
+
+    /// Each agent's path error of a tracked run (empty otherwise). Not a serde field: `runs.csv`
+    /// writes it after `error` as [`agent_columns`] for as many agents as the experiment's
+    /// largest team (see `results::store`).
+    #[serde(skip)]
+    pub per_agent: Vec<AgentErrors>,
+}
+
+/// One agent's path errors in a run (BL; empty when there is no sample or no truth).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AgentErrors {
+    /// RMS of the observed positions.
+    pub rms_bl: Option<f64>,
+    /// Largest error of an observed position.
+    pub max_bl: Option<f64>,
+    /// RMS of the true positions.
+    pub rms_true_bl: Option<f64>,
+    /// Largest error of a true position.
+    pub max_true_bl: Option<f64>,
+}
+
+impl AgentErrors {
+    /// The values in the order of [`agent_columns`].
+    pub fn values(&self) -> [Option<f64>; 4] {
+        [self.rms_bl, self.max_bl, self.rms_true_bl, self.max_true_bl]
+    }
+
+    /// From values in the order of [`agent_columns`].
+    pub fn from_values(v: [Option<f64>; 4]) -> Self {
+        AgentErrors {
+            rms_bl: v[0],
+            max_bl: v[1],
+            rms_true_bl: v[2],
+            max_true_bl: v[3],
+        }
+    }
+}
+
+impl From<&magbench_trackers::AgentError> for AgentErrors {
+    fn from(a: &magbench_trackers::AgentError) -> Self {
+        let seen = a.samples > 0;
+        AgentErrors {
+            rms_bl: seen.then_some(a.rms_bl),
+            max_bl: seen.then_some(a.max_bl),
+            rms_true_bl: a.rms_true_bl,
+            max_true_bl: a.max_true_bl,
+        }
+    }
+}
+
+/// The per-agent columns of agent `i` (0-based, as in `ticks.csv`), in the order of
+/// [`AgentErrors::values`].
+pub fn agent_columns(i: usize) -> [String; 4] {
+    [
+        format!("rms_error_agent{i}_bl"),
+        format!("max_error_agent{i}_bl"),
+        format!("rms_error_true_agent{i}_bl"),
+        format!("max_error_true_agent{i}_bl"),
+    ]
 }
 
 impl RunRecord {
@@ -205,7 +271,10 @@ impl RunRecord {
             rms_error_bl: None,
             max_error_bl: None,
             rms_error_worst_agent_bl: None,
+            worst_agent: None,
             rms_error_true_bl: None,
+            max_error_true_bl: None,
+            rms_error_true_worst_agent_bl: None,
             rms_error_sync_bl: None,
             rms_error_time_bl: None,
             legs_completed: None,
@@ -217,6 +286,7 @@ impl RunRecord {
             track_duration_s: None,
             track_time_s: None,
             error: String::new(),
+            per_agent: vec![],
         }
     }
 }

@@ -11,7 +11,9 @@ use magbench_env::{Control, Goal, Vec2};
 use super::TrackOutcome;
 use super::tick::TickContext;
 use crate::log::{PlanRecord, TickRecord};
-use crate::metrics::{ErrorAccumulator, RunStatus, TeamAccumulator, TrackMetrics};
+use crate::metrics::{
+    AgentError, ErrorAccumulator, RunStatus, TeamAccumulator, TrackMetrics, worst_agent,
+};
 use crate::reference::Reference;
 use crate::scoring;
 use crate::tracker::TrackerStatus;
@@ -229,11 +231,22 @@ impl Recorder {
         });
     }
 
+    /// Each agent's path error: observed, and true when the rig knows the truth.
+    fn per_agent(&self) -> Vec<AgentError> {
+        let truth = self.true_errors.as_ref().map(ErrorAccumulator::per_agent);
+        let mut out = self.errors.per_agent();
+        for (a, t) in out.iter_mut().zip(truth.iter().flatten()) {
+            a.rms_true_bl = Some(t.rms_bl);
+            a.max_true_bl = Some(t.max_bl);
+        }
+        out
+    }
+
     /// Everything the run produced.
     pub fn finish(self, end: RunEnd) -> TrackOutcome {
+        let per_agent = self.per_agent();
         let final_state = self.last_truth.unwrap_or(self.last_estimate);
         let reached = end.status == RunStatus::ReachedGoal && end.goal.contains(&final_state);
-        let per_agent = self.errors.per_agent();
         // the duration is rig time; planning that the rig's clock did not run through is added
         let total = self.planning_time + end.duration;
         let total = if self.planning_in_rig_time > 0.0 {
@@ -251,7 +264,13 @@ impl Recorder {
             rms_error_bl: self.errors.rms(),
             max_error_bl: self.errors.max(),
             rms_error_worst_agent_bl: per_agent.iter().map(|a| a.rms_bl).fold(0.0, f64::max),
+            worst_agent: worst_agent(&per_agent).map(|(i, _)| i),
             rms_error_true_bl: self.true_errors.as_ref().map(ErrorAccumulator::rms),
+            max_error_true_bl: self.true_errors.as_ref().map(ErrorAccumulator::max),
+            rms_error_true_worst_agent_bl: self
+                .true_errors
+                .as_ref()
+                .map(|t| t.per_agent().iter().map(|a| a.rms_bl).fold(0.0, f64::max)),
             rms_error_sync_bl: self.sync_errors.rms(),
             rms_error_time_bl: self.time_errors.rms(),
             agent_contact: end.agent_contact,
