@@ -3,6 +3,9 @@
 //! is not an option of `track` and `rig run`: it is the frame period of their rig.
 
 use clap::Args;
+use magbench_env::Scenario;
+use magbench_env::coil::Planar;
+use magbench_env::params::{ParamInfo, ParamType, Value};
 use magbench_planners::{Limits, PlanningSetup};
 
 use crate::CliError;
@@ -51,6 +54,50 @@ impl SetupArgs {
         }
         Ok(setup)
     }
+}
+
+/// The elevation settings a planner or tracker declares: its `planar` and `alpha_max`
+/// (degrees), when it has them.
+pub fn elevation_params(params: &[ParamInfo]) -> (Option<Planar>, Option<f64>) {
+    let get = |key: &str| params.iter().find(|p| p.name == key).map(|p| &p.value);
+    let planar = get("planar").and_then(|v| Planar::parse(&v.to_string(), &()).ok());
+    let alpha_max = match get("alpha_max") {
+        Some(Value::Real(a)) => Some(*a),
+        _ => None,
+    };
+    (planar, alpha_max)
+}
+
+/// Refuses, before any planning, elevation settings that `scenario` on the setup's plant cannot
+/// hold, for each `(field prefix, parameters)` of `sets` (e.g. `("param", planner.params())`):
+/// `planar = false` where the medium does not carry the out-of-plane force, and — where the
+/// elevation is free — an `alpha_max` above the coil's range (the set's own `alpha_max`, or
+/// the setup's `--alpha-max` for a set without one; `coil` says where the range comes from).
+/// Exit 2 naming the option, the field and the reason.
+pub fn check_elevation(
+    setup: &PlanningSetup,
+    scenario: &Scenario,
+    sets: &[(&str, Vec<ParamInfo>)],
+    coil: &str,
+) -> Result<(), CliError> {
+    for (prefix, params) in sets {
+        let (planar, alpha_max) = elevation_params(params);
+        let Some(planar) = planar else { continue };
+        setup
+            .check_planar(scenario, planar)
+            .map_err(|r| CliError::arg(format!("{prefix}.planar"), r))?;
+        if !setup.elevation(scenario, planar).0 {
+            continue;
+        }
+        let (field, a) = match alpha_max {
+            Some(a) => (format!("{prefix}.alpha_max"), a),
+            None => ("--alpha-max".to_string(), setup.alpha_max_deg),
+        };
+        setup
+            .check_alpha_max(a)
+            .map_err(|r| CliError::arg(field, format!("{r} ({coil}); or set planar=true")))?;
+    }
+    Ok(())
 }
 
 /// `--max-iters` and `--time-limit`.

@@ -55,7 +55,8 @@ fn configure(setup: &mut PlanningSetup, v: &Variant, source: &str) -> Result<(),
 }
 
 /// The planning setup of every planning call of the run: the experiment's limits, the
-/// planner variant's setup keys and, for a tracked run, the frame period of its preset.
+/// planner variant's setup keys, its preset's medium and coil (ideal's, bulk and tri-axial, for
+/// a planning-only run) and, for a tracked run, the frame period of its preset.
 pub fn setup(spec: &RunSpec) -> Result<PlanningSetup, String> {
     let mut setup = PlanningSetup {
         limits: Limits {
@@ -65,10 +66,11 @@ pub fn setup(spec: &RunSpec) -> Result<PlanningSetup, String> {
         ..PlanningSetup::default()
     };
     configure(&mut setup, &spec.planner, &spec.experiment)?;
+    let preset = plant(spec);
     if spec.tracker.is_some() {
-        setup = setup.in_frames_of(1.0 / plant(spec).camera.fps);
+        setup = setup.in_frames_of(1.0 / preset.camera.fps);
     }
-    Ok(setup)
+    Ok(setup.on_plant(&preset.medium, preset.coil.alpha_max_deg))
 }
 
 /// The run's disturbance preset (ideal when the run names none).

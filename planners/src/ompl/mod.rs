@@ -151,7 +151,7 @@ impl<P: OmplParams> Ompl<P> {
         progress.record(live.iterations, best.solved_cost());
         let nodes = stats.vertices as usize;
         (
-            finish(problem, best, live.iterations, nodes, progress, first),
+            finish(problem, best, live.iterations, nodes, progress, first, None),
             stats,
         )
     }
