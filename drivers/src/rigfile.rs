@@ -638,7 +638,9 @@ mod tests {
             err(&bad)
         );
         let bad = EXAMPLE.replace("alpha_max_deg = 90.0", "alpha_max_deg = 120.0");
-        assert!(err(&bad).starts_with("r.toml: coil.alpha_max_deg: must be an elevation in [0, 90]"));
+        assert!(
+            err(&bad).starts_with("r.toml: coil.alpha_max_deg: must be an elevation in [0, 90]")
+        );
         let bad = EXAMPLE.replace("heartbeat_ms = 50", "heartbeat_ms = 150");
         assert!(err(&bad).starts_with("r.toml: coil.heartbeat_ms: must be at most half"));
     }

@@ -106,7 +106,8 @@ impl PlanningSetup {
     /// setup's — carries the out-of-plane force. Trackers predict with it too.
     pub fn model(&self, scenario: &Scenario) -> PlanningModel {
         let p = &scenario.physics;
-        let coil = TriaxialMaxwell::new(p.gradient_limit()).with_alpha_max_deg(self.coil_alpha_max_deg);
+        let coil =
+            TriaxialMaxwell::new(p.gradient_limit()).with_alpha_max_deg(self.coil_alpha_max_deg);
         PlanningModel::with_coil(p, Arc::new(coil)).in_medium(self.medium_of(scenario))
     }
 

@@ -29,14 +29,21 @@ fn three_agents_plan_with_the_elevation_unless_told_planar() {
     // the plan file says so, and reads back the same
     let back: magbench_planners::Plan =
         serde_json::from_str(&serde_json::to_string(&r.plan).unwrap()).unwrap();
-    assert_eq!((back.alpha_max, back.edges()), (r.plan.alpha_max, r.plan.edges()));
+    assert_eq!(
+        (back.alpha_max, back.edges()),
+        (r.plan.alpha_max, r.plan.edges())
+    );
 
     let planar = registry::create("goal-zoom-rrt", &[param("planar", "true")])
         .unwrap()
         .solve(&p);
     assert!(planar.plan.controls.iter().all(|u| u.alpha == 0.0));
     assert_eq!(planar.plan.alpha_max, None);
-    assert!(!serde_json::to_string(&planar.plan).unwrap().contains("alpha_max"));
+    assert!(
+        !serde_json::to_string(&planar.plan)
+            .unwrap()
+            .contains("alpha_max")
+    );
 
     // in bulk nothing carries f_z: `auto` keeps the field in the plane, and the validator
     // refuses the elevated plan

@@ -8,11 +8,11 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::check::{Rejection, within};
-use crate::coil::COIL_ALPHA_MAX_DEG;
 use super::{
     AmbientField, Brownian, CameraParams, Capillary, CoilCalibration, CoilLag, Drift, FieldError,
     Flow, Heterogeneity, Hydrodynamics, MagnetLag, Medium, NonuniformField,
 };
+use crate::coil::COIL_ALPHA_MAX_DEG;
 use crate::error::InputError;
 use crate::input;
 

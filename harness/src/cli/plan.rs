@@ -11,9 +11,9 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use magbench_env::coil::Planar;
 use magbench_env::params::split_all;
 use magbench_env::{MAX_AGENTS, Scenario, Vec2};
-use magbench_env::coil::Planar;
 use magbench_planners::{
     Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, check_result, registry,
 };

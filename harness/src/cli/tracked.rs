@@ -120,10 +120,11 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         .clone()
         .in_frames_of(r.rig.0.frame_period(r.rig.1)?)
         .on_plant(&plant.medium, plant.coil_alpha_max_deg);
-    let mut sets = vec![("param", r.tracker.build().params())];
+    let mut sets = vec![];
     if let Some(p) = &planner {
         sets.push(("planner-param", p.params()));
     }
+    sets.push(("param", r.tracker.build().params()));
     super::setup::check_elevation(&setup, s, &sets, &plant.coil_source)?;
     let given = match &r.plan {
         Some(p) => Some(read_plan_for(p, s, setup.control_period)?),

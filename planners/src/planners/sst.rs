@@ -252,7 +252,15 @@ impl Sst {
         let nodes = tree.len();
         self.last_tree = Some(tree);
         (
-            finish(problem, best, i, nodes, progress, first, propagate.alpha_max),
+            finish(
+                problem,
+                best,
+                i,
+                nodes,
+                progress,
+                first,
+                propagate.alpha_max,
+            ),
             stats,
         )
     }
