@@ -51,7 +51,9 @@ fn planar_false_in_bulk_is_refused_naming_the_parameter() {
         "open-field",
         "bulk",
     ];
-    let with = |field: &str| [&[field][..], &why[..]].concat();
+    fn with<'a>(field: &'a str, why: &[&'a str]) -> Vec<&'a str> {
+        [&[field][..], why].concat()
+    }
     refused(
         &[
             "plan",
@@ -61,7 +63,7 @@ fn planar_false_in_bulk_is_refused_naming_the_parameter() {
             "--param",
             "planar=false",
         ],
-        &with("param.planar"),
+        &with("param.planar", &why),
     );
     let track = |extra: &[&str]| {
         let mut a = vec![
@@ -81,7 +83,7 @@ fn planar_false_in_bulk_is_refused_naming_the_parameter() {
     ] {
         let args = track(&extra);
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        refused(&args, &with(field));
+        refused(&args, &with(field, &why));
     }
     // at an interface (trio-row's [medium]) the same setting is accepted
     let (code, out, err) = magbench(&[
@@ -97,6 +99,53 @@ fn planar_false_in_bulk_is_refused_naming_the_parameter() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains(r#""free":true"#), "{out}");
+}
+
+/// An experiment whose planner or tracker says `planar = false` on a scenario in bulk is refused
+/// before any run, naming the file, the list and the variant; at an interface it is accepted.
+#[test]
+fn experiments_refuse_planar_false_in_bulk() {
+    let d = tempfile::tempdir().unwrap();
+    let exp = |scenario: &str, planner: &str, tracking: &str| {
+        format!(
+            "name = \"x\"\nscenarios = [\"{scenario}\"]\nplanners = [\"{planner}\"]\n{tracking}seeds = 2\n[limits]\niterations = 100\n"
+        )
+    };
+    let cases = [
+        (
+            exp("open-field", "goal-zoom-rrt{planar=false}", ""),
+            "planners",
+        ),
+        (
+            exp(
+                "open-field",
+                "goal-zoom-rrt",
+                "trackers = [\"obc{planar=false}\"]\n",
+            ),
+            "trackers",
+        ),
+    ];
+    for (text, field) in cases {
+        let f = write(d.path(), "e.toml", &text);
+        let f = f.to_str().unwrap();
+        refused(
+            &["bench", f, "--dry-run"],
+            &[
+                f,
+                field,
+                "planar=false",
+                "carries the out-of-plane force",
+                "bulk",
+            ],
+        );
+    }
+    let f = write(
+        d.path(),
+        "ok.toml",
+        &exp("trio-row", "goal-zoom-rrt{planar=false}", ""),
+    );
+    let (code, _, err) = magbench(&["bench", f.to_str().unwrap(), "--dry-run"]);
+    assert_eq!(code, 0, "{err}");
 }
 
 /// `plan` says whether the elevation was free and why: three agents at an interface yes, the

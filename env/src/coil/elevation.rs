@@ -13,7 +13,7 @@
 //! tri-axial coil; a rig file's or a preset's `alpha_max_deg`), and within it by the planner's
 //! or tracker's `alpha_max` ([`DEFAULT_ALPHA_MAX_DEG`]).
 
-use crate::params::{ParamType, Value, choose};
+use crate::params::{ParamInfo, ParamType, Value, choose};
 
 /// The largest elevation a planner or tracker uses when nothing else says (degrees). It
 /// covers the cone cos²α = 2/3 (α = 35.26°) on which the pair forces cancel on average, so any
@@ -110,6 +110,18 @@ impl ParamType for Planar {
     fn describe(_: &()) -> String {
         "auto|true|false".into()
     }
+}
+
+/// The elevation settings a planner or tracker declares among its parameters: its `planar`
+/// and `alpha_max` (degrees), when it has them.
+pub fn elevation_params(params: &[ParamInfo]) -> (Option<Planar>, Option<f64>) {
+    let get = |key: &str| params.iter().find(|p| p.name == key).map(|p| &p.value);
+    let planar = get("planar").and_then(|v| Planar::parse(&v.to_string(), &()).ok());
+    let alpha_max = match get("alpha_max") {
+        Some(Value::Real(a)) => Some(*a),
+        _ => None,
+    };
+    (planar, alpha_max)
 }
 
 #[cfg(test)]

@@ -9,7 +9,9 @@ mod elevation;
 mod triaxial;
 
 pub use control::Control;
-pub use elevation::{COIL_ALPHA_MAX_DEG, DEFAULT_ALPHA_MAX_DEG, NEEDS_INTERFACE, Planar};
+pub use elevation::{
+    COIL_ALPHA_MAX_DEG, DEFAULT_ALPHA_MAX_DEG, NEEDS_INTERFACE, Planar, elevation_params,
+};
 pub use triaxial::TriaxialMaxwell;
 
 use crate::math::Vec3;

@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use magbench_env::coil::Planar;
+use magbench_env::coil::{Planar, elevation_params};
 use magbench_env::params::split_all;
 use magbench_env::{MAX_AGENTS, Scenario, Vec2};
 use magbench_planners::{
@@ -20,7 +20,7 @@ use magbench_planners::{
 use serde_json::{Value, json};
 
 use super::output::{out, outln};
-use super::setup::{SetupArgs, check_elevation, elevation_params};
+use super::setup::{SetupArgs, check_elevation};
 use crate::CliError;
 use crate::plot::world::{WorldPlot, render};
 

@@ -4,8 +4,8 @@
 
 use clap::Args;
 use magbench_env::Scenario;
-use magbench_env::coil::Planar;
-use magbench_env::params::{ParamInfo, ParamType, Value};
+use magbench_env::coil::elevation_params;
+use magbench_env::params::ParamInfo;
 use magbench_planners::{Limits, PlanningSetup};
 
 use crate::CliError;
@@ -54,18 +54,6 @@ impl SetupArgs {
         }
         Ok(setup)
     }
-}
-
-/// The elevation settings a planner or tracker declares: its `planar` and `alpha_max`
-/// (degrees), when it has them.
-pub fn elevation_params(params: &[ParamInfo]) -> (Option<Planar>, Option<f64>) {
-    let get = |key: &str| params.iter().find(|p| p.name == key).map(|p| &p.value);
-    let planar = get("planar").and_then(|v| Planar::parse(&v.to_string(), &()).ok());
-    let alpha_max = match get("alpha_max") {
-        Some(Value::Real(a)) => Some(*a),
-        _ => None,
-    };
-    (planar, alpha_max)
 }
 
 /// Refuses, before any planning, elevation settings that `scenario` on the setup's plant cannot

@@ -211,6 +211,31 @@ impl Executor for RealExecutor {
             .map_err(|e| e.reason)
     }
 
+    fn check_run(&self, spec: &RunSpec) -> Result<(), (String, String)> {
+        let setup = setup(spec).map_err(|r| ("planners".to_string(), r))?;
+        let mut sets = vec![(
+            "planners",
+            &spec.planner,
+            registry::create_in("", &spec.planner.name, &planner_params(&spec.planner))
+                .map_err(|e| ("planners".to_string(), e.reason))?
+                .params(),
+        )];
+        if let Some(t) = &spec.tracker {
+            let tracker = TrackerSpec::parse(&t.name, &t.params_as_strings(), "")
+                .map_err(|e| ("trackers".to_string(), e.reason))?;
+            sets.push(("trackers", t, tracker.build().params()));
+        }
+        for (field, v, params) in sets {
+            let Some(planar) = magbench_env::coil::elevation_params(&params).0 else {
+                continue;
+            };
+            setup
+                .check_planar(&spec.scenario, planar)
+                .map_err(|r| (field.to_string(), format!("{}: planar: {r}", v.label())))?;
+        }
+        Ok(())
+    }
+
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {
         let mut rec = base_record(spec);
         let setup = setup(spec)?;
