@@ -15,8 +15,11 @@
 
 use std::sync::Arc;
 
-use magbench_env::coil::{COIL_ALPHA_MAX_DEG, DEFAULT_ALPHA_MAX_DEG, Planar, TriaxialMaxwell};
+use magbench_env::coil::{
+    COIL_ALPHA_MAX_DEG, DEFAULT_ALPHA_MAX_DEG, Planar, TriaxialMaxwell, elevation_params,
+};
 use magbench_env::model::Flow;
+use magbench_env::params::ParamInfo;
 use magbench_env::plant::Medium;
 use magbench_env::{InputError, PlanningModel, Scenario, Vec2};
 
@@ -157,6 +160,32 @@ impl PlanningSetup {
         Ok(())
     }
 
+    /// Whether a planner's or tracker's elevation settings (among its `params`) fit `scenario`
+    /// on this plant: `planar = false` needs a medium that carries the out-of-plane force and,
+    /// where the elevation is free, its `alpha_max` — or this setup's, for a planner, which has
+    /// none of its own — may not exceed the coil's range.
+    pub fn check_settings(
+        &self,
+        scenario: &Scenario,
+        params: &[ParamInfo],
+    ) -> Result<(), ElevationRefused> {
+        let (planar, alpha_max) = elevation_params(params);
+        let Some(planar) = planar else {
+            return Ok(());
+        };
+        self.check_planar(scenario, planar)
+            .map_err(ElevationRefused::Planar)?;
+        if !self.elevation(scenario, planar).0 {
+            return Ok(());
+        }
+        match alpha_max {
+            Some(a) => self.check_alpha_max(a).map_err(ElevationRefused::AlphaMax),
+            None => self
+                .check_alpha_max(self.alpha_max_deg)
+                .map_err(ElevationRefused::SetupAlphaMax),
+        }
+    }
+
     /// Whether a team of `scenario` under `planar` may tilt the field on this plant, and why
     /// (a few words).
     pub fn elevation(&self, scenario: &Scenario, planar: Planar) -> (bool, &'static str) {
@@ -217,6 +246,17 @@ impl PlanningSetup {
             ..self
         }
     }
+}
+
+/// Which elevation setting [`PlanningSetup::check_settings`] refuses, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ElevationRefused {
+    /// The planner's or tracker's `planar`.
+    Planar(String),
+    /// The tracker's own `alpha_max`.
+    AlphaMax(String),
+    /// The setup's `alpha_max` (a planner's elevation bound).
+    SetupAlphaMax(String),
 }
 
 /// Why a planner's result cannot be followed.

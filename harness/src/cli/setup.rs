@@ -4,9 +4,8 @@
 
 use clap::Args;
 use magbench_env::Scenario;
-use magbench_env::coil::elevation_params;
 use magbench_env::params::ParamInfo;
-use magbench_planners::{Limits, PlanningSetup};
+use magbench_planners::{ElevationRefused, Limits, PlanningSetup};
 
 use crate::CliError;
 use crate::run::spec::time_limit;
@@ -69,21 +68,18 @@ pub fn check_elevation(
     coil: &str,
 ) -> Result<(), CliError> {
     for (prefix, params) in sets {
-        let (planar, alpha_max) = elevation_params(params);
-        let Some(planar) = planar else { continue };
         setup
-            .check_planar(scenario, planar)
-            .map_err(|r| CliError::arg(format!("{prefix}.planar"), r))?;
-        if !setup.elevation(scenario, planar).0 {
-            continue;
-        }
-        let (field, a) = match alpha_max {
-            Some(a) => (format!("{prefix}.alpha_max"), a),
-            None => ("--alpha-max".to_string(), setup.alpha_max_deg),
-        };
-        setup
-            .check_alpha_max(a)
-            .map_err(|r| CliError::arg(field, format!("{r} ({coil}); or set planar=true")))?;
+            .check_settings(scenario, params)
+            .map_err(|e| match e {
+                ElevationRefused::Planar(r) => CliError::arg(format!("{prefix}.planar"), r),
+                ElevationRefused::AlphaMax(r) => CliError::arg(
+                    format!("{prefix}.alpha_max"),
+                    format!("{r} ({coil}); or set planar=true"),
+                ),
+                ElevationRefused::SetupAlphaMax(r) => {
+                    CliError::arg("--alpha-max", format!("{r} ({coil}); or set planar=true"))
+                }
+            })?;
     }
     Ok(())
 }

@@ -22,6 +22,7 @@ use std::time::Duration;
 use std::time::Instant;
 
 use magbench_env::plant::DisturbancePreset;
+use magbench_planners::ElevationRefused;
 use magbench_planners::setup::SETUP_KEYS;
 use magbench_planners::{
     Limits, Plan, PlannerResult, PlanningSetup, Unusable, check_result, registry,
@@ -225,13 +226,17 @@ impl Executor for RealExecutor {
                 .map_err(|e| ("trackers".to_string(), e.reason))?;
             sets.push(("trackers", t, tracker.build().params()));
         }
+        let preset = spec.preset.as_deref().unwrap_or("ideal");
         for (field, v, params) in sets {
-            let Some(planar) = magbench_env::coil::elevation_params(&params).0 else {
-                continue;
-            };
-            setup
-                .check_planar(&spec.scenario, planar)
-                .map_err(|r| (field.to_string(), format!("{}: planar: {r}", v.label())))?;
+            setup.check_settings(&spec.scenario, &params).map_err(|e| {
+                let why = match e {
+                    ElevationRefused::Planar(r) => format!("planar: {r}"),
+                    ElevationRefused::AlphaMax(r) | ElevationRefused::SetupAlphaMax(r) => {
+                        format!("alpha_max: {r} (preset {preset}: coil.alpha_max_deg)")
+                    }
+                };
+                (field.to_string(), format!("{}: {why}", v.label()))
+            })?;
         }
         Ok(())
     }
