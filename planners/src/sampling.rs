@@ -43,8 +43,9 @@ declare_params! {
         /// try passes closest to its target).
         #[param("timing")]
         pub timing: Timing = Timing::Random,
-        /// Whether the field stays in the plane: `auto` (two agents yes, three or more no),
-        /// `true` or `false`.
+        /// Whether the field stays in the plane: `auto` (two agents, or a medium that does not
+        /// carry the out-of-plane force, yes; three or more at an interface no), `true` or
+        /// `false` (refused in bulk).
         #[param("planar")]
         pub planar: Planar = Planar::Auto,
     }

@@ -28,7 +28,8 @@ pub struct SetupArgs {
     #[arg(long, default_value = "pair-exact")]
     pub flow: String,
     /// Largest field elevation a plan may command (degrees, 0–90), used where the planner's
-    /// `planar` setting frees the elevation (three or more agents by default).
+    /// `planar` setting frees the elevation (three or more agents at an interface by default),
+    /// within the coil's range (the rig file's or preset's `alpha_max_deg`).
     #[arg(long, default_value = "45")]
     pub alpha_max: String,
 }
