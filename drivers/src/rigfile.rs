@@ -60,6 +60,9 @@ pub struct CoilConfig {
     pub hold_timeout_ms: u32,
     /// Field magnitude (mT); `None` takes the scenario's `physics.field_mt`.
     pub field_mt: Option<f64>,
+    /// Largest field elevation |α| the coil can set (degrees, in [0, 90]): 90 for a tri-axial
+    /// Helmholtz coil (the default), 0 for a planar coil set. Plans and trackers stay within it.
+    pub alpha_max_deg: f64,
     /// Currents ↔ field and gradient.
     pub calibration: Calibration,
     /// Largest |current| per channel (A).
@@ -149,10 +152,15 @@ struct CoilFile {
     #[serde(default = "default_hold_timeout")]
     hold_timeout_ms: u32,
     field_mt: Option<f64>,
+    #[serde(default = "default_alpha_max")]
+    alpha_max_deg: f64,
     calibration: CalibrationFile,
     limits: LimitsFile,
 }
 
+fn default_alpha_max() -> f64 {
+    magbench_env::coil::COIL_ALPHA_MAX_DEG
+}
 fn default_baud() -> u32 {
     115_200
 }
@@ -390,6 +398,15 @@ impl V<'_> {
         if let Some(f) = c.field_mt {
             self.positive("coil.field_mt", f)?;
         }
+        if !(c.alpha_max_deg.is_finite() && (0.0..=90.0).contains(&c.alpha_max_deg)) {
+            return Err(self.err(
+                "coil.alpha_max_deg",
+                format!(
+                    "must be an elevation in [0, 90]° (90 for a tri-axial coil, 0 for a planar coil set), got {}",
+                    c.alpha_max_deg
+                ),
+            ));
+        }
         let calibration = self.calibration(&c.calibration)?;
         let n = calibration.channels();
         let current_limit_a = match c.limits.current_a {
@@ -419,6 +436,7 @@ impl V<'_> {
             retries: c.retries,
             hold_timeout_ms: c.hold_timeout_ms,
             field_mt: c.field_mt,
+            alpha_max_deg: c.alpha_max_deg,
             calibration,
             current_limit_a,
             slew_a_per_s,
@@ -590,6 +608,7 @@ mod tests {
         let r = RigConfig::parse(EXAMPLE, "emulator.toml").unwrap();
         assert_eq!(r.coil.calibration.channels(), 5);
         assert_eq!(r.coil.watchdog_ms, 200);
+        assert_eq!(r.coil.alpha_max_deg, 90.0);
         assert!(matches!(r.camera.source, CameraSource::Emulator(_)));
     }
 
@@ -617,6 +636,10 @@ mod tests {
             err(&bad).starts_with("r.toml: coil.limits.current_a: has 2 limits"),
             "{}",
             err(&bad)
+        );
+        let bad = EXAMPLE.replace("alpha_max_deg = 90.0", "alpha_max_deg = 120.0");
+        assert!(
+            err(&bad).starts_with("r.toml: coil.alpha_max_deg: must be an elevation in [0, 90]")
         );
         let bad = EXAMPLE.replace("heartbeat_ms = 50", "heartbeat_ms = 150");
         assert!(err(&bad).starts_with("r.toml: coil.heartbeat_ms: must be at most half"));

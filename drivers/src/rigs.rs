@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-use magbench_env::plant::DisturbancePreset;
+use magbench_env::plant::{DisturbancePreset, Medium};
 use magbench_env::{InputError, Scenario, Vec2};
 use magbench_trackers::{Rig, SimRig};
 
@@ -37,6 +37,42 @@ impl RigSource {
         Ok(match self {
             RigSource::Simulated { preset } => 1.0 / preset_named(preset, option)?.camera.fps,
             RigSource::File(path) => 1.0 / RigConfig::load(path)?.camera.fps,
+        })
+    }
+}
+
+/// The plant a rig drives, as far as planning needs it: the medium when the scenario names none
+/// and the coil's elevation range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigPlant {
+    /// The preset's medium; a rig file does not describe the liquid, so bulk (a scenario's
+    /// `[medium]` says otherwise).
+    pub medium: Medium,
+    /// The coil's elevation range (degrees): the preset's `coil.alpha_max_deg` or the rig
+    /// file's.
+    pub coil_alpha_max_deg: f64,
+    /// Where the range comes from, for messages: the preset file or name, or the rig file.
+    pub coil_source: String,
+}
+
+impl RigSource {
+    /// What planning needs of the rig's plant, read without opening it. Bad input names
+    /// `option`.
+    pub fn plant(&self, option: &str) -> Result<RigPlant, OpenError> {
+        Ok(match self {
+            RigSource::Simulated { preset } => {
+                let p = preset_named(preset, option)?;
+                RigPlant {
+                    medium: p.medium,
+                    coil_alpha_max_deg: p.coil.alpha_max_deg,
+                    coil_source: format!("{preset}: coil.alpha_max_deg"),
+                }
+            }
+            RigSource::File(path) => RigPlant {
+                medium: Medium::Bulk,
+                coil_alpha_max_deg: RigConfig::load(path)?.coil.alpha_max_deg,
+                coil_source: format!("{}: coil.alpha_max_deg", path.display()),
+            },
         })
     }
 }

@@ -391,6 +391,69 @@ pub fn three_agent_formations(d: f64) -> Vec<Formation> {
     ]
 }
 
+/// The sample formations of four agents with side `d` (BL): a square, a row, a rhombus (60°,
+/// two equilateral triangles), a centred triangle (one agent at the centre of an equilateral
+/// triangle of the others, `d` from each) and a kite (an equilateral triangle with the fourth
+/// agent beyond one side).
+pub fn four_agent_formations(d: f64) -> Vec<Formation> {
+    let h = 0.75f64.sqrt() * d;
+    let c = d / 3f64.sqrt();
+    vec![
+        Formation {
+            name: "square",
+            positions: vec![
+                Vec2::zeros(),
+                Vec2::new(d, 0.0),
+                Vec2::new(d, d),
+                Vec2::new(0.0, d),
+            ],
+        },
+        Formation {
+            name: "row",
+            positions: (0..4).map(|i| Vec2::new(i as f64 * d, 0.0)).collect(),
+        },
+        Formation {
+            name: "rhombus-60",
+            positions: vec![
+                Vec2::zeros(),
+                Vec2::new(d, 0.0),
+                Vec2::new(1.5 * d, h),
+                Vec2::new(0.5 * d, h),
+            ],
+        },
+        Formation {
+            name: "centred",
+            positions: (0..3)
+                .map(|k| {
+                    let a =
+                        std::f64::consts::FRAC_PI_2 + k as f64 * 2.0 * std::f64::consts::PI / 3.0;
+                    Vec2::new(c * a.cos(), c * a.sin())
+                })
+                .chain([Vec2::zeros()])
+                .collect(),
+        },
+        Formation {
+            name: "kite",
+            positions: vec![
+                Vec2::zeros(),
+                Vec2::new(d, 0.0),
+                Vec2::new(0.5 * d, h),
+                Vec2::new(0.5 * d, -1.5 * d),
+            ],
+        },
+    ]
+}
+
+/// The sample formations of `n` agents: [`three_agent_formations`] or
+/// [`four_agent_formations`] (none for other team sizes).
+pub fn formations(n: usize, d: f64) -> Vec<Formation> {
+    match n {
+        3 => three_agent_formations(d),
+        4 => four_agent_formations(d),
+        _ => vec![],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -403,6 +466,27 @@ mod tests {
     }
 
     /// The basis reproduces the physics at any in-plane field and elevation.
+    /// Four agents: a square drifts (it contracts) in the plane and is held with the elevation;
+    /// a kite has the full accessibility rank 6 either way.
+    #[test]
+    fn four_agents_are_held_only_with_elevation() {
+        let (kin, _) = kin();
+        let f = four_agent_formations(2.0);
+        let elevated = FieldSet::Elevated {
+            alpha_max: std::f64::consts::FRAC_PI_2,
+        };
+        let square = &f[0].positions;
+        let flat = team_report(&kin, square, FieldSet::Planar);
+        let up = team_report(&kin, square, elevated);
+        assert_eq!(flat.dim, 6);
+        assert!(!flat.holds && flat.offset > 0.1);
+        assert!(up.holds && up.holds_shape);
+        let kite = &f.iter().find(|f| f.name == "kite").unwrap().positions;
+        assert_eq!(team_report(&kin, kite, FieldSet::Planar).depth2, 6);
+        assert_eq!(formations(4, 2.0).len(), f.len());
+        assert!(formations(3, 2.0).iter().all(|f| f.positions.len() == 3));
+    }
+
     #[test]
     fn the_quadratic_form_is_exact() {
         let (k, _) = kin();

@@ -40,6 +40,241 @@ fn scenario(dir: &Path, text: &str) -> String {
     write(dir, "s.toml", text).display().to_string()
 }
 
+/// `planar = false` where nothing carries the out-of-plane force (bulk liquid: open-field names
+/// no medium, and `plan`'s plant and the realistic preset are bulk) is refused for the planner
+/// of `plan`, and for the tracker and the planner of `track`, naming the parameter, the value,
+/// the scenario and the medium.
+#[test]
+fn planar_false_in_bulk_is_refused_naming_the_parameter() {
+    let why = [
+        "false needs a medium that carries the out-of-plane force",
+        "open-field",
+        "bulk",
+    ];
+    fn with<'a>(field: &'a str, why: &[&'a str]) -> Vec<&'a str> {
+        [&[field][..], why].concat()
+    }
+    refused(
+        &[
+            "plan",
+            "open-field",
+            "--planner",
+            "goal-zoom-rrt",
+            "--param",
+            "planar=false",
+        ],
+        &with("param.planar", &why),
+    );
+    let track = |extra: &[&str]| {
+        let mut a = vec![
+            "track",
+            "open-field",
+            "--tracker",
+            "obc",
+            "--max-iters",
+            "10",
+        ];
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    for (extra, field) in [
+        (["--param", "planar=false"], "param.planar"),
+        (["--planner-param", "planar=false"], "planner-param.planar"),
+    ] {
+        let args = track(&extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused(&args, &with(field, &why));
+    }
+    // at an interface (trio-row's [medium]) the same setting is accepted
+    let (code, out, err) = magbench(&[
+        "plan",
+        "trio-row",
+        "--planner",
+        "goal-zoom-rrt",
+        "--max-iters",
+        "10",
+        "--param",
+        "planar=false",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(r#""free":true"#), "{out}");
+}
+
+/// An experiment whose planner or tracker says `planar = false` on a scenario in bulk is refused
+/// before any run, naming the file, the list and the variant; at an interface it is accepted.
+#[test]
+fn experiments_refuse_planar_false_in_bulk() {
+    let d = tempfile::tempdir().unwrap();
+    let exp = |scenario: &str, planner: &str, tracking: &str| {
+        format!(
+            "name = \"x\"\nscenarios = [\"{scenario}\"]\nplanners = [\"{planner}\"]\n{tracking}seeds = 2\n[limits]\niterations = 100\n"
+        )
+    };
+    let cases = [
+        (
+            exp("open-field", "goal-zoom-rrt{planar=false}", ""),
+            "planners",
+        ),
+        (
+            exp(
+                "open-field",
+                "goal-zoom-rrt",
+                "trackers = [\"obc{planar=false}\"]\n",
+            ),
+            "trackers",
+        ),
+    ];
+    for (text, field) in cases {
+        let f = write(d.path(), "e.toml", &text);
+        let f = f.to_str().unwrap();
+        refused(
+            &["bench", f, "--dry-run"],
+            &[
+                f,
+                field,
+                "planar=false",
+                "carries the out-of-plane force",
+                "bulk",
+            ],
+        );
+    }
+    let f = write(
+        d.path(),
+        "ok.toml",
+        &exp("trio-row", "goal-zoom-rrt{planar=false}", ""),
+    );
+    let (code, _, err) = magbench(&["bench", f.to_str().unwrap(), "--dry-run"]);
+    assert_eq!(code, 0, "{err}");
+}
+
+/// `plan` says whether the elevation was free and why: three agents at an interface yes, the
+/// same scenario without its `[medium]` (bulk, `plan`'s default plant) no.
+#[test]
+fn plan_says_whether_the_elevation_was_free() {
+    let d = tempfile::tempdir().unwrap();
+    let trio = include_str!("../../scenarios/trio-row.toml");
+    let bulk =
+        trio.split("[medium]").next().unwrap().to_string() + &trio[trio.find("[start]").unwrap()..];
+    let f = scenario(d.path(), &bulk);
+    for (s, free, why) in [
+        ("trio-row", true, "interface"),
+        (f.as_str(), false, "bulk medium"),
+        ("open-field", false, "two agents"),
+    ] {
+        let (code, out, err) = magbench(&[
+            "plan",
+            s,
+            "--planner",
+            "goal-zoom-rrt",
+            "--max-iters",
+            "10",
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{s}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["elevation"]["free"], free, "{s}: {out}");
+        assert!(
+            v["elevation"]["reason"].as_str().unwrap().contains(why),
+            "{s}: {out}"
+        );
+    }
+}
+
+/// The coil's elevation range: a preset's `coil.alpha_max_deg` and a rig file's are checked
+/// ([0, 90]°), and `track` and `rig run` refuse an `alpha_max` above the coil's — the
+/// planning setup's (`--alpha-max`) or the tracker's (`param.alpha_max`) — naming the coil's
+/// file and field.
+#[test]
+fn alpha_max_beyond_the_coils_range_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let preset = std::fs::read_to_string(root.join("presets/realistic.toml")).unwrap();
+    let coil = |a: &str| preset.replace("alpha_max_deg = 90.0", &format!("alpha_max_deg = {a}"));
+    let bad = write(d.path(), "bad.toml", &coil("120"))
+        .display()
+        .to_string();
+    refused(
+        &["preset", "check", &bad],
+        &[&bad, "coil.alpha_max_deg", "[0, 90]"],
+    );
+    refused(
+        &["track", "open-field", "--tracker", "obc", "--preset", &bad],
+        &[&bad, "coil.alpha_max_deg", "[0, 90]"],
+    );
+    let low = write(d.path(), "low.toml", &coil("20"))
+        .display()
+        .to_string();
+    let track = |extra: &[&str]| {
+        let mut a = vec![
+            "track",
+            "trio-row",
+            "--tracker",
+            "obc",
+            "--max-iters",
+            "10",
+            "--preset",
+        ];
+        a.push(&low);
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    for (extra, field) in [
+        (vec![], "--alpha-max"),
+        (vec!["--alpha-max", "20"], "param.alpha_max"),
+    ] {
+        let args = track(&extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused(
+            &args,
+            &[
+                field,
+                "45° exceeds the coil's elevation range alpha_max_deg = 20°",
+                &low,
+            ],
+        );
+    }
+    let rig = std::fs::read_to_string(root.join("rigs/emulator.toml")).unwrap();
+    let rig_with = |a: &str| rig.replace("alpha_max_deg = 90.0", &format!("alpha_max_deg = {a}"));
+    let bad_rig = write(d.path(), "bad-rig.toml", &rig_with("-5"))
+        .display()
+        .to_string();
+    let planar_rig = write(d.path(), "planar-rig.toml", &rig_with("0"))
+        .display()
+        .to_string();
+    let rig_run = |file: &str| {
+        vec![
+            "rig",
+            "run",
+            "--rig",
+            file,
+            "trio-row",
+            "--planner",
+            "sst",
+            "--tracker",
+            "obc",
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>()
+    };
+    let args = rig_run(&bad_rig);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    refused(&args, &[&bad_rig, "coil.alpha_max_deg", "[0, 90]"]);
+    // a planar coil set: the elevation cannot be used (trio-row floats at an interface, so
+    // `auto` would free it) until planar=true says so
+    let args = rig_run(&planar_rig);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    refused(
+        &args,
+        &[
+            "--alpha-max",
+            "exceeds the coil's elevation range alpha_max_deg = 0°",
+            &planar_rig,
+        ],
+    );
+}
+
 #[test]
 fn scenario_values_that_crashed_later_are_refused_by_check_and_plan() {
     let d = tempfile::tempdir().unwrap();

@@ -73,9 +73,11 @@ struct mb_problem {
     size_t n_params;
     const char *const *param_names;
     const char *const *param_values;
+    size_t control_dims;         // 3: (θ_B, g_x, g_y), planar; 4: (θ_B, g_x, g_y, α)
+    double alpha_max;            // rad: α ∈ [0, alpha_max] when control_dims = 4
 };
 
-/// What a run found. `controls` (3 per edge), `steps` and `states` (2·agents per waypoint)
+/// What a run found. `controls` (control_dims per edge), `steps` and `states` (2·agents per waypoint)
 /// are owned by the shim; free with mb_ompl_free.
 struct mb_result {
     int status;  // 0: no path, 1: approximate, 2: exact
@@ -92,7 +94,8 @@ struct mb_result {
 
 namespace {
 
-const size_t CONTROL_DIMS = 3;  // θ_B, g_x, g_y (planar: α = 0)
+/// The control space's dimension: 3 (θ_B, g_x, g_y; planar, α = 0) or 4 (… , α).
+size_t controlDims(const oc::ControlSpace *space) { return space->getDimension(); }
 
 /// A seed for the `k`-th RNG of a run (splitmix64 of the run's seed and k).
 std::uint_fast32_t derive(uint64_t seed, uint64_t k) {
@@ -163,7 +166,7 @@ public:
         for (size_t i = prevSolutionControls_.size(); i-- > 0;) {
             const double *u =
                 prevSolutionControls_[i]->as<oc::RealVectorControlSpace::ControlType>()->values;
-            controls.insert(controls.end(), u, u + CONTROL_DIMS);
+            controls.insert(controls.end(), u, u + controlDims(siC_->getControlSpace().get()));
             steps.push_back(prevSolutionSteps_[i]);
         }
     }
@@ -318,13 +321,22 @@ int solve(const mb_problem &p, const mb_callbacks *cb, mb_result *r) {
         return std::make_shared<SeededStateSampler>(s, seeds.take());
     });
 
-    auto cspace = std::make_shared<oc::RealVectorControlSpace>(space, CONTROL_DIMS);
-    ob::RealVectorBounds cbounds(CONTROL_DIMS);
+    if (p.control_dims != 3 && p.control_dims != 4) {
+        fail(r, "control_dims must be 3 or 4");
+        return 1;
+    }
+    const size_t cdims = p.control_dims;
+    auto cspace = std::make_shared<oc::RealVectorControlSpace>(space, cdims);
+    ob::RealVectorBounds cbounds(cdims);
     cbounds.setLow(0, -M_PI);
     cbounds.setHigh(0, M_PI);
-    for (size_t i = 1; i < CONTROL_DIMS; ++i) {
+    for (size_t i = 1; i < 3; ++i) {
         cbounds.setLow(i, -p.gradient_limit);
         cbounds.setHigh(i, p.gradient_limit);
+    }
+    if (cdims == 4) {  // the elevation: α and −α move the agents alike in the plane
+        cbounds.setLow(3, 0.0);
+        cbounds.setHigh(3, p.alpha_max);
     }
     cspace->setBounds(cbounds);
     cspace->setControlSamplerAllocator([&seeds](const oc::ControlSpace *s) -> oc::ControlSamplerPtr {
@@ -401,7 +413,7 @@ int solve(const mb_problem &p, const mb_callbacks *cb, mb_result *r) {
     const oc::PathControl &path = ss.getSolutionPath();
     const size_t edges = path.getControlCount();
     r->edges = edges;
-    r->controls = static_cast<double *>(std::malloc(sizeof(double) * CONTROL_DIMS * (edges + 1)));
+    r->controls = static_cast<double *>(std::malloc(sizeof(double) * cdims * (edges + 1)));
     r->steps = static_cast<unsigned *>(std::malloc(sizeof(unsigned) * (edges + 1)));
     r->states = static_cast<double *>(std::malloc(sizeof(double) * dims * (edges + 1)));
     if (!r->controls || !r->steps || !r->states) {
@@ -410,7 +422,7 @@ int solve(const mb_problem &p, const mb_callbacks *cb, mb_result *r) {
     }
     for (size_t k = 0; k < edges; ++k) {
         const double *u = path.getControl(k)->as<oc::RealVectorControlSpace::ControlType>()->values;
-        std::copy(u, u + CONTROL_DIMS, r->controls + CONTROL_DIMS * k);
+        std::copy(u, u + cdims, r->controls + cdims * k);
         r->steps[k] = static_cast<unsigned>(std::lround(path.getControlDuration(k) / p.step));
     }
     for (size_t k = 0; k <= edges; ++k) {
@@ -446,7 +458,7 @@ int64_t mb_ompl_propagate(const mb_problem *p, const mb_callbacks *cb, const dou
     try {
         const size_t dims = 2 * p->agents;
         auto space = std::make_shared<Positions>(p->agents, p->width, p->height);
-        auto cspace = std::make_shared<oc::RealVectorControlSpace>(space, CONTROL_DIMS);
+        auto cspace = std::make_shared<oc::RealVectorControlSpace>(space, p->control_dims);
         auto si = std::make_shared<oc::SpaceInformation>(space, cspace);
         si->setStatePropagator(std::make_shared<Propagator>(si, cb, dims));
         si->setStateValidityChecker(std::make_shared<Checker>(si, cb, dims));
@@ -456,7 +468,7 @@ int64_t mb_ompl_propagate(const mb_problem *p, const mb_callbacks *cb, const dou
         ob::State *from = si->allocState(), *to = si->allocState();
         oc::Control *u = si->allocControl();
         std::copy(state, state + dims, values(from));
-        std::copy(control, control + CONTROL_DIMS,
+        std::copy(control, control + p->control_dims,
                   u->as<oc::RealVectorControlSpace::ControlType>()->values);
         auto t0 = std::chrono::steady_clock::now();
         for (uint64_t i = 0; i < repeats; ++i) si->propagate(from, u, 1, to);

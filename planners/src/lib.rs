@@ -49,7 +49,7 @@ pub use objective::{Objective, plan_cost};
 pub use plan::Plan;
 pub use planner::{Planner, PlannerResult, ProgressPoint};
 pub use problem::{Limits, Problem};
-pub use setup::{PlanningSetup, Unusable, check_result};
+pub use setup::{ElevationRefused, PlanningSetup, Unusable, check_result};
 pub use validate::{PlanError, validate_path, validate_plan};
 
 /// The planners' random stream: portable and seedable (ChaCha8), never a thread or OS RNG.

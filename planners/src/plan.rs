@@ -14,6 +14,11 @@ pub struct Plan {
     /// Plan files written before the exact flow have no such field and are `rk4`.
     #[serde(default = "legacy_flow")]
     pub flow: Flow,
+    /// The largest field elevation |α| the planner could command (rad) when the elevation was
+    /// free (a team of three or more at an interface, or `planar = false`); absent when the
+    /// planner kept the field in the plane (and in plan files written before issue 13).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_max: Option<f64>,
     /// Agent positions at each waypoint (BL); one more than there are controls.
     pub states: Vec<Vec<Vec2>>,
     /// Control of each edge.
@@ -32,10 +37,16 @@ impl Plan {
     pub fn at(start: &[Vec2]) -> Self {
         Plan {
             flow: Flow::default(),
+            alpha_max: None,
             states: vec![start.to_vec()],
             controls: vec![],
             durations: vec![],
         }
+    }
+
+    /// Whether the planner could tilt the field out of the plane.
+    pub fn elevation_free(&self) -> bool {
+        self.alpha_max.is_some()
     }
 
     /// Number of edges.

@@ -21,15 +21,18 @@ impl Best {
     }
 }
 
-/// Closes the progress trace and builds the result.
+/// Closes the progress trace and builds the result; the plan records `alpha_max`, the largest
+/// elevation the planner could draw (`None` when it kept the field in the plane).
 pub fn finish(
     problem: &Problem,
-    best: Best,
+    mut best: Best,
     iterations: u64,
     nodes: usize,
     progress: Progress,
     first_solution: Option<(u64, f64)>,
+    alpha_max: Option<f64>,
 ) -> PlannerResult {
+    best.plan.alpha_max = alpha_max;
     let cost = best.solved_cost();
     let (trace, time_s) = progress.finish(iterations, cost);
     PlannerResult {

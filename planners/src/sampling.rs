@@ -5,7 +5,8 @@
 //!
 //! `planar` says whether EXTEND draws the field elevation too: `auto` (the default) keeps two
 //! agents in the plane — the random stream is then exactly the planar one — and draws
-//! (θ_B, α, G_x, G_y) for three or more, with α in [0, α_max] of the planning setup.
+//! (θ_B, α, G_x, G_y) for three or more when their medium carries the out-of-plane force (the
+//! problem's model says), with α in [0, α_max] of the planning setup.
 //!
 //! Durations are given in seconds and used in whole control periods of the problem (the
 //! camera frames of the rig that will run the plan): the nearest whole number, at least one.
@@ -42,8 +43,9 @@ declare_params! {
         /// try passes closest to its target).
         #[param("timing")]
         pub timing: Timing = Timing::Random,
-        /// Whether the field stays in the plane: `auto` (two agents yes, three or more no),
-        /// `true` or `false`.
+        /// Whether the field stays in the plane: `auto` (two agents, or a medium that does not
+        /// carry the out-of-plane force, yes; three or more at an interface no), `true` or
+        /// `false` (refused in bulk).
         #[param("planar")]
         pub planar: Planar = Planar::Auto,
     }
@@ -63,8 +65,16 @@ impl Sampling {
             min_periods: to_periods(self.min_duration, problem.control_period),
             max_periods: to_periods(self.max_duration, problem.control_period),
             timing: self.timing,
-            alpha_max: (!self.planar.is_planar(problem.agents())).then_some(problem.alpha_max),
+            alpha_max: self.elevation_free(problem).then_some(problem.alpha_max),
         }
+    }
+
+    /// Whether EXTEND may tilt the field for `problem`: its team size under `planar` and its
+    /// medium.
+    pub fn elevation_free(&self, problem: &Problem) -> bool {
+        !self
+            .planar
+            .is_planar(problem.agents(), problem.model.carries_fz)
     }
 
     /// The goal-zoom sampler.

@@ -1,13 +1,26 @@
 //! The planning setup: what every plan of a run is made under — the objective, the metric, the
-//! limits, the control period, the flow and the largest field elevation — and the one rule for whether a planner's result
-//! can be used.
+//! limits, the control period, the flow, the largest field elevation and the plant it is for
+//! (the medium and the coil's elevation range) — and the one rule for whether a planner's
+//! result can be used.
+//!
+//! The plant part comes from the rig that will run the plans ([`PlanningSetup::on_plant`]): a
+//! preset's `[medium]` and `[coil]`, or a rig file's `coil.alpha_max_deg`. A scenario's own
+//! `[medium]` wins over the preset's. Without a rig (`magbench plan`) the setup assumes the
+//! default preset's plant: bulk liquid (the `realistic` preset of `magbench track`) and a
+//! tri-axial coil.
 //!
 //! A run makes one [`PlanningSetup`] and hands it to every planning call: the first plan, each
 //! new leg's plan and each replan in the tracking loop. So `rrt-star{objective=duration}`
 //! plans every leg under duration, and a plan is in whole frames of the rig that runs it.
 
-use magbench_env::coil::DEFAULT_ALPHA_MAX_DEG;
+use std::sync::Arc;
+
+use magbench_env::coil::{
+    COIL_ALPHA_MAX_DEG, DEFAULT_ALPHA_MAX_DEG, Planar, TriaxialMaxwell, elevation_params,
+};
 use magbench_env::model::Flow;
+use magbench_env::params::ParamInfo;
+use magbench_env::plant::Medium;
 use magbench_env::{InputError, PlanningModel, Scenario, Vec2};
 
 use crate::metric::Metric;
@@ -40,6 +53,11 @@ pub struct PlanningSetup {
     /// planner's `planar` setting lets the field leave the plane. The tri-axial coil's whole
     /// range ([`DEFAULT_ALPHA_MAX_DEG`]) unless set.
     pub alpha_max_deg: f64,
+    /// The medium of the plant when the scenario names none (the preset's): whether it
+    /// carries the out-of-plane force decides `planar = auto` for three or more agents.
+    pub medium: Medium,
+    /// The coil's elevation range (degrees): a rig file's or a preset's `alpha_max_deg`.
+    pub coil_alpha_max_deg: f64,
 }
 
 impl Default for PlanningSetup {
@@ -51,6 +69,8 @@ impl Default for PlanningSetup {
             control_period: DEFAULT_CONTROL_PERIOD,
             flow: Flow::default(),
             alpha_max_deg: DEFAULT_ALPHA_MAX_DEG,
+            medium: Medium::Bulk,
+            coil_alpha_max_deg: COIL_ALPHA_MAX_DEG,
         }
     }
 }
@@ -65,7 +85,7 @@ impl PlanningSetup {
         start: Option<&[Vec2]>,
         seed: u64,
     ) -> Problem {
-        let model = PlanningModel::new(&scenario.physics).with_flow(self.flow);
+        let model = self.model(scenario).with_flow(self.flow);
         Problem {
             scenario: scenario.name.clone(),
             world: scenario.world_for_leg(leg),
@@ -82,6 +102,96 @@ impl PlanningSetup {
             metric: self.metric,
             alpha_max: self.alpha_max_deg.to_radians(),
         }
+    }
+
+    /// The planning model of `scenario` on this setup's plant (default flow): its coil's
+    /// elevation range, and whether the effective medium — the scenario's, else the
+    /// setup's — carries the out-of-plane force. Trackers predict with it too.
+    pub fn model(&self, scenario: &Scenario) -> PlanningModel {
+        let p = &scenario.physics;
+        let coil =
+            TriaxialMaxwell::new(p.gradient_limit()).with_alpha_max_deg(self.coil_alpha_max_deg);
+        PlanningModel::with_coil(p, Arc::new(coil)).in_medium(self.medium_of(scenario))
+    }
+
+    /// The medium the agents of `scenario` are in: the scenario's `[medium]`, else the
+    /// setup's (the preset's).
+    pub fn medium_of<'a>(&'a self, scenario: &'a Scenario) -> &'a Medium {
+        scenario.medium.as_ref().unwrap_or(&self.medium)
+    }
+
+    /// The same setup for a plant in `medium` (a preset's; a scenario's own wins) with a coil
+    /// that tilts the field up to `coil_alpha_max_deg`.
+    pub fn on_plant(self, medium: &Medium, coil_alpha_max_deg: f64) -> Self {
+        PlanningSetup {
+            medium: medium.clone(),
+            coil_alpha_max_deg,
+            ..self
+        }
+    }
+
+    /// Whether `planar` (a planner's or tracker's) fits `scenario` on this plant: `false`
+    /// needs a medium that carries the out-of-plane force. The error is the reason.
+    pub fn check_planar(&self, scenario: &Scenario, planar: Planar) -> Result<(), String> {
+        let medium = self.medium_of(scenario);
+        planar.check_medium(medium.carries_fz()).map_err(|why| {
+            format!(
+                "{why}; scenario {} is in {}{}",
+                scenario.name,
+                medium.kind(),
+                if scenario.medium.is_some() {
+                    " (its [medium])"
+                } else {
+                    " (the plant's medium; the scenario names none)"
+                }
+            )
+        })
+    }
+
+    /// Whether an elevation bound `alpha_max_deg` (this setup's or a tracker's) is within the
+    /// coil's range; the error is the reason.
+    pub fn check_alpha_max(&self, alpha_max_deg: f64) -> Result<(), String> {
+        if alpha_max_deg > self.coil_alpha_max_deg {
+            return Err(format!(
+                "{alpha_max_deg}° exceeds the coil's elevation range alpha_max_deg = {}°",
+                self.coil_alpha_max_deg
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether a planner's or tracker's elevation settings (among its `params`) fit `scenario`
+    /// on this plant: `planar = false` needs a medium that carries the out-of-plane force and,
+    /// where the elevation is free, its `alpha_max` — or this setup's, for a planner, which has
+    /// none of its own — may not exceed the coil's range.
+    pub fn check_settings(
+        &self,
+        scenario: &Scenario,
+        params: &[ParamInfo],
+    ) -> Result<(), ElevationRefused> {
+        let (planar, alpha_max) = elevation_params(params);
+        let Some(planar) = planar else {
+            return Ok(());
+        };
+        self.check_planar(scenario, planar)
+            .map_err(ElevationRefused::Planar)?;
+        if !self.elevation(scenario, planar).0 {
+            return Ok(());
+        }
+        match alpha_max {
+            Some(a) => self.check_alpha_max(a).map_err(ElevationRefused::AlphaMax),
+            None => self
+                .check_alpha_max(self.alpha_max_deg)
+                .map_err(ElevationRefused::SetupAlphaMax),
+        }
+    }
+
+    /// Whether a team of `scenario` under `planar` may tilt the field on this plant, and why
+    /// (a few words).
+    pub fn elevation(&self, scenario: &Scenario, planar: Planar) -> (bool, &'static str) {
+        let fz = self.medium_of(scenario).carries_fz();
+        let n = scenario.agents();
+        (!planar.is_planar(n, fz), planar.reason(n, fz))
     }
 
     /// Sets one of the [`SETUP_KEYS`] from its text; an error names `source`, the key and the
@@ -136,6 +246,17 @@ impl PlanningSetup {
             ..self
         }
     }
+}
+
+/// Which elevation setting [`PlanningSetup::check_settings`] refuses, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ElevationRefused {
+    /// The planner's or tracker's `planar`.
+    Planar(String),
+    /// The tracker's own `alpha_max`.
+    AlphaMax(String),
+    /// The setup's `alpha_max` (a planner's elevation bound).
+    SetupAlphaMax(String),
 }
 
 /// Why a planner's result cannot be followed.

@@ -3,8 +3,9 @@
 //! It trusts nothing a planner stored: it replays the plan's controls from the problem's start
 //! through env's planning model (`ValidityChecker::motion_valid`, env's own code path for the
 //! continuous collision and proximity check), compares every replayed waypoint with the stored
-//! one, checks the controls against the coil (and the elevation against the setup's `alpha_max`)
-//! and the durations against the control period, and
+//! one, checks the controls against the coil (and the elevation against the coil's range, the
+//! setup's `alpha_max`, the plan's own `alpha_max`, and 0 when the medium does not carry the
+//! out-of-plane force) and the durations against the control period, and
 //! confirms that the replay ends in the goal region.
 //!
 //! The replay uses the flow the plan records (`pair-exact` or `rk4`), with the problem's
@@ -125,8 +126,14 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
     let model = problem.model.with_flow(plan.flow);
     let mut state = problem.start.clone();
     let mut next = state.clone();
+    // in bulk nothing holds the agents in the plane under a tilted field: α must be 0 there
+    let alpha_max = match (model.carries_fz, plan.alpha_max) {
+        (false, _) => 0.0,
+        (true, Some(a)) => a.min(problem.alpha_max),
+        (true, None) => problem.alpha_max,
+    };
     for (edge, (u, &d)) in plan.controls.iter().zip(&plan.durations).enumerate() {
-        if !u.is_finite() || model.coil.clamp(u).1 || u.alpha.abs() > problem.alpha_max {
+        if !u.is_finite() || model.coil.clamp(u).1 || u.alpha.abs() > alpha_max {
             return Err(PlanError::BadControl {
                 edge,
                 control: format!("{u:?}"),

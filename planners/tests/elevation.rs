@@ -1,5 +1,6 @@
-//! The elevation as a control: three agents plan with α free by default, `planar = true`
-//! keeps them in the plane, and the validator enforces the setup's `alpha_max`.
+//! The elevation as a control: three agents at an interface plan with α free by default,
+//! `planar = true` keeps them in the plane, in bulk `auto` keeps them in the plane, and the
+//! validator enforces the setup's `alpha_max`, the coil's range and α = 0 in bulk.
 
 mod common;
 
@@ -24,10 +25,60 @@ fn three_agents_plan_with_the_elevation_unless_told_planar() {
             .all(|u| (0.0..=p.alpha_max).contains(&u.alpha))
     );
 
+    assert_eq!(r.plan.alpha_max, Some(p.alpha_max));
+    // the plan file says so, and reads back the same
+    let back: magbench_planners::Plan =
+        serde_json::from_str(&serde_json::to_string(&r.plan).unwrap()).unwrap();
+    assert_eq!(
+        (back.alpha_max, back.edges()),
+        (r.plan.alpha_max, r.plan.edges())
+    );
+
     let planar = registry::create("goal-zoom-rrt", &[param("planar", "true")])
         .unwrap()
         .solve(&p);
     assert!(planar.plan.controls.iter().all(|u| u.alpha == 0.0));
+    assert_eq!(planar.plan.alpha_max, None);
+    assert!(
+        !serde_json::to_string(&planar.plan)
+            .unwrap()
+            .contains("alpha_max")
+    );
+
+    // in bulk nothing carries f_z: `auto` keeps the field in the plane, and the validator
+    // refuses the elevated plan
+    let bulk = scenario(&in_bulk(TRIO));
+    let pb = problem(&bulk, 1, 2_000);
+    assert!(!pb.model.carries_fz);
+    let flat = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&pb);
+    assert!(flat.plan.controls.iter().all(|u| u.alpha == 0.0));
+    assert!(matches!(
+        validate_plan(&pb, &r.plan),
+        Err(PlanError::BadControl { .. })
+    ));
+}
+
+#[test]
+fn the_validator_holds_plans_to_the_coils_range() {
+    let s = scenario(TRIO);
+    let p = problem(&s, 1, 30_000);
+    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+    assert_solution(&p, &r);
+    // the same problem on a planar coil set (range 0°) refuses every elevated control
+    let planar_coil = magbench_planners::PlanningSetup {
+        limits: magbench_planners::Limits {
+            max_iterations: Some(30_000),
+            time_limit: None,
+        },
+        ..Default::default()
+    }
+    .on_plant(&magbench_env::plant::Medium::Bulk, 0.0)
+    .problem(&s, 0, None, 1);
+    assert!(planar_coil.model.carries_fz);
+    assert!(matches!(
+        validate_plan(&planar_coil, &r.plan),
+        Err(PlanError::BadControl { .. })
+    ));
 }
 
 #[test]
@@ -56,7 +107,7 @@ fn the_validator_holds_plans_to_the_setups_largest_elevation() {
 
 #[test]
 fn two_agents_stay_in_the_plane_by_default() {
-    let s = scenario(SMALL);
+    let s = scenario(&at_interface(SMALL));
     let p = problem(&s, 3, 20_000);
     let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
     assert!(r.plan.controls.iter().all(|u| u.alpha == 0.0));

@@ -241,7 +241,7 @@ impl ObcOptimizer {
         let n = x.len();
         assert!(n <= MAX_AGENTS && target.len() == n && path.len() == n && n > 0);
         let w = &self.weights;
-        let elevated = !w.planar.is_planar(n);
+        let elevated = !w.planar.is_planar(n, self.model.carries_fz);
         let setup = self.setup(x, target, path, last, elevated);
         let step = std::f64::consts::PI / self.grid.len() as f64;
         let grid = if elevated { &self.elevated } else { &self.grid };

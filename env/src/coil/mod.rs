@@ -9,7 +9,9 @@ mod elevation;
 mod triaxial;
 
 pub use control::Control;
-pub use elevation::{DEFAULT_ALPHA_MAX_DEG, Planar};
+pub use elevation::{
+    COIL_ALPHA_MAX_DEG, DEFAULT_ALPHA_MAX_DEG, NEEDS_INTERFACE, Planar, elevation_params,
+};
 pub use triaxial::TriaxialMaxwell;
 
 use crate::math::Vec3;
@@ -32,6 +34,8 @@ pub trait Coil: Send + Sync + std::fmt::Debug {
     fn name(&self) -> &str;
     /// Largest gradient command per axis (T/m).
     fn gradient_limit(&self) -> f64;
+    /// Largest field elevation |α| it can set (rad).
+    fn alpha_max(&self) -> f64;
     /// The command brought within the coil's limits, and whether anything had to be clamped.
     fn clamp(&self, u: &Control) -> (Control, bool);
     /// The field direction and pull a (within-limits) command produces.

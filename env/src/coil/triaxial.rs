@@ -11,17 +11,31 @@ use super::{Actuation, Coil, Control};
 use crate::math::Vec3;
 use crate::physics::field_direction;
 
-/// Tri-axial Helmholtz–Maxwell coil with a per-axis gradient bound.
+/// Tri-axial Helmholtz–Maxwell coil with a per-axis gradient bound and an elevation range.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriaxialMaxwell {
     /// Largest |G_x|, |G_y| (T/m).
     pub gradient_limit: f64,
+    /// Largest field elevation |α| it can set (rad): π/2 for a tri-axial coil
+    /// ([`super::COIL_ALPHA_MAX_DEG`]), less when a rig file or preset says so.
+    pub alpha_max: f64,
 }
 
 impl TriaxialMaxwell {
-    /// A coil with gradient bound `gradient_limit` (T/m).
+    /// A coil with gradient bound `gradient_limit` (T/m) and the whole elevation range.
     pub fn new(gradient_limit: f64) -> Self {
-        Self { gradient_limit }
+        Self {
+            gradient_limit,
+            alpha_max: super::COIL_ALPHA_MAX_DEG.to_radians(),
+        }
+    }
+
+    /// The same coil with elevation range `alpha_max_deg` (degrees).
+    pub fn with_alpha_max_deg(self, alpha_max_deg: f64) -> Self {
+        Self {
+            alpha_max: alpha_max_deg.to_radians(),
+            ..self
+        }
     }
 }
 
@@ -34,12 +48,14 @@ impl Coil for TriaxialMaxwell {
         self.gradient_limit
     }
 
+    fn alpha_max(&self) -> f64 {
+        self.alpha_max
+    }
+
     fn clamp(&self, u: &Control) -> (Control, bool) {
         let g = self.gradient_limit;
         let grad = u.grad.map(|x| x.clamp(-g, g));
-        let alpha = u
-            .alpha
-            .clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
+        let alpha = u.alpha.clamp(-self.alpha_max, self.alpha_max);
         let clamped = grad != u.grad || alpha != u.alpha;
         (
             Control {
@@ -91,5 +107,18 @@ mod tests {
         let (u, flagged) = c.clamp(&Control::planar(0.0, 0.5, -0.05));
         assert!(flagged && u.grad == [0.1, -0.05]);
         assert!(!c.clamp(&Control::planar(0.0, 0.05, -0.05)).1);
+    }
+
+    #[test]
+    fn clamp_flags_elevations_beyond_the_coils_range() {
+        let tilted = Control {
+            alpha: 0.5,
+            ..Control::planar(0.0, 0.0, 0.0)
+        };
+        assert!(!TriaxialMaxwell::new(0.1).clamp(&tilted).1);
+        let planar_set = TriaxialMaxwell::new(0.1).with_alpha_max_deg(0.0);
+        let (u, flagged) = planar_set.clamp(&tilted);
+        assert!(flagged && u.alpha == 0.0);
+        assert_eq!(planar_set.alpha_max(), 0.0);
     }
 }

@@ -59,6 +59,11 @@ pub struct PlanningModel {
     pub dt: f64,
     /// How motions are solved.
     pub flow: Flow,
+    /// Whether the agents' medium carries the out-of-plane force f_z (a liquid–air interface,
+    /// the seed's set-up), so that a field tilted out of the plane keeps them in it; false in
+    /// bulk liquid, where only α = 0 keeps the planar model true. True unless set
+    /// ([`PlanningModel::in_medium`]).
+    pub carries_fz: bool,
 }
 
 impl PlanningModel {
@@ -74,6 +79,15 @@ impl PlanningModel {
             coil,
             dt: p.dt_s,
             flow: Flow::default(),
+            carries_fz: true,
+        }
+    }
+
+    /// The same model for agents in `medium`: whether it carries the out-of-plane force.
+    pub fn in_medium(self, medium: &crate::plant::Medium) -> Self {
+        Self {
+            carries_fz: medium.carries_fz(),
+            ..self
         }
     }
 

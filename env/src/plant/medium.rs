@@ -60,6 +60,22 @@ impl Medium {
         }
     }
 
+    /// Whether the medium carries the out-of-plane force f_z: at an interface the meniscus
+    /// holds each agent in the surface (the seed, Sec. II-A: "the liquid–air interface ...
+    /// restrains the elevation force f_z = 0"); in bulk nothing does, and a field tilted out of
+    /// the plane lifts or sinks the agents.
+    pub fn carries_fz(&self) -> bool {
+        self.interface().is_some()
+    }
+
+    /// `bulk` or `interface`, as the `kind` field says.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Medium::Bulk => "bulk",
+            Medium::Interface(_) => "interface",
+        }
+    }
+
     /// Checks every value; returns (field, reason).
     pub fn check(&self) -> Result<(), Rejection> {
         let Some(i) = self.interface() else {

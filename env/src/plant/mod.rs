@@ -45,5 +45,5 @@ pub use hydrodynamics::{Hydrodynamics, rotne_prager};
 pub use magnet_lag::{MagnetLag, rotation_time};
 pub use medium::{GRAVITY, Interface, Medium};
 pub use nonuniform::NonuniformField;
-pub use preset::DisturbancePreset;
+pub use preset::{CoilRange, DisturbancePreset};
 pub use sim::{AGENT_RADIUS_BL, Plant};

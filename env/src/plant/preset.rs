@@ -7,11 +7,12 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::check::Rejection;
+use super::check::{Rejection, within};
 use super::{
     AmbientField, Brownian, CameraParams, Capillary, CoilCalibration, CoilLag, Drift, FieldError,
     Flow, Heterogeneity, Hydrodynamics, MagnetLag, Medium, NonuniformField,
 };
+use crate::coil::COIL_ALPHA_MAX_DEG;
 use crate::error::InputError;
 use crate::input;
 
@@ -28,6 +29,9 @@ pub struct DisturbancePreset {
     /// Where the agents move: `bulk` or `interface`.
     #[serde(default)]
     pub medium: Medium,
+    /// The simulated coil's reach: its elevation range.
+    #[serde(default)]
+    pub coil: CoilRange,
     /// Coil dynamics: first-order lag and slew limit of field and gradient.
     #[serde(default)]
     pub coil_lag: CoilLag,
@@ -67,6 +71,35 @@ pub struct DisturbancePreset {
     /// The camera.
     #[serde(default)]
     pub camera: CameraParams,
+}
+
+/// The simulated coil's reach (`[coil]`): how far out of the plane it can tilt the field.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoilRange {
+    /// Largest field elevation |α| (degrees, in [0, 90]): 90 for a tri-axial Helmholtz coil
+    /// (its z pair sets any B_z), 0 for a planar coil set.
+    #[serde(default = "coil_alpha_max")]
+    pub alpha_max_deg: f64,
+}
+
+fn coil_alpha_max() -> f64 {
+    COIL_ALPHA_MAX_DEG
+}
+
+impl Default for CoilRange {
+    fn default() -> Self {
+        CoilRange {
+            alpha_max_deg: COIL_ALPHA_MAX_DEG,
+        }
+    }
+}
+
+impl CoilRange {
+    /// Checks the range; returns (field, reason).
+    pub fn check(&self) -> Result<(), Rejection> {
+        within("coil.alpha_max_deg", self.alpha_max_deg, 0.0, 90.0, "°")
+    }
 }
 
 const IDEAL: &str = include_str!("../../../presets/ideal.toml");
@@ -182,6 +215,7 @@ impl DisturbancePreset {
             return Err(("name", "must not be empty".into()));
         }
         self.medium.check()?;
+        self.coil.check()?;
         self.coil_lag.check()?;
         self.field_error.check()?;
         self.nonuniform_field.check()?;
@@ -358,6 +392,9 @@ mod tests {
         let mut p = hw.clone();
         p.flow.length_bl = 0.0;
         assert_eq!(p.check().unwrap_err().0, "flow.length_bl");
+        let mut p = hw.clone();
+        p.coil.alpha_max_deg = 91.0;
+        assert_eq!(p.check().unwrap_err().0, "coil.alpha_max_deg");
         let mut p = hw;
         p.camera.fps = 0.0;
         assert_eq!(p.check().unwrap_err().0, "camera.fps");

@@ -2,17 +2,25 @@
 //!
 //! A scenario with several legs is planned leg by leg, each leg from where the previous plan
 //! ends; planning stops at the first leg that is not solved.
+//!
+//! `plan` has no rig: it plans for the default preset's plant (`realistic`, the default of
+//! `magbench track`): bulk liquid unless the scenario's `[medium]` says otherwise, and a
+//! tri-axial coil (elevation range 90°). So `planar = auto` frees the elevation only for three
+//! or more agents in a scenario at an interface; the summary says whether it was free and why.
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use magbench_env::coil::{Planar, elevation_params};
 use magbench_env::params::split_all;
 use magbench_env::{MAX_AGENTS, Scenario, Vec2};
-use magbench_planners::{Plan, Planner, PlannerResult, Problem, Unusable, check_result, registry};
+use magbench_planners::{
+    Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, check_result, registry,
+};
 use serde_json::{Value, json};
 
 use super::output::{out, outln};
-use super::setup::SetupArgs;
+use super::setup::{SetupArgs, check_elevation};
 use crate::CliError;
 use crate::plot::world::{WorldPlot, render};
 
@@ -83,6 +91,13 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
         ));
     }
     let setup = a.setup.setup()?.in_frames_of(1.0 / a.fps);
+    check_elevation(
+        &setup,
+        &scenario,
+        &[("param", planner.params())],
+        "the default tri-axial coil",
+    )?;
+    let elevation = elevation_json(&setup, &scenario, &elevation_params(&planner.params()).0);
     if let Some(dir) = &a.out {
         super::output::prepare_dir(dir, "--out")?;
     }
@@ -123,7 +138,8 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
         }
     }
 
-    let summary = summary_json(&scenario, planner_name, &a, &runs);
+    let mut summary = summary_json(&scenario, planner_name, &a, &runs);
+    summary["elevation"] = elevation;
     if let Some(dir) = &a.out {
         write_outputs(dir, &scenario, planner_name, &summary, &runs)?;
     }
@@ -174,6 +190,22 @@ fn tree_edges(planner: &dyn Planner) -> Vec<(Vec2, Vec2)> {
         .collect()
 }
 
+/// Whether the planner could tilt the field for this scenario, and why: `free`, `reason`, the
+/// `medium` the agents are in and the largest elevation `alpha_max_deg` (when free).
+fn elevation_json(setup: &PlanningSetup, s: &Scenario, planar: &Option<Planar>) -> Value {
+    let medium = setup.medium_of(s).kind();
+    let (free, reason) = match planar {
+        Some(p) => setup.elevation(s, *p),
+        None => (false, "the planner samples in-plane controls only"),
+    };
+    json!({
+        "free": free,
+        "reason": reason,
+        "medium": medium,
+        "alpha_max_deg": free.then_some(setup.alpha_max_deg),
+    })
+}
+
 fn summary_json(s: &Scenario, planner: &str, a: &PlanArgs, runs: &[LegRun]) -> Value {
     let solved = runs.len() == s.legs.len() && runs.iter().all(|r| r.result.solved);
     let last = runs.last().expect("at least one leg is planned");
@@ -215,11 +247,18 @@ fn summary_json(s: &Scenario, planner: &str, a: &PlanArgs, runs: &[LegRun]) -> V
 }
 
 fn summary_text(v: &Value, runs: &[LegRun]) -> String {
+    let e = &v["elevation"];
     let mut s = format!(
-        "scenario    {}\nplanner     {}  (seed {})\n",
+        "scenario    {}\nplanner     {}  (seed {})\nelevation   {} ({}; {} medium)\n",
         v["scenario"].as_str().unwrap_or(""),
         v["planner"].as_str().unwrap_or(""),
-        v["seed"]
+        v["seed"],
+        match e["alpha_max_deg"].as_f64() {
+            Some(a) => format!("free, α in [0, {a}]°"),
+            None => "in the plane (α = 0)".to_string(),
+        },
+        e["reason"].as_str().unwrap_or(""),
+        e["medium"].as_str().unwrap_or(""),
     );
     for (k, r) in runs.iter().enumerate() {
         let res = &r.result;

@@ -3,7 +3,9 @@
 //! is not an option of `track` and `rig run`: it is the frame period of their rig.
 
 use clap::Args;
-use magbench_planners::{Limits, PlanningSetup};
+use magbench_env::Scenario;
+use magbench_env::params::ParamInfo;
+use magbench_planners::{ElevationRefused, Limits, PlanningSetup};
 
 use crate::CliError;
 use crate::run::spec::time_limit;
@@ -26,7 +28,8 @@ pub struct SetupArgs {
     #[arg(long, default_value = "pair-exact")]
     pub flow: String,
     /// Largest field elevation a plan may command (degrees, 0–90), used where the planner's
-    /// `planar` setting frees the elevation (three or more agents by default).
+    /// `planar` setting frees the elevation (three or more agents at an interface by default),
+    /// within the coil's range (the rig file's or preset's `alpha_max_deg`).
     #[arg(long, default_value = "45")]
     pub alpha_max: String,
 }
@@ -51,6 +54,35 @@ impl SetupArgs {
         }
         Ok(setup)
     }
+}
+
+/// Refuses, before any planning, elevation settings that `scenario` on the setup's plant cannot
+/// hold, for each `(field prefix, parameters)` of `sets` (e.g. `("param", planner.params())`):
+/// `planar = false` where the medium does not carry the out-of-plane force, and — where the
+/// elevation is free — an `alpha_max` above the coil's range (the set's own `alpha_max`, or
+/// the setup's `--alpha-max` for a set without one; `coil` says where the range comes from).
+/// Exit 2 naming the option, the field and the reason.
+pub fn check_elevation(
+    setup: &PlanningSetup,
+    scenario: &Scenario,
+    sets: &[(&str, Vec<ParamInfo>)],
+    coil: &str,
+) -> Result<(), CliError> {
+    for (prefix, params) in sets {
+        setup
+            .check_settings(scenario, params)
+            .map_err(|e| match e {
+                ElevationRefused::Planar(r) => CliError::arg(format!("{prefix}.planar"), r),
+                ElevationRefused::AlphaMax(r) => CliError::arg(
+                    format!("{prefix}.alpha_max"),
+                    format!("{r} ({coil}); or set planar=true"),
+                ),
+                ElevationRefused::SetupAlphaMax(r) => {
+                    CliError::arg("--alpha-max", format!("{r} ({coil}); or set planar=true"))
+                }
+            })?;
+    }
+    Ok(())
 }
 
 /// `--max-iters` and `--time-limit`.

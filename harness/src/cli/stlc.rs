@@ -1,15 +1,13 @@
 //! `magbench stlc`: the Lie-algebra rank condition over ψ (two agents), or the accessibility
-//! rank and drift cancellation of a three-agent team at sample formations, with and without the
-//! elevation (`--agents 3`).
+//! rank and drift cancellation of a team of three or four at sample formations, with and
+//! without the elevation (`--agents 3`, `--agents 4`).
 
 use clap::Args;
 use magbench_env::PhysicalParams;
 use magbench_env::Vec2;
 use magbench_env::controllability::{closed_form, larc, velocity_ellipse};
 use magbench_env::model::Kinematics;
-use magbench_env::team_controllability::{
-    FieldSet, TeamReport, team_report, three_agent_formations,
-};
+use magbench_env::team_controllability::{FieldSet, TeamReport, formations, team_report};
 
 use super::output::outln;
 use crate::CliError;
@@ -17,6 +15,10 @@ use crate::CliError;
 /// Largest separation of the rank test (BL): at 50 BL the finite differences already miss the
 /// rank drop at ψ = ±90°.
 pub const MAX_R_BL: f64 = 30.0;
+
+/// The largest team of the rank tables: beyond four the velocity-set hull test (thousands of
+/// points in 2(N−1) dimensions) takes minutes.
+pub const MAX_TEAM: usize = 4;
 
 /// Arguments of `magbench stlc`.
 #[derive(Debug, Args)]
@@ -27,10 +29,10 @@ pub struct StlcArgs {
     /// Step of the ψ sweep (degrees).
     #[arg(long, default_value_t = 7.5)]
     pub step: f64,
-    /// Team size: 2 (the pair's local model) or 3 (sample formations of side --r).
+    /// Team size: 2 (the pair's local model), 3 or 4 (sample formations of side --r).
     #[arg(long, default_value_t = 2)]
     pub agents: usize,
-    /// Largest elevation of the elevated field set (degrees, --agents 3).
+    /// Largest elevation of the elevated field set (degrees, --agents 3 or 4).
     #[arg(long, default_value_t = 90.0)]
     pub alpha_max: f64,
 }
@@ -52,13 +54,13 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
             format!("must be in (0, 90] degrees, got {}", a.step),
         ));
     }
-    if a.agents == 3 {
+    if (3..=MAX_TEAM).contains(&a.agents) {
         return team(&a);
     }
     if a.agents != 2 {
         return Err(CliError::arg(
             "--agents",
-            format!("must be 2 or 3, got {}", a.agents),
+            format!("must be 2, 3 or {MAX_TEAM}, got {}", a.agents),
         ));
     }
     let p = PhysicalParams::default();
@@ -119,7 +121,7 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The three-agent tables: sample formations, then a sweep of the isosceles apex angle.
+/// The team tables: sample formations, then (three agents) a sweep of the isosceles apex angle.
 fn team(a: &StlcArgs) -> Result<(), CliError> {
     if !(a.alpha_max.is_finite() && a.alpha_max > 0.0 && a.alpha_max <= 90.0) {
         return Err(CliError::arg(
@@ -131,25 +133,33 @@ fn team(a: &StlcArgs) -> Result<(), CliError> {
     let elevated = FieldSet::Elevated {
         alpha_max: a.alpha_max.to_radians(),
     };
+    let n = a.agents;
+    let dim = 2 * (n - 1);
+    let shape: Vec<String> = (1..n).map(|i| format!("P{}−P₀", subscript(i))).collect();
     outln!(
-        "Three agents, side {} BL: shape s = (P₁−P₀, P₂−P₀) (dimension 4). Controls: the field in the plane",
-        a.r
+        "{} agents, side {} BL: shape s = ({}) (dimension {dim}). Controls: the field in the plane",
+        if n == 3 { "Three" } else { "Four" },
+        a.r,
+        shape.join(", ")
     );
     outln!(
         "(fields M, A, B) or elevated up to {}° (F₀, M', A, B). rank1 = the fields, rank2 = with their brackets,",
         a.alpha_max
     );
     outln!(
-        "rank3 = with brackets of brackets (the accessibility rank, full = 4). hold = 0 inside the velocity set's"
+        "rank3 = with brackets of brackets (the accessibility rank, full = {dim}). hold = 0 inside the velocity set's"
     );
     outln!(
         "convex hull (every relative position held); hold-shape = the same up to a rotation (side lengths held)."
     );
     header("formation")?;
-    for f in three_agent_formations(a.r) {
+    for f in formations(n, a.r) {
         for (label, set) in [("planar", FieldSet::Planar), ("elevated", elevated)] {
             row(f.name, label, &team_report(&kin, &f.positions, set))?;
         }
+    }
+    if n != 3 {
+        return footer();
     }
     outln!();
     outln!(
@@ -169,6 +179,16 @@ fn team(a: &StlcArgs) -> Result<(), CliError> {
             row(&format!("{apex}"), label, &team_report(&kin, &p, set))?;
         }
     }
+    footer()
+}
+
+/// The subscript digit of `k` (< 10).
+fn subscript(k: usize) -> char {
+    char::from_u32(0x2080 + k as u32).unwrap_or('?')
+}
+
+/// What the offset column means.
+fn footer() -> Result<(), CliError> {
     outln!(
         "offset: distance of the origin from the velocity set's affine hull (BL/s); > 0 means no mix of field"
     );

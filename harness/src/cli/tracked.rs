@@ -61,6 +61,39 @@ impl From<OpenError> for CliError {
     }
 }
 
+/// A plan file's elevations against the rig: none where the medium does not carry the
+/// out-of-plane force, none beyond the coil's range. Exit 2 naming the file, the control and
+/// the reason.
+fn check_plan_elevation(
+    plan: &magbench_planners::Plan,
+    path: &Path,
+    s: &Scenario,
+    setup: &PlanningSetup,
+    coil: &str,
+) -> Result<(), CliError> {
+    let fz = setup.medium_of(s).carries_fz();
+    for (k, u) in plan.controls.iter().enumerate() {
+        let a = u.alpha.abs().to_degrees();
+        let why = if a > 0.0 && !fz {
+            format!(
+                "α = {a}° but scenario {} is in {} liquid, which does not carry the out-of-plane force",
+                s.name,
+                setup.medium_of(s).kind()
+            )
+        } else if let Err(r) = setup.check_alpha_max(a) {
+            format!("α: {r} ({coil})")
+        } else {
+            continue;
+        };
+        return Err(CliError::Input(magbench_env::InputError::new(
+            path.display().to_string(),
+            format!("controls[{k}]"),
+            why,
+        )));
+    }
+    Ok(())
+}
+
 /// The first plan and where it came from.
 struct FirstPlan {
     plan: magbench_planners::Plan,
@@ -79,12 +112,27 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         )?),
         None => None,
     };
-    // every plan, the first and each replan, is in whole frames of the rig that runs it
-    let setup = r.setup.clone().in_frames_of(r.rig.0.frame_period(r.rig.1)?);
+    // every plan, the first and each replan, is in whole frames of the rig that runs it, for
+    // its medium and within its coil's elevation range
+    let plant = r.rig.0.plant(r.rig.1)?;
+    let setup = r
+        .setup
+        .clone()
+        .in_frames_of(r.rig.0.frame_period(r.rig.1)?)
+        .on_plant(&plant.medium, plant.coil_alpha_max_deg);
+    let mut sets = vec![];
+    if let Some(p) = &planner {
+        sets.push(("planner-param", p.params()));
+    }
+    sets.push(("param", r.tracker.build().params()));
+    super::setup::check_elevation(&setup, s, &sets, &plant.coil_source)?;
     let given = match &r.plan {
         Some(p) => Some(read_plan_for(p, s, setup.control_period)?),
         None => None,
     };
+    if let (Some(plan), Some(path)) = (&given, &r.plan) {
+        check_plan_elevation(plan, path, s, &setup, &plant.coil_source)?;
+    }
     if let Some(dir) = &r.out {
         prepare_dir(dir, "--out")?;
     }

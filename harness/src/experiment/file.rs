@@ -401,7 +401,7 @@ pub fn parse(
             ),
         ));
     }
-    Ok(Experiment {
+    let experiment = Experiment {
         name,
         description: raw.description,
         source: file.to_string(),
@@ -413,5 +413,13 @@ pub fn parse(
         tracking,
         seeds,
         limits: RunLimits { iterations, time_s },
-    })
+    };
+    // what only a whole run can tell (a planner's `planar` against a scenario's medium): one
+    // seed of each combination
+    let first_seed = experiment.seeds[0];
+    for spec in experiment.runs().iter().filter(|r| r.seed == first_seed) {
+        ex.check_run(spec)
+            .map_err(|(field, reason)| InputError::new(file, field, reason))?;
+    }
+    Ok(experiment)
 }

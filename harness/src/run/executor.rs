@@ -24,6 +24,11 @@ pub trait Executor: Sync {
     fn check_planner(&self, v: &Variant) -> Result<(), String>;
     /// Checks that a tracker exists and accepts these parameters.
     fn check_tracker(&self, v: &Variant) -> Result<(), String>;
+    /// Checks what only a whole run can tell (a planner's or tracker's elevation setting against
+    /// the run's scenario and preset); the error is (field, reason).
+    fn check_run(&self, _spec: &RunSpec) -> Result<(), (String, String)> {
+        Ok(())
+    }
     /// Executes one run. An `Err` becomes a `crash` row.
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String>;
 }

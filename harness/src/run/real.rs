@@ -22,6 +22,7 @@ use std::time::Duration;
 use std::time::Instant;
 
 use magbench_env::plant::DisturbancePreset;
+use magbench_planners::ElevationRefused;
 use magbench_planners::setup::SETUP_KEYS;
 use magbench_planners::{
     Limits, Plan, PlannerResult, PlanningSetup, Unusable, check_result, registry,
@@ -55,7 +56,8 @@ fn configure(setup: &mut PlanningSetup, v: &Variant, source: &str) -> Result<(),
 }
 
 /// The planning setup of every planning call of the run: the experiment's limits, the
-/// planner variant's setup keys and, for a tracked run, the frame period of its preset.
+/// planner variant's setup keys, its preset's medium and coil (ideal's, bulk and tri-axial, for
+/// a planning-only run) and, for a tracked run, the frame period of its preset.
 pub fn setup(spec: &RunSpec) -> Result<PlanningSetup, String> {
     let mut setup = PlanningSetup {
         limits: Limits {
@@ -65,10 +67,11 @@ pub fn setup(spec: &RunSpec) -> Result<PlanningSetup, String> {
         ..PlanningSetup::default()
     };
     configure(&mut setup, &spec.planner, &spec.experiment)?;
+    let preset = plant(spec);
     if spec.tracker.is_some() {
-        setup = setup.in_frames_of(1.0 / plant(spec).camera.fps);
+        setup = setup.in_frames_of(1.0 / preset.camera.fps);
     }
-    Ok(setup)
+    Ok(setup.on_plant(&preset.medium, preset.coil.alpha_max_deg))
 }
 
 /// The run's disturbance preset (ideal when the run names none).
@@ -207,6 +210,35 @@ impl Executor for RealExecutor {
         TrackerSpec::parse(&v.name, &v.params_as_strings(), "")
             .map(|_| ())
             .map_err(|e| e.reason)
+    }
+
+    fn check_run(&self, spec: &RunSpec) -> Result<(), (String, String)> {
+        let setup = setup(spec).map_err(|r| ("planners".to_string(), r))?;
+        let mut sets = vec![(
+            "planners",
+            &spec.planner,
+            registry::create_in("", &spec.planner.name, &planner_params(&spec.planner))
+                .map_err(|e| ("planners".to_string(), e.reason))?
+                .params(),
+        )];
+        if let Some(t) = &spec.tracker {
+            let tracker = TrackerSpec::parse(&t.name, &t.params_as_strings(), "")
+                .map_err(|e| ("trackers".to_string(), e.reason))?;
+            sets.push(("trackers", t, tracker.build().params()));
+        }
+        let preset = spec.preset.as_deref().unwrap_or("ideal");
+        for (field, v, params) in sets {
+            setup.check_settings(&spec.scenario, &params).map_err(|e| {
+                let why = match e {
+                    ElevationRefused::Planar(r) => format!("planar: {r}"),
+                    ElevationRefused::AlphaMax(r) | ElevationRefused::SetupAlphaMax(r) => {
+                        format!("alpha_max: {r} (preset {preset}: coil.alpha_max_deg)")
+                    }
+                };
+                (field.to_string(), format!("{}: {why}", v.label()))
+            })?;
+        }
+        Ok(())
     }
 
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {

@@ -18,8 +18,11 @@ use crate::progress::Progress;
 use super::path::from_ompl;
 use crate::plan_cost;
 
-/// Control dimensions: θ_B, g_x, g_y (planar, α = 0).
-pub const CONTROL_DIMS: usize = 3;
+/// Control dimensions in the plane: θ_B, g_x, g_y (α = 0).
+pub const PLANAR_DIMS: usize = 3;
+
+/// Control dimensions with the elevation free: θ_B, g_x, g_y, α.
+pub const ELEVATED_DIMS: usize = 4;
 
 /// magbench's side of the ABI (`struct mb_callbacks`).
 #[repr(C)]
@@ -36,7 +39,7 @@ pub struct Callbacks {
     pub goal_satisfied: extern "C" fn(*mut c_void, *const f64) -> c_int,
     /// One evaluation of the termination condition; nonzero stops the planner.
     pub tick: extern "C" fn(*mut c_void) -> c_int,
-    /// An improved solution (SST): its controls (3 per edge) and steps.
+    /// An improved solution (SST): its controls (the run's dimensions per edge) and steps.
     pub solution: extern "C" fn(*mut c_void, usize, *const f64, *const u32),
 }
 
@@ -75,6 +78,10 @@ pub struct CProblem {
     pub param_names: *const *const c_char,
     /// Their values as text.
     pub param_values: *const *const c_char,
+    /// [`PLANAR_DIMS`] or [`ELEVATED_DIMS`].
+    pub control_dims: usize,
+    /// The largest elevation α (rad) with [`ELEVATED_DIMS`].
+    pub alpha_max: f64,
 }
 
 /// What a run found (`struct mb_result`).
@@ -90,7 +97,7 @@ pub struct CResult {
     pub dominated: u64,
     /// Edges of the path.
     pub edges: usize,
-    /// Controls, 3 per edge.
+    /// Controls, `control_dims` per edge.
     pub controls: *mut f64,
     /// Steps per edge.
     pub steps: *mut u32,
@@ -132,15 +139,18 @@ pub struct Live {
 pub struct Run<'a> {
     /// The problem.
     pub problem: &'a Problem,
+    /// Control dimensions: [`PLANAR_DIMS`] or [`ELEVATED_DIMS`].
+    pub dims: usize,
     /// What changes.
     pub live: RefCell<Live>,
 }
 
 impl<'a> Run<'a> {
-    /// A run of `problem` whose clock starts now.
-    pub fn new(problem: &'a Problem) -> Self {
+    /// A run of `problem` with `dims`-dimensional controls whose clock starts now.
+    pub fn new(problem: &'a Problem, dims: usize) -> Self {
         Run {
             problem,
+            dims,
             live: RefCell::new(Live {
                 progress: Progress::start(problem),
                 iterations: 0,
@@ -164,13 +174,12 @@ unsafe fn read(x: *const f64, n: usize) -> [Vec2; MAX_AGENTS] {
     s
 }
 
-/// The planar control of OMPL's (θ_B, g_x, g_y).
-///
-/// # Safety
-/// `u` points to 3 readable doubles.
-pub unsafe fn control(u: *const f64) -> Control {
-    let u = unsafe { std::slice::from_raw_parts(u, 3) };
-    Control::planar(u[0], u[1], u[2])
+/// The control of OMPL's (θ_B, g_x, g_y) — planar — or (θ_B, g_x, g_y, α).
+pub fn control(u: &[f64]) -> Control {
+    Control {
+        alpha: if u.len() == ELEVATED_DIMS { u[3] } else { 0.0 },
+        ..Control::planar(u[0], u[1], u[2])
+    }
 }
 
 /// # Safety
@@ -186,9 +195,11 @@ extern "C" fn propagate(
     duration: f64,
     result: *mut f64,
 ) -> c_int {
-    // SAFETY: the shim passes the run's context, 2N-double states and 3-double controls.
+    // SAFETY: the shim passes the run's context, 2N-double states and controls of the run's
+    // dimensions.
     let (run, x, u) = unsafe {
         let run = run(ctx);
+        let u = std::slice::from_raw_parts(u, run.dims);
         (run, read(state, run.problem.agents()), control(u))
     };
     let n = run.problem.agents();
@@ -244,15 +255,16 @@ extern "C" fn tick(ctx: *mut c_void) -> c_int {
 }
 
 extern "C" fn solution(ctx: *mut c_void, edges: usize, controls: *const f64, steps: *const u32) {
-    // SAFETY: the shim passes 3 controls and one step count per edge.
+    // SAFETY: the shim passes a control of the run's dimensions and one step count per edge.
     let (run, controls, steps) = unsafe {
+        let run = run(ctx);
         (
-            run(ctx),
-            std::slice::from_raw_parts(controls, 3 * edges),
+            run,
+            std::slice::from_raw_parts(controls, run.dims * edges),
             std::slice::from_raw_parts(steps, edges),
         )
     };
-    let Ok(plan) = from_ompl(run.problem, controls, steps, None) else {
+    let Ok(plan) = from_ompl(run.problem, run.dims, controls, steps, None) else {
         return;
     };
     if !run.problem.goal.contains(plan.end()) {

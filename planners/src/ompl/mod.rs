@@ -4,7 +4,8 @@
 //! ```text
 //! OMPL(problem, planner, params, seed)
 //!   state space   ← ℝ^{2N}: the agents' positions, bounded by the world's rectangle
-//!   control space ← (θ_B, g_x, g_y) ∈ [−π, π] × [−G, G]²   (planar: α = 0)
+//!   control space ← (θ_B, g_x, g_y) ∈ [−π, π] × [−G, G]²   (planar: α = 0), or
+//!                   (θ_B, g_x, g_y, α) ∈ … × [0, α_max]   when `planar` frees the elevation
 //!   step          ← the control period; durations ∈ [min_duration, max_duration] in steps
 //!   propagator(x, u, step):  x' ← PlanningModel (exact pair flow or RK4), and the motion
 //!                            x → x' checked continuously (ValidityChecker::edge_valid or
@@ -84,7 +85,13 @@ impl<P: OmplParams> Ompl<P> {
 
     /// Runs OMPL's planner on `problem`; also returns OMPL's counts.
     pub fn solve_with_stats(&mut self, problem: &Problem) -> (PlannerResult, OmplStats) {
-        let run = Run::new(problem);
+        let alpha_max = self.params.durations().alpha_max(problem);
+        let dims = if alpha_max.is_some() {
+            ffi::ELEVATED_DIMS
+        } else {
+            ffi::PLANAR_DIMS
+        };
+        let run = Run::new(problem, dims);
         let callbacks = Callbacks::of(&run);
         let (min_steps, max_steps) = self.params.durations().steps(problem);
         let owned = Owned::new(
@@ -93,7 +100,7 @@ impl<P: OmplParams> Ompl<P> {
             &self.params.ompl_params(),
             (min_steps, max_steps),
         );
-        let mut cproblem = owned.c_problem(problem);
+        let mut cproblem = owned.c_problem(problem, dims);
         cproblem.stop_on_solution = self.params.stop_on_solution() as i32;
         // SAFETY: every pointer lives until the call returns; the result is zeroed by the shim.
         let mut r: CResult = unsafe { std::mem::zeroed() };
@@ -114,12 +121,12 @@ impl<P: OmplParams> Ompl<P> {
             // SAFETY: the shim filled `edges` controls and steps and `edges + 1` states.
             let (controls, steps, states) = unsafe {
                 (
-                    std::slice::from_raw_parts(r.controls, ffi::CONTROL_DIMS * r.edges),
+                    std::slice::from_raw_parts(r.controls, dims * r.edges),
                     std::slice::from_raw_parts(r.steps, r.edges),
                     std::slice::from_raw_parts(r.states, n2 * (r.edges + 1)),
                 )
             };
-            path::from_ompl(problem, controls, steps, Some(states))
+            path::from_ompl(problem, dims, controls, steps, Some(states))
         };
         // SAFETY: frees what the shim allocated (null pointers are fine).
         unsafe { mb_ompl_free(&mut r) };
@@ -151,7 +158,15 @@ impl<P: OmplParams> Ompl<P> {
         progress.record(live.iterations, best.solved_cost());
         let nodes = stats.vertices as usize;
         (
-            finish(problem, best, live.iterations, nodes, progress, first),
+            finish(
+                problem,
+                best,
+                live.iterations,
+                nodes,
+                progress,
+                first,
+                alpha_max,
+            ),
             stats,
         )
     }
@@ -193,8 +208,8 @@ impl Owned {
         }
     }
 
-    /// The problem, pointing into `self`.
-    fn c_problem(&self, problem: &Problem) -> CProblem {
+    /// The problem with `dims`-dimensional controls, pointing into `self`.
+    fn c_problem(&self, problem: &Problem, dims: usize) -> CProblem {
         CProblem {
             planner: self.planner.as_ptr(),
             agents: problem.agents(),
@@ -212,6 +227,8 @@ impl Owned {
             n_params: self.name_ptrs.len(),
             param_names: self.name_ptrs.as_ptr(),
             param_values: self.value_ptrs.as_ptr(),
+            control_dims: dims,
+            alpha_max: problem.alpha_max,
         }
     }
 }
@@ -225,12 +242,12 @@ pub fn propagate_through_ompl(
     u: &magbench_env::Control,
     repeats: u64,
 ) -> Option<(Vec<magbench_env::Vec2>, std::time::Duration)> {
-    let run = Run::new(problem);
+    let run = Run::new(problem, ffi::ELEVATED_DIMS);
     let callbacks = Callbacks::of(&run);
     let owned = Owned::new(problem, "rrt", &[], (1, 1));
-    let cproblem = owned.c_problem(problem);
+    let cproblem = owned.c_problem(problem, ffi::ELEVATED_DIMS);
     let x: Vec<f64> = start.iter().flat_map(|p| [p.x, p.y]).collect();
-    let control = [u.theta, u.grad[0], u.grad[1]];
+    let control = [u.theta, u.grad[0], u.grad[1], u.alpha];
     let mut out = vec![0.0; x.len()];
     // SAFETY: every pointer lives until the call returns; `out` holds 2N doubles.
     let ns = unsafe {

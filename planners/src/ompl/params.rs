@@ -5,6 +5,7 @@
 //! SSTs are compared at the same δ_BN and δ_s; both measure in the same metric, the Euclidean
 //! distance over all agent positions) and the durations (magbench's planners' own defaults).
 
+use magbench_env::coil::Planar;
 use magbench_env::declare_params;
 use magbench_env::params::{ParamSet, Reals};
 
@@ -12,7 +13,8 @@ use crate::Problem;
 use crate::sampling::{Sampling, check_durations, to_periods};
 
 declare_params! {
-    /// OMPL's control duration bounds, in seconds, used in whole control periods.
+    /// What every OMPL planner's controls share: the duration bounds, in seconds, used in whole
+    /// control periods, and whether the field may leave the plane.
     #[derive(Debug, Clone, PartialEq)]
     pub struct Durations {
         /// Shortest control duration (s), rounded to whole control periods.
@@ -21,6 +23,11 @@ declare_params! {
         /// Longest control duration (s), rounded to whole control periods.
         #[param("max_duration", Reals::POSITIVE)]
         pub max_duration: f64 = Sampling::default().max_duration,
+        /// Whether the field stays in the plane: `auto` (two agents, or a medium that does not
+        /// carry the out-of-plane force, yes; three or more at an interface no), `true` or
+        /// `false`. Elevated, the control space gains α ∈ [0, alpha_max].
+        #[param("planar")]
+        pub planar: Planar = Planar::Auto,
     }
     check(Durations::check);
 }
@@ -34,13 +41,21 @@ impl Durations {
         )
     }
 
+    /// The largest elevation (rad) when the field may leave the plane for `problem`.
+    pub fn alpha_max(&self, problem: &Problem) -> Option<f64> {
+        (!self
+            .planar
+            .is_planar(problem.agents(), problem.model.carries_fz))
+        .then_some(problem.alpha_max)
+    }
+
     fn check(&self) -> Result<(), String> {
         check_durations(self.min_duration, self.max_duration)
     }
 }
 
 /// Keys that magbench reads itself; every other parameter goes to OMPL by name.
-pub const MAGBENCH_KEYS: [&str; 3] = ["min_duration", "max_duration", "stop_on_solution"];
+pub const MAGBENCH_KEYS: [&str; 4] = ["min_duration", "max_duration", "stop_on_solution", "planar"];
 
 /// An OMPL planner's parameters.
 pub trait OmplParams: ParamSet + Clone + Default + Send + 'static {

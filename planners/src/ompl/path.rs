@@ -15,13 +15,14 @@ use crate::motion::propagate_valid;
 use crate::validate::REPLAY_TOLERANCE;
 use crate::{Plan, Problem};
 
-use super::ffi::CONTROL_DIMS;
+use super::ffi::control;
 
-/// The plan of OMPL's `controls` (θ_B, g_x, g_y per edge) and `steps`, one plan edge per
-/// propagation step, replayed from the problem's start. With `states` (OMPL's waypoints, 2N
-/// per waypoint), every edge's end must match OMPL's.
+/// The plan of OMPL's `controls` (`dims` per edge: θ_B, g_x, g_y and, with 4, α) and `steps`,
+/// one plan edge per propagation step, replayed from the problem's start. With `states`
+/// (OMPL's waypoints, 2N per waypoint), every edge's end must match OMPL's.
 pub fn from_ompl(
     problem: &Problem,
+    dims: usize,
     controls: &[f64],
     steps: &[u32],
     states: Option<&[f64]>,
@@ -33,8 +34,8 @@ pub fn from_ompl(
     let mut x = [Vec2::zeros(); MAX_AGENTS];
     x[..n].copy_from_slice(&problem.start);
     let mut next = x;
-    for (edge, (u, &k)) in controls.chunks_exact(CONTROL_DIMS).zip(steps).enumerate() {
-        let u = magbench_env::Control::planar(u[0], u[1], u[2]);
+    for (edge, (u, &k)) in controls.chunks_exact(dims).zip(steps).enumerate() {
+        let u = control(u);
         for _ in 0..k {
             if !propagate_valid(problem, &x[..n], &u, period, &mut next[..n]) {
                 return Err(format!("OMPL's edge {edge} fails magbench's edge check"));

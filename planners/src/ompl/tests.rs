@@ -220,3 +220,43 @@ fn sst_node_counts() {
         );
     }
 }
+
+/// Three agents at an interface (trio-triangle): the control space gains α ∈ [0, alpha_max],
+/// the plan records it, every α stays in range, and the plans pass the validator; with
+/// `planar = true` the controls stay in the plane.
+#[test]
+fn ompl_plans_with_the_elevation_on_trio_triangle() {
+    let mut solved = 0;
+    for name in ["ompl:rrt", "ompl:sst"] {
+        for seed in [0, 1] {
+            let p = problem("trio-triangle", seed, 20_000);
+            assert!(p.model.carries_fz);
+            let r = create(name, &kv(&[("stop_on_solution", "true")]))
+                .or_else(|_| create(name, &[]))
+                .unwrap()
+                .solve(&p);
+            assert_eq!(r.plan.alpha_max, Some(p.alpha_max), "{name}");
+            assert!(r.plan.edges() > 0, "{name} seed {seed}: no motion");
+            assert!(
+                r.plan
+                    .controls
+                    .iter()
+                    .all(|u| (0.0..=p.alpha_max).contains(&u.alpha)),
+                "{name}"
+            );
+            assert!(r.plan.controls.iter().any(|u| u.alpha > 0.0), "{name}");
+            check_result(&p, &r).unwrap_or_else(|e| panic!("{name} seed {seed}: {e}"));
+            if r.solved {
+                validate_plan(&p, &r.plan).unwrap_or_else(|e| panic!("{name} seed {seed}: {e}"));
+                solved += 1;
+            }
+        }
+    }
+    assert!(solved >= 1, "no OMPL planner solved trio-triangle");
+    let p = problem("trio-triangle", 0, 2_000);
+    let flat = create("ompl:rrt", &kv(&[("planar", "true")]))
+        .unwrap()
+        .solve(&p);
+    assert!(flat.plan.controls.iter().all(|u| u.alpha == 0.0));
+    assert_eq!(flat.plan.alpha_max, None);
+}

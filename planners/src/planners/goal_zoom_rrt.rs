@@ -119,7 +119,7 @@ impl Planner for GoalZoomRrt {
         };
         let nodes = tree.len();
         self.last_tree = Some(tree);
-        finish(problem, best, i, nodes, progress, first)
+        finish(problem, best, i, nodes, progress, first, extend.alpha_max)
     }
 
     fn tree(&self) -> Option<&Tree> {

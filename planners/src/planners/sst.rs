@@ -251,7 +251,18 @@ impl Sst {
         };
         let nodes = tree.len();
         self.last_tree = Some(tree);
-        (finish(problem, best, i, nodes, progress, first), stats)
+        (
+            finish(
+                problem,
+                best,
+                i,
+                nodes,
+                progress,
+                first,
+                propagate.alpha_max,
+            ),
+            stats,
+        )
     }
 }
 

@@ -61,7 +61,25 @@ agents = [[4.0, 5.0], [8.5, 5.0], [6.25, 8.9]]
 [goal]
 agents = [[7.0, 6.0], [11.5, 6.0], [9.25, 9.9]]
 tolerance = 1.0
+[medium]
+kind = "interface"
+surface_tension_mn_per_m = 66.0
+liquid_density_kg_per_m3 = 1190.0
+agent_density_kg_per_m3 = 1210.0
+contact_angle_deg = 90.0
+contact_angle_spread_deg = 6.0
 "#;
+
+/// A scenario's text without its `[medium]` table: in bulk, the planning setup's default.
+pub fn in_bulk(text: &str) -> String {
+    text.split("[medium]").next().unwrap_or(text).to_string()
+}
+
+/// A scenario's text at the seed's liquid–air interface (TRIO's `[medium]`).
+pub fn at_interface(text: &str) -> String {
+    let medium = TRIO.split("[medium]").nth(1).unwrap_or("");
+    format!("{}[medium]{medium}", in_bulk(text))
+}
 
 /// Parses a scenario written in a test.
 pub fn scenario(text: &str) -> Scenario {

@@ -220,7 +220,7 @@ struct Run<'a> {
 impl<'a> Run<'a> {
     fn new(mission: Mission<'a>, opts: &LoopOptions, rig: &dyn Rig) -> Self {
         let s = mission.scenario;
-        let model = PlanningModel::new(&s.physics);
+        let model = mission.setup.model(s);
         Run {
             course: Course::new(s, opts.hold, opts.goal_margin),
             first_plan: mission.plan.map(|plan| FirstPlan {

@@ -109,7 +109,11 @@ impl RrtStar {
         let nodes = s.tree.len();
         let stats = s.stats;
         self.last_tree = Some(std::mem::replace(&mut s.tree, Tree::new(&problem.start)));
-        (finish(problem, s.best, i, nodes, progress, first), stats)
+        let alpha_max = s.extend.alpha_max;
+        (
+            finish(problem, s.best, i, nodes, progress, first, alpha_max),
+            stats,
+        )
     }
 }
 
