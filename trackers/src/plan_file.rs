@@ -21,31 +21,18 @@ pub fn read_plan(path: &Path, agents: usize) -> Result<Plan, InputError> {
     parse_plan(&text, &file, agents)
 }
 
-/// Reads a plan file and validates it for the first leg of `scenario` on a rig whose frames
-/// last `control_period` seconds, as a scenario file is validated: [`parse_plan`], then
-/// [`check_plan`].
-pub fn read_plan_for(
-    path: &Path,
-    scenario: &Scenario,
-    control_period: f64,
-) -> Result<Plan, InputError> {
-    let file = path.display().to_string();
-    let plan = read_plan(path, scenario.agents())?;
-    check_plan(&plan, scenario, &file, control_period)?;
-    Ok(plan)
-}
-
 /// Checks a well-formed plan against the first leg of `scenario`: at most
 /// [`MAX_PLAN_DURATION_S`] long, every state inside the world, and then the planners' own
-/// validator from the plan's start — controls within the coil's limits, durations in whole
-/// control periods of `control_period` seconds (the frames of the rig that will run it), no
-/// collision or proximity violation along any edge, and every stored state what the planning
-/// model replays. `file` names the plan in errors.
+/// validator from the plan's start under `setup` — controls within the coil's limits (its
+/// elevation range, and no elevation where the medium does not carry the out-of-plane force),
+/// durations in whole control periods (the frames of the rig that will run it), no collision
+/// or proximity violation along any edge, and every stored state what the planning model
+/// replays. `file` names the plan in errors.
 pub fn check_plan(
     plan: &Plan,
     scenario: &Scenario,
     file: &str,
-    control_period: f64,
+    setup: &PlanningSetup,
 ) -> Result<(), InputError> {
     let bad = |field: String, reason: String| InputError::new(file, field, reason);
     let total: f64 = plan.durations.iter().sum();
@@ -71,9 +58,7 @@ pub fn check_plan(
             ));
         }
     }
-    let problem = PlanningSetup::default()
-        .in_frames_of(control_period)
-        .problem(scenario, 0, Some(plan.start()), 0);
+    let problem = setup.problem(scenario, 0, Some(plan.start()), 0);
     validate_path(&problem, plan).map(|_| ()).map_err(|e| {
         let field = match &e {
             PlanError::Malformed(_) | PlanError::WrongStart { .. } => "states".to_string(),
@@ -156,6 +141,11 @@ mod tests {
     /// The frame period of a 60 fps camera.
     const F: f64 = 1.0 / 60.0;
 
+    /// The default setup on a rig whose frames last `period` seconds.
+    fn at(period: f64) -> PlanningSetup {
+        PlanningSetup::default().in_frames_of(period)
+    }
+
     /// A short valid plan on open-field, and the scenario.
     fn valid() -> (Plan, Scenario) {
         let s = Scenario::load("open-field").unwrap();
@@ -178,46 +168,75 @@ mod tests {
     #[test]
     fn plans_are_validated_like_scenarios() {
         let (plan, s) = valid();
-        check_plan(&plan, &s, "p.json", F).unwrap();
+        check_plan(&plan, &s, "p.json", &at(F)).unwrap();
         // issue 11's reproducers: a 1e10 s duration, a state at x = 1e20, a huge gradient
         let mut long = plan.clone();
         long.durations[2] = 1e10;
-        let e = check_plan(&long, &s, "p.json", F).unwrap_err();
+        let e = check_plan(&long, &s, "p.json", &at(F)).unwrap_err();
         assert_eq!((e.file.as_str(), e.field.as_str()), ("p.json", "durations"));
         let mut far = plan.clone();
         far.states[3][1].x = 1e20;
         assert_eq!(
-            check_plan(&far, &s, "p.json", F).unwrap_err().field,
+            check_plan(&far, &s, "p.json", &at(F)).unwrap_err().field,
             "states[3][1]"
         );
         let mut strong = plan.clone();
         strong.controls[1].grad[0] = 1e3;
         assert_eq!(
-            check_plan(&strong, &s, "p.json", F).unwrap_err().field,
+            check_plan(&strong, &s, "p.json", &at(F)).unwrap_err().field,
             "controls[1]"
         );
         let mut alpha = plan.clone();
         alpha.controls[0].alpha = 1e19;
         assert_eq!(
-            check_plan(&alpha, &s, "p.json", F).unwrap_err().field,
+            check_plan(&alpha, &s, "p.json", &at(F)).unwrap_err().field,
             "controls[0]"
         );
         // a state the controls do not lead to
         let mut moved = plan.clone();
         moved.states[4][0].y += 0.5;
-        let e = check_plan(&moved, &s, "p.json", F).unwrap_err();
+        let e = check_plan(&moved, &s, "p.json", &at(F)).unwrap_err();
         assert_eq!(e.field, "states[4]", "{e}");
         // a duration off the control period
         let mut odd = plan.clone();
         odd.durations[0] = 0.1234;
         assert_eq!(
-            check_plan(&odd, &s, "p.json", F).unwrap_err().field,
+            check_plan(&odd, &s, "p.json", &at(F)).unwrap_err().field,
             "durations[0]"
         );
         // a plan in 60 fps frames does not fit a 25 fps rig: its frames are the plan's periods
-        let e = check_plan(&plan, &s, "p.json", 1.0 / 25.0).unwrap_err();
+        let e = check_plan(&plan, &s, "p.json", &at(1.0 / 25.0)).unwrap_err();
         assert_eq!(e.field, "durations[0]", "{e}");
         assert!(e.reason.contains("control period 0.04 s"), "{e}");
+    }
+
+    #[test]
+    fn an_elevated_plan_is_checked_for_the_rigs_medium() {
+        // trio-triangle without its [medium]: the plant's medium decides
+        let mut s = Scenario::load("trio-triangle").unwrap();
+        let iface = s.medium.take().unwrap();
+        let interface = at(F).on_plant(&iface, 90.0);
+        let p = interface.problem(&s, 0, None, 0);
+        let mut plan = Plan::at(&s.start);
+        let mut x = s.start.clone();
+        let mut out = x.clone();
+        for _ in 0..5 {
+            let u = Control {
+                alpha: 35f64.to_radians(),
+                ..Control::planar(0.4, 0.02, 0.01)
+            };
+            assert!(p.checker.motion_valid(&p.model, &x, &u, F, &mut out));
+            plan.push(u, F, out.clone());
+            x.copy_from_slice(&out);
+        }
+        check_plan(&plan, &s, "p.json", &interface).unwrap();
+        // in bulk (the default setup's plant) nothing carries f_z: the elevation is refused
+        let e = check_plan(&plan, &s, "p.json", &at(F)).unwrap_err();
+        assert_eq!(e.field, "controls[0]", "{e}");
+        // nor beyond the coil's range
+        let flat = at(F).on_plant(&iface, 20.0);
+        let e = check_plan(&plan, &s, "p.json", &flat).unwrap_err();
+        assert_eq!(e.field, "controls[0]", "{e}");
     }
 
     #[test]

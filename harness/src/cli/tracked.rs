@@ -11,7 +11,7 @@ use magbench_drivers::{RigStats, stats};
 use magbench_env::params::split_all;
 use magbench_env::{Scenario, Vec2};
 use magbench_planners::{Limits, Planner, PlanningSetup, Unusable, check_result};
-use magbench_trackers::plan_file::{plan_json, read_plan_for};
+use magbench_trackers::plan_file::{check_plan, plan_json, read_plan};
 use magbench_trackers::{
     Mission, RunStatus, TrackOutcome, TrackerSpec, reference_for, track, write_ticks_csv,
 };
@@ -126,13 +126,17 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     }
     sets.push(("param", r.tracker.build().params()));
     super::setup::check_elevation(&setup, s, &sets, &plant.coil_source)?;
+    // a plan file: its elevations against the rig first (the clearer message), then the
+    // validator under the rig's setup
     let given = match &r.plan {
-        Some(p) => Some(read_plan_for(p, s, setup.control_period)?),
+        Some(path) => {
+            let plan = read_plan(path, s.agents())?;
+            check_plan_elevation(&plan, path, s, &setup, &plant.coil_source)?;
+            check_plan(&plan, s, &path.display().to_string(), &setup)?;
+            Some(plan)
+        }
         None => None,
     };
-    if let (Some(plan), Some(path)) = (&given, &r.plan) {
-        check_plan_elevation(plan, path, s, &setup, &plant.coil_source)?;
-    }
     if let Some(dir) = &r.out {
         prepare_dir(dir, "--out")?;
     }

@@ -90,7 +90,7 @@ impl Target {
                     &plan,
                     s,
                     &file,
-                    magbench_planners::setup::DEFAULT_CONTROL_PERIOD,
+                    &magbench_planners::PlanningSetup::default(),
                 )
                 .map_err(|e| e.to_string())
             }
