@@ -37,7 +37,7 @@ use self::contact::ContactDetector;
 use self::course::{Course, GoalHold};
 use self::feedback::Feedback;
 use self::recorder::{Recorder, RunEnd};
-use self::replanner::Replanner;
+use self::replanner::{Replanner, StallReplan};
 use self::tick::TickContext;
 use crate::log::{PlanReason, PlanRecord, TickRecord};
 use crate::metrics::{AgentError, RunStatus, TrackMetrics};
@@ -58,9 +58,13 @@ declare_params! {
         /// Seconds the error must persist before a replan; 0 = never.
         #[param("replan_after", Reals::closed(0.0, 1e6))]
         pub replan_after: f64 = 2.0,
-        /// Most error-triggered replans per run.
+        /// Most replans per run for a persistent error or a stall.
         #[param("max_replans", 0..=10_000)]
         pub max_replans: usize = 5,
+        /// Replan when the tracker's progress along the plan has not passed its best for
+        /// `replan_after` s: `auto` (teams of three or more), `true` or `false`.
+        #[param("replan_stall")]
+        pub replan_stall: StallReplan = StallReplan::Auto,
         /// Time limit per plan: time_factor × the plan's duration + time_slack.
         #[param("time_factor", Reals::closed(1.0, 1e3))]
         pub time_factor: f64 = 3.0,
@@ -233,6 +237,7 @@ impl<'a> Run<'a> {
                 mission.setup.in_frames_of(rig.frame_period()),
                 mission.seed,
                 (opts.replan_error, opts.replan_after, opts.max_replans),
+                opts.replan_stall.applies(s.agents()),
             ),
             following: None,
             feedback: Feedback::new(
@@ -338,6 +343,7 @@ impl<'a> Run<'a> {
             return (in_goal, None);
         }
         self.error_replan(tick, tracker);
+        self.stall_replan(tick, tracker);
         let mut u = self.command(tracker, tick);
         if tracker.finished() {
             // an open-loop plan played to its end: the leg is done if the team is in the goal
@@ -496,6 +502,16 @@ impl<'a> Run<'a> {
             && !self.replan(tick, PlanReason::Error, tracker)
         {
             self.replanner.error_replan_failed();
+        }
+    }
+
+    /// Replans when the tracker has not got on along its plan for too long.
+    fn stall_replan(&mut self, tick: &TickContext, tracker: &mut dyn Tracker) {
+        let progress = tracker.status().progress;
+        if self.replanner.stall_calls_for_replan(progress, tick.now)
+            && !self.replan(tick, PlanReason::Error, tracker)
+        {
+            self.replanner.stall_replan_failed(progress, tick.now);
         }
     }
 

@@ -1,8 +1,19 @@
 //! The replanner: a new plan from the current estimate, at the start of every leg after the
-//! first and when the tracking error stays high, with the mission's planner and planning setup.
+//! first, when the tracking error stays high and (when asked) when the tracker stalls on its
+//! plan, with the mission's planner and planning setup.
+//!
+//! A stall is the tracker's progress along the plan (the reference sample it is at) not
+//! passing its best so far for `replan_after` seconds: the team cannot get back onto the plan
+//! from where it is, although no agent may be far from its own path. For three agents or more
+//! this is common (README "Teams of three and more: measured"): a plan may pass through shapes
+//! the real team cannot reach at all — the evenly spaced row is an invariant set of the
+//! nominal model (by symmetry every command keeps it a row), so a plan from a row start stays
+//! on it while the real, unequal agents bend out of it — and a new plan from the observed state
+//! starts where the team is.
 
 use std::time::Instant;
 
+use magbench_env::params::{ParamType, Value, choose};
 use magbench_env::{Scenario, ValidityChecker, Vec2};
 use magbench_planners::{Planner, PlannerResult, PlanningSetup, Unusable, check_result};
 
@@ -13,7 +24,57 @@ use crate::log::PlanReason;
 /// golden ratio, so that every replan draws a fresh, reproducible random stream.
 const SEED_STEP: u64 = 0x9E37_79B9_7F4A_7C15;
 
-/// Plans the current leg on demand, and watches for a persistent tracking error.
+/// Whether a stall on the plan calls for a replan (loop parameter `replan_stall`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StallReplan {
+    /// For teams of three or more agents (two agents: never, as before, bit for bit).
+    #[default]
+    Auto,
+    /// For every team.
+    Yes,
+    /// Never.
+    No,
+}
+
+impl StallReplan {
+    /// True when a team of `agents` replans on a stall.
+    pub fn applies(self, agents: usize) -> bool {
+        match self {
+            StallReplan::Auto => agents >= 3,
+            StallReplan::Yes => true,
+            StallReplan::No => false,
+        }
+    }
+}
+
+impl ParamType for StallReplan {
+    type Domain = ();
+
+    fn parse(text: &str, _: &()) -> Result<Self, String> {
+        choose(
+            text,
+            &[
+                ("auto", StallReplan::Auto),
+                ("true", StallReplan::Yes),
+                ("false", StallReplan::No),
+            ],
+        )
+    }
+
+    fn value(&self) -> Value {
+        Value::Name(match self {
+            StallReplan::Auto => "auto",
+            StallReplan::Yes => "true",
+            StallReplan::No => "false",
+        })
+    }
+
+    fn describe(_: &()) -> String {
+        "auto|true|false".into()
+    }
+}
+
+/// Plans the current leg on demand, and watches for a persistent tracking error and a stall.
 pub struct Replanner<'a> {
     planner: Option<&'a mut dyn Planner>,
     setup: PlanningSetup,
@@ -23,17 +84,24 @@ pub struct Replanner<'a> {
     max_replans: usize,
     error_high_since: Option<f64>,
     error_replans: usize,
+    /// Watch the tracker's progress for a stall.
+    stall: bool,
+    /// The best progress on the plan followed, and the rig time it was reached.
+    best_progress: Option<(usize, f64)>,
 }
 
 impl<'a> Replanner<'a> {
     /// A replanner with `planner` (none: every replan fails with a note), the `setup` of every
     /// planning call and the run's `seed`. A replan for the error comes when the error stays
-    /// above `replan_error` BL for `replan_after` s (0: never), at most `max_replans` times.
+    /// above `replan_error` BL for `replan_after` s (0: never), and, when `stall`, when the
+    /// tracker's progress has not passed its best for `replan_after` s; at most `max_replans`
+    /// times for both.
     pub fn new(
         planner: Option<&'a mut dyn Planner>,
         setup: PlanningSetup,
         seed: u64,
         (replan_error, replan_after, max_replans): (f64, f64, usize),
+        stall: bool,
     ) -> Self {
         Self {
             planner,
@@ -44,12 +112,41 @@ impl<'a> Replanner<'a> {
             max_replans,
             error_high_since: None,
             error_replans: 0,
+            stall,
+            best_progress: None,
         }
     }
 
-    /// A new plan is being followed: the error watch starts over.
+    /// A new plan is being followed: the error and stall watches start over.
     pub fn plan_adopted(&mut self) {
         self.error_high_since = None;
+        self.best_progress = None;
+    }
+
+    /// Folds in the tracker's `progress` (reference sample) at rig time `now`; true when it has
+    /// not passed its best for `replan_after` s, which calls for a replan now (and counts it).
+    pub fn stall_calls_for_replan(&mut self, progress: usize, now: f64) -> bool {
+        if !self.stall || !self.watches_error() {
+            return false;
+        }
+        match self.best_progress {
+            Some((best, since)) if progress <= best => {
+                if now - since >= self.replan_after && self.error_replans < self.max_replans {
+                    self.error_replans += 1;
+                    return true;
+                }
+                false
+            }
+            _ => {
+                self.best_progress = Some((progress, now));
+                false
+            }
+        }
+    }
+
+    /// A stall replan failed: the stall watch starts over from `progress` at `now`.
+    pub fn stall_replan_failed(&mut self, progress: usize, now: f64) {
+        self.best_progress = Some((progress, now));
     }
 
     /// Folds in this tick's tracking error `e` (BL, largest agent distance from its path, of
@@ -127,7 +224,7 @@ impl<'a> Replanner<'a> {
         }
     }
 
-    /// Error replans started so far.
+    /// Replans started so far for a persistent error or a stall.
     pub fn error_replans(&self) -> usize {
         self.error_replans
     }
