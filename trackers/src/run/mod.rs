@@ -58,7 +58,8 @@ declare_params! {
         /// Seconds the error must persist before a replan; 0 = never.
         #[param("replan_after", Reals::closed(0.0, 1e6))]
         pub replan_after: f64 = 2.0,
-        /// Most replans per run for a persistent error or a stall.
+        /// Most replans for a persistent error or a stall: per run, or per leg when the stall
+        /// rule applies.
         #[param("max_replans", 0..=10_000)]
         pub max_replans: usize = 5,
         /// Replan when the tracker's progress along the plan has not passed its best for
@@ -238,6 +239,7 @@ impl<'a> Run<'a> {
                 mission.seed,
                 (opts.replan_error, opts.replan_after, opts.max_replans),
                 opts.replan_stall.applies(s.agents()),
+                opts.goal_margin,
             ),
             following: None,
             feedback: Feedback::new(
@@ -479,6 +481,7 @@ impl<'a> Run<'a> {
         let Some(world) = self.course.complete(tick.elapsed()) else {
             return self.end(RunStatus::ReachedGoal);
         };
+        self.replanner.leg_started();
         match rig.set_world(&world) {
             Ok(()) => {}
             Err(RigError::Recoverable(_)) => self.rec.rig_fault(),

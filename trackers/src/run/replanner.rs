@@ -84,8 +84,12 @@ pub struct Replanner<'a> {
     max_replans: usize,
     error_high_since: Option<f64>,
     error_replans: usize,
+    /// Replans for an error or a stall in the current leg.
+    leg_replans: usize,
     /// Watch the tracker's progress for a stall.
     stall: bool,
+    /// How far inside its goal tolerance the loop needs the team (BL).
+    goal_margin: f64,
     /// The best progress on the plan followed, and the rig time it was reached.
     best_progress: Option<(usize, f64)>,
 }
@@ -102,6 +106,7 @@ impl<'a> Replanner<'a> {
         seed: u64,
         (replan_error, replan_after, max_replans): (f64, f64, usize),
         stall: bool,
+        goal_margin: f64,
     ) -> Self {
         Self {
             planner,
@@ -112,7 +117,9 @@ impl<'a> Replanner<'a> {
             max_replans,
             error_high_since: None,
             error_replans: 0,
+            leg_replans: 0,
             stall,
+            goal_margin,
             best_progress: None,
         }
     }
@@ -131,8 +138,8 @@ impl<'a> Replanner<'a> {
         }
         match self.best_progress {
             Some((best, since)) if progress <= best => {
-                if now - since >= self.replan_after && self.error_replans < self.max_replans {
-                    self.error_replans += 1;
+                if now - since >= self.replan_after && self.may_replan() {
+                    self.count_replan();
                     return true;
                 }
                 false
@@ -142,6 +149,28 @@ impl<'a> Replanner<'a> {
                 false
             }
         }
+    }
+
+    /// Whether the replan budget has room: `max_replans` per run, or per leg when the stall
+    /// is watched (each leg is its own planning problem, and a team that stalls on its plan
+    /// needs its replans wherever it is).
+    fn may_replan(&self) -> bool {
+        let used = if self.stall {
+            self.leg_replans
+        } else {
+            self.error_replans
+        };
+        used < self.max_replans
+    }
+
+    fn count_replan(&mut self) {
+        self.error_replans += 1;
+        self.leg_replans += 1;
+    }
+
+    /// A new leg starts: its own replan budget when the stall is watched.
+    pub fn leg_started(&mut self) {
+        self.leg_replans = 0;
     }
 
     /// A stall replan failed: the stall watch starts over from `progress` at `now`.
@@ -157,8 +186,8 @@ impl<'a> Replanner<'a> {
             return false;
         }
         let since = *self.error_high_since.get_or_insert(now);
-        if now - since >= self.replan_after && self.error_replans < self.max_replans {
-            self.error_replans += 1;
+        if now - since >= self.replan_after && self.may_replan() {
+            self.count_replan();
             return true;
         }
         false
@@ -176,7 +205,11 @@ impl<'a> Replanner<'a> {
 
     /// Plans leg `leg` of `scenario` from `x` (agents pushed out of any wall first) as the
     /// `k`-th plan of the run. The planning time goes to `rec`; a missing planner or an
-    /// unusable result is noted there and gives `None`.
+    /// unusable result is noted there and gives `None`. The plan is made to the goal shrunk by
+    /// `goal_margin`, where the loop needs the team, when the stall is watched (a plan that
+    /// ends in the margin band leaves a final shape correction a team of three may not manage)
+    /// and when the start is already inside the tolerance but not that far inside (else the
+    /// planner would be done before it starts).
     #[allow(clippy::too_many_arguments)]
     pub fn plan(
         &mut self,
@@ -202,7 +235,12 @@ impl<'a> Replanner<'a> {
             }
         }
         let seed = self.seed.wrapping_add((k as u64).wrapping_mul(SEED_STEP));
-        let problem = self.setup.problem(scenario, leg, Some(&start), seed);
+        let mut problem = self.setup.problem(scenario, leg, Some(&start), seed);
+        let needed = problem.goal.tolerance - self.goal_margin;
+        let inside = problem.goal.contains(&start) && problem.goal.distance(&start) > needed;
+        if (self.stall || inside) && needed > 0.0 {
+            problem.goal.tolerance = needed;
+        }
         let started = Instant::now();
         let result = planner.solve(&problem);
         rec.planning(started.elapsed().as_secs_f64());
