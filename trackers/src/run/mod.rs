@@ -58,15 +58,16 @@ declare_params! {
         /// Seconds the error must persist before a replan; 0 = never.
         #[param("replan_after", Reals::closed(0.0, 1e6))]
         pub replan_after: f64 = 2.0,
-        /// Most replans for a persistent error or a stall: per run, or per leg when the stall
-        /// rule applies.
+        /// Most replans per run for a persistent error (no count where the stall rule applies:
+        /// the time allowance of the leg's first plan bounds them).
         #[param("max_replans", 0..=10_000)]
         pub max_replans: usize = 5,
         /// Replan when the tracker's progress along the plan has not passed its best for
         /// `replan_after` s: `auto` (teams of three or more), `true` or `false`.
         #[param("replan_stall")]
         pub replan_stall: StallReplan = StallReplan::Auto,
-        /// Time limit per plan: time_factor × the plan's duration + time_slack.
+        /// Time limit per plan: time_factor × the plan's duration + time_slack (per leg, from
+        /// its first plan, where the stall rule applies).
         #[param("time_factor", Reals::closed(1.0, 1e3))]
         pub time_factor: f64 = 3.0,
         /// See time_factor (s).
@@ -194,10 +195,12 @@ pub fn track(
     run.finish()
 }
 
-/// The plan being followed: its reference and the rig time it started.
+/// The plan being followed: its reference and the rig time it started; and the time allowance
+/// in force: the rig time it counts from and its length (s).
 struct Following {
     reference: Reference,
     start: f64,
+    clock: (f64, f64),
 }
 
 /// The first plan, made before the loop.
@@ -338,9 +341,8 @@ impl<'a> Run<'a> {
         if self.status.is_some() {
             return (in_goal, None);
         }
-        let following = self.following.as_ref().expect("a plan is followed");
-        let limit = self.opts.time_factor * following.reference.duration() + self.opts.time_slack;
-        if tick.now - following.start > limit {
+        let (since, limit) = self.following.as_ref().expect("a plan is followed").clock;
+        if tick.now - since > limit {
             self.end(RunStatus::Timeout);
             return (in_goal, None);
         }
@@ -435,9 +437,20 @@ impl<'a> Run<'a> {
     ) {
         let reference = reference_for(&plan, &self.model, self.course.goal());
         tracker.reset(&self.tracker_context(&reference));
+        // the time allowance: the plan's own, except that where the stall rule applies a replan
+        // within a leg keeps the allowance of the leg's first plan (replans are then bounded
+        // by it, not by a count)
+        let clock = match &self.following {
+            Some(f) if reason == PlanReason::Error && self.replanner.watches_stall() => f.clock,
+            _ => (
+                tick.now,
+                self.opts.time_factor * reference.duration() + self.opts.time_slack,
+            ),
+        };
         self.following = Some(Following {
             reference,
             start: tick.now,
+            clock,
         });
         self.replanner.plan_adopted();
         self.rec.plan(PlanRecord {
@@ -481,7 +494,6 @@ impl<'a> Run<'a> {
         let Some(world) = self.course.complete(tick.elapsed()) else {
             return self.end(RunStatus::ReachedGoal);
         };
-        self.replanner.leg_started();
         match rig.set_world(&world) {
             Ok(()) => {}
             Err(RigError::Recoverable(_)) => self.rec.rig_fault(),

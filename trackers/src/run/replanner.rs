@@ -84,8 +84,6 @@ pub struct Replanner<'a> {
     max_replans: usize,
     error_high_since: Option<f64>,
     error_replans: usize,
-    /// Replans for an error or a stall in the current leg.
-    leg_replans: usize,
     /// Watch the tracker's progress for a stall.
     stall: bool,
     /// How far inside its goal tolerance the loop needs the team (BL).
@@ -99,7 +97,7 @@ impl<'a> Replanner<'a> {
     /// planning call and the run's `seed`. A replan for the error comes when the error stays
     /// above `replan_error` BL for `replan_after` s (0: never), and, when `stall`, when the
     /// tracker's progress has not passed its best for `replan_after` s; at most `max_replans`
-    /// times for both.
+    /// times for both, unless the stall is watched (then the loop's time allowance bounds them).
     pub fn new(
         planner: Option<&'a mut dyn Planner>,
         setup: PlanningSetup,
@@ -117,7 +115,6 @@ impl<'a> Replanner<'a> {
             max_replans,
             error_high_since: None,
             error_replans: 0,
-            leg_replans: 0,
             stall,
             goal_margin,
             best_progress: None,
@@ -151,26 +148,21 @@ impl<'a> Replanner<'a> {
         }
     }
 
-    /// Whether the replan budget has room: `max_replans` per run, or per leg when the stall
-    /// is watched (each leg is its own planning problem, and a team that stalls on its plan
-    /// needs its replans wherever it is).
+    /// Whether the replan budget has room: `max_replans` per run; when the stall is watched,
+    /// no count — the loop bounds a leg's replans by the leg's time allowance instead (a team
+    /// that stalls on its plan needs a replan whenever it stalls, at most one per
+    /// `replan_after` seconds).
     fn may_replan(&self) -> bool {
-        let used = if self.stall {
-            self.leg_replans
-        } else {
-            self.error_replans
-        };
-        used < self.max_replans
+        self.stall || self.error_replans < self.max_replans
     }
 
     fn count_replan(&mut self) {
         self.error_replans += 1;
-        self.leg_replans += 1;
     }
 
-    /// A new leg starts: its own replan budget when the stall is watched.
-    pub fn leg_started(&mut self) {
-        self.leg_replans = 0;
+    /// Whether the tracker's progress is watched for a stall.
+    pub fn watches_stall(&self) -> bool {
+        self.stall && self.watches_error()
     }
 
     /// A stall replan failed: the stall watch starts over from `progress` at `now`.
