@@ -267,3 +267,71 @@ fn reason_name(r: PlanReason) -> &'static str {
         PlanReason::Error => "error",
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn replanner<'a>(stall: bool) -> Replanner<'a> {
+        Replanner {
+            planner: None,
+            setup: PlanningSetup::default(),
+            seed: 0,
+            replan_error: 1.0,
+            replan_after: 2.0,
+            max_replans: 1,
+            error_high_since: None,
+            error_replans: 0,
+            stall,
+            goal_margin: 0.05,
+            best_progress: None,
+        }
+    }
+
+    #[test]
+    fn auto_watches_stalls_of_teams_of_three_or_more_only() {
+        assert!(!StallReplan::Auto.applies(2));
+        assert!(StallReplan::Auto.applies(3) && StallReplan::Auto.applies(8));
+        assert!(StallReplan::Yes.applies(2) && !StallReplan::No.applies(3));
+        for v in [StallReplan::Auto, StallReplan::Yes, StallReplan::No] {
+            let name = v.value().to_string();
+            assert_eq!(StallReplan::parse(&name, &()), Ok(v));
+        }
+        assert!(StallReplan::parse("maybe", &()).is_err());
+    }
+
+    /// A planner is needed to watch at all: with one, a stall of `replan_after` calls for a
+    /// replan, progress restarts the watch, and a stall replan is not limited by the count.
+    #[test]
+    fn a_stall_of_replan_after_calls_for_a_replan() {
+        let mut planner = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let mut r = replanner(true);
+        assert!(!r.stall_calls_for_replan(5, 0.0), "no planner: no watch");
+        r.planner = Some(planner.as_mut());
+        assert!(!r.stall_calls_for_replan(5, 0.0));
+        assert!(!r.stall_calls_for_replan(5, 1.9));
+        assert!(
+            !r.stall_calls_for_replan(6, 1.95),
+            "progress restarts the watch"
+        );
+        assert!(
+            !r.stall_calls_for_replan(4, 3.9),
+            "going back is no progress"
+        );
+        assert!(r.stall_calls_for_replan(6, 3.95));
+        assert!(
+            r.stall_calls_for_replan(6, 4.0),
+            "no count: the time allowance bounds it"
+        );
+        r.plan_adopted();
+        assert!(
+            !r.stall_calls_for_replan(0, 4.1),
+            "a new plan starts the watch over"
+        );
+        // without the stall rule nothing is watched, whatever the progress
+        let mut q = replanner(false);
+        let mut other = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        q.planner = Some(other.as_mut());
+        assert!(!q.stall_calls_for_replan(1, 0.0) && !q.stall_calls_for_replan(1, 100.0));
+    }
+}
