@@ -370,7 +370,12 @@ fn the_stall_replan_rule_names_its_bad_values() {
             "--param",
             "replan_stall=maybe",
         ],
-        &["<command line>", "param.replan_stall", "\"maybe\"", "auto, true, false"],
+        &[
+            "<command line>",
+            "param.replan_stall",
+            "\"maybe\"",
+            "auto, true, false",
+        ],
     );
     let dir = tempfile::tempdir().unwrap();
     let exp = write(
@@ -382,6 +387,11 @@ fn the_stall_replan_rule_names_its_bad_values() {
     );
     refused(
         &["bench", &exp.display().to_string(), "--dry-run"],
-        &["e.toml", "trackers[0]", "\"sometimes\"", "auto, true, false"],
+        &[
+            "e.toml",
+            "trackers[0]",
+            "\"sometimes\"",
+            "auto, true, false",
+        ],
     );
 }
