@@ -591,3 +591,42 @@ fn planning_options_name_their_bad_values() {
     }
     refused(&["stlc", "--agents", "7"], &["--agents", "got 7"]);
 }
+
+/// The tracking loop's stall rule (issue 13): a bad `replan_stall` names the option or the
+/// experiment field, the parameter and the allowed values, before any planning.
+#[test]
+fn the_stall_replan_rule_names_its_bad_values() {
+    refused(
+        &[
+            "track",
+            "trio-triangle",
+            "--tracker",
+            "obc",
+            "--param",
+            "replan_stall=maybe",
+        ],
+        &[
+            "<command line>",
+            "param.replan_stall",
+            "\"maybe\"",
+            "auto, true, false",
+        ],
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let exp = write(
+        dir.path(),
+        "e.toml",
+        "name = \"e\"\nscenarios = [\"trio-triangle\"]\nplanners = [\"goal-zoom-rrt\"]\n\
+         trackers = [\"lookahead{replan_stall=\\\"sometimes\\\"}\"]\nseeds = 1\n\
+         [limits]\niterations = 1000\n",
+    );
+    refused(
+        &["bench", &exp.display().to_string(), "--dry-run"],
+        &[
+            "e.toml",
+            "trackers[0]",
+            "\"sometimes\"",
+            "auto, true, false",
+        ],
+    );
+}

@@ -309,3 +309,59 @@ fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
         }
     }
 }
+
+/// Issue 13: the evenly spaced row is an invariant set of the nominal model, so goal-zoom-rrt's
+/// plan from trio-row's start keeps the team a row for its first seconds, while the real,
+/// unequal agents (realistic preset) bend out of it; the OBC then cannot get back onto the plan
+/// and stalls near the start. A replan from the observed (bent) state on the stall — the
+/// default for three agents — reaches the goal; without it the run times out.
+#[test]
+fn a_stalled_three_agent_team_replans_and_reaches_the_goal() {
+    let s = scenario("trio-row");
+    let preset = DisturbancePreset::realistic();
+    let run = |stall: &str| {
+        let setup = PlanningSetup {
+            limits: Limits {
+                max_iterations: Some(200_000),
+                time_limit: None,
+            },
+            ..PlanningSetup::default()
+        }
+        .in_frames_of(1.0 / preset.camera.fps);
+        let mut planner = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let first = planner.solve(&setup.problem(&s, 0, None, 0));
+        assert!(first.solved);
+        let spec =
+            TrackerSpec::parse("obc", &[("replan_stall".into(), stall.into())], "t").unwrap();
+        let mission = Mission {
+            scenario: &s,
+            plan: Some(first.plan),
+            plan_time_s: first.time_s,
+            plan_solved: true,
+            planner: Some(planner.as_mut()),
+            setup,
+            seed: 0,
+        };
+        let mut opts = spec.loop_options();
+        opts.record_ticks = false;
+        simulate(mission, spec.build().as_mut(), &preset, &opts)
+    };
+    let stalled = run("false");
+    assert_eq!(
+        stalled.metrics.status,
+        RunStatus::Timeout,
+        "{:?}",
+        stalled.metrics
+    );
+    assert_eq!(stalled.metrics.replans, 0);
+    let replanned = run("auto");
+    let m = &replanned.metrics;
+    assert_eq!(m.status, RunStatus::ReachedGoal, "{m:?}");
+    assert!(!m.agent_contact);
+    assert!(m.error_replans >= 1, "{m:?}");
+    assert!(
+        replanned.plans[1..]
+            .iter()
+            .all(|p| p.reason == PlanReason::Error)
+    );
+}

@@ -37,7 +37,7 @@ use self::contact::ContactDetector;
 use self::course::{Course, GoalHold};
 use self::feedback::Feedback;
 use self::recorder::{Recorder, RunEnd};
-use self::replanner::Replanner;
+use self::replanner::{Replanner, StallReplan};
 use self::tick::TickContext;
 use crate::log::{PlanReason, PlanRecord, TickRecord};
 use crate::metrics::{AgentError, RunStatus, TrackMetrics};
@@ -58,10 +58,16 @@ declare_params! {
         /// Seconds the error must persist before a replan; 0 = never.
         #[param("replan_after", Reals::closed(0.0, 1e6))]
         pub replan_after: f64 = 2.0,
-        /// Most error-triggered replans per run.
+        /// Most replans per run for a persistent error (no count where the stall rule applies:
+        /// the time allowance of the leg's first plan bounds them).
         #[param("max_replans", 0..=10_000)]
         pub max_replans: usize = 5,
-        /// Time limit per plan: time_factor × the plan's duration + time_slack.
+        /// Replan when the tracker's progress along the plan has not passed its best for
+        /// `replan_after` s: `auto` (teams of three or more), `true` or `false`.
+        #[param("replan_stall")]
+        pub replan_stall: StallReplan = StallReplan::Auto,
+        /// Time limit per plan: time_factor × the plan's duration + time_slack (per leg, from
+        /// its first plan, where the stall rule applies).
         #[param("time_factor", Reals::closed(1.0, 1e3))]
         pub time_factor: f64 = 3.0,
         /// See time_factor (s).
@@ -189,10 +195,12 @@ pub fn track(
     run.finish()
 }
 
-/// The plan being followed: its reference and the rig time it started.
+/// The plan being followed: its reference and the rig time it started; and the time allowance
+/// in force: the rig time it counts from and its length (s).
 struct Following {
     reference: Reference,
     start: f64,
+    clock: (f64, f64),
 }
 
 /// The first plan, made before the loop.
@@ -233,6 +241,8 @@ impl<'a> Run<'a> {
                 mission.setup.in_frames_of(rig.frame_period()),
                 mission.seed,
                 (opts.replan_error, opts.replan_after, opts.max_replans),
+                opts.replan_stall.applies(s.agents()),
+                opts.goal_margin,
             ),
             following: None,
             feedback: Feedback::new(
@@ -331,13 +341,13 @@ impl<'a> Run<'a> {
         if self.status.is_some() {
             return (in_goal, None);
         }
-        let following = self.following.as_ref().expect("a plan is followed");
-        let limit = self.opts.time_factor * following.reference.duration() + self.opts.time_slack;
-        if tick.now - following.start > limit {
+        let (since, limit) = self.following.as_ref().expect("a plan is followed").clock;
+        if tick.now - since > limit {
             self.end(RunStatus::Timeout);
             return (in_goal, None);
         }
         self.error_replan(tick, tracker);
+        self.stall_replan(tick, tracker);
         let mut u = self.command(tracker, tick);
         if tracker.finished() {
             // an open-loop plan played to its end: the leg is done if the team is in the goal
@@ -427,9 +437,20 @@ impl<'a> Run<'a> {
     ) {
         let reference = reference_for(&plan, &self.model, self.course.goal());
         tracker.reset(&self.tracker_context(&reference));
+        // the time allowance: the plan's own, except that where the stall rule applies a replan
+        // within a leg keeps the allowance of the leg's first plan (replans are then bounded
+        // by it, not by a count)
+        let clock = match &self.following {
+            Some(f) if reason == PlanReason::Error && self.replanner.watches_stall() => f.clock,
+            _ => (
+                tick.now,
+                self.opts.time_factor * reference.duration() + self.opts.time_slack,
+            ),
+        };
         self.following = Some(Following {
             reference,
             start: tick.now,
+            clock,
         });
         self.replanner.plan_adopted();
         self.rec.plan(PlanRecord {
@@ -496,6 +517,16 @@ impl<'a> Run<'a> {
             && !self.replan(tick, PlanReason::Error, tracker)
         {
             self.replanner.error_replan_failed();
+        }
+    }
+
+    /// Replans when the tracker has not got on along its plan for too long.
+    fn stall_replan(&mut self, tick: &TickContext, tracker: &mut dyn Tracker) {
+        let progress = tracker.status().progress;
+        if self.replanner.stall_calls_for_replan(progress, tick.now)
+            && !self.replan(tick, PlanReason::Error, tracker)
+        {
+            self.replanner.stall_replan_failed(progress, tick.now);
         }
     }
 

@@ -1,8 +1,19 @@
 //! The replanner: a new plan from the current estimate, at the start of every leg after the
-//! first and when the tracking error stays high, with the mission's planner and planning setup.
+//! first, when the tracking error stays high and (when asked) when the tracker stalls on its
+//! plan, with the mission's planner and planning setup.
+//!
+//! A stall is the tracker's progress along the plan (the reference sample it is at) not
+//! passing its best so far for `replan_after` seconds: the team cannot get back onto the plan
+//! from where it is, although no agent may be far from its own path. For three agents or more
+//! this is common (README "Teams of three and more: measured"): a plan may pass through shapes
+//! the real team cannot reach at all — the evenly spaced row is an invariant set of the
+//! nominal model (by symmetry every command keeps it a row), so a plan from a row start stays
+//! on it while the real, unequal agents bend out of it — and a new plan from the observed state
+//! starts where the team is.
 
 use std::time::Instant;
 
+use magbench_env::params::{ParamType, Value, choose};
 use magbench_env::{Scenario, ValidityChecker, Vec2};
 use magbench_planners::{Planner, PlannerResult, PlanningSetup, Unusable, check_result};
 
@@ -13,7 +24,57 @@ use crate::log::PlanReason;
 /// golden ratio, so that every replan draws a fresh, reproducible random stream.
 const SEED_STEP: u64 = 0x9E37_79B9_7F4A_7C15;
 
-/// Plans the current leg on demand, and watches for a persistent tracking error.
+/// Whether a stall on the plan calls for a replan (loop parameter `replan_stall`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StallReplan {
+    /// For teams of three or more agents (two agents: never, as before, bit for bit).
+    #[default]
+    Auto,
+    /// For every team.
+    Yes,
+    /// Never.
+    No,
+}
+
+impl StallReplan {
+    /// True when a team of `agents` replans on a stall.
+    pub fn applies(self, agents: usize) -> bool {
+        match self {
+            StallReplan::Auto => agents >= 3,
+            StallReplan::Yes => true,
+            StallReplan::No => false,
+        }
+    }
+}
+
+impl ParamType for StallReplan {
+    type Domain = ();
+
+    fn parse(text: &str, _: &()) -> Result<Self, String> {
+        choose(
+            text,
+            &[
+                ("auto", StallReplan::Auto),
+                ("true", StallReplan::Yes),
+                ("false", StallReplan::No),
+            ],
+        )
+    }
+
+    fn value(&self) -> Value {
+        Value::Name(match self {
+            StallReplan::Auto => "auto",
+            StallReplan::Yes => "true",
+            StallReplan::No => "false",
+        })
+    }
+
+    fn describe(_: &()) -> String {
+        "auto|true|false".into()
+    }
+}
+
+/// Plans the current leg on demand, and watches for a persistent tracking error and a stall.
 pub struct Replanner<'a> {
     planner: Option<&'a mut dyn Planner>,
     setup: PlanningSetup,
@@ -23,17 +84,27 @@ pub struct Replanner<'a> {
     max_replans: usize,
     error_high_since: Option<f64>,
     error_replans: usize,
+    /// Watch the tracker's progress for a stall.
+    stall: bool,
+    /// How far inside its goal tolerance the loop needs the team (BL).
+    goal_margin: f64,
+    /// The best progress on the plan followed, and the rig time it was reached.
+    best_progress: Option<(usize, f64)>,
 }
 
 impl<'a> Replanner<'a> {
     /// A replanner with `planner` (none: every replan fails with a note), the `setup` of every
     /// planning call and the run's `seed`. A replan for the error comes when the error stays
-    /// above `replan_error` BL for `replan_after` s (0: never), at most `max_replans` times.
+    /// above `replan_error` BL for `replan_after` s (0: never), and, when `stall`, when the
+    /// tracker's progress has not passed its best for `replan_after` s; at most `max_replans`
+    /// times for both, unless the stall is watched (then the loop's time allowance bounds them).
     pub fn new(
         planner: Option<&'a mut dyn Planner>,
         setup: PlanningSetup,
         seed: u64,
         (replan_error, replan_after, max_replans): (f64, f64, usize),
+        stall: bool,
+        goal_margin: f64,
     ) -> Self {
         Self {
             planner,
@@ -44,12 +115,59 @@ impl<'a> Replanner<'a> {
             max_replans,
             error_high_since: None,
             error_replans: 0,
+            stall,
+            goal_margin,
+            best_progress: None,
         }
     }
 
-    /// A new plan is being followed: the error watch starts over.
+    /// A new plan is being followed: the error and stall watches start over.
     pub fn plan_adopted(&mut self) {
         self.error_high_since = None;
+        self.best_progress = None;
+    }
+
+    /// Folds in the tracker's `progress` (reference sample) at rig time `now`; true when it has
+    /// not passed its best for `replan_after` s, which calls for a replan now (and counts it).
+    pub fn stall_calls_for_replan(&mut self, progress: usize, now: f64) -> bool {
+        if !self.stall || !self.watches_error() {
+            return false;
+        }
+        match self.best_progress {
+            Some((best, since)) if progress <= best => {
+                if now - since >= self.replan_after && self.may_replan() {
+                    self.count_replan();
+                    return true;
+                }
+                false
+            }
+            _ => {
+                self.best_progress = Some((progress, now));
+                false
+            }
+        }
+    }
+
+    /// Whether the replan budget has room: `max_replans` per run; when the stall is watched,
+    /// no count — the loop bounds a leg's replans by the leg's time allowance instead (a team
+    /// that stalls on its plan needs a replan whenever it stalls, at most one per
+    /// `replan_after` seconds).
+    fn may_replan(&self) -> bool {
+        self.stall || self.error_replans < self.max_replans
+    }
+
+    fn count_replan(&mut self) {
+        self.error_replans += 1;
+    }
+
+    /// Whether the tracker's progress is watched for a stall.
+    pub fn watches_stall(&self) -> bool {
+        self.stall && self.watches_error()
+    }
+
+    /// A stall replan failed: the stall watch starts over from `progress` at `now`.
+    pub fn stall_replan_failed(&mut self, progress: usize, now: f64) {
+        self.best_progress = Some((progress, now));
     }
 
     /// Folds in this tick's tracking error `e` (BL, largest agent distance from its path, of
@@ -60,8 +178,8 @@ impl<'a> Replanner<'a> {
             return false;
         }
         let since = *self.error_high_since.get_or_insert(now);
-        if now - since >= self.replan_after && self.error_replans < self.max_replans {
-            self.error_replans += 1;
+        if now - since >= self.replan_after && self.may_replan() {
+            self.count_replan();
             return true;
         }
         false
@@ -79,7 +197,11 @@ impl<'a> Replanner<'a> {
 
     /// Plans leg `leg` of `scenario` from `x` (agents pushed out of any wall first) as the
     /// `k`-th plan of the run. The planning time goes to `rec`; a missing planner or an
-    /// unusable result is noted there and gives `None`.
+    /// unusable result is noted there and gives `None`. The plan is made to the goal shrunk by
+    /// `goal_margin`, where the loop needs the team, when the stall is watched (a plan that
+    /// ends in the margin band leaves a final shape correction a team of three may not manage)
+    /// and when the start is already inside the tolerance but not that far inside (else the
+    /// planner would be done before it starts).
     #[allow(clippy::too_many_arguments)]
     pub fn plan(
         &mut self,
@@ -105,7 +227,12 @@ impl<'a> Replanner<'a> {
             }
         }
         let seed = self.seed.wrapping_add((k as u64).wrapping_mul(SEED_STEP));
-        let problem = self.setup.problem(scenario, leg, Some(&start), seed);
+        let mut problem = self.setup.problem(scenario, leg, Some(&start), seed);
+        let needed = problem.goal.tolerance - self.goal_margin;
+        let inside = problem.goal.contains(&start) && problem.goal.distance(&start) > needed;
+        if (self.stall || inside) && needed > 0.0 {
+            problem.goal.tolerance = needed;
+        }
         let started = Instant::now();
         let result = planner.solve(&problem);
         rec.planning(started.elapsed().as_secs_f64());
@@ -127,7 +254,7 @@ impl<'a> Replanner<'a> {
         }
     }
 
-    /// Error replans started so far.
+    /// Replans started so far for a persistent error or a stall.
     pub fn error_replans(&self) -> usize {
         self.error_replans
     }
@@ -138,5 +265,73 @@ fn reason_name(r: PlanReason) -> &'static str {
         PlanReason::Initial => "initial",
         PlanReason::Leg => "new-leg",
         PlanReason::Error => "error",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn replanner<'a>(stall: bool) -> Replanner<'a> {
+        Replanner {
+            planner: None,
+            setup: PlanningSetup::default(),
+            seed: 0,
+            replan_error: 1.0,
+            replan_after: 2.0,
+            max_replans: 1,
+            error_high_since: None,
+            error_replans: 0,
+            stall,
+            goal_margin: 0.05,
+            best_progress: None,
+        }
+    }
+
+    #[test]
+    fn auto_watches_stalls_of_teams_of_three_or_more_only() {
+        assert!(!StallReplan::Auto.applies(2));
+        assert!(StallReplan::Auto.applies(3) && StallReplan::Auto.applies(8));
+        assert!(StallReplan::Yes.applies(2) && !StallReplan::No.applies(3));
+        for v in [StallReplan::Auto, StallReplan::Yes, StallReplan::No] {
+            let name = v.value().to_string();
+            assert_eq!(StallReplan::parse(&name, &()), Ok(v));
+        }
+        assert!(StallReplan::parse("maybe", &()).is_err());
+    }
+
+    /// A planner is needed to watch at all: with one, a stall of `replan_after` calls for a
+    /// replan, progress restarts the watch, and a stall replan is not limited by the count.
+    #[test]
+    fn a_stall_of_replan_after_calls_for_a_replan() {
+        let mut planner = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let mut r = replanner(true);
+        assert!(!r.stall_calls_for_replan(5, 0.0), "no planner: no watch");
+        r.planner = Some(planner.as_mut());
+        assert!(!r.stall_calls_for_replan(5, 0.0));
+        assert!(!r.stall_calls_for_replan(5, 1.9));
+        assert!(
+            !r.stall_calls_for_replan(6, 1.95),
+            "progress restarts the watch"
+        );
+        assert!(
+            !r.stall_calls_for_replan(4, 3.9),
+            "going back is no progress"
+        );
+        assert!(r.stall_calls_for_replan(6, 3.95));
+        assert!(
+            r.stall_calls_for_replan(6, 4.0),
+            "no count: the time allowance bounds it"
+        );
+        r.plan_adopted();
+        assert!(
+            !r.stall_calls_for_replan(0, 4.1),
+            "a new plan starts the watch over"
+        );
+        // without the stall rule nothing is watched, whatever the progress
+        let mut q = replanner(false);
+        let mut other = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        q.planner = Some(other.as_mut());
+        assert!(!q.stall_calls_for_replan(1, 0.0) && !q.stall_calls_for_replan(1, 100.0));
     }
 }
