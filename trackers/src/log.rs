@@ -53,6 +53,9 @@ pub enum PlanReason {
     Leg,
     /// A persistent tracking error.
     Error,
+    /// A stall: no progress along the plan for the loop's `replan_after` (teams of three or
+    /// more, the loop's `replan_stall`).
+    Stall,
 }
 
 /// A plan the run tracked.

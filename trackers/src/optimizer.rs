@@ -87,8 +87,8 @@ declare_params! {
         /// Prediction horizon (control ticks).
         #[param("horizon", 1..=120)]
         pub horizon: usize = 1,
-        /// Whether the field stays in the plane: `auto` (two agents yes, three or more no),
-        /// `true` or `false`.
+        /// Whether the field stays in the plane: `auto` (two agents yes; three or more no where
+        /// the medium carries the out-of-plane force, yes in bulk), `true` or `false`.
         #[param("planar")]
         pub planar: Planar = Planar::Auto,
         /// The largest elevation searched (degrees) when the field may leave the plane.

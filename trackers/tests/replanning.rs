@@ -359,9 +359,11 @@ fn a_stalled_three_agent_team_replans_and_reaches_the_goal() {
     assert_eq!(m.status, RunStatus::ReachedGoal, "{m:?}");
     assert!(!m.agent_contact);
     assert!(m.error_replans >= 1, "{m:?}");
+    let reasons: Vec<_> = replanned.plans[1..].iter().map(|p| p.reason).collect();
+    assert!(reasons.contains(&PlanReason::Stall), "{reasons:?}");
     assert!(
-        replanned.plans[1..]
+        reasons
             .iter()
-            .all(|p| p.reason == PlanReason::Error)
+            .all(|r| matches!(r, PlanReason::Error | PlanReason::Stall))
     );
 }

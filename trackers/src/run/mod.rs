@@ -441,7 +441,12 @@ impl<'a> Run<'a> {
         // within a leg keeps the allowance of the leg's first plan (replans are then bounded
         // by it, not by a count)
         let clock = match &self.following {
-            Some(f) if reason == PlanReason::Error && self.replanner.watches_stall() => f.clock,
+            Some(f)
+                if matches!(reason, PlanReason::Error | PlanReason::Stall)
+                    && self.replanner.watches_stall() =>
+            {
+                f.clock
+            }
             _ => (
                 tick.now,
                 self.opts.time_factor * reference.duration() + self.opts.time_slack,
@@ -524,7 +529,7 @@ impl<'a> Run<'a> {
     fn stall_replan(&mut self, tick: &TickContext, tracker: &mut dyn Tracker) {
         let progress = tracker.status().progress;
         if self.replanner.stall_calls_for_replan(progress, tick.now)
-            && !self.replan(tick, PlanReason::Error, tracker)
+            && !self.replan(tick, PlanReason::Stall, tracker)
         {
             self.replanner.stall_replan_failed(progress, tick.now);
         }

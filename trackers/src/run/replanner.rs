@@ -265,6 +265,7 @@ fn reason_name(r: PlanReason) -> &'static str {
         PlanReason::Initial => "initial",
         PlanReason::Leg => "new-leg",
         PlanReason::Error => "error",
+        PlanReason::Stall => "stall",
     }
 }
 
