@@ -45,8 +45,8 @@ impl SimRig {
         )
     }
 
-    /// The rig of a physical preset and a world with the default tri-axial coil, agents at
-    /// `start`.
+    /// The rig of a physical preset and a world with the tri-axial coil, whose elevation range
+    /// is the preset's (`[coil] alpha_max_deg`), agents at `start`.
     pub fn from_parts(
         params: &PhysicalParams,
         world: &World,
@@ -54,7 +54,10 @@ impl SimRig {
         seed: u64,
         start: &[Vec2],
     ) -> Self {
-        let coil: Arc<dyn Coil> = Arc::new(TriaxialMaxwell::new(params.gradient_limit()));
+        let coil: Arc<dyn Coil> = Arc::new(
+            TriaxialMaxwell::new(params.gradient_limit())
+                .with_alpha_max_deg(preset.coil.alpha_max_deg),
+        );
         let plant = Plant::in_world(params, coil, world, preset, seed, start);
         let camera = Camera::new(preset.camera.clone(), seed);
         let (period, latency) = (camera.frame_period(), camera.nominal_latency());
@@ -197,6 +200,34 @@ mod tests {
             &start,
         );
         assert!((rig.latency() - 2.0 * rig.frame_period()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_coil_holds_the_elevation_to_the_presets_range() {
+        let start = [
+            Vec2::new(10.0, 10.0),
+            Vec2::new(12.5, 10.0),
+            Vec2::new(11.25, 12.165),
+        ];
+        let p = PhysicalParams::default();
+        let tilted = |deg: f64| Control {
+            alpha: deg.to_radians(),
+            ..Control::planar(0.3, 0.02, 0.01)
+        };
+        let run = |range: f64, u: Control| {
+            let mut preset = DisturbancePreset::ideal();
+            preset.coil.alpha_max_deg = range;
+            let mut rig = SimRig::from_parts(&p, &world(), &preset, 4, &start);
+            rig.observe().unwrap();
+            rig.command(&u).unwrap();
+            for _ in 0..30 {
+                rig.observe().unwrap();
+            }
+            rig.ground_truth().unwrap().positions
+        };
+        // a 60° command on a coil that tilts 20° moves the team as a 20° one does
+        assert_eq!(run(20.0, tilted(60.0)), run(90.0, tilted(20.0)));
+        assert_ne!(run(90.0, tilted(60.0)), run(90.0, tilted(20.0)));
     }
 
     #[test]

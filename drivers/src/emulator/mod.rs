@@ -190,7 +190,10 @@ impl Emulator {
         };
         let scenario = &cfg.scenario;
         let p = &scenario.physics;
-        let coil_model: Arc<dyn Coil> = Arc::new(TriaxialMaxwell::new(p.gradient_limit()));
+        // the emulated coil tilts the field no further than its rig file says
+        let coil_model: Arc<dyn Coil> = Arc::new(
+            TriaxialMaxwell::new(p.gradient_limit()).with_alpha_max_deg(cfg.rig.coil.alpha_max_deg),
+        );
         let plant = PlantStepper::new(
             Plant::in_world(
                 p,
