@@ -465,7 +465,6 @@ mod tests {
         (Kinematics::nominal(&p), p.kappa())
     }
 
-    /// The basis reproduces the physics at any in-plane field and elevation.
     /// Four agents: a square drifts (it contracts) in the plane and is held with the elevation;
     /// a kite has the full accessibility rank 6 either way.
     #[test]
@@ -487,6 +486,7 @@ mod tests {
         assert!(formations(3, 2.0).iter().all(|f| f.positions.len() == 3));
     }
 
+    /// The basis reproduces the physics at any in-plane field and elevation.
     #[test]
     fn the_quadratic_form_is_exact() {
         let (k, _) = kin();
