@@ -15,7 +15,7 @@
 //! pair dynamics are so sensitive that a plan made with any other arithmetic (integrator, step,
 //! force formula) fails here even if it was valid there.
 
-use magbench_env::Vec2;
+use magbench_env::{Control, PlanningModel, Vec2};
 
 use crate::{Plan, Problem};
 
@@ -39,14 +39,14 @@ pub enum PlanError {
     InvalidStart,
     /// A control is not finite, exceeds the coil's limits or tilts the field beyond the
     /// problem's largest elevation.
-    #[error(
-        "edge {edge}: control {control} is not finite or outside the coil's limits or the largest elevation"
-    )]
+    #[error("edge {edge}: control {control} {reason}")]
     BadControl {
         /// Edge index.
         edge: usize,
         /// The control, printed.
         control: String,
+        /// Which bound it breaks.
+        reason: String,
     },
     /// A duration is not a positive whole multiple of the control period.
     #[error(
@@ -82,6 +82,34 @@ pub enum PlanError {
         /// The goal tolerance (BL).
         tolerance: f64,
     },
+}
+
+/// Why `u` is not a command a plan may hold under `model` with elevations up to `alpha_max`
+/// (rad), or `None` when it is.
+fn control_fault(model: &PlanningModel, u: &Control, alpha_max: f64) -> Option<String> {
+    let deg = |a: f64| a.to_degrees();
+    if !u.is_finite() {
+        Some("is not finite".into())
+    } else if model.coil.clamp(u).1 {
+        Some(format!(
+            "is outside the coil's limits (gradients within ±{} T/m, elevation within ±{}°)",
+            model.coil.gradient_limit(),
+            deg(model.coil.alpha_max())
+        ))
+    } else if u.alpha.abs() > alpha_max && !model.carries_fz {
+        Some(format!(
+            "tilts the field to α = {}°, but the medium does not carry the out-of-plane force",
+            deg(u.alpha.abs())
+        ))
+    } else if u.alpha.abs() > alpha_max {
+        Some(format!(
+            "tilts the field to α = {}°, beyond the largest elevation {}° (the setup's alpha_max, and the plan's own)",
+            deg(u.alpha.abs()),
+            deg(alpha_max)
+        ))
+    } else {
+        None
+    }
 }
 
 /// Largest agent distance between two states; NaN if any coordinate is NaN.
@@ -133,10 +161,11 @@ pub fn validate_path(problem: &Problem, plan: &Plan) -> Result<Vec<Vec2>, PlanEr
         (true, None) => problem.alpha_max,
     };
     for (edge, (u, &d)) in plan.controls.iter().zip(&plan.durations).enumerate() {
-        if !u.is_finite() || model.coil.clamp(u).1 || u.alpha.abs() > alpha_max {
+        if let Some(reason) = control_fault(&model, u, alpha_max) {
             return Err(PlanError::BadControl {
                 edge,
                 control: format!("{u:?}"),
+                reason,
             });
         }
         let k = d / period;

@@ -233,10 +233,15 @@ mod tests {
         // in bulk (the default setup's plant) nothing carries f_z: the elevation is refused
         let e = check_plan(&plan, &s, "p.json", &at(F)).unwrap_err();
         assert_eq!(e.field, "controls[0]", "{e}");
+        assert!(
+            e.reason.contains("does not carry the out-of-plane force"),
+            "{e}"
+        );
         // nor beyond the coil's range
         let flat = at(F).on_plant(&iface, 20.0);
         let e = check_plan(&plan, &s, "p.json", &flat).unwrap_err();
         assert_eq!(e.field, "controls[0]", "{e}");
+        assert!(e.reason.contains("elevation within ±20°"), "{e}");
     }
 
     #[test]

@@ -61,39 +61,6 @@ impl From<OpenError> for CliError {
     }
 }
 
-/// A plan file's elevations against the rig: none where the medium does not carry the
-/// out-of-plane force, none beyond the coil's range. Exit 2 naming the file, the control and
-/// the reason.
-fn check_plan_elevation(
-    plan: &magbench_planners::Plan,
-    path: &Path,
-    s: &Scenario,
-    setup: &PlanningSetup,
-    coil: &str,
-) -> Result<(), CliError> {
-    let fz = setup.medium_of(s).carries_fz();
-    for (k, u) in plan.controls.iter().enumerate() {
-        let a = u.alpha.abs().to_degrees();
-        let why = if a > 0.0 && !fz {
-            format!(
-                "α = {a}° but scenario {} is in {} liquid, which does not carry the out-of-plane force",
-                s.name,
-                setup.medium_of(s).kind()
-            )
-        } else if let Err(r) = setup.check_alpha_max(a) {
-            format!("α: {r} ({coil})")
-        } else {
-            continue;
-        };
-        return Err(CliError::Input(magbench_env::InputError::new(
-            path.display().to_string(),
-            format!("controls[{k}]"),
-            why,
-        )));
-    }
-    Ok(())
-}
-
 /// The first plan and where it came from.
 struct FirstPlan {
     plan: magbench_planners::Plan,
@@ -126,12 +93,10 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     }
     sets.push(("param", r.tracker.build().params()));
     super::setup::check_elevation(&setup, s, &sets, &plant.coil_source)?;
-    // a plan file: its elevations against the rig first (the clearer message), then the
-    // validator under the rig's setup
+    // a plan file, validated under the rig's setup: its frames, medium and coil
     let given = match &r.plan {
         Some(path) => {
             let plan = read_plan(path, s.agents())?;
-            check_plan_elevation(&plan, path, s, &setup, &plant.coil_source)?;
             check_plan(&plan, s, &path.display().to_string(), &setup)?;
             Some(plan)
         }
