@@ -267,10 +267,11 @@ impl Recorder {
             worst_agent: worst_agent(&per_agent).map(|(i, _)| i),
             rms_error_true_bl: self.true_errors.as_ref().map(ErrorAccumulator::rms),
             max_error_true_bl: self.true_errors.as_ref().map(ErrorAccumulator::max),
-            rms_error_true_worst_agent_bl: self
-                .true_errors
-                .as_ref()
-                .map(|t| t.per_agent().iter().map(|a| a.rms_bl).fold(0.0, f64::max)),
+            rms_error_true_worst_agent_bl: per_agent
+                .iter()
+                .map(|a| a.rms_true_bl)
+                .reduce(|a, b| Some(a?.max(b?)))
+                .flatten(),
             rms_error_sync_bl: self.sync_errors.rms(),
             rms_error_time_bl: self.time_errors.rms(),
             agent_contact: end.agent_contact,

@@ -130,7 +130,7 @@ impl<'a> Replanner<'a> {
     /// Folds in the tracker's `progress` (reference sample) at rig time `now`; true when it has
     /// not passed its best for `replan_after` s, which calls for a replan now (and counts it).
     pub fn stall_calls_for_replan(&mut self, progress: usize, now: f64) -> bool {
-        if !self.stall || !self.watches_error() {
+        if !self.watches_stall() {
             return false;
         }
         match self.best_progress {
