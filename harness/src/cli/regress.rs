@@ -88,7 +88,9 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
                 ),
             )));
         }
-        eprintln!("warning: the two folders' manifests differ (--strict makes this an error):{list}");
+        eprintln!(
+            "warning: the two folders' manifests differ (--strict makes this an error):{list}"
+        );
     }
     let tol = Tolerances {
         alpha: a.alpha,
@@ -103,7 +105,11 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
     if let Some(b) = &m.builds {
         out!("{b}\n\n");
     }
-    out!("{}\n{}", table(&rows, &tol), footer(&rows, &tol, a.inconclusive));
+    out!(
+        "{}\n{}",
+        table(&rows, &tol),
+        footer(&rows, &tol, a.inconclusive)
+    );
     let bad = failures(&rows, a.inconclusive);
     if bad > 0 {
         let reg = regressions(&rows);

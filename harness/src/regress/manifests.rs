@@ -62,13 +62,33 @@ pub fn differences(b: &Manifest, c: &Manifest) -> Vec<String> {
         format!("{} ({})", short(&eb.sha256), eb.source),
         format!("{} ({})", short(&ec.sha256), ec.source),
     );
-    diff("scenarios", format!("{:?}", eb.scenarios), format!("{:?}", ec.scenarios));
-    diff("planners", format!("{:?}", eb.planners), format!("{:?}", ec.planners));
-    diff("trackers", format!("{:?}", eb.trackers), format!("{:?}", ec.trackers));
-    diff("presets", format!("{:?}", eb.presets), format!("{:?}", ec.presets));
+    diff(
+        "scenarios",
+        format!("{:?}", eb.scenarios),
+        format!("{:?}", ec.scenarios),
+    );
+    diff(
+        "planners",
+        format!("{:?}", eb.planners),
+        format!("{:?}", ec.planners),
+    );
+    diff(
+        "trackers",
+        format!("{:?}", eb.trackers),
+        format!("{:?}", ec.trackers),
+    );
+    diff(
+        "presets",
+        format!("{:?}", eb.presets),
+        format!("{:?}", ec.presets),
+    );
     diff("seeds", seeds(&eb.seeds), seeds(&ec.seeds));
     let it = |v: Option<u64>| v.map_or("none".into(), |v| v.to_string());
-    diff("limits.iterations", it(eb.max_iterations), it(ec.max_iterations));
+    diff(
+        "limits.iterations",
+        it(eb.max_iterations),
+        it(ec.max_iterations),
+    );
     let ts = |v: Option<f64>| v.map_or("none".into(), |v| format!("{v} s"));
     diff("limits.time_s", ts(eb.time_limit_s), ts(ec.time_limit_s));
     diff("executor", b.executor.clone(), c.executor.clone());

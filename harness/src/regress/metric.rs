@@ -62,11 +62,7 @@ pub fn success(s: &Sides, tol: f64, alpha: f64) -> (Test, Change) {
         Sides::Paired(pairs) => {
             let drop = pairs.iter().filter(|(b, c)| b.success() && !c.success());
             let gain = pairs.iter().filter(|(b, c)| !b.success() && c.success());
-            let (n12, n21, n) = (
-                drop.count() as u64,
-                gain.count() as u64,
-                pairs.len() as u64,
-            );
+            let (n12, n21, n) = (drop.count() as u64, gain.count() as u64, pairs.len() as u64);
             (
                 tango(n12, n21, n, z),
                 tango_p_above(n12, n21, n, tol),
@@ -93,10 +89,11 @@ pub fn success(s: &Sides, tol: f64, alpha: f64) -> (Test, Change) {
         n,
         se: None,
     };
+    // 0 − x, not −x: an unchanged rate shows as +0.0, not −0.0
     let change = Change::Points {
-        diff: -d.est,
-        lo: -d.hi,
-        hi: -d.lo,
+        diff: 0.0 - d.est,
+        lo: 0.0 - d.hi,
+        hi: 0.0 - d.lo,
     };
     (test, change)
 }

@@ -204,11 +204,7 @@ pub fn footer(rows: &[Comparison], tol: &Tolerances, policy: OnInconclusive) -> 
             new.join(", ")
         );
     }
-    let gated = |v: Verdict| {
-        rows.iter()
-            .filter(|r| r.gated && r.verdict == v)
-            .count()
-    };
+    let gated = |v: Verdict| rows.iter().filter(|r| r.gated && r.verdict == v).count();
     let ungated = rows
         .iter()
         .filter(|r| !r.gated && r.verdict != Verdict::New)
@@ -238,7 +234,9 @@ pub fn footer(rows: &[Comparison], tol: &Tolerances, policy: OnInconclusive) -> 
     out += &match (reg, inc, policy) {
         (0, 0, _) => "result: pass (no regression)\n".to_string(),
         (0, n, OnInconclusive::Pass) => {
-            format!("result: pass (no regression; {n} inconclusive accepted by --inconclusive pass)\n")
+            format!(
+                "result: pass (no regression; {n} inconclusive accepted by --inconclusive pass)\n"
+            )
         }
         (0, n, OnInconclusive::Fail) => format!(
             "result: FAIL (no regression shown, but {n} inconclusive: run more seeds, or accept with --inconclusive pass)\n"

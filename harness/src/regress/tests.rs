@@ -16,14 +16,8 @@ fn runs(seeds: &[u64], rms: &[f64], ok: &[bool]) -> Vec<RunRecord> {
         .enumerate()
         .map(|(i, &seed)| {
             let mut r = RunRecord::example();
-            (r.run, r.seed, r.scenario, r.planner, r.tracker, r.preset) = (
-                i,
-                seed,
-                "s".into(),
-                "p".into(),
-                "t".into(),
-                "ideal".into(),
-            );
+            (r.run, r.seed, r.scenario, r.planner, r.tracker, r.preset) =
+                (i, seed, "s".into(), "p".into(), "t".into(), "ideal".into());
             r.solved = true;
             r.status = Status::Exact;
             r.reached_goal = Some(ok[i]);
@@ -102,7 +96,10 @@ fn a_success_drop_from_8_of_8_to_4_of_8_is_never_ok() {
     let half: Vec<bool> = (0..8).map(|i| i % 2 == 0).collect();
     let base = runs(&seeds(0, 8), &e, &all);
     // paired (same seeds) and unpaired (other seeds)
-    for cand in [runs(&seeds(0, 8), &e, &half), runs(&seeds(100, 8), &e, &half)] {
+    for cand in [
+        runs(&seeds(0, 8), &e, &half),
+        runs(&seeds(100, 8), &e, &half),
+    ] {
         let rows = compare(&base, &cand, &TOL);
         let v = verdict(&rows, "success_rate");
         assert!(
@@ -120,7 +117,10 @@ fn a_success_drop_from_40_of_40_to_20_of_40_is_a_regression() {
     let all = vec![true; 40];
     let half: Vec<bool> = (0..40).map(|i| i % 2 == 0).collect();
     let base = runs(&seeds(0, 40), &e, &all);
-    for cand in [runs(&seeds(0, 40), &e, &half), runs(&seeds(100, 40), &e, &half)] {
+    for cand in [
+        runs(&seeds(0, 40), &e, &half),
+        runs(&seeds(100, 40), &e, &half),
+    ] {
         let rows = compare(&base, &cand, &TOL);
         assert_eq!(
             verdict(&rows, "success_rate"),
@@ -132,7 +132,10 @@ fn a_success_drop_from_40_of_40_to_20_of_40_is_a_regression() {
         let Change::Points { diff, lo, hi } = row(&rows, "success_rate").change else {
             panic!()
         };
-        assert!(diff == -0.5 && lo < -0.5 && hi < -0.1 && lo >= -1.0, "{lo} {hi}");
+        assert!(
+            diff == -0.5 && lo < -0.5 && hi < -0.1 && lo >= -1.0,
+            "{lo} {hi}"
+        );
     }
 }
 
@@ -149,7 +152,12 @@ fn a_median_30_percent_higher_over_many_seeds_is_a_regression() {
         &runs(&seeds(1000, n), &c, &ok),
         &TOL,
     );
-    assert_eq!(verdict(&rows, "rms_error_bl"), Verdict::Regression, "{}", table(&rows, &TOL));
+    assert_eq!(
+        verdict(&rows, "rms_error_bl"),
+        Verdict::Regression,
+        "{}",
+        table(&rows, &TOL)
+    );
     // paired: each seed 30% higher, with 5% per-seed noise
     let noise = lognormal(&mut rng, n, 1.3, 0.05);
     let c: Vec<f64> = b.iter().zip(&noise).map(|(x, k)| x * k).collect();
@@ -162,7 +170,10 @@ fn a_median_30_percent_higher_over_many_seeds_is_a_regression() {
     let Change::Relative { rel, lo, hi } = row(&rows, "rms_error_bl").change else {
         panic!()
     };
-    assert!(lo > 0.1 && lo < rel && rel < hi && (rel - 0.3).abs() < 0.05, "{rel} {lo} {hi}");
+    assert!(
+        lo > 0.1 && lo < rel && rel < hi && (rel - 0.3).abs() < 0.05,
+        "{rel} {lo} {hi}"
+    );
 }
 
 #[test]
@@ -216,11 +227,18 @@ fn not_significant_is_inconclusive_with_the_seeds_that_would_resolve_it() {
     assert_eq!(r.verdict, Verdict::Inconclusive, "{}", table(&rows, &TOL));
     assert!(r.seeds_needed.is_some_and(|n| n > 8), "{r:?}");
     assert!(table(&rows, &TOL).contains("inconclusive (~"));
-    assert_eq!(inconclusive(&rows), 2, "success 8/8 against 8/8 unpaired too");
+    assert_eq!(
+        inconclusive(&rows),
+        2,
+        "success 8/8 against 8/8 unpaired too"
+    );
     assert_eq!(failures(&rows, OnInconclusive::Fail), 2);
     assert_eq!(failures(&rows, OnInconclusive::Pass), 0);
     let text = footer(&rows, &TOL, OnInconclusive::Fail);
-    assert!(text.contains("result: FAIL") && text.contains("2 inconclusive"), "{text}");
+    assert!(
+        text.contains("result: FAIL") && text.contains("2 inconclusive"),
+        "{text}"
+    );
     let text = footer(&rows, &TOL, OnInconclusive::Pass);
     assert!(text.contains("result: pass"), "{text}");
 }
@@ -249,8 +267,13 @@ fn a_a_comparisons_raise_false_alarms_at_most_at_rate_alpha() {
         ok += rows.iter().filter(|r| r.verdict == Verdict::Ok).count();
         total += rows.len();
     }
-    eprintln!("A/A: {alarms} of 100 comparisons with a regression verdict; {ok} of {total} verdicts ok");
-    assert!(alarms <= 5, "{alarms} of 100 A/A comparisons flagged a regression");
+    eprintln!(
+        "A/A: {alarms} of 100 comparisons with a regression verdict; {ok} of {total} verdicts ok"
+    );
+    assert!(
+        alarms <= 5,
+        "{alarms} of 100 A/A comparisons flagged a regression"
+    );
     // the check is not vacuous: with 40 seeds most metrics resolve to ok
     assert!(ok > total / 4, "{ok} of {total} ok");
 }

@@ -129,7 +129,10 @@ mod tests {
             verdict_of(&test(0.0, -0.3, 0.3), 0.4, 0.05).0,
             Verdict::Inconclusive
         );
-        assert_eq!(verdict_of(&test(0.0, -0.05, 0.08), 0.9, 0.05).0, Verdict::Ok);
+        assert_eq!(
+            verdict_of(&test(0.0, -0.05, 0.08), 0.9, 0.05).0,
+            Verdict::Ok
+        );
         assert_eq!(
             verdict_of(&test(0.5, 0.3, 0.7), 0.001, 0.05).0,
             Verdict::Regression

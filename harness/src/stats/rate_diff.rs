@@ -75,7 +75,11 @@ fn tango_t(n12: u64, n21: u64, n: u64, delta: f64) -> f64 {
     let (b, c, nf) = (n12 as f64, n21 as f64, n as f64);
     // the restricted maximum-likelihood estimate of p₂₁ given Δ
     let w = -b - c + (2.0 * nf - b + c) * delta;
-    let q = ((w * w + 8.0 * nf * c * delta * (1.0 - delta)).max(0.0).sqrt() - w) / (4.0 * nf);
+    let q = ((w * w + 8.0 * nf * c * delta * (1.0 - delta))
+        .max(0.0)
+        .sqrt()
+        - w)
+        / (4.0 * nf);
     let num = b - c - nf * delta;
     let var = nf * (2.0 * q + delta * (1.0 - delta));
     if num == 0.0 {
@@ -92,7 +96,11 @@ fn tango_root(n12: u64, n21: u64, n: u64, target: f64) -> f64 {
     let (mut a, mut b) = (-1.0, 1.0);
     for _ in 0..200 {
         let m = 0.5 * (a + b);
-        if tango_t(n12, n21, n, m) > target { a = m } else { b = m }
+        if tango_t(n12, n21, n, m) > target {
+            a = m
+        } else {
+            b = m
+        }
     }
     0.5 * (a + b)
 }
@@ -143,10 +151,16 @@ mod tests {
         // method 10: 0.0524 to 0.3339.
         let d = newcombe(56, 70, 48, 80, Z95);
         assert!((d.est - 0.2).abs() < 1e-12);
-        assert!((d.lo - 0.0524).abs() < 5e-5 && (d.hi - 0.3339).abs() < 5e-5, "{d:?}");
+        assert!(
+            (d.lo - 0.0524).abs() < 5e-5 && (d.hi - 0.3339).abs() < 5e-5,
+            "{d:?}"
+        );
         // example (d): 0/10 − 0/20: −0.1611 to 0.2775
         let d = newcombe(0, 10, 0, 20, Z95);
-        assert!((d.lo + 0.1611).abs() < 5e-5 && (d.hi - 0.2775).abs() < 5e-5, "{d:?}");
+        assert!(
+            (d.lo + 0.1611).abs() < 5e-5 && (d.hi - 0.2775).abs() < 5e-5,
+            "{d:?}"
+        );
     }
 
     #[test]
@@ -157,9 +171,15 @@ mod tests {
         // (independent of the closed form): −0.13299 to 0.08010.
         let d = tango(1, 7, 21, Z95);
         assert!((d.est + 6.0 / 21.0).abs() < 1e-12);
-        assert!((d.lo + 0.5172).abs() < 1e-4 && (d.hi + 0.0260).abs() < 1e-4, "{d:?}");
+        assert!(
+            (d.lo + 0.5172).abs() < 1e-4 && (d.hi + 0.0260).abs() < 1e-4,
+            "{d:?}"
+        );
         let d = tango(1, 2, 44, Z95);
-        assert!((d.lo + 0.13299).abs() < 1e-5 && (d.hi - 0.08010).abs() < 1e-5, "{d:?}");
+        assert!(
+            (d.lo + 0.13299).abs() < 1e-5 && (d.hi - 0.08010).abs() < 1e-5,
+            "{d:?}"
+        );
         let zero = tango(0, 0, 8, Z95);
         assert_eq!((zero.lo, zero.hi), (0.0, 0.0));
     }

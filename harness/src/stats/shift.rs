@@ -55,7 +55,13 @@ fn median_of(count_le: &dyn Fn(f64) -> usize, lo: f64, hi: f64, n: usize) -> f64
 }
 
 /// An estimate with the interval read at ranks `c` and `n + 1 − c` of `n` ordered values.
-fn interval(count_le: &dyn Fn(f64) -> usize, lo: f64, hi: f64, n: usize, c: Option<usize>) -> Shift {
+fn interval(
+    count_le: &dyn Fn(f64) -> usize,
+    lo: f64,
+    hi: f64,
+    n: usize,
+    c: Option<usize>,
+) -> Shift {
     let est = median_of(count_le, lo, hi, n);
     match c {
         Some(c) => Shift {
@@ -181,7 +187,10 @@ mod tests {
 
     /// Every pairwise difference, sorted (the reference the bisection must reproduce).
     fn all_diffs(x: &[f64], y: &[f64]) -> Vec<f64> {
-        let mut v: Vec<f64> = y.iter().flat_map(|b| x.iter().map(move |a| b - a)).collect();
+        let mut v: Vec<f64> = y
+            .iter()
+            .flat_map(|b| x.iter().map(move |a| b - a))
+            .collect();
         v.sort_by(f64::total_cmp);
         v
     }
@@ -194,7 +203,10 @@ mod tests {
         let s = unpaired_shift(&x, &y, 0.05).unwrap();
         let c = RankNull::mann_whitney(9, 7).lower_index(0.05).unwrap();
         let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
-        assert!(close(s.lo, d[c - 1]) && close(s.hi, d[d.len() - c]), "{s:?}");
+        assert!(
+            close(s.lo, d[c - 1]) && close(s.hi, d[d.len() - c]),
+            "{s:?}"
+        );
         // 63 differences: the median is the 32nd.
         assert!(close(s.est, d[31]), "{s:?}");
     }
@@ -212,7 +224,10 @@ mod tests {
         let s = paired_shift(&d, 0.05).unwrap();
         let c = RankNull::signed_rank(10).lower_index(0.05).unwrap();
         let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
-        assert!(close(s.lo, w[c - 1]) && close(s.hi, w[w.len() - c]), "{s:?}");
+        assert!(
+            close(s.lo, w[c - 1]) && close(s.hi, w[w.len() - c]),
+            "{s:?}"
+        );
         assert!(close(s.est, (w[27] + w[28]) / 2.0), "{s:?}");
         for n in [1, 3, 8] {
             let z = paired_shift(&vec![0.0; n], 0.05).unwrap();
