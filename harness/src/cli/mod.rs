@@ -51,7 +51,7 @@ pub enum Command {
     Ablate(ablate::AblateArgs),
     /// Join the results folders of shards (`bench --shard I/N`) into one.
     Merge(merge::MergeArgs),
-    /// Compare a results folder against a baseline; exit 1 on a significant regression.
+    /// Compare a results folder against a baseline: regression, ok or inconclusive per metric.
     Regress(regress::RegressArgs),
     /// Regenerate the paper figures (SVG and PNG) from fixed seeds.
     Figures(figures::FiguresArgs),
