@@ -188,7 +188,10 @@ mod tests {
         let e = exclusive(dir.path(), "merge", "--out").unwrap_err();
         assert_eq!(e.exit_code(), 2);
         let msg = e.to_string();
-        assert!(msg.contains(&format!("pid {}", std::process::id())), "{msg}");
+        assert!(
+            msg.contains(&format!("pid {}", std::process::id())),
+            "{msg}"
+        );
         assert!(msg.contains(&super::super::manifest::host().name), "{msg}");
         assert!(msg.contains("magbench bench"), "{msg}");
         assert!(shared(dir.path(), "DIR").is_err());

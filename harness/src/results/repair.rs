@@ -120,7 +120,10 @@ impl Tally {
 
     fn note(&self, notes: &mut Vec<String>, what: &str) {
         if self.0 > 0 {
-            notes.push(format!("{} {what} (first: {}); they run again", self.0, self.1));
+            notes.push(format!(
+                "{} {what} (first: {}); they run again",
+                self.0, self.1
+            ));
         }
     }
 }
@@ -210,7 +213,9 @@ pub fn repair(dir: &Path, expected: Option<&Expected>) -> Result<Repaired, CliEr
         .count();
 
     if runs.torn_header {
-        notes.push(format!("{RUNS}: the header was cut short: no run had finished"));
+        notes.push(format!(
+            "{RUNS}: the header was cut short: no run had finished"
+        ));
     }
     if runs.torn_tail > 0 {
         notes.push(format!(

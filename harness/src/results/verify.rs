@@ -297,7 +297,10 @@ fn check_rows(
     ));
     for r in runs {
         if r.experiment != m.experiment.name || !in_slice(r.run) {
-            foreign.push(format!("{} (index {}, experiment {:?})", r.run_id, r.run, r.experiment));
+            foreign.push(format!(
+                "{} (index {}, experiment {:?})",
+                r.run_id, r.run, r.experiment
+            ));
         }
     }
     foreign.report(p);
@@ -421,7 +424,12 @@ mod tests {
     #[test]
     fn hashes_skip_the_manifest_the_lock_and_temporaries_and_recurse() {
         let dir = tempfile::tempdir().unwrap();
-        for f in [MANIFEST, super::super::lock::LOCK, "runs.csv.tmp", "runs.csv"] {
+        for f in [
+            MANIFEST,
+            super::super::lock::LOCK,
+            "runs.csv.tmp",
+            "runs.csv",
+        ] {
             std::fs::write(dir.path().join(f), "x").unwrap();
         }
         std::fs::create_dir(dir.path().join("plots")).unwrap();
