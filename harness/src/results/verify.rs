@@ -395,6 +395,10 @@ fn check_hashes(
     notes: &mut Vec<String>,
 ) -> Result<usize, CliError> {
     if m.files.is_empty() {
+        if m.finished.is_none() {
+            // an unfinished folder has no hashes yet; that is reported as unfinished
+            return Ok(0);
+        }
         notes.push(format!(
             "{MANIFEST} records no file hashes (not finalized, or an older version): files not \
              hashed"
