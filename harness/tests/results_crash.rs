@@ -4,7 +4,8 @@
 //! uninterrupted sweep (all columns but wall-clock times); two processes never write one
 //! folder; `results verify` finds what is wrong.
 //!
-//! Kills are deterministic: the process stops for good at a chosen byte of its appends
+//! Most sweeps use the fake executor (24 planning-only runs, 51 trace points each); one uses
+//! real planners with iteration limits (8 runs). Kills are deterministic: the process stops for good at a chosen byte of its appends
 //! (`MAGBENCH_STALL_AT_BYTE`, announced on stderr) or after a chosen number of finished runs
 //! (`MAGBENCH_FAKE_STALL_AFTER`, seen by polling `runs.csv`), and is then killed.
 
@@ -35,14 +36,30 @@ fn magbench(args: &[&str]) -> Command {
     c
 }
 
+/// Real planners, iteration limits only (deterministic per seed): 8 runs.
+const EXP_REAL: &str = r#"
+name = "crash-test-real"
+scenarios = ["open-field"]
+planners = ["goal-zoom-rrt", "sst"]
+seeds = 4
+[limits]
+iterations = 1000
+"#;
+
+/// `magbench bench` of `exp` into `out`, quiet, with the fake executor unless `exp` is
+/// [`EXP_REAL`].
 fn bench(exp: &Path, out: &Path, extra: &[&str]) -> Command {
+    let real = std::fs::read_to_string(exp)
+        .unwrap()
+        .contains("crash-test-real");
     let mut c = magbench(&[
         "bench",
         exp.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
     ]);
-    c.args(["--executor", "fake", "--quiet"]).args(extra);
+    c.args(["--executor", if real { "real" } else { "fake" }, "--quiet"])
+        .args(extra);
     c
 }
 
@@ -243,6 +260,35 @@ fn kills_at_seeded_bytes_and_rows_and_cut_files_resume_to_the_uninterrupted_swee
     }
     assert!(torn_kills >= 8, "only {torn_kills} kills at a byte");
     assert!(damaged >= 8, "only {damaged} damaged folders");
+}
+
+#[test]
+fn real_planners_killed_at_seeded_bytes_resume_to_the_uninterrupted_sweep() {
+    let root = tempfile::tempdir().unwrap();
+    let exp = write(root.path(), "exp.toml", EXP_REAL);
+    let (clean, bytes) = reference(root.path(), &exp);
+    let want = content(&clean);
+    assert_eq!(want.0.len(), 8);
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    for case in 0..3 {
+        let out = root.path().join(format!("real{case}"));
+        let at = rng.random_range(0..bytes);
+        let mut cmd = bench(&exp, &out, &["--threads", "2"]);
+        cmd.env("MAGBENCH_STALL_AT_BYTE", at.to_string())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped());
+        assert!(
+            kill_at_stall(cmd.spawn().unwrap()),
+            "case {case}: not killed"
+        );
+        let d = damage(&mut rng, &out);
+        let o = resume_ok(&exp, &out);
+        assert!(
+            content(&out) == want,
+            "case {case} (killed at byte {at}, {d})\n{}",
+            text(&o)
+        );
+    }
 }
 
 #[test]
