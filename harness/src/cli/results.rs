@@ -31,12 +31,15 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
             }
             let problems = v.all_problems();
             if problems.is_empty() {
+                let hashes = match v.files_hashed {
+                    0 => "no file hashes to check".to_string(),
+                    n => format!("{n} files match the manifest's hashes"),
+                };
                 outln!(
-                    "{}: ok: {} runs, {} trace points, {} files match the manifest's hashes",
+                    "{}: ok: {} runs, {} trace points, {hashes}",
                     dir.display(),
                     v.runs,
                     v.trace_points,
-                    v.files_hashed
                 );
                 return Ok(());
             }

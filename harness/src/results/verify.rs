@@ -132,8 +132,8 @@ fn name(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// The complete rows of a run file, with problems for a missing or cut header, another
-/// version's header and a line cut short at the end.
+/// The complete rows of a run file, with problems for a cut header and a line cut short at
+/// the end, and a note for another version's header.
 fn rows<T>(
     path: &Path,
     text: Option<String>,
@@ -141,6 +141,7 @@ fn rows<T>(
     header_ok: impl Fn(&str) -> bool,
     parse: impl Fn(&Path, &str) -> Result<Vec<T>, CliError>,
     problems: &mut Vec<String>,
+    notes: &mut Vec<String>,
 ) -> Option<Vec<T>> {
     let file = name(path);
     let text = text?;
@@ -150,8 +151,8 @@ fn rows<T>(
     }
     let n = store::complete_len(&text);
     if !header_ok(text.split('\n').next().unwrap_or_default()) {
-        problems.push(format!(
-            "{file}: the header is not the columns of this version of magbench"
+        notes.push(format!(
+            "{file}: the columns of another version of magbench (read by name)"
         ));
     }
     if n < text.len() {
@@ -212,6 +213,7 @@ pub fn verify(dir: &Path) -> Result<Verified, CliError> {
         |h| store::header_agents(h).is_some(),
         store::parse_runs,
         p,
+        &mut v.notes,
     )
     .unwrap_or_default();
     let progress_text = read_text(&dir.join(PROGRESS), p);
@@ -226,6 +228,7 @@ pub fn verify(dir: &Path) -> Result<Verified, CliError> {
         |h| h == store::progress_header(),
         store::parse_progress,
         p,
+        &mut v.notes,
     )
     .unwrap_or_default();
     v.runs = runs.len();
