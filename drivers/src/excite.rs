@@ -156,7 +156,7 @@ pub fn excite(
         }
     })();
     let stopped = rig.stop();
-    if let Some(l) = log.as_deref_mut() {
+    if let Some(l) = log {
         l.stop(t, "stop: excitation finished; field zeroed");
         l.flush();
     }
@@ -223,10 +223,7 @@ fn next_command(
 }
 
 /// A rig that does not log itself, with a log that receives what [`excite`] does.
-pub fn log_for(
-    path: &std::path::Path,
-    agents: usize,
-) -> std::io::Result<RigLog> {
+pub fn log_for(path: &std::path::Path, agents: usize) -> std::io::Result<RigLog> {
     RigLog::create(path, agents, std::time::Instant::now())
 }
 
@@ -279,7 +276,10 @@ mod tests {
         };
         let c = Vec2::new(20.0, 15.0);
         let u = next_command(&obs(1.5), 0.0, &plan, &s, c, c, &mut rep).unwrap();
-        assert!((u.theta - std::f64::consts::FRAC_PI_2).abs() < 1e-12, "repel");
+        assert!(
+            (u.theta - std::f64::consts::FRAC_PI_2).abs() < 1e-12,
+            "repel"
+        );
         let u = next_command(&obs(2.5), 0.0, &plan, &s, c, c, &mut rep).unwrap();
         assert_eq!(u.theta, 0.0, "the block's ψ");
         assert_eq!(rep.separation_overrides, 1);

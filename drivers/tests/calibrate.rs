@@ -74,7 +74,10 @@ fn calibrate_recovers_a_random_preset_from_an_excitation_run() {
         assert!(!gt.agent_contact, "the excitation kept the agents apart");
         let run = read_log(&path, n).unwrap();
         let fit = calibrate(&scenario, &base, vec![run], &FitOptions::default()).unwrap();
-        eprintln!("seed {seed}: truth {:?} latency {} noise {:.4}", t.preset.fitted, t.latency, t.noise);
+        eprintln!(
+            "seed {seed}: truth {:?} latency {} noise {:.4}",
+            t.preset.fitted, t.latency, t.noise
+        );
         for l in fit.lines() {
             eprintln!("  {l}");
         }
@@ -97,13 +100,30 @@ fn calibrate_recovers_a_random_preset_from_an_excitation_run() {
                 (p.value - truth).abs()
             };
             eprintln!("  error {}: {:.4}", p.name, err);
-            assert!(err <= tol, "seed {seed}: {} = {} against {truth} (tolerance {tol})", p.name, p.value);
+            assert!(
+                err <= tol,
+                "seed {seed}: {} = {} against {truth} (tolerance {tol})",
+                p.name,
+                p.value
+            );
             checked += 1;
         }
-        assert!(checked >= 6, "seed {seed}: only {checked} parameters identified");
-        assert!(fit.latency.abs_diff(t.latency) <= 1, "latency {} against {}", fit.latency, t.latency);
+        assert!(
+            checked >= 6,
+            "seed {seed}: only {checked} parameters identified"
+        );
+        assert!(
+            fit.latency.abs_diff(t.latency) <= 1,
+            "latency {} against {}",
+            fit.latency,
+            t.latency
+        );
         let s = fit.noise.expect("noise seen");
-        assert!((s / t.noise - 1.0).abs() <= 0.2, "noise {s} against {}", t.noise);
+        assert!(
+            (s / t.noise - 1.0).abs() <= 0.2,
+            "noise {s} against {}",
+            t.noise
+        );
         // the fitted preset is a preset file every command loads
         let text = fit.preset_file(&["rig-log.csv".into()]);
         DisturbancePreset::parse(&text, "fitted.toml").unwrap();

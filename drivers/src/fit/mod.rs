@@ -62,7 +62,11 @@ pub fn calibrate(
     opts: &FitOptions,
 ) -> Result<FitReport, String> {
     for run in &runs {
-        if run.frames.iter().any(|f| f.agents.len() != scenario.agents()) {
+        if run
+            .frames
+            .iter()
+            .any(|f| f.agents.len() != scenario.agents())
+        {
             return Err(format!(
                 "{}: agent count differs from the scenario's {}",
                 run.source,
@@ -104,7 +108,7 @@ pub fn calibrate(
             .enumerate()
             .filter(|(i, _)| free[*i])
             .map(|(i, k)| (i, se[i] / k.identified_below()))
-            .filter(|(_, ratio)| !(*ratio <= 1.0))
+            .filter(|(_, ratio)| ratio.is_nan() || *ratio > 1.0)
             .max_by(|a, b| a.1.total_cmp(&b.1));
         match worst {
             Some((i, _)) => {

@@ -123,9 +123,8 @@ impl Model {
         if let Medium::Interface(i) = &mut p.medium {
             i.contact_angle_spread_deg = 0.0;
         }
-        let coil: Arc<dyn Coil> = Arc::new(
-            TriaxialMaxwell::new(params.gradient_limit()).with_alpha_max_deg(90.0),
-        );
+        let coil: Arc<dyn Coil> =
+            Arc::new(TriaxialMaxwell::new(params.gradient_limit()).with_alpha_max_deg(90.0));
         let n = scenario.agents();
         let mut kinds = vec![];
         for i in 0..n {
@@ -263,7 +262,11 @@ impl Model {
         latency: usize,
     ) -> (Vec<f64>, bool) {
         let f = &self.runs[s.run].frames;
-        let start: Vec<Vec2> = f[s.start].agents.iter().map(|a| a.expect("observed")).collect();
+        let start: Vec<Vec2> = f[s.start]
+            .agents
+            .iter()
+            .map(|a| a.expect("observed"))
+            .collect();
         let mut plant = Plant::new(
             &self.params,
             self.coil.clone(),

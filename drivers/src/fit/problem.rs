@@ -167,7 +167,9 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
 
     fn residuals(&self) -> Option<DVector<f64>> {
         let r = self.residuals_at(&self.x);
-        r.iter().all(|v| v.is_finite()).then(|| DVector::from_vec(r))
+        r.iter()
+            .all(|v| v.is_finite())
+            .then(|| DVector::from_vec(r))
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
@@ -180,7 +182,10 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
 pub fn solve(p: Problem<'_>, iterations: usize) -> (Problem<'_>, MinimizationReport<f64>) {
     if p.free.is_empty() {
         let report = MinimizationReport {
-            termination: levenberg_marquardt::TerminationReason::Converged { ftol: true, xtol: true },
+            termination: levenberg_marquardt::TerminationReason::Converged {
+                ftol: true,
+                xtol: true,
+            },
             number_of_evaluations: 0,
             objective_function: 0.5 * p.mean_square(),
         };

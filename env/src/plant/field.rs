@@ -40,7 +40,8 @@ impl FieldModel {
     /// Draws the field model of the run seeded with `seed`.
     pub fn draw(preset: &DisturbancePreset, p: &PhysicalParams, seed: u64) -> Self {
         let b0 = p.field_mt * 1e-3;
-        let drawn_bias = preset.field_error.bias_sd() * normal(&mut stream(seed, Stream::FieldBias));
+        let drawn_bias =
+            preset.field_error.bias_sd() * normal(&mut stream(seed, Stream::FieldBias));
         let bias = preset.fitted.field_bias().unwrap_or(drawn_bias);
         let cal = &preset.coil_calibration;
         let (mut field_gain, mut gradient_gain, mut crosstalk) =

@@ -2,6 +2,7 @@
 
 mod ablate;
 mod bench;
+mod calibrate;
 mod figures;
 mod merge;
 pub(crate) mod output;
@@ -60,6 +61,8 @@ pub enum Command {
     /// Physical runs: the rig emulator, rig bring-up checks and detection replay.
     #[command(subcommand)]
     Rig(rig::RigCmd),
+    /// Fit a preset's parameters to logged rig runs (`rig run`, `rig excite`).
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 /// Runs a parsed command line.
@@ -76,5 +79,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Track(a) => track::run(*a),
         Command::Plan(a) => plan::run(a),
         Command::Rig(c) => rig::run(c),
+        Command::Calibrate(a) => calibrate::run(a),
     }
 }
