@@ -27,6 +27,8 @@ pub mod coil_driver;
 pub mod coil_session;
 pub mod detector;
 pub mod emulator;
+pub mod excite;
+pub mod fit;
 pub mod frame;
 pub mod hardware;
 pub mod interrupt;

@@ -91,6 +91,17 @@ impl RigLog {
         );
     }
 
+    /// One command given to a rig without coil currents (a simulated rig): empty `currents_a`.
+    pub fn command_without_currents(&mut self, t: f64, frame: Option<u64>, u: &Control) {
+        self.head(t, "command", frame);
+        let _ = write!(self.out, "{}", ",".repeat(2 * self.agents));
+        let _ = writeln!(
+            self.out,
+            ",{:.6},{:.6},{:.6},{:.6},,,1,,",
+            u.theta, u.alpha, u.grad[0], u.grad[1]
+        );
+    }
+
     /// One fault.
     pub fn fault(&mut self, t: f64, frame: Option<u64>, message: &str) {
         self.head(t, "fault", frame);

@@ -82,7 +82,15 @@ pub struct Dynamics {
 impl Dynamics {
     /// Draws the dynamics of `n` agents for the run seeded with `seed`.
     pub fn draw(preset: &DisturbancePreset, p: &PhysicalParams, n: usize, seed: u64) -> Self {
-        let factors = preset.heterogeneity.draw(&preset.medium, n, seed);
+        let mut factors = preset.heterogeneity.draw(&preset.medium, n, seed);
+        for i in 0..n {
+            if let Some(m) = preset.fitted.moment_of(i) {
+                factors.moment[i] = m;
+            }
+            if let Some(m) = preset.fitted.mobility_of(i) {
+                factors.mobility[i] = m;
+            }
+        }
         let field = FieldModel::draw(preset, p, seed);
         let (fa, ga) = (
             preset.coil_lag.field_axis(),
@@ -115,7 +123,8 @@ impl Dynamics {
             rotation,
             hydrodynamics: preset.hydrodynamics.enabled,
             capillary,
-            flow: FlowField::draw(&preset.drift, &preset.flow, seed),
+            flow: FlowField::draw(&preset.drift, &preset.flow, seed)
+                .with_drift(preset.fitted.drift()),
         }
     }
 

@@ -40,7 +40,9 @@ impl FieldModel {
     /// Draws the field model of the run seeded with `seed`.
     pub fn draw(preset: &DisturbancePreset, p: &PhysicalParams, seed: u64) -> Self {
         let b0 = p.field_mt * 1e-3;
-        let bias = preset.field_error.bias_sd() * normal(&mut stream(seed, Stream::FieldBias));
+        let drawn_bias =
+            preset.field_error.bias_sd() * normal(&mut stream(seed, Stream::FieldBias));
+        let bias = preset.fitted.field_bias().unwrap_or(drawn_bias);
         let cal = &preset.coil_calibration;
         let (mut field_gain, mut gradient_gain, mut crosstalk) =
             (Matrix3::identity(), [1.0; 2], [0.0; 2]);
@@ -70,6 +72,9 @@ impl FieldModel {
                 1.0 + n(cal.gradient_gain_error),
             ];
             crosstalk = [n(cal.gradient_crosstalk), n(cal.gradient_crosstalk)];
+        }
+        if let Some(g) = preset.fitted.gradient_gain() {
+            gradient_gain = g;
         }
         let ambient = if preset.ambient_field.enabled {
             let a = rand::RngExt::random_range(

@@ -119,6 +119,14 @@ impl FlowField {
         }
     }
 
+    /// The flow with its uniform drift replaced by `drift` (BL/s), when given.
+    pub fn with_drift(mut self, drift: Option<[f64; 2]>) -> Self {
+        if let Some([x, y]) = drift {
+            self.drift = Vec2::new(x, y);
+        }
+        self
+    }
+
     /// True when the flow is uniform and steady (the drift alone).
     pub fn is_uniform(&self) -> bool {
         self.modes.is_empty()

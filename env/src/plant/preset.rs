@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::check::{Rejection, within};
 use super::{
     AmbientField, Brownian, CameraParams, Capillary, CoilCalibration, CoilLag, Drift, FieldError,
-    Flow, Heterogeneity, Hydrodynamics, MagnetLag, Medium, NonuniformField,
+    Fitted, Flow, Heterogeneity, Hydrodynamics, MagnetLag, Medium, NonuniformField,
 };
 use crate::coil::COIL_ALPHA_MAX_DEG;
 use crate::error::InputError;
@@ -71,6 +71,9 @@ pub struct DisturbancePreset {
     /// The camera.
     #[serde(default)]
     pub camera: CameraParams,
+    /// Values measured on one rig (`magbench calibrate`) in place of per-run draws.
+    #[serde(default, skip_serializing_if = "Fitted::is_off")]
+    pub fitted: Fitted,
 }
 
 /// The simulated coil's reach (`[coil]`): how far out of the plane it can tilt the field.
@@ -226,7 +229,8 @@ impl DisturbancePreset {
         if self.flow.enabled {
             self.flow.check()?;
         }
-        self.camera.check()
+        self.camera.check()?;
+        self.fitted.check()
     }
 
     fn switch(&mut self, term: &str) -> Option<&mut bool> {

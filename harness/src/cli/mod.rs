@@ -2,6 +2,7 @@
 
 mod ablate;
 mod bench;
+mod calibrate;
 mod figures;
 mod merge;
 pub(crate) mod output;
@@ -65,6 +66,8 @@ pub enum Command {
     /// Physical runs: the rig emulator, rig bring-up checks and detection replay.
     #[command(subcommand)]
     Rig(rig::RigCmd),
+    /// Fit a preset's parameters to logged rig runs (`rig run`, `rig excite`).
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 /// Runs a parsed command line; planners and trackers are resolved by name in `registry`.
@@ -82,5 +85,6 @@ pub fn run(args: Args, registry: &Registry) -> Result<(), CliError> {
         Command::Track(a) => track::run(*a, registry),
         Command::Plan(a) => plan::run(a, registry),
         Command::Rig(c) => rig::run(c, registry),
+        Command::Calibrate(a) => calibrate::run(a),
     }
 }

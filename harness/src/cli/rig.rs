@@ -33,6 +33,32 @@ pub enum RigCmd {
     /// Run a scenario on the rig: observe the start, plan from it, track in closed loop at the
     /// camera rate, log everything, stop with zero field, print the metrics of `magbench track`.
     Run(Box<RunArgs>),
+    /// Drive the rig through an identification trajectory for `magbench calibrate`: field
+    /// angles through 0°, ±54.74° and 90° to the separation, gradient steps on both axes,
+    /// elevation steps; logs as `rig run` does.
+    Excite(ExciteArgs),
+}
+
+/// `magbench rig excite`.
+#[derive(Debug, Args)]
+pub struct ExciteArgs {
+    /// The rig file.
+    #[arg(long, conflicts_with = "preset", required_unless_present = "preset")]
+    pub rig: Option<PathBuf>,
+    /// Instead of a rig: env's simulated plant and camera under this preset.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Scenario (workspace and start): open-field or another map with room to move.
+    pub scenario: String,
+    /// Folder for rig-log.csv.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Seconds of excitation.
+    #[arg(long, default_value_t = 120.0)]
+    pub duration: f64,
+    /// Seed of the block order (and of the simulated plant).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
 }
 
 /// `magbench rig run`.
@@ -162,7 +188,62 @@ pub fn run(cmd: RigCmd, registry: &Registry) -> Result<(), CliError> {
         RigCmd::Check(a) => check_cmd(a),
         RigCmd::Replay(a) => replay_cmd(a),
         RigCmd::Run(a) => run_cmd(*a, registry),
+        RigCmd::Excite(a) => excite_cmd(a),
     }
+}
+
+fn excite_cmd(a: ExciteArgs) -> Result<(), CliError> {
+    use magbench_drivers::excite::{ExciteSetup, excite, log_for};
+    let scenario = Scenario::load(&a.scenario)?;
+    if !(a.duration.is_finite() && a.duration > 0.0 && a.duration <= 86_400.0) {
+        return Err(CliError::arg(
+            "--duration",
+            format!("must be in (0, 86400] s, got {}", a.duration),
+        ));
+    }
+    prepare_dir(&a.out, "--out")?;
+    let log = a.out.join("rig-log.csv");
+    let mut setup = ExciteSetup {
+        duration: a.duration,
+        seed: a.seed,
+        gradient_limit: scenario.physics.gradient_limit(),
+        alpha_max: 0.0,
+        world: scenario.world.clone(),
+    };
+    let rep = match (&a.rig, &a.preset) {
+        (Some(rig), _) => {
+            let (cfg, mut hw) = open_rig(rig, &scenario, Some(&log))?;
+            outln!("rig: {}", hw.describe());
+            setup.alpha_max = cfg.coil.alpha_max_deg.to_radians();
+            excite(&mut hw, &setup, None)
+        }
+        (None, Some(p)) => {
+            let preset = preset_named(p, "--preset")?;
+            setup.alpha_max = preset.coil.alpha_max_deg.to_radians();
+            let mut sim = magbench_trackers::SimRig::new(&scenario, &preset, a.seed);
+            let mut l = log_for(&log, scenario.agents())
+                .map_err(|e| CliError::Failed(format!("{}: {e}", log.display())))?;
+            excite(&mut sim, &setup, Some(&mut l))
+        }
+        (None, None) => return Err(CliError::arg("--rig", "give --rig or --preset")),
+    }
+    .map_err(|e| CliError::Failed(e.to_string()))?;
+    outln!(
+        "frames       {} over {:.2} s ({} detections missed)",
+        rep.frames,
+        rep.duration_s,
+        rep.missed
+    );
+    outln!("commands     {}", rep.commands);
+    outln!(
+        "separation   {:.3} to {:.3} BL ({} frames held by the separation loop, {} by the centre-of-mass loop)",
+        rep.separation_range.0,
+        rep.separation_range.1,
+        rep.separation_overrides,
+        rep.com_overrides
+    );
+    outln!("log          {}", log.display());
+    Ok(())
 }
 
 fn emulate(a: EmulateArgs) -> Result<(), CliError> {

@@ -1,0 +1,287 @@
+//! `magbench rig excite`: an identification trajectory for `magbench calibrate`.
+//!
+//! Blocks of [`BLOCK_S`] seconds, each with a field angle relative to the pair's separation
+//! (ψ), a gradient and an elevation. ψ visits the singular angles in turn — 0° (strongest
+//! attraction, no turn), ±54.74° (no radial force, fastest turn), 90° (repulsion) — and every
+//! fourth block sweeps ψ through the whole half turn. Gradient blocks pull along x or y at
+//! [`GRADIENT_FRACTION`] of the coil's limit, and with a z coil some blocks tilt the field by
+//! ±[`ALPHA_STEP_DEG`]°; the order of the blocks is drawn from the seed. Two closed loops keep
+//! the run usable: on the separation of agents 0 and 1 (below [`R_MIN`] BL the field turns to
+//! ψ = 90° and repels, beyond [`R_MAX`] it turns to ψ = 0 and attracts), and on the centre of
+//! mass (a gradient never pulls it further from the workspace's centre once it is more than
+//! a quarter of the workspace away). Every observation and command goes to the rig's log as
+//! `rig run` writes it.
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use magbench_env::plant::Observation;
+use magbench_env::{Control, Vec2, World};
+use magbench_trackers::{Rig, RigError};
+
+use crate::check::MAGIC_ANGLE;
+use crate::rig_log::RigLog;
+
+/// Length of one block of the trajectory (s).
+pub const BLOCK_S: f64 = 0.5;
+/// Below this separation (BL) the field repels.
+pub const R_MIN: f64 = 1.7;
+/// Beyond this separation (BL) the field attracts.
+pub const R_MAX: f64 = 3.2;
+/// Gradient steps, as a fraction of the coil's gradient limit.
+pub const GRADIENT_FRACTION: f64 = 0.7;
+/// Elevation steps (degrees), where the coil can tilt the field.
+pub const ALPHA_STEP_DEG: f64 = 35.0;
+
+/// What the trajectory needs to know about the rig.
+#[derive(Debug, Clone)]
+pub struct ExciteSetup {
+    /// Seconds of excitation.
+    pub duration: f64,
+    /// Seed of the block order.
+    pub seed: u64,
+    /// Largest gradient the coil makes (T/m).
+    pub gradient_limit: f64,
+    /// Largest elevation (radians): 0 for a planar coil set.
+    pub alpha_max: f64,
+    /// The workspace (its centre and size steer the centre-of-mass loop).
+    pub world: World,
+}
+
+/// One block: ψ (or a sweep), gradient, elevation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Block {
+    /// ψ (radians), or `None` for a sweep from −90° to 90°.
+    psi: Option<f64>,
+    /// Gradient axis (0 = x, 1 = y) and sign, or none.
+    grad: Option<(usize, f64)>,
+    /// Elevation (radians).
+    alpha: f64,
+}
+
+/// What an excitation run did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ExciteReport {
+    /// Observations received.
+    pub frames: u64,
+    /// Commands sent.
+    pub commands: u64,
+    /// Agent detections missing.
+    pub missed: u64,
+    /// Frames in which the separation loop overrode the block's ψ.
+    pub separation_overrides: u64,
+    /// Frames in which the centre-of-mass loop reversed a gradient.
+    pub com_overrides: u64,
+    /// Smallest and largest separation of agents 0 and 1 seen (BL).
+    pub separation_range: (f64, f64),
+    /// Observed time span (s).
+    pub duration_s: f64,
+}
+
+/// The block sequence of a run.
+fn blocks(setup: &ExciteSetup) -> Vec<Block> {
+    let n = (setup.duration / BLOCK_S).ceil().max(1.0) as usize;
+    let psis = [
+        Some(0.0),
+        Some(MAGIC_ANGLE),
+        Some(std::f64::consts::FRAC_PI_2),
+        Some(-MAGIC_ANGLE),
+    ];
+    let mut rng = ChaCha8Rng::seed_from_u64(setup.seed);
+    let tilt = setup.alpha_max.min(ALPHA_STEP_DEG.to_radians());
+    (0..n)
+        .map(|k| {
+            let psi = if k % 4 == 3 {
+                None
+            } else {
+                psis[(k + k / 4) % 4]
+            };
+            let grad = match rng.random_range(0..5) {
+                0 => None,
+                g => Some(((g - 1) % 2, if g <= 2 { 1.0 } else { -1.0 })),
+            };
+            let alpha = if tilt > 0.0 && rng.random_range(0..3) == 0 {
+                if rng.random_bool(0.5) { tilt } else { -tilt }
+            } else {
+                0.0
+            };
+            Block { psi, grad, alpha }
+        })
+        .collect()
+}
+
+/// Drives `rig` through the identification trajectory, then zeroes the field. `log`, when
+/// given, receives every observation and command (for a rig that does not log itself).
+pub fn excite(
+    rig: &mut dyn Rig,
+    setup: &ExciteSetup,
+    mut log: Option<&mut RigLog>,
+) -> Result<ExciteReport, RigError> {
+    let plan = blocks(setup);
+    let centre = Vec2::new(setup.world.width, setup.world.height) * 0.5;
+    let reach = Vec2::new(setup.world.width, setup.world.height) * 0.25;
+    let mut rep = ExciteReport {
+        separation_range: (f64::INFINITY, 0.0),
+        ..Default::default()
+    };
+    let mut u = Control::default();
+    let mut have_command = false;
+    let (mut t0, mut t) = (None, 0.0);
+    let mut frame = 0u64;
+    let result = (|| -> Result<(), RigError> {
+        loop {
+            let obs: Observation = rig.observe()?;
+            let start = *t0.get_or_insert(obs.t);
+            t = obs.t - start;
+            if t >= setup.duration {
+                return Ok(());
+            }
+            rep.frames += 1;
+            rep.missed += obs.agents.iter().filter(|a| a.is_none()).count() as u64;
+            if let Some(l) = log.as_deref_mut() {
+                l.observation(obs.t, frame, &obs.agents);
+            }
+            if let Some(c) = next_command(&obs, t, &plan, setup, centre, reach, &mut rep) {
+                u = c;
+                have_command = true;
+            }
+            if have_command {
+                rig.command(&u)?;
+                rep.commands += 1;
+                if let Some(l) = log.as_deref_mut() {
+                    l.command_without_currents(obs.t, Some(frame), &u);
+                }
+            }
+            frame += 1;
+        }
+    })();
+    let stopped = rig.stop();
+    if let Some(l) = log {
+        l.stop(t, "stop: excitation finished; field zeroed");
+        l.flush();
+    }
+    result?;
+    stopped?;
+    rep.duration_s = t;
+    Ok(rep)
+}
+
+/// The command for the frame `obs` at time `t` of the run; `None` when agents 0 and 1 were not
+/// both found (the previous command holds).
+fn next_command(
+    obs: &Observation,
+    t: f64,
+    plan: &[Block],
+    setup: &ExciteSetup,
+    centre: Vec2,
+    reach: Vec2,
+    rep: &mut ExciteReport,
+) -> Option<Control> {
+    let (Some(a), Some(b)) = (obs.agents.first().copied()?, obs.agents.get(1).copied()?) else {
+        return None;
+    };
+    let d = b - a;
+    let (r, phi) = (d.norm(), d.y.atan2(d.x));
+    rep.separation_range = (rep.separation_range.0.min(r), rep.separation_range.1.max(r));
+    let k = ((t / BLOCK_S) as usize).min(plan.len() - 1);
+    let block = plan[k];
+    let mut psi = match block.psi {
+        Some(p) => p,
+        None => {
+            let s = (t / BLOCK_S).fract();
+            (s - 0.5) * std::f64::consts::PI
+        }
+    };
+    if r < R_MIN {
+        psi = std::f64::consts::FRAC_PI_2;
+        rep.separation_overrides += 1;
+    } else if r > R_MAX {
+        psi = 0.0;
+        rep.separation_overrides += 1;
+    }
+    let theta = phi + psi;
+    let mut grad = [0.0; 2];
+    if let Some((axis, sign)) = block.grad {
+        let found: Vec<Vec2> = obs.agents.iter().flatten().copied().collect();
+        let com = found.iter().sum::<Vec2>() / found.len() as f64;
+        // the pull along the axis is G·m̂: its direction follows the field's component
+        let m = if axis == 0 { theta.cos() } else { theta.sin() } * block.alpha.cos();
+        let g = sign * GRADIENT_FRACTION * setup.gradient_limit;
+        let mut pull = g * m;
+        let off = com[axis] - centre[axis];
+        if off.abs() > reach[axis] && pull * off > 0.0 {
+            pull = -pull;
+            rep.com_overrides += 1;
+        }
+        grad[axis] = if m.abs() < 1e-9 { 0.0 } else { pull / m };
+    }
+    Some(Control {
+        theta,
+        alpha: block.alpha,
+        grad,
+    })
+}
+
+/// A rig that does not log itself, with a log that receives what [`excite`] does.
+pub fn log_for(path: &std::path::Path, agents: usize) -> std::io::Result<RigLog> {
+    RigLog::create(path, agents, std::time::Instant::now())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn setup(alpha_max: f64) -> ExciteSetup {
+        ExciteSetup {
+            duration: 20.0,
+            seed: 3,
+            gradient_limit: 0.085,
+            alpha_max,
+            world: World {
+                width: 40.0,
+                height: 30.0,
+                obstacles: vec![],
+            },
+        }
+    }
+
+    #[test]
+    fn blocks_visit_every_singular_angle_both_gradient_axes_and_tilt_only_with_a_z_coil() {
+        let b = blocks(&setup(std::f64::consts::FRAC_PI_2));
+        for psi in [0.0, MAGIC_ANGLE, std::f64::consts::FRAC_PI_2, -MAGIC_ANGLE] {
+            assert!(b.iter().any(|x| x.psi == Some(psi)), "ψ = {psi}");
+        }
+        assert!(b.iter().any(|x| x.psi.is_none()), "a sweep");
+        for axis in 0..2 {
+            for s in [1.0, -1.0] {
+                assert!(b.iter().any(|x| x.grad == Some((axis, s))), "{axis} {s}");
+            }
+        }
+        assert!(b.iter().any(|x| x.alpha != 0.0));
+        assert!(blocks(&setup(0.0)).iter().all(|x| x.alpha == 0.0));
+    }
+
+    #[test]
+    fn the_separation_loop_overrides_the_block() {
+        let s = setup(0.0);
+        let plan = vec![Block {
+            psi: Some(0.0),
+            grad: None,
+            alpha: 0.0,
+        }];
+        let mut rep = ExciteReport::default();
+        let obs = |r: f64| Observation {
+            t: 0.0,
+            agents: vec![Some(Vec2::new(20.0, 15.0)), Some(Vec2::new(20.0 + r, 15.0))],
+        };
+        let c = Vec2::new(20.0, 15.0);
+        let u = next_command(&obs(1.5), 0.0, &plan, &s, c, c, &mut rep).unwrap();
+        assert!(
+            (u.theta - std::f64::consts::FRAC_PI_2).abs() < 1e-12,
+            "repel"
+        );
+        let u = next_command(&obs(2.5), 0.0, &plan, &s, c, c, &mut rep).unwrap();
+        assert_eq!(u.theta, 0.0, "the block's ψ");
+        assert_eq!(rep.separation_overrides, 1);
+    }
+}

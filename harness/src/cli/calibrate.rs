@@ -1,0 +1,82 @@
+//! `magbench calibrate`: fits a preset to logged rig runs and writes it as a preset file.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use magbench_drivers::fit::{FitOptions, calibrate, read_log};
+use magbench_drivers::rigs::preset_named;
+use magbench_env::Scenario;
+
+use super::output::{outln, prepare_file};
+use crate::CliError;
+
+/// `magbench calibrate`.
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    /// Logged runs: folders holding rig-log.csv (from `rig run` or `rig excite`) or the CSV
+    /// files themselves.
+    #[arg(required = true)]
+    pub logs: Vec<PathBuf>,
+    /// The scenario the runs were made on (physics, workspace, agent count).
+    #[arg(long)]
+    pub scenario: String,
+    /// The preset fitted: a built-in name or a preset file; what is not fitted keeps its value.
+    #[arg(long, default_value = "hardware")]
+    pub base: String,
+    /// The fitted preset file.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Frames predicted from each observation.
+    #[arg(long, default_value_t = 20)]
+    pub segment_frames: usize,
+    /// Largest camera latency tried (frames).
+    #[arg(long, default_value_t = 4)]
+    pub max_latency: usize,
+    /// Hold a parameter at the base value, e.g. `gradient_gain.x` (repeatable).
+    #[arg(long)]
+    pub hold: Vec<String>,
+}
+
+/// Runs `magbench calibrate`.
+pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
+    let scenario = Scenario::load(&a.scenario)?;
+    let base = preset_named(&a.base, "--base")?;
+    if !(1..=600).contains(&a.segment_frames) {
+        return Err(CliError::arg(
+            "--segment-frames",
+            format!("must be in [1, 600], got {}", a.segment_frames),
+        ));
+    }
+    if a.max_latency > 30 {
+        return Err(CliError::arg(
+            "--max-latency",
+            format!("must be at most 30 frames, got {}", a.max_latency),
+        ));
+    }
+    prepare_file(&a.out, "--out")?;
+    let runs = a
+        .logs
+        .iter()
+        .map(|p| read_log(p, scenario.agents()).map_err(|e| CliError::arg("LOG_DIR", e)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let sources: Vec<String> = runs.iter().map(|r| r.source.clone()).collect();
+    let opts = FitOptions {
+        segment_frames: a.segment_frames,
+        max_latency: a.max_latency,
+        hold: a.hold,
+    };
+    let mut fit = calibrate(&scenario, &base, runs, &opts).map_err(CliError::Failed)?;
+    fit.preset.name = a
+        .out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "fitted".into());
+    fit.preset.description = format!("{} fitted to {}", base.name, sources.join(", "));
+    for l in fit.lines() {
+        outln!("{l}");
+    }
+    std::fs::write(&a.out, fit.preset_file(&sources))
+        .map_err(|e| CliError::Failed(format!("{}: {e}", a.out.display())))?;
+    outln!("preset       {}", a.out.display());
+    Ok(())
+}
