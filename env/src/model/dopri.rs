@@ -37,29 +37,36 @@ pub const TOLERANCE_BL: f64 = 1e-3;
 pub const REFERENCE_DURATION_S: f64 = 2.0;
 
 /// How much local error a step may make: [`ErrorBudget::per_bl`] per BL that the team moves
-/// relative to its mean motion in the step, counting at least `min_speed · h`.
+/// relative to its mean motion in the step, counting at least `min_speed · h`. Steps from a
+/// state with two agents closer than `r_min` are not error-controlled below the fixed step `dt`:
+/// the proximity check rejects every motion at such a sample, so only determinism matters there
+/// (and the velocity field's singularity at contact would otherwise shrink steps without end).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ErrorBudget {
     /// Local error allowed per BL of relative displacement.
     pub per_bl: f64,
     /// The slowest relative speed a step is charged for (BL/s).
     pub min_speed: f64,
+    /// The separation below which a team is invalid (BL).
+    pub r_min: f64,
 }
 
 impl ErrorBudget {
     /// The budget that keeps a motion up to [`REFERENCE_DURATION_S`] within [`TOLERANCE_BL`]
     /// for a team whose relative speed (any agent, against the team's mean) never exceeds
     /// `max_speed` (BL/s); steps slower than `min_speed` are charged as if at `min_speed`.
-    pub fn new(max_speed: f64, min_speed: f64) -> Self {
+    /// Teams with two agents closer than `r_min` are not error-controlled below `dt`.
+    pub fn new(max_speed: f64, min_speed: f64, r_min: f64) -> Self {
         Self {
             per_bl: TOLERANCE_BL / (max_speed * REFERENCE_DURATION_S),
             min_speed,
+            r_min,
         }
     }
 }
 
 /// The first trial step, in fixed steps `dt` (one 60 fps frame at the default `dt`).
-const FIRST_STEP_DTS: f64 = 2.0;
+const FIRST_STEP_DTS: f64 = 6.0;
 
 /// The smallest step, in fixed steps `dt`: a step this short is accepted whatever its error
 /// estimate, which bounds the work of any motion.
@@ -168,10 +175,16 @@ pub fn dp5_solve(
     let mut s: Agents = [z; MAX_AGENTS];
     let mut y_new: Agents = [z; MAX_AGENTS];
     f(&y[..n], &mut k[0][..n]);
-    let (h_min, h_max) = (dt * SMALLEST_STEP_DTS, REFERENCE_DURATION_S);
+    let h_max = REFERENCE_DURATION_S;
+    let h_floor = |y: &[Vec2]| {
+        let close = (0..n).any(|i| ((i + 1)..n).any(|j| (y[i] - y[j]).norm() < budget.r_min));
+        if close { dt } else { dt * SMALLEST_STEP_DTS }
+    };
+    let mut h_min = h_floor(&y[..n]);
     let mut h = dt * FIRST_STEP_DTS;
     let mut t = 0.0;
     let mut rejected_last = false;
+    let mut last_accepted: Option<(f64, f64)> = None;
     loop {
         for i in 0..n {
             s[i] = y[i] + k[0][i] * (h * A21);
@@ -225,7 +238,7 @@ pub fn dp5_solve(
         if !(ratio <= 1.0) && h > h_min {
             stats.rejected += 1;
             let shrink = if ratio.is_finite() {
-                (0.9 * ratio.powf(-0.25)).clamp(0.2, 0.9)
+                (0.9 / ratio.sqrt().sqrt()).clamp(0.2, 0.9)
             } else {
                 0.2
             };
@@ -252,13 +265,18 @@ pub fn dp5_solve(
         y[..n].copy_from_slice(&y_new[..n]);
         k[0] = k[6];
         t = t_new;
-        let grow = if ratio > 0.0 {
-            (0.9 * ratio.powf(-0.25)).clamp(0.2, 5.0)
-        } else {
-            5.0
-        };
-        let grow = if rejected_last { grow.min(1.0) } else { grow };
+        // Gustafsson's predictive controller: the trend of the last two accepted steps'
+        // errors and sizes anticipates a team that speeds up (a contraction), so that the next
+        // step is not tried at a size the trend already rules out
+        let ratio = ratio.max(1e-12);
+        let mut grow = 0.9 / ratio.sqrt().sqrt();
+        if let Some((h_prev, ratio_prev)) = last_accepted {
+            grow *= (h / h_prev) * (ratio_prev / ratio).sqrt().sqrt();
+        }
+        let grow = grow.clamp(0.2, if rejected_last { 1.0 } else { 10.0 });
+        last_accepted = Some((h, ratio));
         rejected_last = false;
+        h_min = h_floor(&y[..n]);
         h = (h * grow).clamp(h_min, h_max);
     }
 }

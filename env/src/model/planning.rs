@@ -124,6 +124,7 @@ impl PlanningModel {
         ErrorBudget::new(
             2.0 * (n.max(2) - 1) as f64 * hi / r_min.powi(4),
             0.8f64.sqrt() * lo.min(hi) / r_max.powi(4),
+            r_min,
         )
     }
 
