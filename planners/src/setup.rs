@@ -214,7 +214,10 @@ impl PlanningSetup {
             "flow" => {
                 self.flow = Flow::from_name(value).ok_or_else(|| {
                     let known: Vec<_> = Flow::ALL.iter().map(|f| f.name()).collect();
-                    bad(format!("unknown flow {value:?} (known: {})", known.join(", ")))
+                    bad(format!(
+                        "unknown flow {value:?} (known: {})",
+                        known.join(", ")
+                    ))
                 })?;
             }
             "alpha_max" => {

@@ -107,6 +107,15 @@ const D7: f64 = 69997945.0 / 29380423.0;
 
 type Agents = [Vec2; MAX_AGENTS];
 
+/// The sample spacing `dt` (s) and the error budget of an adaptive motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dp5Grid {
+    /// Spacing of the visited samples (s), the fixed-step integrator's step.
+    pub dt: f64,
+    /// The local error each step may make.
+    pub budget: ErrorBudget,
+}
+
 /// Work counters of one adaptive motion (for tests and measurements).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Dp5Stats {
@@ -133,25 +142,29 @@ impl Dense {
 }
 
 /// Solves `ṗ = f(p)` from `start` for `duration` seconds by adaptive Dormand–Prince 5(4) within
-/// `budget` and writes the end into `out`. With `visits`, calls `visit` on the sample at every whole `dt`
-/// after the start and at the end (the fixed-step integrator's sample instants); stops early and
-/// returns false as soon as `visit` returns false (`out` then holds that sample). Without
-/// `visits`, only the end is evaluated, bit for bit equal to the last sample with them. Returns
-/// the verdict and the work done.
+/// `budget` and writes the end into `out`. With `visits`, calls `visit` on the sample at every
+/// whole `dt` after the start and at the end (the fixed-step integrator's sample instants);
+/// stops early and returns false as soon as `visit` returns false (`out` then holds that
+/// sample). Without `visits`, only the end is evaluated, bit for bit equal to the last sample
+/// with them. Returns the verdict and the work done. Every step is at least `dt / 64` long (`dt`
+/// inside `r_min`), so the work is bounded by the duration whatever the velocity field does.
 #[inline]
 pub fn dp5_solve(
     f: &impl Fn(&[Vec2], &mut [Vec2]),
     start: &[Vec2],
     duration: f64,
-    dt: f64,
-    budget: ErrorBudget,
+    grid: Dp5Grid,
     out: &mut [Vec2],
     visits: bool,
     mut visit: impl FnMut(&[Vec2]) -> bool,
 ) -> (bool, Dp5Stats) {
+    let Dp5Grid { dt, budget } = grid;
     let mut stats = Dp5Stats::default();
     let n = start.len();
-    assert!(n <= MAX_AGENTS && out.len() == n, "at most {MAX_AGENTS} agents");
+    assert!(
+        n <= MAX_AGENTS && out.len() == n,
+        "at most {MAX_AGENTS} agents"
+    );
     let (steps, rest) = super::step_schedule(duration, dt);
     let samples = steps + usize::from(rest > 0.0);
     if samples == 0 {
@@ -177,7 +190,8 @@ pub fn dp5_solve(
     f(&y[..n], &mut k[0][..n]);
     let h_max = REFERENCE_DURATION_S;
     let h_floor = |y: &[Vec2]| {
-        let close = (0..n).any(|i| ((i + 1)..n).any(|j| (y[i] - y[j]).norm() < budget.r_min));
+        let r2 = budget.r_min * budget.r_min;
+        let close = (0..n).any(|i| ((i + 1)..n).any(|j| (y[i] - y[j]).norm_squared() < r2));
         if close { dt } else { dt * SMALLEST_STEP_DTS }
     };
     let mut h_min = h_floor(&y[..n]);
@@ -273,7 +287,11 @@ pub fn dp5_solve(
         if let Some((h_prev, ratio_prev)) = last_accepted {
             grow *= (h / h_prev) * (ratio_prev / ratio).sqrt().sqrt();
         }
-        let grow = grow.clamp(0.2, if rejected_last { 1.0 } else { 10.0 });
+        let grow = if grow.is_nan() {
+            1.0
+        } else {
+            grow.clamp(0.2, if rejected_last { 1.0 } else { 10.0 })
+        };
         last_accepted = Some((h, ratio));
         rejected_last = false;
         h_min = h_floor(&y[..n]);

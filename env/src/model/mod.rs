@@ -13,7 +13,7 @@ mod kinematics;
 pub mod pair_flow;
 mod planning;
 
-pub use dopri::{Dp5Stats, ErrorBudget, REFERENCE_DURATION_S, TOLERANCE_BL, dp5_solve};
+pub use dopri::{Dp5Grid, Dp5Stats, ErrorBudget, REFERENCE_DURATION_S, TOLERANCE_BL, dp5_solve};
 pub use integrator::{rk4_step, step_schedule};
 pub use kinematics::Kinematics;
 pub use pair_flow::PairEdge;

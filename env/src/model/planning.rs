@@ -16,7 +16,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::pair_flow::{PairEdge, PairStart};
-use super::{ErrorBudget, Kinematics, Propagator, dp5_solve, rk4_step, step_schedule};
+use super::{Dp5Grid, ErrorBudget, Kinematics, Propagator, dp5_solve, rk4_step, step_schedule};
 use crate::coil::{Actuation, Coil, Control, TriaxialMaxwell};
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::PhysicalParams;
@@ -74,7 +74,7 @@ pub struct PlanningModel {
     pub kinematics: Kinematics,
     /// The coil that realises controls.
     pub coil: Arc<dyn Coil>,
-    /// Integration step of RK4, and the sampling step of visits (s).
+    /// Integration step of RK4, and the sampling step of visits under every flow (s).
     pub dt: f64,
     /// How motions are solved.
     pub flow: Flow,
@@ -162,7 +162,9 @@ impl PlanningModel {
         match self.pair_edge(start, u) {
             Some(edge) => edge.at(duration, out),
             None => {
-                self.solve(start, &self.coil.actuation(u), duration, out, false, |_| true);
+                self.solve(start, &self.coil.actuation(u), duration, out, false, |_| {
+                    true
+                });
             }
         }
     }
@@ -197,7 +199,8 @@ impl PlanningModel {
 
     /// Solves the motion under a constant control, visiting a sample every step `dt` and at
     /// the end; see [`Propagator`]. An exact motion is evaluated at each sample time from the
-    /// start (nothing accumulates), an RK4 motion is integrated step by step.
+    /// start (nothing accumulates), an RK4 motion is integrated step by step, an adaptive one
+    /// is read from the dense output of the step containing each sample.
     #[inline]
     pub fn propagate_with(
         &self,
@@ -320,8 +323,11 @@ impl PlanningModel {
         assert!(n <= MAX_AGENTS && out.len() == n);
         let f = |p: &[Vec2], v: &mut [Vec2]| self.kinematics.velocities(p, act, v);
         if self.flow.adaptive() {
-            let budget = self.error_budget(n);
-            return dp5_solve(&f, start, duration, self.dt, budget, out, visits, visit).0;
+            let grid = Dp5Grid {
+                dt: self.dt,
+                budget: self.error_budget(n),
+            };
+            return dp5_solve(&f, start, duration, grid, out, visits, visit).0;
         }
         out.copy_from_slice(start);
         let (steps, rest) = step_schedule(duration, self.dt);
@@ -370,7 +376,14 @@ impl PlanningModel {
         let acts: Vec<_> = controls.iter().map(|u| self.coil.actuation(u)).collect();
         if self.flow.adaptive() {
             for i in (0..k).filter(|&i| !exact[i]) {
-                self.solve(start, &acts[i], durations[i], &mut ends[i][..n], false, |_| true);
+                self.solve(
+                    start,
+                    &acts[i],
+                    durations[i],
+                    &mut ends[i][..n],
+                    false,
+                    |_| true,
+                );
             }
             return;
         }
