@@ -38,7 +38,7 @@ fn team(rng: &mut ChaCha8Rng, n: usize, p: &PhysicalParams) -> Vec<Vec2> {
 fn command(rng: &mut ChaCha8Rng, g: f64, k: usize) -> Control {
     Control {
         theta: rng.random_range(-std::f64::consts::PI..std::f64::consts::PI),
-        alpha: if k % 3 == 0 {
+        alpha: if k.is_multiple_of(3) {
             rng.random_range(0.0..0.5)
         } else {
             0.0

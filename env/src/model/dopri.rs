@@ -149,6 +149,7 @@ impl Dense {
 /// with them. Returns the verdict and the work done. Every step is at least `dt / 64` long (`dt`
 /// inside `r_min`), so the work is bounded by the duration whatever the velocity field does.
 #[inline]
+#[allow(clippy::needless_range_loop)] // the stage formulas index every array by agent alike
 pub fn dp5_solve(
     f: &impl Fn(&[Vec2], &mut [Vec2]),
     start: &[Vec2],
@@ -249,7 +250,7 @@ pub fn dp5_solve(
             moved = moved.max((y_new[i] - y[i] - mean).norm());
         }
         let ratio = err / (budget.per_bl * moved);
-        if !(ratio <= 1.0) && h > h_min {
+        if (ratio.is_nan() || ratio > 1.0) && h > h_min {
             stats.rejected += 1;
             let shrink = if ratio.is_finite() {
                 (0.9 / ratio.sqrt().sqrt()).clamp(0.2, 0.9)
