@@ -573,7 +573,7 @@ fn planning_options_name_their_bad_values() {
         a.into_iter().map(String::from).collect::<Vec<_>>()
     };
     let cases: [(&[&str], &[&str]); 7] = [
-        (&["--flow", "bogus"], &["--flow", "bogus", "pair-exact"]),
+        (&["--flow", "bogus"], &["--flow", "bogus", "pair-adaptive"]),
         (&["--param", "timing=bogus"], &["param.timing", "closest"]),
         (
             &["--param", "max_duration=0.1", "--param", "min_duration=0.5"],

@@ -10,7 +10,8 @@ use serde::{Deserialize, Serialize};
 /// gradient), not the local ψ.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct Plan {
-    /// How the planning model solved the edges (`pair-exact` or `rk4`); replay uses the same.
+    /// How the planning model solved the edges (`pair-adaptive`, `pair-exact` or `rk4`); replay
+    /// uses the same.
     /// Plan files written before the exact flow have no such field and are `rk4`.
     #[serde(default = "legacy_flow")]
     pub flow: Flow,

@@ -47,7 +47,7 @@ pub struct PlanningSetup {
     /// Every edge lasts a whole number of these (s): the frame period of the rig (or preset)
     /// that will run the plan.
     pub control_period: f64,
-    /// How the planning model solves motions (`pair-exact` or `rk4`).
+    /// How the planning model solves motions (`pair-adaptive`, `pair-exact` or `rk4`).
     pub flow: Flow,
     /// The largest field elevation |α| a plan may command (degrees, in [0, 90]); used when the
     /// planner's `planar` setting lets the field leave the plane. The tri-axial coil's whole
@@ -213,7 +213,11 @@ impl PlanningSetup {
             "metric" => self.metric = Metric::parse(value).map_err(bad)?,
             "flow" => {
                 self.flow = Flow::from_name(value).ok_or_else(|| {
-                    bad(format!("unknown flow {value:?} (known: pair-exact, rk4)"))
+                    let known: Vec<_> = Flow::ALL.iter().map(|f| f.name()).collect();
+                    bad(format!(
+                        "unknown flow {value:?} (known: {})",
+                        known.join(", ")
+                    ))
                 })?;
             }
             "alpha_max" => {
@@ -331,7 +335,7 @@ mod tests {
         let p = d.problem(&s, 0, None, 0);
         assert_eq!(
             (p.objective.name(), p.model.flow, p.control_period),
-            ("path-length", Flow::PairExact, DEFAULT_CONTROL_PERIOD)
+            ("path-length", Flow::PairAdaptive, DEFAULT_CONTROL_PERIOD)
         );
     }
 }

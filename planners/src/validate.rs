@@ -8,8 +8,8 @@
 //! out-of-plane force) and the durations against the control period, and
 //! confirms that the replay ends in the goal region.
 //!
-//! The replay uses the flow the plan records (`pair-exact` or `rk4`), with the problem's
-//! physics and coil.
+//! The replay uses the flow the plan records (`pair-adaptive`, `pair-exact` or `rk4`), with
+//! the problem's physics and coil.
 //!
 //! Replay agrees with the stored states bit for bit when the plan came from this model: the
 //! pair dynamics are so sensitive that a plan made with any other arithmetic (integrator, step,

@@ -3,14 +3,17 @@
 //!
 //! The planning model is the seed's eq. (3): agents move with (pair forces + pull)/σ. Two
 //! identical agents under a planar command move by the exact flow ([`pair_flow`]); every other
-//! motion is integrated by classic RK4 at the preset's fixed step `dt_s` (1/120 s by default).
+//! motion is integrated by adaptive Dormand–Prince 5(4) ([`dp5_solve`]) or, by choice of
+//! [`Flow`], by classic RK4 at the preset's fixed step `dt_s` (1/120 s by default).
 //! A plan replays exactly only through this same arithmetic; see [`PlanningModel`].
 
+mod dopri;
 mod integrator;
 mod kinematics;
 pub mod pair_flow;
 mod planning;
 
+pub use dopri::{Dp5Grid, Dp5Stats, ErrorBudget, REFERENCE_DURATION_S, TOLERANCE_BL, dp5_solve};
 pub use integrator::{rk4_step, step_schedule};
 pub use kinematics::Kinematics;
 pub use pair_flow::PairEdge;
@@ -45,6 +48,6 @@ pub trait Propagator: Send + Sync {
         None
     }
 
-    /// The fixed integration step (s).
+    /// The spacing of the visited samples (s): the fixed integration step.
     fn step(&self) -> f64;
 }

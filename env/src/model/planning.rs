@@ -1,9 +1,10 @@
 //! The deterministic planning model (the seed's eq. 3 over the vector physics).
 //!
-//! [`Flow::PairExact`] (the default) moves two identical agents under a planar command by the
+//! [`Flow::PairAdaptive`] (the default) moves two identical agents under a planar command by the
 //! exact flow ([`super::pair_flow`]) and everything else (three or more agents, an elevated
-//! field, unequal agents) by classic RK4 at the fixed step; [`Flow::Rk4`] uses RK4 everywhere,
-//! as magbench did before the exact flow. A plan records its flow, and replay uses it.
+//! field, unequal agents) by adaptive Dormand–Prince 5(4) ([`super::dp5_solve`]);
+//! [`Flow::PairExact`] integrates everything else by classic RK4 at the fixed step, and
+//! [`Flow::Rk4`] uses RK4 everywhere. A plan records its flow, and replay uses it.
 //!
 //! Replaying a plan's controls through this model from the plan's start reproduces its states
 //! bit for bit. The pair dynamics are extremely sensitive (a 1e-9 BL start error grew to
@@ -15,7 +16,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::pair_flow::{PairEdge, PairStart};
-use super::{Kinematics, Propagator, rk4_step, step_schedule};
+use super::{Dp5Grid, ErrorBudget, Kinematics, Propagator, dp5_solve, rk4_step, step_schedule};
 use crate::coil::{Actuation, Coil, Control, TriaxialMaxwell};
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::PhysicalParams;
@@ -24,17 +25,25 @@ use crate::physics::PhysicalParams;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Flow {
-    /// The exact flow for two identical agents under a planar command; RK4 otherwise.
+    /// The exact flow for two identical agents under a planar command; adaptive Dormand–Prince
+    /// 5(4) otherwise ([`super::dp5_solve`], tolerance [`super::TOLERANCE_BL`]).
     #[default]
+    PairAdaptive,
+    /// The exact flow for two identical agents under a planar command; RK4 at the fixed step
+    /// otherwise.
     PairExact,
     /// Classic RK4 at the fixed step for every motion.
     Rk4,
 }
 
 impl Flow {
+    /// Every flow, in the order the command line lists them.
+    pub const ALL: [Flow; 3] = [Flow::PairAdaptive, Flow::PairExact, Flow::Rk4];
+
     /// The name used in plan files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
+            Flow::PairAdaptive => "pair-adaptive",
             Flow::PairExact => "pair-exact",
             Flow::Rk4 => "rk4",
         }
@@ -42,9 +51,19 @@ impl Flow {
 
     /// The flow of a name, if known.
     pub fn from_name(name: &str) -> Option<Self> {
-        [Flow::PairExact, Flow::Rk4]
-            .into_iter()
-            .find(|f| f.name() == name)
+        Self::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// Whether two identical agents under a planar command move by the exact pair flow.
+    #[inline]
+    pub fn pair_exact(self) -> bool {
+        self != Flow::Rk4
+    }
+
+    /// Whether integrated motions are solved adaptively (else by RK4 at the fixed step).
+    #[inline]
+    pub fn adaptive(self) -> bool {
+        self == Flow::PairAdaptive
     }
 }
 
@@ -55,7 +74,7 @@ pub struct PlanningModel {
     pub kinematics: Kinematics,
     /// The coil that realises controls.
     pub coil: Arc<dyn Coil>,
-    /// Integration step of RK4, and the sampling step of visits (s).
+    /// Integration step of RK4, and the sampling step of visits under every flow (s).
     pub dt: f64,
     /// How motions are solved.
     pub flow: Flow,
@@ -64,6 +83,9 @@ pub struct PlanningModel {
     /// bulk liquid, where only α = 0 keeps the planar model true. True unless set
     /// ([`PlanningModel::in_medium`]).
     pub carries_fz: bool,
+    /// The proximity range `[r_min, r_max]` (BL) the adaptive integrator's error budget is
+    /// derived for ([`PlanningModel::error_budget`]).
+    pub separation: [f64; 2],
 }
 
 impl PlanningModel {
@@ -80,7 +102,30 @@ impl PlanningModel {
             dt: p.dt_s,
             flow: Flow::default(),
             carries_fz: true,
+            separation: [p.r_min, p.r_max],
         }
+    }
+
+    /// The adaptive integrator's error budget for a team of `n`: its fastest relative speed is
+    /// that of an agent with `n − 1` neighbours at `r_min`, each pushing with the aligned
+    /// dipole force's largest magnitude `2 c_F s_i s_j μ_i / r⁴`; its slowest charged speed is a
+    /// lone pair's at `r_max` with the force's smallest magnitude (√0.8 of `c_F / r⁴`).
+    pub fn error_budget(&self, n: usize) -> ErrorBudget {
+        let k = &self.kinematics;
+        let (mut hi, mut lo) = (0.0f64, f64::INFINITY);
+        for i in 0..n {
+            for j in (0..n).filter(|&j| j != i) {
+                let c = k.force_coeff * k.moment[i] * k.moment[j] * k.mobility[i];
+                hi = hi.max(c);
+                lo = lo.min(c);
+            }
+        }
+        let [r_min, r_max] = self.separation;
+        ErrorBudget::new(
+            2.0 * (n.max(2) - 1) as f64 * hi / r_min.powi(4),
+            0.8f64.sqrt() * lo.min(hi) / r_max.powi(4),
+            r_min,
+        )
     }
 
     /// The same model for agents in `medium`: whether it carries the out-of-plane force.
@@ -99,12 +144,12 @@ impl PlanningModel {
         }
     }
 
-    /// The exact motion from `start` under `u`, when the flow is [`Flow::PairExact`] and the
+    /// The exact motion from `start` under `u`, when the flow uses the pair flow and the
     /// closed form applies: two agents with equal moment and mobility factors and an in-plane
     /// field. The uniform background flow and the pull then only move the centre of mass.
     #[inline]
     pub fn pair_edge(&self, start: &[Vec2], u: &Control) -> Option<PairEdge> {
-        if self.flow != Flow::PairExact || start.len() != 2 {
+        if !self.flow.pair_exact() || start.len() != 2 {
             return None;
         }
         self.kinematics.pair_edge(start, &self.coil.actuation(u))
@@ -117,7 +162,9 @@ impl PlanningModel {
         match self.pair_edge(start, u) {
             Some(edge) => edge.at(duration, out),
             None => {
-                self.propagate_with(start, u, duration, out, |_| true);
+                self.solve(start, &self.coil.actuation(u), duration, out, false, |_| {
+                    true
+                });
             }
         }
     }
@@ -134,7 +181,7 @@ impl PlanningModel {
         prev[..n].copy_from_slice(start);
         let mut out = [Vec2::zeros(); MAX_AGENTS];
         let mut length = 0.0;
-        self.propagate_rk4(start, u, duration, &mut out[..n], |s| {
+        self.propagate_integrated(start, u, duration, &mut out[..n], |s| {
             for (p, q) in prev[..n].iter_mut().zip(s) {
                 length += (q - *p).norm();
                 *p = *q;
@@ -152,7 +199,8 @@ impl PlanningModel {
 
     /// Solves the motion under a constant control, visiting a sample every step `dt` and at
     /// the end; see [`Propagator`]. An exact motion is evaluated at each sample time from the
-    /// start (nothing accumulates), an RK4 motion is integrated step by step.
+    /// start (nothing accumulates), an RK4 motion is integrated step by step, an adaptive one
+    /// is read from the dense output of the step containing each sample.
     #[inline]
     pub fn propagate_with(
         &self,
@@ -163,7 +211,7 @@ impl PlanningModel {
         mut visit: impl FnMut(&[Vec2]) -> bool,
     ) -> bool {
         let Some(edge) = self.pair_edge(start, u) else {
-            return self.propagate_rk4(start, u, duration, out, visit);
+            return self.propagate_integrated(start, u, duration, out, visit);
         };
         let (steps, rest) = step_schedule(duration, self.dt);
         let samples = steps + usize::from(rest > 0.0);
@@ -184,9 +232,9 @@ impl PlanningModel {
         true
     }
 
-    /// RK4 at the fixed step, visiting each step's end.
+    /// The integrated motion (RK4 or adaptive, by the flow), visiting each sample.
     #[inline]
-    fn propagate_rk4(
+    fn propagate_integrated(
         &self,
         start: &[Vec2],
         u: &Control,
@@ -208,22 +256,22 @@ impl PlanningModel {
         duration: f64,
         out: &mut [Vec2],
     ) {
-        let edge = (self.flow == Flow::PairExact && start.len() == 2)
+        let edge = (self.flow.pair_exact() && start.len() == 2)
             .then(|| self.kinematics.pair_edge(start, act))
             .flatten();
         match edge {
             Some(edge) => edge.at(duration, out),
             None => {
-                self.integrate(start, act, duration, out, |_| true);
+                self.solve(start, act, duration, out, false, |_| true);
             }
         }
     }
 
-    /// The shared start of many motions from `start`, when the flow is [`Flow::PairExact`] and
+    /// The shared start of many motions from `start`, when the flow uses the pair flow and
     /// `start` is a pair: pass it to [`PlanningModel::propagate_from`].
     #[inline]
     pub fn pair_start(&self, start: &[Vec2]) -> Option<PairStart> {
-        (self.flow == Flow::PairExact && start.len() == 2)
+        (self.flow.pair_exact() && start.len() == 2)
             .then(|| PairStart::new(start))
             .flatten()
     }
@@ -245,7 +293,8 @@ impl PlanningModel {
         }
     }
 
-    /// RK4 under `act` at the fixed step, visiting each step's end.
+    /// The motion under `act` solved by the flow's integrator, visiting a sample at every
+    /// whole step `dt` and at the end.
     #[inline]
     fn integrate(
         &self,
@@ -253,22 +302,44 @@ impl PlanningModel {
         act: &Actuation,
         duration: f64,
         out: &mut [Vec2],
+        visit: impl FnMut(&[Vec2]) -> bool,
+    ) -> bool {
+        self.solve(start, act, duration, out, true, visit)
+    }
+
+    /// [`PlanningModel::integrate`], visiting only when `visits` (the end is the same bits
+    /// either way).
+    #[inline]
+    fn solve(
+        &self,
+        start: &[Vec2],
+        act: &Actuation,
+        duration: f64,
+        out: &mut [Vec2],
+        visits: bool,
         mut visit: impl FnMut(&[Vec2]) -> bool,
     ) -> bool {
         let n = start.len();
         assert!(n <= MAX_AGENTS && out.len() == n);
-        out.copy_from_slice(start);
         let f = |p: &[Vec2], v: &mut [Vec2]| self.kinematics.velocities(p, act, v);
+        if self.flow.adaptive() {
+            let grid = Dp5Grid {
+                dt: self.dt,
+                budget: self.error_budget(n),
+            };
+            return dp5_solve(&f, start, duration, grid, out, visits, visit).0;
+        }
+        out.copy_from_slice(start);
         let (steps, rest) = step_schedule(duration, self.dt);
         for _ in 0..steps {
             rk4_step(&f, out, self.dt);
-            if !visit(out) {
+            if visits && !visit(out) {
                 return false;
             }
         }
         if rest > 0.0 {
             rk4_step(&f, out, rest);
-            if !visit(out) {
+            if visits && !visit(out) {
                 return false;
             }
         }
@@ -278,9 +349,10 @@ impl PlanningModel {
 
 impl PlanningModel {
     /// Solves `start` under each `(controls[i], durations[i])` into `ends[i]` (first N
-    /// entries). Exact motions are evaluated directly; RK4 integrations advance step by step
-    /// together so that the CPU overlaps them (about 3× faster than one at a time for two
-    /// agents). Each end equals [`PlanningModel::propagate`]'s bit for bit.
+    /// entries). Exact motions are evaluated directly; adaptive ones are solved one after the
+    /// other; RK4 integrations advance step by step together so that the CPU overlaps them
+    /// (about 3× faster than one at a time for two agents). Each end equals
+    /// [`PlanningModel::propagate`]'s bit for bit.
     pub fn propagate_many(
         &self,
         start: &[Vec2],
@@ -302,6 +374,19 @@ impl PlanningModel {
             return;
         }
         let acts: Vec<_> = controls.iter().map(|u| self.coil.actuation(u)).collect();
+        if self.flow.adaptive() {
+            for i in (0..k).filter(|&i| !exact[i]) {
+                self.solve(
+                    start,
+                    &acts[i],
+                    durations[i],
+                    &mut ends[i][..n],
+                    false,
+                    |_| true,
+                );
+            }
+            return;
+        }
         let schedules: Vec<_> = durations
             .iter()
             .zip(&exact)

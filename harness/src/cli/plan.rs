@@ -172,7 +172,7 @@ pub fn planner_list(planners: &Planners) -> String {
     }
     s += "objectives: path-length (default), duration, control-effort (--objective)\n";
     s += "metrics:    positions (default), centroid-shape:W_CENTROID:W_SHAPE (--metric)\n";
-    s += "flows:      pair-exact (default), rk4 (--flow)\n";
+    s += "flows:      pair-adaptive (default), pair-exact, rk4 (--flow)\n";
     s
 }
 

@@ -23,9 +23,10 @@ pub struct SetupArgs {
     /// Distance metric: positions (default) or centroid-shape:W_CENTROID:W_SHAPE.
     #[arg(long, default_value = "positions")]
     pub metric: String,
-    /// How the planning model solves motions: pair-exact (default; the exact flow for two
-    /// agents under a planar field, RK4 otherwise) or rk4 (RK4 everywhere).
-    #[arg(long, default_value = "pair-exact")]
+    /// How the planning model solves motions: pair-adaptive (default; the exact flow for two
+    /// agents under a planar field, adaptive Dormand–Prince 5(4) otherwise), pair-exact (the
+    /// exact pair flow, fixed-step RK4 otherwise) or rk4 (fixed-step RK4 everywhere).
+    #[arg(long, default_value = "pair-adaptive")]
     pub flow: String,
     /// Largest field elevation a plan may command (degrees, 0–90), used where the planner's
     /// `planar` setting frees the elevation (three or more agents at an interface by default),

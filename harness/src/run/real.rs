@@ -3,9 +3,9 @@
 //!
 //! Three parameter keys of a planner variant set the run's planning setup rather than the
 //! planner ([`SETUP_KEYS`]): `objective` (`path-length`, `duration`, `control-effort`),
-//! `metric` (`positions`, `centroid-shape:W_C:W_S`) and `flow` (`pair-exact`, `rk4`). Every
-//! planning call of the run — each leg, and in a tracked run each replan — is made under that
-//! one setup ([`setup`]), in whole frames of the preset's camera when the run is tracked. A
+//! `metric` (`positions`, `centroid-shape:W_C:W_S`) and `flow` (`pair-adaptive`, `pair-exact`,
+//! `rk4`). Every planning call of the run — each leg, and in a tracked run each replan — is made
+//! under that one setup ([`setup`]), in whole frames of the preset's camera when the run is tracked. A
 //! scenario with several legs is planned leg by leg, each leg from the end of the previous
 //! leg's plan with the full limits; the run is solved when every leg is, and its iterations,
 //! nodes, times, costs and progress add up over the legs.
