@@ -260,7 +260,13 @@ impl Scenario {
     /// Whether a state is valid: every agent inside the world and clear of obstacles, every
     /// pair's separation inside the proximity range. Batched: an (n, d) array gives n answers.
     fn is_valid<'py>(&self, py: Python<'py>, x: ArrayIn<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.per_state(py, x, "x", |s| self.problem.checker.is_valid(s))
+        let w = &self.problem.world;
+        let inside = |p: &Vec2| {
+            w.width.is_nan() || ((0.0..=w.width).contains(&p.x) && (0.0..=w.height).contains(&p.y))
+        };
+        self.per_state(py, x, "x", |s| {
+            s.iter().all(inside) && self.problem.checker.is_valid(s)
+        })
     }
 
     /// Whether a state is inside the leg's goal region. Batched like `is_valid`.
