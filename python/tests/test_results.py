@@ -63,7 +63,7 @@ def test_load_results_of_a_missing_folder(tmp_path):
 
 def test_bench_bad_experiment(tmp_path):
     f = tmp_path / "bad.toml"
-    f.write_text('name = "bad"\nscenarios = ["open-field"]\nplanners = ["no-such-planner"]\nseeds = 1\n')
+    f.write_text('name = "bad"\nscenarios = ["open-field"]\nplanners = ["no-such-planner"]\nseeds = 1\n[limits]\niterations = 10\n')
     with pytest.raises(mb.InputError) as e:
         mb.bench(f, out=tmp_path / "out")
     assert "no-such-planner" in str(e.value)
