@@ -8,6 +8,7 @@ mod errors;
 mod plan;
 mod registry;
 mod scenario;
+mod timing;
 
 use pyo3::prelude::*;
 
@@ -23,5 +24,6 @@ fn _magbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(calls::track, m)?)?;
     m.add_function(wrap_pyfunction!(calls::main, m)?)?;
     m.add_function(wrap_pyfunction!(calls::experiment_name, m)?)?;
+    m.add_function(wrap_pyfunction!(timing::rust_call_cost, m)?)?;
     Ok(())
 }
