@@ -15,7 +15,7 @@ See docs/python.md.
 
 from ._magbench import InputError, MagbenchError, Plan, Scenario, plan
 from ._api import TrackResult, track, bench, main
-from ._plugins import register_planner, register_tracker, registered
+from ._plugins import register_planner, register_tracker, registered, unregister
 from ._results import Results, load_results
 
 __all__ = [
@@ -33,4 +33,5 @@ __all__ = [
     "register_tracker",
     "registered",
     "track",
+    "unregister",
 ]

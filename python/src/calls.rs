@@ -103,12 +103,12 @@ pub fn plan(
     };
     let params = kv_params(params)?;
     let mut p = crate::registry::planner(py, planner, &params)?;
-    let s = scenario.scenario.clone();
+    let s = scenario.full(py)?.clone();
     let leg = scenario.leg;
     let result = detached(py, "plan", || {
         plan_leg(&s, leg, start.as_deref(), p.as_mut(), &setup, seed)
     })?;
-    Ok(Plan::from_result(result, planner, &scenario.scenario.name))
+    Ok(Plan::from_result(result, planner, &s.name))
 }
 
 /// Tracks `plan` in closed loop against the simulated plant under `preset` (`ideal`,
@@ -130,8 +130,9 @@ pub fn track<'py>(
     planner: Option<&str>,
     planner_params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<(String, Bound<'py, PyDict>, Bound<'py, PyList>)> {
+    let s = scenario.full(py)?.clone();
     if let Some(made_for) = &plan.scenario {
-        if *made_for != scenario.scenario.name {
+        if *made_for != s.name {
             return Err(input_error(
                 py,
                 &magbench_env::InputError::new(
@@ -139,7 +140,7 @@ pub fn track<'py>(
                     "scenario",
                     format!(
                         "the plan was made for scenario {made_for}, not {}",
-                        scenario.scenario.name
+                        s.name
                     ),
                 ),
             ));
@@ -158,7 +159,7 @@ pub fn track<'py>(
                 format!(
                     "the plan is for {} agent(s); scenario {} has {n}",
                     plan.plan.states[0].len(),
-                    scenario.scenario.name
+                    s.name
                 ),
             ),
         ));
@@ -169,13 +170,13 @@ pub fn track<'py>(
         Some(name) => Some(crate::registry::planner(py, name, &kv_params(planner_params)?)?),
         None => None,
     };
-    let s = scenario.scenario.clone();
     let setup = scenario.setup.clone();
     let the_plan = plan.plan.clone();
     let preset = preset.to_string();
+    let s2 = s.clone();
     let outcome = detached(py, "track", move || {
         track_plan(TrackRequest {
-            scenario: &s,
+            scenario: &s2,
             plan: the_plan,
             plan_source: "<plan>",
             tracker: tracker_box,
@@ -186,7 +187,7 @@ pub fn track<'py>(
             setup,
         })
     })?;
-    let metrics = metrics_json(&outcome, tracker, &scenario.scenario.name, seed);
+    let metrics = metrics_json(&outcome, tracker, &s.name, seed);
     let traces = traces(py, &outcome, n)?;
     let plans = PyList::empty(py);
     for p in &outcome.plans {
@@ -202,7 +203,7 @@ pub fn track<'py>(
                 plan: p.plan.clone(),
                 result: None,
                 planner: planner.map(String::from),
-                scenario: Some(scenario.scenario.name.clone()),
+                scenario: Some(s.name.clone()),
             },
         )?;
         plans.append(d)?;

@@ -24,10 +24,10 @@ use crate::errors::{bad_arg, guarded, input_error};
 /// States are numpy vectors `[x0, y0, x1, y1, …]` in body lengths; controls are
 /// `[theta_rad, alpha_rad, grad_x_t_per_m, grad_y_t_per_m]`. The batched forms take an
 /// (n, d) array (or one row for every row of another argument) and return one result per row.
-#[pyclass(module = "magbench", frozen)]
+#[pyclass(module = "magbench", frozen, subclass)]
 pub struct Scenario {
-    /// The scenario.
-    pub scenario: Arc<magbench_env::Scenario>,
+    /// The scenario, when loaded (a plugin's problem has only the leg's operations).
+    pub scenario: Option<Arc<magbench_env::Scenario>>,
     /// The leg whose operations these are.
     pub leg: usize,
     /// The leg's planning problem under the default setup.
@@ -41,7 +41,29 @@ pub struct Scenario {
 impl Scenario {
     /// The number of agents.
     pub fn agents(&self) -> usize {
-        self.scenario.agents()
+        self.problem.agents()
+    }
+
+    /// The loaded scenario; a plugin's problem has none.
+    pub fn full(&self, py: Python<'_>) -> PyResult<&Arc<magbench_env::Scenario>> {
+        self.scenario.as_ref().ok_or_else(|| {
+            bad_arg(
+                py,
+                "scenario",
+                "a plugin's problem is not a loaded scenario: use magbench.Scenario.load",
+            )
+        })
+    }
+
+    /// A view of one planning problem (a plugin's): its operations, without the scenario.
+    pub fn of_problem(problem: Problem, elevation_free: bool) -> Scenario {
+        Scenario {
+            scenario: None,
+            leg: 0,
+            problem,
+            setup: PlanningSetup::default(),
+            elevation_free,
+        }
     }
 
 }
@@ -103,7 +125,7 @@ impl Scenario {
             let problem = setup.problem(&s, leg, None, 0);
             let elevation_free = setup.elevation(&s, Planar::Auto).0;
             Ok(Scenario {
-                scenario: Arc::new(s),
+                scenario: Some(Arc::new(s)),
                 leg,
                 problem,
                 setup,
@@ -115,19 +137,19 @@ impl Scenario {
     /// The scenario's name.
     #[getter]
     fn name(&self) -> &str {
-        &self.scenario.name
+        &self.problem.scenario
     }
 
     /// Where it came from (a path, or `built-in:NAME`).
     #[getter]
-    fn source(&self) -> &str {
-        &self.scenario.source
+    fn source(&self) -> Option<&str> {
+        self.scenario.as_ref().map(|s| s.source.as_str())
     }
 
     /// Its description.
     #[getter]
-    fn description(&self) -> &str {
-        &self.scenario.description
+    fn description(&self) -> Option<&str> {
+        self.scenario.as_ref().map(|s| s.description.as_str())
     }
 
     /// The leg whose operations these are (0-based).
@@ -136,10 +158,10 @@ impl Scenario {
         self.leg
     }
 
-    /// The number of legs.
+    /// The number of legs (1 for a plugin's problem).
     #[getter]
-    fn legs(&self) -> usize {
-        self.scenario.legs.len()
+    pub fn legs(&self) -> usize {
+        self.scenario.as_ref().map_or(1, |s| s.legs.len())
     }
 
     /// The number of agents.
@@ -148,10 +170,10 @@ impl Scenario {
         self.agents()
     }
 
-    /// The start state.
+    /// The start state (of the leg, for a plugin's problem).
     #[getter]
     fn start<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        state_out(py, &self.scenario.start)
+        state_out(py, &self.problem.start)
     }
 
     /// The leg's goal centres, as a state.
@@ -380,10 +402,10 @@ impl Scenario {
     fn __repr__(&self) -> String {
         format!(
             "Scenario({:?}, agents={}, leg={} of {})",
-            self.scenario.name,
+            self.problem.scenario,
             self.agents(),
             self.leg,
-            self.scenario.legs.len()
+            self.legs()
         )
     }
 }
