@@ -7,16 +7,21 @@
 
 pub mod ablation;
 pub mod api;
+mod app;
 pub mod cli;
 pub mod error;
 pub mod experiment;
 pub mod figures;
 pub mod fuzz;
 pub mod plot;
+pub mod registry;
 pub mod regress;
 pub mod results;
 pub mod run;
 pub mod stats;
 pub mod sweep;
 
+pub use app::Cli;
 pub use error::CliError;
+pub use magbench_env::params::RegistryError;
+pub use registry::Registry;

@@ -1,0 +1,144 @@
+//! [`Cli`]: the whole `magbench` command line as a library, with a registry a plugin extends.
+//!
+//! A plugin crate's `main.rs` is a few lines, and its binary has every subcommand of
+//! `magbench` with the plugin's planners and trackers beside the built-ins:
+//!
+//! ```no_run
+//! # use magbench::prelude::*;
+//! # #[derive(Default)] struct MyRrt;
+//! # impl ParamSet for MyRrt {}
+//! # impl Planner for MyRrt {
+//! #     fn name(&self) -> &str { "my-rrt" }
+//! #     fn solve(&mut self, p: &Problem) -> PlannerResult { unimplemented!() }
+//! # }
+//! fn main() -> std::process::ExitCode {
+//!     magbench::Cli::new().planner::<MyRrt>("my-rrt").run()
+//! }
+//! ```
+
+use std::ffi::OsString;
+use std::process::ExitCode;
+
+use clap::Parser;
+use magbench_env::InputError;
+use magbench_planners::Planner;
+use magbench_trackers::Tracker;
+
+use crate::CliError;
+use crate::cli::{self, Args};
+use crate::registry::Registry;
+
+/// The whole `magbench` command line with a registry.
+#[derive(Clone, Debug)]
+pub struct Cli {
+    registry: Registry,
+}
+
+impl Default for Cli {
+    /// The command line with the built-in registry.
+    fn default() -> Self {
+        Cli::new()
+    }
+}
+
+impl Cli {
+    /// The command line with the built-in planners and trackers ([`Registry::builtin`]).
+    pub fn new() -> Cli {
+        Cli::with_registry(Registry::builtin())
+    }
+
+    /// The command line with `registry`.
+    pub fn with_registry(registry: Registry) -> Cli {
+        Cli { registry }
+    }
+
+    /// Adds planner `P` (made by `P::default()`) as `name`.
+    ///
+    /// # Panics
+    ///
+    /// When `name` is taken or malformed: a mistake in the program, not in its input.
+    pub fn planner<P: Planner + Default + 'static>(mut self, name: &str) -> Cli {
+        let summary = format!("{} (plugin)", std::any::type_name::<P>());
+        if let Err(e) = self
+            .registry
+            .add_planner(name, &summary, || Box::new(P::default()))
+        {
+            panic!(
+                "magbench::Cli::planner::<{}>: {e}",
+                std::any::type_name::<P>()
+            );
+        }
+        self
+    }
+
+    /// Adds tracker `T` (made by `T::default()`) as `name`.
+    ///
+    /// # Panics
+    ///
+    /// When `name` is taken or malformed: a mistake in the program, not in its input.
+    pub fn tracker<T: Tracker + Default + 'static>(mut self, name: &str) -> Cli {
+        let summary = format!("{} (plugin)", std::any::type_name::<T>());
+        if let Err(e) = self
+            .registry
+            .add_tracker(name, &summary, || Box::new(T::default()))
+        {
+            panic!(
+                "magbench::Cli::tracker::<{}>: {e}",
+                std::any::type_name::<T>()
+            );
+        }
+        self
+    }
+
+    /// The registry, to add entries with a summary or a constructor of their own.
+    pub fn registry_mut(&mut self) -> &mut Registry {
+        &mut self.registry
+    }
+
+    /// The registry.
+    pub fn registry(&self) -> &Registry {
+        &self.registry
+    }
+
+    /// Parses the process's arguments and runs the command, as the `magbench` binary does:
+    /// usage errors and `--help` as clap prints them, other errors as `error: ...` on stderr
+    /// with exit code 2 for bad input and 1 otherwise.
+    pub fn run(self) -> ExitCode {
+        let args = match Args::try_parse_from(std::env::args_os()) {
+            Ok(a) => a,
+            Err(e) => {
+                let _ = e.print();
+                return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+            }
+        };
+        match cli::run(args, &self.registry) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(e.exit_code())
+            }
+        }
+    }
+
+    /// Runs the command line `args` (`args[0]` is the program name). `--help` and `--version`
+    /// print and succeed; a usage error is an input error on the field `arguments`.
+    pub fn run_args<I, S>(&self, args: I) -> Result<(), CliError>
+    where
+        I: IntoIterator<Item = S>,
+        S: Into<OsString> + Clone,
+    {
+        let args = match Args::try_parse_from(args) {
+            Ok(a) => a,
+            Err(e) if e.exit_code() == 0 => {
+                let _ = e.print();
+                return Ok(());
+            }
+            Err(e) => {
+                let text = e.to_string();
+                let reason = text.trim().trim_start_matches("error: ");
+                return Err(InputError::new("<command line>", "arguments", reason).into());
+            }
+        };
+        cli::run(args, &self.registry)
+    }
+}
