@@ -6,6 +6,7 @@ mod arrays;
 mod calls;
 mod errors;
 mod plan;
+mod plugins;
 mod registry;
 mod scenario;
 mod timing;
@@ -25,5 +26,8 @@ fn _magbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(calls::main, m)?)?;
     m.add_function(wrap_pyfunction!(calls::experiment_name, m)?)?;
     m.add_function(wrap_pyfunction!(timing::rust_call_cost, m)?)?;
+    m.add_function(wrap_pyfunction!(plugins::check_plugins, m)?)?;
+    m.add_function(wrap_pyfunction!(plugins::list_registry, m)?)?;
+    m.add_class::<plugins::PlanProblem>()?;
     Ok(())
 }

@@ -1,14 +1,15 @@
-//! Planners and trackers by name, and the command line, for the module's functions.
+//! Planners and trackers by name, and the command line, for the module's functions: each
+//! call resolves names in a registry of the built-ins plus the registered Python plugins.
 
 use std::path::Path;
 
-use clap::Parser;
 use magbench_planners::Planner;
-use magbench_trackers::{LoopOptions, Tracker, TrackerSpec};
+use magbench_trackers::{LoopOptions, Tracker};
 use pyo3::prelude::*;
 
 use crate::calls::detached;
 use crate::errors::input_error;
+use crate::plugins;
 
 /// The planner `name` with `params` set; errors name `<python>`.
 pub fn planner(
@@ -16,7 +17,9 @@ pub fn planner(
     name: &str,
     params: &[(String, String)],
 ) -> PyResult<Box<dyn Planner>> {
-    magbench_planners::registry::create_in("<python>", name, params)
+    plugins::registry(py)?
+        .planners()
+        .create_in("<python>", name, params)
         .map_err(|e| input_error(py, &e))
 }
 
@@ -26,32 +29,24 @@ pub fn tracker(
     name: &str,
     params: &[(String, String)],
 ) -> PyResult<(Box<dyn Tracker>, LoopOptions)> {
-    let spec = TrackerSpec::parse(name, params, "<python>").map_err(|e| input_error(py, &e))?;
-    Ok((spec.build(), spec.loop_options()))
+    plugins::registry(py)?
+        .trackers()
+        .build(name, params, "<python>")
+        .map_err(|e| input_error(py, &e))
 }
 
-/// Runs the command line `magbench ARGS…`.
+/// Runs the command line `magbench ARGS…` with the GIL released (Python plugins take it for
+/// each call).
 pub fn run_cli(py: Python<'_>, args: Vec<String>) -> PyResult<()> {
-    let argv = std::iter::once("magbench".to_string()).chain(args);
-    let cli = match magbench::cli::Cli::try_parse_from(argv) {
-        Ok(c) => c,
-        Err(e) if !e.use_stderr() => {
-            print!("{e}");
-            return Ok(());
-        }
-        Err(e) => {
-            return Err(input_error(
-                py,
-                &magbench_env::InputError::new("<command line>", "", e.to_string().trim_end()),
-            ));
-        }
-    };
-    detached(py, "magbench", move || magbench::cli::run(cli))
+    let cli = magbench::Cli::with_registry(plugins::registry(py)?);
+    let argv: Vec<String> = std::iter::once("magbench".to_string()).chain(args).collect();
+    detached(py, "magbench", move || cli.run_args(argv))
 }
 
 /// The name of the experiment in `path`.
 pub fn experiment_name(py: Python<'_>, path: &Path) -> PyResult<String> {
-    magbench::experiment::Experiment::load(path, &magbench::run::real::RealExecutor)
+    let ex = magbench::run::real::RealExecutor::new(plugins::registry(py)?);
+    magbench::experiment::Experiment::load(path, &ex)
         .map(|e| e.name)
         .map_err(|e| input_error(py, &e))
 }
