@@ -4,7 +4,9 @@
 
 use magbench_env::Scenario;
 use magbench_env::plant::DisturbancePreset;
-use magbench_planners::{ElevationRefused, Plan, Planner, PlannerResult, PlanningSetup, Unusable, check_result};
+use magbench_planners::{
+    ElevationRefused, Plan, Planner, PlannerResult, PlanningSetup, Unusable, check_result,
+};
 use magbench_trackers::plan_file::check_plan;
 use magbench_trackers::{LoopOptions, Mission, TrackOutcome, Tracker, simulate};
 
@@ -24,14 +26,22 @@ pub fn plan_leg(
     if leg >= scenario.legs.len() {
         return Err(CliError::arg(
             "leg",
-            format!("scenario {} has {} leg(s)", scenario.name, scenario.legs.len()),
+            format!(
+                "scenario {} has {} leg(s)",
+                scenario.name,
+                scenario.legs.len()
+            ),
         ));
     }
     let problem = setup.problem(scenario, leg, start, seed);
     if !problem.checker.is_valid(&problem.start) {
         return Err(CliError::arg(
             "start",
-            format!("the start is invalid in leg {} of {}", leg + 1, scenario.name),
+            format!(
+                "the start is invalid in leg {} of {}",
+                leg + 1,
+                scenario.name
+            ),
         ));
     }
     setup
@@ -105,7 +115,9 @@ pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, CliError> {
             ),
         )));
     }
-    let away = r.plan.start()
+    let away = r
+        .plan
+        .start()
         .iter()
         .zip(&r.scenario.start)
         .map(|(p, q)| (p - q).norm())

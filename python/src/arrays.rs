@@ -88,8 +88,12 @@ impl<'a> Rows<'a> {
             )
         };
         match a.ndim() {
-            1 if shape[0] == width => Ok(Rows::One(a.into_dimensionality::<Ix1>().map_err(|_| bad())?)),
-            2 if shape[1] == width => Ok(Rows::Many(a.into_dimensionality::<Ix2>().map_err(|_| bad())?)),
+            1 if shape[0] == width => Ok(Rows::One(
+                a.into_dimensionality::<Ix1>().map_err(|_| bad())?,
+            )),
+            2 if shape[1] == width => Ok(Rows::Many(
+                a.into_dimensionality::<Ix2>().map_err(|_| bad())?,
+            )),
             _ => Err(bad()),
         }
     }
@@ -159,11 +163,7 @@ pub fn batch_size(py: Python<'_>, sizes: &[(&str, Option<usize>)]) -> PyResult<O
         if let Some(s) = *s {
             match n {
                 Some((first, m)) if m != s => {
-                    return Err(bad_arg(
-                        py,
-                        what,
-                        format!("{s} rows, but {first} has {m}"),
-                    ));
+                    return Err(bad_arg(py, what, format!("{s} rows, but {first} has {m}")));
                 }
                 _ => n = Some((what, s)),
             }
@@ -174,13 +174,22 @@ pub fn batch_size(py: Python<'_>, sizes: &[(&str, Option<usize>)]) -> PyResult<O
 
 /// Reads a state of `out.len()` agents from `row` into `out`; `what` names it in errors.
 #[inline]
-pub fn read_state(py: Python<'_>, what: &str, row: ArrayView1<f64>, out: &mut [Vec2]) -> PyResult<()> {
+pub fn read_state(
+    py: Python<'_>,
+    what: &str,
+    row: ArrayView1<f64>,
+    out: &mut [Vec2],
+) -> PyResult<()> {
     let n = out.len();
     if row.len() != 2 * n {
         return Err(bad_arg(
             py,
             what,
-            format!("a state of {n} agents has {} numbers (x, y per agent), got {}", 2 * n, row.len()),
+            format!(
+                "a state of {n} agents has {} numbers (x, y per agent), got {}",
+                2 * n,
+                row.len()
+            ),
         ));
     }
     for (i, p) in out.iter_mut().enumerate() {
@@ -204,7 +213,11 @@ pub fn read_control(py: Python<'_>, what: &str, row: ArrayView1<f64>) -> PyResul
         return Err(bad_arg(
             py,
             what,
-            format!("a control has {CONTROL_LEN} numbers ({}), got {}", CONTROL_NAMES.join(", "), row.len()),
+            format!(
+                "a control has {CONTROL_LEN} numbers ({}), got {}",
+                CONTROL_NAMES.join(", "),
+                row.len()
+            ),
         ));
     }
     let u = Control {
@@ -213,7 +226,11 @@ pub fn read_control(py: Python<'_>, what: &str, row: ArrayView1<f64>) -> PyResul
         grad: [row[2], row[3]],
     };
     if !u.is_finite() {
-        return Err(bad_arg(py, what, format!("{:?} is not finite", [row[0], row[1], row[2], row[3]])));
+        return Err(bad_arg(
+            py,
+            what,
+            format!("{:?} is not finite", [row[0], row[1], row[2], row[3]]),
+        ));
     }
     Ok(u)
 }
@@ -234,7 +251,11 @@ pub fn state_out<'py>(py: Python<'py>, s: &[Vec2]) -> Bound<'py, PyArray1<f64>> 
 }
 
 /// Rows of states as an (n × 2·agents) numpy array.
-pub fn states_out<'py>(py: Python<'py>, rows: &[Vec<Vec2>], agents: usize) -> Bound<'py, PyArray2<f64>> {
+pub fn states_out<'py>(
+    py: Python<'py>,
+    rows: &[Vec<Vec2>],
+    agents: usize,
+) -> Bound<'py, PyArray2<f64>> {
     let flat: Vec<f64> = rows.iter().flat_map(|s| state_vec(s)).collect();
     let a = Array2::from_shape_vec((rows.len(), 2 * agents), flat).expect("rows of one width");
     PyArray2::from_owned_array(py, a)

@@ -10,8 +10,8 @@ use magbench_env::{MAX_AGENTS, Vec2};
 use magbench_planners::Limits;
 use magbench_trackers::TrackOutcome;
 use numpy::PyArray1;
-use numpy::ndarray::Array2;
 use numpy::PyArray2;
+use numpy::ndarray::Array2;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -77,9 +77,9 @@ pub fn plan(
         return Err(bad_arg(py, "max_iterations", "must be at least 1, got 0"));
     }
     let time_limit = match time_limit_s {
-        Some(t) => Some(
-            magbench::run::spec::time_limit(t).map_err(|r| bad_arg(py, "time_limit_s", r))?,
-        ),
+        Some(t) => {
+            Some(magbench::run::spec::time_limit(t).map_err(|r| bad_arg(py, "time_limit_s", r))?)
+        }
         None => None,
     };
     if max_iterations.is_some() || time_limit.is_some() {
@@ -94,9 +94,18 @@ pub fn plan(
             let mut buf = [Vec2::zeros(); MAX_AGENTS];
             let v = a.as_array();
             if v.ndim() != 1 {
-                return Err(bad_arg(py, "start", format!("expected one state, got shape {:?}", v.shape())));
+                return Err(bad_arg(
+                    py,
+                    "start",
+                    format!("expected one state, got shape {:?}", v.shape()),
+                ));
             }
-            read_state(py, "start", v.into_dimensionality().expect("one dimension"), &mut buf[..n])?;
+            read_state(
+                py,
+                "start",
+                v.into_dimensionality().expect("one dimension"),
+                &mut buf[..n],
+            )?;
             Some(buf[..n].to_vec())
         }
         None => None,
@@ -138,16 +147,17 @@ pub fn track<'py>(
                 &magbench_env::InputError::new(
                     "<plan>",
                     "scenario",
-                    format!(
-                        "the plan was made for scenario {made_for}, not {}",
-                        s.name
-                    ),
+                    format!("the plan was made for scenario {made_for}, not {}", s.name),
                 ),
             ));
         }
     }
     if scenario.leg != 0 {
-        return Err(bad_arg(py, "scenario", "track runs the whole scenario from its first leg: load it with leg=0"));
+        return Err(bad_arg(
+            py,
+            "scenario",
+            "track runs the whole scenario from its first leg: load it with leg=0",
+        ));
     }
     let n = scenario.agents();
     if plan.plan.states[0].len() != n {
@@ -167,7 +177,11 @@ pub fn track<'py>(
     let params = kv_params(params)?;
     let (tracker_box, options) = crate::registry::tracker(py, tracker, &params)?;
     let replanner = match planner {
-        Some(name) => Some(crate::registry::planner(py, name, &kv_params(planner_params)?)?),
+        Some(name) => Some(crate::registry::planner(
+            py,
+            name,
+            &kv_params(planner_params)?,
+        )?),
         None => None,
     };
     let setup = scenario.setup.clone();
@@ -194,7 +208,12 @@ pub fn track<'py>(
         let d = PyDict::new(py);
         d.set_item("leg", p.leg)?;
         d.set_item("start_t_s", p.start_t)?;
-        d.set_item("reason", serde_json::to_value(p.reason).ok().and_then(|v| v.as_str().map(String::from)))?;
+        d.set_item(
+            "reason",
+            serde_json::to_value(p.reason)
+                .ok()
+                .and_then(|v| v.as_str().map(String::from)),
+        )?;
         d.set_item("solved", p.solved)?;
         d.set_item("planning_time_s", p.planning_time_s)?;
         d.set_item(
@@ -240,11 +259,20 @@ fn traces<'py>(py: Python<'py>, out: &TrackOutcome, n: usize) -> PyResult<Bound<
     };
     let mat = |w: usize, f: &dyn Fn(&magbench_trackers::TickRecord) -> Vec<f64>| {
         let flat: Vec<f64> = ticks.iter().flat_map(f).collect();
-        PyArray2::from_owned_array(py, Array2::from_shape_vec((t, w), flat).expect("rows of one width"))
+        PyArray2::from_owned_array(
+            py,
+            Array2::from_shape_vec((t, w), flat).expect("rows of one width"),
+        )
     };
     d.set_item("t", PyArray1::from_vec(py, col(&|k| k.t)))?;
-    d.set_item("leg", PyArray1::from_vec(py, ticks.iter().map(|k| k.leg as i64).collect()))?;
-    d.set_item("plan", PyArray1::from_vec(py, ticks.iter().map(|k| k.plan as i64).collect()))?;
+    d.set_item(
+        "leg",
+        PyArray1::from_vec(py, ticks.iter().map(|k| k.leg as i64).collect()),
+    )?;
+    d.set_item(
+        "plan",
+        PyArray1::from_vec(py, ticks.iter().map(|k| k.plan as i64).collect()),
+    )?;
     d.set_item("progress_s", PyArray1::from_vec(py, col(&|k| k.progress_s)))?;
     d.set_item("estimate", mat(2 * n, &|k| state_vec(&k.estimate)))?;
     d.set_item(
@@ -258,11 +286,23 @@ fn traces<'py>(py: Python<'py>, out: &TrackOutcome, n: usize) -> PyResult<Bound<
     )?;
     d.set_item(
         "truth",
-        mat(2 * n, &|k| k.truth.as_ref().map_or(vec![f64::NAN; 2 * n], |s| state_vec(s))),
+        mat(2 * n, &|k| {
+            k.truth
+                .as_ref()
+                .map_or(vec![f64::NAN; 2 * n], |s| state_vec(s))
+        }),
     )?;
     d.set_item("error", mat(n, &|k| k.error.clone()))?;
-    d.set_item("command", mat(CONTROL_LEN, &|k| crate::arrays::control_arr(&k.command).to_vec()))?;
-    d.set_item("in_goal", PyArray1::from_vec(py, ticks.iter().map(|k| k.in_goal).collect()))?;
+    d.set_item(
+        "command",
+        mat(CONTROL_LEN, &|k| {
+            crate::arrays::control_arr(&k.command).to_vec()
+        }),
+    )?;
+    d.set_item(
+        "in_goal",
+        PyArray1::from_vec(py, ticks.iter().map(|k| k.in_goal).collect()),
+    )?;
     d.set_item("compute_us", PyArray1::from_vec(py, col(&|k| k.compute_us)))?;
     d.set_item("mode", ticks.iter().map(|k| k.mode).collect::<Vec<_>>())?;
     Ok(d)

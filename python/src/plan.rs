@@ -11,9 +11,7 @@ use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{
-    ArrayIn, CONTROL_LEN, Rows, controls_out, read_control, states_out,
-};
+use crate::arrays::{ArrayIn, CONTROL_LEN, Rows, controls_out, read_control, states_out};
 use crate::errors::{bad_arg, input_error};
 use crate::scenario::Scenario;
 
@@ -61,7 +59,10 @@ impl Plan {
             return Err(bad_arg(
                 py,
                 "states",
-                format!("expected a (k+1, 2·agents) array, got shape {:?}", s.shape()),
+                format!(
+                    "expected a (k+1, 2·agents) array, got shape {:?}",
+                    s.shape()
+                ),
             ));
         }
         let agents = s.shape()[1] / 2;
@@ -69,7 +70,12 @@ impl Plan {
         let mut out_states = Vec::with_capacity(k + 1);
         for (i, row) in s.outer_iter().enumerate() {
             let mut st = vec![Vec2::zeros(); agents];
-            crate::arrays::read_state(py, &format!("states[{i}]"), row.into_dimensionality().expect("a row"), &mut st)?;
+            crate::arrays::read_state(
+                py,
+                &format!("states[{i}]"),
+                row.into_dimensionality().expect("a row"),
+                &mut st,
+            )?;
             out_states.push(st);
         }
         let c = controls.as_array();
@@ -79,7 +85,11 @@ impl Plan {
             return Err(bad_arg(
                 py,
                 "controls",
-                format!("expected a ({k}, {CONTROL_LEN}) array for {} states, got shape {:?}", k + 1, c.shape()),
+                format!(
+                    "expected a ({k}, {CONTROL_LEN}) array for {} states, got shape {:?}",
+                    k + 1,
+                    c.shape()
+                ),
             ));
         }
         let mut out_controls: Vec<Control> = Vec::with_capacity(k);
@@ -99,12 +109,24 @@ impl Plan {
             ));
         }
         let out_durations: Vec<f64> = d.iter().copied().collect();
-        if let Some((i, v)) = out_durations.iter().enumerate().find(|(_, v)| !(v.is_finite() && **v >= 0.0)) {
-            return Err(bad_arg(py, &format!("durations[{i}]"), format!("must be finite and at least 0, got {v}")));
+        if let Some((i, v)) = out_durations
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(bad_arg(
+                py,
+                &format!("durations[{i}]"),
+                format!("must be finite and at least 0, got {v}"),
+            ));
         }
         if let Some(a) = alpha_max {
             if !(a.is_finite() && (0.0..=std::f64::consts::FRAC_PI_2).contains(&a)) {
-                return Err(bad_arg(py, "alpha_max", format!("must be in [0, π/2] rad, got {a}")));
+                return Err(bad_arg(
+                    py,
+                    "alpha_max",
+                    format!("must be in [0, π/2] rad, got {a}"),
+                ));
             }
         }
         Ok(magbench_planners::Plan {
@@ -227,13 +249,26 @@ impl Plan {
     /// `best_cost` (NaN before the first solution); empty arrays for a plan built in Python.
     #[getter]
     fn progress<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let p = self.result.as_ref().map(|r| r.progress.as_slice()).unwrap_or(&[]);
+        let p = self
+            .result
+            .as_ref()
+            .map(|r| r.progress.as_slice())
+            .unwrap_or(&[]);
         let d = PyDict::new(py);
-        d.set_item("iteration", PyArray1::from_vec(py, p.iter().map(|q| q.iteration).collect()))?;
-        d.set_item("time_s", PyArray1::from_vec(py, p.iter().map(|q| q.time_s).collect()))?;
+        d.set_item(
+            "iteration",
+            PyArray1::from_vec(py, p.iter().map(|q| q.iteration).collect()),
+        )?;
+        d.set_item(
+            "time_s",
+            PyArray1::from_vec(py, p.iter().map(|q| q.time_s).collect()),
+        )?;
         d.set_item(
             "best_cost",
-            PyArray1::from_vec(py, p.iter().map(|q| q.best_cost.unwrap_or(f64::NAN)).collect()),
+            PyArray1::from_vec(
+                py,
+                p.iter().map(|q| q.best_cost.unwrap_or(f64::NAN)).collect(),
+            ),
         )?;
         Ok(d)
     }
@@ -260,8 +295,14 @@ impl Plan {
             "Plan({} edges, {:.3} s{}{})",
             self.plan.edges(),
             self.plan.duration(),
-            self.planner.as_ref().map(|p| format!(", planner={p:?}")).unwrap_or_default(),
-            self.result.as_ref().map(|r| format!(", solved={}", r.solved)).unwrap_or_default(),
+            self.planner
+                .as_ref()
+                .map(|p| format!(", planner={p:?}"))
+                .unwrap_or_default(),
+            self.result
+                .as_ref()
+                .map(|r| format!(", solved={}", r.solved))
+                .unwrap_or_default(),
         )
     }
 }

@@ -69,8 +69,12 @@ pub fn snapshot(py: Python<'_>) -> PyResult<(Vec<PluginClass>, Vec<PluginClass>)
 
 /// One `(name, cls, summary, [(param, default, help)…])` of the snapshot.
 fn plugin_class(py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<PluginClass> {
-    let (name, cls, summary, params): (String, Bound<PyAny>, String, Vec<(String, Bound<PyAny>, String)>) =
-        t.extract()?;
+    let (name, cls, summary, params): (
+        String,
+        Bound<PyAny>,
+        String,
+        Vec<(String, Bound<PyAny>, String)>,
+    ) = t.extract()?;
     let mut specs = vec![];
     for (p, default, help) in params {
         let (kind, text) = if default.is_instance_of::<pyo3::types::PyBool>() {
@@ -196,7 +200,9 @@ impl Values {
                 Kind::Whole => "a whole number ≥ 0",
                 _ => "true or false",
             };
-            return Err(ParamError::BadValue(format!("{key}: expected {what}, got {value:?}")));
+            return Err(ParamError::BadValue(format!(
+                "{key}: expected {what}, got {value:?}"
+            )));
         }
         self.values[i] = value.to_string();
         Ok(())
@@ -362,13 +368,20 @@ impl Planner for PyPlanner {
                 let p = r.cast::<Plan>().map_err(|_| {
                     format!(
                         "solve returned {}, not a magbench.Plan or None",
-                        r.get_type().name().map(|n| n.to_string()).unwrap_or_default()
+                        r.get_type()
+                            .name()
+                            .map(|n| n.to_string())
+                            .unwrap_or_default()
                     )
                 })?;
                 Some(p.borrow().plan.clone())
             };
             let progress = std::mem::take(
-                &mut *prob.get().progress.lock().unwrap_or_else(|e| e.into_inner()),
+                &mut *prob
+                    .get()
+                    .progress
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner()),
             );
             Ok((plan, progress))
         });
@@ -391,7 +404,10 @@ impl Planner for PyPlanner {
             .find(|p| p.best_cost.is_some())
             .map(|p| (p.iteration, p.time_s))
             .or(solved.then_some((iterations, time_s)));
-        if progress.last().is_none_or(|p| p.best_cost.is_none() && solved) {
+        if progress
+            .last()
+            .is_none_or(|p| p.best_cost.is_none() && solved)
+        {
             progress.push(ProgressPoint {
                 iteration: iterations,
                 time_s,
@@ -434,7 +450,11 @@ impl PyTracker {
     }
 
     /// A `types.SimpleNamespace` with `kwargs` as attributes.
-    fn namespace<'py>(&mut self, py: Python<'py>, kwargs: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyAny>> {
+    fn namespace<'py>(
+        &mut self,
+        py: Python<'py>,
+        kwargs: &Bound<'py, PyDict>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         if self.namespace.is_none() {
             self.namespace = Some(py.import("types")?.getattr("SimpleNamespace")?.unbind());
         }
@@ -511,11 +531,17 @@ impl Tracker for PyTracker {
             kw.set_item("t", PyArray1::from_vec(py, times))?;
             kw.set_item(
                 "states",
-                PyArray2::from_owned_array(py, Array2::from_shape_vec((k, 2 * n), states).expect("rows")),
+                PyArray2::from_owned_array(
+                    py,
+                    Array2::from_shape_vec((k, 2 * n), states).expect("rows"),
+                ),
             )?;
             kw.set_item(
                 "controls",
-                PyArray2::from_owned_array(py, Array2::from_shape_vec((k, 4), controls).expect("rows")),
+                PyArray2::from_owned_array(
+                    py,
+                    Array2::from_shape_vec((k, 4), controls).expect("rows"),
+                ),
             )?;
             kw.set_item("duration", reference.duration())?;
             kw.set_item("plan_end", reference.plan_end())?;
@@ -543,7 +569,8 @@ impl Tracker for PyTracker {
                 .iter()
                 .flat_map(|p| p.map_or([f64::NAN; 2], |p: Vec2| [p.x, p.y]))
                 .collect();
-            kw.set_item("observed", PyArray1::from_vec(py, observed)).map_err(e)?;
+            kw.set_item("observed", PyArray1::from_vec(py, observed))
+                .map_err(e)?;
             kw.set_item("frame_t", tick.observation.t).map_err(e)?;
             let obs = self.namespace(py, &kw).map_err(e)?;
             let Some(inst) = self.instance.as_ref() else {
@@ -555,8 +582,12 @@ impl Tracker for PyTracker {
             if v.ndim() != 1 {
                 return Err(format!("control returned shape {:?}, not (4,)", v.shape()));
             }
-            read_control(py, "control", v.into_dimensionality().expect("one dimension"))
-                .map_err(|err| describe(py, &err))
+            read_control(
+                py,
+                "control",
+                v.into_dimensionality().expect("one dimension"),
+            )
+            .map_err(|err| describe(py, &err))
         });
         match r {
             Ok(u) => u,
@@ -591,9 +622,23 @@ pub fn list_registry<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         for (name, summary, params) in list {
             let ps: Vec<(String, String, String, String)> = params
                 .into_iter()
-                .map(|p| (p.name.into_owned(), p.value.to_string(), p.range, p.help.into_owned()))
+                .map(|p| {
+                    (
+                        p.name.into_owned(),
+                        p.value.to_string(),
+                        p.range,
+                        p.help.into_owned(),
+                    )
+                })
                 .collect();
-            out.append(PyTuple::new(py, [name.into_pyobject(py)?.into_any(), summary.into_pyobject(py)?.into_any(), ps.into_pyobject(py)?.into_any()])?)?;
+            out.append(PyTuple::new(
+                py,
+                [
+                    name.into_pyobject(py)?.into_any(),
+                    summary.into_pyobject(py)?.into_any(),
+                    ps.into_pyobject(py)?.into_any(),
+                ],
+            )?)?;
         }
         Ok(out)
     };

@@ -39,7 +39,9 @@ pub fn tracker(
 /// each call).
 pub fn run_cli(py: Python<'_>, args: Vec<String>) -> PyResult<()> {
     let cli = magbench::Cli::with_registry(plugins::registry(py)?);
-    let argv: Vec<String> = std::iter::once("magbench".to_string()).chain(args).collect();
+    let argv: Vec<String> = std::iter::once("magbench".to_string())
+        .chain(args)
+        .collect();
     detached(py, "magbench", move || cli.run_args(argv))
 }
 

@@ -14,8 +14,8 @@ use pyo3::prelude::*;
 use rand::SeedableRng;
 
 use crate::arrays::{
-    ArrayIn, CONTROL_LEN, CONTROL_NAMES, Durations, Rows, batch_size, check_duration,
-    control_arr, read_control, read_state, state_names, state_out,
+    ArrayIn, CONTROL_LEN, CONTROL_NAMES, Durations, Rows, batch_size, check_duration, control_arr,
+    read_control, read_state, state_names, state_out,
 };
 use crate::errors::{bad_arg, guarded, input_error};
 
@@ -65,7 +65,6 @@ impl Scenario {
             elevation_free,
         }
     }
-
 }
 
 /// A duration argument as given: a number, or an array of one per row.
@@ -118,7 +117,11 @@ impl Scenario {
                 return Err(bad_arg(
                     py,
                     "leg",
-                    format!("scenario {} has {} leg(s), got leg {leg}", s.name, s.legs.len()),
+                    format!(
+                        "scenario {} has {} leg(s), got leg {leg}",
+                        s.name,
+                        s.legs.len()
+                    ),
                 ));
             }
             let setup = PlanningSetup::default();
@@ -248,7 +251,14 @@ impl Scenario {
         let mut start = [Vec2::zeros(); MAX_AGENTS];
         let mut out = [Vec2::zeros(); MAX_AGENTS];
         let model = &self.problem.model;
-        match batch_size(py, &[("x0", xs.batch()), ("u", us.batch()), ("duration_s", ds.batch())])? {
+        match batch_size(
+            py,
+            &[
+                ("x0", xs.batch()),
+                ("u", us.batch()),
+                ("duration_s", ds.batch()),
+            ],
+        )? {
             None => {
                 read_state(py, "x0", xs.row(0), &mut start[..n])?;
                 let u = read_control(py, "u", us.row(0))?;
@@ -322,7 +332,14 @@ impl Scenario {
         let mut start = [Vec2::zeros(); MAX_AGENTS];
         let mut out = [Vec2::zeros(); MAX_AGENTS];
         let problem = &self.problem;
-        match batch_size(py, &[("x0", xs.batch()), ("u", us.batch()), ("duration_s", ds.batch())])? {
+        match batch_size(
+            py,
+            &[
+                ("x0", xs.batch()),
+                ("u", us.batch()),
+                ("duration_s", ds.batch()),
+            ],
+        )? {
             None => {
                 read_state(py, "x0", xs.row(0), &mut start[..n])?;
                 let u = read_control(py, "u", us.row(0))?;
@@ -389,7 +406,11 @@ impl Scenario {
                 let a = Array2::from_shape_vec((n, CONTROL_LEN), flat).expect("rows of one width");
                 Ok(PyArray2::from_owned_array(py, a).into_any())
             }
-            Some(n) => Err(bad_arg(py, "n", format!("at most 10000000 controls, got {n}"))),
+            Some(n) => Err(bad_arg(
+                py,
+                "n",
+                format!("at most 10000000 controls, got {n}"),
+            )),
         }
     }
 

@@ -30,7 +30,12 @@ pub fn rust_call_cost(
     if x.ndim() != 1 {
         return Err(bad_arg(py, "x0", "expected one state"));
     }
-    read_state(py, "x0", x.into_dimensionality().expect("one dimension"), &mut start[..n])?;
+    read_state(
+        py,
+        "x0",
+        x.into_dimensionality().expect("one dimension"),
+        &mut start[..n],
+    )?;
     let uv = u.as_array();
     if uv.ndim() != 1 {
         return Err(bad_arg(py, "u", "expected one control"));
@@ -44,9 +49,12 @@ pub fn rust_call_cost(
     match op {
         "propagate" => {
             for _ in 0..calls {
-                problem
-                    .model
-                    .propagate(black_box(&start[..n]), black_box(&u), black_box(d), &mut out[..n]);
+                problem.model.propagate(
+                    black_box(&start[..n]),
+                    black_box(&u),
+                    black_box(d),
+                    &mut out[..n],
+                );
                 black_box(&out);
             }
         }
