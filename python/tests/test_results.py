@@ -43,11 +43,18 @@ def test_bench_rows_progress_and_pandas(tmp_path):
     errs = res.agent_errors()
     assert errs.shape == (4, 2) and np.all(np.isfinite(errs))
     assert res.manifest["experiment"]["name"] == "small"
+    assert os.path.isdir(out / "plots")
+
+
+def test_to_pandas():
+    pytest.importorskip("pandas")
+    res = mb.load_results(os.path.join(ROOT, "results", "baseline"))
     df = res.to_pandas()
-    assert len(df) == 4 and "rms_error_bl" in df.columns
+    assert len(df) == len(res.rows) and "rms_error_bl" in df.columns
+    assert list(df["seed"]) == [r["seed"] for r in res.rows]
     pdf = res.progress_to_pandas()
     assert set(pdf.columns) == {"run_id", "iteration", "time_s", "best_cost"}
-    assert os.path.isdir(out / "plots")
+    assert len(pdf) == sum(len(c["iteration"]) for c in res.progress.values())
 
 
 def test_load_committed_baseline():
