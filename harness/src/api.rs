@@ -149,3 +149,78 @@ pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, CliError> {
     opts.record_ticks = true;
     Ok(simulate(mission, tracker.as_mut(), &preset, &opts))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Registry;
+
+    fn planner() -> Box<dyn Planner> {
+        Registry::builtin()
+            .planners()
+            .create("goal-zoom-rrt", &[])
+            .expect("a built-in")
+    }
+
+    fn request<'a>(s: &'a Scenario, plan: Plan) -> TrackRequest<'a> {
+        let (tracker, options) = Registry::builtin()
+            .trackers()
+            .build("obc", &[], "test")
+            .expect("a built-in");
+        TrackRequest {
+            scenario: s,
+            plan,
+            plan_source: "<plan>",
+            tracker,
+            options,
+            preset: "ideal",
+            seed: 0,
+            planner: None,
+            setup: PlanningSetup::default(),
+        }
+    }
+
+    #[test]
+    fn a_leg_out_of_range_is_bad_input() {
+        let s = Scenario::load("open-field").unwrap();
+        let e = plan_leg(
+            &s,
+            5,
+            None,
+            planner().as_mut(),
+            &PlanningSetup::default(),
+            0,
+        )
+        .unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("leg"), "{e}");
+    }
+
+    #[test]
+    fn a_plan_for_another_scenario_is_refused_before_tracking() {
+        let s = Scenario::load("open-field").unwrap();
+        let other = Scenario::load("micro-factory").unwrap();
+        let mut setup = PlanningSetup::default();
+        setup.limits.max_iterations = Some(3000);
+        let r = plan_leg(&other, 0, None, planner().as_mut(), &setup, 0).unwrap();
+        let e = track_plan(request(&s, r.plan)).map(|_| ()).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("<plan>: states[0]"), "{e}");
+        let trio = Scenario::load("trio-row").unwrap();
+        let e = track_plan(request(&trio, Plan::at(&s.start)))
+            .map(|_| ())
+            .unwrap_err();
+        assert!(e.to_string().contains("agent(s)"), "{e}");
+    }
+
+    #[test]
+    fn a_plan_of_the_scenario_is_tracked_with_every_tick_recorded() {
+        let s = Scenario::load("open-field").unwrap();
+        let mut setup = PlanningSetup::default().in_frames_of(1.0 / 60.0);
+        setup.limits.max_iterations = Some(3000);
+        let r = plan_leg(&s, 0, None, planner().as_mut(), &setup, 0).unwrap();
+        assert!(r.solved);
+        let out = track_plan(request(&s, r.plan)).unwrap();
+        assert!(!out.ticks.is_empty());
+    }
+}

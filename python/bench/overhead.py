@@ -24,10 +24,14 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "examples"))
 
 
+ROUNDS = 30
+
+
 def per_call(f, calls):
-    """Best of 5 rounds of ``calls`` calls of f(), seconds per call."""
+    """Best of ROUNDS rounds of ``calls`` calls of f(), seconds per call. Short rounds and the
+    best of many: on a shared machine most long rounds are preempted by other work."""
     best = float("inf")
-    for _ in range(5):
+    for _ in range(ROUNDS):
         t0 = time.perf_counter()
         for _ in range(calls):
             f()
@@ -36,11 +40,11 @@ def per_call(f, calls):
 
 
 def rust_cost(sc, op, x0, u, d, calls):
-    return min(_magbench.rust_call_cost(sc, op, x0, u, d, calls) for _ in range(5))
+    return min(_magbench.rust_call_cost(sc, op, x0, u, d, calls) for _ in range(ROUNDS))
 
 
 def calls_table(quick):
-    calls = 2000 if quick else 20000
+    calls = 200 if quick else 2000
     rows = []
     for name in ["micro-factory", "trio-row"]:
         sc = mb.Scenario.load(name)
@@ -54,9 +58,9 @@ def calls_table(quick):
             n = 1000 if quick else 10000
             X0 = np.tile(x0, (n, 1))
             U = np.tile(u, (n, 1))
-            batch = per_call(lambda: f(X0, U, d), 3 if quick else 10) / n
+            batch = per_call(lambda: f(X0, U, d), 1) / n
             rows.append((name, op, sc.agents, rs, py, py - rs, batch, batch / rs))
-    print(f"one call = {1 / 60:.4f} s (one control period); best of 5 rounds")
+    print(f"one call = {1 / 60:.4f} s (one control period); best of {ROUNDS} rounds")
     print(f"{'scenario':<14} {'call':<13} {'agents':>6} {'rust µs':>9} {'python µs':>10} "
           f"{'overhead µs':>12} {'batched µs/state':>17} {'batched/rust':>13}")
     for name, op, n, rs, py, over, batch, ratio in rows:

@@ -271,18 +271,18 @@ impl Scenario {
             }
             Some(rows) => {
                 let mut flat = Vec::with_capacity(rows * 2 * n);
-                for i in 0..rows {
-                    if i == 0 || xs.batch().is_some() {
-                        read_state(py, "x0", xs.row(i), &mut start[..n])?;
-                    }
-                    let u = read_control(py, "u", us.row(i))?;
-                    let d = ds.get(py, i)?;
-                    guarded("propagate", || {
+                guarded("propagate", || {
+                    for i in 0..rows {
+                        if i == 0 || xs.batch().is_some() {
+                            read_state(py, "x0", xs.row(i), &mut start[..n])?;
+                        }
+                        let u = read_control(py, "u", us.row(i))?;
+                        let d = ds.get(py, i)?;
                         model.propagate(&start[..n], &u, d, &mut out[..n]);
-                        Ok(())
-                    })?;
-                    flat.extend(out[..n].iter().flat_map(|p| [p.x, p.y]));
-                }
+                        flat.extend(out[..n].iter().flat_map(|p| [p.x, p.y]));
+                    }
+                    Ok(())
+                })?;
                 let a = Array2::from_shape_vec((rows, 2 * n), flat).expect("rows of one width");
                 Ok(PyArray2::from_owned_array(py, a).into_any())
             }
@@ -356,19 +356,20 @@ impl Scenario {
             Some(rows) => {
                 let mut oks = Vec::with_capacity(rows);
                 let mut flat = Vec::new();
-                for i in 0..rows {
-                    if i == 0 || xs.batch().is_some() {
-                        read_state(py, "x0", xs.row(i), &mut start[..n])?;
+                guarded("motion_valid", || {
+                    for i in 0..rows {
+                        if i == 0 || xs.batch().is_some() {
+                            read_state(py, "x0", xs.row(i), &mut start[..n])?;
+                        }
+                        let u = read_control(py, "u", us.row(i))?;
+                        let d = ds.get(py, i)?;
+                        oks.push(propagate_valid(problem, &start[..n], &u, d, &mut out[..n]));
+                        if return_state {
+                            flat.extend(out[..n].iter().flat_map(|p| [p.x, p.y]));
+                        }
                     }
-                    let u = read_control(py, "u", us.row(i))?;
-                    let d = ds.get(py, i)?;
-                    oks.push(guarded("motion_valid", || {
-                        Ok(propagate_valid(problem, &start[..n], &u, d, &mut out[..n]))
-                    })?);
-                    if return_state {
-                        flat.extend(out[..n].iter().flat_map(|p| [p.x, p.y]));
-                    }
-                }
+                    Ok(())
+                })?;
                 let valid = PyArray1::from_vec(py, oks);
                 if return_state {
                     let a = Array2::from_shape_vec((rows, 2 * n), flat).expect("rows of one width");
