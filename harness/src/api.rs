@@ -122,7 +122,7 @@ pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, CliError> {
         .zip(&r.scenario.start)
         .map(|(p, q)| (p - q).norm())
         .fold(0.0, f64::max);
-    if !(away <= START_TOLERANCE_BL) {
+    if away.is_nan() || away > START_TOLERANCE_BL {
         return Err(CliError::Input(magbench_env::InputError::new(
             r.plan_source,
             "states[0]",

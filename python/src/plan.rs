@@ -80,7 +80,7 @@ impl Plan {
         }
         let c = controls.as_array();
         let c_ok = (c.ndim() == 2 && c.shape()[1] == CONTROL_LEN && c.shape()[0] == k)
-            || (k == 0 && c.len() == 0);
+            || (k == 0 && c.is_empty());
         if !c_ok {
             return Err(bad_arg(
                 py,
@@ -101,7 +101,7 @@ impl Plan {
             }
         }
         let d = durations.as_array();
-        if !(d.ndim() == 1 && d.len() == k || k == 0 && d.len() == 0) {
+        if !(d.ndim() == 1 && d.len() == k || k == 0 && d.is_empty()) {
             return Err(bad_arg(
                 py,
                 "durations",

@@ -67,14 +67,18 @@ pub fn snapshot(py: Python<'_>) -> PyResult<(Vec<PluginClass>, Vec<PluginClass>)
     Ok((read(planners)?, read(trackers)?))
 }
 
+/// One registered class as the snapshot gives it: name, class, summary, and each
+/// parameter's name, default and help.
+type Snapshot<'py> = (
+    String,
+    Bound<'py, PyAny>,
+    String,
+    Vec<(String, Bound<'py, PyAny>, String)>,
+);
+
 /// One `(name, cls, summary, [(param, default, help)…])` of the snapshot.
 fn plugin_class(py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<PluginClass> {
-    let (name, cls, summary, params): (
-        String,
-        Bound<PyAny>,
-        String,
-        Vec<(String, Bound<PyAny>, String)>,
-    ) = t.extract()?;
+    let (name, cls, summary, params): Snapshot = t.extract()?;
     let mut specs = vec![];
     for (p, default, help) in params {
         let (kind, text) = if default.is_instance_of::<pyo3::types::PyBool>() {
