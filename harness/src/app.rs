@@ -142,3 +142,70 @@ impl Cli {
         cli::run(args, &self.registry)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use magbench_planners::planners::GoalZoomRrt;
+    use magbench_trackers::Obc;
+
+    use super::*;
+
+    fn plugin_cli() -> Cli {
+        Cli::new()
+            .planner::<GoalZoomRrt>("my-rrt")
+            .tracker::<Obc>("my-obc")
+    }
+
+    #[test]
+    fn a_plugin_is_named_in_experiment_files_beside_the_built_ins() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("exp.toml");
+        std::fs::write(
+            &file,
+            "scenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt\", \"my-rrt{k=3}\"]\n\
+             trackers = [\"obc\", \"my-obc{eps=0.3}\"]\nseeds = 1\n[limits]\niterations = 100\n",
+        )
+        .unwrap();
+        let args = |cli: &Cli| cli.run_args(["x", "bench", "--dry-run", file.to_str().unwrap()]);
+        if let Err(e) = args(&plugin_cli()) {
+            panic!("{e}");
+        }
+        // the built-in registry does not know them: the file, the field and the names it knows
+        let e = args(&Cli::new()).err().unwrap().to_string();
+        assert!(
+            e.contains("exp.toml") && e.contains("unknown planner \"my-rrt\"") && e.contains("sst"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn unknown_names_list_the_plugins_and_usage_errors_are_input_errors() {
+        let e = plugin_cli()
+            .run_args(["x", "plan", "open-field", "--planner", "my-rtt"])
+            .err()
+            .unwrap();
+        assert_eq!(e.exit_code(), 2);
+        let text = e.to_string();
+        assert!(
+            text.contains("my-rrt") && text.contains("goal-zoom-rrt"),
+            "{text}"
+        );
+        let e = plugin_cli()
+            .run_args(["x", "track", "open-field", "--tracker", "pid"])
+            .err()
+            .unwrap();
+        assert!(e.to_string().contains("my-obc"), "{e}");
+        let e = plugin_cli()
+            .run_args(["x", "plan", "--no-such-option"])
+            .err()
+            .unwrap();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("<command line>: arguments:"), "{e}");
+    }
+
+    #[test]
+    #[should_panic(expected = "a planner called \"sst\" is already registered")]
+    fn a_duplicate_name_is_a_programming_error() {
+        let _ = Cli::new().planner::<GoalZoomRrt>("sst");
+    }
+}

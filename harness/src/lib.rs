@@ -2,6 +2,11 @@
 //!
 //! The harness of magbench: the command line, experiments, results, plots and figures.
 //! The physics, planners, trackers and rig drivers live in their own crates.
+//!
+//! As a library it runs the whole command line with planners and trackers of your own: a
+//! plugin crate depends on `magbench`, writes its planner or tracker against
+//! [`prelude`], and its `main` is `magbench::Cli::new().planner::<MyRrt>("my-rrt").run()`
+//! ([`Cli`], [`Registry`]; see `docs/plugins.md`).
 
 #![warn(missing_docs)]
 
@@ -14,6 +19,7 @@ pub mod experiment;
 pub mod figures;
 pub mod fuzz;
 pub mod plot;
+pub mod prelude;
 pub mod registry;
 pub mod regress;
 pub mod results;

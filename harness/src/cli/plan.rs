@@ -378,3 +378,28 @@ fn write_outputs(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use magbench_planners::planners::GoalZoomRrt;
+
+    use super::*;
+
+    #[test]
+    fn the_list_shows_a_plugin_with_its_parameters() {
+        let mut registry = Registry::builtin();
+        registry
+            .add_planner("my-rrt", "a plugin's RRT", || {
+                Box::new(GoalZoomRrt::default())
+            })
+            .unwrap();
+        let list = planner_list(registry.planners());
+        let at = list.find("my-rrt\n    a plugin's RRT\n").expect(&list);
+        assert!(list[at..].contains("goal_bias"), "{list}");
+        assert!(
+            list.find("goal-zoom-rrt\n").unwrap() < at,
+            "built-ins first"
+        );
+        assert!(!planner_list(Registry::builtin().planners()).contains("my-rrt"));
+    }
+}
