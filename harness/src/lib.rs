@@ -11,6 +11,7 @@
 #![warn(missing_docs)]
 
 pub mod ablation;
+pub mod api;
 mod app;
 pub mod cli;
 pub mod error;

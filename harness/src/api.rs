@@ -1,0 +1,226 @@
+//! Library entry points for programs that drive magbench without its command line (the Python
+//! package): plan one leg of a scenario, and track a plan in closed loop against the simulated
+//! plant, with the same rules as `magbench plan` and `magbench track`.
+
+use magbench_env::Scenario;
+use magbench_env::plant::DisturbancePreset;
+use magbench_planners::{
+    ElevationRefused, Plan, Planner, PlannerResult, PlanningSetup, Unusable, check_result,
+};
+use magbench_trackers::plan_file::check_plan;
+use magbench_trackers::{LoopOptions, Mission, TrackOutcome, Tracker, simulate};
+
+use crate::CliError;
+
+/// Plans leg `leg` of `scenario` from `start` (the scenario's start if `None`) with `planner`
+/// under `setup`. A start that is invalid in the leg's map is bad input; a plan the validator
+/// refuses is a failure naming the planner (a plan without motion is returned, not solved).
+pub fn plan_leg(
+    scenario: &Scenario,
+    leg: usize,
+    start: Option<&[magbench_env::Vec2]>,
+    planner: &mut dyn Planner,
+    setup: &PlanningSetup,
+    seed: u64,
+) -> Result<PlannerResult, CliError> {
+    if leg >= scenario.legs.len() {
+        return Err(CliError::arg(
+            "leg",
+            format!(
+                "scenario {} has {} leg(s)",
+                scenario.name,
+                scenario.legs.len()
+            ),
+        ));
+    }
+    let problem = setup.problem(scenario, leg, start, seed);
+    if !problem.checker.is_valid(&problem.start) {
+        return Err(CliError::arg(
+            "start",
+            format!(
+                "the start is invalid in leg {} of {}",
+                leg + 1,
+                scenario.name
+            ),
+        ));
+    }
+    setup
+        .check_settings(scenario, &planner.params())
+        .map_err(|e| match e {
+            ElevationRefused::Planar(r) => CliError::arg("param.planar", r),
+            ElevationRefused::AlphaMax(r) => CliError::arg("param.alpha_max", r),
+            ElevationRefused::SetupAlphaMax(r) => CliError::arg("alpha_max", r),
+        })?;
+    let result = planner.solve(&problem);
+    if let Err(Unusable::Invalid(e)) = check_result(&problem, &result) {
+        return Err(CliError::Failed(format!(
+            "{} returned an invalid plan: {e}",
+            planner.name()
+        )));
+    }
+    Ok(result)
+}
+
+/// How far a tracked plan may start from the scenario's start (BL): the simulated rig starts
+/// the team at the scenario's start.
+pub const START_TOLERANCE_BL: f64 = 0.05;
+
+/// One closed-loop run of a given plan against the simulated plant.
+pub struct TrackRequest<'a> {
+    /// The scenario.
+    pub scenario: &'a Scenario,
+    /// The plan of the first leg.
+    pub plan: Plan,
+    /// Where the plan came from, for error messages (a file name or `<plan>`).
+    pub plan_source: &'a str,
+    /// The tracker, configured.
+    pub tracker: Box<dyn Tracker>,
+    /// The loop's options (the tracker's defaults with its parameters set).
+    pub options: LoopOptions,
+    /// A disturbance preset: `ideal`, `realistic`, `hardware` or a preset file.
+    pub preset: &'a str,
+    /// Seed of the simulated disturbances (and of replans).
+    pub seed: u64,
+    /// The planner of new legs and replans; without one the loop does not replan.
+    pub planner: Option<Box<dyn Planner>>,
+    /// The planning setup of replans; its control period becomes the preset camera's.
+    pub setup: PlanningSetup,
+}
+
+/// Tracks `r.plan` on a simulated rig of `r.scenario` under `r.preset`, recording every tick.
+/// The plan is checked first as `magbench track --plan` checks a plan file: under the preset's
+/// frames, medium and coil; a plan that does not fit is an [`magbench_env::InputError`] naming
+/// `r.plan_source`.
+pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, CliError> {
+    let preset = DisturbancePreset::resolve(r.preset).map_err(|e| {
+        if e.file == r.preset {
+            CliError::arg("preset", e.to_string())
+        } else {
+            CliError::Input(e)
+        }
+    })?;
+    let setup = r
+        .setup
+        .in_frames_of(1.0 / preset.camera.fps)
+        .on_plant(&preset.medium, preset.coil.alpha_max_deg);
+    if r.plan.states.first().map(Vec::len) != Some(r.scenario.agents()) {
+        return Err(CliError::Input(magbench_env::InputError::new(
+            r.plan_source,
+            "states",
+            format!(
+                "the plan is for {} agent(s); scenario {} has {}",
+                r.plan.states.first().map_or(0, Vec::len),
+                r.scenario.name,
+                r.scenario.agents()
+            ),
+        )));
+    }
+    let away = r
+        .plan
+        .start()
+        .iter()
+        .zip(&r.scenario.start)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max);
+    if away.is_nan() || away > START_TOLERANCE_BL {
+        return Err(CliError::Input(magbench_env::InputError::new(
+            r.plan_source,
+            "states[0]",
+            format!(
+                "the plan starts {away:.3} BL from the start of scenario {} (at most {START_TOLERANCE_BL} BL): is it a plan for another scenario?",
+                r.scenario.name
+            ),
+        )));
+    }
+    check_plan(&r.plan, r.scenario, r.plan_source, &setup)?;
+    let mut planner = r.planner;
+    let solved = r.scenario.legs[0].goal.contains(r.plan.end());
+    let mission = Mission {
+        scenario: r.scenario,
+        plan: Some(r.plan),
+        plan_time_s: 0.0,
+        plan_solved: solved,
+        planner: planner.as_deref_mut().map(|p| p as &mut dyn Planner),
+        setup,
+        seed: r.seed,
+    };
+    let mut tracker = r.tracker;
+    let mut opts = r.options;
+    opts.record_ticks = true;
+    Ok(simulate(mission, tracker.as_mut(), &preset, &opts))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Registry;
+
+    fn planner() -> Box<dyn Planner> {
+        Registry::builtin()
+            .planners()
+            .create("goal-zoom-rrt", &[])
+            .expect("a built-in")
+    }
+
+    fn request<'a>(s: &'a Scenario, plan: Plan) -> TrackRequest<'a> {
+        let (tracker, options) = Registry::builtin()
+            .trackers()
+            .build("obc", &[], "test")
+            .expect("a built-in");
+        TrackRequest {
+            scenario: s,
+            plan,
+            plan_source: "<plan>",
+            tracker,
+            options,
+            preset: "ideal",
+            seed: 0,
+            planner: None,
+            setup: PlanningSetup::default(),
+        }
+    }
+
+    #[test]
+    fn a_leg_out_of_range_is_bad_input() {
+        let s = Scenario::load("open-field").unwrap();
+        let e = plan_leg(
+            &s,
+            5,
+            None,
+            planner().as_mut(),
+            &PlanningSetup::default(),
+            0,
+        )
+        .unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("leg"), "{e}");
+    }
+
+    #[test]
+    fn a_plan_for_another_scenario_is_refused_before_tracking() {
+        let s = Scenario::load("open-field").unwrap();
+        let other = Scenario::load("micro-factory").unwrap();
+        let mut setup = PlanningSetup::default();
+        setup.limits.max_iterations = Some(3000);
+        let r = plan_leg(&other, 0, None, planner().as_mut(), &setup, 0).unwrap();
+        let e = track_plan(request(&s, r.plan)).map(|_| ()).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("<plan>: states[0]"), "{e}");
+        let trio = Scenario::load("trio-row").unwrap();
+        let e = track_plan(request(&trio, Plan::at(&s.start)))
+            .map(|_| ())
+            .unwrap_err();
+        assert!(e.to_string().contains("agent(s)"), "{e}");
+    }
+
+    #[test]
+    fn a_plan_of_the_scenario_is_tracked_with_every_tick_recorded() {
+        let s = Scenario::load("open-field").unwrap();
+        let mut setup = PlanningSetup::default().in_frames_of(1.0 / 60.0);
+        setup.limits.max_iterations = Some(3000);
+        let r = plan_leg(&s, 0, None, planner().as_mut(), &setup, 0).unwrap();
+        assert!(r.solved);
+        let out = track_plan(request(&s, r.plan)).unwrap();
+        assert!(!out.ticks.is_empty());
+    }
+}

@@ -1,0 +1,132 @@
+"""Results folders (``magbench bench --out DIR``) read into Python: the runs of ``runs.csv``,
+the progress curves of ``progress.csv`` and the manifest, as plain dicts and numpy arrays
+(pandas DataFrames with ``to_pandas()`` when pandas is installed)."""
+
+import csv
+import json
+import os
+import re
+
+import numpy as np
+
+_AGENT_COLUMN = re.compile(r"^(rms|max)_error_(true_)?agent(\d+)_bl$")
+
+
+def _value(text):
+    """A ``runs.csv`` cell as Python: empty -> None, true/false -> bool, numbers, else text."""
+    if text == "":
+        return None
+    if text == "true":
+        return True
+    if text == "false":
+        return False
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+class Results:
+    """A results folder.
+
+    - ``rows`` (also ``runs``): one dict per run, the ``runs.csv`` columns with typed values
+      (``None`` where a cell is empty);
+    - ``column(name)``: one column as a numpy array (floats with NaN for empty cells, or
+      objects for text);
+    - ``progress``: run id -> dict of numpy arrays ``iteration``, ``time_s``, ``best_cost``
+      (NaN before the first solution): each run's cost-versus-iteration curve;
+    - ``agent_errors(kind)``: (runs, agents) array of a per-agent error column;
+    - ``manifest``: ``manifest.json`` as a dict (or None);
+    - ``to_pandas()`` / ``progress_to_pandas()``: DataFrames (needs pandas).
+    """
+
+    def __init__(self, path):
+        self.path = os.fspath(path)
+        runs = os.path.join(self.path, "runs.csv")
+        if not os.path.isfile(runs):
+            raise FileNotFoundError(f"{runs}: no runs.csv (is {self.path} a results folder?)")
+        with open(runs, newline="") as f:
+            reader = csv.DictReader(f)
+            self.columns = list(reader.fieldnames or [])
+            self.rows = [{k: _value(v) for k, v in row.items()} for row in reader]
+        self.progress = {}
+        progress = os.path.join(self.path, "progress.csv")
+        if os.path.isfile(progress):
+            curves = {}
+            with open(progress, newline="") as f:
+                for row in csv.DictReader(f):
+                    c = curves.setdefault(row["run_id"], ([], [], []))
+                    c[0].append(int(row["iteration"]))
+                    c[1].append(float(row["time_s"]))
+                    c[2].append(float(row["best_cost"]) if row["best_cost"] else np.nan)
+            self.progress = {
+                k: {
+                    "iteration": np.asarray(v[0], dtype=np.int64),
+                    "time_s": np.asarray(v[1], dtype=float),
+                    "best_cost": np.asarray(v[2], dtype=float),
+                }
+                for k, v in curves.items()
+            }
+        manifest = os.path.join(self.path, "manifest.json")
+        self.manifest = None
+        if os.path.isfile(manifest):
+            with open(manifest) as f:
+                self.manifest = json.load(f)
+
+    @property
+    def runs(self):
+        """The runs (same as ``rows``)."""
+        return self.rows
+
+    def __len__(self):
+        return len(self.rows)
+
+    def column(self, name):
+        """Column ``name`` of every run: floats (NaN for empty cells) when every value is a
+        number or a bool, else an object array."""
+        if name not in self.columns:
+            raise KeyError(f"{name!r}: not a runs.csv column (columns: {', '.join(self.columns)})")
+        values = [r[name] for r in self.rows]
+        if all(v is None or isinstance(v, (int, float, bool)) for v in values):
+            return np.asarray([np.nan if v is None else float(v) for v in values], dtype=float)
+        return np.asarray(values, dtype=object)
+
+    def agent_errors(self, kind="rms_error"):
+        """The per-agent columns ``{kind}_agent{i}_bl`` (``kind``: ``rms_error``,
+        ``max_error``, ``rms_error_true``, ``max_error_true``) as a (runs, agents) array,
+        NaN for runs without that agent or without tracking."""
+        agents = sorted({int(m.group(3)) for c in self.columns if (m := _AGENT_COLUMN.match(c))})
+        out = np.full((len(self.rows), len(agents)), np.nan)
+        for j, i in enumerate(agents):
+            out[:, j] = self.column(f"{kind}_agent{i}_bl")
+        return out
+
+    def to_pandas(self):
+        """The runs as a pandas DataFrame (one row per run)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.rows, columns=self.columns)
+
+    def progress_to_pandas(self):
+        """The progress curves as a long pandas DataFrame: run_id, iteration, time_s,
+        best_cost."""
+        import pandas as pd
+
+        frames = [
+            pd.DataFrame({"run_id": k, **v}) for k, v in self.progress.items()
+        ]
+        if not frames:
+            return pd.DataFrame(columns=["run_id", "iteration", "time_s", "best_cost"])
+        return pd.concat(frames, ignore_index=True)
+
+    def __repr__(self):
+        return f"Results({self.path!r}, {len(self.rows)} runs)"
+
+
+def load_results(path):
+    """Reads the results folder ``path`` (``runs.csv``, ``progress.csv``, ``manifest.json``)."""
+    return Results(path)

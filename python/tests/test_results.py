@@ -1,0 +1,84 @@
+"""bench, load_results and the command line from Python."""
+
+import os
+
+import numpy as np
+import pytest
+
+import magbench as mb
+
+from conftest import ROOT
+
+
+def small_experiment(tmp_path, trackers='["obc"]', planners='["goal-zoom-rrt", "sst"]'):
+    f = tmp_path / "small.toml"
+    f.write_text(
+        'name = "small"\n'
+        'scenarios = ["open-field"]\n'
+        f"planners = {planners}\n"
+        f"trackers = {trackers}\n"
+        'presets = ["realistic"]\n'
+        "seeds = 2\n"
+        "[limits]\niterations = 2000\n"
+    )
+    return f
+
+
+def test_bench_rows_progress_and_pandas(tmp_path):
+    out = tmp_path / "out"
+    res = mb.bench(small_experiment(tmp_path), out=out, threads=2)
+    assert isinstance(res, mb.Results) and len(res) == 4
+    assert {r["planner"] for r in res.rows} == {"goal-zoom-rrt", "sst"}
+    row = res.rows[0]
+    assert isinstance(row["seed"], int) and isinstance(row["solved"], bool)
+    assert row["tracker"] == "obc" and row["scenario"] == "open-field"
+    it = res.column("iterations")
+    assert it.dtype == float and np.all(it <= 2000)
+    assert res.column("planner").dtype == object
+    with pytest.raises(KeyError):
+        res.column("no_such_column")
+    assert set(res.progress) == {r["run_id"] for r in res.rows}
+    curve = next(iter(res.progress.values()))
+    assert curve["iteration"].dtype == np.int64 and np.all(np.diff(curve["iteration"]) >= 0)
+    errs = res.agent_errors()
+    assert errs.shape == (4, 2) and np.all(np.isfinite(errs))
+    assert res.manifest["experiment"]["name"] == "small"
+    assert os.path.isdir(out / "plots")
+
+
+def test_to_pandas():
+    pytest.importorskip("pandas")
+    res = mb.load_results(os.path.join(ROOT, "results", "baseline"))
+    df = res.to_pandas()
+    assert len(df) == len(res.rows) and "rms_error_bl" in df.columns
+    assert list(df["seed"]) == [r["seed"] for r in res.rows]
+    pdf = res.progress_to_pandas()
+    assert set(pdf.columns) == {"run_id", "iteration", "time_s", "best_cost"}
+    assert len(pdf) == sum(len(c["iteration"]) for c in res.progress.values())
+
+
+def test_load_committed_baseline():
+    res = mb.load_results(os.path.join(ROOT, "results", "baseline"))
+    assert len(res.rows) > 0 and "planner" in res.columns
+    assert len(res.progress) == len(res.rows)
+
+
+def test_load_results_of_a_missing_folder(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        mb.load_results(tmp_path / "nothing")
+
+
+def test_bench_bad_experiment(tmp_path):
+    f = tmp_path / "bad.toml"
+    f.write_text('name = "bad"\nscenarios = ["open-field"]\nplanners = ["no-such-planner"]\nseeds = 1\n[limits]\niterations = 10\n')
+    with pytest.raises(mb.InputError) as e:
+        mb.bench(f, out=tmp_path / "out")
+    assert "no-such-planner" in str(e.value)
+    with pytest.raises(mb.InputError):
+        mb.bench(tmp_path / "missing.toml", out=tmp_path / "out")
+
+
+def test_main_runs_the_command_line(tmp_path, capfd):
+    mb.main(["plan", "open-field", "--planner", "goal-zoom-rrt", "--max-iters", "2000",
+             "--out", str(tmp_path / "p")])
+    assert (tmp_path / "p" / "plan.json").exists()
