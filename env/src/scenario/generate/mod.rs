@@ -227,7 +227,7 @@ pub fn list() -> String {
         s += &format!("{}\n    {}\n", e.name, e.summary);
         for p in e.make().params() {
             s += &format!(
-                "    {:<12} {:<8} {:<18} {}\n",
+                "    {:<12} {:<8} {:<22} {}\n",
                 p.name,
                 p.value.to_string(),
                 p.range,
