@@ -44,7 +44,7 @@ fn goal_zoom_rrt_solves_every_family_at_several_values_and_seeds() {
         ("short-moves", vec!["move=shift", "distance=1.5"]),
         ("team", vec!["agents=2"]),
         ("team", vec![]),
-        ("team", vec!["agents=4", "start=grid", "rotation=45"]),
+        ("team", vec!["agents=4", "start=grid", "goal=grid"]),
         ("team", vec!["agents=6", "spacing=1.8", "distance=5"]),
     ];
     let mut families = std::collections::BTreeSet::new();
@@ -109,7 +109,12 @@ fn generate_writes_the_same_bytes_for_the_same_seed_and_the_files_pass_check() {
     let path = a.join("rooms-s9-0.toml");
     let (code, out, _) = magbench(&["scenario", "show", path.to_str().unwrap()]);
     assert_eq!(code, 0);
-    for line in ["free space", "passage     narrowest", "path        centre of mass", "move        centroid"] {
+    for line in [
+        "free space",
+        "passage     narrowest",
+        "path        centre of mass",
+        "move        centroid",
+    ] {
         assert!(out.contains(line), "{line} missing from:\n{out}");
     }
 }
@@ -118,7 +123,14 @@ fn generate_writes_the_same_bytes_for_the_same_seed_and_the_files_pass_check() {
 fn generate_list_names_every_family_and_its_parameters() {
     let (code, out, _) = magbench(&["scenario", "generate", "--list"]);
     assert_eq!(code, 0);
-    for f in ["serpentine", "corridor", "clutter", "rooms", "short-moves", "team"] {
+    for f in [
+        "serpentine",
+        "corridor",
+        "clutter",
+        "rooms",
+        "short-moves",
+        "team",
+    ] {
         assert!(out.contains(f), "{f} missing from:\n{out}");
     }
     assert!(out.contains("gap") && out.contains("[0.5, 50]"), "{out}");
@@ -131,10 +143,22 @@ fn bad_generate_input_exits_2_naming_option_field_and_reason() {
     let out = dir.path().join("o");
     let o = out.to_str().unwrap();
     for (args, field, reason) in [
-        (vec!["serpentine", "--set", "gap=2"], "param.gap", "turning width"),
+        (
+            vec!["serpentine", "--set", "gap=2"],
+            "param.gap",
+            "turning width",
+        ),
         (vec!["serpentine", "--set", "gap"], "--set", "not key=value"),
-        (vec!["rooms", "--set", "rooms=150"], "param.rooms", "do not fit"),
-        (vec!["team", "--set", "agents=8", "--set", "start=row"], "param.spacing", "proximity range"),
+        (
+            vec!["rooms", "--set", "rooms=150"],
+            "param.rooms",
+            "do not fit",
+        ),
+        (
+            vec!["team", "--set", "agents=8", "--set", "start=row"],
+            "param.spacing",
+            "proximity range",
+        ),
         (vec!["maze"], "family", "unknown family"),
         (vec!["corridor", "--count", "0"], "--count", "must be in"),
     ] {

@@ -98,8 +98,8 @@ fn generate_files(a: GenerateArgs) -> Result<(), CliError> {
             format!("must be in [1, {MAX_COUNT}], got {}", a.count),
         ));
     }
-    let params = split_all("<command line>", &a.set)
-        .map_err(|e| CliError::arg("--set", e.reason))?;
+    let params =
+        split_all("<command line>", &a.set).map_err(|e| CliError::arg("--set", e.reason))?;
     generate::family("<command line>", family, &params)?;
     super::output::prepare_dir(dir, "--out")?;
     for index in 0..a.count {

@@ -107,7 +107,7 @@ pub const FAMILIES: &[Entry<dyn Family>] = &[
 /// One generated problem.
 #[derive(Debug, Clone)]
 pub struct Generated {
-    /// The file name: `FAMILY-sSEED-INDEX.toml`.
+    /// The file name: the scenario name and `.toml`.
     pub file_name: String,
     /// The file's text (header comment, then the scenario).
     pub text: String,
@@ -161,8 +161,9 @@ fn header(family: &str, f: &dyn Family, seed: u64, index: u64) -> String {
     )
 }
 
-/// Generates problem `index` of `family` with `params` from `seed`. Errors name `source` (a
-/// file or `<command line>`), the field (`family`, `param.KEY`) and the reason.
+/// Generates problem `index` of `family` with `params` from `seed`, named
+/// `FAMILY-sSEED-INDEX`. Errors name `source` (a file or `<command line>`), the field
+/// (`family`, `param.KEY`) and the reason.
 pub fn generate(
     source: &str,
     family_name: &str,
@@ -170,11 +171,25 @@ pub fn generate(
     seed: u64,
     index: u64,
 ) -> Result<Generated, InputError> {
+    let name = format!("{family_name}-s{seed}-{index}");
+    generate_named(source, family_name, params, seed, index, &name)
+}
+
+/// [`generate`], with the scenario (and its file) named `name`; the name does not change the
+/// draw.
+pub fn generate_named(
+    source: &str,
+    family_name: &str,
+    params: &[(String, String)],
+    seed: u64,
+    index: u64,
+    name: &str,
+) -> Result<Generated, InputError> {
     let f = family(source, family_name, params)?;
     let physics = PhysicalParams::default();
     let mut rng = Rng::seed_from_u64(seed);
     rng.set_stream(index);
-    let name = format!("{family_name}-s{seed}-{index}");
+    let name = name.to_string();
     let file_name = format!("{name}.toml");
     let head = header(family_name, &*f, seed, index);
     let mut last = String::new();
