@@ -205,12 +205,17 @@ impl FreeGrid {
         for _ in 0..REFINE_PASSES {
             for k in 1..kept.len().saturating_sub(1) {
                 let (a, b) = (grid[kept[k - 1]], grid[kept[k + 1]]);
-                let len = |m: usize| (grid[m] - a).norm() + (grid[m] - b).norm();
+                let len = |p: Vec2| (p - a).norm() + (p - b).norm();
                 let mut best = kept[k];
-                for m in (kept[k - 1] + 1)..kept[k + 1] {
-                    if len(m) < len(best) - 1e-12
-                        && cw.sweep_clear(a, grid[m])
-                        && cw.sweep_clear(grid[m], b)
+                for (m, &p) in grid
+                    .iter()
+                    .enumerate()
+                    .take(kept[k + 1])
+                    .skip(kept[k - 1] + 1)
+                {
+                    if len(p) < len(grid[best]) - 1e-12
+                        && cw.sweep_clear(a, p)
+                        && cw.sweep_clear(p, b)
                     {
                         best = m;
                     }

@@ -43,7 +43,7 @@ impl Rooms {
     /// The grid (columns, rows) with columns × rows = rooms whose rooms are closest to square.
     fn grid(&self) -> (usize, usize) {
         (1..=self.rooms)
-            .filter(|c| self.rooms % c == 0)
+            .filter(|c| self.rooms.is_multiple_of(*c))
             .map(|c| (c, self.rooms / c))
             .min_by(|a, b| {
                 let skew = |(c, r): (usize, usize)| {

@@ -138,6 +138,14 @@ fn the_same_seed_gives_the_same_bytes_and_another_seed_other_bytes() {
     }
 }
 
+/// (family, parameters, the field of the error, a part of its reason).
+type Case = (
+    &'static str,
+    Vec<(&'static str, &'static str)>,
+    &'static str,
+    &'static str,
+);
+
 /// The error of `family` with `params`, as text; panics if it is accepted.
 fn refused(family: &str, params: &[(&str, &str)]) -> InputError {
     match generate("<command line>", family, &p(params), 0, 0) {
@@ -148,7 +156,7 @@ fn refused(family: &str, params: &[(&str, &str)]) -> InputError {
 
 #[test]
 fn impossible_parameters_are_refused_naming_the_parameter_and_the_reason() {
-    let cases: Vec<(&str, Vec<(&str, &str)>, &str, &str)> = vec![
+    let cases: Vec<Case> = vec![
         (
             "serpentine",
             vec![("gap", "2")],
