@@ -174,3 +174,35 @@ fn bad_generate_input_exits_2_naming_option_field_and_reason() {
     }
     assert!(!out.exists(), "nothing is written on bad input");
 }
+
+#[test]
+fn bench_runs_a_generated_grid_and_keeps_its_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let exp = dir.path().join("gen.toml");
+    std::fs::write(
+        &exp,
+        "name = \"gen\"\nplanners = [\"goal-zoom-rrt\"]\nseeds = 1\n[limits]\niterations = 20000\n\
+         [[generated]]\nfamily = \"serpentine\"\nparams = { walls = [1, 2] }\ninstances = 2\n",
+    )
+    .unwrap();
+    let out = dir.path().join("res");
+    let (code, _, err) = magbench(&[
+        "bench",
+        exp.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--threads",
+        "1",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let runs = std::fs::read_to_string(out.join("runs.csv")).unwrap();
+    assert_eq!(runs.lines().count(), 1 + 4, "{runs}");
+    for label in ["walls=1-s0", "walls=1-s1", "walls=2-s0", "walls=2-s1"] {
+        let name = format!("serpentine-{label}");
+        assert!(runs.contains(&name), "{name} missing from runs.csv");
+        let file = out.join("scenarios").join(format!("{name}.toml"));
+        let (code, _, err) = magbench(&["scenario", "check", file.to_str().unwrap()]);
+        assert_eq!(code, 0, "{name}: {err}");
+    }
+}
