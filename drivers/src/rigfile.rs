@@ -1,7 +1,7 @@
 //! The rig file (TOML): coil link and calibration, camera source, pixel calibration, detector.
 //!
 //! Parsed with `deny_unknown_fields` and validated like scenario files: every rejection is an
-//! [`InputError`] `FILE: FIELD: REASON`. See README.md ("Physical runs") for the format.
+//! [`InputError`] `FILE: FIELD: REASON`. See docs/rigs.md for the format.
 
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! Local model `x = (r, φ, ψ)`, `ẋ = f(x) + g u` with `g = ∂/∂ψ` and the drift
 //! `f = (ṙ, φ̇, 0)` evaluated from the full vector physics ([`Kinematics`]) of two agents at
 //! separation `r`, heading `φ` and field angle `θ_B = φ + ψ`. With the bracket
-//! `[X, Y] = (DY) X − (DX) Y`, the closed form (derived in README, "Controllability") is
+//! `[X, Y] = (DY) X − (DX) Y`, the closed form (derived in docs/physics.md, "Controllability") is
 //!
 //! ```text
 //! f          = ( κ(1 − 3cos²ψ)/r⁴,  κ sin2ψ/r⁵,  0 )

@@ -4,7 +4,7 @@
 //! The shape of a team is `s = (P_i − P_0)_{i ≥ 1}` (2(N−1) numbers); the pull moves every agent
 //! alike, so only the field direction moves the shape. The in-plane pair force of aligned moments
 //! depends on the field only through its in-plane components `b = (cos α cos θ, cos α sin θ)`,
-//! and quadratically (README, "Teams of three and more"):
+//! and quadratically (docs/physics.md, "Teams of three and more"):
 //!
 //! ```text
 //! ṡ = f(s; b) = F₀(s) + b₁² F₁₁(s) + b₁b₂ F₁₂(s) + b₂² F₂₂(s)

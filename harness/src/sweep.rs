@@ -1,7 +1,6 @@
 //! Sweeps: the runs of an experiment (or of one shard of it) as independent jobs on a rayon
 //! pool, each row written as soon as its run finishes.
 
-use std::collections::BTreeSet;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -9,14 +8,13 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use magbench_env::InputError;
 use rayon::prelude::*;
 
 use crate::CliError;
 use crate::experiment::Experiment;
-use crate::results::manifest::{Manifest, Session, host, now};
-use crate::results::store::{RunWriter, repair};
-use crate::results::{self, MANIFEST};
+use crate::results::manifest::{Session, host, now};
+use crate::results::store::RunWriter;
+use crate::results::{self, resume, verify};
 use crate::run::{Executor, RunOutput, RunSpec, Status, execute_caught};
 
 /// How to display progress.
@@ -173,46 +171,19 @@ pub fn run_sweep(
     let specs = shard(e.runs(), opts.shard);
     let out = &opts.out;
     let shard_arr = opts.shard.map(|(i, n)| [i, n]);
-    let manifest_path = out.join(MANIFEST);
-    let (mut manifest, done): (Manifest, BTreeSet<String>) = if manifest_path.exists() {
-        if !opts.resume {
-            return Err(CliError::Input(InputError::new(
-                out.display().to_string(),
-                "--out",
-                "already holds results: pass --resume to complete them, or choose another --out",
-            )));
-        }
-        let m = Manifest::read(out)?;
-        if m.experiment.sha256 != e.hash() {
-            return Err(CliError::Input(InputError::new(
-                out.display().to_string(),
-                "--resume",
-                format!(
-                    "the results are from another version of the experiment (sha256 {} vs {} now); use a new --out",
-                    short(&m.experiment.sha256),
-                    short(&e.hash())
-                ),
-            )));
-        }
-        if m.shard != shard_arr {
-            return Err(CliError::Input(InputError::new(
-                out.display().to_string(),
-                "--shard",
-                format!(
-                    "the results are of shard {:?}, not {:?}",
-                    m.shard, shard_arr
-                ),
-            )));
-        }
-        (m, repair(out)?)
-    } else {
-        std::fs::create_dir_all(out)
-            .map_err(|err| CliError::Failed(format!("{}: {err}", out.display())))?;
-        (
-            Manifest::new(e, ex.name(), opts.threads, shard_arr),
-            repair(out)?,
-        )
-    };
+    let opened = resume::open_for_sweep(
+        out,
+        e,
+        &specs,
+        &resume::OpenOptions {
+            executor: ex.name(),
+            threads: opts.threads,
+            shard: shard_arr,
+            resume: opts.resume,
+        },
+    )?;
+    // the lock is held to the end of the sweep, through finalize and verify
+    let (mut manifest, done, _lock) = (opened.manifest, opened.done, opened.lock);
     let todo: Vec<&RunSpec> = specs.iter().filter(|s| !done.contains(&s.id())).collect();
     let skipped = specs.len() - todo.len();
     let t0 = Instant::now();
@@ -268,14 +239,11 @@ pub fn run_sweep(
     session.wall_time_s = Some(t0.elapsed().as_secs_f64());
     manifest.write(out)?;
     results::finalize(out)?;
+    verify::require_sound(out, true)?;
     Ok(SweepSummary {
         total: specs.len(),
         skipped,
         executed: todo.len(),
         failed,
     })
-}
-
-fn short(h: &str) -> &str {
-    &h[..h.len().min(12)]
 }

@@ -1,5 +1,7 @@
-//! `magbench regress` flags an injected regression (the tracker's gain halved) and passes an
-//! unchanged rerun with a different seed set.
+//! `magbench regress` flags an injected regression (the tracker's gain halved), passes an
+//! unchanged rerun of the same seeds (paired: zero-width intervals), calls a rerun with other
+//! seeds inconclusive where 20 runs cannot tell (never "ok" by default), and warns about (or
+//! with `--strict` refuses) folders whose manifests differ.
 
 mod common;
 
@@ -31,19 +33,35 @@ fn bench(file: &Path, out: &Path, gain_scale: f64) {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
-fn regress(base: &Path, cur: &Path) -> (i32, String) {
+fn regress_with(base: &Path, cur: &Path, flags: &[&str]) -> (i32, String, String) {
     let o = Command::new(env!("CARGO_BIN_EXE_magbench"))
         .args(["regress", base.to_str().unwrap(), cur.to_str().unwrap()])
+        .args(flags)
         .output()
         .unwrap();
     (
         o.status.code().unwrap(),
         String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
     )
 }
 
+fn regress(base: &Path, cur: &Path) -> (i32, String) {
+    let (code, out, _) = regress_with(base, cur, &[]);
+    (code, out)
+}
+
+/// The block of the report whose heading contains `config` (blocks are separated by blank
+/// lines).
+fn section<'a>(table: &'a str, config: &str) -> &'a str {
+    table
+        .split("\n\n")
+        .find(|b| b.lines().next().is_some_and(|h| h.contains(config)))
+        .unwrap_or_else(|| panic!("no table for {config}:\n{table}"))
+}
+
 #[test]
-fn flags_a_halved_gain_and_passes_a_rerun_with_other_seeds() {
+fn flags_a_halved_gain_passes_a_same_seed_rerun_and_calls_other_seeds_inconclusive() {
     let dir = tempfile::tempdir().unwrap();
     let base_exp = write(dir.path(), "base.toml", &exp("20"));
     let other_seeds = write(
@@ -51,49 +69,97 @@ fn flags_a_halved_gain_and_passes_a_rerun_with_other_seeds() {
         "other.toml",
         &exp(&format!("{:?}", (100..120).collect::<Vec<u64>>())),
     );
-    let (base, rerun, broken) = (
-        dir.path().join("base"),
-        dir.path().join("rerun"),
-        dir.path().join("broken"),
-    );
+    let [base, same, rerun, broken, broken_other] =
+        ["base", "same", "rerun", "broken", "broken-other"].map(|d| dir.path().join(d));
     bench(&base_exp, &base, 1.0);
+    bench(&base_exp, &same, 1.0);
     bench(&other_seeds, &rerun, 1.0);
-    bench(&other_seeds, &broken, 0.5);
+    bench(&base_exp, &broken, 0.5);
+    bench(&other_seeds, &broken_other, 0.5);
 
-    let (code, table) = regress(&base, &rerun);
-    assert_eq!(code, 0, "an unchanged rerun was flagged:\n{table}");
-    assert!(table.contains("no regression"));
+    // the same seeds, the same build: paired, every gated verdict ok with a zero-width interval
+    let (code, table, warn) = regress_with(&base, &same, &[]);
+    assert_eq!(code, 0, "an unchanged rerun was not passed:\n{table}{warn}");
+    assert!(table.contains("result: pass (no regression)"), "{table}");
+    assert!(table.contains("paired by seed (20 seeds)"), "{table}");
+    assert!(warn.is_empty(), "{warn}");
+    for l in table.lines().filter(|l| l.contains("_error")) {
+        assert!(
+            l.ends_with("ok") && l.contains("+0.0% [+0.0%, +0.0%]"),
+            "{l}"
+        );
+    }
 
-    let (code, table) = regress(&base, &broken);
-    assert_eq!(code, 1, "a halved gain was not flagged:\n{table}");
-    // 12 error metrics (the team's four RMS errors, the observed and true worst agent, the
-    // observed and true max, each of the two agents' observed and true RMS) × 2 scenarios × 2
-    // presets, and possibly success (errors above the fake tracker's 0.3 BL limit miss the
-    // goal); never a planner metric.
-    let flagged: Vec<&str> = table
-        .lines()
-        .filter(|l| l.ends_with("REGRESSION"))
-        .collect();
-    assert_eq!(
-        flagged.iter().filter(|l| l.contains("_error")).count(),
-        48,
+    // other seeds, the same build: unpaired; no regression, but 20 runs cannot show every
+    // metric within 10%: inconclusive, which fails by default and passes when accepted
+    let (code, table, warn) = regress_with(&base, &rerun, &[]);
+    assert!(!table.contains("REGRESSION"), "{table}");
+    assert!(table.contains("unpaired: different seeds"), "{table}");
+    assert!(table.contains("inconclusive (~"), "{table}");
+    assert_eq!(code, 1, "{table}");
+    assert!(
+        table.contains("result: FAIL (no regression shown, but"),
         "{table}"
     );
     assert!(
-        flagged
-            .iter()
-            .all(|l| l.contains("_error") || l.contains("success_rate")),
-        "{table}"
+        warn.contains("manifests differ")
+            && warn.contains("seeds: baseline 0..19 (20 seeds), candidate 100..119 (20 seeds)"),
+        "{warn}"
     );
-    for col in ["metric", "baseline", "current", "change", "verdict"] {
+    let (code, table, _) = regress_with(&base, &rerun, &["--inconclusive", "pass"]);
+    assert_eq!(code, 0, "{table}");
+    let (code, _, err) = regress_with(&base, &rerun, &["--strict"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("experiment file (sha256)") && err.contains("seeds"),
+        "{err}"
+    );
+
+    // 12 error metrics (the team's four RMS errors, the observed and true worst agent, the
+    // observed and true max, each of the two agents' observed and true RMS) × 2 scenarios × 2
+    // presets, and possibly success (errors above the fake tracker's 0.3 BL limit miss the
+    // goal); never a planner metric. Paired (same seeds) and unpaired (other seeds).
+    for b in [&broken, &broken_other] {
+        let (code, table) = regress(&base, b);
+        assert_eq!(code, 1, "a halved gain was not flagged:\n{table}");
+        let flagged: Vec<&str> = table
+            .lines()
+            .filter(|l| l.ends_with("REGRESSION"))
+            .collect();
+        assert_eq!(
+            flagged.iter().filter(|l| l.contains("_error")).count(),
+            48,
+            "{table}"
+        );
         assert!(
-            table.lines().next().unwrap().contains(col),
-            "{col} column missing"
+            flagged
+                .iter()
+                .all(|l| l.contains("_error") || l.contains("success_rate")),
+            "{table}"
+        );
+        assert!(table.contains("result: FAIL ("), "{table}");
+    }
+    let (_, table) = regress(&base, &broken);
+    for col in [
+        "metric",
+        "baseline",
+        "candidate",
+        "change [90% CI]",
+        "verdict",
+    ] {
+        assert!(
+            table.lines().nth(3).unwrap().contains(col),
+            "{col} column missing:\n{table}"
         );
     }
-    // The same folder against itself is no regression; a folder that is not one is exit 2.
+    // The same folder against itself passes; a folder that is not one, or a bad flag, is exit 2.
     assert_eq!(regress(&base, &base).0, 0);
     assert_eq!(regress(&base, dir.path()).0, 2);
+    assert_eq!(regress_with(&base, &same, &["--alpha", "0.7"]).0, 2);
+    assert_eq!(
+        regress_with(&base, &same, &["--inconclusive", "maybe"]).0,
+        2
+    );
 }
 
 /// The columns of `runs.csv` before the per-agent and worst-agent columns were added.
@@ -132,7 +198,7 @@ fn a_baseline_from_before_the_per_agent_columns_compares_cleanly_and_lists_them(
 
     let (code, table) = regress(&old, &cur);
     assert_eq!(code, 0, "{table}");
-    assert!(table.contains("no regression"), "{table}");
+    assert!(table.contains("result: pass"), "{table}");
     let new = table
         .lines()
         .find(|l| l.starts_with("new since the baseline"))
@@ -147,17 +213,12 @@ fn a_baseline_from_before_the_per_agent_columns_compares_cleanly_and_lists_them(
     }
     // the two-agent scenario has no agent 2, the three-agent one has
     assert!(
-        table.lines().any(|l| l.contains("trio-triangle")
-            && l.contains("rms_error_agent2_bl")
-            && l.contains("new (not in baseline)")),
-        "{table}"
-    );
-    assert!(
-        !table
+        section(&table, "trio-triangle")
             .lines()
-            .any(|l| l.contains("open-field") && l.contains("agent2")),
+            .any(|l| l.contains("rms_error_agent2_bl") && l.contains("new (not in baseline)")),
         "{table}"
     );
+    assert!(!section(&table, "open-field").contains("agent2"), "{table}");
     // the columns the baseline has are compared as before
     assert!(
         table

@@ -154,7 +154,7 @@ mod tests {
 
     #[test]
     fn documented_example_frames() {
-        // the examples in README.md ("Physical runs"), byte for byte
+        // the examples in docs/rigs.md, byte for byte
         let hex = |m: Message, seq: u16| {
             encode(seq, &m)
                 .iter()

@@ -15,7 +15,7 @@
 //! [`Message::Zero`], each with its own sequence number; the device answers each with an
 //! [`Message::Ack`] naming that sequence number, or a [`Message::Nak`] when a frame fails its
 //! checksum. The device zeroes its currents when it hears no valid frame for the watchdog time.
-//! README.md ("Physical runs") lists every message byte by byte.
+//! docs/rigs.md lists every message byte by byte.
 
 mod codec;
 mod message;

@@ -2,7 +2,7 @@
 //!
 //! The elevation α scales every in-plane pair force by cos²α (the seed's eq. 1) and adds the
 //! all-repelling part of the dipole force; for three or more agents it is the control that lets
-//! a formation be held (see README, "Elevation as a control"). Planners and trackers take the
+//! a formation be held (see docs/physics.md, "Elevation as a control"). Planners and trackers take the
 //! same `planar` setting: `auto` keeps two agents in the plane (today's behaviour, bit for bit)
 //! and frees the elevation for three or more — when the agents' medium carries the
 //! out-of-plane force f_z (a liquid–air interface). In bulk liquid nothing holds the agents in

@@ -63,7 +63,7 @@ pub struct PhysicalOverrides {
 pub const MIN_DT_S: f64 = 1e-4;
 
 impl Default for PhysicalParams {
-    /// The default preset: 500 µm spheres in 30 mPa·s glycerol–water (see README, "Physics").
+    /// The default preset: 500 µm spheres in 30 mPa·s glycerol–water (see docs/physics.md).
     fn default() -> Self {
         Self {
             diameter_um: 500.0,

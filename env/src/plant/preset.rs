@@ -16,7 +16,7 @@ use crate::coil::COIL_ALPHA_MAX_DEG;
 use crate::error::InputError;
 use crate::input;
 
-/// Everything the simulated plant and camera add to the planning model (see the README,
+/// Everything the simulated plant and camera add to the planning model (see docs/plant.md,
 /// "The simulated plant", for each term's physics and the `hardware` values' sources).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -142,7 +142,7 @@ impl DisturbancePreset {
         Self::builtin("realistic", REALISTIC)
     }
 
-    /// Every term, with values from sources or derivations (README, "The simulated plant").
+    /// Every term, with values from sources or derivations (docs/plant.md).
     pub fn hardware() -> Self {
         Self::builtin("hardware", HARDWARE)
     }

@@ -1,6 +1,6 @@
 //! Scenarios: the world, the start and one goal or several legs, in a stable TOML format.
 //!
-//! See README.md ("Scenario files") for the format. [`Scenario::load`] accepts a built-in name
+//! See docs/scenarios.md for the format. [`Scenario::load`] accepts a built-in name
 //! or a path; every rejection is an [`InputError`](crate::InputError) naming the file, the field
 //! and the reason.
 

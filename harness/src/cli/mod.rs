@@ -8,6 +8,7 @@ pub(crate) mod output;
 mod plan;
 mod preset;
 mod regress;
+mod results;
 mod rig;
 mod scenario;
 mod setup;
@@ -51,8 +52,11 @@ pub enum Command {
     Ablate(ablate::AblateArgs),
     /// Join the results folders of shards (`bench --shard I/N`) into one.
     Merge(merge::MergeArgs),
-    /// Compare a results folder against a baseline; exit 1 on a significant regression.
+    /// Compare a results folder against a baseline: regression, ok or inconclusive per metric.
     Regress(regress::RegressArgs),
+    /// Check results folders (`results verify DIR`).
+    #[command(subcommand)]
+    Results(results::ResultsCmd),
     /// Regenerate the paper figures (SVG and PNG) from fixed seeds.
     Figures(figures::FiguresArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
@@ -72,6 +76,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Merge(a) => merge::run(a),
         Command::Ablate(a) => ablate::run(a),
         Command::Regress(a) => regress::run(a),
+        Command::Results(c) => results::run(c),
         Command::Figures(a) => figures::run(a),
         Command::Track(a) => track::run(*a),
         Command::Plan(a) => plan::run(a),

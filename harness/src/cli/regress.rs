@@ -1,5 +1,5 @@
-//! `magbench regress`: compare current results against a baseline; exit 1 on a significant
-//! regression.
+//! `magbench regress`: compare a candidate results folder against a baseline; exit 1 on a
+//! regression (and, by default, on an inconclusive comparison), 2 on bad input.
 
 use std::path::PathBuf;
 
@@ -7,8 +7,9 @@ use clap::Args;
 
 use super::output::out;
 use crate::CliError;
+use crate::regress::manifests::check;
 use crate::regress::report::regressions;
-use crate::regress::{Tolerances, compare, footer, table};
+use crate::regress::{OnInconclusive, Tolerances, compare, failures, footer, table};
 use crate::results::store::read_runs;
 
 /// Arguments of `magbench regress`.
@@ -16,42 +17,52 @@ use crate::results::store::read_runs;
 pub struct RegressArgs {
     /// The baseline results folder (e.g. results/baseline).
     pub baseline: PathBuf,
-    /// The current results folder.
+    /// The candidate results folder.
     pub current: PathBuf,
-    /// Significance level of each one-sided test.
+    /// Level of the tests: family-wise error rate of the regression decisions (Holm) and the
+    /// one-sided level of each end of the intervals (which are 1 − 2·alpha two-sided).
     #[arg(long, default_value_t = Tolerances::default().alpha)]
     pub alpha: f64,
-    /// Largest acceptable drop of a success rate (absolute fraction).
+    /// Largest acceptable drop of a success rate (absolute fraction: 0.1 = 10 points).
     #[arg(long, default_value_t = Tolerances::default().success)]
     pub success_tolerance: f64,
-    /// Largest acceptable relative growth of the median tracking error, cost or iterations.
+    /// Largest acceptable relative growth of tracking errors, cost and iterations (0.1 = 10%).
     #[arg(long, default_value_t = Tolerances::default().relative)]
     pub tolerance: f64,
-    /// Largest acceptable relative growth of the median wall-clock times.
+    /// Largest acceptable relative growth of wall-clock times (1 = 100%).
     #[arg(long, default_value_t = Tolerances::default().time)]
     pub time_tolerance: f64,
     /// Leave out the wall-clock metrics.
     #[arg(long, conflicts_with = "gate_time")]
     pub no_time: bool,
-    /// Fail on a significant slowdown too (only for results from the same, otherwise idle,
-    /// machine: times depend on the machine and its load).
+    /// Let wall-clock verdicts fail the check too (only for results from the same, otherwise
+    /// idle, machine: times depend on the machine and its load).
     #[arg(long)]
     pub gate_time: bool,
+    /// Whether an inconclusive verdict (too few runs to tell) fails the check.
+    #[arg(long, value_enum, default_value = "fail")]
+    pub inconclusive: OnInconclusive,
+    /// Make differing manifests (experiment file, scenarios, limits, presets, seeds, executor,
+    /// magbench version) an error (exit 2) instead of a warning.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Runs `magbench regress`.
 pub fn run(a: RegressArgs) -> Result<(), CliError> {
-    for (name, v, max) in [
-        ("--alpha", a.alpha, 1.0),
-        ("--success-tolerance", a.success_tolerance, 1.0),
-        ("--tolerance", a.tolerance, f64::INFINITY),
-        ("--time-tolerance", a.time_tolerance, f64::INFINITY),
+    for (name, v, lo, hi) in [
+        ("--alpha", a.alpha, f64::MIN_POSITIVE, 0.25),
+        ("--success-tolerance", a.success_tolerance, 0.0, 1.0),
+        ("--tolerance", a.tolerance, 0.0, 1e6),
+        ("--time-tolerance", a.time_tolerance, 0.0, 1e6),
     ] {
-        if !(v.is_finite() && v >= 0.0 && v <= max) {
-            return Err(CliError::arg(
-                name,
-                format!("must be in [0, {max}], got {v}"),
-            ));
+        if !(v.is_finite() && v >= lo && v <= hi) {
+            let range = if lo > 0.0 {
+                format!("(0, {hi}]")
+            } else {
+                format!("[0, {hi}]")
+            };
+            return Err(CliError::arg(name, format!("must be in {range}, got {v}")));
         }
     }
     for d in [&a.baseline, &a.current] {
@@ -63,6 +74,24 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
             )));
         }
     }
+    let m = check(&a.baseline, &a.current)?;
+    if !m.differences.is_empty() {
+        let list: String = m.differences.iter().map(|d| format!("\n  - {d}")).collect();
+        if a.strict {
+            return Err(CliError::Input(magbench_env::InputError::new(
+                a.current.display().to_string(),
+                "manifest.json",
+                format!(
+                    "--strict: the manifests of {} and {} differ:{list}",
+                    a.baseline.display(),
+                    a.current.display()
+                ),
+            )));
+        }
+        eprintln!(
+            "warning: the two folders' manifests differ (--strict makes this an error):{list}"
+        );
+    }
     let tol = Tolerances {
         alpha: a.alpha,
         success: a.success_tolerance,
@@ -73,13 +102,25 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
     };
     // analysis, then report
     let rows = compare(&read_runs(&a.baseline)?, &read_runs(&a.current)?, &tol);
-    out!("{}\n{}", table(&rows), footer(&rows, &tol));
-    let bad = regressions(&rows);
+    if let Some(b) = &m.builds {
+        out!("{b}\n\n");
+    }
+    out!(
+        "{}\n{}",
+        table(&rows, &tol),
+        footer(&rows, &tol, a.inconclusive)
+    );
+    let bad = failures(&rows, a.inconclusive);
     if bad > 0 {
-        return Err(CliError::Failed(format!(
-            "{bad} significant regression(s) against {}",
-            a.baseline.display()
-        )));
+        let reg = regressions(&rows);
+        return Err(CliError::Failed(if reg > 0 {
+            format!("{reg} regression(s) against {}", a.baseline.display())
+        } else {
+            format!(
+                "{bad} inconclusive comparison(s) against {} (more seeds, or --inconclusive pass)",
+                a.baseline.display()
+            )
+        }));
     }
     Ok(())
 }

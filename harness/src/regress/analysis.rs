@@ -1,71 +1,40 @@
-//! The analysis stage: per configuration and metric, the baseline and current values, the
-//! change with its interval, the one-sided tests and the verdict, as plain numbers.
+//! The analysis stage: per configuration and metric, the baseline and candidate values, the
+//! change with its interval and the verdict, as plain numbers.
 
+use super::metric::{self, Change, Sides};
+use super::verdict::{Test, Verdict, adjust, seeds_needed, verdict_of};
 use crate::results::summary::{groups, key};
 use crate::run::RunRecord;
-use crate::stats::{Alternative, mann_whitney_u, median, median_diff_ci, two_proportion_z};
+use crate::stats::median;
 
 /// Thresholds of a regression check.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tolerances {
-    /// Significance level of each test.
+    /// Level of the tests: the family-wise error rate of the regression decisions (Holm),
+    /// and the level of each end of the intervals (a two-sided `1 − 2·alpha` interval).
     pub alpha: f64,
     /// Largest acceptable drop of the success rate (absolute, e.g. 0.1 = 10 points).
     pub success: f64,
-    /// Largest acceptable relative growth of a median for error and cost metrics (0.1 = 10%).
+    /// Largest acceptable relative growth for error, cost and iteration metrics (0.1 = 10%).
     pub relative: f64,
-    /// Largest acceptable relative growth of a median for wall-clock metrics (machines differ).
+    /// Largest acceptable relative growth of wall-clock metrics (machines differ).
     pub time: f64,
     /// Compare wall-clock metrics at all.
     pub wall_clock: bool,
     /// Let wall-clock metrics fail the check. Off by default: times depend on the machine and
-    /// its load, so a significant slowdown is reported as `slower` without failing.
+    /// its load, so their verdicts are reported without failing the check.
     pub gate_time: bool,
 }
 
 impl Default for Tolerances {
     fn default() -> Self {
         Tolerances {
-            alpha: 0.01,
+            alpha: 0.05,
             success: 0.10,
             relative: 0.10,
             time: 1.0,
             wall_clock: true,
             gate_time: false,
-        }
-    }
-}
-
-/// The verdict on one metric.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Verdict {
-    /// No significant change beyond the tolerance.
-    Ok,
-    /// Significantly better.
-    Improved,
-    /// Significantly worse, beyond the tolerance.
-    Regression,
-    /// Too few values to test.
-    NoData,
-    /// The configuration is missing from the current results.
-    Missing,
-    /// A wall-clock metric significantly slower beyond its tolerance, reported but not gated.
-    Slower,
-    /// A metric the baseline does not have (e.g. a column added after it was recorded).
-    New,
-}
-
-impl Verdict {
-    /// Table text.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Verdict::Ok => "ok",
-            Verdict::Improved => "improved",
-            Verdict::Regression => "REGRESSION",
-            Verdict::NoData => "no data",
-            Verdict::Missing => "MISSING",
-            Verdict::Slower => "slower (not gated)",
-            Verdict::New => "new (not in baseline)",
         }
     }
 }
@@ -87,38 +56,21 @@ pub enum Value {
         /// Values.
         n: usize,
     },
-    /// Only the number of values (too few for a median on one side).
+    /// No value.
     Samples(usize),
     /// Runs of the configuration.
     Runs(usize),
 }
 
-/// The change from the baseline to the current value.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Change {
-    /// Not computed.
-    None,
-    /// A difference of rates (fractions; 0.05 is 5 points).
-    Points(f64),
-    /// A relative change of the median with the 95% interval (fractions of the baseline
-    /// median).
-    Relative {
-        /// The change.
-        rel: f64,
-        /// Lower end of the interval.
-        lo: f64,
-        /// Upper end.
-        hi: f64,
-    },
-    /// The difference of medians with its interval, when the baseline median is zero.
-    Absolute {
-        /// The difference.
-        diff: f64,
-        /// Lower end of the interval.
-        lo: f64,
-        /// Upper end.
-        hi: f64,
-    },
+/// How a configuration's two sides were matched.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Design {
+    /// The same seeds on both sides, compared seed by seed.
+    Paired(usize),
+    /// Different seeds: (baseline runs, candidate runs), compared as independent samples.
+    Unpaired(usize, usize),
+    /// The configuration is missing from the candidate.
+    Missing,
 }
 
 /// One metric of one configuration, compared.
@@ -126,67 +78,74 @@ pub enum Change {
 pub struct Comparison {
     /// Configuration label.
     pub config: String,
+    /// How the sides were matched.
+    pub design: Design,
     /// Metric name.
     pub metric: String,
     /// Baseline value.
     pub baseline: Value,
-    /// Current value.
+    /// Candidate value.
     pub current: Value,
     /// The change, with its interval.
     pub change: Change,
-    /// Holm-adjusted p-value of the one-sided test for a regression.
+    /// The p-value of the one-sided test for a regression: Holm-adjusted over the gated
+    /// metrics, unadjusted for the others.
     pub p: Option<f64>,
     /// Verdict.
     pub verdict: Verdict,
-    /// Raw one-sided p-values (worse, better) and whether the change exceeds the tolerance.
-    tests: Option<(f64, f64, bool, bool)>,
-    /// A wall-clock metric.
-    wall: bool,
+    /// The whole interval lies on the better side of the tolerance.
+    pub better: bool,
+    /// The verdict can fail the check (wall-clock metrics only with `gate_time`).
+    pub gated: bool,
+    /// For an inconclusive verdict: seeds per folder that would likely resolve it.
+    pub seeds_needed: Option<u64>,
+    /// The test behind the verdict.
+    test: Option<Test>,
 }
 
-/// Holm's step-down adjustment of `p` (family-wise error control).
-pub fn holm(p: &[f64]) -> Vec<f64> {
-    let m = p.len();
-    let mut idx: Vec<usize> = (0..m).collect();
-    idx.sort_by(|&a, &b| p[a].total_cmp(&p[b]));
-    let mut adj = vec![0.0; m];
-    let mut running: f64 = 0.0;
-    for (k, &i) in idx.iter().enumerate() {
-        running = running.max(((m - k) as f64 * p[i]).min(1.0));
-        adj[i] = running;
+impl Comparison {
+    fn new(config: &str, design: Design, metric: &str, baseline: Value, current: Value) -> Self {
+        Comparison {
+            config: config.to_string(),
+            design,
+            metric: metric.to_string(),
+            baseline,
+            current,
+            change: Change::None,
+            p: None,
+            verdict: Verdict::Inconclusive,
+            better: false,
+            gated: true,
+            seeds_needed: None,
+            test: None,
+        }
     }
-    adj
 }
 
-/// Sets the verdicts of tested rows from Holm-adjusted p-values.
-fn decide(rows: &mut [Comparison], alpha: f64, gate_time: bool) {
+impl Comparison {
+    /// True if no test could be made (a side without values, or no seed with a value on
+    /// both sides).
+    pub fn untested(&self) -> bool {
+        self.test.is_none()
+    }
+}
+
+/// Sets the verdicts of tested rows: Holm over the gated rows' regression tests.
+fn decide(rows: &mut [Comparison], alpha: f64) {
     let tested: Vec<usize> = (0..rows.len())
-        .filter(|&i| rows[i].tests.is_some())
+        .filter(|&i| rows[i].test.is_some())
         .collect();
-    let worse = holm(
-        &tested
-            .iter()
-            .map(|&i| rows[i].tests.unwrap().0)
-            .collect::<Vec<_>>(),
-    );
-    let better = holm(
-        &tested
-            .iter()
-            .map(|&i| rows[i].tests.unwrap().1)
-            .collect::<Vec<_>>(),
-    );
+    let p: Vec<f64> = tested.iter().map(|&i| rows[i].test.unwrap().p).collect();
+    let gated: Vec<bool> = tested.iter().map(|&i| rows[i].gated).collect();
+    let adj = adjust(&p, &gated);
     for (k, &i) in tested.iter().enumerate() {
-        let (_, _, beyond, improved) = rows[i].tests.unwrap();
-        rows[i].p = Some(worse[k]);
-        rows[i].verdict = if worse[k] < alpha && beyond && rows[i].wall && !gate_time {
-            Verdict::Slower
-        } else if worse[k] < alpha && beyond {
-            Verdict::Regression
-        } else if better[k] < alpha && improved {
-            Verdict::Improved
-        } else {
-            Verdict::Ok
-        };
+        let t = rows[i].test.unwrap();
+        let (v, better) = verdict_of(&t, adj[k], alpha);
+        let r = &mut rows[i];
+        (r.p, r.verdict, r.better) = (Some(adj[k]), v, better);
+        if v == Verdict::Inconclusive {
+            r.seeds_needed = seeds_needed(&t, alpha);
+        }
     }
 }
 
@@ -257,55 +216,74 @@ fn config_label(r: &RunRecord) -> String {
     s
 }
 
-/// Compares `current` against `baseline`.
+/// The two sides of a configuration: paired by seed when both hold the same seeds, each once.
+pub fn sides<'a>(b: &[&'a RunRecord], c: &[&'a RunRecord]) -> Sides<'a> {
+    let seeds = |g: &[&RunRecord]| {
+        let mut s: Vec<u64> = g.iter().map(|r| r.seed).collect();
+        s.sort_unstable();
+        s
+    };
+    let (sb, sc) = (seeds(b), seeds(c));
+    if sb == sc && sb.windows(2).all(|w| w[0] != w[1]) {
+        let by_seed: std::collections::BTreeMap<u64, &RunRecord> =
+            c.iter().map(|r| (r.seed, *r)).collect();
+        let mut pairs: Vec<(&RunRecord, &RunRecord)> = b
+            .iter()
+            .filter_map(|x| by_seed.get(&x.seed).map(|y| (*x, *y)))
+            .collect();
+        pairs.sort_by_key(|(x, _)| x.seed);
+        Sides::Paired(pairs)
+    } else {
+        Sides::Unpaired(b.to_vec(), c.to_vec())
+    }
+}
+
+/// Finite values of `f` over `runs`.
+fn values(runs: &[&RunRecord], f: &dyn Fn(&RunRecord) -> Option<f64>) -> Vec<f64> {
+    runs.iter()
+        .filter_map(|r| f(r))
+        .filter(|v| v.is_finite())
+        .collect()
+}
+
+fn median_value(v: &[f64]) -> Value {
+    match median(v) {
+        Some(value) => Value::Median { value, n: v.len() },
+        None => Value::Samples(v.len()),
+    }
+}
+
+/// Compares `current` (the candidate) against `baseline`.
 pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) -> Vec<Comparison> {
     let cur_groups = groups(current);
     let mut rows = vec![];
     for b in groups(baseline) {
         let config = config_label(b[0]);
         let Some(c) = cur_groups.iter().find(|g| key(g[0]) == key(b[0])) else {
-            rows.push(Comparison {
-                config,
-                metric: "runs".into(),
-                baseline: Value::Runs(b.len()),
-                current: Value::Runs(0),
-                change: Change::None,
-                p: None,
-                verdict: Verdict::Missing,
-                tests: None,
-                wall: false,
-            });
+            let mut r = Comparison::new(
+                &config,
+                Design::Missing,
+                "runs",
+                Value::Runs(b.len()),
+                Value::Runs(0),
+            );
+            r.verdict = Verdict::Missing;
+            rows.push(r);
             continue;
         };
-        // Success rate.
-        let (sb, nb) = (
-            b.iter().filter(|r| r.success()).count() as u64,
-            b.len() as u64,
-        );
-        let (sc, nc) = (
-            c.iter().filter(|r| r.success()).count() as u64,
-            c.len() as u64,
-        );
-        let (rb, rc) = (sb as f64 / nb as f64, sc as f64 / nc as f64);
-        let (_, p_worse) = two_proportion_z(sc, nc, sb, nb, Alternative::Less);
-        let (_, p_better) = two_proportion_z(sc, nc, sb, nb, Alternative::Greater);
-        rows.push(Comparison {
-            config: config.clone(),
-            metric: "success_rate".into(),
-            baseline: Value::Rate {
-                successes: sb,
-                runs: nb,
-            },
-            current: Value::Rate {
-                successes: sc,
-                runs: nc,
-            },
-            change: Change::Points(rc - rb),
-            p: None,
-            verdict: Verdict::Ok,
-            tests: Some((p_worse, p_better, rb - rc > tol.success, rc > rb)),
-            wall: false,
-        });
+        let s = sides(&b, c);
+        let design = match &s {
+            Sides::Paired(p) => Design::Paired(p.len()),
+            Sides::Unpaired(..) => Design::Unpaired(b.len(), c.len()),
+        };
+        let rate = |g: &[&RunRecord]| Value::Rate {
+            successes: g.iter().filter(|r| r.success()).count() as u64,
+            runs: g.len() as u64,
+        };
+        let mut row = Comparison::new(&config, design, "success_rate", rate(&b), rate(c));
+        let (test, change) = metric::success(&s, tol.success, tol.alpha);
+        (row.test, row.change) = (Some(test), change);
+        rows.push(row);
         let metrics: Vec<NamedMetric> = METRICS
             .iter()
             .map(|&(name, f, wall)| -> NamedMetric { (name.to_string(), Box::new(f), wall) })
@@ -315,100 +293,25 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             if wall && !tol.wall_clock {
                 continue;
             }
-            let xb: Vec<f64> = b
-                .iter()
-                .filter_map(|r| f(r))
-                .filter(|v| v.is_finite())
-                .collect();
-            let xc: Vec<f64> = c
-                .iter()
-                .filter_map(|r| f(r))
-                .filter(|v| v.is_finite())
-                .collect();
+            let (xb, xc) = (values(&b, &*f), values(c, &*f));
             if xb.is_empty() && xc.is_empty() {
                 continue;
             }
+            let mut row =
+                Comparison::new(&config, design, &name, median_value(&xb), median_value(&xc));
+            row.gated = !wall || tol.gate_time;
             if xb.is_empty() {
-                rows.push(Comparison {
-                    config: config.clone(),
-                    metric: name,
-                    baseline: Value::Samples(0),
-                    current: match median(&xc) {
-                        Some(value) => Value::Median { value, n: xc.len() },
-                        None => Value::Samples(xc.len()),
-                    },
-                    change: Change::None,
-                    p: None,
-                    verdict: Verdict::New,
-                    tests: None,
-                    wall,
-                });
-                continue;
-            }
-            let (Some(mb), Some(mc)) = (median(&xb), median(&xc)) else {
-                rows.push(Comparison {
-                    config: config.clone(),
-                    metric: name.clone(),
-                    baseline: Value::Samples(xb.len()),
-                    current: Value::Samples(xc.len()),
-                    change: Change::None,
-                    p: None,
-                    verdict: Verdict::NoData,
-                    tests: None,
-                    wall: false,
-                });
-                continue;
-            };
-            let tolerance = if wall { tol.time } else { tol.relative };
-            let worse = mann_whitney_u(&xc, &xb, Alternative::Greater)
-                .map(|t| t.p)
-                .unwrap_or(1.0);
-            let better = mann_whitney_u(&xc, &xb, Alternative::Less)
-                .map(|t| t.p)
-                .unwrap_or(1.0);
-            let rel = if mb.abs() > 1e-12 {
-                (mc - mb) / mb.abs()
-            } else if mc > mb {
-                f64::INFINITY
+                row.verdict = Verdict::New;
             } else {
-                0.0
-            };
-            let seed = crate::run::fake::seed_of(&format!("{config}|{name}"));
-            let metric = name;
-            let ci = median_diff_ci(&xb, &xc, 0.95, 2000, seed);
-            let change = match ci {
-                Some(ci) if mb.abs() > 1e-12 => Change::Relative {
-                    rel,
-                    lo: ci.lo / mb.abs(),
-                    hi: ci.hi / mb.abs(),
-                },
-                Some(ci) => Change::Absolute {
-                    diff: ci.diff,
-                    lo: ci.lo,
-                    hi: ci.hi,
-                },
-                None => Change::None,
-            };
-            let enough = xb.len() >= 3 && xc.len() >= 3;
-            rows.push(Comparison {
-                config: config.clone(),
-                metric,
-                baseline: Value::Median {
-                    value: mb,
-                    n: xb.len(),
-                },
-                current: Value::Median {
-                    value: mc,
-                    n: xc.len(),
-                },
-                change,
-                p: None,
-                verdict: Verdict::NoData,
-                tests: enough.then_some((worse, better, rel > tolerance, rel < 0.0)),
-                wall,
-            });
+                let rel = if wall { tol.time } else { tol.relative };
+                let mb = median(&xb).unwrap_or(0.0);
+                if let Some((test, change)) = metric::shift(&s, &*f, rel, mb, tol.alpha) {
+                    (row.test, row.change) = (Some(test), change);
+                }
+            }
+            rows.push(row);
         }
     }
-    decide(&mut rows, tol.alpha, tol.gate_time);
+    decide(&mut rows, tol.alpha);
     rows
 }

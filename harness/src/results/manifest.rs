@@ -110,6 +110,10 @@ pub struct Manifest {
     pub runs_failed: usize,
     /// Every session, in order.
     pub sessions: Vec<Session>,
+    /// SHA-256 of each file of the folder (but this manifest and the lock file) when it was
+    /// finalized, by path relative to the folder; `results verify` checks them.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub files: BTreeMap<String, String>,
 }
 
 /// Now, RFC 3339 UTC to the second.
@@ -220,6 +224,7 @@ impl Manifest {
             runs_done: 0,
             runs_failed: 0,
             sessions: vec![],
+            files: BTreeMap::new(),
         }
     }
 
@@ -248,9 +253,13 @@ impl Manifest {
         let tmp = dir.join("manifest.json.tmp");
         let text =
             serde_json::to_string_pretty(self).map_err(|e| CliError::Failed(e.to_string()))? + "\n";
-        std::fs::write(&tmp, text)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", tmp.display())))?;
+        let written = std::fs::File::create(&tmp).and_then(|mut f| {
+            std::io::Write::write_all(&mut f, text.as_bytes())?;
+            f.sync_all()
+        });
+        written.map_err(|e| CliError::Failed(format!("{}: {e}", tmp.display())))?;
         std::fs::rename(&tmp, &path)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
+            .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+        super::store::sync_dir(&path)
     }
 }

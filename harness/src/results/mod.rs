@@ -5,15 +5,22 @@
 //! - `manifest.json`: the experiment, code revision, crate versions, host, threads, times;
 //! - `ompl.log`: the runs in OMPL's benchmark log format;
 //! - `plots/`: SVG and PNG plots;
-//! - `report.html`: one self-contained page with every plot and summary tables.
+//! - `report.html`: one self-contained page with every plot and summary tables;
+//! - `.magbench.lock`: the lock a `bench` or `merge` holds while it writes the folder.
+//!
+//! docs/results.md describes the files, the lock, crash safety and `results verify`.
 
+pub mod lock;
 pub mod manifest;
 pub mod merge;
 pub mod ompl;
 pub mod plots;
+pub mod repair;
 pub mod report;
+pub mod resume;
 pub mod store;
 pub mod summary;
+pub mod verify;
 
 use std::path::Path;
 
@@ -24,7 +31,7 @@ use crate::run::Status;
 
 /// Writes the derived files of a results folder from its runs: sorts `runs.csv` and
 /// `progress.csv` into run order, writes `ompl.log`, the plots and `report.html`, and records
-/// the counts and end time in the manifest.
+/// the counts, end time and every file's hash in the manifest.
 pub fn finalize(dir: &Path) -> Result<(), CliError> {
     let mut m = Manifest::read(dir)?;
     let runs = store::read_runs(dir)?;
@@ -38,5 +45,6 @@ pub fn finalize(dir: &Path) -> Result<(), CliError> {
     ompl::write(dir, &m, &runs, &progress)?;
     let figures = plots::write_all(dir, &m, &runs, &progress)?;
     report::write(dir, &m, &runs, &figures)?;
+    m.files = verify::file_hashes(dir)?;
     m.write(dir)
 }

@@ -1,9 +1,11 @@
 //! The files of a results folder that hold runs: `runs.csv` and `progress.csv`.
 //!
-//! Crash safety: each finished run appends its progress rows, then its `runs.csv` row, each in
-//! one write followed by a flush. A `runs.csv` row is the commit mark of a run. [`repair`]
-//! (called before resuming) drops a trailing partial line and progress rows of runs that have
-//! no `runs.csv` row, so an interrupted sweep loses only the runs that were in flight.
+//! Crash safety: each finished run appends its progress rows, then its `runs.csv` row (which
+//! records how many progress rows the run has, `progress_rows`), each in one write of whole
+//! lines, then syncs both files. A kill at any byte leaves each file a prefix of what would
+//! have been written; [`super::repair`] (called before resuming) drops a partial last line,
+//! progress rows without their run's row, and runs whose trace is not exactly `progress_rows`
+//! long, so those runs run again and none is doubled or lost.
 //!
 //! Per-agent columns: after the fixed columns of [`RunRecord`], `runs.csv` has the columns of
 //! [`agent_columns`] for agents `0..n`, `n` the largest team the experiment tracks (0 for
@@ -11,7 +13,6 @@
 //! one file has one header whatever its teams. The header names `n`: resuming and rewriting
 //! keep it.
 
-use std::collections::BTreeSet;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -50,7 +51,7 @@ pub fn runs_header(agents: usize) -> String {
 
 /// The number of agents whose columns `header` (a `runs.csv` header line) has, if it is a
 /// header of this version.
-fn header_agents(header: &str) -> Option<usize> {
+pub fn header_agents(header: &str) -> Option<usize> {
     let n = header
         .split(',')
         .filter(|c| c.starts_with("rms_error_agent"))
@@ -60,6 +61,17 @@ fn header_agents(header: &str) -> Option<usize> {
 
 /// Agents whose columns a torn header is checked against: more than any scenario has.
 const TORN_HEADER_AGENTS: usize = 64;
+
+/// True if `text` (a whole `runs.csv`) is a header cut short: no complete line, and a prefix
+/// of this version's header.
+pub fn is_torn_runs_header(text: &str) -> bool {
+    complete_len(text) == 0 && runs_header(TORN_HEADER_AGENTS).starts_with(text)
+}
+
+/// True if `text` (a whole `progress.csv`) is a header cut short.
+pub fn is_torn_progress_header(text: &str) -> bool {
+    complete_len(text) == 0 && progress_header().starts_with(text)
+}
 
 /// The per-agent columns a set of runs needs: the largest tracked team.
 pub fn tracked_agents<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> usize {
@@ -71,7 +83,7 @@ pub fn tracked_agents<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> usiz
 }
 
 /// The per-agent columns of the existing `runs.csv` of `dir` (0 without one).
-fn file_agents(dir: &Path) -> usize {
+pub fn file_agents(dir: &Path) -> usize {
     std::fs::read_to_string(dir.join(RUNS))
         .ok()
         .and_then(|t| t.lines().next().and_then(header_agents))
@@ -100,7 +112,8 @@ fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
     out
 }
 
-fn progress_header() -> String {
+/// The header of `progress.csv`.
+pub fn progress_header() -> String {
     header_line(&ProgressRow {
         run: 0,
         run_id: String::new(),
@@ -126,12 +139,18 @@ pub struct RunWriter {
     progress: File,
     dir: PathBuf,
     agents: usize,
+    stall_after: Option<u64>,
 }
+
+/// The environment variable that makes a [`RunWriter`] stop for good after appending this many
+/// bytes of runs (a write that crosses the mark is cut there), announcing it on stderr: the
+/// crash tests kill the process then, which leaves exactly the files of a kill at that byte.
+pub const STALL_ENV: &str = "MAGBENCH_STALL_AT_BYTE";
 
 impl RunWriter {
     /// Opens (creating with headers if needed) the run files of `dir` for appending, with
     /// per-agent columns for `agents` agents (the largest team the experiment tracks). Call
-    /// [`repair`] first on a folder that may hold an interrupted sweep.
+    /// [`super::repair::repair`] first on a folder that may hold an interrupted sweep.
     pub fn open(dir: &Path, agents: usize) -> Result<RunWriter, CliError> {
         std::fs::create_dir_all(dir).map_err(|e| failed(dir, e))?;
         let runs = open_with_header(&dir.join(RUNS), &runs_header(agents))?;
@@ -141,26 +160,44 @@ impl RunWriter {
             progress,
             dir: dir.to_path_buf(),
             agents,
+            stall_after: std::env::var(STALL_ENV).ok().and_then(|v| v.parse().ok()),
         })
     }
 
-    /// Writes one finished run: progress rows first, then the run's row (the commit mark).
+    /// Writes one finished run: progress rows first, then the run's row (the commit mark, with
+    /// the number of progress rows), then syncs both files.
     pub fn write(&mut self, out: &RunOutput) -> Result<(), CliError> {
+        let mut record = out.record.clone();
+        record.progress_rows = Some(out.progress.len() as u64);
         if !out.progress.is_empty() {
-            self.progress
-                .write_all(&record_bytes(&out.progress))
-                .map_err(|e| failed(&self.dir.join(PROGRESS), e))?;
-            self.progress
-                .flush()
-                .map_err(|e| failed(&self.dir.join(PROGRESS), e))?;
+            self.append(PROGRESS, &record_bytes(&out.progress))?;
         }
-        self.runs
-            .write_all(&run_bytes(std::slice::from_ref(&out.record), self.agents))
-            .map_err(|e| failed(&self.dir.join(RUNS), e))?;
-        self.runs
-            .flush()
-            .map_err(|e| failed(&self.dir.join(RUNS), e))?;
+        self.append(RUNS, &run_bytes(std::slice::from_ref(&record), self.agents))?;
+        for (f, name) in [(&self.progress, PROGRESS), (&self.runs, RUNS)] {
+            f.sync_data().map_err(|e| failed(&self.dir.join(name), e))?;
+        }
         Ok(())
+    }
+
+    fn append(&mut self, name: &str, bytes: &[u8]) -> Result<(), CliError> {
+        let f = if name == RUNS {
+            &mut self.runs
+        } else {
+            &mut self.progress
+        };
+        let path = self.dir.join(name);
+        if let Some(left) = self.stall_after.as_mut() {
+            if bytes.len() as u64 > *left {
+                let cut = *left as usize;
+                f.write_all(&bytes[..cut]).map_err(|e| failed(&path, e))?;
+                eprintln!("{STALL_ENV}: stalled in {name} after {cut} bytes of a write");
+                loop {
+                    std::thread::park();
+                }
+            }
+            *left -= bytes.len() as u64;
+        }
+        f.write_all(bytes).map_err(|e| failed(&path, e))
     }
 }
 
@@ -174,7 +211,7 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, CliError> {
     if existing.is_empty() {
         f.write_all(format!("{header}\n").as_bytes())
             .map_err(|e| failed(path, e))?;
-        f.flush().map_err(|e| failed(path, e))?;
+        f.sync_data().map_err(|e| failed(path, e))?;
     } else if existing.lines().next() != Some(header) {
         return Err(CliError::Input(magbench_env::InputError::new(
             path.display().to_string(),
@@ -193,7 +230,12 @@ pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, CliError> {
         return Ok(vec![]);
     }
     let text = std::fs::read_to_string(&path).map_err(|e| failed(&path, e))?;
-    let mut rd = csv::Reader::from_reader(complete_part(&text).as_bytes());
+    parse_runs(&path, complete_part(&text))
+}
+
+/// Parses the complete rows `text` (header first) of the `runs.csv` at `path`.
+pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
+    let mut rd = csv::Reader::from_reader(text.as_bytes());
     let bad = |row: usize, e: String| {
         CliError::Input(magbench_env::InputError::new(
             path.display().to_string(),
@@ -249,11 +291,24 @@ pub fn read_progress(dir: &Path) -> Result<Vec<ProgressRow>, CliError> {
     read_rows(&dir.join(PROGRESS))
 }
 
-fn complete_part(text: &str) -> &str {
-    match text.rfind('\n') {
-        Some(i) => &text[..=i],
-        None => "",
+/// The length of the complete lines of CSV `text`: up to its last line end outside quotes
+/// (the rest is a line cut short).
+pub fn complete_len(text: &str) -> usize {
+    let mut quoted = false;
+    let mut end = 0;
+    for (i, b) in text.bytes().enumerate() {
+        match b {
+            b'"' => quoted = !quoted,
+            b'\n' if !quoted => end = i + 1,
+            _ => {}
+        }
     }
+    end
+}
+
+/// The complete lines of CSV `text`.
+pub fn complete_part(text: &str) -> &str {
+    &text[..complete_len(text)]
 }
 
 fn read_rows<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, CliError> {
@@ -261,7 +316,16 @@ fn read_rows<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, CliE
         return Ok(vec![]);
     }
     let text = std::fs::read_to_string(path).map_err(|e| failed(path, e))?;
-    let mut rd = csv::Reader::from_reader(complete_part(&text).as_bytes());
+    parse_rows(path, complete_part(&text))
+}
+
+/// Parses the complete rows `text` (header first) of the `progress.csv` at `path`.
+pub fn parse_progress(path: &Path, text: &str) -> Result<Vec<ProgressRow>, CliError> {
+    parse_rows(path, text)
+}
+
+fn parse_rows<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<Vec<T>, CliError> {
+    let mut rd = csv::Reader::from_reader(text.as_bytes());
     let mut out = vec![];
     for (i, r) in rd.deserialize().enumerate() {
         out.push(r.map_err(|e| {
@@ -275,56 +339,6 @@ fn read_rows<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, CliE
     Ok(out)
 }
 
-/// Makes the run files of `dir` consistent after an interruption and returns the ids of the
-/// finished runs: drops a trailing partial line, duplicate rows (keeping the first) and
-/// progress rows of unfinished runs.
-pub fn repair(dir: &Path) -> Result<BTreeSet<String>, CliError> {
-    let runs_path = dir.join(RUNS);
-    if !runs_path.exists() {
-        return Ok(BTreeSet::new());
-    }
-    let text = std::fs::read_to_string(&runs_path).map_err(|e| failed(&runs_path, e))?;
-    let agents = file_agents(dir);
-    if !text.is_empty() && !text.starts_with(&format!("{}\n", runs_header(agents))) {
-        // (a torn line is a prefix of the header of the largest team as well)
-        if !text.contains('\n') && runs_header(TORN_HEADER_AGENTS).starts_with(&text) {
-            // Killed while writing the header: no run finished.
-            std::fs::remove_file(&runs_path).map_err(|e| failed(&runs_path, e))?;
-            let _ = std::fs::remove_file(dir.join(PROGRESS));
-            return Ok(BTreeSet::new());
-        }
-        return Err(CliError::Input(magbench_env::InputError::new(
-            runs_path.display().to_string(),
-            "header",
-            "the columns differ from this version of magbench; write to a new --out folder",
-        )));
-    }
-    let runs: Vec<RunRecord> = read_runs(dir)?;
-    let mut done = BTreeSet::new();
-    let kept: Vec<RunRecord> = runs
-        .into_iter()
-        .filter(|r| done.insert(r.run_id.clone()))
-        .collect();
-    let progress: Vec<ProgressRow> = read_progress(dir)?;
-    let n_progress = progress.len();
-    let kept_progress: Vec<ProgressRow> = progress
-        .into_iter()
-        .filter(|p| done.contains(&p.run_id))
-        .collect();
-    let runs_dirty = complete_part(&text).len() != text.len()
-        || kept.len() != text.lines().count().saturating_sub(1);
-    let progress_text = std::fs::read_to_string(dir.join(PROGRESS)).unwrap_or_default();
-    let progress_dirty = kept_progress.len() != n_progress
-        || complete_part(&progress_text).len() != progress_text.len();
-    if runs_dirty {
-        write_runs_atomic(&runs_path, agents, &kept)?;
-    }
-    if progress_dirty {
-        write_atomic(&dir.join(PROGRESS), &progress_header(), &kept_progress)?;
-    }
-    Ok(done)
-}
-
 /// Replaces `path` with `header` and `rows`, atomically (write a temporary file, then rename).
 pub fn write_atomic<T: serde::Serialize>(
     path: &Path,
@@ -336,7 +350,7 @@ pub fn write_atomic<T: serde::Serialize>(
 
 /// Replaces the `runs.csv` at `path` with `rows` and per-agent columns for `agents` agents,
 /// atomically.
-fn write_runs_atomic(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), CliError> {
+pub fn write_runs_atomic(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), CliError> {
     replace_atomic(path, &runs_header(agents), run_bytes(rows, agents))
 }
 
@@ -349,7 +363,21 @@ fn replace_atomic(path: &Path, header: &str, rows: Vec<u8>) -> Result<(), CliErr
         f.write_all(&bytes).map_err(|e| failed(&tmp, e))?;
         f.sync_all().map_err(|e| failed(&tmp, e))?;
     }
-    std::fs::rename(&tmp, path).map_err(|e| failed(path, e))
+    std::fs::rename(&tmp, path).map_err(|e| failed(path, e))?;
+    sync_dir(path)
+}
+
+/// Syncs the folder holding `path`, so that a rename into it is durable.
+pub fn sync_dir(path: &Path) -> Result<(), CliError> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    // a folder that cannot be opened or synced (some file systems) is left as it is
+    if let Ok(d) = File::open(dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
 }
 
 /// Rewrites `runs.csv` and `progress.csv` of `dir` with `runs` sorted by run index and
@@ -395,49 +423,6 @@ mod tests {
         }
     }
 
-    #[test]
-    fn repair_drops_partial_lines_and_orphan_progress() {
-        let dir = tempfile::tempdir().unwrap();
-        let mut w = RunWriter::open(dir.path(), 0).unwrap();
-        w.write(&out(0)).unwrap();
-        w.write(&out(1)).unwrap();
-        drop(w);
-        // A run killed after its progress rows, and a torn runs.csv line.
-        let mut p = OpenOptions::new()
-            .append(true)
-            .open(dir.path().join(PROGRESS))
-            .unwrap();
-        p.write_all(&record_bytes(&out(2).progress)).unwrap();
-        let mut r = OpenOptions::new()
-            .append(true)
-            .open(dir.path().join(RUNS))
-            .unwrap();
-        let line = record_bytes(&[out(2).record]);
-        r.write_all(&line[..line.len() / 2]).unwrap();
-        drop((p, r));
-        let done = repair(dir.path()).unwrap();
-        assert_eq!(done.len(), 2);
-        assert_eq!(read_runs(dir.path()).unwrap().len(), 2);
-        assert_eq!(read_progress(dir.path()).unwrap().len(), 6);
-        // Appending after a repair gives well-formed files.
-        let mut w = RunWriter::open(dir.path(), 0).unwrap();
-        w.write(&out(2)).unwrap();
-        assert_eq!(read_runs(dir.path()).unwrap().len(), 3);
-        assert_eq!(repair(dir.path()).unwrap().len(), 3);
-    }
-
-    #[test]
-    fn a_torn_header_means_no_finished_run() {
-        let dir = tempfile::tempdir().unwrap();
-        std::fs::write(dir.path().join(RUNS), &runs_header(0)[..10]).unwrap();
-        assert!(repair(dir.path()).unwrap().is_empty());
-        RunWriter::open(dir.path(), 0)
-            .unwrap()
-            .write(&out(0))
-            .unwrap();
-        assert_eq!(read_runs(dir.path()).unwrap().len(), 1);
-    }
-
     fn tracked(i: usize, agents: usize) -> RunOutput {
         let mut o = out(i);
         o.record.tracker = "obc".into();
@@ -474,11 +459,12 @@ mod tests {
         assert!(!rows[0][width - 9].is_empty());
         let back = read_runs(dir.path()).unwrap();
         for (i, n) in [(0, 2), (1, 4), (2, 3)] {
-            assert_eq!(back[i], tracked(i, n).record);
+            let mut want = tracked(i, n).record;
+            want.progress_rows = Some(3);
+            assert_eq!(back[i], want);
         }
         assert!(back[3].per_agent.is_empty());
         // resuming keeps the header; rewriting in run order keeps the columns
-        assert_eq!(repair(dir.path()).unwrap().len(), 4);
         RunWriter::open(dir.path(), 4).unwrap();
         write_sorted(dir.path(), back.clone(), vec![]).unwrap();
         assert_eq!(read_runs(dir.path()).unwrap(), back);

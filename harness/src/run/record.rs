@@ -84,6 +84,10 @@ pub struct RunRecord {
     pub iterations: u64,
     /// Nodes in the tree at the end.
     pub nodes: u64,
+    /// Points of this run's trace in `progress.csv`, set when the row is written: a resume and
+    /// `results verify` check the trace against it (empty in files of older versions).
+    #[serde(default)]
+    pub progress_rows: Option<u64>,
     /// Planning wall time (s).
     pub plan_time_s: f64,
     /// Cost of the plan (solved runs).
@@ -258,6 +262,7 @@ impl RunRecord {
             approximate: false,
             iterations: 0,
             nodes: 0,
+            progress_rows: None,
             plan_time_s: 0.0,
             cost: None,
             goal_distance: 0.0,

@@ -1,13 +1,17 @@
-//! Statistics for benchmark results: quantiles, the Mann–Whitney U test, a seeded bootstrap of
-//! the median difference, and proportions (two-proportion z test, Wilson and Clopper–Pearson
-//! intervals). Distributions come from `statrs`.
+//! Statistics for benchmark results: quantiles, the Mann–Whitney U test, proportions
+//! (two-proportion z test, Wilson and Clopper–Pearson intervals), intervals of a difference of
+//! rates (Newcombe, Tango), distribution-free shift intervals (Hodges–Lehmann with the rank
+//! tests' intervals) and Holm's adjustment. Distributions come from `statrs`.
 
-pub mod bootstrap;
+pub mod holm;
 pub mod mann_whitney;
 pub mod proportion;
 pub mod quantile;
+pub mod rank_null;
+pub mod rate_diff;
+pub mod shift;
 
-pub use bootstrap::{MedianDiffCi, median_diff_ci};
+pub use holm::holm;
 pub use mann_whitney::{MannWhitney, mann_whitney_u};
 pub use proportion::{clopper_pearson, two_proportion_z, wilson};
 pub use quantile::{Summary, median, quantile_sorted};

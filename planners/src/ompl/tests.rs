@@ -202,7 +202,7 @@ fn a_time_limit_stops_ompl() {
     assert!(r.time_s >= 0.3 && r.iterations > 0, "{} s", r.time_s);
 }
 
-/// The figures of the SST defect for the README (not part of the suite):
+/// The figures of the SST defect for docs/ompl-planners.md (not part of the suite):
 /// `cargo test -p magbench-planners --features ompl --lib -- --ignored sst_node_counts --nocapture`
 #[test]
 #[ignore]

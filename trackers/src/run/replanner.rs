@@ -5,7 +5,7 @@
 //! A stall is the tracker's progress along the plan (the reference sample it is at) not
 //! passing its best so far for `replan_after` seconds: the team cannot get back onto the plan
 //! from where it is, although no agent may be far from its own path. For three agents or more
-//! this is common (README "Teams of three and more: measured"): a plan may pass through shapes
+//! this is common (docs/physics.md, "Teams of three and more: measured"): a plan may pass through shapes
 //! the real team cannot reach at all — the evenly spaced row is an invariant set of the
 //! nominal model (by symmetry every command keeps it a row), so a plan from a row start stays
 //! on it while the real, unequal agents bend out of it — and a new plan from the observed state

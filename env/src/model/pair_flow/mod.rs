@@ -1,4 +1,4 @@
-//! The exact flow of a nominal pair under a constant planar command (issue 10; README
+//! The exact flow of a nominal pair under a constant planar command (docs/physics.md
 //! "Physics → The exact flow of a pair").
 //!
 //! For two identical agents (equal moment and mobility) under a constant field angle θ_B,
