@@ -14,7 +14,7 @@ use magbench_env::plant::{DisturbancePreset, Observation};
 use magbench_env::{Control, LocalView, PlanningModel, Scenario, Vec2};
 use magbench_planners::Plan;
 use magbench_trackers::{
-    Mission, ObcOptimizer, ObcWeights, Reference, Tick, TrackerContext, TrackerSpec, simulate,
+    Mission, ObcOptimizer, ObcWeights, Reference, Tick, TrackerContext, Trackers, simulate,
 };
 
 /// A plan through the open middle of micro-factory, made by propagating the planning model:
@@ -71,7 +71,10 @@ fn bench(c: &mut Criterion) {
         goal: s.final_goal(),
     };
     for name in ["obc", "lookahead"] {
-        let mut tracker = TrackerSpec::parse(name, &[], "bench").unwrap().build();
+        let mut tracker = Trackers::builtin()
+            .spec(name, &[], "bench")
+            .unwrap()
+            .build();
         tracker.reset(&ctx);
         // settle its progress near the middle
         tracker.command(
@@ -166,7 +169,9 @@ fn tick_percentiles() {
     let p = plan(&model);
     s.start = p.start().to_vec();
     for name in ["obc", "lookahead"] {
-        let spec = TrackerSpec::parse(name, &[("time_slack".into(), "8".into())], "bench").unwrap();
+        let spec = Trackers::builtin()
+            .spec(name, &[("time_slack".into(), "8".into())], "bench")
+            .unwrap();
         let mut us: Vec<f64> = vec![];
         for seed in 0..5 {
             let mut m = Mission::with_plan(&s, p.clone());

@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use magbench_env::Scenario;
 use magbench_planners::nn::NearestNeighbors;
-use magbench_planners::{Limits, Problem, registry};
+use magbench_planners::{Limits, Planners, Problem};
 
 /// Counts live heap bytes and their peak.
 struct Counting;
@@ -67,7 +67,7 @@ fn main() {
             max_iterations: Some(200_000),
             time_limit: None,
         };
-        let mut planner = registry::create("goal-zoom-rrt", &[]).unwrap();
+        let mut planner = Planners::builtin().create("goal-zoom-rrt", &[]).unwrap();
         let base = LIVE.load(Ordering::Relaxed);
         PEAK.store(base, Ordering::Relaxed);
         let r = planner.solve(&p);

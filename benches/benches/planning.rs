@@ -27,7 +27,7 @@ use magbench_env::model::Flow;
 use magbench_env::{Control, LocalView, Scenario, Vec2};
 use magbench_planners::extend::{Extend, Timing};
 use magbench_planners::nn::NearestNeighbors;
-use magbench_planners::{Limits, Metric, Planner, Problem, Rng, registry};
+use magbench_planners::{Limits, Metric, Planner, Planners, Problem, Rng};
 use rand::{RngExt, SeedableRng};
 
 fn problem() -> Problem {
@@ -184,7 +184,8 @@ fn bench(c: &mut Criterion) {
                 time_limit: None,
             };
             seed += 1;
-            let mut planner: Box<dyn Planner> = registry::create("goal-zoom-rrt", &[]).unwrap();
+            let mut planner: Box<dyn Planner> =
+                Planners::builtin().create("goal-zoom-rrt", &[]).unwrap();
             planner.solve(&q).solved
         })
     });

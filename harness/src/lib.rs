@@ -2,20 +2,31 @@
 //!
 //! The harness of magbench: the command line, experiments, results, plots and figures.
 //! The physics, planners, trackers and rig drivers live in their own crates.
+//!
+//! As a library it runs the whole command line with planners and trackers of your own: a
+//! plugin crate depends on `magbench`, writes its planner or tracker against
+//! [`prelude`], and its `main` is `magbench::Cli::new().planner::<MyRrt>("my-rrt").run()`
+//! ([`Cli`], [`Registry`]; see `docs/plugins.md`).
 
 #![warn(missing_docs)]
 
 pub mod ablation;
+mod app;
 pub mod cli;
 pub mod error;
 pub mod experiment;
 pub mod figures;
 pub mod fuzz;
 pub mod plot;
+pub mod prelude;
+pub mod registry;
 pub mod regress;
 pub mod results;
 pub mod run;
 pub mod stats;
 pub mod sweep;
 
+pub use app::Cli;
 pub use error::CliError;
+pub use magbench_env::params::RegistryError;
+pub use registry::Registry;

@@ -20,13 +20,17 @@ iterations = 600
 #[test]
 fn real_planner_runs_are_identical_at_one_and_two_threads() {
     let dir = tempfile::tempdir().unwrap();
-    let e = Experiment::load(&write(dir.path(), "exp.toml", EXP), &RealExecutor).unwrap();
+    let e = Experiment::load(
+        &write(dir.path(), "exp.toml", EXP),
+        &RealExecutor::default(),
+    )
+    .unwrap();
     let mut outs = vec![];
     for threads in [1, 2] {
         let out = dir.path().join(format!("t{threads}"));
         let s = run_sweep(
             &e,
-            &RealExecutor,
+            &RealExecutor::default(),
             &SweepOptions {
                 out: out.clone(),
                 threads,
@@ -61,8 +65,11 @@ fn unknown_planners_and_parameters_are_input_errors() {
             "\"goal-zoom-rrt\", \"goal-zoom-rrt{k=5, goal_bias=0.2}\"",
             bad,
         );
-        let err =
-            Experiment::load(&write(dir.path(), "bad.toml", &text), &RealExecutor).unwrap_err();
+        let err = Experiment::load(
+            &write(dir.path(), "bad.toml", &text),
+            &RealExecutor::default(),
+        )
+        .unwrap_err();
         assert_eq!(err.field, field, "{err}");
     }
 }
@@ -71,13 +78,17 @@ fn unknown_planners_and_parameters_are_input_errors() {
 fn tracked_runs_fill_the_tracking_columns_deterministically() {
     let dir = tempfile::tempdir().unwrap();
     let text = "name = \"real-track\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt\"]\ntrackers = [\"open-loop\"]\npresets = [\"ideal\", \"realistic\"]\nseeds = 2\n[limits]\niterations = 400\n";
-    let e = Experiment::load(&write(dir.path(), "exp.toml", text), &RealExecutor).unwrap();
+    let e = Experiment::load(
+        &write(dir.path(), "exp.toml", text),
+        &RealExecutor::default(),
+    )
+    .unwrap();
     let mut outs = vec![];
     for threads in [1, 2] {
         let out = dir.path().join(format!("t{threads}"));
         let s = run_sweep(
             &e,
-            &RealExecutor,
+            &RealExecutor::default(),
             &SweepOptions {
                 out: out.clone(),
                 threads,
@@ -109,7 +120,7 @@ fn tracked_runs_fill_the_tracking_columns_deterministically() {
     ] {
         let err = Experiment::load(
             &write(dir.path(), "bad.toml", &text.replace("\"open-loop\"", bad)),
-            &RealExecutor,
+            &RealExecutor::default(),
         )
         .unwrap_err();
         assert_eq!(err.field, field, "{err}");
@@ -133,9 +144,13 @@ plans = ["goal-zoom-rrt"]
 trackers = ["open-loop"]
 presets = ["ideal"]
 "#;
-    let e = Experiment::load(&write(dir.path(), "exp.toml", text), &RealExecutor).unwrap();
+    let e = Experiment::load(
+        &write(dir.path(), "exp.toml", text),
+        &RealExecutor::default(),
+    )
+    .unwrap();
     let out = dir.path().join("r");
-    let s = run_sweep(&e, &RealExecutor, &opts(&out, 2)).unwrap();
+    let s = run_sweep(&e, &RealExecutor::default(), &opts(&out, 2)).unwrap();
     assert_eq!((s.executed, s.failed), (3 * 2 + 2, 0));
     let runs = magbench::results::store::read_runs(&out).unwrap();
     let tracked: Vec<_> = runs.iter().filter(|r| !r.tracker.is_empty()).collect();

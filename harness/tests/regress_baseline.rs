@@ -19,7 +19,7 @@ use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
 fn the_ci_experiment_shows_no_regression_against_the_baseline() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let baseline = root.join("results/baseline");
-    let e = Experiment::load(&root.join("experiments/ci.toml"), &RealExecutor).unwrap();
+    let e = Experiment::load(&root.join("experiments/ci.toml"), &RealExecutor::default()).unwrap();
     let m = Manifest::read(&baseline).unwrap();
     assert_eq!(
         m.experiment.sha256,
@@ -30,7 +30,7 @@ fn the_ci_experiment_shows_no_regression_against_the_baseline() {
     let out = dir.path().join("ci");
     let s = run_sweep(
         &e,
-        &RealExecutor,
+        &RealExecutor::default(),
         &SweepOptions {
             out: out.clone(),
             threads: 2,

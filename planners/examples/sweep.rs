@@ -10,7 +10,7 @@
 use std::sync::{Arc, Mutex};
 
 use magbench_env::Scenario;
-use magbench_planners::{Limits, Problem, registry, validate_plan};
+use magbench_planners::{Limits, Problem, registry::Planners, validate_plan};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -80,7 +80,7 @@ fn main() {
                             eprintln!("seed {seed}: {st:?}");
                             r
                         } else {
-                            registry::create(planner, params).unwrap().solve(&p)
+                            Planners::builtin().create(planner, params).unwrap().solve(&p)
                         };
                         if r.solved {
                             validate_plan(&p, &r.plan).unwrap_or_else(|e| panic!("seed {seed}: {e}"));

@@ -5,7 +5,7 @@
 //! [`Plan`] — a sequence of (state, control, duration) — comes out. [`validate_plan`] checks any
 //! plan independently of the planner that made it.
 //!
-//! The planners ([`registry`] creates them by name and `key=value` parameters):
+//! The planners ([`registry::Planners`] creates them by name and `key=value` parameters):
 //!
 //! - `goal-zoom-rrt`: the seed's Algorithms 1–3 ([`planners::GoalZoomRrt`]);
 //! - `rrt-star`: kinodynamic RRT* with shooting connections ([`planners::RrtStar`]);
@@ -49,6 +49,7 @@ pub use objective::{Objective, plan_cost};
 pub use plan::Plan;
 pub use planner::{Planner, PlannerResult, ProgressPoint};
 pub use problem::{Limits, Problem};
+pub use registry::Planners;
 pub use setup::{ElevationRefused, PlanningSetup, Unusable, check_result};
 pub use validate::{PlanError, validate_path, validate_plan};
 

@@ -1,51 +1,166 @@
 //! Planners by name and `key=value` parameters, for the CLI and experiment files.
 //!
-//! The table of planners is [`crate::planners::PLANNERS`]; each planner's parameters are
-//! declared once in its own file. Unknown planners, unknown parameters and bad values are
-//! [`InputError`]s naming the source, the field (`planner`, `param.KEY`) and the reason.
+//! [`Planners`] is a value: [`Planners::builtin`] holds the planners of this crate
+//! ([`crate::planners::builtins`]) and [`Planners::add`] takes more at run time (a plugin's).
+//! Each planner's parameters are declared once in its own file. Unknown planners, unknown
+//! parameters and bad values are [`InputError`]s naming the source, the field (`planner`,
+//! `param.KEY`) and the reason.
 
 use magbench_env::InputError;
-use magbench_env::params::{ParamInfo, apply, lookup};
+use magbench_env::params::{ParamError, ParamInfo, ParamSet, RegistryError, Table, apply};
 
-use crate::Planner;
-use crate::planners::PLANNERS;
+use crate::tree::Tree;
+use crate::{Planner, PlannerResult, Problem};
 
 /// A registered planner: its name, a one-line summary and a constructor with defaults.
 pub type Entry = magbench_env::params::Entry<dyn Planner>;
 
-/// Names of the registered planners.
-pub fn names() -> Vec<&'static str> {
-    magbench_env::params::names(PLANNERS)
+/// The planners known by name: the built-ins and whatever was added at run time.
+#[derive(Clone, Debug)]
+pub struct Planners {
+    table: Table<dyn Planner>,
 }
 
-/// Every planner's name, summary and parameters with their defaults.
-pub fn list() -> Vec<(&'static str, &'static str, Vec<ParamInfo>)> {
-    PLANNERS
-        .iter()
-        .map(|e| (e.name, e.summary, e.make().params()))
-        .collect()
+impl Default for Planners {
+    /// The built-in planners.
+    fn default() -> Self {
+        Planners::builtin()
+    }
 }
 
-/// Creates planner `name` with parameters `params` (key, value); errors name `<command line>`.
-pub fn create(name: &str, params: &[(String, String)]) -> Result<Box<dyn Planner>, InputError> {
-    create_in("<command line>", name, params)
+impl Planners {
+    /// No planners.
+    pub fn empty() -> Self {
+        Planners {
+            table: Table::new("planner"),
+        }
+    }
+
+    /// The planners of this crate (and `ompl:*` with the feature `ompl`).
+    pub fn builtin() -> Self {
+        let mut p = Planners::empty();
+        for e in crate::planners::builtins() {
+            p.table
+                .add(e)
+                .expect("the built-in planners have distinct, valid names");
+        }
+        p
+    }
+
+    /// Adds planner `name`, made with its defaults by `make`; refuses a name already taken or
+    /// one an experiment file cannot write. The planners it makes report `name` from
+    /// [`Planner::name`].
+    pub fn add(
+        &mut self,
+        name: &str,
+        summary: &str,
+        make: impl Fn() -> Box<dyn Planner> + Send + Sync + 'static,
+    ) -> Result<&mut Self, RegistryError> {
+        self.table.add(Entry::new(name, summary, make))?;
+        Ok(self)
+    }
+
+    /// The entry called `name`, if any.
+    pub fn get(&self, name: &str) -> Option<&Entry> {
+        self.table.get(name)
+    }
+
+    /// Names of the registered planners, in the order they were added.
+    pub fn names(&self) -> Vec<&str> {
+        self.table.names()
+    }
+
+    /// Every planner's name, summary and parameters with their defaults.
+    pub fn list(&self) -> Vec<(&str, &str, Vec<ParamInfo>)> {
+        self.table
+            .iter()
+            .map(|e| (e.name(), e.summary(), e.make().params()))
+            .collect()
+    }
+
+    /// Creates planner `name` with parameters `params` (key, value); errors name
+    /// `<command line>`.
+    pub fn create(
+        &self,
+        name: &str,
+        params: &[(String, String)],
+    ) -> Result<Box<dyn Planner>, InputError> {
+        self.create_in("<command line>", name, params)
+    }
+
+    /// Creates planner `name` with parameters `params`; errors name `source` (a file or
+    /// `<command line>`), the field (`planner` or `param.KEY`) and the reason.
+    pub fn create_in(
+        &self,
+        source: &str,
+        name: &str,
+        params: &[(String, String)],
+    ) -> Result<Box<dyn Planner>, InputError> {
+        let entry = self.table.lookup(source, name)?;
+        let mut planner = named(entry.make(), entry.name());
+        apply(source, name, &mut *planner, params)?;
+        Ok(planner)
+    }
 }
 
-/// Creates planner `name` with parameters `params`; errors name `source` (a file or
-/// `<command line>`), the field (`planner` or `param.KEY`) and the reason.
-pub fn create_in(
-    source: &str,
-    name: &str,
-    params: &[(String, String)],
-) -> Result<Box<dyn Planner>, InputError> {
-    let mut planner = lookup(PLANNERS, source, "planner", name)?.make();
-    apply(source, name, &mut *planner, params)?;
-    Ok(planner)
+/// `planner`, reporting `name` from [`Planner::name`] (wrapped when it reports another).
+fn named(planner: Box<dyn Planner>, name: &str) -> Box<dyn Planner> {
+    if planner.name() == name {
+        planner
+    } else {
+        Box::new(Named {
+            name: name.to_string(),
+            inner: planner,
+        })
+    }
+}
+
+/// A planner under its registry name.
+struct Named {
+    name: String,
+    inner: Box<dyn Planner>,
+}
+
+impl ParamSet for Named {
+    fn params(&self) -> Vec<ParamInfo> {
+        self.inner.params()
+    }
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        self.inner.set_param(key, value)
+    }
+    fn check_params(&self) -> Result<(), String> {
+        self.inner.check_params()
+    }
+}
+
+impl Planner for Named {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn solve(&mut self, problem: &Problem) -> PlannerResult {
+        self.inner.solve(problem)
+    }
+    fn tree(&self) -> Option<&Tree> {
+        self.inner.tree()
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::planners::GoalZoomRrt;
+
+    fn create(name: &str, params: &[(String, String)]) -> Result<Box<dyn Planner>, InputError> {
+        Planners::builtin().create(name, params)
+    }
+
+    fn create_in(
+        source: &str,
+        name: &str,
+        params: &[(String, String)],
+    ) -> Result<Box<dyn Planner>, InputError> {
+        Planners::builtin().create_in(source, name, params)
+    }
 
     fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
         pairs
@@ -66,7 +181,8 @@ mod tests {
 
     #[test]
     fn creates_every_planner_with_defaults_and_parameters() {
-        for (name, summary, params) in list() {
+        let builtin = Planners::builtin();
+        for (name, summary, params) in builtin.list() {
             assert!(!summary.is_empty() && !params.is_empty());
             let p = create(name, &[]).unwrap();
             assert_eq!(p.name(), name);
@@ -166,6 +282,72 @@ mod tests {
                 &kv(&[("min_duration", "3"), ("max_duration", "4")])
             )
             .is_ok()
+        );
+    }
+
+    #[test]
+    fn takes_planners_at_run_time_under_their_registry_name() {
+        let mut reg = Planners::builtin();
+        let before = reg.names().len();
+        reg.add("my-rrt", "a plugin's RRT", || {
+            Box::new(GoalZoomRrt::default())
+        })
+        .unwrap()
+        .add("lab:rrt.v2", "another", || Box::new(GoalZoomRrt::default()))
+        .unwrap();
+        assert_eq!(reg.names().len(), before + 2);
+        assert_eq!(reg.names()[before], "my-rrt");
+        // the planner made reports the registry name and keeps its parameters
+        let p = reg.create("my-rrt", &kv(&[("k", "7")])).unwrap();
+        assert_eq!(p.name(), "my-rrt");
+        assert_eq!(value(&*p, "k"), "7");
+        assert!(
+            reg.list()
+                .iter()
+                .any(|(n, s, _)| *n == "my-rrt" && *s == "a plugin's RRT")
+        );
+        // a copy is independent: the built-ins stay as they are
+        assert!(Planners::builtin().get("my-rrt").is_none());
+    }
+
+    #[test]
+    fn refuses_duplicate_and_malformed_names() {
+        let mut reg = Planners::builtin();
+        let e = reg
+            .add(
+                "goal-zoom-rrt",
+                "again",
+                || Box::new(GoalZoomRrt::default()),
+            )
+            .err()
+            .unwrap();
+        assert!(matches!(e, RegistryError::Duplicate { .. }), "{e}");
+        assert!(
+            e.to_string()
+                .contains("\"goal-zoom-rrt\" is already registered"),
+            "{e}"
+        );
+        for bad in ["", "my rrt", "a{b}", "x:", ":x", "a:b:c", "é"] {
+            let e = reg.add(bad, "", || Box::new(GoalZoomRrt::default())).err();
+            assert!(
+                matches!(e, Some(RegistryError::BadName { .. })),
+                "{bad:?}: {e:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn unknown_names_list_the_registered_ones() {
+        let mut reg = Planners::builtin();
+        reg.add("my-rrt", "", || Box::new(GoalZoomRrt::default()))
+            .unwrap();
+        let e = reg.create_in("exp.toml", "my-rtt", &[]).err().unwrap();
+        assert_eq!((e.file.as_str(), e.field.as_str()), ("exp.toml", "planner"));
+        assert!(
+            e.reason.contains("unknown planner \"my-rtt\"")
+                && e.reason.contains("my-rrt")
+                && e.reason.contains("goal-zoom-rrt"),
+            "{e}"
         );
     }
 }

@@ -6,7 +6,7 @@ mod common;
 use common::assert_solution;
 use magbench_env::Scenario;
 use magbench_env::scenario::builtin_names;
-use magbench_planners::{Limits, Problem, registry, validate_plan};
+use magbench_planners::{Limits, Problem, registry::Planners, validate_plan};
 
 #[test]
 fn every_plan_of_the_built_in_scenarios_passes_the_validator() {
@@ -28,7 +28,10 @@ fn every_plan_of_the_built_in_scenarios_passes_the_validator() {
                         max_iterations: Some(200_000),
                         time_limit: None,
                     };
-                    let r = registry::create(planner, &params).unwrap().solve(&p);
+                    let r = Planners::builtin()
+                        .create(planner, &params)
+                        .unwrap()
+                        .solve(&p);
                     assert!(
                         r.solved,
                         "{name} leg {leg}, {planner}, seed {seed}: not solved"

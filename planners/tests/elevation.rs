@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use magbench_planners::{PlanError, registry, validate_plan};
+use magbench_planners::{PlanError, registry::Planners, validate_plan};
 
 fn param(k: &str, v: &str) -> (String, String) {
     (k.to_string(), v.to_string())
@@ -15,7 +15,10 @@ fn param(k: &str, v: &str) -> (String, String) {
 fn three_agents_plan_with_the_elevation_unless_told_planar() {
     let s = scenario(TRIO);
     let p = problem(&s, 1, 30_000);
-    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+    let r = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&p);
     assert_solution(&p, &r);
     assert!(r.plan.controls.iter().any(|u| u.alpha > 0.0));
     assert!(
@@ -34,7 +37,8 @@ fn three_agents_plan_with_the_elevation_unless_told_planar() {
         (r.plan.alpha_max, r.plan.edges())
     );
 
-    let planar = registry::create("goal-zoom-rrt", &[param("planar", "true")])
+    let planar = Planners::builtin()
+        .create("goal-zoom-rrt", &[param("planar", "true")])
         .unwrap()
         .solve(&p);
     assert!(planar.plan.controls.iter().all(|u| u.alpha == 0.0));
@@ -50,7 +54,10 @@ fn three_agents_plan_with_the_elevation_unless_told_planar() {
     let bulk = scenario(&in_bulk(TRIO));
     let pb = problem(&bulk, 1, 2_000);
     assert!(!pb.model.carries_fz);
-    let flat = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&pb);
+    let flat = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&pb);
     assert!(flat.plan.controls.iter().all(|u| u.alpha == 0.0));
     assert!(matches!(
         validate_plan(&pb, &r.plan),
@@ -62,7 +69,10 @@ fn three_agents_plan_with_the_elevation_unless_told_planar() {
 fn the_validator_holds_plans_to_the_coils_range() {
     let s = scenario(TRIO);
     let p = problem(&s, 1, 30_000);
-    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+    let r = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&p);
     assert_solution(&p, &r);
     // the same problem on a planar coil set (range 0°) refuses every elevated control
     let planar_coil = magbench_planners::PlanningSetup {
@@ -86,8 +96,9 @@ fn the_validator_holds_plans_to_the_setups_largest_elevation() {
     let s = scenario(TRIO);
     let p = problem_with(&s, 1, 30_000, &[("alpha_max", "30")]);
     for name in ["goal-zoom-rrt", "sst"] {
-        let r = registry::create(name, &[param("stop_on_solution", "true")])
-            .or_else(|_| registry::create(name, &[]))
+        let r = Planners::builtin()
+            .create(name, &[param("stop_on_solution", "true")])
+            .or_else(|_| Planners::builtin().create(name, &[]))
             .unwrap()
             .solve(&p);
         assert_solution(&p, &r);
@@ -96,7 +107,10 @@ fn the_validator_holds_plans_to_the_setups_largest_elevation() {
     }
     // a plan made with up to 90° fails a setup that allows 30°
     let wide = problem(&s, 1, 30_000);
-    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&wide);
+    let r = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&wide);
     if r.plan.controls.iter().any(|u| u.alpha > 30f64.to_radians()) {
         assert!(matches!(
             validate_plan(&p, &r.plan),
@@ -109,9 +123,13 @@ fn the_validator_holds_plans_to_the_setups_largest_elevation() {
 fn two_agents_stay_in_the_plane_by_default() {
     let s = scenario(&at_interface(SMALL));
     let p = problem(&s, 3, 20_000);
-    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+    let r = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&p);
     assert!(r.plan.controls.iter().all(|u| u.alpha == 0.0));
-    let elevated = registry::create("goal-zoom-rrt", &[param("planar", "false")])
+    let elevated = Planners::builtin()
+        .create("goal-zoom-rrt", &[param("planar", "false")])
         .unwrap()
         .solve(&p);
     assert!(elevated.plan.controls.iter().any(|u| u.alpha > 0.0));

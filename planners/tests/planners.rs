@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use magbench_planners::registry;
+use magbench_planners::registry::Planners;
 
 /// Iteration budgets for the small problems: goal-zoom RRT stops at its first solution, the
 /// optimizing planners use the whole budget.
@@ -19,9 +19,9 @@ fn budget(name: &str) -> u64 {
 #[test]
 fn every_planner_solves_a_small_problem_with_a_valid_plan() {
     let s = scenario(SMALL);
-    for name in registry::names() {
+    for name in Planners::builtin().names() {
         let p = problem(&s, 1, budget(name));
-        let r = registry::create(name, &[]).unwrap().solve(&p);
+        let r = Planners::builtin().create(name, &[]).unwrap().solve(&p);
         eprintln!(
             "{name}: first solution {:?}, cost {:?}, {} nodes",
             r.first_solution, r.cost, r.nodes
@@ -34,9 +34,9 @@ fn every_planner_solves_a_small_problem_with_a_valid_plan() {
 #[test]
 fn every_planner_solves_the_open_field() {
     let s = magbench_env::Scenario::load("open-field").unwrap();
-    for name in registry::names() {
+    for name in Planners::builtin().names() {
         let p = problem(&s, 2, budget(name));
-        let r = registry::create(name, &[]).unwrap().solve(&p);
+        let r = Planners::builtin().create(name, &[]).unwrap().solve(&p);
         assert_solution(&p, &r);
     }
 }
@@ -44,20 +44,22 @@ fn every_planner_solves_the_open_field() {
 #[test]
 fn same_seed_same_result_whatever_else_runs() {
     let s = scenario(SMALL);
-    for name in registry::names() {
+    for name in Planners::builtin().names() {
         let p = problem(&s, 7, 800);
-        let a = registry::create(name, &[]).unwrap().solve(&p);
+        let a = Planners::builtin().create(name, &[]).unwrap().solve(&p);
         // other planners and other seeds in between, and the same run on another thread
         // concurrently with a different planner
-        for other in registry::names() {
-            registry::create(other, &[])
+        for other in Planners::builtin().names() {
+            Planners::builtin()
+                .create(other, &[])
                 .unwrap()
                 .solve(&problem(&s, 99, 200));
         }
         let (b, _) = std::thread::scope(|sc| {
-            let hb = sc.spawn(|| registry::create(name, &[]).unwrap().solve(&p));
+            let hb = sc.spawn(|| Planners::builtin().create(name, &[]).unwrap().solve(&p));
             let hc = sc.spawn(|| {
-                registry::create("rrt-star", &[])
+                Planners::builtin()
+                    .create("rrt-star", &[])
                     .unwrap()
                     .solve(&problem(&s, 5, 300))
             });
@@ -71,7 +73,8 @@ fn same_seed_same_result_whatever_else_runs() {
         );
         assert_eq!(trace(&a), trace(&b), "{name}: progress traces differ");
         // and another seed gives another result
-        let c = registry::create(name, &[])
+        let c = Planners::builtin()
+            .create(name, &[])
             .unwrap()
             .solve(&problem(&s, 8, 800));
         assert_ne!(a.plan, c.plan, "{name}: seeds 7 and 8 gave the same plan");
@@ -81,9 +84,9 @@ fn same_seed_same_result_whatever_else_runs() {
 #[test]
 fn progress_is_recorded_at_every_percent_and_best_cost_never_increases() {
     let s = scenario(SMALL);
-    for name in registry::names() {
+    for name in Planners::builtin().names() {
         let p = problem(&s, 3, 2000);
-        let r = registry::create(name, &[]).unwrap().solve(&p);
+        let r = Planners::builtin().create(name, &[]).unwrap().solve(&p);
         let t = &r.progress;
         assert_eq!(t.first().unwrap().iteration, 0);
         assert_eq!(
@@ -129,7 +132,7 @@ fn optimizing_planners_keep_improving_after_the_first_solution() {
         let mut improved = 0;
         for seed in 0..8 {
             let p = problem(&s, seed, 10_000);
-            let r = registry::create(name, &[]).unwrap().solve(&p);
+            let r = Planners::builtin().create(name, &[]).unwrap().solve(&p);
             assert_solution(&p, &r);
             let first = r.progress.iter().find_map(|q| q.best_cost).unwrap();
             improved += usize::from(r.cost.unwrap() < first);
@@ -142,7 +145,10 @@ fn optimizing_planners_keep_improving_after_the_first_solution() {
 fn a_three_agent_team_is_planned() {
     let s = scenario(TRIO);
     let p = problem(&s, 1, 30_000);
-    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+    let r = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&p);
     assert_solution(&p, &r);
     assert_eq!(r.plan.start().len(), 3);
 }
@@ -150,9 +156,9 @@ fn a_three_agent_team_is_planned() {
 #[test]
 fn unsolved_runs_return_the_closest_approach() {
     let s = magbench_env::Scenario::load("micro-factory").unwrap();
-    for name in registry::names() {
+    for name in Planners::builtin().names() {
         let p = problem(&s, 1, 100);
-        let r = registry::create(name, &[]).unwrap().solve(&p);
+        let r = Planners::builtin().create(name, &[]).unwrap().solve(&p);
         assert!(!r.solved && r.approximate && r.cost.is_none(), "{name}");
         magbench_planners::validate_path(&p, &r.plan).unwrap();
         assert!(
@@ -167,12 +173,15 @@ fn unsolved_runs_return_the_closest_approach() {
 fn other_objectives_and_metrics() {
     let s = scenario(SMALL);
     let p = problem_with(&s, 1, 1500, &[("objective", "duration")]);
-    let r = registry::create("rrt-star", &[]).unwrap().solve(&p);
+    let r = Planners::builtin()
+        .create("rrt-star", &[])
+        .unwrap()
+        .solve(&p);
     assert_solution(&p, &r);
     assert_eq!(r.cost, Some(r.plan.duration()));
 
     let p = problem_with(&s, 1, 1500, &[("objective", "control-effort")]);
-    let r = registry::create("sst", &[]).unwrap().solve(&p);
+    let r = Planners::builtin().create("sst", &[]).unwrap().solve(&p);
     assert_solution(&p, &r);
     let g = p.model.coil.gradient_limit();
     let effort: f64 = r
@@ -185,6 +194,9 @@ fn other_objectives_and_metrics() {
     assert!((r.cost.unwrap() - effort).abs() < 1e-9 * (1.0 + effort));
 
     let p = problem_with(&s, 1, 20_000, &[("metric", "centroid-shape:1:2")]);
-    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+    let r = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&p);
     assert_solution(&p, &r);
 }

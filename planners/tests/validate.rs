@@ -5,12 +5,15 @@ mod common;
 use common::*;
 use magbench_env::model::Flow;
 use magbench_env::{Control, Vec2};
-use magbench_planners::{Plan, PlanError, registry, validate_path, validate_plan};
+use magbench_planners::{Plan, PlanError, registry::Planners, validate_path, validate_plan};
 
 fn solved() -> (magbench_planners::Problem, Plan) {
     let s = scenario(SMALL);
     let p = problem(&s, 1, 20_000);
-    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+    let r = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&p);
     assert!(r.solved);
     (p, r.plan)
 }

@@ -10,7 +10,7 @@
 //!   measured against;
 //! - [`estimator`]: latency compensation and missed detections;
 //! - [`optimizer`]: the OBC's brute-force field-angle search with the closed-form pull;
-//! - [`trackers`]: [`OpenLoop`], [`Obc`], [`Lookahead`], one file each, by name in [`registry`];
+//! - [`trackers`]: [`OpenLoop`], [`Obc`], [`Lookahead`], one file each, by name in [`registry::Trackers`];
 //! - [`run`]: the loop, replanning, and [`metrics`], scored per frame by [`scoring`];
 //! - [`plan_file`]: plans as JSON, read back bit for bit.
 
@@ -34,7 +34,7 @@ pub use log::{PlanReason, PlanRecord, TickRecord, write_ticks_csv};
 pub use metrics::{AgentError, RunStatus, TrackMetrics, worst_agent};
 pub use optimizer::{ObcOptimizer, ObcWeights};
 pub use reference::Reference;
-pub use registry::{TrackerSpec, build_tracker, tracker_names};
+pub use registry::{TrackerSpec, Trackers};
 pub use rig::{GroundTruth, Rig, RigError};
 pub use run::{LoopOptions, Mission, TrackOutcome, reference_for, simulate, track};
 pub use sim_rig::SimRig;

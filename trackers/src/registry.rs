@@ -1,24 +1,119 @@
 //! Trackers by name, with `key=value` parameters (from the command line or experiment files).
 //!
-//! The table of trackers is [`crate::trackers::TRACKERS`]; each tracker's parameters are
-//! declared once in its own file. Every tracker also takes the loop's parameters
-//! ([`LoopOptions`]: replanning, time limit, goal hold, estimator blend), with its own defaults.
-//! Unknown trackers, unknown parameters and bad values are [`InputError`]s naming the source,
-//! the field (`tracker`, `param.KEY`) and the reason.
+//! [`Trackers`] is a value: [`Trackers::builtin`] holds the trackers of this crate
+//! ([`crate::trackers::builtins`]) and [`Trackers::add`] takes more at run time (a plugin's).
+//! Each tracker's parameters are declared once in its own file. Every tracker also takes the
+//! loop's parameters ([`LoopOptions`]: replanning, time limit, goal hold, estimator blend), with
+//! its own defaults. Unknown trackers, unknown parameters and bad values are [`InputError`]s
+//! naming the source, the field (`tracker`, `param.KEY`) and the reason.
 
-use magbench_env::InputError;
-use magbench_env::params::{Both, ParamInfo, ParamSet, apply, changed, lookup, names};
+use std::fmt;
+
+use magbench_env::params::{
+    Both, ParamError, ParamInfo, ParamSet, RegistryError, Table, apply, changed,
+};
+use magbench_env::{Control, InputError};
 
 use crate::run::LoopOptions;
-use crate::tracker::Tracker;
-use crate::trackers::TRACKERS;
+use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
 /// A registered tracker: its name, a one-line summary and a constructor with defaults.
 pub type Entry = magbench_env::params::Entry<dyn Tracker>;
 
-/// A fresh tracker and the loop's options, with their defaults.
+/// The trackers known by name: the built-ins and whatever was added at run time.
+#[derive(Clone, Debug)]
+pub struct Trackers {
+    table: Table<dyn Tracker>,
+}
+
+impl Default for Trackers {
+    /// The built-in trackers.
+    fn default() -> Self {
+        Trackers::builtin()
+    }
+}
+
+impl Trackers {
+    /// No trackers.
+    pub fn empty() -> Self {
+        Trackers {
+            table: Table::new("tracker"),
+        }
+    }
+
+    /// The trackers of this crate.
+    pub fn builtin() -> Self {
+        let mut t = Trackers::empty();
+        for e in crate::trackers::builtins() {
+            t.table
+                .add(e)
+                .expect("the built-in trackers have distinct, valid names");
+        }
+        t
+    }
+
+    /// Adds tracker `name`, made with its defaults by `make`; refuses a name already taken or
+    /// one an experiment file cannot write. The trackers it makes report `name` from
+    /// [`Tracker::name`].
+    pub fn add(
+        &mut self,
+        name: &str,
+        summary: &str,
+        make: impl Fn() -> Box<dyn Tracker> + Send + Sync + 'static,
+    ) -> Result<&mut Self, RegistryError> {
+        self.table.add(Entry::new(name, summary, make))?;
+        Ok(self)
+    }
+
+    /// The entry called `name`, if any.
+    pub fn get(&self, name: &str) -> Option<&Entry> {
+        self.table.get(name)
+    }
+
+    /// Names of the registered trackers, in the order they were added.
+    pub fn names(&self) -> Vec<&str> {
+        self.table.names()
+    }
+
+    /// Every tracker's name, summary and parameters (its own, then the loop's) with their
+    /// defaults.
+    pub fn list(&self) -> Vec<(&str, &str, Vec<ParamInfo>)> {
+        self.table
+            .iter()
+            .map(|e| (e.name(), e.summary(), params(e)))
+            .collect()
+    }
+
+    /// Checks `name` and `params` (`source` names the file or `<command line>` in errors).
+    pub fn spec(
+        &self,
+        name: &str,
+        params: &[(String, String)],
+        source: &str,
+    ) -> Result<TrackerSpec, InputError> {
+        let entry = self.table.lookup(source, name)?;
+        let (mut t, mut opts) = fresh(entry);
+        apply(source, name, &mut Both(&mut *t, &mut opts), params)?;
+        Ok(TrackerSpec {
+            entry: entry.clone(),
+            params: params.to_vec(),
+        })
+    }
+
+    /// A tracker and its loop options from a name and `key=value` parameters.
+    pub fn build(
+        &self,
+        name: &str,
+        params: &[(String, String)],
+        source: &str,
+    ) -> Result<(Box<dyn Tracker>, LoopOptions), InputError> {
+        Ok(self.spec(name, params, source)?.configured())
+    }
+}
+
+/// A fresh tracker under its registry name and the loop's options, with their defaults.
 fn fresh(entry: &Entry) -> (Box<dyn Tracker>, LoopOptions) {
-    let t = entry.make();
+    let t = named(entry.make(), entry.name());
     let opts = t.loop_options();
     (t, opts)
 }
@@ -29,48 +124,41 @@ pub fn params(entry: &Entry) -> Vec<ParamInfo> {
     Both(&mut *t, &mut opts).params()
 }
 
-/// Names of the registered trackers.
-pub fn tracker_names() -> Vec<&'static str> {
-    names(TRACKERS)
-}
-
-/// The registry entry of `name`.
-pub fn tracker_info(name: &str) -> Option<&'static Entry> {
-    TRACKERS.iter().find(|t| t.name == name)
-}
-
-/// A tracker chosen by name, with its parameters checked.
-#[derive(Debug, Clone, PartialEq)]
+/// A tracker chosen by name from a registry, with its parameters checked
+/// ([`Trackers::spec`]).
+#[derive(Clone)]
 pub struct TrackerSpec {
-    /// Registry name.
-    pub name: String,
+    /// The registry entry.
+    entry: Entry,
     /// The parameters given (checked), in order.
     params: Vec<(String, String)>,
 }
 
-impl TrackerSpec {
-    /// Checks `name` and `params` (`source` names the file or `<command line>` in errors).
-    pub fn parse(
-        name: &str,
-        params: &[(String, String)],
-        source: &str,
-    ) -> Result<Self, InputError> {
-        let (mut t, mut opts) = fresh(lookup(TRACKERS, source, "tracker", name)?);
-        apply(source, name, &mut Both(&mut *t, &mut opts), params)?;
-        Ok(TrackerSpec {
-            name: name.to_string(),
-            params: params.to_vec(),
-        })
+impl fmt::Debug for TrackerSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("TrackerSpec")
+            .field("name", &self.name())
+            .field("params", &self.params)
+            .finish()
     }
+}
 
-    fn entry(&self) -> &'static Entry {
-        tracker_info(&self.name).expect("a checked spec")
+impl PartialEq for TrackerSpec {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name() && self.params == other.params
+    }
+}
+
+impl TrackerSpec {
+    /// The registry name.
+    pub fn name(&self) -> &str {
+        self.entry.name()
     }
 
     /// The tracker and the loop's options, with the parameters set.
     fn configured(&self) -> (Box<dyn Tracker>, LoopOptions) {
-        let (mut t, mut opts) = fresh(self.entry());
-        apply("", &self.name, &mut Both(&mut *t, &mut opts), &self.params)
+        let (mut t, mut opts) = fresh(&self.entry);
+        apply("", self.name(), &mut Both(&mut *t, &mut opts), &self.params)
             .expect("parameters checked when parsed");
         (t, opts)
     }
@@ -83,11 +171,11 @@ impl TrackerSpec {
 
     /// The parameters that differ from their defaults, as `name{key=value,...}` (for labels).
     pub fn label(&self) -> String {
-        let changed = changed(&self.values(), &params(self.entry()));
+        let changed = changed(&self.values(), &params(&self.entry));
         if changed.is_empty() {
-            self.name.clone()
+            self.name().to_string()
         } else {
-            format!("{}{{{}}}", self.name, changed.join(","))
+            format!("{}{{{}}}", self.name(), changed.join(","))
         }
     }
 
@@ -102,19 +190,73 @@ impl TrackerSpec {
     }
 }
 
-/// A tracker and its loop options from a name and `key=value` parameters.
-pub fn build_tracker(
-    name: &str,
-    params: &[(String, String)],
-    source: &str,
-) -> Result<(Box<dyn Tracker>, LoopOptions), InputError> {
-    let spec = TrackerSpec::parse(name, params, source)?;
-    Ok(spec.configured())
+/// `tracker`, reporting `name` from [`Tracker::name`] (wrapped when it reports another).
+fn named(tracker: Box<dyn Tracker>, name: &str) -> Box<dyn Tracker> {
+    if tracker.name() == name {
+        tracker
+    } else {
+        Box::new(Named {
+            name: name.to_string(),
+            inner: tracker,
+        })
+    }
+}
+
+/// A tracker under its registry name.
+struct Named {
+    name: String,
+    inner: Box<dyn Tracker>,
+}
+
+impl ParamSet for Named {
+    fn params(&self) -> Vec<ParamInfo> {
+        self.inner.params()
+    }
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        self.inner.set_param(key, value)
+    }
+    fn check_params(&self) -> Result<(), String> {
+        self.inner.check_params()
+    }
+}
+
+impl Tracker for Named {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn loop_options(&self) -> LoopOptions {
+        self.inner.loop_options()
+    }
+    fn reset(&mut self, ctx: &TrackerContext) {
+        self.inner.reset(ctx)
+    }
+    fn command(&mut self, ctx: &TrackerContext, tick: &Tick) -> Control {
+        self.inner.command(ctx, tick)
+    }
+    fn status(&self) -> TrackerStatus {
+        self.inner.status()
+    }
+    fn finished(&self) -> bool {
+        self.inner.finished()
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::trackers::Obc;
+
+    fn build_tracker(
+        name: &str,
+        params: &[(String, String)],
+        source: &str,
+    ) -> Result<(Box<dyn Tracker>, LoopOptions), InputError> {
+        Trackers::builtin().build(name, params, source)
+    }
+
+    fn parse(name: &str, params: &[(String, String)], source: &str) -> TrackerSpec {
+        Trackers::builtin().spec(name, params, source).unwrap()
+    }
 
     fn kv(k: &str, v: &str) -> (String, String) {
         (k.to_string(), v.to_string())
@@ -122,29 +264,28 @@ mod tests {
 
     #[test]
     fn builds_every_tracker_with_defaults() {
-        for name in tracker_names() {
+        let builtin = Trackers::builtin();
+        for name in builtin.names() {
             let (t, _) = build_tracker(name, &[], "<command line>").unwrap();
             assert_eq!(t.name(), name);
             // every listed parameter accepts its own default
-            let defaults: Vec<(String, String)> = params(tracker_info(name).unwrap())
+            let defaults: Vec<(String, String)> = params(builtin.get(name).unwrap())
                 .iter()
-                .map(|p| kv(p.name, &p.value.to_string()))
+                .map(|p| kv(&p.name, &p.value.to_string()))
                 .collect();
-            let spec = TrackerSpec::parse(name, &defaults, "x").unwrap();
+            let spec = parse(name, &defaults, "x");
             assert_eq!(spec.label(), name);
         }
-        let open = TrackerSpec::parse("open-loop", &[], "x").unwrap();
+        let open = parse("open-loop", &[], "x");
         assert_eq!(
             open.loop_options().replan_after,
             0.0,
             "open-loop does not replan on error by default"
         );
-        let open = TrackerSpec::parse("open-loop", &[kv("replan_after", "2")], "x").unwrap();
+        let open = parse("open-loop", &[kv("replan_after", "2")], "x");
         assert_eq!(open.label(), "open-loop{replan_after=2}");
         assert_eq!(
-            TrackerSpec::parse("obc", &[kv("replan_after", "0")], "x")
-                .unwrap()
-                .label(),
+            parse("obc", &[kv("replan_after", "0")], "x").label(),
             "obc{replan_after=0}"
         );
     }
@@ -178,16 +319,40 @@ mod tests {
             .unwrap();
         assert!(e.reason.contains("whole number"));
         // a whole number written as a real (a TOML float) and a 0/1 flag still parse
-        let s =
-            TrackerSpec::parse("obc", &[kv("grid", "36.0"), kv("feedforward", "0")], "x").unwrap();
+        let s = parse("obc", &[kv("grid", "36.0"), kv("feedforward", "0")], "x");
         assert_eq!(s.label(), "obc{feedforward=false,grid=36}");
     }
 
     #[test]
     fn labels_show_changed_params() {
-        let s = TrackerSpec::parse("obc", &[kv("eps", "0.3")], "x").unwrap();
+        let s = parse("obc", &[kv("eps", "0.3")], "x");
         assert_eq!(s.label(), "obc{eps=0.3}");
         let eps = s.values().into_iter().find(|p| p.name == "eps").unwrap();
         assert_eq!(eps.value.to_string(), "0.3");
+    }
+
+    #[test]
+    fn takes_trackers_at_run_time_under_their_registry_name() {
+        let mut reg = Trackers::builtin();
+        reg.add("my-obc", "an OBC under another name", || {
+            Box::new(Obc::default())
+        })
+        .unwrap();
+        assert_eq!(reg.names().last(), Some(&"my-obc"));
+        let spec = reg.spec("my-obc", &[kv("eps", "0.3")], "x").unwrap();
+        assert_eq!(spec.label(), "my-obc{eps=0.3}");
+        assert_eq!(spec.build().name(), "my-obc");
+        assert!(Trackers::builtin().get("my-obc").is_none());
+        let e = reg
+            .add("obc", "again", || Box::new(Obc::default()))
+            .err()
+            .unwrap();
+        assert!(matches!(e, RegistryError::Duplicate { .. }), "{e}");
+        let e = reg.spec("my-ocb", &[], "exp.toml").err().unwrap();
+        assert_eq!((e.file.as_str(), e.field.as_str()), ("exp.toml", "tracker"));
+        assert!(
+            e.reason.contains("my-obc") && e.reason.contains("lookahead"),
+            "{e}"
+        );
     }
 }

@@ -12,7 +12,7 @@ mod common;
 use common::*;
 use magbench_env::PlanningModel;
 use magbench_env::plant::DisturbancePreset;
-use magbench_trackers::{Mission, TrackerSpec, simulate};
+use magbench_trackers::{Mission, Trackers, simulate};
 
 fn params() -> Vec<(String, String)> {
     std::env::var("TP")
@@ -38,7 +38,7 @@ fn explore_random_plans() {
         .unwrap_or(10);
     let trackers = std::env::var("TRACKERS").unwrap_or("open-loop obc lookahead".into());
     for name in trackers.split_whitespace() {
-        let spec = TrackerSpec::parse(name, &params(), "env").unwrap();
+        let spec = Trackers::builtin().spec(name, &params(), "env").unwrap();
         let mut rms = vec![];
         let mut contact = 0;
         let mut maxe: f64 = 0.0;
@@ -114,7 +114,9 @@ fn write_rrt_plans() {
         .map(|x| x.parse().unwrap())
         .unwrap_or(0);
     for seed in first..n {
-        let mut p = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let mut p = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap();
         let r = p.solve(&magbench_planners::Problem::from_scenario(
             &s, 0, None, seed,
         ));

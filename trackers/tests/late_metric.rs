@@ -8,7 +8,7 @@ use common::*;
 use magbench_env::plant::Observation;
 use magbench_env::{Control, PlanningModel, Vec2};
 use magbench_trackers::{
-    GroundTruth, LoopOptions, Mission, Reference, Rig, RigError, TrackerSpec, track,
+    GroundTruth, LoopOptions, Mission, Reference, Rig, RigError, Trackers, track,
 };
 
 /// A rig whose agents move along the reference exactly, at half the planned pace and after a
@@ -63,7 +63,7 @@ fn error_is_zero_on_a_late_run_along_the_path() {
         reference: reference.clone(),
         frame: 0,
     };
-    let spec = TrackerSpec::parse("obc", &[], "test").unwrap();
+    let spec = Trackers::builtin().spec("obc", &[], "test").unwrap();
     let opts = LoopOptions {
         time_factor: 2.5,
         time_slack: 2.0,

@@ -5,9 +5,7 @@ mod common;
 use common::*;
 use magbench_env::plant::{DisturbancePreset, Observation};
 use magbench_env::{Control, PlanningModel};
-use magbench_trackers::{
-    GroundTruth, Mission, Rig, RigError, SimRig, TrackerSpec, track, tracker_names,
-};
+use magbench_trackers::{GroundTruth, Mission, Rig, RigError, SimRig, Trackers, track};
 
 /// Wraps a rig and blinds its camera: agent 1 is missed on frames 30–59, both agents on
 /// frames 100–119, every 7th frame loses agent 0, and frame 150 fails outright (recoverable).
@@ -58,8 +56,8 @@ fn missed_detections_do_not_crash_any_tracker() {
     let s = scenario("open-field");
     let model = PlanningModel::new(&s.physics);
     let plan = random_plan(&model, &s.checker_for_leg(0), &s.start, 8, 21);
-    for name in tracker_names() {
-        let spec = TrackerSpec::parse(name, &[], "test").unwrap();
+    for name in Trackers::builtin().names() {
+        let spec = Trackers::builtin().spec(name, &[], "test").unwrap();
         let mut rig = Blind {
             inner: SimRig::new(&s, &DisturbancePreset::realistic(), 5),
             frame: 0,

@@ -7,7 +7,7 @@ use common::*;
 use magbench_env::Vec2;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::{Limits, Planner, PlanningSetup, Problem};
-use magbench_trackers::{Mission, PlanReason, RunStatus, TrackerSpec, simulate};
+use magbench_trackers::{Mission, PlanReason, RunStatus, Trackers, simulate};
 
 #[test]
 fn cargo_delivery_completes_both_legs_with_replanning() {
@@ -17,7 +17,7 @@ fn cargo_delivery_completes_both_legs_with_replanning() {
             legs: cargo_waypoints(&s),
             calls: 0,
         };
-        let spec = TrackerSpec::parse(name, &[], "test").unwrap();
+        let spec = Trackers::builtin().spec(name, &[], "test").unwrap();
         let mission = Mission {
             scenario: &s,
             plan: None,
@@ -89,15 +89,16 @@ fn persistent_error_triggers_a_replan() {
     let problem = Problem::from_scenario(&s, 0, Some(&shifted), 0);
     let first = planner.solve(&problem);
     assert!(first.solved);
-    let spec = TrackerSpec::parse(
-        "obc",
-        &[
-            ("replan_error".into(), "0.5".into()),
-            ("replan_after".into(), "0.5".into()),
-        ],
-        "test",
-    )
-    .unwrap();
+    let spec = Trackers::builtin()
+        .spec(
+            "obc",
+            &[
+                ("replan_error".into(), "0.5".into()),
+                ("replan_after".into(), "0.5".into()),
+            ],
+            "test",
+        )
+        .unwrap();
     let mission = Mission {
         scenario: &s,
         plan: Some(first.plan),
@@ -180,7 +181,7 @@ fn total_time_counts_a_replan_once_whatever_the_rig_clock() {
             setup: Default::default(),
             seed: 3,
         };
-        let spec = TrackerSpec::parse("obc", &[], "test").unwrap();
+        let spec = Trackers::builtin().spec("obc", &[], "test").unwrap();
         let mut opts = spec.loop_options();
         opts.record_ticks = false;
         let preset = DisturbancePreset::ideal();
@@ -241,7 +242,9 @@ impl Planner for Recording {
 fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
     let s = scenario("cargo-delivery");
     let mut planner = Recording {
-        inner: magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap(),
+        inner: magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap(),
         seen: vec![],
     };
     let mut setup = PlanningSetup {
@@ -256,7 +259,7 @@ fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
     setup.set("test", "flow", "rk4").unwrap();
     let mut preset = DisturbancePreset::ideal();
     preset.camera.fps = 30.0;
-    let spec = TrackerSpec::parse("obc", &[], "test").unwrap();
+    let spec = Trackers::builtin().spec("obc", &[], "test").unwrap();
     let mission = Mission {
         scenario: &s,
         plan: None,
@@ -328,11 +331,14 @@ fn a_stalled_three_agent_team_replans_and_reaches_the_goal() {
             ..PlanningSetup::default()
         }
         .in_frames_of(1.0 / preset.camera.fps);
-        let mut planner = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let mut planner = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap();
         let first = planner.solve(&setup.problem(&s, 0, None, 0));
         assert!(first.solved);
-        let spec =
-            TrackerSpec::parse("obc", &[("replan_stall".into(), stall.into())], "t").unwrap();
+        let spec = Trackers::builtin()
+            .spec("obc", &[("replan_stall".into(), stall.into())], "t")
+            .unwrap();
         let mission = Mission {
             scenario: &s,
             plan: Some(first.plan),

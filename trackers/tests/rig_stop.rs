@@ -101,7 +101,8 @@ fn the_rig_is_stopped_on_every_exit_path() {
         ..Default::default()
     };
     let obc = || {
-        magbench_trackers::TrackerSpec::parse("obc", &[], "t")
+        magbench_trackers::Trackers::builtin()
+            .spec("obc", &[], "t")
             .unwrap()
             .build()
     };

@@ -149,8 +149,8 @@ macro_rules! __declared {
 
     (@list $s:tt $out:ident {param $key:literal, $field:ident, $ty:ty, [$($domain:expr)?], [$($doc:literal)*]}) => {
         $out.push($crate::params::ParamInfo {
-            name: $key,
-            help: concat!($($doc),*).trim_ascii(),
+            name: ::std::borrow::Cow::Borrowed($key),
+            help: ::std::borrow::Cow::Borrowed(concat!($($doc),*).trim_ascii()),
             range: <$ty as $crate::params::ParamType>::describe(
                 &$crate::__declared!(@or_default $($domain)?),
             ),

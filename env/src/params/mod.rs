@@ -8,14 +8,17 @@
 //!   whole numbers, a flag, a named choice);
 //! - [`apply`] and [`split_assignment`]: the one way `key=value` text reaches a [`ParamSet`],
 //!   with one error convention (`FILE: param.KEY: REASON`);
-//! - [`Entry`] and [`lookup`]: the tables that name planners and trackers.
+//! - [`Table`] and [`Entry`]: the tables that name planners and trackers, values that take
+//!   entries at run time.
 
 mod declare;
 mod registry;
 mod types;
 
-pub use registry::{Entry, lookup, names};
+pub use registry::{Entry, Make, RegistryError, Table, check_name};
 pub use types::{ParamType, Reals, Value, choose};
+
+use std::borrow::Cow;
 
 use crate::InputError;
 
@@ -23,9 +26,9 @@ use crate::InputError;
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamInfo {
     /// Its key, as given in `key=value`.
-    pub name: &'static str,
+    pub name: Cow<'static, str>,
     /// What it does, with its unit (the doc comment of its declaration).
-    pub help: &'static str,
+    pub help: Cow<'static, str>,
     /// The values it takes, e.g. `[0, 1]`, `1..=100000`, `true|false`.
     pub range: String,
     /// Its current value.
@@ -98,7 +101,11 @@ pub fn apply<P: ParamSet + ?Sized>(
         set.set_param(key, value).map_err(|e| {
             let reason = match e {
                 ParamError::Unknown(_) => {
-                    let known: Vec<&str> = set.params().iter().map(|p| p.name).collect();
+                    let known: Vec<String> = set
+                        .params()
+                        .into_iter()
+                        .map(|p| p.name.into_owned())
+                        .collect();
                     format!(
                         "{owner} has no parameter {key:?} (known: {})",
                         known.join(", ")

@@ -1,25 +1,65 @@
-//! Tables of named components (the planners, the trackers): a name, a one-line summary and a
+//! Tables of named components (planners, trackers): a name, a one-line summary and a
 //! constructor with the defaults, looked up by name with one error for an unknown name.
+//!
+//! A [`Table`] is a value: it starts with whatever its owner puts in it (the built-ins) and
+//! takes more entries at run time ([`Table::add`]), refusing a duplicate or malformed name.
+
+use std::fmt;
+use std::sync::Arc;
 
 use crate::InputError;
 
+/// A constructor of a component of type `T` with its defaults, shareable between threads.
+pub type Make<T> = Arc<dyn Fn() -> Box<T> + Send + Sync>;
+
 /// One entry of a table of components of type `T` (`dyn Planner`, `dyn Tracker`).
 pub struct Entry<T: ?Sized> {
-    /// The registry name.
-    pub name: &'static str,
-    /// One line on what it is.
-    pub summary: &'static str,
-    make: fn() -> Box<T>,
+    name: Arc<str>,
+    summary: Arc<str>,
+    make: Make<T>,
+}
+
+impl<T: ?Sized> Clone for Entry<T> {
+    fn clone(&self) -> Self {
+        Entry {
+            name: self.name.clone(),
+            summary: self.summary.clone(),
+            make: self.make.clone(),
+        }
+    }
+}
+
+impl<T: ?Sized> fmt::Debug for Entry<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Entry")
+            .field("name", &self.name)
+            .field("summary", &self.summary)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<T: ?Sized> Entry<T> {
     /// The entry `name`, made with its defaults by `make`.
-    pub const fn new(name: &'static str, summary: &'static str, make: fn() -> Box<T>) -> Self {
+    pub fn new(
+        name: &str,
+        summary: &str,
+        make: impl Fn() -> Box<T> + Send + Sync + 'static,
+    ) -> Self {
         Entry {
-            name,
-            summary,
-            make,
+            name: name.into(),
+            summary: summary.into(),
+            make: Arc::new(make),
         }
+    }
+
+    /// The registry name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// One line on what it is.
+    pub fn summary(&self) -> &str {
+        &self.summary
     }
 
     /// A new one, with its defaults.
@@ -28,27 +68,126 @@ impl<T: ?Sized> Entry<T> {
     }
 }
 
-/// The names in `table`.
-pub fn names<T: ?Sized>(table: &[Entry<T>]) -> Vec<&'static str> {
-    table.iter().map(|e| e.name).collect()
+/// Why a table refused an entry.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RegistryError {
+    /// The name is taken.
+    #[error("a {what} called {name:?} is already registered")]
+    Duplicate {
+        /// `planner` or `tracker`.
+        what: &'static str,
+        /// The name given.
+        name: String,
+    },
+    /// The name cannot be written in an experiment file.
+    #[error("{what} name {name:?}: {reason}")]
+    BadName {
+        /// `planner` or `tracker`.
+        what: &'static str,
+        /// The name given.
+        name: String,
+        /// What is wrong with it.
+        reason: String,
+    },
 }
 
-/// The entry of `table` called `name`; otherwise an error naming `source`, the field `what`
-/// (`planner`, `tracker`) and the known names.
-pub fn lookup<'a, T: ?Sized>(
-    table: &'a [Entry<T>],
-    source: &str,
-    what: &str,
-    name: &str,
-) -> Result<&'a Entry<T>, InputError> {
-    table.iter().find(|e| e.name == name).ok_or_else(|| {
-        InputError::new(
-            source,
+/// Checks that `name` can be written where experiment files and the command line name
+/// components: letters, digits, `_`, `-` and `.`, with an optional family prefix (`ompl:rrt`).
+pub fn check_name(name: &str) -> Result<(), String> {
+    let word = |s: &str| {
+        !s.is_empty()
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
+    };
+    let ok = match name.split_once(':') {
+        Some((family, rest)) => word(family) && word(rest),
+        None => word(name),
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err("a name is letters, digits, '_', '-' and '.', with an optional family prefix such as `ompl:`".into())
+    }
+}
+
+/// A table of components of type `T`, in the order they were added.
+pub struct Table<T: ?Sized> {
+    what: &'static str,
+    entries: Vec<Entry<T>>,
+}
+
+impl<T: ?Sized> Clone for Table<T> {
+    fn clone(&self) -> Self {
+        Table {
+            what: self.what,
+            entries: self.entries.clone(),
+        }
+    }
+}
+
+impl<T: ?Sized> fmt::Debug for Table<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Table")
+            .field("what", &self.what)
+            .field("names", &self.names())
+            .finish()
+    }
+}
+
+impl<T: ?Sized> Table<T> {
+    /// An empty table of `what`s (`planner`, `tracker`: the word its errors use).
+    pub fn new(what: &'static str) -> Self {
+        Table {
             what,
-            format!(
-                "unknown {what} {name:?} (known: {})",
-                names(table).join(", ")
-            ),
-        )
-    })
+            entries: Vec::new(),
+        }
+    }
+
+    /// Adds `entry`; refuses a name already taken or one experiment files cannot name.
+    pub fn add(&mut self, entry: Entry<T>) -> Result<(), RegistryError> {
+        check_name(entry.name()).map_err(|reason| RegistryError::BadName {
+            what: self.what,
+            name: entry.name().to_string(),
+            reason,
+        })?;
+        if self.get(entry.name()).is_some() {
+            return Err(RegistryError::Duplicate {
+                what: self.what,
+                name: entry.name().to_string(),
+            });
+        }
+        self.entries.push(entry);
+        Ok(())
+    }
+
+    /// The entry called `name`, if any.
+    pub fn get(&self, name: &str) -> Option<&Entry<T>> {
+        self.entries.iter().find(|e| e.name() == name)
+    }
+
+    /// The entry called `name`; otherwise an error naming `source`, the field (`planner`,
+    /// `tracker`) and the known names.
+    pub fn lookup(&self, source: &str, name: &str) -> Result<&Entry<T>, InputError> {
+        let what = self.what;
+        self.get(name).ok_or_else(|| {
+            InputError::new(
+                source,
+                what,
+                format!(
+                    "unknown {what} {name:?} (known: {})",
+                    self.names().join(", ")
+                ),
+            )
+        })
+    }
+
+    /// The names, in the order they were added.
+    pub fn names(&self) -> Vec<&str> {
+        self.entries.iter().map(|e| e.name()).collect()
+    }
+
+    /// The entries, in the order they were added.
+    pub fn iter(&self) -> impl Iterator<Item = &Entry<T>> {
+        self.entries.iter()
+    }
 }

@@ -75,7 +75,11 @@ fn defaults_listing_and_order_come_from_the_declaration() {
         (o.tries, o.inner.lo, o.inner.hi, o.on, o.mode, o.w, o.count),
         (5, 0.25, 2.0, false, Mode::Fast, 1.0, 3)
     );
-    let names: Vec<&str> = o.params().iter().map(|p| p.name).collect();
+    let names: Vec<String> = o
+        .params()
+        .into_iter()
+        .map(|p| p.name.into_owned())
+        .collect();
     assert_eq!(names, ["k", "lo", "hi", "on", "mode", "w"]);
     let k = &o.params()[0];
     assert_eq!(k.help, "Tries per call, on two lines.");
@@ -86,7 +90,7 @@ fn defaults_listing_and_order_come_from_the_declaration() {
     // every listed default parses back to itself
     let mut again = Outer::default();
     for p in o.params() {
-        again.set_param(p.name, &p.value.to_string()).unwrap();
+        again.set_param(&p.name, &p.value.to_string()).unwrap();
     }
     assert_eq!(again, o);
 }

@@ -18,6 +18,7 @@ use crate::ablation::{TermRow, contributions, label, terms_on, variant_medians, 
 use crate::experiment::Experiment;
 use crate::plot::bars::BarChart;
 use crate::plot::charts::Series;
+use crate::registry::Registry;
 use crate::results::store::read_runs;
 use crate::run::real::RealExecutor;
 use crate::sweep::{ProgressMode, SweepOptions, run_sweep};
@@ -57,8 +58,8 @@ pub struct AblateArgs {
     pub quiet: bool,
 }
 
-/// Runs `magbench ablate`.
-pub fn run(a: AblateArgs) -> Result<(), CliError> {
+/// Runs `magbench ablate` with the planners and trackers of `registry`.
+pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
     let base = preset_named(&a.preset, "--preset")?;
     if a.seeds == 0 {
         return Err(CliError::arg("--seeds", "must be at least 1"));
@@ -123,7 +124,8 @@ pub fn run(a: AblateArgs) -> Result<(), CliError> {
     );
     let file = out.join("ablation.toml");
     std::fs::write(&file, experiment)?;
-    let e = Experiment::load(&file, &RealExecutor)?;
+    let executor = RealExecutor::new(registry.clone());
+    let e = Experiment::load(&file, &executor)?;
     let opts = SweepOptions {
         out: out.clone(),
         threads,
@@ -135,7 +137,7 @@ pub fn run(a: AblateArgs) -> Result<(), CliError> {
             ProgressMode::Auto
         },
     };
-    let s = run_sweep(&e, &RealExecutor, &opts)?;
+    let s = run_sweep(&e, &executor, &opts)?;
     let runs = read_runs(&out)?;
     let rows = contributions(&runs, &terms);
     write_tables(&out, &rows, &variant_medians(&runs))?;

@@ -7,6 +7,7 @@ use clap::{Args, ValueEnum};
 use super::output::outln;
 use crate::CliError;
 use crate::experiment::{Experiment, Tracking};
+use crate::registry::Registry;
 use crate::run::Executor;
 use crate::run::fake::FakeExecutor;
 use crate::run::real::RealExecutor;
@@ -22,11 +23,11 @@ pub enum ExecutorKind {
 }
 
 impl ExecutorKind {
-    /// The executor.
-    pub fn executor(self) -> &'static dyn Executor {
+    /// The executor (a real one runs the planners and trackers of `registry`).
+    pub fn executor(self, registry: &Registry) -> Box<dyn Executor> {
         match self {
-            ExecutorKind::Real => &RealExecutor,
-            ExecutorKind::Fake => &FakeExecutor,
+            ExecutorKind::Real => Box::new(RealExecutor::new(registry.clone())),
+            ExecutorKind::Fake => Box::new(FakeExecutor),
         }
     }
 }
@@ -73,9 +74,10 @@ pub fn default_experiment() -> PathBuf {
     if built.exists() { built } else { local }
 }
 
-/// Runs `magbench bench`.
-pub fn run(a: BenchArgs) -> Result<(), CliError> {
-    let ex = a.executor.executor();
+/// Runs `magbench bench` with the planners and trackers of `registry`.
+pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
+    let executor = a.executor.executor(registry);
+    let ex = executor.as_ref();
     let file = a.file.clone().unwrap_or_else(default_experiment);
     let e = Experiment::load(&file, ex)?;
     let shard = a

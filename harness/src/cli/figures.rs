@@ -7,6 +7,7 @@ use clap::Args;
 use super::output::outln;
 use crate::CliError;
 use crate::figures::{svgs, write_all};
+use crate::registry::Registry;
 
 /// Arguments of `magbench figures`.
 #[derive(Debug, Args)]
@@ -20,12 +21,12 @@ pub struct FiguresArgs {
 }
 
 /// Runs `magbench figures`.
-pub fn run(a: FiguresArgs) -> Result<(), CliError> {
+pub fn run(a: FiguresArgs, registry: &Registry) -> Result<(), CliError> {
     if a.maze_iterations == Some(0) {
         return Err(CliError::arg("--maze-iterations", "must be at least 1"));
     }
     super::output::prepare_dir(&a.out, "--out")?;
-    let files = write_all(&a.out, a.maze_iterations, &|m| eprintln!("{m}"))?;
+    let files = write_all(&a.out, a.maze_iterations, registry, &|m| eprintln!("{m}"))?;
     for f in svgs(&files) {
         outln!("{}  (+ .png)", f.display());
     }

@@ -19,6 +19,7 @@ mod tracked;
 use clap::{Parser, Subcommand};
 
 use crate::CliError;
+use crate::registry::Registry;
 
 /// magbench: plan, track and benchmark paths for teams of magnetic microrobots steered by one
 /// global magnetic field.
@@ -27,7 +28,7 @@ use crate::CliError;
 /// built-in names (see `magbench scenario list`) or TOML files.
 #[derive(Debug, Parser)]
 #[command(name = "magbench", version, about, long_about)]
-pub struct Cli {
+pub struct Args {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -66,20 +67,20 @@ pub enum Command {
     Rig(rig::RigCmd),
 }
 
-/// Runs a parsed command line.
-pub fn run(cli: Cli) -> Result<(), CliError> {
-    match cli.command {
+/// Runs a parsed command line; planners and trackers are resolved by name in `registry`.
+pub fn run(args: Args, registry: &Registry) -> Result<(), CliError> {
+    match args.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Preset(c) => preset::run(c),
         Command::Stlc(a) => stlc::run(a),
-        Command::Bench(a) => bench::run(a),
+        Command::Bench(a) => bench::run(a, registry),
         Command::Merge(a) => merge::run(a),
-        Command::Ablate(a) => ablate::run(a),
+        Command::Ablate(a) => ablate::run(a, registry),
         Command::Regress(a) => regress::run(a),
         Command::Results(c) => results::run(c),
-        Command::Figures(a) => figures::run(a),
-        Command::Track(a) => track::run(*a),
-        Command::Plan(a) => plan::run(a),
-        Command::Rig(c) => rig::run(c),
+        Command::Figures(a) => figures::run(a, registry),
+        Command::Track(a) => track::run(*a, registry),
+        Command::Plan(a) => plan::run(a, registry),
+        Command::Rig(c) => rig::run(c, registry),
     }
 }

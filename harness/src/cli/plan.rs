@@ -15,7 +15,7 @@ use magbench_env::coil::{Planar, elevation_params};
 use magbench_env::params::split_all;
 use magbench_env::{MAX_AGENTS, Scenario, Vec2};
 use magbench_planners::{
-    Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, check_result, registry,
+    Plan, Planner, PlannerResult, Planners, PlanningSetup, Problem, Unusable, check_result,
 };
 use serde_json::{Value, json};
 
@@ -23,6 +23,7 @@ use super::output::{out, outln};
 use super::setup::{SetupArgs, check_elevation};
 use crate::CliError;
 use crate::plot::world::{WorldPlot, render};
+use crate::registry::Registry;
 
 /// Arguments of `magbench plan`.
 #[derive(Debug, Args)]
@@ -68,10 +69,10 @@ struct LegRun {
     tree: Vec<(Vec2, Vec2)>,
 }
 
-/// Runs `magbench plan`.
-pub fn run(a: PlanArgs) -> Result<(), CliError> {
+/// Runs `magbench plan` with the planners of `registry`.
+pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     if a.list {
-        out!("{}", planner_list());
+        out!("{}", planner_list(registry.planners()));
         return Ok(());
     }
     let (Some(scenario_name), Some(planner_name)) = (a.scenario.as_deref(), a.planner.as_deref())
@@ -83,7 +84,7 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
     };
     let scenario = Scenario::load(scenario_name)?;
     let params = split_all("<command line>", &a.params)?;
-    let mut planner = registry::create(planner_name, &params)?;
+    let mut planner = registry.planners().create(planner_name, &params)?;
     if !(a.fps.is_finite() && a.fps > 0.0 && a.fps <= MAX_FPS) {
         return Err(CliError::arg(
             "--fps",
@@ -154,10 +155,10 @@ pub fn run(a: PlanArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The planners and their parameters, for `--list`.
-pub fn planner_list() -> String {
+/// The planners of `planners` and their parameters, for `--list`.
+pub fn planner_list(planners: &Planners) -> String {
     let mut s = String::new();
-    for (name, summary, params) in registry::list() {
+    for (name, summary, params) in planners.list() {
         s += &format!("{name}\n    {summary}\n");
         for p in params {
             s += &format!(
@@ -376,4 +377,29 @@ fn write_outputs(
         render(&plot, &dir.join(stem))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use magbench_planners::planners::GoalZoomRrt;
+
+    use super::*;
+
+    #[test]
+    fn the_list_shows_a_plugin_with_its_parameters() {
+        let mut registry = Registry::builtin();
+        registry
+            .add_planner("my-rrt", "a plugin's RRT", || {
+                Box::new(GoalZoomRrt::default())
+            })
+            .unwrap();
+        let list = planner_list(registry.planners());
+        let at = list.find("my-rrt\n    a plugin's RRT\n").expect(&list);
+        assert!(list[at..].contains("goal_bias"), "{list}");
+        assert!(
+            list.find("goal-zoom-rrt\n").unwrap() < at,
+            "built-ins first"
+        );
+        assert!(!planner_list(Registry::builtin().planners()).contains("my-rrt"));
+    }
 }

@@ -18,6 +18,7 @@ use super::output::{emit, outln, prepare_dir, prepare_file};
 use super::setup::SetupArgs;
 use super::tracked::{TrackRun, tracker_spec};
 use crate::CliError;
+use crate::registry::Registry;
 
 /// Rig subcommands.
 #[derive(Debug, Subcommand)]
@@ -154,13 +155,13 @@ pub struct ReplayArgs {
     pub out: Option<PathBuf>,
 }
 
-/// Runs a rig subcommand.
-pub fn run(cmd: RigCmd) -> Result<(), CliError> {
+/// Runs a rig subcommand (`rig run` with the planners and trackers of `registry`).
+pub fn run(cmd: RigCmd, registry: &Registry) -> Result<(), CliError> {
     match cmd {
         RigCmd::Emulate(a) => emulate(*a),
         RigCmd::Check(a) => check_cmd(a),
         RigCmd::Replay(a) => replay_cmd(a),
-        RigCmd::Run(a) => run_cmd(*a),
+        RigCmd::Run(a) => run_cmd(*a, registry),
     }
 }
 
@@ -329,11 +330,12 @@ fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn run_cmd(a: RunArgs) -> Result<(), CliError> {
+fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
-    let tracker = tracker_spec(&a.tracker, &a.params)?;
+    let tracker = tracker_spec(registry, &a.tracker, &a.params)?;
     let setup = a.setup.setup()?;
     super::tracked::run(TrackRun {
+        registry,
         scenario: &scenario,
         rig: (RigSource::File(a.rig), "--rig"),
         planner: Some(a.planner),

@@ -9,6 +9,7 @@ use magbench_env::Scenario;
 use super::setup::SetupArgs;
 use super::tracked::{TrackRun, tracker_spec};
 use crate::CliError;
+use crate::registry::Registry;
 
 /// Arguments of `magbench track`.
 #[derive(Debug, Args)]
@@ -49,10 +50,10 @@ pub struct TrackArgs {
     pub out: Option<PathBuf>,
 }
 
-/// Runs `magbench track`.
-pub fn run(a: TrackArgs) -> Result<(), CliError> {
+/// Runs `magbench track` with the planners and trackers of `registry`.
+pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
-    let tracker = tracker_spec(&a.tracker, &a.params)?;
+    let tracker = tracker_spec(registry, &a.tracker, &a.params)?;
     let setup = a.setup.setup()?;
     // without a plan file, the seed's planner makes the plan unless another is named
     let planner = match (&a.planner, &a.plan) {
@@ -61,6 +62,7 @@ pub fn run(a: TrackArgs) -> Result<(), CliError> {
         (None, Some(_)) => None,
     };
     super::tracked::run(TrackRun {
+        registry,
         scenario: &scenario,
         rig: (RigSource::Simulated { preset: a.preset }, "--preset"),
         planner,

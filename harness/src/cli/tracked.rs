@@ -21,9 +21,12 @@ use super::output::{emit, prepare_dir};
 use crate::CliError;
 use crate::plot::anim::{Frame, GifOptions, render_gif};
 use crate::plot::world::{WorldPlot, render};
+use crate::registry::Registry;
 
 /// One plan-track run, as the command line asked for it.
 pub struct TrackRun<'a> {
+    /// Where the planner and tracker names were resolved.
+    pub registry: &'a Registry,
     /// The scenario.
     pub scenario: &'a Scenario,
     /// The rig, and the option that chose it (for messages).
@@ -46,10 +49,14 @@ pub struct TrackRun<'a> {
     pub json: bool,
 }
 
-/// The tracker `name` with its (and the loop's) `--param key=value` options.
-pub fn tracker_spec(name: &str, params: &[String]) -> Result<TrackerSpec, CliError> {
+/// The tracker `name` of `registry` with its (and the loop's) `--param key=value` options.
+pub fn tracker_spec(
+    registry: &Registry,
+    name: &str,
+    params: &[String],
+) -> Result<TrackerSpec, CliError> {
     let params = split_all("<command line>", params)?;
-    Ok(TrackerSpec::parse(name, &params, "<command line>")?)
+    Ok(registry.trackers().spec(name, &params, "<command line>")?)
 }
 
 impl From<OpenError> for CliError {
@@ -73,10 +80,11 @@ struct FirstPlan {
 pub fn run(r: TrackRun) -> Result<(), CliError> {
     let s = r.scenario;
     let mut planner = match &r.planner {
-        Some(name) => Some(magbench_planners::registry::create(
-            name,
-            &split_all("<command line>", r.planner_params)?,
-        )?),
+        Some(name) => Some(
+            r.registry
+                .planners()
+                .create(name, &split_all("<command line>", r.planner_params)?)?,
+        ),
         None => None,
     };
     // every plan, the first and each replan, is in whole frames of the rig that runs it, for
@@ -267,7 +275,7 @@ fn summary_json(
     let mut v = json!({
         "scenario": r.scenario.name,
         "planner": planner,
-        "tracker": r.tracker.name,
+        "tracker": r.tracker.name(),
         "tracker_label": r.tracker.label(),
         "seed": r.seed,
         "preset": rig_label,

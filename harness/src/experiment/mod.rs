@@ -238,8 +238,14 @@ mod tests {
     }
 
     fn parse(example: &str) -> Experiment {
-        Experiment::parse(example, "doc", Path::new("."), "doc", &RealExecutor)
-            .unwrap_or_else(|e| panic!("{e}\n{example}"))
+        Experiment::parse(
+            example,
+            "doc",
+            Path::new("."),
+            "doc",
+            &RealExecutor::default(),
+        )
+        .unwrap_or_else(|e| panic!("{e}\n{example}"))
     }
 
     /// The example at the top of this file is a valid experiment (it went stale once: `sst`

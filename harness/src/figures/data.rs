@@ -4,8 +4,10 @@
 use magbench_drivers::rigs::RigSource;
 use magbench_env::plant::DisturbancePreset;
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{Limits, PlannerResult, PlanningSetup, registry};
-use magbench_trackers::{Mission, Reference, TrackerSpec, simulate};
+use magbench_planners::{Limits, PlannerResult, PlanningSetup};
+use magbench_trackers::{Mission, Reference, simulate};
+
+use crate::registry::Registry;
 
 /// A planned and tracked run of a scenario's first leg.
 pub struct TrackedRun {
@@ -41,8 +43,8 @@ pub struct RunSpec<'a> {
     pub seed: u64,
 }
 
-/// Plans and tracks.
-pub fn plan_and_track(s: &RunSpec) -> Result<TrackedRun, String> {
+/// Plans and tracks, with the planner and tracker of `registry`.
+pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, String> {
     let scenario = Scenario::load(s.scenario).map_err(|e| e.to_string())?;
     let params: Vec<(String, String)> = s
         .planner
@@ -50,7 +52,10 @@ pub fn plan_and_track(s: &RunSpec) -> Result<TrackedRun, String> {
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
-    let mut planner = registry::create(s.planner.0, &params).map_err(|e| e.to_string())?;
+    let mut planner = registry
+        .planners()
+        .create(s.planner.0, &params)
+        .map_err(|e| e.to_string())?;
     let period = RigSource::Simulated {
         preset: s.preset.to_string(),
     }
@@ -70,7 +75,10 @@ pub fn plan_and_track(s: &RunSpec) -> Result<TrackedRun, String> {
     let plan_samples = (0..reference.len())
         .map(|k| (reference.time(k), reference.state(k).to_vec()))
         .collect();
-    let spec = TrackerSpec::parse(s.tracker, &[], "<figures>").map_err(|e| e.to_string())?;
+    let spec = registry
+        .trackers()
+        .spec(s.tracker, &[], "<figures>")
+        .map_err(|e| e.to_string())?;
     let preset = DisturbancePreset::by_name(s.preset)
         .ok_or_else(|| format!("unknown preset {}", s.preset))?;
     let mission = Mission {

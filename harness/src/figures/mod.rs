@@ -25,6 +25,8 @@ use crate::plot::world::WorldPlot;
 use crate::plot::{save, with_ext};
 use data::{RunSpec, TrackedRun, plan_and_track};
 
+use crate::registry::Registry;
+
 /// The fixed runs behind the figures.
 pub const OPEN_FIELD: RunSpec<'static> = RunSpec {
     scenario: "open-field",
@@ -55,10 +57,11 @@ fn world_fig(run: &TrackedRun, title: String) -> WorldPlot<'_> {
 }
 
 /// Writes every figure into `out`; returns the files written. `maze_iterations` overrides the
-/// micro-factory planner's iteration limit.
+/// micro-factory planner's iteration limit; the planner and tracker come from `registry`.
 pub fn write_all(
     out: &Path,
     maze_iterations: Option<u64>,
+    registry: &Registry,
     log: &dyn Fn(&str),
 ) -> Result<Vec<PathBuf>, CliError> {
     let mut files = vec![];
@@ -78,7 +81,7 @@ pub fn write_all(
     )?);
 
     log("open-field: plan (goal-zoom-rrt, seed 0) and track (obc, realistic)");
-    let run = plan_and_track(&OPEN_FIELD).map_err(CliError::Failed)?;
+    let run = plan_and_track(&OPEN_FIELD, registry).map_err(CliError::Failed)?;
     let kappa = run.scenario.physics.kappa();
     let n = run.plan_samples.len();
     let waypoints: Vec<[magbench_env::Vec2; 2]> = (1..=7)
@@ -120,7 +123,7 @@ pub fn write_all(
         "micro-factory: plan (goal-zoom-rrt, seed {}, up to {} iterations) and track (obc, realistic)",
         maze.seed, maze.iterations
     ));
-    let run = plan_and_track(&maze).map_err(CliError::Failed)?;
+    let run = plan_and_track(&maze, registry).map_err(CliError::Failed)?;
     let title = format!(
         "micro-factory: {}{}",
         run.label,

@@ -71,11 +71,15 @@ impl Target {
             Target::Scenario => magbench_env::scenario::parse_scenario(&text, &file)
                 .map(|_| ())
                 .map_err(|e| e.to_string()),
-            Target::Experiment => {
-                Experiment::parse(&text, &file, Path::new("."), "fuzz", &RealExecutor)
-                    .map(|_| ())
-                    .map_err(|e| e.to_string())
-            }
+            Target::Experiment => Experiment::parse(
+                &text,
+                &file,
+                Path::new("."),
+                "fuzz",
+                &RealExecutor::default(),
+            )
+            .map(|_| ())
+            .map_err(|e| e.to_string()),
             Target::Rig => magbench_drivers::RigConfig::parse(&text, &file)
                 .map(|_| ())
                 .map_err(|e| e.to_string()),
@@ -144,8 +148,9 @@ fn plan_seed() -> &'static str {
     static P: OnceLock<String> = OnceLock::new();
     P.get_or_init(|| {
         let s = open_field();
-        let mut planner =
-            magbench_planners::registry::create("goal-zoom-rrt", &[]).expect("a planner");
+        let mut planner = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .expect("a planner");
         let mut problem = magbench_planners::Problem::from_scenario(s, 0, None, 0);
         problem.limits = magbench_planners::Limits {
             max_iterations: Some(3000),

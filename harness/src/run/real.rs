@@ -1,5 +1,5 @@
-//! The real executor: planners from `magbench-planners` (by registry name), the physics from
-//! `magbench-env`.
+//! The real executor: planners and trackers by name from its [`Registry`] (the built-ins of
+//! `magbench-planners` and `magbench-trackers`, and a plugin's), the physics from `magbench-env`.
 //!
 //! Three parameter keys of a planner variant set the run's planning setup rather than the
 //! planner ([`SETUP_KEYS`]): `objective` (`path-length`, `duration`, `control-effort`),
@@ -24,17 +24,30 @@ use std::time::Instant;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::ElevationRefused;
 use magbench_planners::setup::SETUP_KEYS;
-use magbench_planners::{
-    Limits, Plan, PlannerResult, PlanningSetup, Unusable, check_result, registry,
-};
-use magbench_trackers::{Mission, RunStatus, TrackerSpec, simulate};
+use magbench_planners::{Limits, Plan, PlannerResult, PlanningSetup, Unusable, check_result};
+use magbench_trackers::{Mission, RunStatus, simulate};
 
 use super::executor::base_record;
 use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
+use crate::registry::Registry;
 
-/// Runs real planners (and, once available, trackers) by registry name.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct RealExecutor;
+/// Runs real planners and trackers, resolved by name in its registry.
+#[derive(Debug, Clone, Default)]
+pub struct RealExecutor {
+    registry: Registry,
+}
+
+impl RealExecutor {
+    /// The executor of the planners and trackers of `registry`.
+    pub fn new(registry: Registry) -> Self {
+        RealExecutor { registry }
+    }
+
+    /// Its registry.
+    pub fn registry(&self) -> &Registry {
+        &self.registry
+    }
+}
 
 fn planner_params(v: &Variant) -> Vec<(String, String)> {
     v.params_as_strings()
@@ -87,9 +100,10 @@ fn leg_seed(spec: &RunSpec, leg: usize) -> u64 {
 }
 
 /// Plans the first `legs` legs of the run's scenario in turn under `setup` (stopping at an
-/// unsolved leg); returns each leg's result. A plan the validator refuses is an error (a crash
-/// row).
+/// unsolved leg) with the run's planner from `registry`; returns each leg's result. A plan the
+/// validator refuses is an error (a crash row).
 pub fn plan_legs(
+    registry: &Registry,
     spec: &RunSpec,
     setup: &PlanningSetup,
     legs: usize,
@@ -98,7 +112,9 @@ pub fn plan_legs(
     let mut start = spec.scenario.start.clone();
     let mut out = vec![];
     for leg in 0..legs.min(spec.scenario.legs.len()) {
-        let mut planner = registry::create_in(&spec.experiment, &spec.planner.name, &params)
+        let mut planner = registry
+            .planners()
+            .create_in(&spec.experiment, &spec.planner.name, &params)
             .map_err(|e| e.reason)?;
         let p = setup.problem(&spec.scenario, leg, Some(&start), leg_seed(spec, leg));
         let r = planner.solve(&p);
@@ -202,12 +218,17 @@ impl Executor for RealExecutor {
     }
 
     fn check_planner(&self, v: &Variant) -> Result<(), String> {
-        registry::create_in("", &v.name, &planner_params(v)).map_err(|e| e.reason)?;
+        self.registry
+            .planners()
+            .create_in("", &v.name, &planner_params(v))
+            .map_err(|e| e.reason)?;
         configure(&mut PlanningSetup::default(), v, "")
     }
 
     fn check_tracker(&self, v: &Variant) -> Result<(), String> {
-        TrackerSpec::parse(&v.name, &v.params_as_strings(), "")
+        self.registry
+            .trackers()
+            .spec(&v.name, &v.params_as_strings(), "")
             .map(|_| ())
             .map_err(|e| e.reason)
     }
@@ -217,12 +238,17 @@ impl Executor for RealExecutor {
         let mut sets = vec![(
             "planners",
             &spec.planner,
-            registry::create_in("", &spec.planner.name, &planner_params(&spec.planner))
+            self.registry
+                .planners()
+                .create_in("", &spec.planner.name, &planner_params(&spec.planner))
                 .map_err(|e| ("planners".to_string(), e.reason))?
                 .params(),
         )];
         if let Some(t) = &spec.tracker {
-            let tracker = TrackerSpec::parse(&t.name, &t.params_as_strings(), "")
+            let tracker = self
+                .registry
+                .trackers()
+                .spec(&t.name, &t.params_as_strings(), "")
                 .map_err(|e| ("trackers".to_string(), e.reason))?;
             sets.push(("trackers", t, tracker.build().params()));
         }
@@ -246,17 +272,20 @@ impl Executor for RealExecutor {
         let setup = setup(spec)?;
         let Some(tv) = &spec.tracker else {
             let n = spec.scenario.legs.len();
-            let legs = plan_legs(spec, &setup, n)?;
+            let legs = plan_legs(&self.registry, spec, &setup, n)?;
             let progress = fill_planning(&legs, n, spec, &mut rec);
             return Ok(RunOutput {
                 record: rec,
                 progress,
             });
         };
-        let legs = plan_legs(spec, &setup, 1)?;
+        let legs = plan_legs(&self.registry, spec, &setup, 1)?;
         let progress = fill_planning(&legs, 1, spec, &mut rec);
         let first = legs.into_iter().next().expect("one leg planned");
-        let tspec = TrackerSpec::parse(&tv.name, &tv.params_as_strings(), &spec.experiment)
+        let tspec = self
+            .registry
+            .trackers()
+            .spec(&tv.name, &tv.params_as_strings(), &spec.experiment)
             .map_err(|e| e.reason)?;
         if first.plan.edges() == 0 {
             // nothing to follow (the one rule, `check_result`): the run ends before tracking
@@ -268,12 +297,15 @@ impl Executor for RealExecutor {
             });
         }
         let preset = plant(spec);
-        let mut planner = registry::create_in(
-            &spec.experiment,
-            &spec.planner.name,
-            &planner_params(&spec.planner),
-        )
-        .map_err(|e| e.reason)?;
+        let mut planner = self
+            .registry
+            .planners()
+            .create_in(
+                &spec.experiment,
+                &spec.planner.name,
+                &planner_params(&spec.planner),
+            )
+            .map_err(|e| e.reason)?;
         let mission = Mission {
             scenario: &spec.scenario,
             plan: Some(first.plan),
@@ -338,7 +370,14 @@ iterations = 1234
 trackers = ["obc"]
 presets = ["realistic"]
 "#;
-        let e = Experiment::parse(text, "x.toml", Path::new("."), "x", &RealExecutor).unwrap();
+        let e = Experiment::parse(
+            text,
+            "x.toml",
+            Path::new("."),
+            "x",
+            &RealExecutor::default(),
+        )
+        .unwrap();
         let runs = e.runs();
         assert_eq!(runs.len(), 2, "a planning run and a tracked run");
         for spec in &runs {

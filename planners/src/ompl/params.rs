@@ -69,7 +69,7 @@ pub trait OmplParams: ParamSet + Clone + Default + Send + 'static {
     fn ompl_params(&self) -> Vec<(String, String)> {
         self.params()
             .into_iter()
-            .filter(|p| !MAGBENCH_KEYS.contains(&p.name))
+            .filter(|p| !MAGBENCH_KEYS.contains(&&*p.name))
             .map(|p| {
                 let v = match p.value {
                     magbench_env::params::Value::Flag(b) => (b as u8).to_string(),

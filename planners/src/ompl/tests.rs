@@ -4,7 +4,7 @@ use magbench_env::Scenario;
 
 use super::*;
 use crate::planners::Sst as MagbenchSst;
-use crate::registry::{create, names};
+use crate::registry::Planners;
 use crate::{Limits, Plan, check_result, validate_plan};
 
 const OMPL: [&str; 5] = [
@@ -25,6 +25,13 @@ fn problem(scenario: &str, seed: u64, iterations: u64) -> Problem {
     p
 }
 
+fn create(
+    name: &str,
+    params: &[(String, String)],
+) -> Result<Box<dyn crate::Planner>, magbench_env::InputError> {
+    Planners::builtin().create(name, params)
+}
+
 fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
     pairs
         .iter()
@@ -35,9 +42,10 @@ fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
 #[test]
 fn every_ompl_planner_is_registered_with_ompls_parameter_names() {
     for name in OMPL {
-        assert!(names().contains(&name), "{name}");
+        assert!(Planners::builtin().get(name).is_some(), "{name}");
         let p = create(name, &[]).unwrap();
-        let keys: Vec<&str> = p.params().iter().map(|i| i.name).collect();
+        let params = p.params();
+        let keys: Vec<&str> = params.iter().map(|i| &*i.name).collect();
         for key in ["goal_bias", "min_duration", "max_duration"] {
             assert!(keys.contains(&key), "{name} lacks {key}");
         }

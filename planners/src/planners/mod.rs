@@ -1,8 +1,9 @@
-//! The planners, one file each, and the table that names them.
+//! The planners, one file each, and the list that names them.
 //!
-//! Adding a planner is its own file here (its parameters declared with
+//! Adding a planner to this crate is its own file here (its parameters declared with
 //! [`magbench_env::declare_params!`], embedding [`crate::sampling::Sampling`]; `impl Planner`)
-//! plus its `mod` line and one [`Entry`] below.
+//! plus its `mod` line and one [`Entry`] below. A planner outside the workspace is added at run
+//! time instead ([`crate::registry::Planners::add`]).
 
 mod goal_zoom_rrt;
 mod rrt_star;
@@ -14,78 +15,80 @@ pub use sst::{Sst, SstStats};
 
 use crate::registry::Entry;
 
-/// Every registered planner.
-pub const PLANNERS: &[Entry] = &[
-    Entry::new(
-        "goal-zoom-rrt",
-        "the seed's RRT (Algorithms 1–3): goal-zoom sampling, brute-force EXTEND, stops at the goal",
-        || Box::new(GoalZoomRrt::default()),
-    ),
-    Entry::new(
-        "rrt-star",
-        "kinodynamic RRT*: shooting connections, parent by cost, rewiring; improves until the limits",
-        || Box::new(RrtStar::default()),
-    ),
-    Entry::new(
-        "informed-rrt-star",
-        "RRT* that samples only states that can improve the best solution (per-agent ellipses)",
-        || Box::new(RrtStar::informed()),
-    ),
-    Entry::new(
-        "sst",
-        "Stable Sparse RRT (Li, Littlefield & Bekris): selection and pruning radii, prunes dominated nodes",
-        || Box::new(Sst::default()),
-    ),
-    #[cfg(feature = "ompl")]
-    Entry::new(
-        "ompl:rrt",
-        "OMPL 1.5's control::RRT on magbench's model (feature ompl)",
-        || {
-            Box::new(crate::ompl::Ompl::<crate::ompl::Rrt>::new(
-                "ompl:rrt", "rrt",
-            ))
-        },
-    ),
-    #[cfg(feature = "ompl")]
-    Entry::new(
-        "ompl:sst",
-        "OMPL 1.5's control::SST on magbench's model (feature ompl)",
-        || {
-            Box::new(crate::ompl::Ompl::<crate::ompl::Sst>::new(
-                "ompl:sst", "sst",
-            ))
-        },
-    ),
-    #[cfg(feature = "ompl")]
-    Entry::new(
-        "ompl:kpiece",
-        "OMPL 1.5's control::KPIECE1 on magbench's model (feature ompl)",
-        || {
-            Box::new(crate::ompl::Ompl::<crate::ompl::Kpiece>::new(
-                "ompl:kpiece",
-                "kpiece",
-            ))
-        },
-    ),
-    #[cfg(feature = "ompl")]
-    Entry::new(
-        "ompl:est",
-        "OMPL 1.5's control::EST on magbench's model (feature ompl)",
-        || {
-            Box::new(crate::ompl::Ompl::<crate::ompl::Est>::new(
-                "ompl:est", "est",
-            ))
-        },
-    ),
-    #[cfg(feature = "ompl")]
-    Entry::new(
-        "ompl:pdst",
-        "OMPL 1.5's control::PDST on magbench's model (feature ompl)",
-        || {
-            Box::new(crate::ompl::Ompl::<crate::ompl::Pdst>::new(
-                "ompl:pdst",
-                "pdst",
-            ))
-        },
-    ),
-];
+/// The built-in planners, in the order `plan --list` shows them.
+pub fn builtins() -> Vec<Entry> {
+    Vec::from([
+        Entry::new(
+            "goal-zoom-rrt",
+            "the seed's RRT (Algorithms 1–3): goal-zoom sampling, brute-force EXTEND, stops at the goal",
+            || Box::new(GoalZoomRrt::default()),
+        ),
+        Entry::new(
+            "rrt-star",
+            "kinodynamic RRT*: shooting connections, parent by cost, rewiring; improves until the limits",
+            || Box::new(RrtStar::default()),
+        ),
+        Entry::new(
+            "informed-rrt-star",
+            "RRT* that samples only states that can improve the best solution (per-agent ellipses)",
+            || Box::new(RrtStar::informed()),
+        ),
+        Entry::new(
+            "sst",
+            "Stable Sparse RRT (Li, Littlefield & Bekris): selection and pruning radii, prunes dominated nodes",
+            || Box::new(Sst::default()),
+        ),
+        #[cfg(feature = "ompl")]
+        Entry::new(
+            "ompl:rrt",
+            "OMPL 1.5's control::RRT on magbench's model (feature ompl)",
+            || {
+                Box::new(crate::ompl::Ompl::<crate::ompl::Rrt>::new(
+                    "ompl:rrt", "rrt",
+                ))
+            },
+        ),
+        #[cfg(feature = "ompl")]
+        Entry::new(
+            "ompl:sst",
+            "OMPL 1.5's control::SST on magbench's model (feature ompl)",
+            || {
+                Box::new(crate::ompl::Ompl::<crate::ompl::Sst>::new(
+                    "ompl:sst", "sst",
+                ))
+            },
+        ),
+        #[cfg(feature = "ompl")]
+        Entry::new(
+            "ompl:kpiece",
+            "OMPL 1.5's control::KPIECE1 on magbench's model (feature ompl)",
+            || {
+                Box::new(crate::ompl::Ompl::<crate::ompl::Kpiece>::new(
+                    "ompl:kpiece",
+                    "kpiece",
+                ))
+            },
+        ),
+        #[cfg(feature = "ompl")]
+        Entry::new(
+            "ompl:est",
+            "OMPL 1.5's control::EST on magbench's model (feature ompl)",
+            || {
+                Box::new(crate::ompl::Ompl::<crate::ompl::Est>::new(
+                    "ompl:est", "est",
+                ))
+            },
+        ),
+        #[cfg(feature = "ompl")]
+        Entry::new(
+            "ompl:pdst",
+            "OMPL 1.5's control::PDST on magbench's model (feature ompl)",
+            || {
+                Box::new(crate::ompl::Ompl::<crate::ompl::Pdst>::new(
+                    "ompl:pdst",
+                    "pdst",
+                ))
+            },
+        ),
+    ])
+}

@@ -305,7 +305,9 @@ mod tests {
     /// replan, progress restarts the watch, and a stall replan is not limited by the count.
     #[test]
     fn a_stall_of_replan_after_calls_for_a_replan() {
-        let mut planner = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let mut planner = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap();
         let mut r = replanner(true);
         assert!(!r.stall_calls_for_replan(5, 0.0), "no planner: no watch");
         r.planner = Some(planner.as_mut());
@@ -331,7 +333,9 @@ mod tests {
         );
         // without the stall rule nothing is watched, whatever the progress
         let mut q = replanner(false);
-        let mut other = magbench_planners::registry::create("goal-zoom-rrt", &[]).unwrap();
+        let mut other = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap();
         q.planner = Some(other.as_mut());
         assert!(!q.stall_calls_for_replan(1, 0.0) && !q.stall_calls_for_replan(1, 100.0));
     }

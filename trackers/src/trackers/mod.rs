@@ -1,8 +1,9 @@
-//! The trackers, one file each, and the table that names them.
+//! The trackers, one file each, and the list that names them.
 //!
-//! Adding a tracker is its own file here (its parameters declared with
+//! Adding a tracker to this crate is its own file here (its parameters declared with
 //! [`magbench_env::declare_params!`]; `impl Tracker`) plus its `mod` line and one [`Entry`]
-//! below.
+//! below. A tracker outside the workspace is added at run time instead
+//! ([`crate::registry::Trackers::add`]).
 
 mod lookahead;
 mod obc;
@@ -16,21 +17,23 @@ pub use steering::Steering;
 
 use crate::registry::Entry;
 
-/// Every registered tracker.
-pub const TRACKERS: &[Entry] = &[
-    Entry::new(
-        "open-loop",
-        "replays the plan's controls on their schedule, ignoring observations",
-        || Box::new(OpenLoop::default()),
-    ),
-    Entry::new(
-        "obc",
-        "optimization-based controller: follows the path forward, proximity control beyond eps",
-        || Box::new(Obc::default()),
-    ),
-    Entry::new(
-        "lookahead",
-        "pure pursuit (eq. 6) with per-agent moving targets, turned into commands by the OBC optimizer",
-        || Box::new(Lookahead::default()),
-    ),
-];
+/// The built-in trackers, in the order listings show them.
+pub fn builtins() -> Vec<Entry> {
+    vec![
+        Entry::new(
+            "open-loop",
+            "replays the plan's controls on their schedule, ignoring observations",
+            || Box::new(OpenLoop::default()),
+        ),
+        Entry::new(
+            "obc",
+            "optimization-based controller: follows the path forward, proximity control beyond eps",
+            || Box::new(Obc::default()),
+        ),
+        Entry::new(
+            "lookahead",
+            "pure pursuit (eq. 6) with per-agent moving targets, turned into commands by the OBC optimizer",
+            || Box::new(Lookahead::default()),
+        ),
+    ]
+}
