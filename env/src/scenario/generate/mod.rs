@@ -2,8 +2,8 @@
 //!
 //! Each family is its own file: a struct of parameters declared with
 //! [`declare_params!`](crate::declare_params) (so listing, `key=value` parsing, ranges and
-//! error messages come from the declaration) and an `impl` [`Family`]; [`FAMILIES`] names
-//! them. Adding a family is its file plus its `mod` line and one [`Entry`] below.
+//! error messages come from the declaration) and an `impl` [`Family`]; [`families`] names
+//! them. Adding a family is its file plus its `mod` line and one [`Entry`] in [`families`].
 //!
 //! [`generate`] draws one problem: the family's [`Family::feasible`] refuses parameters that
 //! cannot give a valid problem (naming the parameter and the reason), [`Family::build`]
@@ -27,7 +27,7 @@ use super::freespace::FreeGrid;
 use super::{Draft, Scenario, parse_scenario};
 use crate::error::InputError;
 use crate::math::Vec2;
-use crate::params::{Entry, ParamSet, apply, lookup};
+use crate::params::{Entry, ParamSet, Table, apply};
 use crate::physics::PhysicalParams;
 
 /// The version of the generators: it changes whenever a family draws differently from the
@@ -70,39 +70,49 @@ pub trait Family: ParamSet {
     fn hardest(&self) -> &'static str;
 }
 
-/// Every family.
-pub const FAMILIES: &[Entry<dyn Family>] = &[
-    Entry::new(
-        "serpentine",
-        "k walls across the field with their gaps at alternate ends: the path grows as k",
-        || Box::new(serpentine::Serpentine::default()),
-    ),
-    Entry::new(
-        "corridor",
-        "one corridor of a given width and length with right-angle bends",
-        || Box::new(corridor::Corridor::default()),
-    ),
-    Entry::new(
-        "clutter",
-        "random polygons covering a given fraction of the field",
-        || Box::new(clutter::Clutter::default()),
-    ),
-    Entry::new(
-        "rooms",
-        "a grid of rooms joined by doors along a random spanning tree",
-        || Box::new(rooms::Rooms::default()),
-    ),
-    Entry::new(
-        "short-moves",
-        "a pair's relative move in open space: turn in place, swap, or shift",
-        || Box::new(short_moves::ShortMoves::default()),
-    ),
-    Entry::new(
-        "team",
-        "N = 2…8 agents from one formation to another across an open field",
-        || Box::new(team::Team::default()),
-    ),
-];
+/// Every family, in the order `--list` shows them.
+pub fn families() -> Table<dyn Family> {
+    let mut table = Table::new("family");
+    type E = Entry<dyn Family>;
+    let entries = [
+        E::new(
+            "serpentine",
+            "k walls across the field with their gaps at alternate ends: the path grows as k",
+            || Box::new(serpentine::Serpentine::default()),
+        ),
+        E::new(
+            "corridor",
+            "one corridor of a given width and length with right-angle bends",
+            || Box::new(corridor::Corridor::default()),
+        ),
+        E::new(
+            "clutter",
+            "random polygons covering a given fraction of the field",
+            || Box::new(clutter::Clutter::default()),
+        ),
+        E::new(
+            "rooms",
+            "a grid of rooms joined by doors along a random spanning tree",
+            || Box::new(rooms::Rooms::default()),
+        ),
+        E::new(
+            "short-moves",
+            "a pair's relative move in open space: turn in place, swap, or shift",
+            || Box::new(short_moves::ShortMoves::default()),
+        ),
+        E::new(
+            "team",
+            "N = 2…8 agents from one formation to another across an open field",
+            || Box::new(team::Team::default()),
+        ),
+    ];
+    for e in entries {
+        table
+            .add(e)
+            .expect("the families' names are distinct and well formed");
+    }
+    table
+}
 
 /// One generated problem.
 #[derive(Debug, Clone)]
@@ -136,7 +146,7 @@ pub fn family(
     family: &str,
     params: &[(String, String)],
 ) -> Result<Box<dyn Family>, InputError> {
-    let mut f = lookup(FAMILIES, source, "family", family)?.make();
+    let mut f = families().lookup(source, family)?.make();
     apply(source, family, &mut *f, params)?;
     f.feasible(&PhysicalParams::default())
         .map_err(|r| InputError::new(source, format!("param.{}", r.param), r.reason))?;
@@ -238,8 +248,8 @@ fn check(s: &Scenario, physics: &PhysicalParams) -> Result<(), String> {
 /// Every family's name, summary and parameters with their defaults.
 pub fn list() -> String {
     let mut s = String::new();
-    for e in FAMILIES {
-        s += &format!("{}\n    {}\n", e.name, e.summary);
+    for e in families().iter() {
+        s += &format!("{}\n    {}\n", e.name(), e.summary());
         for p in e.make().params() {
             s += &format!(
                 "    {:<12} {:<8} {:<22} {}\n",

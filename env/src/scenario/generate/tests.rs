@@ -84,7 +84,7 @@ pub(crate) fn cases() -> Vec<(&'static str, Vec<(String, String)>)> {
 
 #[test]
 fn every_family_at_several_values_and_seeds_gives_valid_problems_with_a_corridor() {
-    let mut families = std::collections::BTreeSet::new();
+    let mut seen = std::collections::BTreeSet::new();
     for (family, params) in cases() {
         for seed in [0, 1, 17] {
             for index in 0..2 {
@@ -110,23 +110,24 @@ fn every_family_at_several_values_and_seeds_gives_valid_problems_with_a_corridor
                 }
             }
         }
-        families.insert(family);
+        seen.insert(family);
     }
     assert_eq!(
-        families.len(),
-        FAMILIES.len(),
+        seen.len(),
+        families().iter().count(),
         "a family without a test case"
     );
 }
 
 #[test]
 fn the_same_seed_gives_the_same_bytes_and_another_seed_other_bytes() {
-    for e in FAMILIES {
-        let a = generate("t", e.name, &[], 5, 3).unwrap().text;
-        let b = generate("t", e.name, &[], 5, 3).unwrap().text;
-        assert_eq!(a, b, "{}", e.name);
-        let c = generate("t", e.name, &[], 6, 3).unwrap().text;
-        let d = generate("t", e.name, &[], 5, 4).unwrap().text;
+    for e in families().iter() {
+        let e = e.name();
+        let a = generate("t", e, &[], 5, 3).unwrap().text;
+        let b = generate("t", e, &[], 5, 3).unwrap().text;
+        assert_eq!(a, b, "{e}");
+        let c = generate("t", e, &[], 6, 3).unwrap().text;
+        let d = generate("t", e, &[], 5, 4).unwrap().text;
         assert_ne!(
             a.lines().skip(4).collect::<Vec<_>>(),
             c.lines().skip(4).collect::<Vec<_>>()
@@ -257,10 +258,10 @@ fn impossible_parameters_are_refused_naming_the_parameter_and_the_reason() {
 #[test]
 fn the_list_names_every_family_and_parameter_with_its_range() {
     let l = list();
-    for e in FAMILIES {
-        assert!(l.contains(e.name));
+    for e in families().iter() {
+        assert!(l.contains(e.name()));
         for p in e.make().params() {
-            assert!(l.contains(p.name) && l.contains(&p.range), "{}", p.name);
+            assert!(l.contains(&*p.name) && l.contains(&p.range), "{}", p.name);
         }
     }
 }

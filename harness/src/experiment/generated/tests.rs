@@ -7,7 +7,13 @@ use crate::experiment::Experiment;
 use crate::run::real::RealExecutor;
 
 fn parse(text: &str) -> Result<Experiment, InputError> {
-    Experiment::parse(text, "x.toml", Path::new("."), "x", &RealExecutor)
+    Experiment::parse(
+        text,
+        "x.toml",
+        Path::new("."),
+        "x",
+        &RealExecutor::default(),
+    )
 }
 
 const HEAD: &str = "planners = [\"goal-zoom-rrt\"]\nseeds = 2\n[limits]\niterations = 1000\n";
