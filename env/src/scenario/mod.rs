@@ -5,10 +5,16 @@
 //! and the reason.
 
 mod builtin;
+pub mod difficulty;
 mod file;
+pub mod freespace;
+pub mod generate;
+mod write;
 
 pub use builtin::{BUILTIN, builtin_names, builtin_source};
+pub use difficulty::Difficulty;
 pub use file::parse_scenario;
+pub use write::Draft;
 
 use std::sync::Arc;
 

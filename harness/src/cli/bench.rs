@@ -127,6 +127,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
         return Ok(());
     }
     super::output::prepare_dir(&out, "--out")?;
+    crate::experiment::generated::keep_files(&e.text, &e.source, &out)?;
     let progress = if a.quiet {
         ProgressMode::Quiet
     } else if a.lines {

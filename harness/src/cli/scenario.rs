@@ -1,8 +1,13 @@
-//! `magbench scenario list|show|check`.
+//! `magbench scenario list|show|check|generate`.
 
-use clap::Subcommand;
-use magbench_env::scenario::builtin_names;
+use std::path::PathBuf;
+
+use clap::{Args, Subcommand};
+use magbench_env::params::split_all;
+use magbench_env::scenario::difficulty::measure;
+use magbench_env::scenario::{builtin_names, generate};
 use magbench_env::{Obstacle, Scenario};
+use sha2::{Digest, Sha256};
 
 use super::output::{out, outln};
 use crate::CliError;
@@ -12,7 +17,7 @@ use crate::CliError;
 pub enum ScenarioCmd {
     /// List the built-in scenarios.
     List,
-    /// Summarise a scenario: world, obstacles, start, goals and physics.
+    /// Summarise a scenario: world, obstacles, start, goals, physics and difficulty measures.
     Show {
         /// A built-in name or a scenario file.
         scenario: String,
@@ -22,7 +27,36 @@ pub enum ScenarioCmd {
         /// The scenario file (or built-in name) to validate.
         file: String,
     },
+    /// Write generated scenario files of a family (deterministic per seed); --list lists the
+    /// families and their parameters.
+    Generate(GenerateArgs),
 }
+
+/// Arguments of `magbench scenario generate`.
+#[derive(Debug, Args)]
+pub struct GenerateArgs {
+    /// The family: serpentine, corridor, clutter, rooms, short-moves or team (see --list).
+    #[arg(required_unless_present = "list")]
+    pub family: Option<String>,
+    /// A family parameter, key=value (repeatable; see --list).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// The seed; file i of the count is drawn from stream i of this seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// How many files to write.
+    #[arg(long, default_value_t = 1)]
+    pub count: u64,
+    /// The folder to write FAMILY-sSEED-INDEX.toml into (created if missing).
+    #[arg(long, value_name = "DIR", required_unless_present = "list")]
+    pub out: Option<PathBuf>,
+    /// List the families and their parameters with ranges and defaults, and exit.
+    #[arg(long)]
+    pub list: bool,
+}
+
+/// Most files one `scenario generate` writes.
+const MAX_COUNT: u64 = 100_000;
 
 /// Runs a scenario subcommand.
 pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
@@ -34,6 +68,7 @@ pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
             }
         }
         ScenarioCmd::Show { scenario } => out!("{}", summary(&Scenario::load(&scenario)?)),
+        ScenarioCmd::Generate(a) => generate_files(a)?,
         ScenarioCmd::Check { file } => {
             let s = Scenario::load(&file)?;
             outln!(
@@ -43,6 +78,47 @@ pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
                 s.world.obstacles.len()
             );
         }
+    }
+    Ok(())
+}
+
+/// Runs `magbench scenario generate`: checks every parameter before writing anything, then
+/// writes the files and prints one line per file (name, SHA-256, a difficulty summary).
+fn generate_files(a: GenerateArgs) -> Result<(), CliError> {
+    if a.list {
+        out!("{}", generate::list());
+        return Ok(());
+    }
+    let (Some(family), Some(dir)) = (a.family.as_deref(), a.out.as_ref()) else {
+        return Err(CliError::arg("FAMILY", "a family and --out are required"));
+    };
+    if !(1..=MAX_COUNT).contains(&a.count) {
+        return Err(CliError::arg(
+            "--count",
+            format!("must be in [1, {MAX_COUNT}], got {}", a.count),
+        ));
+    }
+    let params =
+        split_all("<command line>", &a.set).map_err(|e| CliError::arg("--set", e.reason))?;
+    generate::family("<command line>", family, &params)?;
+    super::output::prepare_dir(dir, "--out")?;
+    for index in 0..a.count {
+        let g = generate::generate("<command line>", family, &params, a.seed, index)?;
+        let path = dir.join(&g.file_name);
+        std::fs::write(&path, &g.text)
+            .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+        let d = measure(&g.scenario);
+        let hash = Sha256::digest(g.text.as_bytes());
+        outln!(
+            "{}  sha256 {:x}  path {} BL, {} turn(s), passage {:.2} BL",
+            path.display(),
+            hash,
+            d.path_length_bl
+                .map(|l| format!("{l:.1}"))
+                .unwrap_or_else(|| "none".into()),
+            d.path_turns.map(|t| t.to_string()).unwrap_or_default(),
+            d.narrowest_passage_bl
+        );
     }
     Ok(())
 }
@@ -108,5 +184,6 @@ pub fn summary(s: &Scenario) -> String {
         p.r_min,
         p.r_max
     );
+    out += &measure(s).summary();
     out
 }

@@ -19,7 +19,10 @@ struct ExperimentFile {
     name: Option<String>,
     #[serde(default)]
     description: String,
+    #[serde(default)]
     scenarios: Vec<String>,
+    #[serde(default)]
+    generated: Vec<toml::Value>,
     planners: Vec<toml::Value>,
     #[serde(default)]
     trackers: Vec<toml::Value>,
@@ -276,11 +279,11 @@ pub fn parse(
     let raw: ExperimentFile = parse_toml(text, file)?;
     let name = raw.name.unwrap_or_else(|| default_name.to_string());
     check_name(&name).map_err(|r| InputError::new(file, "name", r))?;
-    if raw.scenarios.is_empty() {
+    if raw.scenarios.is_empty() && raw.generated.is_empty() {
         return Err(InputError::new(
             file,
             "scenarios",
-            "list at least one scenario",
+            "list at least one scenario (or give a [[generated]] table)",
         ));
     }
     let mut scenarios = vec![];
@@ -297,6 +300,7 @@ pub fn parse(
             .map_err(|e| InputError::new(file, &field, e.to_string()))?;
         scenarios.push((label.clone(), Arc::new(s)));
     }
+    scenarios.extend(super::generated::scenarios(&raw.generated, file)?);
     if raw.planners.is_empty() {
         return Err(InputError::new(
             file,
