@@ -125,6 +125,7 @@ fn a_preset_file_drives_track_and_an_experiment() {
         "rms_error_bl",
         "rms_error_true_bl",
         "rms_error_sync_bl",
+        "rms_error_node_bl",
         "ticks",
     ] {
         assert_eq!(
@@ -152,6 +153,21 @@ fn a_preset_file_drives_track_and_an_experiment() {
         runs.contains("lab.toml") && runs.contains("hardware"),
         "{runs}"
     );
+    // the node error (the seed's) is a column of every tracked run, never below the
+    // team-synchronous error of the same frames
+    let mut rd = csv::Reader::from_reader(runs.as_bytes());
+    let h = rd.headers().unwrap().clone();
+    let col = |name: &str| h.iter().position(|c| c == name).expect(name);
+    let (node, node_true, sync) = (
+        col("rms_error_node_bl"),
+        col("rms_error_node_true_bl"),
+        col("rms_error_sync_bl"),
+    );
+    for row in rd.records() {
+        let row = row.unwrap();
+        let x = |c: usize| row[c].parse::<f64>().unwrap();
+        assert!(x(node) >= x(sync) && x(node_true) > 0.0, "{row:?}");
+    }
     // a bad preset in an experiment: exit 2 naming the experiment's field
     std::fs::write(dir.path().join("bad.toml"), "name = \"\"\n").unwrap();
     std::fs::write(

@@ -93,7 +93,8 @@ fn flags_a_halved_gain_passes_a_same_seed_rerun_and_calls_other_seeds_inconclusi
     // other seeds, the same build: unpaired; no regression, but 20 runs cannot show every
     // metric within 10%: inconclusive, which fails by default and passes when accepted
     let (code, table, warn) = regress_with(&base, &rerun, &[]);
-    assert!(!table.contains("REGRESSION"), "{table}");
+    // wall-clock metrics are not gated: their verdicts depend on the machine's load
+    assert!(!table.lines().any(|l| l.ends_with("REGRESSION")), "{table}");
     assert!(table.contains("unpaired: different seeds"), "{table}");
     assert!(table.contains("inconclusive (~"), "{table}");
     assert_eq!(code, 1, "{table}");
@@ -115,7 +116,7 @@ fn flags_a_halved_gain_passes_a_same_seed_rerun_and_calls_other_seeds_inconclusi
         "{err}"
     );
 
-    // 12 error metrics (the team's four RMS errors, the observed and true worst agent, the
+    // 13 error metrics (the team's five RMS errors, the observed and true worst agent, the
     // observed and true max, each of the two agents' observed and true RMS) × 2 scenarios × 2
     // presets, and possibly success (errors above the fake tracker's 0.3 BL limit miss the
     // goal); never a planner metric. Paired (same seeds) and unpaired (other seeds).
@@ -128,7 +129,7 @@ fn flags_a_halved_gain_passes_a_same_seed_rerun_and_calls_other_seeds_inconclusi
             .collect();
         assert_eq!(
             flagged.iter().filter(|l| l.contains("_error")).count(),
-            48,
+            52,
             "{table}"
         );
         assert!(
@@ -208,6 +209,7 @@ fn a_baseline_from_before_the_per_agent_columns_compares_cleanly_and_lists_them(
         "max_error_true_bl",
         "rms_error_agent0_bl",
         "rms_error_true_agent2_bl",
+        "rms_error_node_bl",
     ] {
         assert!(new.contains(c), "{c} not listed: {new}");
     }

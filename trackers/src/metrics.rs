@@ -6,7 +6,9 @@
 //! their exact definitions are in [`crate::scoring`]: the **path** error (each agent against
 //! any point of its own path), the **team-synchronous** error (the team against the nearest
 //! common point of the team path, the seed's `‖q_a − q_iτ‖`) and the **time-indexed** error
-//! (the team against the reference at the same elapsed time).
+//! (the team against the reference at the same elapsed time); and against the plan's
+//! **nodes** rather than its reference, the **node** error (the team against its nearest plan
+//! node, the seed's `‖q_a − q_iτ‖` of Sec. III-B, which its ≈ 0.2 BL figure reports).
 //!
 //! Every headline figure uses the **observed** positions — the raw detections at capture
 //! time, what a rig's camera measures — so a simulated run and a hardware run report the same
@@ -60,6 +62,11 @@ pub struct TrackMetrics {
     pub rms_error_sync_bl: f64,
     /// RMS time-indexed error of the observed positions, over ticks (BL).
     pub rms_error_time_bl: f64,
+    /// RMS node error of the observed positions, over ticks (BL): the team against its nearest
+    /// node of the plan being followed, the seed's tracking error.
+    pub rms_error_node_bl: f64,
+    /// RMS node error of the true positions, over ticks (BL); `None` as `rms_error_true_bl`.
+    pub rms_error_node_true_bl: Option<f64>,
     /// Two agents touched (and stuck): a failed run.
     pub agent_contact: bool,
     /// Wall contact events.
@@ -296,6 +303,8 @@ mod tests {
             rms_error_true_worst_agent_bl: Some(0.05),
             rms_error_sync_bl: 0.07,
             rms_error_time_bl: 0.3,
+            rms_error_node_bl: 0.2,
+            rms_error_node_true_bl: Some(0.19),
             agent_contact: false,
             wall_contacts: 0,
             missed_frames: 1,

@@ -32,6 +32,9 @@ pub struct Reference {
     /// Bounding circles of [`CHUNK`] consecutive chunks: `groups[i][g]` encloses chunks
     /// `CHUNK·g .. CHUNK·(g+1)` of agent `i`.
     groups: Vec<Vec<(Vec2, f64)>>,
+    /// The plan's nodes (its stored waypoint states, start to end), node-major: node `j`,
+    /// agent `i` at `j * agents + i`. A settle segment adds none.
+    nodes: Vec<Vec2>,
 }
 
 /// Segments per bounding circle of the path-distance index.
@@ -49,6 +52,7 @@ impl Reference {
         let model = &model.with_flow(plan.flow);
         let n = plan.start().len();
         let mut r = Reference::empty(n);
+        r.nodes = plan.states.iter().flatten().copied().collect();
         r.push_sample(0.0, plan.start());
         let mut t0 = 0.0;
         let mut out = vec![Vec2::zeros(); n];
@@ -90,6 +94,7 @@ impl Reference {
             }
             r.push_sample(*t, s);
         }
+        r.nodes = r.states.clone();
         r.index();
         r
     }
@@ -104,6 +109,7 @@ impl Reference {
             arc: vec![],
             chunks: vec![vec![]; agents],
             groups: vec![vec![]; agents],
+            nodes: vec![],
         }
     }
 
@@ -365,6 +371,17 @@ impl Reference {
         (0..self.len()).map(|k| self.point(k, i)).collect()
     }
 
+    /// Number of plan nodes: the plan's stored waypoint states (every sample of a reference
+    /// made [`Reference::from_samples`]).
+    pub fn nodes(&self) -> usize {
+        self.nodes.len() / self.agents.max(1)
+    }
+
+    /// Team state at plan node `j` (`j < nodes()`).
+    pub fn node(&self, j: usize) -> &[Vec2] {
+        &self.nodes[j * self.agents..(j + 1) * self.agents]
+    }
+
     /// The final state.
     pub fn end(&self) -> &[Vec2] {
         self.state(self.last())
@@ -419,6 +436,13 @@ mod tests {
         let r = Reference::from_plan(&plan, &model);
         assert_eq!(r.len(), 1 + 60 + 30);
         assert_eq!(r.state(60), &plan.states[1][..]);
+        assert_eq!(r.nodes(), 3);
+        assert_eq!(r.node(1), &plan.states[1][..]);
+        // between nodes the polyline is near, the nearest node is not
+        let mid = r.state(30).to_vec();
+        assert!(crate::scoring::synchronous_error(&r, &mid) < 1e-12);
+        assert!(crate::scoring::node_error(&r, &mid) > 0.01);
+        assert_eq!(crate::scoring::node_error(&r, &plan.states[1]), 0.0);
         assert_eq!(r.end(), plan.end());
         assert!((r.duration() - 0.75).abs() < 1e-12);
         assert_eq!(r.index_at(0.5), 60);
@@ -457,6 +481,7 @@ mod tests {
         assert_eq!(s.plan_end(), n - 1);
         assert_eq!(s.len(), n + 144, "0.3 BL at 0.25 BL/s is 1.2 s = 144 steps");
         assert_eq!(s.end(), &to[..]);
+        assert_eq!(s.nodes(), 3, "a settle segment is no plan node");
         assert!(s.control(n - 1).is_none() && s.control(n - 2).is_some());
         assert!(s.distance_to_path(0, r_mid(&to[0], &plan.end()[0])) < 1e-12);
     }

@@ -1,23 +1,30 @@
-//! The tracking error of one frame against a reference, in the three ways a rig can score it.
+//! The tracking error of one frame against a reference, in the four ways a rig can score it.
 //!
-//! All three measure the positions `p_i` of the N agents against the reference `r_i(s)` of the
-//! plan being followed (the polyline through its integration samples, [`Reference`]), in BL:
+//! All four measure the positions `p_i` of the N agents against the plan being followed (after
+//! a replan or a new leg, the new plan's), in BL. The first three use its reference `r_i(s)`,
+//! the polyline through its integration samples ([`Reference`]); the fourth uses its nodes.
 //!
 //! - **path error** of agent i: `d_i = min_s |p_i − r_i(s)|`, each agent against any point of
 //!   its *own* path (a tracker that falls behind but stays on its path scores zero);
 //! - **team-synchronous error**: `e_sync = min_s sqrt((1/N) Σ_i |p_i − r_i(s)|²)`, the team
 //!   against *one common* point of the team path — the nearest point of the reference in the
-//!   joint space of all agents' positions (the polyline through the team samples). This is the
-//!   seed's `‖q_a − q_iτ‖` with `q_iτ` the nearest node of the path (Sec. V-B: the proximity
-//!   controller pushes the team back to "the nearest node on the planned path"); taking the
-//!   nearest point rather than the point a tracker says it follows keeps the figure the same
-//!   whatever tracker ran, so trackers can be compared by it;
+//!   joint space of all agents' positions (the polyline through the team samples). It is the
+//!   seed's `‖q_a − q_iτ‖` with the nearest node replaced by the nearest point between the
+//!   samples; taking the nearest point rather than the point a tracker says it follows keeps
+//!   the figure the same whatever tracker ran, so trackers can be compared by it;
 //! - **time-indexed error**: `e_time(t) = sqrt((1/N) Σ_i |p_i − r_i(t − t₀)|²)`, the team
 //!   against the reference at the same elapsed time since the plan was adopted at `t₀`
-//!   (clamped to the reference's ends), linear between samples.
+//!   (clamped to the reference's ends), linear between samples;
+//! - **node error**: `e_node = min_j sqrt((1/N) Σ_i |p_i − n_{j,i}|²)`, the seed's
+//!   `‖q_a − q_iτ‖` (Sec. III-B) exactly: `q_iτ` is the plan node `n_j` (a waypoint state the
+//!   plan stores, start and end included; not a settle segment) nearest to the team
+//!   configuration `q_a` in joint space — one node for the whole team, not one per agent —
+//!   and each agent is measured against its own position at that node.
 //!
-//! Per frame `(1/N) Σ d_i² ≤ e_sync² ≤ e_time²`: the synchronous error adds the agents' being
-//! out of step with one another, the time-indexed error adds the team's being early or late.
+//! Per frame `(1/N) Σ d_i² ≤ e_sync² ≤ e_time²` and `e_sync ≤ e_node`: the synchronous error
+//! adds the agents' being out of step with one another, the time-indexed error adds the
+//! team's being early or late, the node error adds the distance to the nearest node along
+//! the path (up to half the node spacing for a team exactly on its path).
 
 use magbench_env::Vec2;
 
@@ -109,6 +116,26 @@ pub fn synchronous_error_scan(reference: &Reference, positions: &[Vec2]) -> f64 
         .sqrt()
 }
 
+/// The node error: the RMS over agents of the distances to their own positions at the plan node
+/// nearest to the team in joint space (see the module documentation).
+pub fn node_error(reference: &Reference, positions: &[Vec2]) -> f64 {
+    if reference.nodes() == 0 {
+        return reference.distance_to_sample(positions, 0);
+    }
+    let msq = |j: usize| -> f64 {
+        positions
+            .iter()
+            .zip(reference.node(j))
+            .map(|(p, n)| (p - n).norm_squared())
+            .sum::<f64>()
+            / positions.len() as f64
+    };
+    (0..reference.nodes())
+        .map(msq)
+        .fold(f64::INFINITY, f64::min)
+        .sqrt()
+}
+
 /// The time-indexed error: the RMS over agents of the distances to the reference at time `t`
 /// (s since the plan was adopted; clamped to the reference), linear between samples.
 pub fn time_indexed_error(reference: &Reference, t: f64, positions: &[Vec2]) -> f64 {
@@ -144,6 +171,7 @@ pub fn reference_at(reference: &Reference, t: f64) -> Vec<Vec2> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::metrics::TeamAccumulator;
 
     fn v(x: f64, y: f64) -> Vec2 {
         Vec2::new(x, y)
@@ -216,6 +244,34 @@ mod tests {
     }
 
     #[test]
+    fn node_error_by_hand() {
+        // nodes every 1 BL: agent 0 at (j, 0), agent 1 at (j, 2), j = 0..=4
+        let r = straight();
+        assert_eq!(r.nodes(), 5);
+        // between nodes 1 and 2, on the path: 0.5 BL from either node, 0 from the polyline
+        let a = [v(1.5, 0.0), v(1.5, 2.0)];
+        assert!((node_error(&r, &a) - 0.5).abs() < 1e-12);
+        assert!(synchronous_error(&r, &a) < 1e-12);
+        // at node 1, both 0.3 BL off
+        let b = [v(1.0, 0.3), v(1.0, 1.7)];
+        assert!((node_error(&r, &b) - 0.3).abs() < 1e-12);
+        // out of step: each agent sits on a node of its own (0 and 3), but the team has one
+        // node: j = 1 (or 2) gives distances 1 and 2, mean square 2.5
+        let c = [v(0.0, 0.0), v(3.0, 2.0)];
+        assert!((node_error(&r, &c) - 2.5f64.sqrt()).abs() < 1e-12);
+        // the run's RMS over frames = over frames and agents: (0.25·2 + 0.09·2 + 1 + 4) / 6
+        let mut acc = TeamAccumulator::default();
+        for p in [&a, &b, &c] {
+            acc.add(node_error(&r, p));
+        }
+        assert!(
+            (acc.rms() - (5.68f64 / 6.0).sqrt()).abs() < 1e-12,
+            "{}",
+            acc.rms()
+        );
+    }
+
+    #[test]
     fn ordering_holds_on_arbitrary_points() {
         let r = straight();
         for (k, p) in [
@@ -231,6 +287,7 @@ mod tests {
             let sync = synchronous_error(&r, p);
             let time = time_indexed_error(&r, k as f64, p);
             assert!(path <= sync + 1e-12 && sync <= time + 1e-12, "{p:?}");
+            assert!(sync <= node_error(&r, p) + 1e-12, "{p:?}");
         }
     }
 }

@@ -371,9 +371,10 @@ pub(crate) fn summary_text(v: &Value) -> String {
         );
     }
     s += &format!(
-        "team error    synchronous RMS {} BL, time-indexed RMS {} BL\n",
+        "team error    synchronous RMS {} BL, time-indexed RMS {} BL, node RMS {} BL (the seed's)\n",
         f("rms_error_sync_bl"),
         f("rms_error_time_bl"),
+        f("rms_error_node_bl"),
     );
     s += &format!(
         "goal          final distance {} BL, time to goal {} s\n",

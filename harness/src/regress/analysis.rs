@@ -153,7 +153,7 @@ type Metric = (&'static str, fn(&RunRecord) -> Option<f64>, bool);
 
 /// Continuous metrics checked (name, value, wall-clock?); then each agent's, see
 /// [`agent_metrics`].
-pub const METRICS: [Metric; 12] = [
+pub const METRICS: [Metric; 13] = [
     ("rms_error_bl", |r| r.rms_error_bl, false),
     (
         "rms_error_worst_agent_bl",
@@ -168,6 +168,7 @@ pub const METRICS: [Metric; 12] = [
     ),
     ("rms_error_sync_bl", |r| r.rms_error_sync_bl, false),
     ("rms_error_time_bl", |r| r.rms_error_time_bl, false),
+    ("rms_error_node_bl", |r| r.rms_error_node_bl, false),
     ("max_error_bl", |r| r.max_error_bl, false),
     ("max_error_true_bl", |r| r.max_error_true_bl, false),
     ("cost", |r| r.cost, false),

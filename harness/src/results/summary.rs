@@ -40,6 +40,8 @@ pub struct GroupSummary {
     pub rms_error_sync: Option<Summary>,
     /// RMS time-indexed error (BL), tracked runs.
     pub rms_error_time: Option<Summary>,
+    /// RMS node error (BL), tracked runs: the seed's tracking error.
+    pub rms_error_node: Option<Summary>,
     /// Max tracking error (BL), tracked runs.
     pub max_error: Option<Summary>,
     /// RMS path error of the worst agent, observed positions (BL), tracked runs.
@@ -144,6 +146,7 @@ pub fn summarize(g: &[&RunRecord]) -> GroupSummary {
         rms_error_true: summary_of(g.iter().filter_map(|r| r.rms_error_true_bl)),
         rms_error_sync: summary_of(g.iter().filter_map(|r| r.rms_error_sync_bl)),
         rms_error_time: summary_of(g.iter().filter_map(|r| r.rms_error_time_bl)),
+        rms_error_node: summary_of(g.iter().filter_map(|r| r.rms_error_node_bl)),
         max_error: summary_of(g.iter().filter_map(|r| r.max_error_bl)),
         rms_error_worst_agent: summary_of(g.iter().filter_map(|r| r.rms_error_worst_agent_bl)),
         rms_error_true_worst_agent: summary_of(

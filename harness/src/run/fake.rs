@@ -176,6 +176,7 @@ impl Executor for FakeExecutor {
             r.rms_error_true_bl = Some(rms * 0.8);
             r.rms_error_sync_bl = Some(rms * 1.2);
             r.rms_error_time_bl = Some(rms * 2.0);
+            r.rms_error_node_bl = Some(rms * 1.5);
             r.max_error_bl = Some(rms * (2.0 + trng.random::<f64>()));
             // each agent's share, drawn from nothing (the random stream above stays as it was)
             let agents = spec.scenario.agents();

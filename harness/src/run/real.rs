@@ -333,6 +333,8 @@ impl Executor for RealExecutor {
         rec.per_agent = out.per_agent.iter().map(Into::into).collect();
         rec.rms_error_sync_bl = Some(m.rms_error_sync_bl);
         rec.rms_error_time_bl = Some(m.rms_error_time_bl);
+        rec.rms_error_node_bl = Some(m.rms_error_node_bl);
+        rec.rms_error_node_true_bl = m.rms_error_node_true_bl;
         rec.legs_completed = Some(m.legs_completed as u64);
         rec.final_distance_bl = Some(m.final_goal_distance_bl);
         rec.agent_contact = Some(m.agent_contact);

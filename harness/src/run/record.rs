@@ -129,6 +129,11 @@ pub struct RunRecord {
     pub rms_error_sync_bl: Option<f64>,
     /// RMS time-indexed error of the observed positions (BL).
     pub rms_error_time_bl: Option<f64>,
+    /// RMS node error of the observed positions (BL): the team against its nearest node of the
+    /// plan being followed, the seed's tracking error (Sec. III-B).
+    pub rms_error_node_bl: Option<f64>,
+    /// RMS node error of the true positions (BL); empty as `rms_error_true_bl`.
+    pub rms_error_node_true_bl: Option<f64>,
     /// Legs completed while tracking.
     pub legs_completed: Option<u64>,
     /// Largest agent distance from its goal centre at the end of tracking (BL).
@@ -282,6 +287,8 @@ impl RunRecord {
             rms_error_true_worst_agent_bl: None,
             rms_error_sync_bl: None,
             rms_error_time_bl: None,
+            rms_error_node_bl: None,
+            rms_error_node_true_bl: None,
             legs_completed: None,
             final_distance_bl: None,
             agent_contact: None,

@@ -30,6 +30,10 @@ pub struct Recorder {
     sync_errors: TeamAccumulator,
     /// Time-indexed error of the observed positions.
     time_errors: TeamAccumulator,
+    /// Node error of the observed positions.
+    node_errors: TeamAccumulator,
+    /// Node error of the true positions (when the rig knows them).
+    node_true_errors: Option<TeamAccumulator>,
     plans: Vec<PlanRecord>,
     ticks: Vec<TickRecord>,
     message: Option<String>,
@@ -79,6 +83,8 @@ impl Recorder {
             true_errors: None,
             sync_errors: TeamAccumulator::default(),
             time_errors: TeamAccumulator::default(),
+            node_errors: TeamAccumulator::default(),
+            node_true_errors: None,
             plans: vec![],
             ticks: vec![],
             message: None,
@@ -153,8 +159,9 @@ impl Recorder {
 
     /// Scores a tick against the reference adopted at rig time `start` (see
     /// [`crate::scoring`]): the observed positions' path errors (a missed detection gives no
-    /// sample), their team-synchronous and time-indexed errors (a frame with a miss gives no
-    /// team sample) and the true positions' path errors when the rig knows them. Returns the
+    /// sample), their team-synchronous, time-indexed and node errors (a frame with a miss gives
+    /// no team sample) and the true positions' path and node errors when the rig knows them.
+    /// Returns the
     /// per-agent path errors of the observed positions (NaN where missed) and remembers the
     /// team's state.
     pub fn score(&mut self, tick: &TickContext, reference: &Reference, start: f64) -> Vec<f64> {
@@ -173,6 +180,7 @@ impl Recorder {
             let t = tick.observation.t - start;
             self.time_errors
                 .add(scoring::time_indexed_error(reference, t, &team));
+            self.node_errors.add(scoring::node_error(reference, &team));
         }
         if let Some(g) = tick.truth.as_ref() {
             let acc = self
@@ -184,6 +192,9 @@ impl Recorder {
             {
                 acc.add(i, e);
             }
+            self.node_true_errors
+                .get_or_insert_with(TeamAccumulator::default)
+                .add(scoring::node_error(reference, &g.positions));
             self.last_truth = Some(g.positions.clone());
         }
         self.last_estimate = tick.estimate.clone();
@@ -274,6 +285,8 @@ impl Recorder {
                 .flatten(),
             rms_error_sync_bl: self.sync_errors.rms(),
             rms_error_time_bl: self.time_errors.rms(),
+            rms_error_node_bl: self.node_errors.rms(),
+            rms_error_node_true_bl: self.node_true_errors.as_ref().map(TeamAccumulator::rms),
             agent_contact: end.agent_contact,
             wall_contacts: end.wall_contacts,
             missed_frames: self.missed_frames,
