@@ -17,7 +17,7 @@ use std::time::Instant;
 use criterion::{Criterion, criterion_group, criterion_main};
 use magbench_env::model::Flow;
 use magbench_env::{Control, Scenario, Vec2};
-use magbench_planners::{Limits, Planner, Problem, registry};
+use magbench_planners::{Limits, Planner, Planners, Problem};
 use rand::{RngExt, SeedableRng};
 
 const FLOWS: [Flow; 2] = [Flow::PairExact, Flow::PairAdaptive];
@@ -66,7 +66,8 @@ fn bench(c: &mut Criterion) {
                     time_limit: None,
                 };
                 seed += 1;
-                let mut planner: Box<dyn Planner> = registry::create("goal-zoom-rrt", &[]).unwrap();
+                let mut planner: Box<dyn Planner> =
+                    Planners::builtin().create("goal-zoom-rrt", &[]).unwrap();
                 let t = Instant::now();
                 let r = planner.solve(&q);
                 seconds += t.elapsed().as_secs_f64();

@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use magbench_env::Scenario;
 use magbench_env::model::Flow;
-use magbench_planners::{Plan, PlanError, registry, validate_plan};
+use magbench_planners::{Plan, PlanError, Planners, validate_plan};
 
 #[test]
 fn adaptive_plans_pass_the_validator_after_a_file_round_trip() {
@@ -20,7 +20,10 @@ fn adaptive_plans_pass_the_validator_after_a_file_round_trip() {
         for seed in 0..3 {
             let p = problem(&s, seed, 200_000);
             assert_eq!(p.model.flow, Flow::PairAdaptive);
-            let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+            let r = Planners::builtin()
+                .create("goal-zoom-rrt", &[])
+                .unwrap()
+                .solve(&p);
             assert!(r.solved, "{}, seed {seed}: not solved", s.name);
             assert_eq!(r.plan.flow, Flow::PairAdaptive);
             let text = serde_json::to_string(&r.plan).unwrap();
@@ -51,7 +54,10 @@ fn adaptive_plans_pass_the_validator_after_a_file_round_trip() {
 fn adaptive_replay_is_bit_exact_every_time() {
     let s = scenario(TRIO);
     let p = problem(&s, 4, 200_000);
-    let r = registry::create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+    let r = Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&p);
     assert!(r.solved);
     let first = replay(&p, &r.plan);
     for _ in 0..3 {
