@@ -52,7 +52,7 @@ def test_save_and_load(sc, plan, tmp_path):
     np.testing.assert_array_equal(back.states, plan.states)
     np.testing.assert_array_equal(back.controls, plan.controls)
     assert back.solved is None
-    assert json.loads((tmp_path / "plan.json").read_text())["flow"] == "pair-exact"
+    assert json.loads((tmp_path / "plan.json").read_text())["flow"] == "pair-adaptive"
     assert (tmp_path / "plan.csv").read_text().startswith("waypoint,t_s,x0,y0,x1,y1")
     with pytest.raises(mb.InputError):
         mb.Plan.load(tmp_path / "plan.csv", sc)
