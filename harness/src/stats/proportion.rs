@@ -1,37 +1,19 @@
-//! Success rates: the pooled two-proportion z test and Wilson and Clopper–Pearson intervals.
+//! Success rates: Wilson and Clopper–Pearson intervals.
 
 use statrs::distribution::{Beta, ContinuousCDF};
 
-use super::{Alternative, normal_quantile, normal_sf};
-
-/// The pooled two-proportion z test of `s1/n1` against `s2/n2`: returns `(z, p)` with
-/// `z = (p̂₁ − p̂₂)/√(p̄(1 − p̄)(1/n₁ + 1/n₂))`. `Less` means the first rate is smaller.
-/// With no variance (both rates 0 or both 1) or an empty sample, `z = 0` and `p = 1`.
-pub fn two_proportion_z(s1: u64, n1: u64, s2: u64, n2: u64, alt: Alternative) -> (f64, f64) {
-    if n1 == 0 || n2 == 0 {
-        return (0.0, 1.0);
-    }
-    let (p1, p2) = (s1 as f64 / n1 as f64, s2 as f64 / n2 as f64);
-    let pool = (s1 + s2) as f64 / (n1 + n2) as f64;
-    let se = (pool * (1.0 - pool) * (1.0 / n1 as f64 + 1.0 / n2 as f64)).sqrt();
-    if se == 0.0 {
-        return (0.0, 1.0);
-    }
-    let z = (p1 - p2) / se;
-    let p = match alt {
-        Alternative::TwoSided => (2.0 * normal_sf(z.abs())).min(1.0),
-        Alternative::Greater => normal_sf(z),
-        Alternative::Less => normal_sf(-z),
-    };
-    (z, p)
-}
+use super::normal_quantile;
 
 /// The Wilson score interval of a success rate `s/n` at `level` (e.g. 0.95); `(0, 1)` if n = 0.
 pub fn wilson(s: u64, n: u64, level: f64) -> (f64, f64) {
+    wilson_z(s, n, normal_quantile(1.0 - (1.0 - level) / 2.0))
+}
+
+/// The Wilson score interval of `s/n` at the normal quantile `z`; `(0, 1)` if n = 0.
+pub fn wilson_z(s: u64, n: u64, z: f64) -> (f64, f64) {
     if n == 0 {
         return (0.0, 1.0);
     }
-    let z = normal_quantile(1.0 - (1.0 - level) / 2.0);
     let (nf, p) = (n as f64, s as f64 / n as f64);
     let d = 1.0 + z * z / nf;
     let c = (p + z * z / (2.0 * nf)) / d;
@@ -70,22 +52,6 @@ mod tests {
     use super::*;
 
     // Reference values computed with SciPy 1.10 (norm, beta.ppf).
-
-    #[test]
-    fn two_proportion_z_textbook() {
-        // 45/50 vs 30/50: pooled p̄ = 0.75, z = 0.3/√(0.75·0.25·0.04) = 3.4641.
-        let (z, p) = two_proportion_z(45, 50, 30, 50, Alternative::TwoSided);
-        assert!((z - 3.4641016151377553).abs() < 1e-12);
-        assert!((p - 0.0005320055051392477).abs() < 1e-9, "{p}");
-        let (_, pg) = two_proportion_z(45, 50, 30, 50, Alternative::Greater);
-        assert!((pg - 0.00026600275256962385).abs() < 1e-9);
-        let (_, pl) = two_proportion_z(45, 50, 30, 50, Alternative::Less);
-        assert!((pl - (1.0 - 0.00026600275256962385)).abs() < 1e-9);
-        assert_eq!(
-            two_proportion_z(10, 10, 20, 20, Alternative::TwoSided),
-            (0.0, 1.0)
-        );
-    }
 
     #[test]
     fn wilson_matches_reference() {

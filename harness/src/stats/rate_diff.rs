@@ -11,6 +11,7 @@
 //! two-sided 90% interval).
 
 use super::normal_sf;
+use super::proportion::wilson_z;
 
 /// A difference of rates with its interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -21,20 +22,6 @@ pub struct RateDiff {
     pub lo: f64,
     /// Upper end.
     pub hi: f64,
-}
-
-/// The Wilson score interval of `s/n` at the normal quantile `z`; `(0, 1)` if n = 0.
-fn wilson_z(s: u64, n: u64, z: f64) -> (f64, f64) {
-    if n == 0 {
-        return (0.0, 1.0);
-    }
-    let (nf, p) = (n as f64, s as f64 / n as f64);
-    let d = 1.0 + z * z / nf;
-    let c = (p + z * z / (2.0 * nf)) / d;
-    let h = z * (p * (1.0 - p) / nf + z * z / (4.0 * nf * nf)).sqrt() / d;
-    let lo = if s == 0 { 0.0 } else { (c - h).max(0.0) };
-    let hi = if s >= n { 1.0 } else { (c + h).min(1.0) };
-    (lo, hi)
 }
 
 /// Newcombe's hybrid score interval of `s1/n1 − s2/n2` (independent samples).
