@@ -44,11 +44,7 @@ pub fn check_plan(
     }
     let w = &scenario.world;
     for (k, s) in plan.states.iter().enumerate() {
-        if let Some((i, p)) = s
-            .iter()
-            .enumerate()
-            .find(|(_, p)| !((0.0..=w.width).contains(&p.x) && (0.0..=w.height).contains(&p.y)))
-        {
+        if let Some((i, p)) = s.iter().enumerate().find(|(_, p)| !w.contains(**p)) {
             return Err(bad(
                 format!("states[{k}][{i}]"),
                 format!(

@@ -32,6 +32,11 @@ pub struct World {
 }
 
 impl World {
+    /// True when `p` lies in the rectangle `[0, width] × [0, height]`.
+    pub fn contains(&self, p: Vec2) -> bool {
+        (0.0..=self.width).contains(&p.x) && (0.0..=self.height).contains(&p.y)
+    }
+
     /// The same rectangle with another set of obstacles (a map switch).
     pub fn with_obstacles(&self, obstacles: Vec<Obstacle>) -> World {
         World {
