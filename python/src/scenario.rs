@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use magbench_env::coil::Planar;
-use magbench_env::{MAX_AGENTS, Vec2};
+use magbench_env::{Control, MAX_AGENTS, Vec2};
 use magbench_planners::motion::{propagate_valid, random_control, random_elevated_control};
 use magbench_planners::{PlanningSetup, Problem, Rng};
 use numpy::ndarray::Array2;
@@ -243,59 +243,27 @@ impl Scenario {
         u: ArrayIn<'py>,
         duration_s: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let n = self.agents();
-        let xs = Rows::new(py, "x0", x0.as_array(), 2 * n, "x, y per agent")?;
-        let us = Rows::new(py, "u", u.as_array(), CONTROL_LEN, "a control")?;
-        let d_in = DurIn::new(duration_s)?;
-        let ds = d_in.view(py)?;
-        let mut start = [Vec2::zeros(); MAX_AGENTS];
-        let mut out = [Vec2::zeros(); MAX_AGENTS];
         let model = &self.problem.model;
-        match batch_size(
-            py,
-            &[
-                ("x0", xs.batch()),
-                ("u", us.batch()),
-                ("duration_s", ds.batch()),
-            ],
-        )? {
-            None => {
-                read_state(py, "x0", xs.row(0), &mut start[..n])?;
-                let u = read_control(py, "u", us.row(0))?;
-                let d = ds.get(py, 0)?;
-                guarded("propagate", || {
-                    model.propagate(&start[..n], &u, d, &mut out[..n]);
-                    Ok(())
-                })?;
-                Ok(state_out(py, &out[..n]).into_any())
-            }
+        let (rows, _, ends) =
+            self.each_motion(py, x0, u, duration_s, "propagate", true, |s, u, d, out| {
+                model.propagate(s, u, d, out);
+                true
+            })?;
+        let n = self.agents();
+        Ok(match rows {
+            None => PyArray1::from_vec(py, ends).into_any(),
             Some(rows) => {
-                let mut flat = Vec::with_capacity(rows * 2 * n);
-                guarded("propagate", || {
-                    for i in 0..rows {
-                        if i == 0 || xs.batch().is_some() {
-                            read_state(py, "x0", xs.row(i), &mut start[..n])?;
-                        }
-                        let u = read_control(py, "u", us.row(i))?;
-                        let d = ds.get(py, i)?;
-                        model.propagate(&start[..n], &u, d, &mut out[..n]);
-                        flat.extend(out[..n].iter().flat_map(|p| [p.x, p.y]));
-                    }
-                    Ok(())
-                })?;
-                let a = Array2::from_shape_vec((rows, 2 * n), flat).expect("rows of one width");
-                Ok(PyArray2::from_owned_array(py, a).into_any())
+                let a = Array2::from_shape_vec((rows, 2 * n), ends).expect("rows of one width");
+                PyArray2::from_owned_array(py, a).into_any()
             }
-        }
+        })
     }
 
     /// Whether a state is valid: every agent inside the world and clear of obstacles, every
     /// pair's separation inside the proximity range. Batched: an (n, d) array gives n answers.
     fn is_valid<'py>(&self, py: Python<'py>, x: ArrayIn<'py>) -> PyResult<Bound<'py, PyAny>> {
         let w = &self.problem.world;
-        let inside = |p: &Vec2| {
-            w.width.is_nan() || ((0.0..=w.width).contains(&p.x) && (0.0..=w.height).contains(&p.y))
-        };
+        let inside = |p: &Vec2| w.width.is_nan() || w.contains(*p);
         self.per_state(py, x, "x", |s| {
             s.iter().all(inside) && self.problem.checker.is_valid(s)
         })
@@ -324,55 +292,24 @@ impl Scenario {
         duration_s: &Bound<'py, PyAny>,
         return_state: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let n = self.agents();
-        let xs = Rows::new(py, "x0", x0.as_array(), 2 * n, "x, y per agent")?;
-        let us = Rows::new(py, "u", u.as_array(), CONTROL_LEN, "a control")?;
-        let d_in = DurIn::new(duration_s)?;
-        let ds = d_in.view(py)?;
-        let mut start = [Vec2::zeros(); MAX_AGENTS];
-        let mut out = [Vec2::zeros(); MAX_AGENTS];
         let problem = &self.problem;
-        match batch_size(
+        let (rows, oks, ends) = self.each_motion(
             py,
-            &[
-                ("x0", xs.batch()),
-                ("u", us.batch()),
-                ("duration_s", ds.batch()),
-            ],
-        )? {
-            None => {
-                read_state(py, "x0", xs.row(0), &mut start[..n])?;
-                let u = read_control(py, "u", us.row(0))?;
-                let d = ds.get(py, 0)?;
-                let ok = guarded("motion_valid", || {
-                    Ok(propagate_valid(problem, &start[..n], &u, d, &mut out[..n]))
-                })?;
-                if return_state {
-                    (ok, state_out(py, &out[..n])).into_bound_py_any(py)
-                } else {
-                    ok.into_bound_py_any(py)
-                }
-            }
+            x0,
+            u,
+            duration_s,
+            "motion_valid",
+            return_state,
+            |s, u, d, out| propagate_valid(problem, s, u, d, out),
+        )?;
+        let n = self.agents();
+        match rows {
+            None if return_state => (oks[0], PyArray1::from_vec(py, ends)).into_bound_py_any(py),
+            None => oks[0].into_bound_py_any(py),
             Some(rows) => {
-                let mut oks = Vec::with_capacity(rows);
-                let mut flat = Vec::new();
-                guarded("motion_valid", || {
-                    for i in 0..rows {
-                        if i == 0 || xs.batch().is_some() {
-                            read_state(py, "x0", xs.row(i), &mut start[..n])?;
-                        }
-                        let u = read_control(py, "u", us.row(i))?;
-                        let d = ds.get(py, i)?;
-                        oks.push(propagate_valid(problem, &start[..n], &u, d, &mut out[..n]));
-                        if return_state {
-                            flat.extend(out[..n].iter().flat_map(|p| [p.x, p.y]));
-                        }
-                    }
-                    Ok(())
-                })?;
                 let valid = PyArray1::from_vec(py, oks);
                 if return_state {
-                    let a = Array2::from_shape_vec((rows, 2 * n), flat).expect("rows of one width");
+                    let a = Array2::from_shape_vec((rows, 2 * n), ends).expect("rows of one width");
                     (valid, PyArray2::from_owned_array(py, a)).into_bound_py_any(py)
                 } else {
                     Ok(valid.into_any())
@@ -460,5 +397,54 @@ impl Scenario {
                 Ok(PyArray1::from_vec(py, out).into_any())
             }
         }
+    }
+
+    /// `motion` (from a start, under a control, for a duration, into an end state) of one
+    /// (x0, u, duration_s) or of every row of a batch: the rows (`None` for one motion), each
+    /// motion's flag and, with `keep_ends`, the end states flattened (`2n` numbers a row).
+    #[allow(clippy::too_many_arguments)]
+    fn each_motion<'py>(
+        &self,
+        py: Python<'py>,
+        x0: ArrayIn<'py>,
+        u: ArrayIn<'py>,
+        duration_s: &Bound<'py, PyAny>,
+        what: &str,
+        keep_ends: bool,
+        mut motion: impl FnMut(&[Vec2], &Control, f64, &mut [Vec2]) -> bool,
+    ) -> PyResult<(Option<usize>, Vec<bool>, Vec<f64>)> {
+        let n = self.agents();
+        let xs = Rows::new(py, "x0", x0.as_array(), 2 * n, "x, y per agent")?;
+        let us = Rows::new(py, "u", u.as_array(), CONTROL_LEN, "a control")?;
+        let d_in = DurIn::new(duration_s)?;
+        let ds = d_in.view(py)?;
+        let rows = batch_size(
+            py,
+            &[
+                ("x0", xs.batch()),
+                ("u", us.batch()),
+                ("duration_s", ds.batch()),
+            ],
+        )?;
+        let count = rows.unwrap_or(1);
+        let mut start = [Vec2::zeros(); MAX_AGENTS];
+        let mut out = [Vec2::zeros(); MAX_AGENTS];
+        let mut flags = Vec::with_capacity(count);
+        let mut ends = Vec::with_capacity(if keep_ends { count * 2 * n } else { 0 });
+        guarded(what, || {
+            for i in 0..count {
+                if i == 0 || xs.batch().is_some() {
+                    read_state(py, "x0", xs.row(i), &mut start[..n])?;
+                }
+                let u = read_control(py, "u", us.row(i))?;
+                let d = ds.get(py, i)?;
+                flags.push(motion(&start[..n], &u, d, &mut out[..n]));
+                if keep_ends {
+                    ends.extend(out[..n].iter().flat_map(|p| [p.x, p.y]));
+                }
+            }
+            Ok(())
+        })?;
+        Ok((rows, flags, ends))
     }
 }
