@@ -14,6 +14,7 @@ pub mod ablation;
 pub mod api;
 mod app;
 pub mod cli;
+pub mod compare;
 pub mod error;
 pub mod experiment;
 pub mod figures;
