@@ -26,6 +26,7 @@ pub mod regress;
 pub mod results;
 pub mod run;
 pub mod stats;
+pub mod suite;
 pub mod sweep;
 
 pub use app::Cli;
