@@ -86,7 +86,11 @@ fn scaling(dir: &std::path::Path, by: &str, family: Option<&str>) -> Result<(), 
         ));
     }
     for p in &s {
-        outln!("{}: time to 1st solution ≈ {}", p.planner, fit_text(&p.fit, by));
+        outln!(
+            "{}: time to 1st solution ≈ {}",
+            p.planner,
+            fit_text(&p.fit, by)
+        );
         for (k, t, solved, n) in &p.points {
             outln!("  {by} = {k}: median {t:.4} s, {solved}/{n} solved");
         }

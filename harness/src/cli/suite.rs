@@ -68,7 +68,11 @@ pub fn run(cmd: SuiteCmd) -> Result<(), CliError> {
 
 /// The experiment `bench --suite NAME` runs: the suite's stored files (checked against their
 /// hashes; a mismatch is bad input) with its planners, seeds and limits.
-pub fn experiment(name: &str, registry: &Registry, ex: &dyn Executor) -> Result<Experiment, CliError> {
+pub fn experiment(
+    name: &str,
+    registry: &Registry,
+    ex: &dyn Executor,
+) -> Result<Experiment, CliError> {
     let s = Suite::load(&locate(name))?;
     if let Some(p) = s.check(false)?.first() {
         return Err(CliError::Input(magbench_env::InputError::new(

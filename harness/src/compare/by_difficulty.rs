@@ -60,7 +60,11 @@ pub fn success(t: &Instances, p: usize, x: &[Option<f64>], bins: &[Vec<usize>]) 
             let (lo, hi) = wilson(s, n, 0.95);
             BandPoint {
                 x: bin_x(x, b),
-                y: if n == 0 { f64::NAN } else { s as f64 / n as f64 },
+                y: if n == 0 {
+                    f64::NAN
+                } else {
+                    s as f64 / n as f64
+                },
                 lo,
                 hi,
             }
@@ -83,11 +87,19 @@ pub fn time(t: &Instances, p: usize, x: &[Option<f64>], bins: &[Vec<usize>]) -> 
                     return f64::NAN;
                 }
                 let v = s[((s.len() - 1) as f64 * f).round() as usize];
-                if v.is_finite() && v > 0.0 { v.log10() } else { f64::NAN }
+                if v.is_finite() && v > 0.0 {
+                    v.log10()
+                } else {
+                    f64::NAN
+                }
             };
             BandPoint {
                 x: bin_x(x, b),
-                y: if m.is_finite() && m > 0.0 { m.log10() } else { f64::NAN },
+                y: if m.is_finite() && m > 0.0 {
+                    m.log10()
+                } else {
+                    f64::NAN
+                },
                 lo: q(0.25),
                 hi: q(0.75),
             }

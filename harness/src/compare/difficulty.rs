@@ -82,7 +82,10 @@ mod tests {
         write(dir.path(), &[("narrow-passage".into(), Arc::new(sc))]).unwrap();
         let t = read(dir.path()).unwrap();
         assert_eq!(t.rows.len(), 1);
-        let c = COLUMNS.iter().position(|c| *c == "narrowest_passage_bl").unwrap();
+        let c = COLUMNS
+            .iter()
+            .position(|c| *c == "narrowest_passage_bl")
+            .unwrap();
         let v = t.value("narrow-passage", c).unwrap();
         assert!((v - 3.0).abs() < 0.25, "{v}");
         assert!(t.value("other", c).is_none());

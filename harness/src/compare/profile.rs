@@ -22,7 +22,13 @@ pub fn ratios(times: &[Vec<f64>]) -> Vec<Vec<f64>> {
             (0..problems)
                 .map(|i| match row.get(i) {
                     Some(&t) if t.is_finite() && best[i].is_finite() => {
-                        if best[i] > 0.0 { t / best[i] } else if t > 0.0 { f64::INFINITY } else { 1.0 }
+                        if best[i] > 0.0 {
+                            t / best[i]
+                        } else if t > 0.0 {
+                            f64::INFINITY
+                        } else {
+                            1.0
+                        }
                     }
                     _ => f64::INFINITY,
                 })
@@ -86,7 +92,11 @@ mod tests {
     #[test]
     fn at_tau_one_the_winners_share_each_problem() {
         // Ties count for both; ρ(1) summed over planners is at least the problems solved.
-        let t = vec![vec![1.0, 1.0, 5.0], vec![1.0, 2.0, 4.0], vec![3.0, 2.0, 6.0]];
+        let t = vec![
+            vec![1.0, 1.0, 5.0],
+            vec![1.0, 2.0, 4.0],
+            vec![3.0, 2.0, 6.0],
+        ];
         let p = profile(&t, &[1.0]);
         let (a, b, c) = (p[0][0], p[1][0], p[2][0]);
         assert_eq!((a * 3.0, b * 3.0, c * 3.0), (2.0, 2.0, 0.0));

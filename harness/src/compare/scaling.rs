@@ -103,7 +103,10 @@ mod tests {
 
     #[test]
     fn reads_parameters_from_generated_labels() {
-        assert_eq!(label_param("serpentine-gap=4-walls=8-s2", "walls"), Some(8.0));
+        assert_eq!(
+            label_param("serpentine-gap=4-walls=8-s2", "walls"),
+            Some(8.0)
+        );
         assert_eq!(label_param("corridor-length=30.5-s0", "length"), Some(30.5));
         assert_eq!(label_param("micro-factory", "walls"), None);
     }

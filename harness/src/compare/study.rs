@@ -57,11 +57,7 @@ pub fn study(runs: &[RunRecord], family: Option<&str>, by: &str) -> Vec<PlannerS
         }
     }
     for p in planners {
-        let mut ks: Vec<f64> = sizes
-            .iter()
-            .filter(|s| s.0 == p)
-            .map(|s| s.1)
-            .collect();
+        let mut ks: Vec<f64> = sizes.iter().filter(|s| s.0 == p).map(|s| s.1).collect();
         ks.sort_by(f64::total_cmp);
         ks.dedup();
         let points: Vec<(f64, f64, u64, u64)> = ks
@@ -100,7 +96,12 @@ pub fn fit_text(f: &Option<PowerFit>, by: &str) -> String {
 
 /// Plots `log₂ median time` against `log₂ size` per planner with its fitted line into
 /// `dir/plots/scaling-<by>`; returns the stem.
-pub fn plot(dir: &Path, s: &[PlannerScaling], family: Option<&str>, by: &str) -> Result<PathBuf, CliError> {
+pub fn plot(
+    dir: &Path,
+    s: &[PlannerScaling],
+    family: Option<&str>,
+    by: &str,
+) -> Result<PathBuf, CliError> {
     let mut series = vec![];
     for p in s {
         series.push(Series {
@@ -171,7 +172,11 @@ mod tests {
             let t = 0.01 * (k as f64).powi(2);
             runs.push(run(&format!("serpentine-walls={k}-s0"), "a", Some(t)));
             runs.push(run(&format!("serpentine-walls={k}-s1"), "a", Some(t)));
-            runs.push(run(&format!("serpentine-walls={k}-s0"), "b", (k < 8).then_some(0.1)));
+            runs.push(run(
+                &format!("serpentine-walls={k}-s0"),
+                "b",
+                (k < 8).then_some(0.1),
+            ));
         }
         runs.push(run("corridor-length=30-s0", "a", Some(5.0)));
         let s = study(&runs, Some("serpentine"), "walls");

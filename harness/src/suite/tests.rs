@@ -1,7 +1,9 @@
 use super::*;
 
 fn repo_suite(name: &str) -> Suite {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../suites").join(name);
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../suites")
+        .join(name);
     Suite::load(&dir).unwrap()
 }
 
@@ -36,7 +38,10 @@ fn an_edited_file_breaks_the_check() {
     let (n, t) = &s.stored_files()[0];
     std::fs::write(tmp.path().join("scenarios").join(n), t.replace("0", "1")).unwrap();
     let problems = s.check(false).unwrap();
-    assert!(problems[0].contains("do not match SHA256SUMS"), "{problems:?}");
+    assert!(
+        problems[0].contains("do not match SHA256SUMS"),
+        "{problems:?}"
+    );
 }
 
 #[test]
