@@ -24,6 +24,10 @@ pub const FOLDER: &str = "across-problems";
 /// Measures with fewer distinct values than this over the problems are not plotted.
 const MIN_DISTINCT: usize = 3;
 
+/// Columns of `difficulty.csv` that describe the measurement (grid, assumed clearance), not
+/// the problem: not plotted.
+const SETTINGS: [&str; 3] = ["grid_bl", "min_width_bl", "path_clearance_bl"];
+
 fn figure(dir: &Path, name: &str, fig: &LineBandChart, caption: &str) -> Result<String, CliError> {
     let stem = dir.join("plots").join(FOLDER).join(name);
     save(fig, &stem)?;
@@ -129,6 +133,9 @@ pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, CliError> {
 
     let d = difficulty::read(dir)?;
     for (c, col) in COLUMNS.iter().enumerate() {
+        if SETTINGS.contains(col) {
+            continue;
+        }
         let x: Vec<Option<f64>> = t.problems.iter().map(|p| d.value(p, c)).collect();
         let mut distinct: Vec<f64> = x.iter().flatten().copied().collect();
         distinct.sort_by(f64::total_cmp);
