@@ -14,6 +14,7 @@ pub mod ablation;
 pub mod api;
 mod app;
 pub mod cli;
+pub mod compare;
 pub mod error;
 pub mod experiment;
 pub mod figures;
@@ -25,6 +26,7 @@ pub mod regress;
 pub mod results;
 pub mod run;
 pub mod stats;
+pub mod suite;
 pub mod sweep;
 
 pub use app::Cli;

@@ -37,6 +37,10 @@ impl ExecutorKind {
 pub struct BenchArgs {
     /// The experiment file (default: experiments/default.toml).
     pub file: Option<PathBuf>,
+    /// Run a frozen suite (`suites/NAME`, or a suite folder) with its default planners, seeds
+    /// and limits instead of an experiment file.
+    #[arg(long, conflicts_with = "file")]
+    pub suite: Option<String>,
     /// Results folder (default: results/<experiment name>, or results/<name>-shard-I-of-N).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -79,7 +83,10 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     let executor = a.executor.executor(registry);
     let ex = executor.as_ref();
     let file = a.file.clone().unwrap_or_else(default_experiment);
-    let e = Experiment::load(&file, ex)?;
+    let e = match &a.suite {
+        Some(name) => super::suite::experiment(name, registry, ex)?,
+        None => Experiment::load(&file, ex)?,
+    };
     let shard = a
         .shard
         .as_deref()
@@ -128,6 +135,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     }
     super::output::prepare_dir(&out, "--out")?;
     crate::experiment::generated::keep_files(&e.text, &e.source, &out)?;
+    crate::compare::difficulty::write(&out, &e.scenarios)?;
     let progress = if a.quiet {
         ProgressMode::Quiet
     } else if a.lines {

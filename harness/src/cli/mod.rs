@@ -14,6 +14,7 @@ mod rig;
 mod scenario;
 mod setup;
 mod stlc;
+mod suite;
 mod track;
 mod tracked;
 
@@ -56,9 +57,12 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Compare a results folder against a baseline: regression, ok or inconclusive per metric.
     Regress(regress::RegressArgs),
-    /// Check results folders (`results verify DIR`).
+    /// Check results folders (`results verify DIR`); fit scaling exponents (`results scaling`).
     #[command(subcommand)]
     Results(results::ResultsCmd),
+    /// Check or freeze the problem suites in suites/ (`bench --suite NAME` runs one).
+    #[command(subcommand)]
+    Suite(suite::SuiteCmd),
     /// Regenerate the paper figures (SVG and PNG) from fixed seeds.
     Figures(figures::FiguresArgs),
     /// Plan, then track the plan in closed loop against the simulated plant; report metrics.
@@ -81,6 +85,7 @@ pub fn run(args: Args, registry: &Registry) -> Result<(), CliError> {
         Command::Ablate(a) => ablate::run(a, registry),
         Command::Regress(a) => regress::run(a),
         Command::Results(c) => results::run(c),
+        Command::Suite(c) => suite::run(c),
         Command::Figures(a) => figures::run(a, registry),
         Command::Track(a) => track::run(*a, registry),
         Command::Plan(a) => plan::run(a, registry),

@@ -1,4 +1,5 @@
-//! `magbench results verify DIR`: check a results folder.
+//! `magbench results verify DIR`: check a results folder; `magbench results scaling DIR`: fit
+//! how time to a first solution grows with a problem size.
 
 use std::path::PathBuf;
 
@@ -18,11 +19,26 @@ pub enum ResultsCmd {
         /// The results folder.
         dir: PathBuf,
     },
+    /// Fit median time to a first solution against a problem size, per planner: the exponent b
+    /// of time ≈ a·size^b (log–log least squares) with its 95% interval; plot it into
+    /// DIR/plots/scaling-[FAMILY-]BY.svg.
+    Scaling {
+        /// The results folder.
+        dir: PathBuf,
+        /// The size: a parameter of the generated scenarios' labels (e.g. `walls`, `length`),
+        /// or `agents`.
+        #[arg(long)]
+        by: String,
+        /// Only scenarios of this generated family (label prefix `FAMILY-`).
+        #[arg(long)]
+        family: Option<String>,
+    },
 }
 
 /// Runs a results subcommand.
 pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
     match cmd {
+        ResultsCmd::Scaling { dir, by, family } => scaling(&dir, &by, family.as_deref()),
         ResultsCmd::Verify { dir } => {
             let _lock = lock::shared(&dir, "DIR")?;
             let v = verify::verify(&dir)?;
@@ -53,4 +69,33 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
             )))
         }
     }
+}
+
+fn scaling(dir: &std::path::Path, by: &str, family: Option<&str>) -> Result<(), CliError> {
+    use crate::compare::study::{fit_text, plot, study};
+    let _lock = lock::shared(dir, "DIR")?;
+    let runs = crate::results::store::read_runs(dir)?;
+    let s = study(&runs, family, by);
+    if s.is_empty() {
+        return Err(CliError::arg(
+            "--by",
+            format!(
+                "no planning run of {} has a size `{by}` (a label parameter or `agents`)",
+                dir.display()
+            ),
+        ));
+    }
+    for p in &s {
+        outln!(
+            "{}: time to 1st solution ≈ {}",
+            p.planner,
+            fit_text(&p.fit, by)
+        );
+        for (k, t, solved, n) in &p.points {
+            outln!("  {by} = {k}: median {t:.4} s, {solved}/{n} solved");
+        }
+    }
+    let stem = plot(dir, &s, family, by)?;
+    outln!("plot: {}.svg", stem.display());
+    Ok(())
 }

@@ -237,6 +237,7 @@ pub fn write(
             );
         }
     }
+    o.push_str(&crate::compare::section::html(dir, runs)?);
     let _ = writeln!(
         o,
         "<h2>Experiment file</h2><p><code>{}</code></p><pre>{}</pre>",

@@ -1,0 +1,190 @@
+//! A scaling study over a results folder: per planner, the median time to a first solution
+//! (unsolved runs = +∞) at each problem size, the power law fitted to it ([`super::scaling`]),
+//! and a log–log plot of both.
+
+use std::path::{Path, PathBuf};
+
+use super::instances::median_inf;
+use super::scaling::{PowerFit, fit, label_param};
+use crate::CliError;
+use crate::plot::charts::{BandPoint, LineBandChart, Series};
+use crate::plot::save;
+use crate::run::RunRecord;
+
+/// One planner's points and fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannerScaling {
+    /// Planner label.
+    pub planner: String,
+    /// `(size, median time (s), runs solved, runs)` in increasing size.
+    pub points: Vec<(f64, f64, u64, u64)>,
+    /// The fit over the sizes with a finite median, if two or more have one.
+    pub fit: Option<PowerFit>,
+}
+
+/// The size of a run: the `agents` column for `by = "agents"`, else parameter `by` of its
+/// generated scenario's label; `None` when the run is not of `family` (a label prefix).
+pub fn size_of(r: &RunRecord, family: Option<&str>, by: &str) -> Option<f64> {
+    if let Some(f) = family
+        && !r.scenario.starts_with(&format!("{f}-"))
+    {
+        return None;
+    }
+    if by == "agents" {
+        Some(r.agents as f64)
+    } else {
+        label_param(&r.scenario, by)
+    }
+}
+
+/// Per planner of the planning runs, the points and fit of time against size.
+pub fn study(runs: &[RunRecord], family: Option<&str>, by: &str) -> Vec<PlannerScaling> {
+    let mut out: Vec<PlannerScaling> = vec![];
+    let mut sizes: Vec<(String, f64, f64)> = vec![];
+    for r in runs.iter().filter(|r| r.tracker.is_empty()) {
+        if let Some(s) = size_of(r, family, by) {
+            let t = match (r.solved, r.first_solution_time_s) {
+                (true, Some(t)) => t,
+                _ => f64::INFINITY,
+            };
+            sizes.push((r.planner.clone(), s, t));
+        }
+    }
+    let mut planners: Vec<String> = vec![];
+    for (p, _, _) in &sizes {
+        if !planners.contains(p) {
+            planners.push(p.clone());
+        }
+    }
+    for p in planners {
+        let mut ks: Vec<f64> = sizes.iter().filter(|s| s.0 == p).map(|s| s.1).collect();
+        ks.sort_by(f64::total_cmp);
+        ks.dedup();
+        let points: Vec<(f64, f64, u64, u64)> = ks
+            .iter()
+            .map(|&k| {
+                let t: Vec<f64> = sizes
+                    .iter()
+                    .filter(|s| s.0 == p && s.1 == k)
+                    .map(|s| s.2)
+                    .collect();
+                let solved = t.iter().filter(|t| t.is_finite()).count() as u64;
+                (k, median_inf(&t), solved, t.len() as u64)
+            })
+            .collect();
+        let fit = fit(&points.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>());
+        out.push(PlannerScaling {
+            planner: p,
+            points,
+            fit,
+        });
+    }
+    out
+}
+
+/// The fit as text: `k^1.80 [1.52, 2.08]`.
+pub fn fit_text(f: &Option<PowerFit>, by: &str) -> String {
+    match f {
+        Some(f) if f.ci.0.is_finite() => format!(
+            "{by}^{:.2} [{:.2}, {:.2}] over {} sizes",
+            f.exponent, f.ci.0, f.ci.1, f.n
+        ),
+        Some(f) => format!("{by}^{:.2} over {} sizes (no interval)", f.exponent, f.n),
+        None => "no fit (fewer than two sizes with a median time)".into(),
+    }
+}
+
+/// Plots `log₂ median time` against `log₂ size` per planner with its fitted line into
+/// `dir/plots/scaling-<by>`; returns the stem.
+pub fn plot(
+    dir: &Path,
+    s: &[PlannerScaling],
+    family: Option<&str>,
+    by: &str,
+) -> Result<PathBuf, CliError> {
+    let mut series = vec![];
+    for p in s {
+        series.push(Series {
+            label: format!("{}: {}", p.planner, fit_text(&p.fit, by)),
+            data: p
+                .points
+                .iter()
+                .map(|&(k, t, _, _)| BandPoint {
+                    x: k.log2(),
+                    y: if t.is_finite() { t.log2() } else { f64::NAN },
+                    lo: f64::NAN,
+                    hi: f64::NAN,
+                })
+                .collect(),
+        });
+        if let Some(f) = p.fit {
+            let (k0, k1) = (p.points[0].0, p.points[p.points.len() - 1].0);
+            series.push(Series {
+                label: format!("{} fit", p.planner),
+                data: [k0, k1]
+                    .iter()
+                    .map(|&k| BandPoint {
+                        x: k.log2(),
+                        y: (f.factor * k.powf(f.exponent)).log2(),
+                        lo: f64::NAN,
+                        hi: f64::NAN,
+                    })
+                    .collect(),
+            });
+        }
+    }
+    let what = family.map(|f| format!("{f}: ")).unwrap_or_default();
+    let fig = LineBandChart {
+        title: format!("{what}median time to first solution vs {by}"),
+        x_label: format!("log₂ {by}"),
+        y_label: "log₂ median time to 1st solution (s)".into(),
+        series,
+        y_range: None,
+        steps: false,
+        band_label: String::new(),
+        empty_note: "no size with half of its runs solved".into(),
+    };
+    let name = match family {
+        Some(f) => format!("scaling-{f}-{by}"),
+        None => format!("scaling-{by}"),
+    };
+    let stem = dir.join("plots").join(name);
+    save(&fig, &stem)?;
+    Ok(stem)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fits_each_planner_over_the_family_sizes() {
+        let run = |sc: &str, pl: &str, t: Option<f64>| {
+            let mut r = RunRecord::example();
+            r.scenario = sc.into();
+            r.planner = pl.into();
+            r.solved = t.is_some();
+            r.first_solution_time_s = t;
+            r
+        };
+        let mut runs = vec![];
+        for k in [1u32, 2, 4, 8] {
+            let t = 0.01 * (k as f64).powi(2);
+            runs.push(run(&format!("serpentine-walls={k}-s0"), "a", Some(t)));
+            runs.push(run(&format!("serpentine-walls={k}-s1"), "a", Some(t)));
+            runs.push(run(
+                &format!("serpentine-walls={k}-s0"),
+                "b",
+                (k < 8).then_some(0.1),
+            ));
+        }
+        runs.push(run("corridor-length=30-s0", "a", Some(5.0)));
+        let s = study(&runs, Some("serpentine"), "walls");
+        assert_eq!(s.len(), 2);
+        assert_eq!(s[0].points.len(), 4);
+        let f = s[0].fit.unwrap();
+        assert!((f.exponent - 2.0).abs() < 1e-9);
+        assert_eq!(s[1].points[3], (8.0, f64::INFINITY, 0, 1));
+        assert!(s[1].fit.unwrap().exponent.abs() < 1e-9);
+    }
+}
