@@ -130,7 +130,9 @@ fn ticks(dir: &Path) -> Vec<(f64, Vec<[f64; 2]>)> {
     let mut rd = csv::Reader::from_path(dir.join("ticks.csv")).unwrap();
     let h: Vec<String> = rd.headers().unwrap().iter().map(String::from).collect();
     let col = |n: &str| h.iter().position(|c| c == n).unwrap();
-    let agents = (0..).take_while(|i| h.contains(&format!("x{i}_true"))).count();
+    let agents = (0..)
+        .take_while(|i| h.contains(&format!("x{i}_true")))
+        .count();
     assert!(agents > 0, "true positions in ticks.csv");
     rd.records()
         .map(|r| {
@@ -244,17 +246,16 @@ fn a_replay_shows_the_run_at_the_time_in_its_url() {
     );
 
     // the controls: the tree toggle and the speed come from the URL, play advances time
-    let dom = browse(
-        &chrome,
-        &["--dump-dom"],
-        &url(&page, "#t=1&tree=1&speed=2"),
-    );
+    let dom = browse(&chrome, &["--dump-dom"], &url(&page, "#t=1&tree=1&speed=2"));
     let b = body(&dom);
     assert_eq!(attr(b, "data-tree"), "true");
     assert_eq!(attr(b, "data-speed"), "2");
     let tree = tag(&dom, "layer-tree");
     assert_eq!(attr(tree, "visibility"), "visible");
-    assert!(dom.contains("class=\"tree\""), "the planner's tree is drawn");
+    assert!(
+        dom.contains("class=\"tree\""),
+        "the planner's tree is drawn"
+    );
     let dom = browse(&chrome, &["--dump-dom"], &url(&page, "#t=1&tree=0"));
     assert_eq!(attr(tag(&dom, "layer-tree"), "visibility"), "hidden");
     let dom = browse(
@@ -283,7 +284,10 @@ fn a_scenario_preview_draws_every_leg() {
     ]);
     assert_eq!(code, 0, "{stderr}");
     let text = std::fs::read_to_string(&svg).unwrap();
-    assert!(text.contains("leg 1") && text.contains("leg 2"), "both legs");
+    assert!(
+        text.contains("leg 1") && text.contains("leg 2"),
+        "both legs"
+    );
     assert!(text.contains("pair range"), "the proximity range");
     let (code, _, stderr) = magbench(&[
         "scenario",
@@ -293,7 +297,10 @@ fn a_scenario_preview_draws_every_leg() {
         dir.path().join("x.jpg").to_str().unwrap(),
     ]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("--out") && stderr.contains(".svg or .png"), "{stderr}");
+    assert!(
+        stderr.contains("--out") && stderr.contains(".svg or .png"),
+        "{stderr}"
+    );
     let Some(chrome) = chromium() else {
         return;
     };
@@ -339,11 +346,17 @@ presets = ["realistic"]
             .len();
         println!("{f}: {len} B");
         total += len;
-        assert!(report.contains(&format!("href=\"{f}\"")), "the report links {f}");
+        assert!(
+            report.contains(&format!("href=\"{f}\"")),
+            "the report links {f}"
+        );
     }
     println!("4 replays: {total} B");
     assert!(out.join("scenarios/open-field.svg").is_file());
-    assert!(report.contains("class=\"preview\""), "the scenario's preview");
+    assert!(
+        report.contains("class=\"preview\""),
+        "the scenario's preview"
+    );
     let (code, _, stderr) = magbench(&["results", "verify", out.to_str().unwrap()]);
     assert_eq!(code, 0, "{stderr}");
     let Some(chrome) = chromium() else {

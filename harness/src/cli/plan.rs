@@ -334,7 +334,10 @@ fn agent_paths(problem: &Problem, plan: &Plan) -> Vec<Vec<Vec2>> {
 fn write_tree(file: &Path, s: &Scenario, planner: &str, runs: &[LegRun]) -> Result<(), CliError> {
     let trees: Vec<LegTree> = runs.iter().filter_map(|r| r.tree_data.clone()).collect();
     if trees.is_empty() {
-        eprintln!("note: {planner} keeps no search tree; {} has no legs", file.display());
+        eprintln!(
+            "note: {planner} keeps no search tree; {} has no legs",
+            file.display()
+        );
     }
     TreeFile::new(&s.name, planner, s.agents(), trees).write(file)?;
     let with_tree: Vec<&LegRun> = runs.iter().filter(|r| r.tree_data.is_some()).collect();

@@ -19,7 +19,7 @@ pub const SCALE: f64 = 100.0;
 /// Most frames one replay keeps (longer runs are thinned evenly; the last frame is kept).
 pub const MAX_FRAMES: usize = 2400;
 /// Most points of one agent's path in one plan.
-pub const MAX_PLAN_POINTS: usize = 600;
+pub const MAX_PLAN_POINTS: usize = 300;
 /// Most tree edges drawn per leg.
 pub const MAX_TREE_EDGES: usize = 3000;
 
@@ -251,10 +251,7 @@ impl ReplayData {
         d.info = vec![
             ("status".into(), m.status.as_str().into()),
             ("reached goal".into(), m.reached_goal.to_string()),
-            (
-                "legs".into(),
-                format!("{}/{}", m.legs_completed, m.legs),
-            ),
+            ("legs".into(), format!("{}/{}", m.legs_completed, m.legs)),
             (
                 "time to goal (s)".into(),
                 m.time_to_goal_s.map_or("–".into(), fmt),
@@ -334,10 +331,6 @@ impl ReplayData {
                 "nodes".into(),
                 legs.iter().map(|r| r.nodes).sum::<usize>().to_string(),
             ),
-            (
-                "planning time (s)".into(),
-                fmt(legs.iter().map(|r| r.time_s).sum()),
-            ),
             ("plan duration (s)".into(), fmt(t0)),
             (
                 "goal distance (BL)".into(),
@@ -345,5 +338,61 @@ impl ReplayData {
             ),
         ];
         d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use magbench_planners::{Limits, Planner, PlanningSetup, planners::GoalZoomRrt};
+
+    use super::*;
+
+    #[test]
+    fn a_planned_replay_follows_the_plan_within_the_frame_budget() {
+        let s = Scenario::load("cargo-delivery").unwrap();
+        let setup = PlanningSetup {
+            limits: Limits {
+                max_iterations: Some(5000),
+                time_limit: None,
+            },
+            ..PlanningSetup::default()
+        };
+        let mut legs = vec![];
+        let mut trees = vec![];
+        let mut start = s.start.clone();
+        for leg in 0..s.legs.len() {
+            let p = setup.problem(&s, leg, Some(&start), leg as u64);
+            let mut planner = GoalZoomRrt::default();
+            let r = planner.solve(&p);
+            trees.extend(LegTree::of_planner(&planner, &p, leg));
+            start = r.plan.end().to_vec();
+            legs.push(r);
+        }
+        let shown: Vec<&PlannerResult> = legs.iter().collect();
+        let d = ReplayData::planned(&s, "x".into(), &shown, &trees);
+        assert!(d.t.len() <= MAX_FRAMES + s.legs.len());
+        assert!(d.t.windows(2).all(|w| w[0] <= w[1]), "time runs forward");
+        let total: f64 = legs.iter().map(|r| r.plan.duration()).sum();
+        assert!((d.t.last().unwrap() - total).abs() < 2e-3);
+        // the last frame is where the last plan ends
+        let end = legs.last().unwrap().plan.end();
+        let k = d.t.len() - 1;
+        for (i, p) in end.iter().enumerate() {
+            assert_eq!(d.truth[i][2 * k], q(p.x));
+            assert_eq!(d.truth[i][2 * k + 1], q(p.y));
+        }
+        assert_eq!(d.plans.len(), legs.len());
+        assert_eq!(d.trees.len(), legs.len());
+        assert_eq!(*d.leg.last().unwrap(), legs.len() - 1);
+        assert!(d.trees[0].edges.len() <= 4 * MAX_TREE_EDGES);
+    }
+
+    #[test]
+    fn thinning_keeps_the_last_frame() {
+        assert_eq!(thinned(0), Vec::<usize>::new());
+        assert_eq!(thinned(3), [0, 1, 2]);
+        let t = thinned(3 * MAX_FRAMES + 1);
+        assert!(t.len() <= MAX_FRAMES + 1);
+        assert_eq!(*t.last().unwrap(), 3 * MAX_FRAMES);
     }
 }

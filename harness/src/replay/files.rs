@@ -72,6 +72,28 @@ pub fn write_replay(dir: &Path, index: usize, data: &ReplayData) -> Result<(), C
     super::page::write(&dir.join(replay_file(index)), data)
 }
 
+/// Copies run `index`'s replay (if it has one) and the scenario previews from results folder
+/// `from` into `to` (merging shards).
+pub fn copy_run(from: &Path, to: &Path, index: usize) -> Result<(), CliError> {
+    let mut files = vec![replay_file(index)];
+    if let Ok(dir) = std::fs::read_dir(from.join(SCENARIOS)) {
+        files.extend(
+            dir.flatten()
+                .map(|e| format!("{SCENARIOS}/{}", e.file_name().to_string_lossy())),
+        );
+    }
+    for f in files {
+        let (src, dst) = (from.join(&f), to.join(&f));
+        if !src.is_file() || dst.exists() {
+            continue;
+        }
+        let fail = |e: std::io::Error| CliError::Failed(format!("{}: {e}", dst.display()));
+        std::fs::create_dir_all(dst.parent().expect("a folder")).map_err(fail)?;
+        std::fs::copy(&src, &dst).map_err(fail)?;
+    }
+    Ok(())
+}
+
 /// Writes the preview of each `(label, scenario)` into results folder `dir` (once per label).
 pub fn write_previews<'a>(
     dir: &Path,

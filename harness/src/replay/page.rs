@@ -60,12 +60,16 @@ pub fn html(data: &ReplayData) -> String {
     for (k, v) in &data.info {
         let _ = write!(o, "<dt>{}</dt><dd>{}</dd>", esc(k), esc(v));
     }
-    let _ = write!(
+    let _ = writeln!(
         o,
         "</dl><p class=\"key\"><span>● {} position</span><span>◌ observed</span><span>— path so far</span><span>▬ plan</span><span style=\"color:#7a1fa2\">→ field B</span><span style=\"color:#e65100\">→ gradient</span><span style=\"color:#c00\">✕ contact</span><span style=\"color:#1565c0\">◆ replan</span></p>\
 <h2 style=\"font-size:1em\">Events</h2><ul id=\"events\"></ul>\
-<p class=\"note\">Lengths in BL (one agent diameter). Filled circles: {}; dashed: camera detections. Keys: space plays, ← → step. The URL holds the time (<code>#t=3.2</code>). Contacts are found in the positions shown (docs/replay.md).</p></aside></main>\n",
-        if data.truth_known { "true" } else { "estimated" },
+<p class=\"note\">Lengths in BL (one agent diameter). Filled circles: {}; dashed: camera detections. Keys: space plays, ← → step. The URL holds the time (<code>#t=3.2</code>). Contacts are found in the positions shown (docs/replay.md).</p></aside></main>",
+        if data.truth_known {
+            "true"
+        } else {
+            "estimated"
+        },
         match (data.kind, data.truth_known) {
             ("planned", _) => "positions along the plan",
             (_, true) => "true positions (simulation)",
@@ -86,4 +90,21 @@ pub fn write(path: &Path, data: &ReplayData) -> Result<(), CliError> {
         std::fs::create_dir_all(dir).map_err(fail)?;
     }
     std::fs::write(path, html(data)).map_err(fail)
+}
+
+#[cfg(test)]
+mod tests {
+    use magbench_env::Scenario;
+
+    use super::*;
+
+    #[test]
+    fn the_data_cannot_end_its_script_early() {
+        let s = Scenario::load("open-field").unwrap();
+        let d = ReplayData::planned(&s, "a </script><b>".into(), &[], &[]);
+        let page = html(&d);
+        assert_eq!(page.matches("</script>").count(), 2, "the data's and the player's");
+        assert!(page.contains("a &lt;/script&gt;&lt;b&gt;"), "the title is escaped");
+        assert!(!page.contains("src=\"http") && !page.contains("href=\"http"));
+    }
 }

@@ -76,7 +76,7 @@
   var trails = [], agents = [], obs = [];
   for (var i = 0; i < A; i++) {
     trails.push(el("polyline", { "class": "trail", id: "trail-" + i }, layers.trails));
-    obs.push(el("circle", { r: D.scene.radius, "class": "obs", stroke: col(i), id: "obs-" + i, "data-agent": i }, layers.obs));
+    obs.push(el("circle", { r: 1.4 * D.scene.radius, "class": "obs", stroke: col(i), id: "obs-" + i, "data-agent": i }, layers.obs));
     agents.push(el("circle", { r: D.scene.radius, "class": "agent", fill: col(i), id: "agent-" + i, "data-agent": i }, layers.agents));
   }
   var bArrow = el("path", { "class": "field-b", id: "field-arrow" }, layers.field);

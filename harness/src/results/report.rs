@@ -69,9 +69,9 @@ fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecor
                 g.agent_contacts
             );
         }
-        let _ = write!(
+        let _ = writeln!(
             o,
-            "<td class=\"replays\">{}</td></tr>\n",
+            "<td class=\"replays\">{}</td></tr>",
             crate::replay::files::links_cell(dir, runs, g)
         );
     }
@@ -225,7 +225,7 @@ pub fn write(
         if preview.is_file() {
             let _ = writeln!(
                 o,
-                "<figure class=\"preview\">{}<figcaption>The scenario: each leg's map, start (agents to scale), goals and the pair's proximity range.</figcaption></figure>",
+                "<figure class=\"preview\" style=\"max-width:720px\">{}<figcaption>The scenario: each leg's map, start (agents to scale), goals and the pair's proximity range.</figcaption></figure>",
                 inline_svg(&preview.with_extension(""))?
             );
         }
