@@ -70,22 +70,25 @@ fn browse(chrome: &Path, args: &[&str], url: &str) -> String {
         .stderr(Stdio::null())
         .spawn()
         .expect("start chromium");
-    let pid = child.id();
+    let mut stdout = child.stdout.take().unwrap();
+    let child = std::sync::Arc::new(std::sync::Mutex::new(child));
     let (done, watch) = mpsc::channel::<()>();
+    let watched = child.clone();
     let watchdog = std::thread::spawn(move || {
         if watch.recv_timeout(Duration::from_secs(120)).is_err() {
-            // still running: end this one browser process
-            let _ = Command::new("kill").arg(pid.to_string()).status();
+            // still running: end this one browser process (its output then ends)
+            let _ = watched.lock().unwrap().kill();
             true
         } else {
             false
         }
     });
     let mut out = String::new();
-    std::io::Read::read_to_string(child.stdout.as_mut().unwrap(), &mut out).unwrap();
-    child.wait().unwrap();
+    std::io::Read::read_to_string(&mut stdout, &mut out).unwrap();
     let _ = done.send(());
-    assert!(!watchdog.join().unwrap(), "chromium hung on {url}");
+    let hung = watchdog.join().unwrap();
+    child.lock().unwrap().wait().unwrap();
+    assert!(!hung, "chromium hung on {url}");
     out
 }
 

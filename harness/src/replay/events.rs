@@ -46,7 +46,7 @@ pub fn contacts<'a>(
                 if now && !touching[i * n + j] {
                     let m = (pos[i] + pos[j]) / 2.0;
                     out.push(Event {
-                        t,
+                        t: super::scene::r3(t),
                         kind: "contact",
                         agent: Some(i),
                         at: super::scene::xy(m),
@@ -58,7 +58,7 @@ pub fn contacts<'a>(
             let now = checker.collision.clearance(pos[i]) <= 0.0;
             if now && !at_wall[i] {
                 out.push(Event {
-                    t,
+                    t: super::scene::r3(t),
                     kind: "wall",
                     agent: Some(i),
                     at: super::scene::xy(pos[i]),

@@ -103,8 +103,15 @@ mod tests {
         let s = Scenario::load("open-field").unwrap();
         let d = ReplayData::planned(&s, "a </script><b>".into(), &[], &[]);
         let page = html(&d);
-        assert_eq!(page.matches("</script>").count(), 2, "the data's and the player's");
-        assert!(page.contains("a &lt;/script&gt;&lt;b&gt;"), "the title is escaped");
+        assert_eq!(
+            page.matches("</script>").count(),
+            2,
+            "the data's and the player's"
+        );
+        assert!(
+            page.contains("a &lt;/script&gt;&lt;b&gt;"),
+            "the title is escaped"
+        );
         assert!(!page.contains("src=\"http") && !page.contains("href=\"http"));
     }
 }
