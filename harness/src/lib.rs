@@ -23,6 +23,7 @@ pub mod plot;
 pub mod prelude;
 pub mod registry;
 pub mod regress;
+pub mod replay;
 pub mod results;
 pub mod run;
 pub mod stats;

@@ -211,6 +211,12 @@ pub fn run_sweep(
         .max()
         .unwrap_or(0);
     let writer = Mutex::new(RunWriter::open(out, agents)?);
+    crate::replay::files::write_previews(
+        out,
+        specs
+            .iter()
+            .map(|s| (s.scenario_label.as_str(), &*s.scenario)),
+    )?;
     let failed = AtomicUsize::new(0);
     let reporter = Reporter::new(opts.progress, specs.len(), skipped);
     let pool = rayon::ThreadPoolBuilder::new()

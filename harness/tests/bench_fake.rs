@@ -78,8 +78,8 @@ fn results_are_identical_at_one_and_two_threads() {
     }
     // The report is one self-contained page: inline SVG, no scripts, no remote resources.
     let html = std::fs::read_to_string(a.join("report.html")).unwrap();
-    // 13 plots per scenario (two agents: no per-agent plot)
-    assert_eq!(html.matches("<svg").count(), 26);
+    // per scenario its preview and 13 plots (two agents: no per-agent plot)
+    assert_eq!(html.matches("<svg").count(), 28);
     let without_ns = html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "");
     assert!(
         !html.contains("<script")

@@ -66,7 +66,7 @@ fn json_has_the_required_fields_and_out_writes_every_file() {
         "plans.json",
         "world.svg",
         "world.png",
-        "run.gif",
+        "replay.html",
     ] {
         let m = std::fs::metadata(out.join(f)).unwrap_or_else(|_| panic!("{f} not written"));
         assert!(m.len() > 100, "{f} is empty");

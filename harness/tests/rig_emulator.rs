@@ -519,7 +519,7 @@ fn rig_run_on_micro_factory_reaches_the_goal_and_leaves_zero_currents() {
         "plans.json",
         "plan.json",
         "world.svg",
-        "run.gif",
+        "replay.html",
     ] {
         assert!(emu.out().join(f).is_file(), "{f} missing");
     }

@@ -17,6 +17,7 @@ from ._magbench import InputError, MagbenchError, Plan, Scenario, plan
 from ._api import TrackResult, track, bench, main
 from ._plugins import register_planner, register_tracker, registered, unregister
 from ._results import Results, load_results
+from .tree import read_tree
 
 __all__ = [
     "InputError",
@@ -27,6 +28,7 @@ __all__ = [
     "Results",
     "bench",
     "load_results",
+    "read_tree",
     "main",
     "plan",
     "register_planner",

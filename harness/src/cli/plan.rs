@@ -24,6 +24,8 @@ use super::setup::{SetupArgs, check_elevation};
 use crate::CliError;
 use crate::plot::world::{WorldPlot, render};
 use crate::registry::Registry;
+use crate::replay::tree_svg::{TreePicture, svg_paths};
+use crate::replay::{LegTree, ReplayData, TreeFile, page};
 
 /// Arguments of `magbench plan`.
 #[derive(Debug, Args)]
@@ -54,6 +56,10 @@ pub struct PlanArgs {
     /// with the tree, the plan's agent paths, start and goal here.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Write the planner's search tree of every leg here (JSON: nodes, parents, controls,
+    /// durations; docs/replay.md) and its picture next to it (SVG).
+    #[arg(long, value_name = "FILE")]
+    pub tree: Option<PathBuf>,
     /// List the planners and their parameters with defaults, and exit.
     #[arg(long)]
     pub list: bool,
@@ -67,6 +73,8 @@ struct LegRun {
     problem: Problem,
     result: PlannerResult,
     tree: Vec<(Vec2, Vec2)>,
+    /// The whole tree, when the planner keeps one.
+    tree_data: Option<LegTree>,
 }
 
 /// Runs `magbench plan` with the planners of `registry`.
@@ -102,6 +110,15 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     if let Some(dir) = &a.out {
         super::output::prepare_dir(dir, "--out")?;
     }
+    if let Some(file) = &a.tree {
+        let dir = file.parent().filter(|d| !d.as_os_str().is_empty());
+        if dir.is_some_and(|d| !d.is_dir()) {
+            return Err(CliError::arg(
+                "--tree",
+                format!("{}: its folder does not exist", file.display()),
+            ));
+        }
+    }
 
     let mut runs: Vec<LegRun> = Vec::new();
     let mut start: Option<Vec<Vec2>> = None;
@@ -127,12 +144,14 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
             )));
         }
         let tree = tree_edges(&*planner);
+        let tree_data = LegTree::of_planner(&*planner, &problem, leg);
         let solved = result.solved;
         start = Some(result.plan.end().to_vec());
         runs.push(LegRun {
             problem,
             result,
             tree,
+            tree_data,
         });
         if !solved {
             break;
@@ -143,6 +162,9 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     summary["elevation"] = elevation;
     if let Some(dir) = &a.out {
         write_outputs(dir, &scenario, planner_name, &summary, &runs)?;
+    }
+    if let Some(file) = &a.tree {
+        write_tree(file, &scenario, planner_name, &runs)?;
     }
     if a.json {
         outln!("{}", serde_json::to_string(&summary).expect("json"));
@@ -308,6 +330,38 @@ fn agent_paths(problem: &Problem, plan: &Plan) -> Vec<Vec<Vec2>> {
     paths
 }
 
+/// Writes the tree file `file` and its picture(s) next to it.
+fn write_tree(file: &Path, s: &Scenario, planner: &str, runs: &[LegRun]) -> Result<(), CliError> {
+    let trees: Vec<LegTree> = runs.iter().filter_map(|r| r.tree_data.clone()).collect();
+    if trees.is_empty() {
+        eprintln!(
+            "note: {planner} keeps no search tree; {} has no legs",
+            file.display()
+        );
+    }
+    TreeFile::new(&s.name, planner, s.agents(), trees).write(file)?;
+    let with_tree: Vec<&LegRun> = runs.iter().filter(|r| r.tree_data.is_some()).collect();
+    for (r, path) in with_tree.iter().zip(svg_paths(file, with_tree.len())) {
+        let tree = r.tree_data.as_ref().expect("filtered");
+        crate::replay::tree_svg::write(
+            &TreePicture {
+                world: &r.problem.world,
+                tree,
+                planned: agent_paths(&r.problem, &r.result.plan),
+                goal: r.problem.goal.clone(),
+                title: format!(
+                    "{} leg {} · {planner} · tree of {} nodes (centroids)",
+                    s.name,
+                    tree.leg,
+                    tree.nodes()
+                ),
+            },
+            &path,
+        )?;
+    }
+    Ok(())
+}
+
 fn write_outputs(
     dir: &Path,
     s: &Scenario,
@@ -315,6 +369,12 @@ fn write_outputs(
     summary: &Value,
     runs: &[LegRun],
 ) -> Result<(), CliError> {
+    let results: Vec<&PlannerResult> = runs.iter().map(|r| &r.result).collect();
+    let trees: Vec<LegTree> = runs.iter().filter_map(|r| r.tree_data.clone()).collect();
+    page::write(
+        &dir.join("replay.html"),
+        &ReplayData::planned(s, format!("{} · {planner}", s.name), &results, &trees),
+    )?;
     let fail = |what: &Path, e: &dyn std::fmt::Display| {
         CliError::Failed(format!("{}: {e}", what.display()))
     };

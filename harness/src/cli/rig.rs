@@ -426,6 +426,7 @@ fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), CliError> {
         seed: a.seed,
         setup,
         out: Some(a.out),
+        gif: false,
         json: a.json,
     })
 }

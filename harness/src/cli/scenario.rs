@@ -17,10 +17,15 @@ use crate::CliError;
 pub enum ScenarioCmd {
     /// List the built-in scenarios.
     List,
-    /// Summarise a scenario: world, obstacles, start, goals, physics and difficulty measures.
+    /// Summarise a scenario: world, obstacles, start, goals, physics and difficulty measures;
+    /// with --out, draw it instead.
     Show {
         /// A built-in name or a scenario file.
         scenario: String,
+        /// Draw every leg's map, start (agents to scale), goal regions and the pair's
+        /// proximity range into this file (.svg or .png).
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
     /// Validate a scenario file; exits 2 with FILE: FIELD: REASON when it is invalid.
     Check {
@@ -67,7 +72,16 @@ pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
                 outln!("{name:<16} {}", s.description);
             }
         }
-        ScenarioCmd::Show { scenario } => out!("{}", summary(&Scenario::load(&scenario)?)),
+        ScenarioCmd::Show { scenario, out } => {
+            let s = Scenario::load(&scenario)?;
+            match out {
+                Some(path) => {
+                    crate::replay::preview::write(&s, &path, "--out")?;
+                    outln!("wrote {}", path.display());
+                }
+                None => out!("{}", summary(&s)),
+            }
+        }
         ScenarioCmd::Generate(a) => generate_files(a)?,
         ScenarioCmd::Check { file } => {
             let s = Scenario::load(&file)?;

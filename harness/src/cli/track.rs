@@ -45,9 +45,13 @@ pub struct TrackArgs {
     /// Print one JSON object on stdout instead of a summary.
     #[arg(long)]
     pub json: bool,
-    /// Write the per-tick CSV, the metrics, the plans, a world plot and a GIF of the run here.
+    /// Write the per-tick CSV, the metrics, the plans, a world plot and a replay page
+    /// (replay.html) of the run here.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Also write a GIF of each leg into --out (slow to encode).
+    #[arg(long, requires = "out")]
+    pub gif: bool,
 }
 
 /// Runs `magbench track` with the planners and trackers of `registry`.
@@ -72,6 +76,7 @@ pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
         seed: a.seed,
         setup,
         out: a.out,
+        gif: a.gif,
         json: a.json,
     })
 }

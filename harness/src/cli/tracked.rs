@@ -22,6 +22,7 @@ use crate::CliError;
 use crate::plot::anim::{Frame, GifOptions, render_gif};
 use crate::plot::world::{WorldPlot, render};
 use crate::registry::Registry;
+use crate::replay::{LegTree, ReplayData, page};
 
 /// One plan-track run, as the command line asked for it.
 pub struct TrackRun<'a> {
@@ -45,6 +46,8 @@ pub struct TrackRun<'a> {
     pub setup: PlanningSetup,
     /// The output folder.
     pub out: Option<PathBuf>,
+    /// Also write a GIF of each leg into the output folder.
+    pub gif: bool,
     /// Print one JSON object instead of a summary.
     pub json: bool,
 }
@@ -73,6 +76,7 @@ struct FirstPlan {
     plan: magbench_planners::Plan,
     time_s: f64,
     solved: bool,
+    tree: Option<LegTree>,
 }
 
 /// Runs it: open the rig, find the start, make (or read) the first plan, track it, stop the
@@ -132,6 +136,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
                 plan,
                 time_s: 0.0,
                 solved,
+                tree: None,
             }
         }
         None => {
@@ -177,9 +182,11 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
                 plan: result.plan,
                 time_s: result.time_s,
                 solved: result.solved,
+                tree: LegTree::of_planner(&**planner, &problem, 0),
             }
         }
     };
+    let trees: Vec<LegTree> = first.tree.into_iter().collect();
     let mission = Mission {
         scenario: s,
         plan: Some(first.plan),
@@ -216,6 +223,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
             &summary,
             planner_label,
             &r.tracker.label(),
+            (&trees, r.gif),
         )?;
     }
     if r.json {
@@ -427,7 +435,8 @@ fn write(path: &Path, what: impl AsRef<[u8]>) -> Result<(), CliError> {
     std::fs::write(path, what).map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
 }
 
-/// Writes ticks.csv, metrics.json, plans.json, plan.json, the world plot(s) and the GIF(s).
+/// Writes ticks.csv, metrics.json, plans.json, plan.json, replay.html (with `trees`), the
+/// world plot(s) and, if `gif`, the GIF(s).
 fn write_outputs(
     dir: &Path,
     s: &Scenario,
@@ -435,7 +444,13 @@ fn write_outputs(
     summary: &Value,
     planner: &str,
     tracker: &str,
+    (trees, gif): (&[LegTree], bool),
 ) -> Result<(), CliError> {
+    let title = format!("{} · {planner} + {tracker}", s.name);
+    page::write(
+        &dir.join("replay.html"),
+        &ReplayData::tracked(s, title, out, trees),
+    )?;
     let ticks = dir.join("ticks.csv");
     let csv_file = std::fs::File::create(&ticks)
         .map_err(|e| CliError::Failed(format!("{}: {e}", ticks.display())))?;
@@ -489,6 +504,9 @@ fn write_outputs(
             .map(|i| ticks.iter().map(|t| t.position(i)).collect())
             .collect();
         render(&plot, &dir.join(leg_name("world", "world", "")))?;
+        if !gif {
+            continue;
+        }
         let frames: Vec<Frame> = ticks
             .iter()
             .map(|t| Frame {

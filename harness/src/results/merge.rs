@@ -71,6 +71,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, CliError> {
             .collect();
         progress.extend(trace.into_iter().filter(|p| ids.contains(&p.run_id)));
         for r in whole.into_iter().filter(|r| ids.contains(&r.run_id)) {
+            crate::replay::files::copy_run(s, out, r.run)?;
             runs.insert(r.run_id.clone(), r);
         }
     }

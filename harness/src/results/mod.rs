@@ -6,6 +6,8 @@
 //! - `ompl.log`: the runs in OMPL's benchmark log format;
 //! - `plots/`: SVG and PNG plots;
 //! - `report.html`: one self-contained page with every plot and summary tables;
+//! - `replays/run-<index>.html`: each run played back in a browser, `scenarios/<name>.svg`:
+//!   each scenario's preview ([`crate::replay`], docs/replay.md);
 //! - `.magbench.lock`: the lock a `bench` or `merge` holds while it writes the folder.
 //!
 //! docs/results.md describes the files, the lock, crash safety and `results verify`.

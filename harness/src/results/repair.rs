@@ -296,6 +296,7 @@ mod tests {
         RunOutput {
             record: r,
             progress,
+            replay: None,
         }
     }
 

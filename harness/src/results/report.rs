@@ -29,14 +29,14 @@ fn med(s: &Option<Summary>, digits: usize) -> String {
     }
 }
 
-fn table(o: &mut String, rows: &[&GroupSummary]) {
+fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecord])) {
     let tracked = rows.iter().any(|g| g.tracked());
     o.push_str("<table><thead><tr><th>configuration</th><th>runs</th><th>success (95% CI)</th><th>crashed</th>");
     o.push_str("<th>time to 1st solution (s)</th><th>iterations to 1st solution</th><th>final cost</th><th>planning time (s)</th>");
     if tracked {
         o.push_str("<th>RMS error, observed (BL)</th><th>RMS error, true (BL)</th><th>worst agent's RMS, observed (BL)</th><th>team-synchronous RMS (BL)</th><th>time-indexed RMS (BL)</th><th>node RMS, the seed's (BL)</th><th>max error (BL)</th><th>agent contacts</th>");
     }
-    o.push_str("</tr></thead><tbody>\n");
+    o.push_str("<th>replays (by seed)</th></tr></thead><tbody>\n");
     for g in rows {
         let rate = g.succeeded as f64 / g.n.max(1) as f64;
         let _ = write!(
@@ -69,7 +69,11 @@ fn table(o: &mut String, rows: &[&GroupSummary]) {
                 g.agent_contacts
             );
         }
-        o.push_str("</tr>\n");
+        let _ = writeln!(
+            o,
+            "<td class=\"replays\">{}</td></tr>",
+            crate::replay::files::links_cell(dir, runs, g)
+        );
     }
     o.push_str("</tbody></table>\n<p class=\"note\">Medians with [first quartile, third quartile]; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking). Tracking errors: the observed positions' distance to each agent's own path (RMS and max), the true positions' (simulation only), the worst agent's (the agent with the largest RMS), the team against the nearest common point of the team path (synchronous) and against the reference at the same elapsed time (time-indexed), and the team against its nearest plan node (node: the seed's tracking error, to which its ≈ 0.2 BL compares); docs/tracking.md, \"Metrics\".</p>\n");
 }
@@ -217,8 +221,16 @@ pub fn write(
     }
     for sc in scenarios {
         let _ = writeln!(o, "<h2>{}</h2>", esc(sc));
+        let preview = dir.join(crate::replay::files::preview_file(sc));
+        if preview.is_file() {
+            let _ = writeln!(
+                o,
+                "<figure class=\"preview\" style=\"max-width:720px\">{}<figcaption>The scenario: each leg's map, start (agents to scale), goals and the pair's proximity range.</figcaption></figure>",
+                inline_svg(&preview.with_extension(""))?
+            );
+        }
         let rows: Vec<&GroupSummary> = sums.iter().filter(|g| g.scenario == sc).collect();
-        table(&mut o, &rows);
+        table(&mut o, &rows, (dir, runs));
         agent_table(&mut o, &rows);
         for p in plots.iter().filter(|p| p.scenario == sc) {
             let rel = p

@@ -169,6 +169,9 @@ impl RunWriter {
     pub fn write(&mut self, out: &RunOutput) -> Result<(), CliError> {
         let mut record = out.record.clone();
         record.progress_rows = Some(out.progress.len() as u64);
+        if let Some(r) = &out.replay {
+            crate::replay::files::write_replay(&self.dir, record.run, r)?;
+        }
         if !out.progress.is_empty() {
             self.append(PROGRESS, &record_bytes(&out.progress))?;
         }
@@ -420,6 +423,7 @@ mod tests {
         RunOutput {
             record: r,
             progress,
+            replay: None,
         }
     }
 

@@ -13,6 +13,9 @@ pub struct RunOutput {
     pub record: RunRecord,
     /// The planner's progress trace.
     pub progress: Vec<ProgressRow>,
+    /// What the run's replay page shows (`replays/` of the results folder), if the executor
+    /// records it.
+    pub replay: Option<Box<crate::replay::ReplayData>>,
 }
 
 /// Runs single runs. Implementations must make the output depend only on the spec (apart from
@@ -120,6 +123,7 @@ pub fn execute_caught(ex: &dyn Executor, spec: &RunSpec) -> RunOutput {
     RunOutput {
         record: r,
         progress: vec![],
+        replay: None,
     }
 }
 

@@ -226,6 +226,7 @@ impl Executor for FakeExecutor {
         Ok(RunOutput {
             record: r,
             progress,
+            replay: None,
         })
     }
 }

@@ -30,6 +30,7 @@ use magbench_trackers::{Mission, RunStatus, simulate};
 use super::executor::base_record;
 use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
 use crate::registry::Registry;
+use crate::replay::{LegTree, ReplayData};
 
 /// Runs real planners and trackers, resolved by name in its registry.
 #[derive(Debug, Clone, Default)]
@@ -108,6 +109,17 @@ pub fn plan_legs(
     setup: &PlanningSetup,
     legs: usize,
 ) -> Result<Vec<PlannerResult>, String> {
+    plan_legs_with_trees(registry, spec, setup, legs).map(|(r, _)| r)
+}
+
+/// [`plan_legs`], also returning the search tree of each leg whose planner keeps one.
+pub fn plan_legs_with_trees(
+    registry: &Registry,
+    spec: &RunSpec,
+    setup: &PlanningSetup,
+    legs: usize,
+) -> Result<(Vec<PlannerResult>, Vec<LegTree>), String> {
+    let mut trees = vec![];
     let params = planner_params(&spec.planner);
     let mut start = spec.scenario.start.clone();
     let mut out = vec![];
@@ -118,6 +130,7 @@ pub fn plan_legs(
             .map_err(|e| e.reason)?;
         let p = setup.problem(&spec.scenario, leg, Some(&start), leg_seed(spec, leg));
         let r = planner.solve(&p);
+        trees.extend(LegTree::of_planner(&*planner, &p, leg));
         let solved = r.solved;
         if let Err(Unusable::Invalid(e)) = check_result(&p, &r) {
             return Err(format!(
@@ -131,7 +144,7 @@ pub fn plan_legs(
             break;
         }
     }
-    Ok(out)
+    Ok((out, trees))
 }
 
 /// The plan of all legs joined end to end.
@@ -272,14 +285,17 @@ impl Executor for RealExecutor {
         let setup = setup(spec)?;
         let Some(tv) = &spec.tracker else {
             let n = spec.scenario.legs.len();
-            let legs = plan_legs(&self.registry, spec, &setup, n)?;
+            let (legs, trees) = plan_legs_with_trees(&self.registry, spec, &setup, n)?;
             let progress = fill_planning(&legs, n, spec, &mut rec);
+            let shown: Vec<&PlannerResult> = legs.iter().collect();
+            let replay = ReplayData::planned(&spec.scenario, spec.id(), &shown, &trees);
             return Ok(RunOutput {
                 record: rec,
                 progress,
+                replay: Some(Box::new(replay)),
             });
         };
-        let legs = plan_legs(&self.registry, spec, &setup, 1)?;
+        let (legs, trees) = plan_legs_with_trees(&self.registry, spec, &setup, 1)?;
         let progress = fill_planning(&legs, 1, spec, &mut rec);
         let first = legs.into_iter().next().expect("one leg planned");
         let tspec = self
@@ -294,6 +310,7 @@ impl Executor for RealExecutor {
             return Ok(RunOutput {
                 record: rec,
                 progress,
+                replay: None,
             });
         }
         let preset = plant(spec);
@@ -316,7 +333,8 @@ impl Executor for RealExecutor {
             seed: spec.seed,
         };
         let mut tracker = tspec.build();
-        let opts = tspec.loop_options();
+        let mut opts = tspec.loop_options();
+        opts.record_ticks = true;
         let t0 = Instant::now();
         let out = simulate(mission, tracker.as_mut(), &preset, &opts);
         let m = &out.metrics;
@@ -346,9 +364,11 @@ impl Executor for RealExecutor {
         if let Some(msg) = &out.message {
             rec.error = msg.clone();
         }
+        let replay = ReplayData::tracked(&spec.scenario, spec.id(), &out, &trees);
         Ok(RunOutput {
             record: rec,
             progress,
+            replay: Some(Box::new(replay)),
         })
     }
 }
