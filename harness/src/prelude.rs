@@ -30,6 +30,9 @@
 //! [`RigDescription`] (its frame period and plant, and [`RigDescription::open`], which gives a
 //! [`RunRig`]: the loop's [`Rig`] — observe, command, stop — plus its label).
 
+pub use magbench_drivers::rigs::{
+    OpenError, RigDescription, RigKind, RigPlant, RunRig, SimulatedRig,
+};
 pub use magbench_env::declare_params;
 pub use magbench_env::params::{ParamError, ParamInfo, ParamSet, Reals, Value};
 pub use magbench_env::{Coil, Control, Goal, InputError, MAX_AGENTS, Scenario, Vec2};
@@ -42,9 +45,6 @@ pub use magbench_planners::sampling::Sampling;
 pub use magbench_planners::{
     Limits, Plan, PlanError, Planner, PlannerResult, Problem, ProgressPoint, Rng, Unusable,
     check_result, plan_cost, validate_plan,
-};
-pub use magbench_drivers::rigs::{
-    OpenError, RigDescription, RigKind, RigPlant, RunRig, SimulatedRig,
 };
 pub use magbench_trackers::{
     GroundTruth, LoopOptions, Reference, Rig, RigError, SimRig, Tick, Tracker, TrackerContext,

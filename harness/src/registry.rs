@@ -92,10 +92,7 @@ impl Registry {
         &mut self,
         name: &str,
         summary: &str,
-        load: impl Fn(&str, &str) -> Result<Box<dyn RigDescription>, OpenError>
-        + Send
-        + Sync
-        + 'static,
+        load: impl Fn(&str, &str) -> Result<Box<dyn RigDescription>, OpenError> + Send + Sync + 'static,
     ) -> Result<&mut Self, RegistryError> {
         self.rigs.add(name, summary, load)?;
         Ok(self)

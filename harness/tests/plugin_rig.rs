@@ -193,5 +193,8 @@ fn rig_names_resolve_in_the_registry_given() {
         .err()
         .unwrap();
     assert_eq!(e.exit_code(), 2);
-    assert!(e.to_string().contains("--rig") && e.to_string().contains("stormy"), "{e}");
+    assert!(
+        e.to_string().contains("--rig") && e.to_string().contains("stormy"),
+        "{e}"
+    );
 }

@@ -15,12 +15,12 @@ use magbench::Registry;
 use magbench_env::coil::Planar;
 use magbench_env::params::{ParamError, ParamInfo, ParamSet, Value};
 use magbench_env::{Control, Vec2};
-use magbench_planners::registry::Entry as PlannerEntry;
-use magbench_trackers::registry::Entry as TrackerEntry;
 use magbench_planners::objective::objective_by_name;
+use magbench_planners::registry::Entry as PlannerEntry;
 use magbench_planners::{
     Limits, Metric, Planner, PlannerResult, PlanningSetup, Problem, ProgressPoint, plan_cost,
 };
+use magbench_trackers::registry::Entry as TrackerEntry;
 use magbench_trackers::{Tick, Tracker, TrackerContext, TrackerStatus};
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, PyArray2};

@@ -268,7 +268,10 @@ fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
     let spec = Trackers::builtin().spec("obc", &[], "test").unwrap();
     let first = solve_checked(
         &mut planner,
-        &setup.clone().in_frames_of(1.0 / 30.0).problem(&s, 0, None, 5),
+        &setup
+            .clone()
+            .in_frames_of(1.0 / 30.0)
+            .problem(&s, 0, None, 5),
     )
     .followable()
     .unwrap();

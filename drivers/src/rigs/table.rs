@@ -7,8 +7,7 @@ use magbench_env::params::{Entry, RegistryError, Table};
 use super::{CoilRig, OpenError, RigDescription, RigKind, SimulatedRig};
 
 /// Loads a rig's description from its argument and the option it came from.
-pub type LoadRig =
-    dyn Fn(&str, &str) -> Result<Box<dyn RigDescription>, OpenError> + Send + Sync;
+pub type LoadRig = dyn Fn(&str, &str) -> Result<Box<dyn RigDescription>, OpenError> + Send + Sync;
 
 /// The rig kinds known by name: a name, a one-line summary and a loader each.
 #[derive(Clone, Debug)]
@@ -54,10 +53,7 @@ impl Rigs {
         &mut self,
         name: &str,
         summary: &str,
-        load: impl Fn(&str, &str) -> Result<Box<dyn RigDescription>, OpenError>
-        + Send
-        + Sync
-        + 'static,
+        load: impl Fn(&str, &str) -> Result<Box<dyn RigDescription>, OpenError> + Send + Sync + 'static,
     ) -> Result<&mut Self, RegistryError> {
         let load = Arc::new(load);
         self.table.add(Entry::new(name, summary, move || {
@@ -111,7 +107,10 @@ mod tests {
         assert_eq!(rigs.names(), ["simulated", "coil"]);
         let sim = rigs.load("simulated", "hardware", "--preset").unwrap();
         assert!(sim.frame_period() > 0.0);
-        let e = rigs.load("simulated", "no-such-preset", "--preset").err().unwrap();
+        let e = rigs
+            .load("simulated", "no-such-preset", "--preset")
+            .err()
+            .unwrap();
         assert!(e.to_string().contains("--preset"), "{e}");
         let e = rigs.load("simulted", "ideal", "--preset").err().unwrap();
         assert!(

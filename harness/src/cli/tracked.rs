@@ -153,23 +153,23 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
             match checked.followable() {
                 Ok(first) => first,
                 Err(e) => {
-                let _ = rig.stop();
-                let from = if observed.is_some() {
-                    "observed"
-                } else {
-                    "scenario's"
-                };
-                return Err(CliError::Failed(match e {
-                    Unusable::NoMotion => format!(
-                        "{name} found no plan from the {from} start{}",
-                        if setup.limits == Limits::default() {
-                            String::new()
-                        } else {
-                            format!(" within its limits ({:?})", setup.limits)
-                        }
-                    ),
-                    Unusable::Invalid(_) => format!("{name}: {e}"),
-                }));
+                    let _ = rig.stop();
+                    let from = if observed.is_some() {
+                        "observed"
+                    } else {
+                        "scenario's"
+                    };
+                    return Err(CliError::Failed(match e {
+                        Unusable::NoMotion => format!(
+                            "{name} found no plan from the {from} start{}",
+                            if setup.limits == Limits::default() {
+                                String::new()
+                            } else {
+                                format!(" within its limits ({:?})", setup.limits)
+                            }
+                        ),
+                        Unusable::Invalid(_) => format!("{name}: {e}"),
+                    }));
                 }
             }
         }
