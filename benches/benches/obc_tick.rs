@@ -66,6 +66,7 @@ fn bench(c: &mut Criterion) {
     let ctx = TrackerContext {
         reference: &r,
         model: &model,
+        world: &s.world,
         checker: &checker,
         period,
         goal: s.final_goal(),

@@ -11,7 +11,7 @@
 //! - [`detector`] and [`pixel_map`]: sub-pixel agent centres and pixel ↔ BL calibration;
 //! - [`clock`]: the time of the safety timers (wall, or a manual clock a test moves);
 //! - [`coil_session`] and [`hardware`]: the hardware rig, which zeroes the field on every exit;
-//! - [`rigs`]: the rig factory — a simulated rig or a rig file, opened for a plan-track run;
+//! - [`rigs`]: the rigs by name (a simulated rig under a preset, a rig file, a plugin's), loaded and opened for a plan-track run;
 //! - [`check`] and [`replay`]: rig bring-up and offline detection;
 //! - [`emulator`]: the device side — protocol, watchdog, env's plant, rendered frames, faults.
 //!

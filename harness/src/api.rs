@@ -5,7 +5,7 @@
 use magbench_env::Scenario;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::{
-    ElevationRefused, Plan, Planner, PlannerResult, PlanningSetup, Unusable, check_result,
+    ElevationRefused, FirstPlan, Plan, Planner, PlannerResult, PlanningSetup, solve_checked,
 };
 use magbench_trackers::plan_file::check_plan;
 use magbench_trackers::{LoopOptions, Mission, TrackOutcome, Tracker, simulate};
@@ -51,14 +51,14 @@ pub fn plan_leg(
             ElevationRefused::AlphaMax(r) => CliError::arg("param.alpha_max", r),
             ElevationRefused::SetupAlphaMax(r) => CliError::arg("alpha_max", r),
         })?;
-    let result = planner.solve(&problem);
-    if let Err(Unusable::Invalid(e)) = check_result(&problem, &result) {
+    let checked = solve_checked(planner, &problem);
+    if let Some(e) = checked.invalid() {
         return Err(CliError::Failed(format!(
             "{} returned an invalid plan: {e}",
             planner.name()
         )));
     }
-    Ok(result)
+    Ok(checked.result)
 }
 
 /// How far a tracked plan may start from the scenario's start (BL): the simulated rig starts
@@ -137,9 +137,7 @@ pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, CliError> {
     let solved = r.scenario.legs[0].goal.contains(r.plan.end());
     let mission = Mission {
         scenario: r.scenario,
-        plan: Some(r.plan),
-        plan_time_s: 0.0,
-        plan_solved: solved,
+        first: FirstPlan::given(r.plan, solved),
         planner: planner.as_deref_mut().map(|p| p as &mut dyn Planner),
         setup,
         seed: r.seed,

@@ -1,7 +1,7 @@
 //! [`Cli`]: the whole `magbench` command line as a library, with a registry a plugin extends.
 //!
 //! A plugin crate's `main.rs` is a few lines, and its binary has every subcommand of
-//! `magbench` with the plugin's planners and trackers beside the built-ins:
+//! `magbench` with the plugin's planners, trackers and rigs beside the built-ins:
 //!
 //! ```no_run
 //! # use magbench::prelude::*;
@@ -20,6 +20,7 @@ use std::ffi::OsString;
 use std::process::ExitCode;
 
 use clap::Parser;
+use magbench_drivers::rigs::{RigDescription, RigKind};
 use magbench_env::InputError;
 use magbench_planners::Planner;
 use magbench_trackers::Tracker;
@@ -42,7 +43,7 @@ impl Default for Cli {
 }
 
 impl Cli {
-    /// The command line with the built-in planners and trackers ([`Registry::builtin`]).
+    /// The command line with the built-in planners, trackers and rigs ([`Registry::builtin`]).
     pub fn new() -> Cli {
         Cli::with_registry(Registry::builtin())
     }
@@ -86,6 +87,22 @@ impl Cli {
                 "magbench::Cli::tracker::<{}>: {e}",
                 std::any::type_name::<T>()
             );
+        }
+        self
+    }
+
+    /// Adds rig kind `R` as `name`: `track --rig-type NAME --preset ARG` and
+    /// `rig run --rig-type NAME --rig ARG` load it with [`RigKind::load`].
+    ///
+    /// # Panics
+    ///
+    /// When `name` is taken or malformed: a mistake in the program, not in its input.
+    pub fn rig<R: RigKind>(mut self, name: &str) -> Cli {
+        let summary = format!("{} (plugin)", std::any::type_name::<R>());
+        if let Err(e) = self.registry.add_rig(name, &summary, |arg, option| {
+            Ok(Box::new(R::load(arg, option)?) as Box<dyn RigDescription>)
+        }) {
+            panic!("magbench::Cli::rig::<{}>: {e}", std::any::type_name::<R>());
         }
         self
     }

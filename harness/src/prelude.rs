@@ -1,4 +1,4 @@
-//! What a plugin needs to write a planner or a tracker, in one `use magbench::prelude::*;`.
+//! What a plugin needs to write a planner, a tracker or a rig, in one `use magbench::prelude::*;`.
 //!
 //! This is the stable surface for code outside the workspace: a plugin that uses only these
 //! names (and [`crate::Cli`], [`crate::Registry`]) keeps building as magbench's internals move.
@@ -25,7 +25,14 @@
 //! **A tracker** implements [`Tracker`]: once per camera frame, [`Tracker::command`] gets the
 //! [`TrackerContext`] (the [`Reference`] being followed, the model, the checker, the period,
 //! the goal) and a [`Tick`] (time and estimated state) and returns a [`Control`].
+//!
+//! **A rig** implements [`RigKind`] (how it loads from its argument: a preset, a rig file) and
+//! [`RigDescription`] (its frame period and plant, and [`RigDescription::open`], which gives a
+//! [`RunRig`]: the loop's [`Rig`] — observe, command, stop — plus its label).
 
+pub use magbench_drivers::rigs::{
+    OpenError, RigDescription, RigKind, RigPlant, RunRig, SimulatedRig,
+};
 pub use magbench_env::declare_params;
 pub use magbench_env::params::{ParamError, ParamInfo, ParamSet, Reals, Value};
 pub use magbench_env::{Coil, Control, Goal, InputError, MAX_AGENTS, Scenario, Vec2};
@@ -39,5 +46,8 @@ pub use magbench_planners::{
     Limits, Plan, PlanError, Planner, PlannerResult, Problem, ProgressPoint, Rng, Unusable,
     check_result, plan_cost, validate_plan,
 };
-pub use magbench_trackers::{LoopOptions, Reference, Tick, Tracker, TrackerContext, TrackerStatus};
+pub use magbench_trackers::{
+    GroundTruth, LoopOptions, Reference, Rig, RigError, SimRig, Tick, Tracker, TrackerContext,
+    TrackerStatus,
+};
 pub use rand::{RngExt, SeedableRng};

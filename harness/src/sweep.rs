@@ -202,6 +202,14 @@ pub fn run_sweep(
         wall_time_s: None,
         host: manifest.host.clone(),
     });
+    for s in &specs {
+        for name in ex.one_at_a_time(s) {
+            if !manifest.one_at_a_time.contains(&name) {
+                manifest.one_at_a_time.push(name);
+            }
+        }
+    }
+    manifest.one_at_a_time.sort();
     manifest.write(out)?;
 
     let agents = specs
@@ -218,6 +226,9 @@ pub fn run_sweep(
             .map(|s| (s.scenario_label.as_str(), &*s.scenario)),
     )?;
     let failed = AtomicUsize::new(0);
+    // runs of a component that holds a global lock (Python's GIL) take turns, so that each one's
+    // times are its own and not the wait for the lock
+    let turn = Mutex::new(());
     let reporter = Reporter::new(opts.progress, specs.len(), skipped);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.max(1))
@@ -225,7 +236,12 @@ pub fn run_sweep(
         .map_err(|err| CliError::Failed(format!("thread pool: {err}")))?;
     let result: Result<(), CliError> = pool.install(|| {
         todo.par_iter().with_max_len(1).try_for_each(|spec| {
-            let o = execute_caught(ex, spec);
+            let o = if ex.one_at_a_time(spec).is_empty() {
+                execute_caught(ex, spec)
+            } else {
+                let _turn = turn.lock().unwrap_or_else(|p| p.into_inner());
+                execute_caught(ex, spec)
+            };
             let f = if o.record.status == Status::Crash {
                 failed.fetch_add(1, Ordering::SeqCst) + 1
             } else {

@@ -23,6 +23,7 @@
 #![warn(missing_docs)]
 
 pub mod extend;
+pub mod first_plan;
 pub mod informed;
 pub mod metric;
 pub mod motion;
@@ -44,6 +45,7 @@ pub mod steer;
 pub mod tree;
 pub mod validate;
 
+pub use first_plan::{Checked, FirstPlan, solve_checked};
 pub use metric::Metric;
 pub use objective::{Objective, plan_cost};
 pub use plan::Plan;

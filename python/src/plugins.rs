@@ -4,8 +4,8 @@
 //! whose message is the exception's text: the sweep turns it into a failed run row, and the
 //! module's functions into `MagbenchError`.
 //!
-//! The GIL lets one thread run Python at a time: the runs of a Python plugin in a sweep on
-//! several threads take turns for every call into Python.
+//! The GIL lets one thread run Python at a time: a Python plugin's registry entry is serial, so
+//! a sweep runs its runs one at a time (beside the Rust runs) and its report says so.
 
 use std::collections::HashSet;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -14,11 +14,13 @@ use std::time::Instant;
 use magbench::Registry;
 use magbench_env::coil::Planar;
 use magbench_env::params::{ParamError, ParamInfo, ParamSet, Value};
-use magbench_env::{Control, Vec2, World};
+use magbench_env::{Control, Vec2};
 use magbench_planners::objective::objective_by_name;
+use magbench_planners::registry::Entry as PlannerEntry;
 use magbench_planners::{
     Limits, Metric, Planner, PlannerResult, PlanningSetup, Problem, ProgressPoint, plan_cost,
 };
+use magbench_trackers::registry::Entry as TrackerEntry;
 use magbench_trackers::{Tick, Tracker, TrackerContext, TrackerStatus};
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, PyArray2};
@@ -114,20 +116,27 @@ fn plugin_class(py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<PluginClass> {
     })
 }
 
-/// The built-in registry plus the registered Python plugins.
+/// The built-in registry plus the registered Python plugins, whose runs go one at a time in a
+/// sweep (they hold the GIL; the report says so).
 pub fn registry(py: Python<'_>) -> PyResult<Registry> {
     let (planners, trackers) = snapshot(py)?;
     let mut reg = Registry::builtin();
     for c in planners {
         let summary = format!("{} (Python)", c.summary);
         let name = c.name.clone();
-        reg.add_planner(&name, &summary, move || Box::new(PyPlanner::new(c.clone())))
+        let entry = PlannerEntry::new(&name, &summary, move || {
+            Box::new(PyPlanner::new(c.clone())) as Box<dyn Planner>
+        });
+        reg.add_planner_entry(entry.serial())
             .map_err(|e| bad_arg(py, "planner", format!("{name}: {e}")))?;
     }
     for c in trackers {
         let summary = format!("{} (Python)", c.summary);
         let name = c.name.clone();
-        reg.add_tracker(&name, &summary, move || Box::new(PyTracker::new(c.clone())))
+        let entry = TrackerEntry::new(&name, &summary, move || {
+            Box::new(PyTracker::new(c.clone())) as Box<dyn Tracker>
+        });
+        reg.add_tracker_entry(entry.serial())
             .map_err(|e| bad_arg(py, "tracker", format!("{name}: {e}")))?;
     }
     Ok(reg)
@@ -483,16 +492,12 @@ impl ParamSet for PyTracker {
     }
 }
 
-/// The problem a tracker sees: the leg's operations (the world's bounds are unknown: NaN).
+/// The problem a tracker sees: the leg's world (bounds and obstacles) and operations.
 fn tracker_problem(ctx: &TrackerContext) -> Problem {
     let model = ctx.model.clone();
     Problem {
         scenario: String::new(),
-        world: World {
-            width: f64::NAN,
-            height: f64::NAN,
-            obstacles: vec![],
-        },
+        world: ctx.world.clone(),
         start: ctx.reference.state(0).to_vec(),
         goal: ctx.goal.clone(),
         objective: objective_by_name("path-length", &model).expect("a known objective"),

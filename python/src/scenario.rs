@@ -263,7 +263,7 @@ impl Scenario {
     /// pair's separation inside the proximity range. Batched: an (n, d) array gives n answers.
     fn is_valid<'py>(&self, py: Python<'py>, x: ArrayIn<'py>) -> PyResult<Bound<'py, PyAny>> {
         let w = &self.problem.world;
-        let inside = |p: &Vec2| w.width.is_nan() || w.contains(*p);
+        let inside = |p: &Vec2| w.contains(*p);
         self.per_state(py, x, "x", |s| {
             s.iter().all(inside) && self.problem.checker.is_valid(s)
         })

@@ -1,5 +1,6 @@
 """Python planners and trackers: registration, parameters, progress, failures, and bench."""
 
+import json
 import os
 import sys
 
@@ -195,6 +196,28 @@ class NanTracker:
         return np.array([np.nan, 0, 0, 0])
 
 
+class SeesWorld(PyPd):
+    """A PD tracker that records what its problem says of the world."""
+
+    seen = None
+
+    def reset(self, problem, plan):
+        w, _ = problem.bounds
+        outside = np.array(problem.start, dtype=float)
+        outside[0] = w + 5.0
+        SeesWorld.seen = (problem.bounds, bool(problem.is_valid(problem.start)),
+                          bool(problem.is_valid(outside)))
+        super().reset(problem, plan)
+
+
+def test_a_tracker_problem_has_the_world_bounds(sc, plan):
+    mb.register_tracker("sees-world", SeesWorld)
+    mb.track(sc, plan, tracker="sees-world", preset="ideal", seed=0)
+    bounds, start_valid, outside_valid = SeesWorld.seen
+    assert bounds == sc.bounds and all(np.isfinite(bounds)), bounds
+    assert start_valid and not outside_valid
+
+
 def test_failing_trackers_raise(sc, plan):
     mb.register_tracker("bad", BadTracker)
     with pytest.raises(mb.MagbenchError) as e:
@@ -233,6 +256,10 @@ def test_bench_with_python_plugins(tmp_path):
     assert all(len(res.progress[i]["iteration"]) >= 2 for i in py_runs)
     report = (tmp_path / "out" / "report.html").read_text()
     assert "py-rrt" in report and "py-pd" in report
+    # the plugins hold the GIL: their runs went one at a time, and the report and manifest say so
+    assert "went one at a time" in report and "GIL" in report
+    manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    assert manifest["one_at_a_time"] == ["py-pd", "py-rrt", "raises"]
 
 
 def test_main_lists_plugins(capfd):

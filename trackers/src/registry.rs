@@ -65,6 +65,13 @@ impl Trackers {
         Ok(self)
     }
 
+    /// Adds `entry` (made with [`Entry::new`], perhaps [`Entry::serial`]); refuses a name
+    /// already taken or one an experiment file cannot write.
+    pub fn add_entry(&mut self, entry: Entry) -> Result<&mut Self, RegistryError> {
+        self.table.add(entry)?;
+        Ok(self)
+    }
+
     /// The entry called `name`, if any.
     pub fn get(&self, name: &str) -> Option<&Entry> {
         self.table.get(name)

@@ -2,7 +2,7 @@
 
 use magbench_env::params::ParamSet;
 use magbench_env::plant::Observation;
-use magbench_env::{Control, Goal, PlanningModel, ValidityChecker, Vec2};
+use magbench_env::{Control, Goal, PlanningModel, ValidityChecker, Vec2, World};
 
 use crate::Reference;
 use crate::run::LoopOptions;
@@ -15,6 +15,8 @@ pub struct TrackerContext<'a> {
     pub reference: &'a Reference,
     /// The planning model (nominal physics and coil).
     pub model: &'a PlanningModel,
+    /// The current leg's world: its bounds (`[0, width] × [0, height]`) and obstacles.
+    pub world: &'a World,
     /// Walls, obstacles and proximity range of the current leg.
     pub checker: &'a ValidityChecker,
     /// Seconds between control ticks (the camera frame).

@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use magbench_env::Vec2;
 use magbench_env::plant::DisturbancePreset;
-use magbench_planners::{Limits, Planner, PlanningSetup, Problem};
+use magbench_planners::{FirstPlan, Limits, Planner, PlanningSetup, Problem, solve_checked};
 use magbench_trackers::{Mission, PlanReason, RunStatus, Trackers, simulate};
 
 #[test]
@@ -18,13 +18,15 @@ fn cargo_delivery_completes_both_legs_with_replanning() {
             calls: 0,
         };
         let spec = Trackers::builtin().spec(name, &[], "test").unwrap();
+        let setup = PlanningSetup::default();
+        let first = solve_checked(&mut planner, &setup.problem(&s, 0, None, 3))
+            .followable()
+            .unwrap();
         let mission = Mission {
             scenario: &s,
-            plan: None,
-            plan_time_s: 0.0,
-            plan_solved: false,
+            first,
             planner: Some(&mut planner as &mut dyn Planner),
-            setup: Default::default(),
+            setup,
             seed: 3,
         };
         let mut opts = spec.loop_options();
@@ -101,9 +103,11 @@ fn persistent_error_triggers_a_replan() {
         .unwrap();
     let mission = Mission {
         scenario: &s,
-        plan: Some(first.plan),
-        plan_time_s: first.time_s,
-        plan_solved: true,
+        first: FirstPlan {
+            plan: first.plan,
+            solved: true,
+            time_s: first.time_s,
+        },
         planner: Some(&mut planner as &mut dyn Planner),
         setup: Default::default(),
         seed: 1,
@@ -174,9 +178,11 @@ fn total_time_counts_a_replan_once_whatever_the_rig_clock() {
         let first = planner.solve(&Problem::from_scenario(&s, 0, None, 3)).plan;
         let mission = Mission {
             scenario: &s,
-            plan: Some(first),
-            plan_time_s: first_plan_time,
-            plan_solved: true,
+            first: FirstPlan {
+                plan: first,
+                solved: true,
+                time_s: first_plan_time,
+            },
             planner: Some(&mut planner as &mut dyn Planner),
             setup: Default::default(),
             seed: 3,
@@ -260,11 +266,18 @@ fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
     let mut preset = DisturbancePreset::ideal();
     preset.camera.fps = 30.0;
     let spec = Trackers::builtin().spec("obc", &[], "test").unwrap();
+    let first = solve_checked(
+        &mut planner,
+        &setup
+            .clone()
+            .in_frames_of(1.0 / 30.0)
+            .problem(&s, 0, None, 5),
+    )
+    .followable()
+    .unwrap();
     let mission = Mission {
         scenario: &s,
-        plan: None,
-        plan_time_s: 0.0,
-        plan_solved: false,
+        first,
         planner: Some(&mut planner as &mut dyn Planner),
         setup,
         seed: 5,
@@ -341,9 +354,11 @@ fn a_stalled_three_agent_team_replans_and_reaches_the_goal() {
             .unwrap();
         let mission = Mission {
             scenario: &s,
-            plan: Some(first.plan),
-            plan_time_s: first.time_s,
-            plan_solved: true,
+            first: FirstPlan {
+                plan: first.plan,
+                solved: true,
+                time_s: first.time_s,
+            },
             planner: Some(planner.as_mut()),
             setup,
             seed: 0,

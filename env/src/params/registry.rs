@@ -1,4 +1,4 @@
-//! Tables of named components (planners, trackers): a name, a one-line summary and a
+//! Tables of named components (planners, trackers, rigs): a name, a one-line summary and a
 //! constructor with the defaults, looked up by name with one error for an unknown name.
 //!
 //! A [`Table`] is a value: it starts with whatever its owner puts in it (the built-ins) and
@@ -17,6 +17,7 @@ pub struct Entry<T: ?Sized> {
     name: Arc<str>,
     summary: Arc<str>,
     make: Make<T>,
+    serial: bool,
 }
 
 impl<T: ?Sized> Clone for Entry<T> {
@@ -25,6 +26,7 @@ impl<T: ?Sized> Clone for Entry<T> {
             name: self.name.clone(),
             summary: self.summary.clone(),
             make: self.make.clone(),
+            serial: self.serial,
         }
     }
 }
@@ -34,6 +36,7 @@ impl<T: ?Sized> fmt::Debug for Entry<T> {
         f.debug_struct("Entry")
             .field("name", &self.name)
             .field("summary", &self.summary)
+            .field("serial", &self.serial)
             .finish_non_exhaustive()
     }
 }
@@ -49,7 +52,21 @@ impl<T: ?Sized> Entry<T> {
             name: name.into(),
             summary: summary.into(),
             make: Arc::new(make),
+            serial: false,
         }
+    }
+
+    /// The same entry, whose runs go one at a time: what it makes holds a lock that one
+    /// thread owns at a time (a Python plugin holds the GIL), so a sweep runs no two of its
+    /// runs at once, and says so.
+    pub fn serial(mut self) -> Self {
+        self.serial = true;
+        self
+    }
+
+    /// Whether its runs go one at a time ([`Entry::serial`]).
+    pub fn is_serial(&self) -> bool {
+        self.serial
     }
 
     /// The registry name.
@@ -74,7 +91,7 @@ pub enum RegistryError {
     /// The name is taken.
     #[error("a {what} called {name:?} is already registered")]
     Duplicate {
-        /// `planner` or `tracker`.
+        /// `planner`, `tracker` or `rig`.
         what: &'static str,
         /// The name given.
         name: String,
@@ -82,7 +99,7 @@ pub enum RegistryError {
     /// The name cannot be written in an experiment file.
     #[error("{what} name {name:?}: {reason}")]
     BadName {
-        /// `planner` or `tracker`.
+        /// `planner`, `tracker` or `rig`.
         what: &'static str,
         /// The name given.
         name: String,
@@ -135,7 +152,7 @@ impl<T: ?Sized> fmt::Debug for Table<T> {
 }
 
 impl<T: ?Sized> Table<T> {
-    /// An empty table of `what`s (`planner`, `tracker`: the word its errors use).
+    /// An empty table of `what`s (`planner`, `tracker`, `rig`: the word its errors use).
     pub fn new(what: &'static str) -> Self {
         Table {
             what,

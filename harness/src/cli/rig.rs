@@ -10,7 +10,7 @@ use magbench_drivers::emulator::faults::{FAULT_SYNTAX, FaultPlan};
 use magbench_drivers::emulator::render::RenderParams;
 use magbench_drivers::emulator::{self, DeviceEndpoint, EmulatorConfig};
 use magbench_drivers::rigfile::{CoilEndpoint, RigConfig};
-use magbench_drivers::rigs::{RigSource, preset_named};
+use magbench_drivers::rigs::preset_named;
 use magbench_drivers::{HardwareRig, check, interrupt, replay};
 use magbench_env::Scenario;
 
@@ -64,9 +64,14 @@ pub struct ExciteArgs {
 /// `magbench rig run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// The rig file.
+    /// The rig's description: for a `coil` rig, its rig file; for another rig type, what that
+    /// type reads.
     #[arg(long)]
-    pub rig: PathBuf,
+    pub rig: String,
+    /// The rig type, by its registry name: `coil` (a coil-and-camera rig or its emulator),
+    /// `simulated` (--rig is then a disturbance preset) or a plugin's.
+    #[arg(long, default_value = "coil")]
+    pub rig_type: String,
     /// A built-in scenario name or a scenario file.
     pub scenario: String,
     /// The planner of the first plan and of every replan.
@@ -418,7 +423,7 @@ fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), CliError> {
     super::tracked::run(TrackRun {
         registry,
         scenario: &scenario,
-        rig: (RigSource::File(a.rig), "--rig"),
+        rig: registry.rigs().load(&a.rig_type, &a.rig, "--rig")?,
         planner: Some(a.planner),
         planner_params: &a.planner_params,
         plan: None,

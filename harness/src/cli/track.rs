@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use magbench_drivers::rigs::RigSource;
 use magbench_env::Scenario;
 
 use super::setup::SetupArgs;
@@ -26,9 +25,13 @@ pub struct TrackArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Disturbance preset of the simulated plant and camera: ideal, realistic, hardware or a
-    /// preset file (TOML, as in presets/).
+    /// preset file (TOML, as in presets/). With another --rig-type, what that type reads.
     #[arg(long, default_value = "realistic")]
     pub preset: String,
+    /// The rig type, by its registry name: `simulated` (env's plant and camera under
+    /// --preset), `coil` (--preset is then a rig file) or a plugin's.
+    #[arg(long, default_value = "simulated")]
+    pub rig_type: String,
     /// A tracker or loop parameter, key=value (repeatable).
     #[arg(long = "param", value_name = "KEY=VALUE")]
     pub params: Vec<String>,
@@ -54,9 +57,10 @@ pub struct TrackArgs {
     pub gif: bool,
 }
 
-/// Runs `magbench track` with the planners and trackers of `registry`.
+/// Runs `magbench track` with the planners, trackers and rigs of `registry`.
 pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
+    let rig = registry.rigs().load(&a.rig_type, &a.preset, "--preset")?;
     let tracker = tracker_spec(registry, &a.tracker, &a.params)?;
     let setup = a.setup.setup()?;
     // without a plan file, the seed's planner makes the plan unless another is named
@@ -68,7 +72,7 @@ pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
     super::tracked::run(TrackRun {
         registry,
         scenario: &scenario,
-        rig: (RigSource::Simulated { preset: a.preset }, "--preset"),
+        rig,
         planner,
         planner_params: &a.planner_params,
         plan: a.plan,

@@ -1,16 +1,16 @@
 //! Plan → track → write outputs: the one runner behind `magbench track` (a simulated rig) and
 //! `magbench rig run` (a coil-and-camera rig, or the emulator).
 //!
-//! The rig comes from the drivers' rig factory ([`magbench_drivers::rigs`]), so this runner,
+//! The rig comes from the registry's rigs ([`magbench_drivers::rigs::Rigs`]), so this runner,
 //! like the command line, does not know which rigs exist.
 
 use std::path::{Path, PathBuf};
 
-use magbench_drivers::rigs::{self, OpenError, RigSource};
+use magbench_drivers::rigs::{OpenError, RigDescription};
 use magbench_drivers::{RigStats, stats};
 use magbench_env::params::split_all;
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{Limits, Planner, PlanningSetup, Unusable, check_result};
+use magbench_planners::{FirstPlan, Limits, Planner, PlanningSetup, Unusable, solve_checked};
 use magbench_trackers::plan_file::{check_plan, plan_json, read_plan};
 use magbench_trackers::{
     Mission, RunStatus, TrackOutcome, TrackerSpec, reference_for, track, write_ticks_csv,
@@ -30,8 +30,8 @@ pub struct TrackRun<'a> {
     pub registry: &'a Registry,
     /// The scenario.
     pub scenario: &'a Scenario,
-    /// The rig, and the option that chose it (for messages).
-    pub rig: (RigSource, &'static str),
+    /// The rig, loaded from its description by the registry.
+    pub rig: Box<dyn RigDescription>,
     /// The planner of the first plan (unless `plan` is given) and of every replan.
     pub planner: Option<String>,
     /// The planner's `key=value` parameters.
@@ -71,14 +71,6 @@ impl From<OpenError> for CliError {
     }
 }
 
-/// The first plan and where it came from.
-struct FirstPlan {
-    plan: magbench_planners::Plan,
-    time_s: f64,
-    solved: bool,
-    tree: Option<LegTree>,
-}
-
 /// Runs it: open the rig, find the start, make (or read) the first plan, track it, stop the
 /// rig, write the outputs and print the summary.
 pub fn run(r: TrackRun) -> Result<(), CliError> {
@@ -93,11 +85,11 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     };
     // every plan, the first and each replan, is in whole frames of the rig that runs it, for
     // its medium and within its coil's elevation range
-    let plant = r.rig.0.plant(r.rig.1)?;
+    let plant = r.rig.plant();
     let setup = r
         .setup
         .clone()
-        .in_frames_of(r.rig.0.frame_period(r.rig.1)?)
+        .in_frames_of(r.rig.frame_period())
         .on_plant(&plant.medium, plant.coil_alpha_max_deg);
     let mut sets = vec![];
     if let Some(p) = &planner {
@@ -117,7 +109,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     if let Some(dir) = &r.out {
         prepare_dir(dir, "--out")?;
     }
-    let mut rig = rigs::open(&r.rig.0, r.rig.1, s, r.seed, r.out.as_deref())?;
+    let mut rig = r.rig.open(s, r.seed, r.out.as_deref())?;
     if let Some(d) = rig.describe() {
         eprintln!("rig: {d}");
     }
@@ -129,20 +121,22 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     if let Some(start) = &observed {
         eprintln!("observed start: {}", describe_start(start, &s.start));
     }
-    let first = match given {
-        Some(plan) => {
+    let first = match (given, planner.as_mut()) {
+        (Some(plan), _) => {
             let solved = s.legs[0].goal.contains(plan.end());
-            FirstPlan {
-                plan,
-                time_s: 0.0,
-                solved,
-                tree: None,
-            }
+            (FirstPlan::given(plan, solved), None)
         }
-        None => {
-            let planner = planner.as_mut().expect("a planner without a plan file");
+        (None, None) => {
+            let _ = rig.stop();
+            return Err(CliError::arg(
+                "--planner",
+                "a planner or a plan file (--plan) is needed",
+            ));
+        }
+        (None, Some(planner)) => {
             let problem = setup.problem(s, 0, observed.as_deref(), r.seed);
-            let result = planner.solve(&problem);
+            let checked = solve_checked(planner.as_mut(), &problem);
+            let result = &checked.result;
             if rig.describe().is_some() {
                 eprintln!(
                     "plan: {} in {:.2} s ({} edges, {:.1} s long)",
@@ -158,40 +152,38 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
                     result.plan.duration()
                 );
             }
-            if let Err(e) = check_result(&problem, &result) {
-                let _ = rig.stop();
-                let from = if observed.is_some() {
-                    "observed"
-                } else {
-                    "scenario's"
-                };
-                return Err(CliError::Failed(match e {
-                    Unusable::NoMotion => format!(
-                        "{} found no plan from the {from} start{}",
-                        planner.name(),
-                        if setup.limits == Limits::default() {
-                            String::new()
-                        } else {
-                            format!(" within its limits ({:?})", setup.limits)
-                        }
-                    ),
-                    Unusable::Invalid(_) => format!("{}: {e}", planner.name()),
-                }));
-            }
-            FirstPlan {
-                plan: result.plan,
-                time_s: result.time_s,
-                solved: result.solved,
-                tree: LegTree::of_planner(&**planner, &problem, 0),
+            let name = planner.name().to_string();
+            let tree = LegTree::of_planner(&**planner, &problem, 0);
+            match checked.followable() {
+                Ok(first) => (first, tree),
+                Err(e) => {
+                    let _ = rig.stop();
+                    let from = if observed.is_some() {
+                        "observed"
+                    } else {
+                        "scenario's"
+                    };
+                    return Err(CliError::Failed(match e {
+                        Unusable::NoMotion => format!(
+                            "{name} found no plan from the {from} start{}",
+                            if setup.limits == Limits::default() {
+                                String::new()
+                            } else {
+                                format!(" within its limits ({:?})", setup.limits)
+                            }
+                        ),
+                        Unusable::Invalid(_) => format!("{name}: {e}"),
+                    }));
+                }
             }
         }
     };
-    let trees: Vec<LegTree> = first.tree.into_iter().collect();
+    let (first, tree) = first;
+    let trees: Vec<LegTree> = tree.into_iter().collect();
+    let solved = first.solved;
     let mission = Mission {
         scenario: s,
-        plan: Some(first.plan),
-        plan_time_s: first.time_s,
-        plan_solved: first.solved,
+        first,
         planner: planner.as_deref_mut().map(|p| p as &mut dyn Planner),
         setup,
         seed: r.seed,
@@ -208,7 +200,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         &r,
         planner_label,
         &rig.label(),
-        first.solved,
+        solved,
         &outcome,
         observed.as_deref(),
         rig_stats.as_ref(),

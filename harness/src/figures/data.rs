@@ -1,11 +1,9 @@
 //! The runs behind the paper figures: plan with a registered planner from a fixed seed, then
 //! track the plan in closed loop against the simulated plant, keeping every tick.
 
-use magbench_drivers::rigs::RigSource;
-use magbench_env::plant::DisturbancePreset;
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{Limits, PlannerResult, PlanningSetup};
-use magbench_trackers::{Mission, Reference, simulate};
+use magbench_planners::{Limits, PlannerResult, PlanningSetup, solve_checked};
+use magbench_trackers::{Mission, Reference, track};
 
 use crate::registry::Registry;
 
@@ -43,7 +41,7 @@ pub struct RunSpec<'a> {
     pub seed: u64,
 }
 
-/// Plans and tracks, with the planner and tracker of `registry`.
+/// Plans and tracks, with the planner, tracker and `simulated` rig of `registry`.
 pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, String> {
     let scenario = Scenario::load(s.scenario).map_err(|e| e.to_string())?;
     let params: Vec<(String, String)> = s
@@ -56,11 +54,11 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, St
         .planners()
         .create(s.planner.0, &params)
         .map_err(|e| e.to_string())?;
-    let period = RigSource::Simulated {
-        preset: s.preset.to_string(),
-    }
-    .frame_period("preset")
-    .map_err(|e| e.to_string())?;
+    let rig = registry
+        .rigs()
+        .load("simulated", s.preset, "preset")
+        .map_err(|e| e.to_string())?;
+    let period = rig.frame_period();
     let setup = PlanningSetup {
         limits: Limits {
             max_iterations: Some(s.iterations),
@@ -70,7 +68,11 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, St
     }
     .in_frames_of(period);
     let problem = setup.problem(&scenario, 0, None, s.seed);
-    let planned = planner.solve(&problem);
+    let checked = solve_checked(planner.as_mut(), &problem);
+    let planned = checked.result.clone();
+    let first = checked
+        .followable()
+        .map_err(|e| format!("{} seed {}: {e}", s.planner.0, s.seed))?;
     let reference = Reference::from_plan(&planned.plan, &problem.model);
     let plan_samples = (0..reference.len())
         .map(|k| (reference.time(k), reference.state(k).to_vec()))
@@ -79,13 +81,9 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, St
         .trackers()
         .spec(s.tracker, &[], "<figures>")
         .map_err(|e| e.to_string())?;
-    let preset = DisturbancePreset::by_name(s.preset)
-        .ok_or_else(|| format!("unknown preset {}", s.preset))?;
     let mission = Mission {
         scenario: &scenario,
-        plan: Some(planned.plan.clone()),
-        plan_time_s: planned.time_s,
-        plan_solved: planned.solved,
+        first,
         planner: Some(planner.as_mut()),
         setup,
         seed: s.seed,
@@ -93,7 +91,10 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, St
     let mut tracker = spec.build();
     let mut opts = spec.loop_options();
     opts.record_ticks = true;
-    let out = simulate(mission, tracker.as_mut(), &preset, &opts);
+    let mut sim = rig
+        .open(&scenario, s.seed, None)
+        .map_err(|e| e.to_string())?;
+    let out = track(sim.as_rig(), tracker.as_mut(), mission, &opts);
     let n = scenario.agents();
     let tracked = out
         .ticks

@@ -110,6 +110,10 @@ pub struct Manifest {
     pub runs_failed: usize,
     /// Every session, in order.
     pub sessions: Vec<Session>,
+    /// Planners and trackers whose runs went one at a time, by name: they hold a global lock
+    /// (a Python plugin holds the GIL), so the sweep ran no two of their runs at once.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub one_at_a_time: Vec<String>,
     /// SHA-256 of each file of the folder (but this manifest and the lock file) when it was
     /// finalized, by path relative to the folder; `results verify` checks them.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
@@ -224,6 +228,7 @@ impl Manifest {
             runs_done: 0,
             runs_failed: 0,
             sessions: vec![],
+            one_at_a_time: vec![],
             files: BTreeMap::new(),
         }
     }

@@ -211,6 +211,14 @@ pub fn write(
         wall,
         esc(&e.sha256),
     );
+    if !m.one_at_a_time.is_empty() {
+        let _ = writeln!(
+            o,
+            "<p class=\"note\">The runs of {} went one at a time: they hold a global lock (Python plugins hold Python's GIL, and one thread runs Python at a time). Their times are those of a run alone; the other runs went on beside them on {} threads, and the sweep took longer than its thread count suggests.</p>",
+            esc(&m.one_at_a_time.join(", ")),
+            m.threads
+        );
+    }
     o.push_str("<p>Files: <a href=\"runs.csv\">runs.csv</a> · <a href=\"progress.csv\">progress.csv</a> · <a href=\"manifest.json\">manifest.json</a> · <a href=\"ompl.log\">ompl.log</a> (OMPL benchmark log)</p>\n");
     let sums = summaries(runs);
     let mut scenarios: Vec<&str> = vec![];

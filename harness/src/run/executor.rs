@@ -32,6 +32,11 @@ pub trait Executor: Sync {
     fn check_run(&self, _spec: &RunSpec) -> Result<(), (String, String)> {
         Ok(())
     }
+    /// The planner and tracker of `spec` whose runs go one at a time (a Python plugin holds
+    /// the GIL), by name: a sweep runs no two such runs at once and says so in its report.
+    fn one_at_a_time(&self, _spec: &RunSpec) -> Vec<String> {
+        vec![]
+    }
     /// Executes one run. An `Err` becomes a `crash` row.
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String>;
 }

@@ -24,7 +24,7 @@ use std::time::Instant;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::ElevationRefused;
 use magbench_planners::setup::SETUP_KEYS;
-use magbench_planners::{Limits, Plan, PlannerResult, PlanningSetup, Unusable, check_result};
+use magbench_planners::{Checked, Limits, Plan, PlannerResult, PlanningSetup, solve_checked};
 use magbench_trackers::{Mission, RunStatus, simulate};
 
 use super::executor::base_record;
@@ -100,16 +100,44 @@ fn leg_seed(spec: &RunSpec, leg: usize) -> u64 {
     spec.seed.wrapping_add(leg as u64 * 1_000_003)
 }
 
-/// Plans the first `legs` legs of the run's scenario in turn under `setup` (stopping at an
-/// unsolved leg) with the run's planner from `registry`; returns each leg's result. A plan the
-/// validator refuses is an error (a crash row).
+/// Plans leg `leg` of the run's scenario from `start` under `setup` with a fresh planner of
+/// the run from `registry` ([`solve_checked`]). A plan the validator refuses is an error (a
+/// crash row); a plan without motion is a result (a timeout), not followable.
+fn plan_leg(
+    registry: &Registry,
+    spec: &RunSpec,
+    setup: &PlanningSetup,
+    leg: usize,
+    start: &[magbench_env::Vec2],
+) -> Result<(Checked, Option<LegTree>), String> {
+    let mut planner = registry
+        .planners()
+        .create_in(
+            &spec.experiment,
+            &spec.planner.name,
+            &planner_params(&spec.planner),
+        )
+        .map_err(|e| e.reason)?;
+    let p = setup.problem(&spec.scenario, leg, Some(start), leg_seed(spec, leg));
+    let checked = solve_checked(planner.as_mut(), &p);
+    if let Some(e) = checked.invalid() {
+        return Err(format!(
+            "leg {}: the planner's plan is invalid: {e}",
+            leg + 1
+        ));
+    }
+    let tree = LegTree::of_planner(&*planner, &p, leg);
+    Ok((checked, tree))
+}
+
+/// Plans every leg of the run's scenario in turn under `setup` (stopping at an unsolved leg),
+/// each from the end of the previous leg's plan; returns each leg's result.
 pub fn plan_legs(
     registry: &Registry,
     spec: &RunSpec,
     setup: &PlanningSetup,
-    legs: usize,
 ) -> Result<Vec<PlannerResult>, String> {
-    plan_legs_with_trees(registry, spec, setup, legs).map(|(r, _)| r)
+    plan_legs_with_trees(registry, spec, setup).map(|(r, _)| r)
 }
 
 /// [`plan_legs`], also returning the search tree of each leg whose planner keeps one.
@@ -117,27 +145,15 @@ pub fn plan_legs_with_trees(
     registry: &Registry,
     spec: &RunSpec,
     setup: &PlanningSetup,
-    legs: usize,
 ) -> Result<(Vec<PlannerResult>, Vec<LegTree>), String> {
     let mut trees = vec![];
-    let params = planner_params(&spec.planner);
     let mut start = spec.scenario.start.clone();
     let mut out = vec![];
-    for leg in 0..legs.min(spec.scenario.legs.len()) {
-        let mut planner = registry
-            .planners()
-            .create_in(&spec.experiment, &spec.planner.name, &params)
-            .map_err(|e| e.reason)?;
-        let p = setup.problem(&spec.scenario, leg, Some(&start), leg_seed(spec, leg));
-        let r = planner.solve(&p);
-        trees.extend(LegTree::of_planner(&*planner, &p, leg));
+    for leg in 0..spec.scenario.legs.len() {
+        let (checked, tree) = plan_leg(registry, spec, setup, leg, &start)?;
+        trees.extend(tree);
+        let r = checked.result;
         let solved = r.solved;
-        if let Err(Unusable::Invalid(e)) = check_result(&p, &r) {
-            return Err(format!(
-                "leg {}: the planner's plan is invalid: {e}",
-                leg + 1
-            ));
-        }
         start = r.plan.end().to_vec();
         out.push(r);
         if !solved {
@@ -246,6 +262,13 @@ impl Executor for RealExecutor {
             .map_err(|e| e.reason)
     }
 
+    fn one_at_a_time(&self, spec: &RunSpec) -> Vec<String> {
+        self.registry.one_at_a_time(
+            &spec.planner.name,
+            spec.tracker.as_ref().map(|t| t.name.as_str()),
+        )
+    }
+
     fn check_run(&self, spec: &RunSpec) -> Result<(), (String, String)> {
         let setup = setup(spec).map_err(|r| ("planners".to_string(), r))?;
         let mut sets = vec![(
@@ -285,7 +308,7 @@ impl Executor for RealExecutor {
         let setup = setup(spec)?;
         let Some(tv) = &spec.tracker else {
             let n = spec.scenario.legs.len();
-            let (legs, trees) = plan_legs_with_trees(&self.registry, spec, &setup, n)?;
+            let (legs, trees) = plan_legs_with_trees(&self.registry, spec, &setup)?;
             let progress = fill_planning(&legs, n, spec, &mut rec);
             let shown: Vec<&PlannerResult> = legs.iter().collect();
             let replay = ReplayData::planned(&spec.scenario, spec.id(), &shown, &trees);
@@ -295,24 +318,27 @@ impl Executor for RealExecutor {
                 replay: Some(Box::new(replay)),
             });
         };
-        let (legs, trees) = plan_legs_with_trees(&self.registry, spec, &setup, 1)?;
-        let progress = fill_planning(&legs, 1, spec, &mut rec);
-        let first = legs.into_iter().next().expect("one leg planned");
+        let (first, tree) = plan_leg(&self.registry, spec, &setup, 0, &spec.scenario.start)?;
+        let trees: Vec<LegTree> = tree.into_iter().collect();
+        let progress = fill_planning(std::slice::from_ref(&first.result), 1, spec, &mut rec);
         let tspec = self
             .registry
             .trackers()
             .spec(&tv.name, &tv.params_as_strings(), &spec.experiment)
             .map_err(|e| e.reason)?;
-        if first.plan.edges() == 0 {
-            // nothing to follow (the one rule, `check_result`): the run ends before tracking
-            rec.track_status = RunStatus::PlanningFailed.as_str().to_string();
-            rec.error = format!("{}", Unusable::NoMotion);
-            return Ok(RunOutput {
-                record: rec,
-                progress,
-                replay: None,
-            });
-        }
+        let first = match first.followable() {
+            Ok(first) => first,
+            Err(e) => {
+                // nothing to follow: the run ends before tracking
+                rec.track_status = RunStatus::PlanningFailed.as_str().to_string();
+                rec.error = e.to_string();
+                return Ok(RunOutput {
+                    record: rec,
+                    progress,
+                    replay: None,
+                });
+            }
+        };
         let preset = plant(spec);
         let mut planner = self
             .registry
@@ -325,9 +351,7 @@ impl Executor for RealExecutor {
             .map_err(|e| e.reason)?;
         let mission = Mission {
             scenario: &spec.scenario,
-            plan: Some(first.plan),
-            plan_time_s: first.time_s,
-            plan_solved: first.solved,
+            first,
             planner: Some(planner.as_mut()),
             setup,
             seed: spec.seed,

@@ -19,6 +19,7 @@ pub enum GoalHold {
 pub struct Course<'s> {
     scenario: &'s Scenario,
     leg: usize,
+    world: World,
     checker: ValidityChecker,
     hold: f64,
     goal_margin: f64,
@@ -34,6 +35,7 @@ impl<'s> Course<'s> {
         Self {
             scenario,
             leg: 0,
+            world: scenario.world_for_leg(0),
             checker: scenario.checker_for_leg(0),
             hold,
             goal_margin,
@@ -51,6 +53,11 @@ impl<'s> Course<'s> {
     /// The leg being driven (0-based).
     pub fn leg(&self) -> usize {
         self.leg
+    }
+
+    /// The world of the current leg (its bounds and obstacles).
+    pub fn world(&self) -> &World {
+        &self.world
     }
 
     /// Walls, obstacles and proximity range of the current leg.
@@ -100,6 +107,7 @@ impl<'s> Course<'s> {
         }
         self.leg += 1;
         self.checker = self.scenario.checker_for_leg(self.leg);
-        Some(self.scenario.world_for_leg(self.leg))
+        self.world = self.scenario.world_for_leg(self.leg);
+        Some(self.world.clone())
     }
 }

@@ -31,7 +31,7 @@ use std::time::Instant;
 use magbench_env::params::Reals;
 use magbench_env::plant::DisturbancePreset;
 use magbench_env::{Control, Goal, PlanningModel, Scenario, declare_params};
-use magbench_planners::{Plan, Planner, PlanningSetup};
+use magbench_planners::{FirstPlan, Plan, Planner, PlanningSetup};
 
 use self::contact::ContactDetector;
 use self::course::{Course, GoalHold};
@@ -89,18 +89,13 @@ declare_params! {
     }
 }
 
-/// What to do: the scenario, its first plan (or a planner to make it), and the planner for
-/// replans.
+/// What to do: the scenario, its first plan, and the planner for new legs and replans.
 pub struct Mission<'a> {
     /// The scenario (legs, goals, maps, physics).
     pub scenario: &'a Scenario,
-    /// The first leg's plan, if it is already made.
-    pub plan: Option<Plan>,
-    /// Wall time that first plan took (s), for the metrics.
-    pub plan_time_s: f64,
-    /// Whether that first plan was an exact solution.
-    pub plan_solved: bool,
-    /// The planner for the first plan (when `plan` is `None`), new legs and replans.
+    /// The first leg's plan ([`magbench_planners::solve_checked`], or a checked plan file).
+    pub first: FirstPlan,
+    /// The planner for new legs and replans.
     pub planner: Option<&'a mut dyn Planner>,
     /// What every planning call of the run is made under (objective, metric, limits, flow).
     /// The loop plans in whole frames of the rig it drives: the control period is the rig's.
@@ -114,9 +109,7 @@ impl<'a> Mission<'a> {
     pub fn with_plan(scenario: &'a Scenario, plan: Plan) -> Self {
         Mission {
             scenario,
-            plan: Some(plan),
-            plan_time_s: 0.0,
-            plan_solved: true,
+            first: FirstPlan::given(plan, true),
             planner: None,
             setup: PlanningSetup::default(),
             seed: 0,
@@ -184,7 +177,7 @@ pub fn track(
     opts: &LoopOptions,
 ) -> TrackOutcome {
     let guard = StopGuard { rig };
-    let mut run = Run::new(mission, opts, &*guard.rig);
+    let mut run = Run::new(mission, opts, &*guard.rig, tracker);
     while run.status.is_none() {
         run.tick(&mut *guard.rig, tracker);
     }
@@ -199,15 +192,26 @@ pub fn track(
 /// in force: the rig time it counts from and its length (s).
 struct Following {
     reference: Reference,
-    start: f64,
-    clock: (f64, f64),
+    start: Since,
+    clock: (Since, f64),
 }
 
-/// The first plan, made before the loop.
-struct FirstPlan {
-    plan: Plan,
-    solved: bool,
-    time_s: f64,
+/// A rig time: that of the run's first tick (the first plan starts there, before the rig's
+/// clock is read), or a given one.
+#[derive(Debug, Clone, Copy)]
+enum Since {
+    FirstTick,
+    At(f64),
+}
+
+impl Since {
+    /// The rig time (s).
+    fn at(self, tick: &TickContext) -> f64 {
+        match self {
+            Since::FirstTick => tick.first,
+            Since::At(t) => t,
+        }
+    }
 }
 
 /// One run: the planner side ([`Replanner`], the [`Course`] of legs, the plan followed), the
@@ -216,9 +220,8 @@ struct Run<'a> {
     opts: LoopOptions,
     model: PlanningModel,
     course: Course<'a>,
-    first_plan: Option<FirstPlan>,
     replanner: Replanner<'a>,
-    following: Option<Following>,
+    following: Following,
     feedback: Feedback,
     contacts: ContactDetector,
     rec: Recorder,
@@ -226,16 +229,22 @@ struct Run<'a> {
 }
 
 impl<'a> Run<'a> {
-    fn new(mission: Mission<'a>, opts: &LoopOptions, rig: &dyn Rig) -> Self {
+    /// The run of `mission`, following its first plan from the first tick (`tracker` is reset
+    /// on it).
+    fn new(
+        mission: Mission<'a>,
+        opts: &LoopOptions,
+        rig: &dyn Rig,
+        tracker: &mut dyn Tracker,
+    ) -> Self {
         let s = mission.scenario;
         let model = mission.setup.model(s);
-        Run {
-            course: Course::new(s, opts.hold, opts.goal_margin),
-            first_plan: mission.plan.map(|plan| FirstPlan {
-                plan,
-                solved: mission.plan_solved,
-                time_s: mission.plan_time_s,
-            }),
+        let course = Course::new(s, opts.hold, opts.goal_margin);
+        let first = mission.first;
+        let reference = reference_for(&first.plan, &model, course.goal());
+        let allowance = opts.time_factor * reference.duration() + opts.time_slack;
+        let mut run = Run {
+            course,
             replanner: Replanner::new(
                 mission.planner,
                 mission.setup.in_frames_of(rig.frame_period()),
@@ -244,7 +253,11 @@ impl<'a> Run<'a> {
                 opts.replan_stall.applies(s.agents()),
                 opts.goal_margin,
             ),
-            following: None,
+            following: Following {
+                reference,
+                start: Since::FirstTick,
+                clock: (Since::FirstTick, allowance),
+            },
             feedback: Feedback::new(
                 &model,
                 rig.frame_period(),
@@ -253,11 +266,22 @@ impl<'a> Run<'a> {
                 &s.start,
             ),
             contacts: ContactDetector::new(s.agents()),
-            rec: Recorder::new(&s.start, mission.plan_time_s, opts.record_ticks),
+            rec: Recorder::new(&s.start, first.time_s, opts.record_ticks),
             status: None,
             model,
             opts: opts.clone(),
-        }
+        };
+        tracker.reset(&run.tracker_context(&run.following.reference));
+        run.replanner.plan_adopted();
+        run.rec.plan(PlanRecord {
+            leg: 0,
+            start_t: 0.0,
+            reason: PlanReason::Initial,
+            solved: first.solved,
+            planning_time_s: first.time_s,
+            plan: first.plan,
+        });
+        run
     }
 
     /// Ends the run (the first reason given stands).
@@ -288,12 +312,10 @@ impl<'a> Run<'a> {
             Ok(t) => t,
             Err(m) => return self.fail(m, RunStatus::RigFault),
         };
-        // the planner's first plan, before the first command
-        if self.following.is_none() && !self.start_following(&tick, tracker) {
-            return;
-        }
-        let following = self.following.as_ref().expect("a plan is followed");
-        let errors = self.rec.score(&tick, &following.reference, following.start);
+        let following = &self.following;
+        let errors = self
+            .rec
+            .score(&tick, &following.reference, following.start.at(&tick));
         self.contacts.update(
             tick.truth.as_ref(),
             &tick.observation,
@@ -309,11 +331,10 @@ impl<'a> Run<'a> {
             }
             self.feedback.command_sent(u);
         }
-        let reference = self.following.as_ref().map(|f| &f.reference);
         self.rec.tick(
             &tick,
             self.course.leg(),
-            reference,
+            Some(&self.following.reference),
             tracker.status(),
             errors,
             command,
@@ -341,8 +362,8 @@ impl<'a> Run<'a> {
         if self.status.is_some() {
             return (in_goal, None);
         }
-        let (since, limit) = self.following.as_ref().expect("a plan is followed").clock;
-        if tick.now - since > limit {
+        let (since, limit) = self.following.clock;
+        if tick.now - since.at(tick) > limit {
             self.end(RunStatus::Timeout);
             return (in_goal, None);
         }
@@ -365,11 +386,7 @@ impl<'a> Run<'a> {
 
     /// The reference being followed.
     fn reference(&self) -> &Reference {
-        &self
-            .following
-            .as_ref()
-            .expect("a plan is followed")
-            .reference
+        &self.following.reference
     }
 
     /// What the tracker may use now.
@@ -377,6 +394,7 @@ impl<'a> Run<'a> {
         TrackerContext {
             reference,
             model: &self.model,
+            world: self.course.world(),
             checker: self.course.checker(),
             period: self.feedback.period(),
             goal: self.course.goal(),
@@ -385,44 +403,19 @@ impl<'a> Run<'a> {
 
     /// The tracker's command for this tick (timed).
     fn command(&mut self, tracker: &mut dyn Tracker, tick: &TickContext) -> Control {
-        let following = self.following.as_ref().expect("a plan is followed");
+        let following = &self.following;
         let ctx = self.tracker_context(&following.reference);
         let started = Instant::now();
         let u = tracker.command(
             &ctx,
             &Tick {
-                t: tick.now - following.start,
+                t: tick.now - following.start.at(tick),
                 estimate: &tick.estimate,
                 observation: &tick.observation,
             },
         );
         self.rec.tracker_compute(started.elapsed().as_secs_f64());
         u
-    }
-
-    /// Follows the mission's first plan, or plans leg 0 from the first estimate; false (the
-    /// run ended) when there is no plan.
-    fn start_following(&mut self, tick: &TickContext, tracker: &mut dyn Tracker) -> bool {
-        match self.first_plan.take() {
-            Some(p) => {
-                self.adopt(
-                    p.plan,
-                    PlanReason::Initial,
-                    p.solved,
-                    p.time_s,
-                    tick,
-                    tracker,
-                );
-                true
-            }
-            None => {
-                let ok = self.replan(tick, PlanReason::Initial, tracker);
-                if !ok {
-                    self.end(RunStatus::PlanningFailed);
-                }
-                ok
-            }
-        }
     }
 
     /// Starts following `plan`.
@@ -440,23 +433,21 @@ impl<'a> Run<'a> {
         // the time allowance: the plan's own, except that where the stall rule applies a replan
         // within a leg keeps the allowance of the leg's first plan (replans are then bounded
         // by it, not by a count)
-        let clock = match &self.following {
-            Some(f)
-                if matches!(reason, PlanReason::Error | PlanReason::Stall)
-                    && self.replanner.watches_stall() =>
-            {
-                f.clock
-            }
-            _ => (
-                tick.now,
+        let clock = if matches!(reason, PlanReason::Error | PlanReason::Stall)
+            && self.replanner.watches_stall()
+        {
+            self.following.clock
+        } else {
+            (
+                Since::At(tick.now),
                 self.opts.time_factor * reference.duration() + self.opts.time_slack,
-            ),
+            )
         };
-        self.following = Some(Following {
+        self.following = Following {
             reference,
-            start: tick.now,
+            start: Since::At(tick.now),
             clock,
-        });
+        };
         self.replanner.plan_adopted();
         self.rec.plan(PlanRecord {
             leg: self.course.leg(),

@@ -1,0 +1,64 @@
+//! The one path to a plan a tracker can follow: [`solve_checked`] solves a problem and checks
+//! the result with [`check_result`]; only a result that passed becomes a [`FirstPlan`].
+
+use crate::{Plan, Planner, PlannerResult, Problem, Unusable, check_result};
+
+/// A plan to follow and how it was made: a planner's plan that passed [`check_result`] (from
+/// [`Checked::followable`]) or a plan file that passed its check ([`FirstPlan::given`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FirstPlan {
+    /// The plan.
+    pub plan: Plan,
+    /// Whether it is an exact solution (it ends in the goal region).
+    pub solved: bool,
+    /// Wall time it took to make (s); 0 for a given plan.
+    pub time_s: f64,
+}
+
+impl FirstPlan {
+    /// A plan made elsewhere (a plan file, checked by its reader); `solved` when it ends in the
+    /// goal region.
+    pub fn given(plan: Plan, solved: bool) -> Self {
+        FirstPlan {
+            plan,
+            solved,
+            time_s: 0.0,
+        }
+    }
+}
+
+/// A planner's result with the verdict of [`check_result`] on it.
+#[derive(Debug, Clone)]
+pub struct Checked {
+    /// The planner's result, as a planning-only run records it.
+    pub result: PlannerResult,
+    /// `Ok` when its plan can be followed, else why not.
+    pub verdict: Result<(), Unusable>,
+}
+
+impl Checked {
+    /// The plan to follow, or why there is none.
+    pub fn followable(self) -> Result<FirstPlan, Unusable> {
+        self.verdict?;
+        Ok(FirstPlan {
+            plan: self.result.plan,
+            solved: self.result.solved,
+            time_s: self.result.time_s,
+        })
+    }
+
+    /// The planner's plan fails the independent validator (a planner bug): its error.
+    pub fn invalid(&self) -> Option<&crate::PlanError> {
+        match &self.verdict {
+            Err(Unusable::Invalid(e)) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+/// Solves `problem` with `planner` and checks the result ([`check_result`]).
+pub fn solve_checked(planner: &mut dyn Planner, problem: &Problem) -> Checked {
+    let result = planner.solve(problem);
+    let verdict = check_result(problem, &result);
+    Checked { result, verdict }
+}
