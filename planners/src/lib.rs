@@ -23,6 +23,7 @@
 #![warn(missing_docs)]
 
 pub mod extend;
+pub mod goal_connect;
 pub mod informed;
 pub mod metric;
 pub mod motion;
