@@ -41,6 +41,7 @@ pub mod result;
 pub mod sampler;
 pub mod sampling;
 pub mod setup;
+pub mod shortcut;
 pub mod steer;
 pub mod tree;
 pub mod validate;

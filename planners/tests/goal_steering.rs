@@ -56,3 +56,28 @@ fn without_steering_no_plan_ends_on_the_goal_centres() {
     check_result(&p, &r).unwrap();
     assert!(p.goal.distance(r.plan.end()) > 1e-6);
 }
+
+#[test]
+fn shortcut_plans_pass_the_validator_and_cost_no_more() {
+    let s = Scenario::load("micro-factory").unwrap();
+    let mut shorter = 0;
+    for seed in 0..3 {
+        let (_, before) = solve(&s, seed, "3");
+        let mut p = Problem::from_scenario(&s, 0, None, seed);
+        p.limits = Limits {
+            max_iterations: Some(50_000),
+            time_limit: None,
+        };
+        let params = vec![("shortcut".to_string(), "200".to_string())];
+        let r = Planners::builtin()
+            .create("goal-zoom-rrt", &params)
+            .unwrap()
+            .solve(&p);
+        check_result(&p, &r).unwrap();
+        let (a, b) = (before.cost.unwrap(), r.cost.unwrap());
+        eprintln!("seed {seed}: cost {a:.1} -> {b:.1}, {} -> {} edges", before.plan.edges(), r.plan.edges());
+        assert!(b <= a + 1e-9);
+        shorter += usize::from(b < a);
+    }
+    assert!(shorter >= 2, "{shorter} of 3 plans shortened");
+}

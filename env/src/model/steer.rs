@@ -449,7 +449,15 @@ pub fn steer_pair(
         turns.push(turn - TAU * turn.signum());
     }
     for &turn in &turns {
-        let fewest = ((turn.abs() / EDGE_TURN).ceil() as usize).max(2);
+        // enough edges to turn in short orbits, and to give the pull time for the shift
+        let edge_time = limits.max_periods as f64 * limits.period;
+        let shift_time = shift.norm() / pull_speed(model, from);
+        let fewest = ((turn.abs() / EDGE_TURN).ceil() as usize)
+            .max((shift_time / (0.8 * edge_time)).ceil() as usize)
+            .max(2);
+        if fewest > MAX_EDGES {
+            continue;
+        }
         for n in [fewest, fewest + 2] {
             for first_scale in SCALES {
                 let mut scale = first_scale;
@@ -486,6 +494,9 @@ pub fn steer_pair(
 /// (at 2 BL, 60° takes 14 s and 36° 1.7 s under the default preset), so several short turns
 /// are faster than one long one.
 const EDGE_TURN: f64 = 0.4;
+
+/// The most edges a steer plans.
+const MAX_EDGES: usize = 24;
 
 /// Scales of the waypoints' separations tried in turn: turning is fastest with the pair close
 /// (`t ∝ r⁵`); the waypoints stay 5% of the proximity range inside it.

@@ -43,6 +43,7 @@ use crate::nn::NearestNeighbors;
 use crate::objective::plan_cost;
 use crate::progress::Progress;
 use crate::result::{Best, finish};
+use crate::shortcut::Shortcut;
 use crate::sampler::StateSampler;
 use crate::sampling::Sampling;
 use crate::tree::Tree;
@@ -59,6 +60,10 @@ declare_params! {
         /// distance of the goal (BL; 0 never; pairs under the exact flow only).
         #[param("steer_radius", Reals::closed(0.0, 1.0e6))]
         pub steer_radius: f64 = 3.0,
+        /// Rounds of shortcutting by exact steering applied to the solution
+        /// (crate::shortcut; 0 none; pairs under the exact flow only).
+        #[param("shortcut", 0..=1_000_000)]
+        pub shortcut: usize = 0,
         /// The tree of the last solve.
         pub last_tree: Option<Tree> = None,
     }
@@ -126,7 +131,14 @@ impl Planner for GoalZoomRrt {
 
         // τ ← computePlan(T) by backtracking
         let node = reached.unwrap_or(closest.0);
-        let plan = tree.plan_to(node, problem);
+        let mut plan = tree.plan_to(node, problem);
+        if reached.is_some() && self.shortcut > 0 {
+            let pass = Shortcut {
+                rounds: self.shortcut,
+                max_periods: extend.max_periods,
+            };
+            plan = pass.run(problem, &plan, &mut rng);
+        }
         let cost = plan_cost(problem, &plan);
         if reached.is_some() {
             progress.record(i, Some(cost));
