@@ -48,7 +48,9 @@ impl Shortcut {
             tolerance: STEER_TOLERANCE,
         };
         let mut best = plan.clone();
-        let mut costs: Vec<f64> = (0..best.edges()).map(|k| edge_cost(problem, &best, k)).collect();
+        let mut costs: Vec<f64> = (0..best.edges())
+            .map(|k| edge_cost(problem, &best, k))
+            .collect();
         for _ in 0..self.rounds {
             let m = best.edges();
             if m < 2 {
@@ -67,13 +69,19 @@ impl Shortcut {
                     let mut next = Plan::at(&best.states[0]);
                     next.flow = best.flow;
                     for k in 0..i {
-                        next.push(best.controls[k], best.durations[k], best.states[k + 1].clone());
+                        next.push(
+                            best.controls[k],
+                            best.durations[k],
+                            best.states[k + 1].clone(),
+                        );
                     }
                     let mut new_costs = costs[..i].to_vec();
                     let mut at = best.states[i].clone();
                     let mut out = [Vec2::zeros(); MAX_AGENTS];
                     let tail = best.controls[j..].iter().zip(&best.durations[j..]);
-                    let steered = edges.iter().map(|e| (e.control, problem.periods(e.periods)));
+                    let steered = edges
+                        .iter()
+                        .map(|e| (e.control, problem.periods(e.periods)));
                     for (step, (u, d)) in steered.chain(tail.map(|(u, d)| (*u, *d))).enumerate() {
                         if !propagate_valid(problem, &at, &u, d, &mut out[..2]) {
                             return false;
@@ -81,9 +89,7 @@ impl Shortcut {
                         next.push(u, d, out[..2].to_vec());
                         new_costs.push(motion_cost(problem, &at, &u, d));
                         at.copy_from_slice(&out[..2]);
-                        if step + 1 == edges.len()
-                            && new_costs[i..].iter().sum::<f64>() >= old
-                        {
+                        if step + 1 == edges.len() && new_costs[i..].iter().sum::<f64>() >= old {
                             return false;
                         }
                     }
@@ -106,7 +112,12 @@ impl Shortcut {
 
 /// The objective's cost of edge `k` of `plan`.
 fn edge_cost(problem: &Problem, plan: &Plan, k: usize) -> f64 {
-    motion_cost(problem, &plan.states[k], &plan.controls[k], plan.durations[k])
+    motion_cost(
+        problem,
+        &plan.states[k],
+        &plan.controls[k],
+        plan.durations[k],
+    )
 }
 
 /// The objective's cost of one motion.

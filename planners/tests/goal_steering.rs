@@ -8,7 +8,11 @@ use common::assert_solution;
 use magbench_env::Scenario;
 use magbench_planners::{Limits, Problem, check_result, registry::Planners};
 
-fn solve(scenario: &Scenario, seed: u64, steer_radius: &str) -> (Problem, magbench_planners::PlannerResult) {
+fn solve(
+    scenario: &Scenario,
+    seed: u64,
+    steer_radius: &str,
+) -> (Problem, magbench_planners::PlannerResult) {
     let mut p = Problem::from_scenario(scenario, 0, None, seed);
     p.limits = Limits {
         max_iterations: Some(50_000),
@@ -33,7 +37,11 @@ fn short(kind: &str) -> Scenario {
 #[test]
 fn steered_plans_pass_the_validator_and_end_on_the_goal_centres() {
     let mut exact = 0;
-    for s in [short("turn"), short("swap"), Scenario::load("micro-factory").unwrap()] {
+    for s in [
+        short("turn"),
+        short("swap"),
+        Scenario::load("micro-factory").unwrap(),
+    ] {
         for seed in 0..4 {
             let (p, r) = solve(&s, seed, "3");
             assert!(r.solved, "{}: seed {seed} not solved", s.name);
@@ -75,7 +83,11 @@ fn shortcut_plans_pass_the_validator_and_cost_no_more() {
             .solve(&p);
         check_result(&p, &r).unwrap();
         let (a, b) = (before.cost.unwrap(), r.cost.unwrap());
-        eprintln!("seed {seed}: cost {a:.1} -> {b:.1}, {} -> {} edges", before.plan.edges(), r.plan.edges());
+        eprintln!(
+            "seed {seed}: cost {a:.1} -> {b:.1}, {} -> {} edges",
+            before.plan.edges(),
+            r.plan.edges()
+        );
         assert!(b <= a + 1e-9);
         shorter += usize::from(b < a);
     }

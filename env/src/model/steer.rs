@@ -264,8 +264,10 @@ impl Relative<'_> {
         let [r_min, r_max] = self.limits.separation;
         let waypoint = |k: usize| {
             let f = k as f64 / n as f64;
-            let r = (from.r * (to.r / from.r).powf(f) * scale)
-                .clamp(r_min + 0.05 * (r_max - r_min), r_max - 0.05 * (r_max - r_min));
+            let r = (from.r * (to.r / from.r).powf(f) * scale).clamp(
+                r_min + 0.05 * (r_max - r_min),
+                r_max - 0.05 * (r_max - r_min),
+            );
             Shape::polar(r, from.phi + turn * f)
         };
         let mut edges = Vec::with_capacity(n);
@@ -425,7 +427,12 @@ pub fn steer_pair(
     limits: &SteerLimits,
     mut accept: impl FnMut(&[SteerEdge]) -> bool,
 ) -> Option<Vec<SteerEdge>> {
-    if from.len() != 2 || to.len() != 2 || limits.max_periods == 0 || !(limits.period > 0.0) {
+    if from.len() != 2
+        || to.len() != 2
+        || limits.max_periods == 0
+        || limits.period.is_nan()
+        || limits.period <= 0.0
+    {
         return None;
     }
     let kappa = model
@@ -507,11 +514,7 @@ const SCALES: [f64; 2] = [0.7, 1.0];
 fn pull_speed(model: &PlanningModel, from: &[Vec2]) -> f64 {
     let limit = model.coil.gradient_limit();
     let mut v = [Vec2::zeros(); 2];
-    model.velocities(
-        from,
-        &Control::planar(PI / 4.0, limit, limit),
-        &mut v,
-    );
+    model.velocities(from, &Control::planar(PI / 4.0, limit, limit), &mut v);
     ((v[0] + v[1]) * 0.5).norm().max(f64::MIN_POSITIVE)
 }
 

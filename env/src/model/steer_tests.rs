@@ -2,7 +2,6 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::*;
-use crate::coil::Coil;
 use crate::physics::PhysicalParams;
 
 fn model() -> (PlanningModel, SteerLimits) {
@@ -27,7 +26,11 @@ fn replay(model: &PlanningModel, from: &[Vec2], steer: &[SteerEdge], period: f64
     let mut at = [from[0], from[1]];
     for e in steer {
         assert!(e.periods >= 1);
-        assert!(!model.coil.clamp(&e.control).1, "{:?} beyond the coil", e.control);
+        assert!(
+            !model.coil.clamp(&e.control).1,
+            "{:?} beyond the coil",
+            e.control
+        );
         let mut out = [Vec2::zeros(); 2];
         model.propagate(&at, &e.control, e.periods as f64 * period, &mut out);
         at = out;
@@ -36,7 +39,10 @@ fn replay(model: &PlanningModel, from: &[Vec2], steer: &[SteerEdge], period: f64
 }
 
 fn miss(a: &[Vec2], b: &[Vec2]) -> f64 {
-    a.iter().zip(b).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
 }
 
 /// The one orbit found backward from an orbit's end is the orbit itself.
@@ -68,7 +74,11 @@ fn orbit_steer_recovers_the_orbit_it_is_given() {
             "ψ {psi} found {}",
             o.psi
         );
-        assert!((o.time - t).abs() < 1e-7 * t.max(1.0), "t {t} found {}", o.time);
+        assert!(
+            (o.time - t).abs() < 1e-7 * t.max(1.0),
+            "t {t} found {}",
+            o.time
+        );
         checked += 1;
     }
     assert!(checked > 1000, "{checked} orbits compared");
@@ -125,7 +135,10 @@ fn steers_land_on_reachable_targets() {
             assert!(miss(&end, &to) <= 1e-6, "missed by {}", miss(&end, &to));
         }
     }
-    assert!(found * 10 >= tried * 9, "{found} of {tried} reachable targets steered");
+    assert!(
+        found * 10 >= tried * 9,
+        "{found} of {tried} reachable targets steered"
+    );
 }
 
 /// Turning in place and swapping a pair are steered exactly.
@@ -173,4 +186,3 @@ fn unreachable_targets_are_reported() {
     let rk4 = m.with_flow(crate::model::Flow::Rk4);
     assert!(steer_pair(&rk4, &from, &near, &limits, |_| true).is_none());
 }
-

@@ -43,9 +43,9 @@ use crate::nn::NearestNeighbors;
 use crate::objective::plan_cost;
 use crate::progress::Progress;
 use crate::result::{Best, finish};
-use crate::shortcut::Shortcut;
 use crate::sampler::StateSampler;
 use crate::sampling::Sampling;
+use crate::shortcut::Shortcut;
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem, Rng};
 
