@@ -66,7 +66,10 @@ pub fn orbit_steer(kappa: f64, r0: f64, r1: f64, dphi: f64) -> Option<OrbitSteer
         let value = ln_f(b) - ln_f(a) - target;
         (value, d_ln_f(b) - d_ln_f(a))
     };
-    let a = newton_in(residual, d, FRAC_PI_2);
+    // small-turn guess: (ln f)'(ψ̂₀ − d/2) = −ln(r₁/r₀)/d, i.e. tan² + 2k tan − 2 = 0
+    let k = -target / d;
+    let guess = (((k * k + 2.0).sqrt() - k).atan() + 0.5 * d).clamp(d, FRAC_PI_2);
+    let a = newton_in(residual, d, FRAC_PI_2, guess);
     let b = a - d;
     let (sa, ca, sb, cb) = (a.sin(), a.cos(), b.sin(), b.cos());
     let dg = if a <= FRAC_PI_2 / 2.0 {
@@ -97,10 +100,15 @@ fn d_ln_f(x: f64) -> f64 {
 }
 
 /// The root in `(lo, hi)` of an increasing function given with its derivative, negative near
-/// `lo` and positive near `hi`: Newton steps, bisection whenever a step leaves the bracket.
-fn newton_in(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
-    let mut x = 0.5 * (lo + hi);
-    for _ in 0..200 {
+/// `lo` and positive near `hi`: Newton steps from `guess`, bisection whenever a step leaves the
+/// bracket.
+fn newton_in(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, guess: f64) -> f64 {
+    let mut x = if guess > lo && guess < hi {
+        guess
+    } else {
+        0.5 * (lo + hi)
+    };
+    for _ in 0..100 {
         let (v, dv) = f(x);
         if v == 0.0 {
             return x;
@@ -110,16 +118,19 @@ fn newton_in(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
         } else {
             hi = x;
         }
-        let newton = x - v / dv;
-        let next = if newton > lo && newton < hi && newton.is_finite() {
+        let step = v / dv;
+        if step.abs() <= 4.0 * f64::EPSILON * x.abs() {
+            return x - step;
+        }
+        let newton = x - step;
+        x = if newton > lo && newton < hi && newton.is_finite() {
             newton
         } else {
             0.5 * (lo + hi)
         };
-        if (next - x).abs() <= 4.0 * f64::EPSILON * x.abs() || hi - lo <= f64::EPSILON * hi {
-            return next;
+        if hi - lo <= 4.0 * f64::EPSILON * hi {
+            return x;
         }
-        x = next;
     }
     x
 }
@@ -281,7 +292,7 @@ impl Relative<'_> {
         let (theta0, first) = self.rounded(&at, &mid)?;
         let nominal = self.orbit(&mid, to)?.time / self.limits.period;
         let base = nominal.round().max(1.0) as u32;
-        for last in [base, base + 1, base.saturating_sub(1)] {
+        for last in [base, base + 1] {
             if last == 0 || last > self.limits.max_periods {
                 continue;
             }
@@ -308,8 +319,8 @@ impl Relative<'_> {
 /// A root of `f` near `x0`: the nearest sign change on a grid stepping outward from `x0`,
 /// refined by [`illinois`].
 fn bracket_root(mut f: impl FnMut(f64) -> Option<f64>, x0: f64) -> Option<f64> {
-    const STEP: f64 = 0.02;
-    const STEPS: usize = 25;
+    const STEP: f64 = 0.025;
+    const STEPS: usize = 10;
     let f0 = f(x0);
     if f0 == Some(0.0) {
         return Some(x0);

@@ -18,7 +18,8 @@
 //!   k random (u, δt); keep argmin ρ(P_new, P_sample) = ‖P_new − P_sample‖²
 //! ```
 //!
-//! From the root and from every new node within `steer_radius` of the goal, a pair under the
+//! From the root and from every new node within `steer_radius` of the goal that is closer to
+//! it than every earlier node, a pair under the
 //! exact flow is steered straight onto the goal centres (crate::goal_connect); the steer joins
 //! the tree only if every edge passes the same check as EXTEND's and it ends in the goal.
 //!
@@ -57,7 +58,7 @@ declare_params! {
         #[params]
         pub sampling: Sampling,
         /// Steer exactly into the goal from the root and from every new node within this
-        /// distance of the goal (BL; 0 never; pairs under the exact flow only).
+        /// distance of the goal that is closer to it than any before (BL; 0 never; pairs under the exact flow only).
         #[param("steer_radius", Reals::closed(0.0, 1.0e6))]
         pub steer_radius: f64 = 3.0,
         /// Rounds of shortcutting by exact steering applied to the solution
@@ -112,12 +113,13 @@ impl Planner for GoalZoomRrt {
                     let id = tree.add(near, &q_new[..n], u, periods, 0.0);
                     nn.add(&q_new[..n], id);
                     let dist = problem.goal.distance(&q_new[..n]);
-                    if dist < closest.1 {
+                    let closer = dist < closest.1;
+                    if closer {
                         closest = (id, dist);
                     }
                     if problem.goal.contains(&q_new[..n]) {
                         reached = Some(id); // T.hasReachedGoal()
-                    } else if connect.near(problem, dist) {
+                    } else if closer && connect.near(problem, dist) {
                         reached = connect.run(problem, &mut tree, Some(&mut nn), id);
                     }
                 }
