@@ -24,6 +24,7 @@
 
 pub mod extend;
 pub mod first_plan;
+pub mod goal_connect;
 pub mod informed;
 pub mod metric;
 pub mod motion;
@@ -41,6 +42,7 @@ pub mod result;
 pub mod sampler;
 pub mod sampling;
 pub mod setup;
+pub mod shortcut;
 pub mod steer;
 pub mod tree;
 pub mod validate;

@@ -12,12 +12,14 @@ mod integrator;
 mod kinematics;
 pub mod pair_flow;
 mod planning;
+pub mod steer;
 
 pub use dopri::{Dp5Grid, Dp5Stats, ErrorBudget, REFERENCE_DURATION_S, TOLERANCE_BL, dp5_solve};
 pub use integrator::{rk4_step, step_schedule};
 pub use kinematics::Kinematics;
 pub use pair_flow::PairEdge;
 pub use planning::{Flow, PlanningModel};
+pub use steer::{OrbitSteer, SteerEdge, SteerLimits, orbit_steer, steer_pair};
 
 use crate::coil::Control;
 use crate::math::Vec2;

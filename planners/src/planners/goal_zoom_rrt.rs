@@ -18,6 +18,11 @@
 //!   k random (u, δt); keep argmin ρ(P_new, P_sample) = ‖P_new − P_sample‖²
 //! ```
 //!
+//! From the root and from every new node within `steer_radius` of the goal that is closer to
+//! it than every earlier node, a pair under the
+//! exact flow is steered straight onto the goal centres (crate::goal_connect); the steer joins
+//! the tree only if every edge passes the same check as EXTEND's and it ends in the goal.
+//!
 //! Like the seed's, this RRT keeps no costs: the plan's cost under the problem's objective is
 //! measured once, on the plan it returns (`plan_cost`).
 //!
@@ -29,9 +34,11 @@
 //! median first solution took 26.5k iterations; with these defaults about 6k. Goal bias 0.1
 //! into a zoom region of 1.5 BL about each agent's goal centre (0.05 and 0.2 were slower).
 
+use magbench_env::params::Reals;
 use magbench_env::{MAX_AGENTS, Vec2, declare_params};
 use rand::SeedableRng;
 
+use crate::goal_connect::GoalConnect;
 use crate::motion::propagate_valid;
 use crate::nn::NearestNeighbors;
 use crate::objective::plan_cost;
@@ -39,6 +46,7 @@ use crate::progress::Progress;
 use crate::result::{Best, finish};
 use crate::sampler::StateSampler;
 use crate::sampling::Sampling;
+use crate::shortcut::Shortcut;
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem, Rng};
 
@@ -49,6 +57,14 @@ declare_params! {
         /// EXTEND's tries and durations, the goal-zoom sampler.
         #[params]
         pub sampling: Sampling,
+        /// Steer exactly into the goal from the root and from every new node within this
+        /// distance of the goal that is closer to it than any before (BL; 0 never; pairs under the exact flow only).
+        #[param("steer_radius", Reals::closed(0.0, 1.0e6))]
+        pub steer_radius: f64 = 3.0,
+        /// Rounds of shortcutting by exact steering applied to the solution
+        /// (crate::shortcut; 0 none; pairs under the exact flow only).
+        #[param("shortcut", 0..=1_000_000)]
+        pub shortcut: usize = 0,
         /// The tree of the last solve.
         pub last_tree: Option<Tree> = None,
     }
@@ -73,6 +89,13 @@ impl Planner for GoalZoomRrt {
         nn.add(&problem.start, 0);
         let mut closest = (0u32, problem.goal.distance(&problem.start));
         let mut reached = problem.goal.contains(&problem.start).then_some(0u32);
+        let connect = GoalConnect {
+            radius: self.steer_radius,
+            max_periods: extend.max_periods,
+        };
+        if reached.is_none() && connect.near(problem, closest.1) {
+            reached = connect.run(problem, &mut tree, Some(&mut nn), 0);
+        }
 
         let mut q_sample = [Vec2::zeros(); MAX_AGENTS];
         let mut q_new = [Vec2::zeros(); MAX_AGENTS];
@@ -90,11 +113,14 @@ impl Planner for GoalZoomRrt {
                     let id = tree.add(near, &q_new[..n], u, periods, 0.0);
                     nn.add(&q_new[..n], id);
                     let dist = problem.goal.distance(&q_new[..n]);
-                    if dist < closest.1 {
+                    let closer = dist < closest.1;
+                    if closer {
                         closest = (id, dist);
                     }
                     if problem.goal.contains(&q_new[..n]) {
                         reached = Some(id); // T.hasReachedGoal()
+                    } else if closer && connect.near(problem, dist) {
+                        reached = connect.run(problem, &mut tree, Some(&mut nn), id);
                     }
                 }
             }
@@ -107,7 +133,14 @@ impl Planner for GoalZoomRrt {
 
         // τ ← computePlan(T) by backtracking
         let node = reached.unwrap_or(closest.0);
-        let plan = tree.plan_to(node, problem);
+        let mut plan = tree.plan_to(node, problem);
+        if reached.is_some() && self.shortcut > 0 {
+            let pass = Shortcut {
+                rounds: self.shortcut,
+                max_periods: extend.max_periods,
+            };
+            plan = pass.run(problem, &plan, &mut rng);
+        }
         let cost = plan_cost(problem, &plan);
         if reached.is_some() {
             progress.record(i, Some(cost));

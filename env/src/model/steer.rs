@@ -1,0 +1,561 @@
+//! Steering a nominal pair: constant commands, each held a whole number of control periods,
+//! that carry two agents exactly onto a target state (docs/steering.md).
+//!
+//! Along one orbit of the exact flow ([`super::pair_flow::Orbit`]) the folded field angle `ψ̂`
+//! falls from `ψ̂₀` to `ψ̂₁`, the pair turns by `Δφ = σ(ψ̂₀ − ψ̂₁)`, the separation keeps
+//! `r / (sin ψ̂ √cos ψ̂)` and the time is `t = C⁵ (G(ψ̂₀) − G(ψ̂₁)) / 2κ`. So one orbit reaches a
+//! relative target `(r₁, φ₀ + Δφ)` with `|Δφ| < π/2` from `(r₀, φ₀)` for exactly one `ψ̂₀`:
+//! `ln f(ψ̂₀ − |Δφ|) − ln f(ψ̂₀) = ln(r₁/r₀)` with `f = sin √cos`, strictly increasing in
+//! `ψ̂₀` ([`orbit_steer`], a safeguarded Newton solve). Its time is a real number, but an edge
+//! lasts whole control periods, so [`steer_pair`] splits the relative move into `n ≥ 2` orbits
+//! through waypoints, rounds each duration, and makes the last two exact: the field angle of
+//! the second-to-last edge is found (a bracketed 1-D root find) so that the last orbit's time
+//! from where it ends is a whole number of periods. The centre of mass moves at the pull
+//! velocity, affine in the gradient command for a given field angle, so the gradients that
+//! carry it onto the target's centre over the edges' total time follow in closed form, within
+//! the coil's limits or not at all.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use super::PlanningModel;
+use super::pair_flow::{g, g_complement};
+use crate::coil::Control;
+use crate::math::{Vec2, wrap_angle};
+
+/// One orbit that reaches a relative target: the field angle from the separation and the time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitSteer {
+    /// Field angle from the separation at the start, `ψ₀ = θ_B − φ₀` (rad, in `[−π/2, π/2]`).
+    pub psi: f64,
+    /// The time the orbit takes to reach the target (s).
+    pub time: f64,
+}
+
+/// The one orbit from separation `r0` to separation `r1` with the separation turning by
+/// `dphi` (rad), under relative-motion constant `kappa`: `None` unless `|dphi| < π/2` and the
+/// numbers are finite and positive. The field angle `θ_B = φ₀ + psi` and `θ_B + π` both follow
+/// it.
+pub fn orbit_steer(kappa: f64, r0: f64, r1: f64, dphi: f64) -> Option<OrbitSteer> {
+    let finite = kappa.is_finite() && r0.is_finite() && r1.is_finite() && dphi.is_finite();
+    if !(finite && kappa > 0.0 && r0 > 0.0 && r1 > 0.0) {
+        return None;
+    }
+    let d = dphi.abs();
+    if d >= FRAC_PI_2 {
+        return None;
+    }
+    let (r05, r15) = (r0.powi(5), r1.powi(5));
+    if d < RADIAL_TURN {
+        // along the separation: collapse at ψ = 0 (r⁵ = r₀⁵ − 10κt), repulsion at ψ = π/2
+        // (r⁵ = r₀⁵ + 5κt)
+        return Some(if r1 <= r0 {
+            OrbitSteer {
+                psi: 0.0,
+                time: (r05 - r15) / (10.0 * kappa),
+            }
+        } else {
+            OrbitSteer {
+                psi: FRAC_PI_2,
+                time: (r15 - r05) / (5.0 * kappa),
+            }
+        });
+    }
+    let target = (r1 / r0).ln();
+    let residual = |a: f64| {
+        let b = a - d;
+        let value = ln_f(b) - ln_f(a) - target;
+        (value, d_ln_f(b) - d_ln_f(a))
+    };
+    // small-turn guess: (ln f)'(ψ̂₀ − d/2) = −ln(r₁/r₀)/d, i.e. tan² + 2k tan − 2 = 0
+    let k = -target / d;
+    let guess = (((k * k + 2.0).sqrt() - k).atan() + 0.5 * d).clamp(d, FRAC_PI_2);
+    let a = newton_in(residual, d, FRAC_PI_2, guess);
+    let b = a - d;
+    let (sa, ca, sb, cb) = (a.sin(), a.cos(), b.sin(), b.cos());
+    let dg = if a <= FRAC_PI_2 / 2.0 {
+        g(sa, ca) - g(sb, cb)
+    } else {
+        g_complement(sb, cb) - g_complement(sa, ca)
+    };
+    let c = r0 / (sa * ca.sqrt());
+    let time = c.powi(5) * dg / (2.0 * kappa);
+    time.is_finite().then_some(OrbitSteer {
+        psi: dphi.signum() * a,
+        time,
+    })
+}
+
+/// A turn below this (rad) is steered along the separation itself.
+const RADIAL_TURN: f64 = 1e-12;
+
+/// `ln(sin x √cos x)`.
+fn ln_f(x: f64) -> f64 {
+    x.sin().ln() + 0.5 * x.cos().ln()
+}
+
+/// `d/dx ln(sin x √cos x) = cot x − ½ tan x`, strictly decreasing on `(0, π/2)`.
+fn d_ln_f(x: f64) -> f64 {
+    let (s, c) = x.sin_cos();
+    c / s - 0.5 * s / c
+}
+
+/// The root in `(lo, hi)` of an increasing function given with its derivative, negative near
+/// `lo` and positive near `hi`: Newton steps from `guess`, bisection whenever a step leaves the
+/// bracket.
+fn newton_in(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64, guess: f64) -> f64 {
+    let mut x = if guess > lo && guess < hi {
+        guess
+    } else {
+        0.5 * (lo + hi)
+    };
+    for _ in 0..100 {
+        let (v, dv) = f(x);
+        if v == 0.0 {
+            return x;
+        }
+        if v < 0.0 || v.is_nan() && x - lo < hi - x {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let step = v / dv;
+        if step.abs() <= 4.0 * f64::EPSILON * x.abs() {
+            return x - step;
+        }
+        let newton = x - step;
+        x = if newton > lo && newton < hi && newton.is_finite() {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if hi - lo <= 4.0 * f64::EPSILON * hi {
+            return x;
+        }
+    }
+    x
+}
+
+/// The root of `f` between `a` and `b`, where `f` changes sign (`fa`, `fb` its values there),
+/// by the Illinois variant of regula falsi, to `xtol`.
+fn illinois(
+    mut f: impl FnMut(f64) -> Option<f64>,
+    mut a: f64,
+    mut b: f64,
+    mut fa: f64,
+    mut fb: f64,
+    xtol: f64,
+) -> Option<f64> {
+    let mut side = 0i8;
+    for _ in 0..100 {
+        let x = if fa != fb {
+            (a * fb - b * fa) / (fb - fa)
+        } else {
+            0.5 * (a + b)
+        };
+        let fx = f(x)?;
+        if fx == 0.0 || (b - a).abs() <= xtol {
+            return Some(x);
+        }
+        if fx.signum() == fb.signum() {
+            b = x;
+            fb = fx;
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        } else {
+            a = x;
+            fa = fx;
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        }
+        if (b - a).abs() <= xtol {
+            return Some(0.5 * (a + b));
+        }
+    }
+    Some(0.5 * (a + b))
+}
+
+/// The bounds a steer must keep.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteerLimits {
+    /// Every edge lasts a whole number of these (s): the control period.
+    pub period: f64,
+    /// The longest edge, in periods (at least 1).
+    pub max_periods: u32,
+    /// The open proximity range `(r_min, r_max)` the separation keeps throughout (BL).
+    pub separation: [f64; 2],
+    /// The largest miss accepted: every agent ends within this of its target (BL).
+    pub tolerance: f64,
+}
+
+/// One edge of a steer: a constant command held for whole control periods.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteerEdge {
+    /// The command (planar, gradients within the coil's limits).
+    pub control: Control,
+    /// Its duration in control periods (≥ 1).
+    pub periods: u32,
+}
+
+/// A pair's state by its centre, separation and heading.
+#[derive(Debug, Clone, Copy)]
+struct Shape {
+    rel: Vec2,
+    r: f64,
+    phi: f64,
+}
+
+impl Shape {
+    fn of(rel: Vec2) -> Self {
+        Shape {
+            rel,
+            r: rel.norm(),
+            phi: rel.y.atan2(rel.x),
+        }
+    }
+
+    fn polar(r: f64, phi: f64) -> Self {
+        Shape::of(Vec2::new(r * phi.cos(), r * phi.sin()))
+    }
+}
+
+/// The relative motion of the steer under construction.
+struct Relative<'a> {
+    model: &'a PlanningModel,
+    limits: &'a SteerLimits,
+    kappa: f64,
+}
+
+impl Relative<'_> {
+    /// Where the separation `from` goes under field angle `theta` for `periods`, if it stays in
+    /// the proximity range.
+    fn end(&self, from: &Shape, theta: f64, periods: u32) -> Option<Shape> {
+        let half = from.rel * 0.5;
+        let edge = self
+            .model
+            .pair_edge(&[-half, half], &Control::planar(theta, 0.0, 0.0))?;
+        let mut out = [Vec2::zeros(); 2];
+        let (lo, hi) = edge.end_and_range(periods as f64 * self.limits.period, &mut out);
+        let [r_min, r_max] = self.limits.separation;
+        (lo > r_min && hi < r_max).then(|| Shape::of(out[1] - out[0]))
+    }
+
+    /// The orbit from `from` to `to`.
+    fn orbit(&self, from: &Shape, to: &Shape) -> Option<OrbitSteer> {
+        orbit_steer(self.kappa, from.r, to.r, wrap_angle(to.phi - from.phi))
+    }
+
+    /// The orbit from `from` toward `to`, its time rounded to whole periods: (θ_B, periods).
+    fn rounded(&self, from: &Shape, to: &Shape) -> Option<(f64, u32)> {
+        let o = self.orbit(from, to)?;
+        let periods = self.periods(o.time)?;
+        Some((from.phi + o.psi, periods))
+    }
+
+    /// A time in whole periods (at least one), if within the longest edge.
+    fn periods(&self, time: f64) -> Option<u32> {
+        let p = (time / self.limits.period).round().max(1.0);
+        (p <= self.limits.max_periods as f64).then_some(p as u32)
+    }
+
+    /// The relative part of a steer through `n ≥ 2` orbits turning by `turn` in all, the
+    /// waypoints' separations interpolated geometrically and scaled by `scale`: the field
+    /// angles and periods of every edge.
+    fn solve(
+        &self,
+        from: &Shape,
+        to: &Shape,
+        turn: f64,
+        n: usize,
+        scale: f64,
+    ) -> Option<Vec<(f64, u32)>> {
+        let [r_min, r_max] = self.limits.separation;
+        let waypoint = |k: usize| {
+            let f = k as f64 / n as f64;
+            let r = (from.r * (to.r / from.r).powf(f) * scale).clamp(
+                r_min + 0.05 * (r_max - r_min),
+                r_max - 0.05 * (r_max - r_min),
+            );
+            Shape::polar(r, from.phi + turn * f)
+        };
+        let mut edges = Vec::with_capacity(n);
+        let mut at = *from;
+        for k in 1..n - 1 {
+            let (theta, periods) = self.rounded(&at, &waypoint(k))?;
+            at = self.end(&at, theta, periods)?;
+            edges.push((theta, periods));
+        }
+        let mid = waypoint(n - 1);
+        let (theta0, first) = self.rounded(&at, &mid)?;
+        let nominal = self.orbit(&mid, to)?.time / self.limits.period;
+        let base = nominal.round().max(1.0) as u32;
+        for last in [base, base + 1] {
+            if last == 0 || last > self.limits.max_periods {
+                continue;
+            }
+            let time = last as f64 * self.limits.period;
+            let miss = |theta: f64| {
+                let m = self.end(&at, theta, first)?;
+                Some(self.orbit(&m, to)?.time - time)
+            };
+            let Some(theta) = bracket_root(miss, theta0) else {
+                continue;
+            };
+            let m = self.end(&at, theta, first)?;
+            let o = self.orbit(&m, to)?;
+            let theta_last = m.phi + o.psi;
+            self.end(&m, theta_last, last)?;
+            edges.push((theta, first));
+            edges.push((theta_last, last));
+            return Some(edges);
+        }
+        None
+    }
+}
+
+/// A root of `f` near `x0`: the nearest sign change on a grid stepping outward from `x0`,
+/// refined by [`illinois`].
+fn bracket_root(mut f: impl FnMut(f64) -> Option<f64>, x0: f64) -> Option<f64> {
+    const STEP: f64 = 0.025;
+    const STEPS: usize = 10;
+    let f0 = f(x0);
+    if f0 == Some(0.0) {
+        return Some(x0);
+    }
+    let mut prev = [(x0, f0), (x0, f0)];
+    for k in 1..=STEPS {
+        for (side, dir) in [(0, 1.0), (1, -1.0)] {
+            let x = x0 + dir * STEP * k as f64;
+            let fx = f(x);
+            if let ((xp, Some(fp)), Some(v)) = (prev[side], fx)
+                && fp.signum() != v.signum()
+            {
+                let (a, b, fa, fb) = if xp < x {
+                    (xp, x, fp, v)
+                } else {
+                    (x, xp, v, fp)
+                };
+                if let Some(root) = illinois(&mut f, a, b, fa, fb, 1e-15) {
+                    return Some(root);
+                }
+            }
+            prev[side] = (x, fx);
+        }
+    }
+    None
+}
+
+/// Gradient commands for edges with field angles and periods `rel`, so that the centre of
+/// mass of the pair at `from` moves by `shift` over them; `None` beyond the coil's limits.
+fn gradients(
+    model: &PlanningModel,
+    from: &[Vec2],
+    rel: &[(f64, u32)],
+    period: f64,
+    shift: Vec2,
+) -> Option<Vec<Control>> {
+    let limit = model.coil.gradient_limit();
+    let mut v = [Vec2::zeros(); 2];
+    let mut centre = |u: Control| {
+        model.velocities(from, &u, &mut v);
+        (v[0] + v[1]) * 0.5
+    };
+    // per edge: drift (zero gradient) and the velocity per full gradient along each axis
+    let maps: Vec<(Vec2, Vec2, Vec2, f64)> = rel
+        .iter()
+        .map(|&(theta, p)| {
+            let base = centre(Control::planar(theta, 0.0, 0.0));
+            let x = centre(Control::planar(theta, limit, 0.0)) - base;
+            let y = centre(Control::planar(theta, 0.0, limit)) - base;
+            (base, x, y, p as f64 * period)
+        })
+        .collect();
+    let mut rest = shift;
+    for &(base, _, _, t) in &maps {
+        rest -= base * t;
+    }
+    let diagonal = maps
+        .iter()
+        .all(|(_, x, y, _)| x.y.abs() <= 1e-12 * x.norm() && y.x.abs() <= 1e-12 * y.norm());
+    let grads: Vec<[f64; 2]> = if diagonal {
+        // each axis: the same fraction of the largest displacement on every edge
+        let reach = |axis: usize| -> f64 {
+            maps.iter()
+                .map(|(_, x, y, t)| t * if axis == 0 { x.x.abs() } else { y.y.abs() })
+                .sum()
+        };
+        let fraction = |axis: usize| {
+            let want = rest[axis];
+            let can = reach(axis);
+            if want == 0.0 {
+                Some(0.0)
+            } else {
+                let s = want / can;
+                (s.is_finite() && s.abs() <= 1.0).then_some(s)
+            }
+        };
+        let (sx, sy) = (fraction(0)?, fraction(1)?);
+        maps.iter()
+            .map(|(_, x, y, _)| [sx * limit * x.x.signum(), sy * limit * y.y.signum()])
+            .collect()
+    } else {
+        // one velocity throughout, each edge's gradients from its 2×2 map
+        let total: f64 = maps.iter().map(|m| m.3).sum();
+        let want = rest / total;
+        let mut out = Vec::with_capacity(maps.len());
+        for (_, x, y, _) in &maps {
+            let det = x.x * y.y - x.y * y.x;
+            let gx = (want.x * y.y - want.y * y.x) / det;
+            let gy = (x.x * want.y - x.y * want.x) / det;
+            if !(gx.is_finite() && gy.is_finite() && gx.abs() <= 1.0 && gy.abs() <= 1.0) {
+                return None;
+            }
+            out.push([gx * limit, gy * limit]);
+        }
+        out
+    };
+    Some(
+        rel.iter()
+            .zip(grads)
+            .map(|(&(theta, _), [gx, gy])| Control::planar(wrap_angle(theta), gx, gy))
+            .collect(),
+    )
+}
+
+/// Constant planar commands, each held whole control periods, that carry the pair `from`
+/// onto `to` (two agents each, matched in order) within `limits`; `accept` is asked about each
+/// solution found (in order of fewer edges and closer waypoints) and the first it accepts is returned. `None` when no solution it tries
+/// exists within the limits, or `accept` refuses them all, or the model has no exact flow for
+/// the pair. Every returned steer, propagated by `model` from `from`, ends within
+/// `limits.tolerance` of `to` and keeps the separation in range.
+pub fn steer_pair(
+    model: &PlanningModel,
+    from: &[Vec2],
+    to: &[Vec2],
+    limits: &SteerLimits,
+    mut accept: impl FnMut(&[SteerEdge]) -> bool,
+) -> Option<Vec<SteerEdge>> {
+    if from.len() != 2
+        || to.len() != 2
+        || limits.max_periods == 0
+        || limits.period.is_nan()
+        || limits.period <= 0.0
+    {
+        return None;
+    }
+    let kappa = model
+        .pair_edge(from, &Control::planar(0.0, 0.0, 0.0))?
+        .orbit()
+        .kappa();
+    let rel = Relative {
+        model,
+        limits,
+        kappa,
+    };
+    let (a, b) = (Shape::of(from[1] - from[0]), Shape::of(to[1] - to[0]));
+    let [r_min, r_max] = limits.separation;
+    if !(a.r > r_min && a.r < r_max && b.r > r_min && b.r < r_max) {
+        return None;
+    }
+    let shift = (to[0] + to[1] - from[0] - from[1]) * 0.5;
+    let turn = wrap_angle(b.phi - a.phi);
+    let mut turns = vec![turn];
+    if turn.abs() > 2.0 * PI / 3.0 {
+        turns.push(turn - TAU * turn.signum());
+    }
+    for &turn in &turns {
+        // enough edges to turn in short orbits, and to give the pull time for the shift
+        let edge_time = limits.max_periods as f64 * limits.period;
+        let shift_time = shift.norm() / pull_speed(model, from);
+        let fewest = ((turn.abs() / EDGE_TURN).ceil() as usize)
+            .max((shift_time / (0.8 * edge_time)).ceil() as usize)
+            .max(2);
+        if fewest > MAX_EDGES {
+            continue;
+        }
+        for n in [fewest, fewest + 2] {
+            for first_scale in SCALES {
+                let mut scale = first_scale;
+                for _ in 0..3 {
+                    let Some(edges) = rel.solve(&a, &b, turn, n, scale) else {
+                        break;
+                    };
+                    let Some(controls) = gradients(model, from, &edges, limits.period, shift)
+                    else {
+                        // too fast for the pull: slow the orbits by widening the pair (t ∝ r⁵)
+                        let periods: u32 = edges.iter().map(|e| e.1).sum();
+                        let time = periods as f64 * limits.period;
+                        let needed = shift.norm() / pull_speed(model, from);
+                        scale *= (needed / time).max(1.0).powf(0.2) * 1.05;
+                        continue;
+                    };
+                    let steer: Vec<SteerEdge> = controls
+                        .into_iter()
+                        .zip(&edges)
+                        .map(|(control, &(_, periods))| SteerEdge { control, periods })
+                        .collect();
+                    if lands(model, from, to, limits, &steer) && accept(&steer) {
+                        return Some(steer);
+                    }
+                    break;
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The turn planned for one orbit at most (rad). An orbit's time grows steeply with its turn
+/// (at 2 BL, 60° takes 14 s and 36° 1.7 s under the default preset), so several short turns
+/// are faster than one long one.
+const EDGE_TURN: f64 = 0.4;
+
+/// The most edges a steer plans.
+const MAX_EDGES: usize = 24;
+
+/// Scales of the waypoints' separations tried in turn: turning is fastest with the pair close
+/// (`t ∝ r⁵`); the waypoints stay 5% of the proximity range inside it.
+const SCALES: [f64; 2] = [0.7, 1.0];
+
+/// The centre of mass's speed (BL/s) under the largest gradient along both axes at 45°: a
+/// scale for how long a shift takes.
+fn pull_speed(model: &PlanningModel, from: &[Vec2]) -> f64 {
+    let limit = model.coil.gradient_limit();
+    let mut v = [Vec2::zeros(); 2];
+    model.velocities(from, &Control::planar(PI / 4.0, limit, limit), &mut v);
+    ((v[0] + v[1]) * 0.5).norm().max(f64::MIN_POSITIVE)
+}
+
+/// Whether `steer`, propagated from `from`, keeps the separation in range and ends within the
+/// tolerance of `to`.
+fn lands(
+    model: &PlanningModel,
+    from: &[Vec2],
+    to: &[Vec2],
+    limits: &SteerLimits,
+    steer: &[SteerEdge],
+) -> bool {
+    let [r_min, r_max] = limits.separation;
+    let mut at = [from[0], from[1]];
+    for e in steer {
+        let Some(edge) = model.pair_edge(&at, &e.control) else {
+            return false;
+        };
+        let mut out = [Vec2::zeros(); 2];
+        let (lo, hi) = edge.end_and_range(e.periods as f64 * limits.period, &mut out);
+        if !(lo > r_min && hi < r_max) {
+            return false;
+        }
+        at = out;
+    }
+    at.iter()
+        .zip(to)
+        .all(|(p, q)| (p - q).norm() <= limits.tolerance)
+}
+
+#[cfg(test)]
+#[path = "steer_tests.rs"]
+mod tests;

@@ -1,0 +1,188 @@
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::*;
+use crate::physics::PhysicalParams;
+
+fn model() -> (PlanningModel, SteerLimits) {
+    let p = PhysicalParams::default();
+    let limits = SteerLimits {
+        period: 1.0 / 60.0,
+        max_periods: 120,
+        separation: [p.r_min, p.r_max],
+        tolerance: 1e-6,
+    };
+    (PlanningModel::new(&p), limits)
+}
+
+fn pair(centre: Vec2, r: f64, phi: f64) -> [Vec2; 2] {
+    let half = Vec2::new(phi.cos(), phi.sin()) * (0.5 * r);
+    [centre - half, centre + half]
+}
+
+/// Propagates a steer through the model: the end state, or `None` if a command is outside
+/// the coil's limits or a duration is not positive.
+fn replay(model: &PlanningModel, from: &[Vec2], steer: &[SteerEdge], period: f64) -> [Vec2; 2] {
+    let mut at = [from[0], from[1]];
+    for e in steer {
+        assert!(e.periods >= 1);
+        assert!(
+            !model.coil.clamp(&e.control).1,
+            "{:?} beyond the coil",
+            e.control
+        );
+        let mut out = [Vec2::zeros(); 2];
+        model.propagate(&at, &e.control, e.periods as f64 * period, &mut out);
+        at = out;
+    }
+    at
+}
+
+fn miss(a: &[Vec2], b: &[Vec2]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
+}
+
+/// The one orbit found backward from an orbit's end is the orbit itself.
+#[test]
+fn orbit_steer_recovers_the_orbit_it_is_given() {
+    let (m, _) = model();
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let mut checked = 0;
+    for _ in 0..2000 {
+        let r0 = rng.random_range(1.2..5.0);
+        let phi0 = rng.random_range(-PI..PI);
+        let psi = rng.random_range(-PI..PI);
+        let t = rng.random_range(0.01..2.0);
+        let start = pair(Vec2::zeros(), r0, phi0);
+        let edge = m
+            .pair_edge(&start, &Control::planar(phi0 + psi, 0.0, 0.0))
+            .unwrap();
+        let mut end = [Vec2::zeros(); 2];
+        let (lo, hi) = edge.end_and_range(t, &mut end);
+        if lo < 1.0 || hi > 8.0 {
+            continue; // near collapse, the orbit is too steep to compare times
+        }
+        let rel = end[1] - end[0];
+        let dphi = wrap_angle(rel.y.atan2(rel.x) - phi0);
+        let o = orbit_steer(edge.orbit().kappa(), r0, rel.norm(), dphi).unwrap();
+        // ψ and ψ + π give the same relative motion
+        assert!(
+            wrap_angle(2.0 * (o.psi - psi)).abs() < 1e-7,
+            "ψ {psi} found {}",
+            o.psi
+        );
+        assert!(
+            (o.time - t).abs() < 1e-7 * t.max(1.0),
+            "t {t} found {}",
+            o.time
+        );
+        checked += 1;
+    }
+    assert!(checked > 1000, "{checked} orbits compared");
+}
+
+/// A turn of π/2 or more is no single orbit.
+#[test]
+fn orbit_steer_refuses_a_quarter_turn() {
+    assert!(orbit_steer(1.0, 2.0, 2.0, FRAC_PI_2).is_none());
+    assert!(orbit_steer(1.0, 2.0, 2.0, -2.0).is_none());
+    assert!(orbit_steer(1.0, 2.0, 2.0, 1.5).is_some());
+    assert!(orbit_steer(1.0, -2.0, 2.0, 0.5).is_none());
+}
+
+/// Property: targets reached by random commands are steered onto exactly, within the coil's
+/// limits and whole periods.
+#[test]
+fn steers_land_on_reachable_targets() {
+    let (m, limits) = model();
+    let g = m.coil.gradient_limit();
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let (mut tried, mut found) = (0, 0);
+    while tried < 300 {
+        let from = pair(
+            Vec2::new(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0)),
+            rng.random_range(1.5..4.0),
+            rng.random_range(-PI..PI),
+        );
+        let mut to = from;
+        let mut ok = true;
+        for _ in 0..rng.random_range(1..4) {
+            let u = Control::planar(
+                rng.random_range(-PI..PI),
+                rng.random_range(-g..=g),
+                rng.random_range(-g..=g),
+            );
+            let d = rng.random_range(15..90) as f64 * limits.period;
+            let Some(edge) = m.pair_edge(&to, &u) else {
+                ok = false;
+                break;
+            };
+            let mut out = [Vec2::zeros(); 2];
+            let (lo, hi) = edge.end_and_range(d, &mut out);
+            ok &= lo > limits.separation[0] && hi < limits.separation[1];
+            to = out;
+        }
+        if !ok {
+            continue;
+        }
+        tried += 1;
+        if let Some(steer) = steer_pair(&m, &from, &to, &limits, |_| true) {
+            found += 1;
+            let end = replay(&m, &from, &steer, limits.period);
+            assert!(miss(&end, &to) <= 1e-6, "missed by {}", miss(&end, &to));
+        }
+    }
+    assert!(
+        found * 10 >= tried * 9,
+        "{found} of {tried} reachable targets steered"
+    );
+}
+
+/// Turning in place and swapping a pair are steered exactly.
+#[test]
+fn turns_in_place_and_swaps() {
+    let (m, limits) = model();
+    let c = Vec2::new(10.0, 10.0);
+    for (phi, turn) in [(0.3, FRAC_PI_2), (2.0, -FRAC_PI_2), (-1.0, PI), (0.0, 0.7)] {
+        let from = pair(c, 2.0, phi);
+        let to = pair(c, 2.0, phi + turn);
+        let steer = steer_pair(&m, &from, &to, &limits, |_| true)
+            .unwrap_or_else(|| panic!("no steer for a turn of {turn}"));
+        let end = replay(&m, &from, &steer, limits.period);
+        assert!(miss(&end, &to) <= 1e-6);
+    }
+}
+
+/// Targets outside the proximity range, too far for the pull, or refused by the caller are
+/// reported as unreachable.
+#[test]
+fn unreachable_targets_are_reported() {
+    let (m, limits) = model();
+    let [r_min, r_max] = limits.separation;
+    let from = pair(Vec2::zeros(), 2.0, 0.0);
+    let outside = pair(Vec2::zeros(), 0.5 * (r_min + 0.0), 1.0);
+    assert!(steer_pair(&m, &from, &outside, &limits, |_| true).is_none());
+    let wide = pair(Vec2::zeros(), r_max + 1.0, 1.0);
+    assert!(steer_pair(&m, &from, &wide, &limits, |_| true).is_none());
+    // a turn in place with the centre 200 BL away: the pull cannot cover it in the edges'
+    // time within the longest edge
+    let far = pair(Vec2::new(200.0, 0.0), 2.0, 1.0);
+    assert!(steer_pair(&m, &from, &far, &limits, |_| true).is_none());
+    let near = pair(Vec2::zeros(), 2.0, 1.0);
+    assert!(steer_pair(&m, &from, &near, &limits, |_| true).is_some());
+    let mut asked = 0;
+    assert!(
+        steer_pair(&m, &from, &near, &limits, |_| {
+            asked += 1;
+            false
+        })
+        .is_none()
+    );
+    assert!(asked >= 2, "asked about {asked} steers");
+    // three agents, or a flow without the pair's closed form
+    let rk4 = m.with_flow(crate::model::Flow::Rk4);
+    assert!(steer_pair(&rk4, &from, &near, &limits, |_| true).is_none());
+}
