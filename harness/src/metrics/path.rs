@@ -263,7 +263,7 @@ mod tests {
         let p = one(&pts, &th);
         assert_eq!(field_flips(&p), 1);
         let last = wrap_angle(-3.0 - (0.5 + PI)).abs();
-        close(last, 2.0 * PI - 3.0 - 0.5 - PI);
+        close(last, 3.5 - PI);
         close(field_variation_rate(&p).unwrap(), (0.5 + PI + last) / 4.0);
         assert_eq!(control_switches(&p), 3);
         assert_eq!(field_variation_rate(&Plan::at(&[v(0.0, 0.0)])), None);

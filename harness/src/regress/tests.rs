@@ -24,6 +24,7 @@ fn runs(seeds: &[u64], rms: &[f64], ok: &[bool]) -> Vec<RunRecord> {
             r.reached_goal = Some(ok[i]);
             r.agent_contact = Some(false);
             r.set(Metric::RmsError, Some(rms[i]));
+            r.set(Metric::PlanTime, Some(0.0));
             r
         })
         .collect()

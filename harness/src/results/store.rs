@@ -97,7 +97,7 @@ pub fn file_agents(dir: &Path) -> usize {
 
 /// `runs.csv` rows: the serde columns, the metric columns, then `agents` agents' per-agent
 /// columns.
-fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
+pub fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
     let mut out = vec![];
     for r in rows {
         let mut line = record_bytes(std::slice::from_ref(r));
