@@ -154,7 +154,10 @@ pub fn line(out: &RunOutput) -> String {
     if let Some(g) = r.reached_goal {
         s += if g { ", reached goal" } else { ", missed goal" };
     }
-    s += &format!(", {:.2} s", r.get(Metric::PlanTime).unwrap_or(0.0) + r.get(Metric::TrackTime).unwrap_or(0.0));
+    s += &format!(
+        ", {:.2} s",
+        r.get(Metric::PlanTime).unwrap_or(0.0) + r.get(Metric::TrackTime).unwrap_or(0.0)
+    );
     if !r.error.is_empty() {
         s += &format!(" ({})", r.error);
     }

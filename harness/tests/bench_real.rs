@@ -107,6 +107,14 @@ fn tracked_runs_fill_the_tracking_columns_deterministically() {
     assert!(runs.iter().all(|r| r.get(Metric::RmsError).is_some()
         && !r.track_status.is_empty()
         && r.get(Metric::TrackDuration).is_some()));
+    // the path-quality metrics of the plan followed: positive lengths and clearances
+    assert!(
+        runs.iter()
+            .all(|r| r.get(Metric::PathLength).is_some_and(|l| l > 0.0)
+                && r.get(Metric::ClearanceMin).is_some_and(|c| c > 0.0)
+                && r.get(Metric::ClearanceMin) <= r.get(Metric::ClearanceMean)
+                && r.get(Metric::FieldVariation).is_some())
+    );
     // Under the ideal preset the plant is the planning model: open-loop follows its plan.
     assert!(
         runs.iter()
@@ -174,8 +182,16 @@ presets = ["ideal"]
             .find(|r| r.tracker.is_empty() && r.planner == t.planner && r.seed == t.seed)
             .unwrap();
         assert_eq!(
-            (p.get(Metric::Iterations), p.get(Metric::Cost), p.get(Metric::PlanEdges)),
-            (t.get(Metric::Iterations), t.get(Metric::Cost), t.get(Metric::PlanEdges))
+            (
+                p.get(Metric::Iterations),
+                p.get(Metric::Cost),
+                p.get(Metric::PlanEdges)
+            ),
+            (
+                t.get(Metric::Iterations),
+                t.get(Metric::Cost),
+                t.get(Metric::PlanEdges)
+            )
         );
         assert!(t.get(Metric::RmsError).unwrap() < 1e-6, "{t:?}");
     }

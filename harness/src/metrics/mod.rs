@@ -96,6 +96,8 @@ pub struct Def {
     pub aggregation: Aggregation,
     /// What `regress` does with it.
     pub regress: Regress,
+    /// A wall-clock time: it differs between two executions of the same run.
+    pub wall_clock: bool,
     /// Its box plot, if any.
     pub plot: Option<Plot>,
     /// Digits of its report column; `None`: not in the report's table.
@@ -124,6 +126,7 @@ impl Def {
             compute,
             aggregation: Aggregation::Median,
             regress: Regress::Off,
+            wall_clock: false,
             plot: None,
             report: None,
             ompl: None,
@@ -131,9 +134,21 @@ impl Def {
         }
     }
 
-    /// With `regress` handling `r`.
+    /// With `regress` handling `r` (a [`Regress::WallClock`] metric is a wall-clock time).
     pub const fn regress(self, r: Regress) -> Def {
-        Def { regress: r, ..self }
+        Def {
+            regress: r,
+            wall_clock: self.wall_clock || matches!(r, Regress::WallClock),
+            ..self
+        }
+    }
+
+    /// A wall-clock time (left out where two executions of a run are compared).
+    pub const fn wall_clock(self) -> Def {
+        Def {
+            wall_clock: true,
+            ..self
+        }
     }
 
     /// Summarised by `a`.
@@ -234,6 +249,21 @@ mod tests {
                 );
                 assert!(seen.insert(p), "{p} twice");
             }
+        }
+    }
+
+    #[test]
+    fn every_column_is_named_in_the_docs() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/results.md");
+        let text = std::fs::read_to_string(path).unwrap();
+        for m in Metric::ALL {
+            let c = m.def().column;
+            let tracking = m.def().tracking();
+            // the tracking metrics are defined in docs/tracking.md and named there
+            assert!(
+                tracking || text.contains(&format!("`{c}`")),
+                "docs/results.md does not name `{c}`"
+            );
         }
     }
 }

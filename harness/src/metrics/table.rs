@@ -152,7 +152,7 @@ metrics! {
     /// Tracking wall time (s).
     TrackTime = Def::new("track_time_s", "tracking wall time", "s", Lower,
         Track(|f| Some(f.wall_s)))
-        .regress(WallClock).ompl("tracking time REAL");
+        .wall_clock().ompl("tracking time REAL");
     /// Path length: the sum over agents of the length of each agent's polyline through the
     /// plan's waypoints (BL). Bench-MR's path length; OMPL's `solution length`.
     PathLength = Def::new("path_length_bl", "path length", "BL", Lower,

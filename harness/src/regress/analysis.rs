@@ -150,11 +150,14 @@ fn decide(rows: &mut [Comparison], alpha: f64) {
     }
 }
 
+/// A metric's value in a run.
+type ValueOf = Box<dyn Fn(&RunRecord) -> Option<f64>>;
+
 /// A metric compared: its name, its value in a run (boxed: per-agent metrics are made at run
 /// time), which way is better and how `regress` treats it.
 struct Compared {
     name: String,
-    value: Box<dyn Fn(&RunRecord) -> Option<f64>>,
+    value: ValueOf,
     direction: Direction,
     regress: Regress,
 }
@@ -179,7 +182,7 @@ fn agent_metrics<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> Vec<Compa
     let mut out = vec![];
     for i in 0..n {
         let [rms, _, rms_true, _] = crate::run::record::agent_columns(i);
-        let compared = |name, value: Box<dyn Fn(&RunRecord) -> Option<f64>>| Compared {
+        let compared = |name, value: ValueOf| Compared {
             name,
             value,
             direction: Direction::Lower,
@@ -310,7 +313,8 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             } else {
                 let rel = if wall { tol.time } else { tol.relative };
                 let mb = median(&xb).unwrap_or(0.0);
-                if let Some((test, change)) = metric::shift(&s, &*f, direction, rel, mb, tol.alpha) {
+                if let Some((test, change)) = metric::shift(&s, &*f, direction, rel, mb, tol.alpha)
+                {
                     (row.test, row.change) = (Some(test), change);
                 }
             }

@@ -205,11 +205,7 @@ pub fn shift(
             hi: hi.exp_m1(),
         }
     } else {
-        Change::Absolute {
-            diff: est,
-            lo,
-            hi,
-        }
+        Change::Absolute { diff: est, lo, hi }
     };
     Some((test, change))
 }

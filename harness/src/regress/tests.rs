@@ -423,7 +423,10 @@ fn a_metric_where_higher_is_better_regresses_when_it_falls() {
     let Change::Relative { rel, lo, hi } = r.change else {
         panic!("{:?}", r.change)
     };
-    assert!(lo <= rel && rel <= hi && (rel + 0.5).abs() < 0.01, "{rel} [{lo}, {hi}]");
+    assert!(
+        lo <= rel && rel <= hi && (rel + 0.5).abs() < 0.01,
+        "{rel} [{lo}, {hi}]"
+    );
     // clearance doubled: better, not a regression
     let rows = compare(&with(1.0), &with(2.0), &TOL);
     let r = row(&rows, "clearance_min_bl");

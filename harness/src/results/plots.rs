@@ -60,11 +60,7 @@ fn grid(max: f64) -> Vec<f64> {
     (0..=GRID).map(|k| max * k as f64 / GRID as f64).collect()
 }
 
-fn success_curve(
-    runs: &[&RunRecord],
-    xs: &[f64],
-    at: Metric,
-) -> Vec<BandPoint> {
+fn success_curve(runs: &[&RunRecord], xs: &[f64], at: Metric) -> Vec<BandPoint> {
     let n = runs.len() as u64;
     xs.iter()
         .map(|&x| {

@@ -34,9 +34,9 @@ fn med(s: Option<&Summary>, digits: usize) -> String {
 fn cell(g: &GroupSummary, m: Metric, digits: usize) -> String {
     match m.def().aggregation {
         Aggregation::Median => med(g.metric(m), digits),
-        Aggregation::Sum => g
-            .metric(m)
-            .map_or("–".into(), |s| format!("{:.*}", digits, s.mean * s.n as f64)),
+        Aggregation::Sum => g.metric(m).map_or("–".into(), |s| {
+            format!("{:.*}", digits, s.mean * s.n as f64)
+        }),
     }
 }
 

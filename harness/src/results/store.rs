@@ -104,10 +104,9 @@ pub fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
         // the csv writer ends a record with one '\n'; the extra cells are plain numbers
         debug_assert_eq!(line.last(), Some(&b'\n'));
         line.pop();
-        let cells = Metric::ALL
-            .iter()
-            .map(|m| r.get(*m))
-            .chain((0..agents).flat_map(|i| r.per_agent.get(i).copied().unwrap_or_default().values()));
+        let cells = Metric::ALL.iter().map(|m| r.get(*m)).chain(
+            (0..agents).flat_map(|i| r.per_agent.get(i).copied().unwrap_or_default().values()),
+        );
         for v in cells {
             line.push(b',');
             if let Some(v) = v {

@@ -151,15 +151,30 @@ impl Executor for FakeExecutor {
             Status::Approximate
         };
         r.set(Metric::Cost, if solved { best } else { None });
-        r.set(Metric::GoalDistance, Some(if solved {
-            0.2 * rng.random::<f64>()
-        } else {
-            1.0 + 5.0 * rng.random::<f64>()
-        }));
-        r.set(Metric::FirstSolutionIteration, (solved.then_some(first)).map(|v| v as f64));
-        r.set(Metric::FirstSolutionTime, solved.then_some(first as f64 * secs_per_iter));
-        r.set(Metric::PlanEdges, Some((5 + (rng.random::<f64>() * 20.0) as u64) as f64));
-        r.set(Metric::PlanDuration, Some(10.0 + 30.0 * rng.random::<f64>()));
+        r.set(
+            Metric::GoalDistance,
+            Some(if solved {
+                0.2 * rng.random::<f64>()
+            } else {
+                1.0 + 5.0 * rng.random::<f64>()
+            }),
+        );
+        r.set(
+            Metric::FirstSolutionIteration,
+            (solved.then_some(first)).map(|v| v as f64),
+        );
+        r.set(
+            Metric::FirstSolutionTime,
+            solved.then_some(first as f64 * secs_per_iter),
+        );
+        r.set(
+            Metric::PlanEdges,
+            Some((5 + (rng.random::<f64>() * 20.0) as u64) as f64),
+        );
+        r.set(
+            Metric::PlanDuration,
+            Some(10.0 + 30.0 * rng.random::<f64>()),
+        );
         if let Some(tv) = &spec.tracker {
             let mut trng = ChaCha8Rng::seed_from_u64(seed_of(&spec.id()));
             let scale = std::env::var("MAGBENCH_FAKE_TRACKER_GAIN_SCALE")
@@ -192,22 +207,34 @@ impl Executor for FakeExecutor {
                     }
                 })
                 .collect();
-            r.set(Metric::RmsErrorWorstAgent, r.per_agent.iter().filter_map(|a| a.rms_bl).reduce(f64::max));
+            r.set(
+                Metric::RmsErrorWorstAgent,
+                r.per_agent.iter().filter_map(|a| a.rms_bl).reduce(f64::max),
+            );
             r.worst_agent = Some(agents.saturating_sub(1) as u64);
-            r.set(Metric::RmsErrorTrueWorstAgent, r
-                .per_agent
-                .iter()
-                .filter_map(|a| a.rms_true_bl)
-                .reduce(f64::max));
-            r.set(Metric::MaxErrorTrue, r
-                .per_agent
-                .iter()
-                .filter_map(|a| a.max_true_bl)
-                .reduce(f64::max));
+            r.set(
+                Metric::RmsErrorTrueWorstAgent,
+                r.per_agent
+                    .iter()
+                    .filter_map(|a| a.rms_true_bl)
+                    .reduce(f64::max),
+            );
+            r.set(
+                Metric::MaxErrorTrue,
+                r.per_agent
+                    .iter()
+                    .filter_map(|a| a.max_true_bl)
+                    .reduce(f64::max),
+            );
             let reached = solved && rms < 0.3 && trng.random::<f64>() < 0.97;
             r.reached_goal = Some(reached);
             r.track_status = if reached { "reached-goal" } else { "timeout" }.into();
-            r.set(Metric::TimeToGoal, reached.then(|| r.get(Metric::PlanDuration).unwrap_or(0.0) * (1.0 + 0.1 * trng.random::<f64>())));
+            r.set(
+                Metric::TimeToGoal,
+                reached.then(|| {
+                    r.get(Metric::PlanDuration).unwrap_or(0.0) * (1.0 + 0.1 * trng.random::<f64>())
+                }),
+            );
             r.set(
                 Metric::FinalDistance,
                 Some(if reached {
@@ -217,10 +244,19 @@ impl Executor for FakeExecutor {
                 }),
             );
             r.agent_contact = Some(false);
-            r.set(Metric::WallContacts, Some(((trng.random::<f64>() * 3.0) as u64) as f64));
-            r.set(Metric::MissedFrames, Some(((trng.random::<f64>() * 10.0) as u64) as f64));
+            r.set(
+                Metric::WallContacts,
+                Some(((trng.random::<f64>() * 3.0) as u64) as f64),
+            );
+            r.set(
+                Metric::MissedFrames,
+                Some(((trng.random::<f64>() * 10.0) as u64) as f64),
+            );
             r.set(Metric::Replans, Some(0.0));
-            r.set(Metric::TrackDuration, Some(r.get(Metric::PlanDuration).unwrap_or(0.0) * 1.1));
+            r.set(
+                Metric::TrackDuration,
+                Some(r.get(Metric::PlanDuration).unwrap_or(0.0) * 1.1),
+            );
             r.set(Metric::TrackTime, Some(0.0));
         }
         r.set(Metric::PlanTime, Some(t0.elapsed().as_secs_f64()));

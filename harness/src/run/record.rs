@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::metrics::{Metric, Regress, Values};
+use crate::metrics::{Metric, Values};
 
 /// How a run ended, named after OMPL's `PlannerStatus`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -173,7 +173,7 @@ impl RunRecord {
                 Metric::ALL
                     .iter()
                     .map(|m| m.def())
-                    .filter(|d| d.regress == Regress::WallClock)
+                    .filter(|d| d.wall_clock)
                     .map(|d| d.column),
             )
             .collect()
@@ -271,6 +271,17 @@ mod tests {
         for c in RunRecord::timing_columns() {
             assert!(h.contains(&c.to_string()), "{c}");
         }
+        let mut t = RunRecord::timing_columns();
+        t.sort();
+        assert_eq!(
+            t,
+            [
+                "first_solution_time_s",
+                "plan_time_s",
+                "time_limit_s",
+                "track_time_s"
+            ]
+        );
         assert_eq!(h.last().unwrap(), Metric::ALL.last().unwrap().def().column);
     }
 
