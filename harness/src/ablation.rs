@@ -12,6 +12,7 @@
 //!
 //! with `e` the run's `rms_error_bl` (the observed-position path error, what a rig measures).
 
+use crate::metrics::Metric;
 use std::collections::BTreeMap;
 
 use magbench_env::plant::DisturbancePreset;
@@ -85,7 +86,7 @@ pub struct TermRow {
 fn by_variant(runs: &[RunRecord]) -> BTreeMap<String, BTreeMap<u64, f64>> {
     let mut out: BTreeMap<String, BTreeMap<u64, f64>> = BTreeMap::new();
     for r in runs {
-        if let Some(e) = r.rms_error_bl.filter(|e| e.is_finite()) {
+        if let Some(e) = r.get(Metric::RmsError).filter(|e| e.is_finite()) {
             out.entry(variant_of(&r.preset))
                 .or_default()
                 .insert(r.seed, e);
@@ -206,7 +207,7 @@ mod tests {
         let mut r = RunRecord::example();
         r.preset = label(variant);
         r.seed = seed;
-        r.rms_error_bl = Some(e);
+        r.set(Metric::RmsError, Some(e));
         r
     }
 

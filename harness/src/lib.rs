@@ -19,6 +19,7 @@ pub mod error;
 pub mod experiment;
 pub mod figures;
 pub mod fuzz;
+pub mod metrics;
 pub mod plot;
 pub mod prelude;
 pub mod registry;

@@ -1,6 +1,7 @@
 //! Sweeps: the runs of an experiment (or of one shard of it) as independent jobs on a rayon
 //! pool, each row written as soon as its run finishes.
 
+use crate::metrics::Metric;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -144,16 +145,19 @@ pub fn line(out: &RunOutput) -> String {
         s += &format!("{} {} ", r.tracker, r.preset);
     }
     s += &format!("seed {}: {}", r.seed, r.status.as_str());
-    if let Some(c) = r.cost {
+    if let Some(c) = r.get(Metric::Cost) {
         s += &format!(", cost {c:.3}");
     }
-    if let Some(e) = r.rms_error_bl {
+    if let Some(e) = r.get(Metric::RmsError) {
         s += &format!(", rms {e:.3} BL");
     }
     if let Some(g) = r.reached_goal {
         s += if g { ", reached goal" } else { ", missed goal" };
     }
-    s += &format!(", {:.2} s", r.plan_time_s + r.track_time_s.unwrap_or(0.0));
+    s += &format!(
+        ", {:.2} s",
+        r.get(Metric::PlanTime).unwrap_or(0.0) + r.get(Metric::TrackTime).unwrap_or(0.0)
+    );
     if !r.error.is_empty() {
         s += &format!(" ({})", r.error);
     }

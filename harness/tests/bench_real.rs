@@ -5,6 +5,7 @@ mod common;
 
 use common::{deterministic_progress, deterministic_runs, opts, write};
 use magbench::experiment::Experiment;
+use magbench::metrics::Metric;
 use magbench::run::real::RealExecutor;
 use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
 
@@ -103,14 +104,22 @@ fn tracked_runs_fill_the_tracking_columns_deterministically() {
     }
     assert_eq!(deterministic_runs(&outs[0]), deterministic_runs(&outs[1]));
     let runs = magbench::results::store::read_runs(&outs[0]).unwrap();
-    assert!(runs.iter().all(|r| r.rms_error_bl.is_some()
+    assert!(runs.iter().all(|r| r.get(Metric::RmsError).is_some()
         && !r.track_status.is_empty()
-        && r.track_duration_s.is_some()));
+        && r.get(Metric::TrackDuration).is_some()));
+    // the path-quality metrics of the plan followed: positive lengths and clearances
+    assert!(
+        runs.iter()
+            .all(|r| r.get(Metric::PathLength).is_some_and(|l| l > 0.0)
+                && r.get(Metric::ClearanceMin).is_some_and(|c| c > 0.0)
+                && r.get(Metric::ClearanceMin) <= r.get(Metric::ClearanceMean)
+                && r.get(Metric::FieldVariation).is_some())
+    );
     // Under the ideal preset the plant is the planning model: open-loop follows its plan.
     assert!(
         runs.iter()
             .filter(|r| r.preset == "ideal")
-            .all(|r| r.rms_error_bl.unwrap() < 1e-6),
+            .all(|r| r.get(Metric::RmsError).unwrap() < 1e-6),
         "{runs:?}"
     );
     // Bad tracker names and parameters are input errors naming the field.
@@ -158,12 +167,12 @@ presets = ["ideal"]
     assert!(
         tracked
             .iter()
-            .all(|r| r.planner == "goal-zoom-rrt" && r.rms_error_bl.is_some())
+            .all(|r| r.planner == "goal-zoom-rrt" && r.get(Metric::RmsError).is_some())
     );
     assert!(
         runs.iter()
             .filter(|r| r.tracker.is_empty())
-            .all(|r| r.rms_error_bl.is_none() && r.status != magbench::run::Status::Crash)
+            .all(|r| r.get(Metric::RmsError).is_none() && r.status != magbench::run::Status::Crash)
     );
     // the tracked run's first plan is its planning run's (open-field has one leg), and
     // open-loop follows it exactly under the ideal preset (whose plant moves by the exact flow)
@@ -173,10 +182,18 @@ presets = ["ideal"]
             .find(|r| r.tracker.is_empty() && r.planner == t.planner && r.seed == t.seed)
             .unwrap();
         assert_eq!(
-            (p.iterations, p.cost, p.plan_edges),
-            (t.iterations, t.cost, t.plan_edges)
+            (
+                p.get(Metric::Iterations),
+                p.get(Metric::Cost),
+                p.get(Metric::PlanEdges)
+            ),
+            (
+                t.get(Metric::Iterations),
+                t.get(Metric::Cost),
+                t.get(Metric::PlanEdges)
+            )
         );
-        assert!(t.rms_error_bl.unwrap() < 1e-6, "{t:?}");
+        assert!(t.get(Metric::RmsError).unwrap() < 1e-6, "{t:?}");
     }
     // rk4 and the exact flow give different plans from the same seed
     let plain = runs
@@ -187,5 +204,5 @@ presets = ["ideal"]
         .iter()
         .find(|r| r.tracker.is_empty() && r.planner == "goal-zoom-rrt{flow=rk4}" && r.seed == 0)
         .unwrap();
-    assert_ne!(plain.cost, rk4.cost);
+    assert_ne!(plain.get(Metric::Cost), rk4.get(Metric::Cost));
 }

@@ -9,6 +9,7 @@ use std::process::Command;
 
 use common::write;
 use magbench::experiment::Experiment;
+use magbench::metrics::Metric;
 use magbench::results::ompl::parse::parse;
 use magbench::results::store::{read_progress, read_runs};
 use magbench::run::fake::FakeExecutor;
@@ -203,7 +204,7 @@ print(q('select count(*) from experiments'), q('select count(*) from runs'), q('
     let tracked = read_runs(&out)
         .unwrap()
         .iter()
-        .filter(|r| r.rms_error_bl.is_some())
+        .filter(|r| r.get(Metric::RmsError).is_some())
         .count();
     // ompl.log + one log per scenario: every run twice; 12 + 6 + 6 planner configurations.
     assert_eq!(

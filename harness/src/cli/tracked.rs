@@ -224,7 +224,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
             serde_json::to_string(&summary).expect("json")
         ))?;
     } else {
-        emit(&summary_text(&summary))?;
+        emit(&summary_text(&summary, &outcome))?;
         if let Some(st) = &rig_stats {
             emit(&rig_text(st))?;
         }
@@ -325,10 +325,12 @@ fn summary_json(
     v
 }
 
-/// The summary printed without `--json`.
-pub(crate) fn summary_text(v: &Value) -> String {
+/// The summary printed without `--json`: the run's identity from `v`, the metrics from `out`.
+pub(crate) fn summary_text(v: &Value, out: &TrackOutcome) -> String {
     let g = |k: &str| v.get(k).cloned().unwrap_or(Value::Null);
-    let f = |k: &str| g(k).as_f64().map_or("-".to_string(), |x| format!("{x:.3}"));
+    let m = &out.metrics;
+    let f = |x: f64| format!("{x:.3}");
+    let fo = |x: Option<f64>| x.map_or("-".to_string(), f);
     let mut s = String::new();
     s += &format!(
         "{} · planner {} · tracker {} · preset {} · seed {}\n",
@@ -340,62 +342,52 @@ pub(crate) fn summary_text(v: &Value) -> String {
     );
     s += &format!(
         "status        {}  (reached goal: {}, legs {}/{}, plan solved: {})\n",
-        g("status").as_str().unwrap_or(""),
-        g("reached_goal"),
-        g("legs_completed"),
-        g("legs"),
+        m.status.as_str(),
+        m.reached_goal,
+        m.legs_completed,
+        m.legs,
         g("solved")
     );
     s += &format!(
         "error         RMS {} BL, max {} BL (observed positions to the planned path; true positions: RMS {} BL)\n",
-        f("rms_error_bl"),
-        f("max_error_bl"),
-        f("rms_error_true_bl"),
+        f(m.rms_error_bl),
+        f(m.max_error_bl),
+        fo(m.rms_error_true_bl),
     );
-    if let (Some(w), Some(each)) = (g("worst_agent").as_u64(), g("per_agent").as_array()) {
-        let rms: Vec<String> = each
-            .iter()
-            .map(|a| {
-                a.get("rms_bl")
-                    .and_then(Value::as_f64)
-                    .map_or("-".into(), |x| format!("{x:.3}"))
-            })
-            .collect();
+    if let Some(w) = m.worst_agent {
+        let rms: Vec<String> = out.per_agent.iter().map(|a| f(a.rms_bl)).collect();
         s += &format!(
             "per agent     RMS {} BL (agents 1–{}); worst agent {}: RMS {} BL (true positions: {} BL)\n",
             rms.join(", "),
             rms.len(),
             w + 1,
-            f("rms_error_worst_agent_bl"),
-            f("rms_error_true_worst_agent_bl"),
+            f(m.rms_error_worst_agent_bl),
+            fo(m.rms_error_true_worst_agent_bl),
         );
     }
     s += &format!(
         "team error    synchronous RMS {} BL, time-indexed RMS {} BL, node RMS {} BL (the seed's)\n",
-        f("rms_error_sync_bl"),
-        f("rms_error_time_bl"),
-        f("rms_error_node_bl"),
+        f(m.rms_error_sync_bl),
+        f(m.rms_error_time_bl),
+        f(m.rms_error_node_bl),
     );
     s += &format!(
         "goal          final distance {} BL, time to goal {} s\n",
-        f("final_goal_distance_bl"),
-        f("time_to_goal_s")
+        f(m.final_goal_distance_bl),
+        fo(m.time_to_goal_s)
     );
     s += &format!(
         "events        agent contact {}, wall contacts {}, missed frames {}, replans {}\n",
-        g("agent_contact"),
-        g("wall_contacts"),
-        g("missed_frames"),
-        g("replans")
+        m.agent_contact, m.wall_contacts, m.missed_frames, m.replans
     );
     s += &format!(
         "time          tracking {} s, planning {} s, tracker compute {} s\n",
-        f("duration_s"),
-        f("planning_time_s"),
-        f("tracker_compute_s")
+        f(m.duration_s),
+        f(m.planning_time_s),
+        f(m.tracker_compute_s)
     );
-    if let Some(m) = g("message").as_str() {
-        s += &format!("note          {m}\n");
+    if let Some(msg) = &out.message {
+        s += &format!("note          {msg}\n");
     }
     s
 }

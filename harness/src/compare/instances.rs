@@ -1,6 +1,7 @@
 //! One value per planner and problem: the median time to a first exact solution over the
 //! planner's seeds (+∞ when half or more of them found none) and how many seeds solved it.
 
+use crate::metrics::Metric;
 use crate::run::RunRecord;
 
 /// Planners × problems of the planning runs (runs without a tracker) of a results folder.
@@ -53,7 +54,7 @@ impl Instances {
         for r in &planning {
             let p = planners.iter().position(|x| *x == r.planner).unwrap_or(0);
             let i = problems.iter().position(|x| *x == r.scenario).unwrap_or(0);
-            let t = match (r.solved, r.first_solution_time_s) {
+            let t = match (r.solved, r.get(Metric::FirstSolutionTime)) {
                 (true, Some(t)) => t,
                 _ => f64::INFINITY,
             };
@@ -96,7 +97,7 @@ mod tests {
             r.scenario = sc.into();
             r.planner = pl.into();
             r.solved = t.is_some();
-            r.first_solution_time_s = t;
+            r.set(Metric::FirstSolutionTime, t);
             r.tracker = tracker.into();
             r
         };

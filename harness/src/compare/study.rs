@@ -2,6 +2,7 @@
 //! (unsolved runs = +∞) at each problem size, the power law fitted to it ([`super::scaling`]),
 //! and a log–log plot of both.
 
+use crate::metrics::Metric;
 use std::path::{Path, PathBuf};
 
 use super::instances::median_inf;
@@ -43,7 +44,7 @@ pub fn study(runs: &[RunRecord], family: Option<&str>, by: &str) -> Vec<PlannerS
     let mut sizes: Vec<(String, f64, f64)> = vec![];
     for r in runs.iter().filter(|r| r.tracker.is_empty()) {
         if let Some(s) = size_of(r, family, by) {
-            let t = match (r.solved, r.first_solution_time_s) {
+            let t = match (r.solved, r.get(Metric::FirstSolutionTime)) {
                 (true, Some(t)) => t,
                 _ => f64::INFINITY,
             };
@@ -164,7 +165,7 @@ mod tests {
             r.scenario = sc.into();
             r.planner = pl.into();
             r.solved = t.is_some();
-            r.first_solution_time_s = t;
+            r.set(Metric::FirstSolutionTime, t);
             r
         };
         let mut runs = vec![];

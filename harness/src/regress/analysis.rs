@@ -3,6 +3,7 @@
 
 use super::metric::{self, Change, Sides};
 use super::verdict::{Test, Verdict, adjust, seeds_needed, verdict_of};
+use crate::metrics::{Direction, Metric, Regress};
 use crate::results::summary::{groups, key};
 use crate::run::RunRecord;
 use crate::stats::median;
@@ -149,61 +150,51 @@ fn decide(rows: &mut [Comparison], alpha: f64) {
     }
 }
 
-type Metric = (&'static str, fn(&RunRecord) -> Option<f64>, bool);
+/// A metric's value in a run.
+type ValueOf = Box<dyn Fn(&RunRecord) -> Option<f64>>;
 
-/// Continuous metrics checked (name, value, wall-clock?); then each agent's, see
-/// [`agent_metrics`].
-pub const METRICS: [Metric; 13] = [
-    ("rms_error_bl", |r| r.rms_error_bl, false),
-    (
-        "rms_error_worst_agent_bl",
-        |r| r.rms_error_worst_agent_bl,
-        false,
-    ),
-    ("rms_error_true_bl", |r| r.rms_error_true_bl, false),
-    (
-        "rms_error_true_worst_agent_bl",
-        |r| r.rms_error_true_worst_agent_bl,
-        false,
-    ),
-    ("rms_error_sync_bl", |r| r.rms_error_sync_bl, false),
-    ("rms_error_time_bl", |r| r.rms_error_time_bl, false),
-    ("rms_error_node_bl", |r| r.rms_error_node_bl, false),
-    ("max_error_bl", |r| r.max_error_bl, false),
-    ("max_error_true_bl", |r| r.max_error_true_bl, false),
-    ("cost", |r| r.cost, false),
-    (
-        "first_solution_iteration",
-        |r| r.first_solution_iteration.map(|i| i as f64),
-        false,
-    ),
-    ("first_solution_time_s", |r| r.first_solution_time_s, true),
-    ("plan_time_s", |r| Some(r.plan_time_s), true),
-];
+/// A metric compared: its name, its value in a run (boxed: per-agent metrics are made at run
+/// time), which way is better and how `regress` treats it.
+struct Compared {
+    name: String,
+    value: ValueOf,
+    direction: Direction,
+    regress: Regress,
+}
 
-/// A metric by name: its value in a run (boxed: per-agent metrics are made at run time).
-type NamedMetric = (String, Box<dyn Fn(&RunRecord) -> Option<f64>>, bool);
+/// The metrics of the table that `regress` compares, in table order.
+pub fn table_metrics() -> Vec<Metric> {
+    Metric::ALL
+        .iter()
+        .copied()
+        .filter(|m| m.def().regress != Regress::Off)
+        .collect()
+}
 
 /// Each agent's RMS path error, observed and true (`rms_error_agent{i}_bl`,
 /// `rms_error_true_agent{i}_bl`), for the agents of the largest team in `runs`.
-pub fn agent_metrics<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> Vec<NamedMetric> {
+fn agent_metrics<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> Vec<Compared> {
     let n = runs
         .into_iter()
         .map(|r| r.per_agent.len())
         .max()
         .unwrap_or(0);
-    let mut out: Vec<NamedMetric> = vec![];
+    let mut out = vec![];
     for i in 0..n {
         let [rms, _, rms_true, _] = crate::run::record::agent_columns(i);
-        out.push((
+        let compared = |name, value: ValueOf| Compared {
+            name,
+            value,
+            direction: Direction::Lower,
+            regress: Regress::Gated,
+        };
+        out.push(compared(
             rms,
             Box::new(move |r: &RunRecord| r.per_agent.get(i).and_then(|a| a.rms_bl)),
-            false,
         ));
-        out.push((
+        out.push(compared(
             rms_true,
             Box::new(move |r: &RunRecord| r.per_agent.get(i).and_then(|a| a.rms_true_bl)),
-            false,
         ));
     }
     out
@@ -285,12 +276,24 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
         let (test, change) = metric::success(&s, tol.success, tol.alpha);
         (row.test, row.change) = (Some(test), change);
         rows.push(row);
-        let metrics: Vec<NamedMetric> = METRICS
-            .iter()
-            .map(|&(name, f, wall)| -> NamedMetric { (name.to_string(), Box::new(f), wall) })
+        let metrics: Vec<Compared> = table_metrics()
+            .into_iter()
+            .map(|m| Compared {
+                name: m.def().column.to_string(),
+                value: Box::new(move |r: &RunRecord| r.get(m)),
+                direction: m.def().direction,
+                regress: m.def().regress,
+            })
             .chain(agent_metrics(b.iter().chain(c.iter()).copied()))
             .collect();
-        for (name, f, wall) in metrics {
+        for Compared {
+            name,
+            value: f,
+            direction,
+            regress,
+        } in metrics
+        {
+            let wall = regress == Regress::WallClock;
             if wall && !tol.wall_clock {
                 continue;
             }
@@ -300,13 +303,18 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             }
             let mut row =
                 Comparison::new(&config, design, &name, median_value(&xb), median_value(&xc));
-            row.gated = !wall || tol.gate_time;
+            row.gated = match regress {
+                Regress::Gated => true,
+                Regress::WallClock => tol.gate_time,
+                Regress::Shown | Regress::Off => false,
+            };
             if xb.is_empty() {
                 row.verdict = Verdict::New;
             } else {
                 let rel = if wall { tol.time } else { tol.relative };
                 let mb = median(&xb).unwrap_or(0.0);
-                if let Some((test, change)) = metric::shift(&s, &*f, rel, mb, tol.alpha) {
+                if let Some((test, change)) = metric::shift(&s, &*f, direction, rel, mb, tol.alpha)
+                {
                     (row.test, row.change) = (Some(test), change);
                 }
             }

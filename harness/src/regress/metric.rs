@@ -4,6 +4,7 @@
 //! seed where both folders hold the same seeds, unpaired otherwise.
 
 use super::verdict::Test;
+use crate::metrics::Direction;
 use crate::run::RunRecord;
 use crate::stats::normal_quantile;
 use crate::stats::rate_diff::{newcombe, newcombe_p_above, tango, tango_p_above};
@@ -116,11 +117,14 @@ fn se_of(v: &[f64]) -> Option<(f64, usize)> {
 
 /// A metric's test: the shift of the candidate's values against the baseline's on log values
 /// (a ratio; the tolerance `rel` is relative) when every value is positive, else on the values
-/// (the tolerance is `rel` times the baseline median `base_median`). `None` when a side has no
-/// value (or no seed has a value on both sides).
+/// (the tolerance is `rel` times the baseline median `base_median`). The test's scale has larger
+/// as worse: for a metric where higher is better it is the negated scale, and the change is
+/// reported on the metric's own. `None` when a side has no value (or no seed has a value on
+/// both sides).
 pub fn shift(
     s: &Sides,
     f: &dyn Fn(&RunRecord) -> Option<f64>,
+    direction: Direction,
     rel: f64,
     base_median: f64,
     alpha: f64,
@@ -140,12 +144,14 @@ pub fn shift(
         return None;
     }
     let log = b.iter().chain(&c).all(|&v| v > 0.0);
+    let sign = match direction {
+        Direction::Lower => 1.0,
+        Direction::Higher => -1.0,
+    };
     let scale = |v: &[f64]| -> Vec<f64> {
-        if log {
-            v.iter().map(|x| x.ln()).collect()
-        } else {
-            v.to_vec()
-        }
+        v.iter()
+            .map(|x| sign * if log { x.ln() } else { *x })
+            .collect()
     };
     let (b, c) = (scale(&b), scale(&c));
     let tol = if log {
@@ -186,18 +192,20 @@ pub fn shift(
         n,
         se,
     };
+    // the change on the metric's own scale: its ends swap when the test's scale is negated
+    let (est, lo, hi) = if sign > 0.0 {
+        (sh.est, sh.lo, sh.hi)
+    } else {
+        (-sh.est, -sh.hi, -sh.lo)
+    };
     let change = if log {
         Change::Relative {
-            rel: sh.est.exp_m1(),
-            lo: sh.lo.exp_m1(),
-            hi: sh.hi.exp_m1(),
+            rel: est.exp_m1(),
+            lo: lo.exp_m1(),
+            hi: hi.exp_m1(),
         }
     } else {
-        Change::Absolute {
-            diff: sh.est,
-            lo: sh.lo,
-            hi: sh.hi,
-        }
+        Change::Absolute { diff: est, lo, hi }
     };
     Some((test, change))
 }

@@ -27,7 +27,7 @@ pub mod report;
 pub mod verdict;
 
 pub use crate::stats::holm;
-pub use analysis::{Comparison, Design, METRICS, Tolerances, Value, compare};
+pub use analysis::{Comparison, Design, Tolerances, Value, compare, table_metrics};
 pub use metric::Change;
 pub use report::{OnInconclusive, failures, footer, new_metrics, table};
 pub use verdict::Verdict;

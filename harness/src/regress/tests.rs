@@ -6,6 +6,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::report::{inconclusive, regressions};
 use super::*;
+use crate::metrics::Metric;
 use crate::run::RunRecord;
 use crate::run::Status;
 
@@ -22,7 +23,8 @@ fn runs(seeds: &[u64], rms: &[f64], ok: &[bool]) -> Vec<RunRecord> {
             r.status = Status::Exact;
             r.reached_goal = Some(ok[i]);
             r.agent_contact = Some(false);
-            r.rms_error_bl = Some(rms[i]);
+            r.set(Metric::RmsError, Some(rms[i]));
+            r.set(Metric::PlanTime, Some(0.0));
             r
         })
         .collect()
@@ -257,7 +259,7 @@ fn a_a_comparisons_raise_false_alarms_at_most_at_rate_alpha() {
             let cost = lognormal(rng, n, 50.0, 0.2);
             let mut r = runs(&seeds(from, n), &e, &s);
             for (r, c) in r.iter_mut().zip(cost) {
-                r.cost = Some(c);
+                r.set(Metric::Cost, Some(c));
             }
             r
         };
@@ -285,11 +287,11 @@ fn slower_times_are_reported_but_not_gated_by_default() {
     let mut slow = runs(&seeds(0, 20), &e, &ok);
     slow.iter_mut()
         .enumerate()
-        .for_each(|(i, r)| r.plan_time_s = 3.0 + 0.01 * i as f64);
+        .for_each(|(i, r)| r.set(Metric::PlanTime, Some(3.0 + 0.01 * i as f64)));
     let mut fast = runs(&seeds(0, 20), &e, &ok);
     fast.iter_mut()
         .enumerate()
-        .for_each(|(i, r)| r.plan_time_s = 1.0 + 0.01 * i as f64);
+        .for_each(|(i, r)| r.set(Metric::PlanTime, Some(1.0 + 0.01 * i as f64)));
     let rows = compare(&fast, &slow, &TOL);
     let r = row(&rows, "plan_time_s");
     assert!(r.verdict == Verdict::Regression && !r.gated, "{r:?}");
@@ -339,7 +341,7 @@ fn trio(e2: &[f64]) -> Vec<RunRecord> {
                 max_true_bl: Some(2.4 * x),
             })
             .collect();
-        r.rms_error_worst_agent_bl = Some(e.max(0.1));
+        r.set(Metric::RmsErrorWorstAgent, Some(e.max(0.1)));
     }
     rs
 }
@@ -371,11 +373,11 @@ fn a_baseline_without_per_agent_columns_compares_cleanly() {
     let mut old = trio(&e);
     for r in &mut old {
         r.per_agent.clear();
-        r.rms_error_true_worst_agent_bl = None;
+        r.set(Metric::RmsErrorTrueWorstAgent, None);
     }
     let mut cur = trio(&e);
     for r in &mut cur {
-        r.rms_error_true_worst_agent_bl = Some(0.16);
+        r.set(Metric::RmsErrorTrueWorstAgent, Some(0.16));
     }
     let rows = compare(&old, &cur, &TOL);
     assert_eq!(failures(&rows, OnInconclusive::Fail), 0);
@@ -400,4 +402,33 @@ fn a_baseline_without_per_agent_columns_compares_cleanly() {
     );
     assert!(text.contains("result: pass"), "{text}");
     assert!(table(&rows, &TOL).contains("new (not in baseline)"));
+}
+
+#[test]
+fn a_metric_where_higher_is_better_regresses_when_it_falls() {
+    let e = vec![0.1; 20];
+    let ok = vec![true; 20];
+    let with = |v: f64| {
+        let mut rs = runs(&seeds(0, 20), &e, &ok);
+        for (i, r) in rs.iter_mut().enumerate() {
+            r.set(Metric::ClearanceMin, Some(v + 0.001 * i as f64));
+        }
+        rs
+    };
+    // clearance halved: a regression, shown as a drop of about 50%, not gated by the table
+    let rows = compare(&with(2.0), &with(1.0), &TOL);
+    let r = row(&rows, "clearance_min_bl");
+    assert_eq!(r.verdict, Verdict::Regression);
+    assert!(!r.gated);
+    let Change::Relative { rel, lo, hi } = r.change else {
+        panic!("{:?}", r.change)
+    };
+    assert!(
+        lo <= rel && rel <= hi && (rel + 0.5).abs() < 0.01,
+        "{rel} [{lo}, {hi}]"
+    );
+    // clearance doubled: better, not a regression
+    let rows = compare(&with(1.0), &with(2.0), &TOL);
+    let r = row(&rows, "clearance_min_bl");
+    assert!(r.verdict == Verdict::Ok && r.better, "{r:?}");
 }

@@ -4,10 +4,11 @@
 //!   by then, per configuration, with the 95% Wilson interval as a band;
 //! - `cost-vs-iterations`: the median best cost with the interquartile band (unsolved runs
 //!   count as +∞, so the median shows once half the runs are solved);
-//! - `time-to-first-solution`, `final-cost`: box plots over solved runs;
-//! - with trackers: `rms-error` and `max-error` box plots and `rms-error-cdf`; the worst
-//!   agent's RMS error (`rms-error-worst-agent`, observed and true) and, for a team of three
-//!   or more, each agent's (`rms-error-per-agent`, one colour per agent).
+//! - a box plot of every metric the table ([`crate::metrics::TABLE`]) gives one (`final-cost`,
+//!   `time-to-first-solution`, `path-length`, ...; with trackers `rms-error`, `max-error`, the
+//!   worst agent's, ...), one box per configuration;
+//! - with trackers: `rms-error-cdf` and, for a team of three or more, each agent's RMS error
+//!   (`rms-error-per-agent`, one colour per agent).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -15,6 +16,7 @@ use std::path::{Path, PathBuf};
 use super::manifest::Manifest;
 use super::summary::groups;
 use crate::CliError;
+use crate::metrics::Metric;
 use crate::plot::charts::{BandPoint, BoxChart, CdfChart, LineBandChart, Series};
 use crate::plot::{Figure, save};
 use crate::run::{ProgressRow, RunRecord};
@@ -58,17 +60,13 @@ fn grid(max: f64) -> Vec<f64> {
     (0..=GRID).map(|k| max * k as f64 / GRID as f64).collect()
 }
 
-fn success_curve(
-    runs: &[&RunRecord],
-    xs: &[f64],
-    at: impl Fn(&RunRecord) -> Option<f64>,
-) -> Vec<BandPoint> {
+fn success_curve(runs: &[&RunRecord], xs: &[f64], at: Metric) -> Vec<BandPoint> {
     let n = runs.len() as u64;
     xs.iter()
         .map(|&x| {
             let s = runs
                 .iter()
-                .filter(|r| r.solved && at(r).is_some_and(|v| v <= x))
+                .filter(|r| r.solved && r.get(at).is_some_and(|v| v <= x))
                 .count() as u64;
             let (lo, hi) = wilson(s, n, 0.95);
             BandPoint {
@@ -239,13 +237,17 @@ pub fn write_all(
             .experiment
             .max_iterations
             .map(|i| i as f64)
-            .unwrap_or_else(|| runs.iter().map(|r| r.iterations as f64).fold(0.0, f64::max));
+            .unwrap_or_else(|| {
+                runs.iter()
+                    .filter_map(|r| r.get(Metric::Iterations))
+                    .fold(0.0, f64::max)
+            });
         let xs = grid(max_it);
         let series: Vec<Series<Vec<BandPoint>>> = planning
             .iter()
             .map(|g| Series {
                 label: g[0].planner.clone(),
-                data: success_curve(g, &xs, |r| r.first_solution_iteration.map(|i| i as f64)),
+                data: success_curve(g, &xs, Metric::FirstSolutionIteration),
             })
             .collect();
         let title = format!("{sc}: success rate vs iterations");
@@ -264,7 +266,7 @@ pub fn write_all(
         let max_t = gs
             .iter()
             .flat_map(|g| g.iter())
-            .map(|r| r.plan_time_s)
+            .filter_map(|r| r.get(Metric::PlanTime))
             .fold(0.0, f64::max);
         let max_t = m
             .experiment
@@ -276,7 +278,7 @@ pub fn write_all(
             .iter()
             .map(|g| Series {
                 label: g[0].planner.clone(),
-                data: success_curve(g, &ts, |r| r.first_solution_time_s),
+                data: success_curve(g, &ts, Metric::FirstSolutionTime),
             })
             .collect();
         let title = format!("{sc}: success rate vs planning time");
@@ -348,81 +350,30 @@ pub fn write_all(
             };
             w.save(sc, name, &fig, &title)
         };
-        save_box(
-            "time-to-first-solution",
-            "time to first solution",
-            "time to first solution (s)",
-            &|r| r.first_solution_time_s,
-            &planning,
-        )?;
-        save_box(
-            "final-cost",
-            "final cost of solved runs",
-            "cost (objective units)",
-            &|r| r.cost,
-            &planning,
-        )?;
-
         let tracked: Vec<&Vec<&RunRecord>> = gs
             .iter()
             .copied()
             .filter(|g| !g[0].tracker.is_empty())
             .collect();
-        if !tracked.is_empty() {
-            save_box(
-                "rms-error",
-                "RMS tracking error (observed positions)",
-                "RMS distance to the planned path (BL)",
-                &|r| r.rms_error_bl,
-                &tracked,
-            )?;
-            save_box(
-                "rms-error-true",
-                "RMS tracking error (true positions)",
-                "RMS distance to the planned path (BL)",
-                &|r| r.rms_error_true_bl,
-                &tracked,
-            )?;
-            save_box(
-                "rms-error-sync",
-                "team-synchronous RMS error (observed)",
-                "RMS distance to the nearest common reference point (BL)",
-                &|r| r.rms_error_sync_bl,
-                &tracked,
-            )?;
-            save_box(
-                "rms-error-time",
-                "time-indexed RMS error (observed)",
-                "RMS distance to the reference at the same time (BL)",
-                &|r| r.rms_error_time_bl,
-                &tracked,
-            )?;
-            save_box(
-                "rms-error-worst-agent",
-                "RMS tracking error of the worst agent (observed positions)",
-                "RMS distance of the worst agent to its planned path (BL)",
-                &|r| r.rms_error_worst_agent_bl,
-                &tracked,
-            )?;
-            if tracked
-                .iter()
-                .any(|g| g.iter().any(|r| r.rms_error_true_worst_agent_bl.is_some()))
-            {
-                save_box(
-                    "rms-error-true-worst-agent",
-                    "RMS tracking error of the worst agent (true positions)",
-                    "RMS distance of the worst agent to its planned path (BL)",
-                    &|r| r.rms_error_true_worst_agent_bl,
-                    &tracked,
-                )?;
+        // the table's box plots: planning and path metrics over the planning series, then
+        // tracking metrics over the tracked configurations
+        for stage_tracking in [false, true] {
+            let groups = if stage_tracking { &tracked } else { &planning };
+            if groups.is_empty() {
+                continue;
             }
-            save_box(
-                "max-error",
-                "max tracking error",
-                "max distance to the planned path (BL)",
-                &|r| r.max_error_bl,
-                &tracked,
-            )?;
+            for m in Metric::ALL {
+                let d = m.def();
+                let Some(p) = d.plot.filter(|_| d.tracking() == stage_tracking) else {
+                    continue;
+                };
+                let any = groups.iter().any(|g| g.iter().any(|r| r.get(*m).is_some()));
+                if p.always || any {
+                    save_box(p.stem, p.title, &d.axis(), &|r| r.get(*m), groups)?;
+                }
+            }
+        }
+        if !tracked.is_empty() {
             if let Some(fig) = per_agent_box(sc, &tracked, &label) {
                 let title = fig.title.clone();
                 w.save(sc, "rms-error-per-agent", &fig, &title)?;
@@ -430,14 +381,14 @@ pub fn write_all(
             let title = format!("{sc}: distribution of RMS tracking error");
             let fig = CdfChart {
                 title: title.clone(),
-                x_label: "RMS distance to the planned path (BL)".into(),
+                x_label: Metric::RmsError.def().axis(),
                 series: tracked
                     .iter()
                     .map(|g| Series {
                         label: label(g),
                         data: g
                             .iter()
-                            .map(|r| r.rms_error_bl.unwrap_or(f64::NAN))
+                            .map(|r| r.get(Metric::RmsError).unwrap_or(f64::NAN))
                             .collect(),
                     })
                     .collect(),

@@ -333,7 +333,7 @@ mod tests {
         // A run killed after its progress rows, and a torn runs.csv line cut inside the quoted
         // error (after its newline, so a plain last-newline cut would take it as complete).
         append(dir.path(), PROGRESS, &csv_rows(&out(2).progress));
-        let line = csv_rows(&[out(2).record]);
+        let line = store::run_bytes(&[out(2).record], 0);
         let cut = line.windows(2).position(|w| w == b"\ne").unwrap() + 1;
         append(dir.path(), RUNS, &line[..cut]);
         let r = repair(dir.path(), None).unwrap();
@@ -376,7 +376,7 @@ mod tests {
         store::write_atomic(&dir.path().join(PROGRESS), &store::progress_header(), &p).unwrap();
         let mut row = out(2).record;
         row.progress_rows = Some(3);
-        append(dir.path(), RUNS, &csv_rows(&[row]));
+        append(dir.path(), RUNS, &store::run_bytes(&[row], 0));
         let r = repair(dir.path(), None).unwrap();
         assert_eq!(r.done.into_iter().collect::<Vec<_>>(), ["s|p|-|-|3"]);
         assert_eq!(r.notes.len(), 3, "{:?}", r.notes);

@@ -8,6 +8,7 @@ use super::manifest::Manifest;
 use super::plots::PlotFile;
 use super::summary::{GroupSummary, summaries};
 use crate::CliError;
+use crate::metrics::{Aggregation, Metric};
 use crate::run::RunRecord;
 use crate::stats::Summary;
 
@@ -19,7 +20,7 @@ pub fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-fn med(s: &Option<Summary>, digits: usize) -> String {
+fn med(s: Option<&Summary>, digits: usize) -> String {
     match s {
         Some(s) => format!(
             "{:.*} <small>[{:.*}, {:.*}]</small>",
@@ -29,19 +30,41 @@ fn med(s: &Option<Summary>, digits: usize) -> String {
     }
 }
 
+/// A metric's cell: its median with the quartiles, or its total over the runs.
+fn cell(g: &GroupSummary, m: Metric, digits: usize) -> String {
+    match m.def().aggregation {
+        Aggregation::Median => med(g.metric(m), digits),
+        Aggregation::Sum => g.metric(m).map_or("–".into(), |s| {
+            format!("{:.*}", digits, s.mean * s.n as f64)
+        }),
+    }
+}
+
+/// The metrics of the table's report columns, tracking metrics only when `tracked`.
+fn columns(tracked: bool) -> Vec<(Metric, usize)> {
+    Metric::ALL
+        .iter()
+        .filter_map(|m| Some((*m, m.def().report?)))
+        .filter(|(m, _)| tracked || !m.def().tracking())
+        .collect()
+}
+
 fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecord])) {
     let tracked = rows.iter().any(|g| g.tracked());
+    let cols = columns(tracked);
     o.push_str("<table><thead><tr><th>configuration</th><th>runs</th><th>success (95% CI)</th><th>crashed</th>");
-    o.push_str("<th>time to 1st solution (s)</th><th>iterations to 1st solution</th><th>final cost</th><th>planning time (s)</th>");
+    for (m, _) in &cols {
+        let _ = write!(o, "<th>{}</th>", esc(&m.def().axis()));
+    }
     if tracked {
-        o.push_str("<th>RMS error, observed (BL)</th><th>RMS error, true (BL)</th><th>worst agent's RMS, observed (BL)</th><th>team-synchronous RMS (BL)</th><th>time-indexed RMS (BL)</th><th>node RMS, the seed's (BL)</th><th>max error (BL)</th><th>agent contacts</th>");
+        o.push_str("<th>agent contacts</th>");
     }
     o.push_str("<th>replays (by seed)</th></tr></thead><tbody>\n");
     for g in rows {
         let rate = g.succeeded as f64 / g.n.max(1) as f64;
         let _ = write!(
             o,
-            "<tr><td>{}</td><td>{}</td><td>{}/{} = {:.0}% <small>[{:.0}, {:.0}]</small></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+            "<tr><td>{}</td><td>{}</td><td>{}/{} = {:.0}% <small>[{:.0}, {:.0}]</small></td><td>{}</td>",
             esc(&g.config_label()),
             g.n,
             g.succeeded,
@@ -50,24 +73,12 @@ fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecor
             100.0 * g.success_ci.0,
             100.0 * g.success_ci.1,
             g.crashed,
-            med(&g.first_solution_time, 3),
-            med(&g.first_solution_iterations, 0),
-            med(&g.cost, 2),
-            med(&g.plan_time, 3),
         );
+        for &(m, digits) in &cols {
+            let _ = write!(o, "<td>{}</td>", cell(g, m, digits));
+        }
         if tracked {
-            let _ = write!(
-                o,
-                "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
-                med(&g.rms_error, 3),
-                med(&g.rms_error_true, 3),
-                med(&g.rms_error_worst_agent, 3),
-                med(&g.rms_error_sync, 3),
-                med(&g.rms_error_time, 3),
-                med(&g.rms_error_node, 3),
-                med(&g.max_error, 3),
-                g.agent_contacts
-            );
+            let _ = write!(o, "<td>{}</td>", g.agent_contacts);
         }
         let _ = writeln!(
             o,
@@ -75,7 +86,7 @@ fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecor
             crate::replay::files::links_cell(dir, runs, g)
         );
     }
-    o.push_str("</tbody></table>\n<p class=\"note\">Medians with [first quartile, third quartile]; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking). Tracking errors: the observed positions' distance to each agent's own path (RMS and max), the true positions' (simulation only), the worst agent's (the agent with the largest RMS), the team against the nearest common point of the team path (synchronous) and against the reference at the same elapsed time (time-indexed), and the team against its nearest plan node (node: the seed's tracking error, to which its ≈ 0.2 BL compares); docs/tracking.md, \"Metrics\".</p>\n");
+    o.push_str("</tbody></table>\n<p class=\"note\">Medians with [first quartile, third quartile] over the runs that have the metric; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking). Tracking errors: the observed positions' distance to each agent's own path (RMS and max), the true positions' (simulation only), the worst agent's (the agent with the largest RMS), the team against the nearest common point of the team path (synchronous) and against the reference at the same elapsed time (time-indexed), and the team against its nearest plan node (node: the seed's tracking error, to which its ≈ 0.2 BL compares); docs/tracking.md, \"Metrics\". Path quality (length, smoothness, cusps, clearance, proximity margin, field flips and field-angle variation) of the plan, the first leg's for tracked runs; docs/results.md, \"The metric table\".</p>\n");
 }
 
 /// Teams this large get the per-agent table (a pair's worst agent is in the main table).
@@ -103,9 +114,9 @@ fn agent_table(o: &mut String, rows: &[&GroupSummary]) {
                 c.1,
                 c.2,
                 i + 1,
-                med(&a.rms_error, 3),
-                med(&a.max_error, 3),
-                med(&a.rms_error_true, 3),
+                med(a.rms_error.as_ref(), 3),
+                med(a.max_error.as_ref(), 3),
+                med(a.rms_error_true.as_ref(), 3),
                 a.worst,
                 g.n,
             );
@@ -114,9 +125,9 @@ fn agent_table(o: &mut String, rows: &[&GroupSummary]) {
             o,
             "<tr><td>{}</td><td>worst agent</td><td>{}</td><td>{}</td><td>{}</td><td></td></tr>",
             esc(&g.config_label()),
-            med(&g.rms_error_worst_agent, 3),
-            med(&g.max_error, 3),
-            med(&g.rms_error_true_worst_agent, 3),
+            med(g.metric(Metric::RmsErrorWorstAgent), 3),
+            med(g.metric(Metric::MaxError), 3),
+            med(g.metric(Metric::RmsErrorTrueWorstAgent), 3),
         );
     }
     o.push_str("</tbody></table>\n<p class=\"note\">Agents numbered from 1 as in the plots (column <code>rms_error_agent0_bl</code> of runs.csv is agent 1). Medians with [first quartile, third quartile] over the tracked runs. The worst agent of a run is the one with the largest observed RMS error; its row is the median of that per-run worst, its max the largest error of any agent. README, \"Tracking metrics\".</p>\n");

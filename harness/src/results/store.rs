@@ -18,6 +18,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::CliError;
+use crate::metrics::Metric;
 use crate::run::record::{AgentErrors, agent_columns};
 use crate::run::{ProgressRow, RunOutput, RunRecord};
 
@@ -40,6 +41,10 @@ fn header_line<T: serde::Serialize>(example: &T) -> String {
 /// The header of a `runs.csv` with per-agent columns for `agents` agents.
 pub fn runs_header(agents: usize) -> String {
     let mut h = header_line(&RunRecord::example());
+    for m in Metric::ALL {
+        h.push(',');
+        h.push_str(m.def().column);
+    }
     for i in 0..agents {
         for c in agent_columns(i) {
             h.push(',');
@@ -90,20 +95,22 @@ pub fn file_agents(dir: &Path) -> usize {
         .unwrap_or(0)
 }
 
-/// `runs.csv` rows: the serde columns, then `agents` agents' per-agent columns.
-fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
+/// `runs.csv` rows: the serde columns, the metric columns, then `agents` agents' per-agent
+/// columns.
+pub fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
     let mut out = vec![];
     for r in rows {
         let mut line = record_bytes(std::slice::from_ref(r));
         // the csv writer ends a record with one '\n'; the extra cells are plain numbers
         debug_assert_eq!(line.last(), Some(&b'\n'));
         line.pop();
-        for i in 0..agents {
-            for v in r.per_agent.get(i).copied().unwrap_or_default().values() {
-                line.push(b',');
-                if let Some(v) = v {
-                    line.extend(format!("{v}").bytes());
-                }
+        let cells = Metric::ALL.iter().map(|m| r.get(*m)).chain(
+            (0..agents).flat_map(|i| r.per_agent.get(i).copied().unwrap_or_default().values()),
+        );
+        for v in cells {
+            line.push(b',');
+            if let Some(v) = v {
+                line.extend(format!("{v}").bytes());
             }
         }
         line.push(b'\n');
@@ -248,6 +255,11 @@ pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
     };
     let headers = rd.headers().map_err(|e| bad(0, e.to_string()))?.clone();
     let col = |name: &str| headers.iter().position(|h| h == name);
+    // the column of each metric the header has
+    let metrics: Vec<(Metric, usize)> = Metric::ALL
+        .iter()
+        .filter_map(|m| Some((*m, col(m.def().column)?)))
+        .collect();
     // the column of each per-agent value, for every agent the header has
     let agents: Vec<[Option<usize>; 4]> = (0..)
         .map(|a| agent_columns(a).map(|c| col(&c)))
@@ -269,6 +281,9 @@ pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
                     .map_err(|e| bad(i + 1, format!("{}: {v:?}: {e}", &headers[c]))),
             }
         };
+        for &(m, c) in &metrics {
+            r.set(m, cell(Some(c))?);
+        }
         for cols in &agents {
             let mut v = [None; 4];
             for (v, &c) in v.iter_mut().zip(cols) {
@@ -431,6 +446,8 @@ mod tests {
         let mut o = out(i);
         o.record.tracker = "obc".into();
         o.record.agents = agents;
+        o.record.set(Metric::RmsError, Some(0.1 + agents as f64));
+        o.record.set(Metric::ClearanceMin, Some(1.0 / 3.0));
         o.record.per_agent = (0..agents)
             .map(|a| AgentErrors {
                 rms_bl: Some(0.1 * (a + 1) as f64),
@@ -453,7 +470,8 @@ mod tests {
         drop(w);
         let text = std::fs::read_to_string(dir.path().join(RUNS)).unwrap();
         let header = text.lines().next().unwrap();
-        assert!(header.ends_with(",error,rms_error_agent0_bl,max_error_agent0_bl,rms_error_true_agent0_bl,max_error_true_agent0_bl,rms_error_agent1_bl,max_error_agent1_bl,rms_error_true_agent1_bl,max_error_true_agent1_bl,rms_error_agent2_bl,max_error_agent2_bl,rms_error_true_agent2_bl,max_error_true_agent2_bl,rms_error_agent3_bl,max_error_agent3_bl,rms_error_true_agent3_bl,max_error_true_agent3_bl"), "{header}");
+        let last = Metric::ALL.last().unwrap().def().column;
+        assert!(header.ends_with(&format!(",{last},rms_error_agent0_bl,max_error_agent0_bl,rms_error_true_agent0_bl,max_error_true_agent0_bl,rms_error_agent1_bl,max_error_agent1_bl,rms_error_true_agent1_bl,max_error_true_agent1_bl,rms_error_agent2_bl,max_error_agent2_bl,rms_error_true_agent2_bl,max_error_true_agent2_bl,rms_error_agent3_bl,max_error_agent3_bl,rms_error_true_agent3_bl,max_error_true_agent3_bl")), "{header}");
         // one header, every row as wide: absent agents are empty cells
         let mut rd = csv::Reader::from_reader(text.as_bytes());
         let width = rd.headers().unwrap().len();
@@ -486,9 +504,10 @@ mod tests {
         std::fs::write(dir.path().join(RUNS), old).unwrap();
         let r = read_runs(dir.path()).unwrap();
         assert_eq!(r.len(), 1);
-        assert_eq!(r[0].rms_error_worst_agent_bl, Some(0.08));
+        assert_eq!(r[0].get(Metric::RmsErrorWorstAgent), Some(0.08));
+        assert_eq!(r[0].get(Metric::Iterations), Some(10.0));
         assert_eq!(
-            (r[0].worst_agent, r[0].rms_error_true_worst_agent_bl),
+            (r[0].worst_agent, r[0].get(Metric::RmsErrorTrueWorstAgent)),
             (None, None)
         );
         assert!(r[0].per_agent.is_empty());

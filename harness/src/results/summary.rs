@@ -1,5 +1,6 @@
 //! Per-configuration summaries of runs: one row per (scenario, planner, tracker, preset).
 
+use crate::metrics::Metric;
 use crate::run::{RunRecord, Status};
 use crate::stats::{Summary, wilson};
 
@@ -24,30 +25,9 @@ pub struct GroupSummary {
     pub succeeded: usize,
     /// 95% Wilson interval of the success rate.
     pub success_ci: (f64, f64),
-    /// Time to the first solution (s), solved runs.
-    pub first_solution_time: Option<Summary>,
-    /// Iterations to the first solution, solved runs.
-    pub first_solution_iterations: Option<Summary>,
-    /// Final cost, solved runs.
-    pub cost: Option<Summary>,
-    /// Planning time (s), all runs.
-    pub plan_time: Option<Summary>,
-    /// RMS path error of the observed positions (BL), tracked runs.
-    pub rms_error: Option<Summary>,
-    /// RMS path error of the true positions (BL), tracked runs that know them.
-    pub rms_error_true: Option<Summary>,
-    /// RMS team-synchronous error (BL), tracked runs.
-    pub rms_error_sync: Option<Summary>,
-    /// RMS time-indexed error (BL), tracked runs.
-    pub rms_error_time: Option<Summary>,
-    /// RMS node error (BL), tracked runs: the seed's tracking error.
-    pub rms_error_node: Option<Summary>,
-    /// Max tracking error (BL), tracked runs.
-    pub max_error: Option<Summary>,
-    /// RMS path error of the worst agent, observed positions (BL), tracked runs.
-    pub rms_error_worst_agent: Option<Summary>,
-    /// RMS path error of the worst agent, true positions (BL), tracked runs that know them.
-    pub rms_error_true_worst_agent: Option<Summary>,
+    /// Each metric's summary over the runs that have it, indexed by [`Metric`] (see
+    /// [`GroupSummary::metric`]).
+    pub metrics: Vec<Option<Summary>>,
     /// Each agent's errors, for the largest team of the configuration's tracked runs.
     pub per_agent: Vec<AgentSummary>,
     /// Runs with agent contact.
@@ -75,6 +55,11 @@ impl GroupSummary {
         } else {
             format!("{} + {} ({})", self.planner, self.tracker, self.preset)
         }
+    }
+
+    /// The summary of metric `m` over the configuration's runs that have it.
+    pub fn metric(&self, m: Metric) -> Option<&Summary> {
+        self.metrics[m as usize].as_ref()
     }
 
     /// True if the configuration tracks.
@@ -131,27 +116,10 @@ pub fn summarize(g: &[&RunRecord]) -> GroupSummary {
         solved: g.iter().filter(|r| r.solved).count(),
         succeeded,
         success_ci: wilson(succeeded as u64, n as u64, 0.95),
-        first_solution_time: summary_of(g.iter().filter_map(|r| r.first_solution_time_s)),
-        first_solution_iterations: summary_of(
-            g.iter()
-                .filter_map(|r| r.first_solution_iteration.map(|i| i as f64)),
-        ),
-        cost: summary_of(g.iter().filter_map(|r| r.cost)),
-        plan_time: summary_of(
-            g.iter()
-                .filter(|r| r.status != Status::Crash)
-                .map(|r| r.plan_time_s),
-        ),
-        rms_error: summary_of(g.iter().filter_map(|r| r.rms_error_bl)),
-        rms_error_true: summary_of(g.iter().filter_map(|r| r.rms_error_true_bl)),
-        rms_error_sync: summary_of(g.iter().filter_map(|r| r.rms_error_sync_bl)),
-        rms_error_time: summary_of(g.iter().filter_map(|r| r.rms_error_time_bl)),
-        rms_error_node: summary_of(g.iter().filter_map(|r| r.rms_error_node_bl)),
-        max_error: summary_of(g.iter().filter_map(|r| r.max_error_bl)),
-        rms_error_worst_agent: summary_of(g.iter().filter_map(|r| r.rms_error_worst_agent_bl)),
-        rms_error_true_worst_agent: summary_of(
-            g.iter().filter_map(|r| r.rms_error_true_worst_agent_bl),
-        ),
+        metrics: Metric::ALL
+            .iter()
+            .map(|m| summary_of(g.iter().filter_map(|r| r.get(*m))))
+            .collect(),
         per_agent: agent_summaries(g),
         agent_contacts: g.iter().filter(|r| r.agent_contact == Some(true)).count(),
     }

@@ -22,6 +22,7 @@ use sha2::{Digest, Sha256};
 use super::executor::base_record;
 use super::record::AgentErrors;
 use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
+use crate::metrics::Metric;
 
 /// Runs of this process the fake executor has finished.
 static FINISHED: AtomicUsize = AtomicUsize::new(0);
@@ -140,8 +141,8 @@ impl Executor for FakeExecutor {
             });
             it += step;
         }
-        r.iterations = budget;
-        r.nodes = budget / 3;
+        r.set(Metric::Iterations, Some((budget) as f64));
+        r.set(Metric::Nodes, Some((budget / 3) as f64));
         r.solved = solved;
         r.approximate = !solved;
         r.status = if solved {
@@ -149,16 +150,31 @@ impl Executor for FakeExecutor {
         } else {
             Status::Approximate
         };
-        r.cost = if solved { best } else { None };
-        r.goal_distance = if solved {
-            0.2 * rng.random::<f64>()
-        } else {
-            1.0 + 5.0 * rng.random::<f64>()
-        };
-        r.first_solution_iteration = solved.then_some(first);
-        r.first_solution_time_s = solved.then_some(first as f64 * secs_per_iter);
-        r.plan_edges = 5 + (rng.random::<f64>() * 20.0) as u64;
-        r.plan_duration_s = 10.0 + 30.0 * rng.random::<f64>();
+        r.set(Metric::Cost, if solved { best } else { None });
+        r.set(
+            Metric::GoalDistance,
+            Some(if solved {
+                0.2 * rng.random::<f64>()
+            } else {
+                1.0 + 5.0 * rng.random::<f64>()
+            }),
+        );
+        r.set(
+            Metric::FirstSolutionIteration,
+            (solved.then_some(first)).map(|v| v as f64),
+        );
+        r.set(
+            Metric::FirstSolutionTime,
+            solved.then_some(first as f64 * secs_per_iter),
+        );
+        r.set(
+            Metric::PlanEdges,
+            Some((5 + (rng.random::<f64>() * 20.0) as u64) as f64),
+        );
+        r.set(
+            Metric::PlanDuration,
+            Some(10.0 + 30.0 * rng.random::<f64>()),
+        );
         if let Some(tv) = &spec.tracker {
             let mut trng = ChaCha8Rng::seed_from_u64(seed_of(&spec.id()));
             let scale = std::env::var("MAGBENCH_FAKE_TRACKER_GAIN_SCALE")
@@ -172,12 +188,12 @@ impl Executor for FakeExecutor {
                 1.0
             };
             let rms = 0.1 / gain * noise * (0.7 + 0.6 * trng.random::<f64>());
-            r.rms_error_bl = Some(rms);
-            r.rms_error_true_bl = Some(rms * 0.8);
-            r.rms_error_sync_bl = Some(rms * 1.2);
-            r.rms_error_time_bl = Some(rms * 2.0);
-            r.rms_error_node_bl = Some(rms * 1.5);
-            r.max_error_bl = Some(rms * (2.0 + trng.random::<f64>()));
+            r.set(Metric::RmsError, Some(rms));
+            r.set(Metric::RmsErrorTrue, Some(rms * 0.8));
+            r.set(Metric::RmsErrorSync, Some(rms * 1.2));
+            r.set(Metric::RmsErrorTime, Some(rms * 2.0));
+            r.set(Metric::RmsErrorNode, Some(rms * 1.5));
+            r.set(Metric::MaxError, Some(rms * (2.0 + trng.random::<f64>())));
             // each agent's share, drawn from nothing (the random stream above stays as it was)
             let agents = spec.scenario.agents();
             r.per_agent = (0..agents)
@@ -191,37 +207,59 @@ impl Executor for FakeExecutor {
                     }
                 })
                 .collect();
-            r.rms_error_worst_agent_bl =
-                r.per_agent.iter().filter_map(|a| a.rms_bl).reduce(f64::max);
+            r.set(
+                Metric::RmsErrorWorstAgent,
+                r.per_agent.iter().filter_map(|a| a.rms_bl).reduce(f64::max),
+            );
             r.worst_agent = Some(agents.saturating_sub(1) as u64);
-            r.rms_error_true_worst_agent_bl = r
-                .per_agent
-                .iter()
-                .filter_map(|a| a.rms_true_bl)
-                .reduce(f64::max);
-            r.max_error_true_bl = r
-                .per_agent
-                .iter()
-                .filter_map(|a| a.max_true_bl)
-                .reduce(f64::max);
+            r.set(
+                Metric::RmsErrorTrueWorstAgent,
+                r.per_agent
+                    .iter()
+                    .filter_map(|a| a.rms_true_bl)
+                    .reduce(f64::max),
+            );
+            r.set(
+                Metric::MaxErrorTrue,
+                r.per_agent
+                    .iter()
+                    .filter_map(|a| a.max_true_bl)
+                    .reduce(f64::max),
+            );
             let reached = solved && rms < 0.3 && trng.random::<f64>() < 0.97;
             r.reached_goal = Some(reached);
             r.track_status = if reached { "reached-goal" } else { "timeout" }.into();
-            r.time_to_goal_s =
-                reached.then(|| r.plan_duration_s * (1.0 + 0.1 * trng.random::<f64>()));
-            r.final_distance_bl = Some(if reached {
-                0.3 * trng.random::<f64>()
-            } else {
-                1.0 + trng.random::<f64>()
-            });
+            r.set(
+                Metric::TimeToGoal,
+                reached.then(|| {
+                    r.get(Metric::PlanDuration).unwrap_or(0.0) * (1.0 + 0.1 * trng.random::<f64>())
+                }),
+            );
+            r.set(
+                Metric::FinalDistance,
+                Some(if reached {
+                    0.3 * trng.random::<f64>()
+                } else {
+                    1.0 + trng.random::<f64>()
+                }),
+            );
             r.agent_contact = Some(false);
-            r.wall_contacts = Some((trng.random::<f64>() * 3.0) as u64);
-            r.missed_frames = Some((trng.random::<f64>() * 10.0) as u64);
-            r.replans = Some(0);
-            r.track_duration_s = Some(r.plan_duration_s * 1.1);
-            r.track_time_s = Some(0.0);
+            r.set(
+                Metric::WallContacts,
+                Some(((trng.random::<f64>() * 3.0) as u64) as f64),
+            );
+            r.set(
+                Metric::MissedFrames,
+                Some(((trng.random::<f64>() * 10.0) as u64) as f64),
+            );
+            r.set(Metric::Replans, Some(0.0));
+            r.set(
+                Metric::TrackDuration,
+                Some(r.get(Metric::PlanDuration).unwrap_or(0.0) * 1.1),
+            );
+            r.set(Metric::TrackTime, Some(0.0));
         }
-        r.plan_time_s = t0.elapsed().as_secs_f64();
+        r.set(Metric::PlanTime, Some(t0.elapsed().as_secs_f64()));
         FINISHED.fetch_add(1, Ordering::SeqCst);
         Ok(RunOutput {
             record: r,

@@ -29,6 +29,7 @@ use magbench_trackers::{Mission, RunStatus, simulate};
 
 use super::executor::base_record;
 use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
+use crate::metrics::{PathFacts, PlanFacts, TrackFacts};
 use crate::registry::Registry;
 use crate::replay::{LegTree, ReplayData};
 
@@ -178,6 +179,16 @@ pub fn joined_plan(legs: &[PlannerResult]) -> Plan {
     plan
 }
 
+/// Fills the path-quality metrics of `rec` from `plan`, the first leg's plan, in the first
+/// leg's world (a later leg may switch the map).
+fn fill_path(rec: &mut super::RunRecord, plan: &Plan, setup: &PlanningSetup, spec: &RunSpec) {
+    let problem = setup.problem(&spec.scenario, 0, None, spec.seed);
+    rec.metrics.fill_path(&PathFacts {
+        plan,
+        checker: &problem.checker,
+    });
+}
+
 /// Fills the planner columns of `rec` and returns the joined progress trace.
 fn fill_planning(
     legs: &[PlannerResult],
@@ -196,20 +207,10 @@ fn fill_planning(
     } else {
         Status::Timeout
     };
-    rec.iterations = legs.iter().map(|r| r.iterations).sum();
-    rec.nodes = legs.iter().map(|r| r.nodes as u64).sum();
-    rec.plan_time_s = legs.iter().map(|r| r.time_s).sum();
-    rec.cost = if solved {
-        legs.iter().map(|r| r.cost).sum::<Option<f64>>()
-    } else {
-        None
-    };
-    rec.goal_distance = last.goal_distance;
-    rec.plan_edges = legs.iter().map(|r| r.plan.edges() as u64).sum();
-    rec.plan_duration_s = legs.iter().map(|r| r.plan.duration()).sum();
     // Progress and the first solution of the whole run: offsets of the earlier legs, and the
     // earlier legs' costs added once the last leg is solved.
     let (mut it0, mut t0, mut c0) = (0u64, 0.0, 0.0);
+    let mut first_solution = None;
     let mut progress = vec![];
     for (i, r) in legs.iter().enumerate() {
         let final_leg = i + 1 == all_legs;
@@ -227,17 +228,17 @@ fn fill_planning(
             });
         }
         if let Some((it, t)) = r.first_solution.filter(|_| final_leg) {
-            rec.first_solution_iteration = Some(it0 + it);
-            rec.first_solution_time_s = Some(t0 + t);
+            first_solution = Some((it0 + it, t0 + t));
         }
         it0 += r.iterations;
         t0 += r.time_s;
         c0 += r.cost.unwrap_or(0.0);
     }
-    if !solved {
-        rec.first_solution_iteration = None;
-        rec.first_solution_time_s = None;
-    }
+    rec.metrics.fill_plan(&PlanFacts {
+        legs,
+        solved,
+        first_solution: first_solution.filter(|_| solved),
+    });
     progress
 }
 
@@ -310,6 +311,7 @@ impl Executor for RealExecutor {
             let n = spec.scenario.legs.len();
             let (legs, trees) = plan_legs_with_trees(&self.registry, spec, &setup)?;
             let progress = fill_planning(&legs, n, spec, &mut rec);
+            fill_path(&mut rec, &legs[0].plan, &setup, spec);
             let shown: Vec<&PlannerResult> = legs.iter().collect();
             let replay = ReplayData::planned(&spec.scenario, spec.id(), &shown, &trees);
             return Ok(RunOutput {
@@ -321,6 +323,7 @@ impl Executor for RealExecutor {
         let (first, tree) = plan_leg(&self.registry, spec, &setup, 0, &spec.scenario.start)?;
         let trees: Vec<LegTree> = tree.into_iter().collect();
         let progress = fill_planning(std::slice::from_ref(&first.result), 1, spec, &mut rec);
+        fill_path(&mut rec, &first.result.plan, &setup, spec);
         let tspec = self
             .registry
             .trackers()
@@ -364,27 +367,13 @@ impl Executor for RealExecutor {
         let m = &out.metrics;
         rec.track_status = m.status.as_str().to_string();
         rec.reached_goal = Some(m.reached_goal);
-        rec.time_to_goal_s = m.time_to_goal_s;
-        rec.rms_error_bl = Some(m.rms_error_bl);
-        rec.max_error_bl = Some(m.max_error_bl);
-        rec.rms_error_worst_agent_bl = Some(m.rms_error_worst_agent_bl);
         rec.worst_agent = m.worst_agent.map(|i| i as u64);
-        rec.rms_error_true_bl = m.rms_error_true_bl;
-        rec.max_error_true_bl = m.max_error_true_bl;
-        rec.rms_error_true_worst_agent_bl = m.rms_error_true_worst_agent_bl;
         rec.per_agent = out.per_agent.iter().map(Into::into).collect();
-        rec.rms_error_sync_bl = Some(m.rms_error_sync_bl);
-        rec.rms_error_time_bl = Some(m.rms_error_time_bl);
-        rec.rms_error_node_bl = Some(m.rms_error_node_bl);
-        rec.rms_error_node_true_bl = m.rms_error_node_true_bl;
-        rec.legs_completed = Some(m.legs_completed as u64);
-        rec.final_distance_bl = Some(m.final_goal_distance_bl);
         rec.agent_contact = Some(m.agent_contact);
-        rec.wall_contacts = Some(m.wall_contacts as u64);
-        rec.missed_frames = Some(m.missed_frames as u64);
-        rec.replans = Some(m.replans as u64);
-        rec.track_duration_s = Some(m.duration_s);
-        rec.track_time_s = Some(t0.elapsed().as_secs_f64());
+        rec.metrics.fill_track(&TrackFacts {
+            metrics: m,
+            wall_s: t0.elapsed().as_secs_f64(),
+        });
         if let Some(msg) = &out.message {
             rec.error = msg.clone();
         }

@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::metrics::{Metric, Values};
+
 /// How a run ended, named after OMPL's `PlannerStatus`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -42,9 +44,9 @@ impl Status {
     }
 }
 
-/// One row of `runs.csv`: every input column, every planner metric and every tracker metric.
-/// Tracker columns are empty for runs without a tracker; optional metrics are empty when they
-/// do not exist (e.g. `cost` of an unsolved run).
+/// One row of `runs.csv`: every input column, how the run ended, and every metric of the table
+/// ([`crate::metrics`]). Tracker columns are empty for runs without a tracker; a metric is empty
+/// when the run has none (e.g. `cost` of an unsolved run).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
     /// Position in the experiment's run matrix.
@@ -80,82 +82,30 @@ pub struct RunRecord {
     pub solved: bool,
     /// Approximate solution only.
     pub approximate: bool,
-    /// Iterations run.
-    pub iterations: u64,
-    /// Nodes in the tree at the end.
-    pub nodes: u64,
     /// Points of this run's trace in `progress.csv`, set when the row is written: a resume and
     /// `results verify` check the trace against it (empty in files of older versions).
     #[serde(default)]
     pub progress_rows: Option<u64>,
-    /// Planning wall time (s).
-    pub plan_time_s: f64,
-    /// Cost of the plan (solved runs).
-    pub cost: Option<f64>,
-    /// Largest distance of an agent from its goal centre at the plan's end (BL).
-    pub goal_distance: f64,
-    /// Iteration of the first exact solution.
-    pub first_solution_iteration: Option<u64>,
-    /// Time of the first exact solution (s).
-    pub first_solution_time_s: Option<f64>,
-    /// Edges in the plan.
-    pub plan_edges: u64,
-    /// Duration of the plan (s of motion).
-    pub plan_duration_s: f64,
 
     /// How tracking ended (`reached-goal`, `timeout`, `agent-contact`, ...; empty: no tracking).
     pub track_status: String,
     /// The tracked run reached the goal.
     pub reached_goal: Option<bool>,
-    /// Simulated time to reach the goal (s).
-    pub time_to_goal_s: Option<f64>,
-    /// RMS path error of the observed positions, over agents and ticks (BL): what a rig
-    /// measures (definitions: README, "Tracking metrics").
-    pub rms_error_bl: Option<f64>,
-    /// Largest path error of an observed position (BL).
-    pub max_error_bl: Option<f64>,
-    /// RMS path error of the worst agent, observed positions (BL).
-    pub rms_error_worst_agent_bl: Option<f64>,
     /// The worst agent (0-based): the largest RMS path error of its observed positions.
     pub worst_agent: Option<u64>,
-    /// RMS path error of the true positions (BL); empty when the rig does not know them.
-    pub rms_error_true_bl: Option<f64>,
-    /// Largest path error of a true position (BL); empty as `rms_error_true_bl`.
-    pub max_error_true_bl: Option<f64>,
-    /// RMS path error of the worst agent by its true positions (BL); empty as
-    /// `rms_error_true_bl`.
-    pub rms_error_true_worst_agent_bl: Option<f64>,
-    /// RMS team-synchronous error of the observed positions (BL).
-    pub rms_error_sync_bl: Option<f64>,
-    /// RMS time-indexed error of the observed positions (BL).
-    pub rms_error_time_bl: Option<f64>,
-    /// RMS node error of the observed positions (BL): the team against its nearest node of the
-    /// plan being followed, the seed's tracking error (Sec. III-B).
-    pub rms_error_node_bl: Option<f64>,
-    /// RMS node error of the true positions (BL); empty as `rms_error_true_bl`.
-    pub rms_error_node_true_bl: Option<f64>,
-    /// Legs completed while tracking.
-    pub legs_completed: Option<u64>,
-    /// Largest agent distance from its goal centre at the end of tracking (BL).
-    pub final_distance_bl: Option<f64>,
     /// Agents touched (they stick: a failure).
     pub agent_contact: Option<bool>,
-    /// Wall contact events.
-    pub wall_contacts: Option<u64>,
-    /// Missed camera frames.
-    pub missed_frames: Option<u64>,
-    /// Replans during tracking.
-    pub replans: Option<u64>,
-    /// Simulated duration of tracking (s).
-    pub track_duration_s: Option<f64>,
-    /// Tracking wall time (s).
-    pub track_time_s: Option<f64>,
 
     /// Error message of a crashed run.
     pub error: String,
 
+    /// Every metric of the table ([`crate::metrics`]). Not a serde field: `runs.csv` writes
+    /// one column per table entry after `error` (see `results::store`).
+    #[serde(skip)]
+    pub metrics: Values,
+
     /// Each agent's path error of a tracked run (empty otherwise). Not a serde field: `runs.csv`
-    /// writes it after `error` as [`agent_columns`] for as many agents as the experiment's
+    /// writes it after the metric columns as [`agent_columns`] for as many agents as the experiment's
     /// largest team (see `results::store`).
     #[serde(skip)]
     pub per_agent: Vec<AgentErrors>,
@@ -215,15 +165,21 @@ pub fn agent_columns(i: usize) -> [String; 4] {
 }
 
 impl RunRecord {
-    /// Columns that hold wall-clock times: they differ between two executions of the same run.
-    pub const TIMING_COLUMNS: [&'static str; 4] = [
-        "plan_time_s",
-        "first_solution_time_s",
-        "track_time_s",
-        "time_limit_s",
-    ];
+    /// Columns that hold wall-clock times: they differ between two executions of the same run
+    /// (the time limit, and the table's wall-clock metrics).
+    pub fn timing_columns() -> Vec<&'static str> {
+        std::iter::once("time_limit_s")
+            .chain(
+                Metric::ALL
+                    .iter()
+                    .map(|m| m.def())
+                    .filter(|d| d.wall_clock)
+                    .map(|d| d.column),
+            )
+            .collect()
+    }
 
-    /// The CSV header.
+    /// The CSV header without per-agent columns: the serde columns, then one per metric.
     pub fn header() -> Vec<String> {
         let mut w = csv::WriterBuilder::new()
             .has_headers(true)
@@ -235,7 +191,18 @@ impl RunRecord {
             .unwrap_or_default()
             .split(',')
             .map(str::to_string)
+            .chain(Metric::ALL.iter().map(|m| m.def().column.to_string()))
             .collect()
+    }
+
+    /// The value of metric `m` (`None`: the run has none).
+    pub fn get(&self, m: Metric) -> Option<f64> {
+        self.metrics.get(m)
+    }
+
+    /// Sets the value of metric `m`.
+    pub fn set(&mut self, m: Metric, v: Option<f64>) {
+        self.metrics.set(m, v);
     }
 
     /// True if the run reached its goal: tracked to the goal, or (planning only) solved.
@@ -265,39 +232,13 @@ impl RunRecord {
             status: Status::Timeout,
             solved: false,
             approximate: false,
-            iterations: 0,
-            nodes: 0,
             progress_rows: None,
-            plan_time_s: 0.0,
-            cost: None,
-            goal_distance: 0.0,
-            first_solution_iteration: None,
-            first_solution_time_s: None,
-            plan_edges: 0,
-            plan_duration_s: 0.0,
             track_status: String::new(),
             reached_goal: None,
-            time_to_goal_s: None,
-            rms_error_bl: None,
-            max_error_bl: None,
-            rms_error_worst_agent_bl: None,
             worst_agent: None,
-            rms_error_true_bl: None,
-            max_error_true_bl: None,
-            rms_error_true_worst_agent_bl: None,
-            rms_error_sync_bl: None,
-            rms_error_time_bl: None,
-            rms_error_node_bl: None,
-            rms_error_node_true_bl: None,
-            legs_completed: None,
-            final_distance_bl: None,
             agent_contact: None,
-            wall_contacts: None,
-            missed_frames: None,
-            replans: None,
-            track_duration_s: None,
-            track_time_s: None,
             error: String::new(),
+            metrics: Values::default(),
             per_agent: vec![],
         }
     }
@@ -327,17 +268,27 @@ mod tests {
         let h = RunRecord::header();
         assert_eq!(h[0], "run");
         assert!(h.contains(&"planner".to_string()) && h.contains(&"rms_error_bl".to_string()));
-        for c in RunRecord::TIMING_COLUMNS {
+        for c in RunRecord::timing_columns() {
             assert!(h.contains(&c.to_string()), "{c}");
         }
-        assert_eq!(h.last().unwrap(), "error");
+        let mut t = RunRecord::timing_columns();
+        t.sort();
+        assert_eq!(
+            t,
+            [
+                "first_solution_time_s",
+                "plan_time_s",
+                "time_limit_s",
+                "track_time_s"
+            ]
+        );
+        assert_eq!(h.last().unwrap(), Metric::ALL.last().unwrap().def().column);
     }
 
     #[test]
     fn round_trips_through_csv() {
         let mut r = RunRecord::example();
         r.run_id = "micro-factory|goal-zoom-rrt{k=5,x=\"a, b\"}|-|-|3".into();
-        r.cost = Some(12.5);
         r.status = Status::Exact;
         r.error = "line one\nline two".into();
         let mut w = csv::Writer::from_writer(vec![]);

@@ -11,7 +11,7 @@ pub fn deterministic_runs(dir: &Path) -> Vec<Vec<String>> {
     let mut rd = csv::Reader::from_path(dir.join("runs.csv")).unwrap();
     let header: Vec<String> = rd.headers().unwrap().iter().map(str::to_string).collect();
     let keep: Vec<usize> = (0..header.len())
-        .filter(|&i| !RunRecord::TIMING_COLUMNS.contains(&header[i].as_str()))
+        .filter(|&i| !RunRecord::timing_columns().contains(&header[i].as_str()))
         .collect();
     let mut rows: Vec<Vec<String>> = rd
         .records()

@@ -11,7 +11,8 @@
 //! Run properties follow OMPL's names and types: `time REAL` (planning time), `solved
 //! BOOLEAN` (exact or approximate, as in OMPL), `approximate solution BOOLEAN`, `solution
 //! difference REAL`, `status ENUM` (`ompl::base::PlannerStatus`), `graph states INTEGER`,
-//! `iterations INTEGER`, `best cost REAL`, ...; progress properties are `best cost REAL`,
+//! `iterations INTEGER`, `best cost REAL`, `solution length REAL`, `solution smoothness
+//! REAL`, `solution clearance REAL`, ... (the metric table's OMPL names); progress properties are `best cost REAL`,
 //! `iterations INTEGER` and `time REAL`. See [`parse`] for the grammar.
 
 pub mod parse;
@@ -22,6 +23,7 @@ use std::path::{Path, PathBuf};
 
 use super::manifest::Manifest;
 use crate::CliError;
+use crate::metrics::Metric;
 use crate::run::{ProgressRow, RunRecord};
 
 /// The values of OMPL's `PlannerStatus` enum, in order (`status ENUM` indexes this list).
@@ -64,48 +66,31 @@ fn boolean(b: bool) -> String {
     (b as u8).to_string()
 }
 
-/// The run properties of a record (name with type suffix → value), sorted by name like OMPL.
+/// The run properties of a record (name with type suffix → value), sorted by name like OMPL:
+/// how the run ended, then every metric of the table with an OMPL property (tracking metrics
+/// for tracked runs only).
 fn properties(r: &RunRecord) -> BTreeMap<&'static str, String> {
     let mut p = BTreeMap::new();
     p.insert("approximate solution BOOLEAN", boolean(r.approximate));
-    p.insert("best cost REAL", optf(r.cost));
-    p.insert(
-        "first solution iterations INTEGER",
-        opt(r.first_solution_iteration),
-    );
-    p.insert("first solution time REAL", optf(r.first_solution_time_s));
-    p.insert("graph states INTEGER", r.nodes.to_string());
-    p.insert("iterations INTEGER", r.iterations.to_string());
     p.insert("seed INTEGER", r.seed.to_string());
-    p.insert("solution difference REAL", num(r.goal_distance));
-    p.insert("solution duration REAL", num(r.plan_duration_s));
-    p.insert("solution segments INTEGER", r.plan_edges.to_string());
     p.insert("solved BOOLEAN", boolean(r.solved || r.approximate));
     p.insert("status ENUM", r.status.ompl_code().to_string());
-    p.insert("time REAL", num(r.plan_time_s));
-    if !r.tracker.is_empty() {
+    let tracked = !r.tracker.is_empty();
+    if tracked {
         p.insert(
             "tracking agent contact BOOLEAN",
             opt(r.agent_contact.map(|b| b as u8)),
         );
-        p.insert("tracking duration REAL", optf(r.track_duration_s));
-        p.insert("tracking final distance REAL", optf(r.final_distance_bl));
-        p.insert("tracking max error REAL", optf(r.max_error_bl));
-        p.insert("tracking missed frames INTEGER", opt(r.missed_frames));
         p.insert(
             "tracking reached goal BOOLEAN",
             opt(r.reached_goal.map(|b| b as u8)),
         );
-        p.insert("tracking replans INTEGER", opt(r.replans));
-        p.insert("tracking legs completed INTEGER", opt(r.legs_completed));
-        p.insert(
-            "tracking worst agent rms error REAL",
-            optf(r.rms_error_worst_agent_bl),
-        );
-        p.insert("tracking rms error REAL", optf(r.rms_error_bl));
-        p.insert("tracking time REAL", optf(r.track_time_s));
-        p.insert("tracking time to goal REAL", optf(r.time_to_goal_s));
-        p.insert("tracking wall contacts INTEGER", opt(r.wall_contacts));
+    }
+    for m in Metric::ALL {
+        let d = m.def();
+        if let Some(name) = d.ompl.filter(|_| tracked || !d.tracking()) {
+            p.insert(name, optf(r.get(*m)));
+        }
     }
     p
 }
