@@ -137,7 +137,12 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         None => {
             let planner = planner.as_mut().expect("a planner without a plan file");
             let problem = setup.problem(s, 0, observed.as_deref(), r.seed);
-            let result = planner.solve(&problem);
+            let progress = super::progress::Progress::new(!r.json);
+            let result = magbench_planners::progress::observe(
+                progress.planning("planning".into()),
+                || planner.solve(&problem),
+            );
+            progress.clear();
             if rig.describe().is_some() {
                 eprintln!(
                     "plan: {} in {:.2} s ({} edges, {:.1} s long)",
@@ -193,7 +198,11 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     let mut opts = r.tracker.loop_options();
     opts.record_ticks = r.out.is_some();
     opts.cancel = rig.cancel_flag();
-    let outcome = track(rig.as_rig(), tracker.as_mut(), mission, &opts);
+    let progress = super::progress::Progress::new(!r.json);
+    let outcome = magbench_planners::progress::observe(progress.tracking(), || {
+        track(rig.as_rig(), tracker.as_mut(), mission, &opts)
+    });
+    progress.clear();
     let stopped = rig.stop();
     let rig_stats = rig.stats();
     let planner_label = r.planner.as_deref().unwrap_or("file");
