@@ -12,9 +12,9 @@
 //! BOOLEAN` (exact or approximate, as in OMPL), `approximate solution BOOLEAN`, `solution
 //! difference REAL`, `status ENUM` (`ompl::base::PlannerStatus`), `graph states INTEGER`,
 //! `iterations INTEGER`, `best cost REAL`, ...; progress properties are `best cost REAL`,
-//! `iterations INTEGER` and `time REAL` for planners that track a best cost, and `iterations
-//! INTEGER` and `time REAL` for those that stop at their first solution (as OMPL writes
-//! progress only for the properties a planner declares). The log declares no experiment
+//! `iterations INTEGER` and `time REAL` for planners that track a best cost; planners that
+//! stop at their first solution have no progress section, as OMPL's non-optimizing planners
+//! declare no progress properties (their traces stay in `progress.csv`). The log declares no experiment
 //! properties: Planner Arena's "Progress" tab filters progress rows by them and cannot find
 //! them (docs/ompl-logs.md); the team size is a planner configuration's common property
 //! `agents`. See [`parse`] for the grammar.
@@ -264,18 +264,12 @@ pub fn log_text(
             }
             o.push('\n');
         }
-        if b.runs
-            .iter()
-            .any(|r| progress.get(&r.run).is_some_and(|v| !v.is_empty()))
-        {
-            let cost = tracks_cost(&b.runs, progress);
-            if cost {
-                let _ = writeln!(o, "3 progress properties for each run");
-                let _ = writeln!(o, "best cost REAL\niterations INTEGER\ntime REAL");
-            } else {
-                let _ = writeln!(o, "2 progress properties for each run");
-                let _ = writeln!(o, "iterations INTEGER\ntime REAL");
-            }
+        // OMPL writes progress only for planners that declare progress properties, which
+        // its non-optimizing planners (RRT, KPIECE, ...) do not.
+        let cost = tracks_cost(&b.runs, progress);
+        if cost {
+            let _ = writeln!(o, "3 progress properties for each run");
+            let _ = writeln!(o, "best cost REAL\niterations INTEGER\ntime REAL");
             let _ = writeln!(o, "{} runs", b.runs.len());
             for r in &b.runs {
                 // OMPL's progress table is keyed by (run, time): keep the last sample per time.
@@ -289,11 +283,8 @@ pub fn log_text(
                 }
                 for t in order {
                     let p = by_time[&t];
-                    if cost {
-                        let c = p.best_cost.map(num).unwrap_or_else(|| "inf".into());
-                        let _ = write!(o, "{c},");
-                    }
-                    let _ = write!(o, "{},{t},;", p.iteration);
+                    let c = p.best_cost.map(num).unwrap_or_else(|| "inf".into());
+                    let _ = write!(o, "{c},{},{t},;", p.iteration);
                 }
                 o.push('\n');
             }
