@@ -33,7 +33,12 @@ fn logged_progress(out: &Path) -> usize {
     let runs = read_runs(out).unwrap();
     let progress = read_progress(out).unwrap();
     let config = |r: &magbench::run::RunRecord| {
-        (r.scenario.clone(), r.planner.clone(), r.tracker.clone(), r.preset.clone())
+        (
+            r.scenario.clone(),
+            r.planner.clone(),
+            r.tracker.clone(),
+            r.preset.clone(),
+        )
     };
     let mut costs: BTreeMap<usize, usize> = BTreeMap::new();
     let mut rows: BTreeMap<usize, usize> = BTreeMap::new();
@@ -50,7 +55,10 @@ fn logged_progress(out: &Path) -> usize {
         .filter(|r| tracks[&config(r)])
         .map(|r| rows.get(&r.run).copied().unwrap_or(0))
         .sum();
-    assert!(n > 0 && n < progress.len(), "the fake planners include both kinds");
+    assert!(
+        n > 0 && n < progress.len(),
+        "the fake planners include both kinds"
+    );
     n
 }
 

@@ -38,7 +38,11 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
             let _lock = lock::exclusive(&dir, "results plot", "DIR")?;
             crate::results::Manifest::read(&dir)?;
             crate::results::finalize_with(&dir, &figures)?;
-            outln!("{}: figures written to {}", dir.display(), dir.join("plots").display());
+            outln!(
+                "{}: figures written to {}",
+                dir.display(),
+                dir.join("plots").display()
+            );
             Ok(())
         }
         ResultsCmd::Verify { dir } => {

@@ -138,10 +138,10 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
             let planner = planner.as_mut().expect("a planner without a plan file");
             let problem = setup.problem(s, 0, observed.as_deref(), r.seed);
             let progress = super::progress::Progress::new(!r.json);
-            let result = magbench_planners::progress::observe(
-                progress.planning("planning".into()),
-                || planner.solve(&problem),
-            );
+            let result =
+                magbench_planners::progress::observe(progress.planning("planning".into()), || {
+                    planner.solve(&problem)
+                });
             progress.clear();
             if rig.describe().is_some() {
                 eprintln!(

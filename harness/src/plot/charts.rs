@@ -164,6 +164,7 @@ where
     c.configure_mesh()
         .disable_y_mesh()
         .x_desc(value_label)
+        .x_labels(8)
         .axis_desc_style(label_font())
         .label_style(tick_font())
         .x_label_formatter(&|v| span_tick_label(*v, span))
@@ -226,6 +227,7 @@ where
         .build_cartesian_2d(x, y0..y1)?;
     c.configure_mesh()
         .x_desc(&chart.x_label)
+        .x_labels(8)
         .y_desc(&chart.y_label)
         .axis_desc_style(label_font())
         .label_style(tick_font())
@@ -333,10 +335,7 @@ impl Figure for LineBandChart {
         let lh = legend::height(&entries, w);
         let (top, bottom) = root.split_vertically(h - lh);
         let all = self.series.iter().flat_map(|s| s.data.iter());
-        let xs = all
-            .clone()
-            .map(|p| p.x)
-            .filter(|x| !self.x_log || *x > 0.0);
+        let xs = all.clone().map(|p| p.x).filter(|x| !self.x_log || *x > 0.0);
         let (x0, x1) = finite_range(xs).unwrap_or((0.0, 1.0));
         let (x0, x1) = if x1 > x0 {
             (x0, x1)
@@ -514,7 +513,11 @@ impl Figure for BoxChart {
         let range = finite_range(sorted.iter().flatten().copied()).unwrap_or((0.0, 1.0));
         if self.log {
             let (lo, hi) = (range.0.max(1e-300), range.1.max(1e-300));
-            let (lo, hi) = if hi > lo { (lo, hi) } else { (lo / 2.0, lo * 2.0) };
+            let (lo, hi) = if hi > lo {
+                (lo, hi)
+            } else {
+                (lo / 2.0, lo * 2.0)
+            };
             let x: LogCoord<f64> = ((lo / 1.25)..(hi * 1.25)).log_scale().into();
             draw_boxes(self, root, x, &sorted, labels)
         } else {

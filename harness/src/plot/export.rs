@@ -197,6 +197,9 @@ mod tests {
     fn print_size_keeps_the_view_box() {
         let s = "<?xml?>\n<svg width=\"900\" height=\"450\" viewBox=\"0 0 900 450\" xmlns=\"x\">";
         let t = with_print_size(s, 3.5);
-        assert!(t.contains("width=\"3.500in\" height=\"1.750in\" viewBox=\"0 0 900 450\""), "{t}");
+        assert!(
+            t.contains("width=\"3.500in\" height=\"1.750in\" viewBox=\"0 0 900 450\""),
+            "{t}"
+        );
     }
 }

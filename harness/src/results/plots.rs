@@ -332,10 +332,7 @@ pub fn write_all_with(
             .max_iterations
             .map(|i| (i as f64).max(most))
             .unwrap_or(most);
-        let multi_leg = m
-            .experiment
-            .max_iterations
-            .is_some_and(|i| most > i as f64);
+        let multi_leg = m.experiment.max_iterations.is_some_and(|i| most > i as f64);
         let first_its = || {
             sc_runs
                 .clone()
@@ -384,13 +381,12 @@ pub fn write_all_with(
             .time_limit_s
             .map(|t| t.max(max_t))
             .unwrap_or(max_t);
-        let first_ts = || {
-            sc_runs
-                .clone()
-                .filter_map(|r| r.first_solution_time_s)
-        };
+        let first_ts = || sc_runs.clone().filter_map(|r| r.first_solution_time_s);
         let t_log = opts.axes.is_log(first_ts().chain([max_t]));
-        let ts = grid(max_t, t_log.then(|| decade_below(first_ts()).unwrap_or(1e-3)));
+        let ts = grid(
+            max_t,
+            t_log.then(|| decade_below(first_ts()).unwrap_or(1e-3)),
+        );
         let series = planning
             .iter()
             .map(|g| Series {
@@ -435,7 +431,8 @@ pub fn write_all_with(
             (Some(a), Some(_)) => Some((a * 0.9 - 1e-9, a * 1.1 + 1e-9)),
             _ => Some((0.0, 1.0)),
         };
-        let planning_runs: Vec<&RunRecord> = planning.iter().flat_map(|g| g.iter().copied()).collect();
+        let planning_runs: Vec<&RunRecord> =
+            planning.iter().flat_map(|g| g.iter().copied()).collect();
         let title = format!("{sc}: best cost vs iterations");
         let fig = LineBandChart {
             title: title.clone(),
@@ -472,7 +469,10 @@ pub fn write_all_with(
                 .collect();
             let log = match opts.axes {
                 AxisScale::Auto => {
-                    spans && opts.axes.is_log(groups.iter().flat_map(|g| g.data.iter().copied()))
+                    spans
+                        && opts
+                            .axes
+                            .is_log(groups.iter().flat_map(|g| g.data.iter().copied()))
                 }
                 a => a == AxisScale::Log,
             };

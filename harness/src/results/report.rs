@@ -134,10 +134,10 @@ fn inline_svg(stem: &Path) -> Result<String, CliError> {
 }
 
 const STYLE: &str = "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;margin:1.5em auto;max-width:1220px;color:#222;padding:0 1em;box-sizing:border-box}\
-h1{font-size:1.6em}h2{margin-top:2em;border-bottom:1px solid #ccc}table{border-collapse:collapse;font-size:.8em;margin:1em 0;width:100%}\
-th,td{border:1px solid #ccc;padding:.25em .35em;text-align:right;vertical-align:top}th{background:#f3f3f3;vertical-align:bottom;font-weight:600;cursor:pointer;user-select:none}\
+h1{font-size:1.6em}h2{margin-top:2em;border-bottom:1px solid #ccc}table{border-collapse:collapse;font-size:.78em;margin:1em 0;width:100%;table-layout:fixed}\
+th,td{border:1px solid #ccc;padding:.25em .3em;text-align:right;vertical-align:top;overflow-wrap:anywhere}th:first-child{width:11em}th{hyphens:auto;overflow-wrap:break-word}th{background:#f3f3f3;vertical-align:bottom;font-weight:600;cursor:pointer;user-select:none}\
 th[data-dir=asc]::after{content:' \\25B2'}th[data-dir=desc]::after{content:' \\25BC'}td:first-child,th:first-child{text-align:left}td.na{background:#fafafa}\
-td small{display:block;white-space:nowrap}small{color:#666}.note{color:#555;font-size:.85em}figure{margin:1.5em 0}svg{max-width:100%;height:auto}\
+td small{display:block}small{color:#666}.note{color:#555;font-size:.85em}figure{margin:1.5em 0}svg{max-width:100%;height:auto}\
 pre{background:#f6f6f6;padding:1em;overflow:auto;white-space:pre-wrap}code{overflow-wrap:anywhere}\
 dl{display:grid;grid-template-columns:max-content auto;gap:.2em 1em}dt{font-weight:bold}dd{margin:0;overflow-wrap:anywhere}";
 
