@@ -1,8 +1,40 @@
 //! Limits and the progress trace: best cost against iteration and time.
 
+use std::cell::RefCell;
 use std::time::Instant;
 
 use crate::{Problem, ProgressPoint};
+
+/// What an observer is told: the point just recorded and the run's iteration budget
+/// (`u64::MAX` without an iteration limit).
+pub type Observer = Box<dyn FnMut(&ProgressPoint, u64)>;
+
+thread_local! {
+    static OBSERVER: RefCell<Option<Observer>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` with `observer` told of every progress point that planners record on this thread
+/// (at every 1% of the budget and every change of the best cost), e.g. to draw a progress bar.
+pub fn observe<R>(observer: Observer, f: impl FnOnce() -> R) -> R {
+    struct Reset(Option<Observer>);
+    impl Drop for Reset {
+        fn drop(&mut self) {
+            let previous = self.0.take();
+            OBSERVER.with(|o| *o.borrow_mut() = previous);
+        }
+    }
+    let previous = OBSERVER.with(|o| o.borrow_mut().replace(observer));
+    let _reset = Reset(previous);
+    f()
+}
+
+fn tell(p: &ProgressPoint, budget: u64) {
+    OBSERVER.with(|o| {
+        if let Some(f) = o.try_borrow_mut().ok().as_mut().and_then(|o| o.as_mut()) {
+            f(p, budget);
+        }
+    });
+}
 
 /// Watches a run's limits and records its progress trace: a point whenever the best cost
 /// changes, and at least at every 1% of the iteration budget and of the time budget.
@@ -81,11 +113,13 @@ impl Progress {
             }
         }
         self.best = best;
-        self.trace.push(ProgressPoint {
+        let p = ProgressPoint {
             iteration,
             time_s: t,
             best_cost: best,
-        });
+        };
+        tell(&p, self.max_iterations);
+        self.trace.push(p);
     }
 
     /// Closes the trace at `iteration` and returns it with the elapsed time.
@@ -101,6 +135,9 @@ impl Progress {
                 time_s: t,
                 best_cost: best,
             });
+        }
+        if let Some(p) = self.trace.last() {
+            tell(p, self.max_iterations);
         }
         (self.trace, t)
     }

@@ -8,6 +8,7 @@ mod merge;
 pub(crate) mod output;
 mod plan;
 mod preset;
+mod progress;
 mod regress;
 mod results;
 mod rig;

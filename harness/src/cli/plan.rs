@@ -122,7 +122,9 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
 
     let mut runs: Vec<LegRun> = Vec::new();
     let mut start: Option<Vec<Vec2>> = None;
-    for leg in 0..scenario.legs.len() {
+    let progress = super::progress::Progress::new(!a.json);
+    let legs = scenario.legs.len();
+    for leg in 0..legs {
         let problem = setup.problem(
             &scenario,
             leg,
@@ -135,7 +137,14 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
                 leg + 1
             )));
         }
-        let result = planner.solve(&problem);
+        let prefix = if legs > 1 {
+            format!("leg {}/{legs}", leg + 1)
+        } else {
+            "planning".to_string()
+        };
+        let result = magbench_planners::progress::observe(progress.planning(prefix), || {
+            planner.solve(&problem)
+        });
         // never hand out a plan the validator refuses (a plan without motion is reported)
         if let Err(Unusable::Invalid(e)) = check_result(&problem, &result) {
             return Err(CliError::Failed(format!(
@@ -158,6 +167,7 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
         }
     }
 
+    progress.clear();
     let mut summary = summary_json(&scenario, planner_name, &a, &runs);
     summary["elevation"] = elevation;
     if let Some(dir) = &a.out {

@@ -1,5 +1,6 @@
-//! `magbench results verify DIR`: check a results folder; `magbench results scaling DIR`: fit
-//! how time to a first solution grows with a problem size.
+//! `magbench results verify DIR`: check a results folder; `magbench results plot DIR`: draw
+//! its figures again at a size preset, DPI and axis scale, and as PDF; `magbench results scaling
+//! DIR`: fit how time to a first solution grows with a problem size.
 
 use std::path::PathBuf;
 
@@ -7,6 +8,7 @@ use clap::Subcommand;
 
 use super::output::outln;
 use crate::CliError;
+use crate::plot::export::FigureOptions;
 use crate::results::{lock, verify};
 
 /// Results-folder subcommands.
@@ -33,12 +35,32 @@ pub enum ResultsCmd {
         #[arg(long)]
         family: Option<String>,
     },
+    /// Draw a finished results folder's figures and report again with figure options (for a
+    /// paper: `--figure-size one-column --pdf`); docs/figures.md.
+    Plot {
+        /// The results folder.
+        dir: PathBuf,
+        /// Size, resolution, axes and formats.
+        #[command(flatten)]
+        figures: FigureOptions,
+    },
 }
 
 /// Runs a results subcommand.
 pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
     match cmd {
         ResultsCmd::Scaling { dir, by, family } => scaling(&dir, &by, family.as_deref()),
+        ResultsCmd::Plot { dir, figures } => {
+            let _lock = lock::exclusive(&dir, "results plot", "DIR")?;
+            crate::results::Manifest::read(&dir)?;
+            crate::results::finalize_with(&dir, &figures)?;
+            outln!(
+                "{}: figures written to {}",
+                dir.display(),
+                dir.join("plots").display()
+            );
+            Ok(())
+        }
         ResultsCmd::Verify { dir } => {
             let _lock = lock::shared(&dir, "DIR")?;
             let v = verify::verify(&dir)?;

@@ -135,7 +135,15 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         }
         (None, Some(planner)) => {
             let problem = setup.problem(s, 0, observed.as_deref(), r.seed);
-            let checked = solve_checked(planner.as_mut(), &problem);
+            let checked = {
+                let progress = super::progress::Progress::new(!r.json);
+                let checked = magbench_planners::progress::observe(
+                    progress.planning("planning".into()),
+                    || solve_checked(planner.as_mut(), &problem),
+                );
+                progress.clear();
+                checked
+            };
             let result = &checked.result;
             if rig.describe().is_some() {
                 eprintln!(
@@ -192,7 +200,11 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     let mut opts = r.tracker.loop_options();
     opts.record_ticks = r.out.is_some();
     opts.cancel = rig.cancel_flag();
-    let outcome = track(rig.as_rig(), tracker.as_mut(), mission, &opts);
+    let progress = super::progress::Progress::new(!r.json);
+    let outcome = magbench_planners::progress::observe(progress.tracking(), || {
+        track(rig.as_rig(), tracker.as_mut(), mission, &opts)
+    });
+    progress.clear();
     let stopped = rig.stop();
     let rig_stats = rig.stats();
     let planner_label = r.planner.as_deref().unwrap_or("file");

@@ -13,7 +13,8 @@ use super::instances::Instances;
 use super::paired::paired;
 use super::profile::{profile, tau_grid};
 use crate::CliError;
-use crate::plot::charts::{BandPoint, LineBandChart, Series};
+use crate::plot::charts::{BandPoint, LineBandChart, Series, W};
+use crate::plot::style::{self, Family};
 use crate::plot::{save, with_ext};
 use crate::results::report::esc;
 use crate::run::RunRecord;
@@ -128,6 +129,9 @@ pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, CliError> {
         steps: true,
         band_label: String::new(),
         empty_note: "no planner solved a problem".into(),
+        looks: style::looks(Family::Planner, t.planners.len()),
+        x_log: false,
+        width: W,
     };
     o.push_str(&figure(dir, "performance-profile", &fig, &title)?);
 
@@ -162,6 +166,9 @@ pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, CliError> {
             steps: false,
             band_label: "95% Wilson interval".into(),
             empty_note: String::new(),
+            looks: style::looks(Family::Planner, t.planners.len()),
+            x_log: false,
+            width: W,
         };
         o.push_str(&figure(dir, &format!("success-vs-{col}"), &fig, &title)?);
         let title = format!("time to first solution vs {col}");
@@ -174,6 +181,9 @@ pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, CliError> {
             steps: false,
             band_label: "quartiles of the problems' medians".into(),
             empty_note: "no bin with half of its problems solved".into(),
+            looks: style::looks(Family::Planner, t.planners.len()),
+            x_log: false,
+            width: W,
         };
         o.push_str(&figure(dir, &format!("time-vs-{col}"), &fig, &title)?);
     }

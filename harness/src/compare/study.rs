@@ -8,8 +8,9 @@ use std::path::{Path, PathBuf};
 use super::instances::median_inf;
 use super::scaling::{PowerFit, fit, label_param};
 use crate::CliError;
-use crate::plot::charts::{BandPoint, LineBandChart, Series};
+use crate::plot::charts::{BandPoint, LineBandChart, Series, W};
 use crate::plot::save;
+use crate::plot::style::{self, Dash, Family, Look};
 use crate::run::RunRecord;
 
 /// One planner's points and fit.
@@ -104,7 +105,10 @@ pub fn plot(
     by: &str,
 ) -> Result<PathBuf, CliError> {
     let mut series = vec![];
-    for p in s {
+    let mut looks = vec![];
+    for (i, p) in s.iter().enumerate() {
+        let look = style::look(Family::Planner, i);
+        looks.push(look);
         series.push(Series {
             label: format!("{}: {}", p.planner, fit_text(&p.fit, by)),
             data: p
@@ -120,6 +124,10 @@ pub fn plot(
         });
         if let Some(f) = p.fit {
             let (k0, k1) = (p.points[0].0, p.points[p.points.len() - 1].0);
+            looks.push(Look {
+                dash: Dash::Dashed,
+                ..look
+            });
             series.push(Series {
                 label: format!("{} fit", p.planner),
                 data: [k0, k1]
@@ -144,6 +152,9 @@ pub fn plot(
         steps: false,
         band_label: String::new(),
         empty_note: "no size with half of its runs solved".into(),
+        looks,
+        x_log: false,
+        width: W,
     };
     let name = match family {
         Some(f) => format!("scaling-{f}-{by}"),

@@ -68,7 +68,7 @@ impl Figure for BarChart {
             &self.value_label,
             self.categories.clone(),
             self.label_width(),
-            (v0, v1),
+            plotters::coord::types::RangedCoordf64::from(v0..v1),
         )?;
         let k = self.series.len().max(1) as f64;
         let band = 0.8 / k;

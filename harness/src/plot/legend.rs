@@ -20,6 +20,8 @@ pub enum Symbol {
     Circle(RGBColor),
     /// A filled disk (agents).
     Disk(RGBColor),
+    /// A series' line in its colour and dash with its marker, over a light band if `true`.
+    Styled(super::style::Look, bool),
 }
 
 /// One legend entry.
@@ -103,6 +105,16 @@ pub fn draw<DB: DrawingBackend>(
                 }
                 Symbol::Circle(c) => area.draw(&Circle::new((xm, y), 7, c.stroke_width(2)))?,
                 Symbol::Disk(c) => area.draw(&Circle::new((xm, y), 7, c.filled()))?,
+                Symbol::Styled(look, band) => {
+                    if band {
+                        area.draw(&Rectangle::new(
+                            [(x0, y - 7), (x1, y + 7)],
+                            look.color.mix(0.12).filled(),
+                        ))?;
+                    }
+                    super::style::draw_line(area, vec![(x0, y), (x1, y)], &look, 2)?;
+                    super::style::draw_marker(area, (xm, y), &look, 4)?;
+                }
             }
             let style = label_font().pos(text_anchor::Pos::new(
                 text_anchor::HPos::Left,

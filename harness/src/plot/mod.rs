@@ -1,21 +1,26 @@
-//! Plots: every figure is written twice, as `STEM.svg` (vector) and `STEM.png` (bitmap).
+//! Plots: every figure is written as `STEM.svg` (vector) and `STEM.png` (bitmap), and with
+//! [`export::FigureOptions::pdf`] as `STEM.pdf`.
 //!
 //! Text is rendered with an embedded DejaVu Sans ([`font`]), so PNGs carry their labels on a
 //! machine without system fonts. A figure implements [`Figure`] once, generically over the
-//! plotters backend, and [`save`] draws it into both files.
+//! plotters backend, and [`save`] draws it into the files ([`save_with`] at a size preset).
 //!
 //! - [`world`]: the world map (walls, obstacles, tree, planned and tracked paths, starts, goals);
 //! - [`anim`]: an animated GIF of agents moving over a world map;
 //! - [`bars`]: grouped horizontal bar charts (the ablation's contributions);
 //! - [`legend`]: a legend strip drawn under a chart;
-//! - [`palette`]: one colour per agent.
+//! - [`palette`]: one colour per agent, and the planners' and trackers' colour families;
+//! - [`style`]: a series' colour, dash and marker;
+//! - [`export`]: size presets, axis scales, PNG at any DPI and PDF from the SVG.
 
 pub mod anim;
 pub mod bars;
 pub mod charts;
+pub mod export;
 pub mod font;
 pub mod legend;
 pub mod palette;
+pub mod style;
 pub mod world;
 
 use std::path::{Path, PathBuf};
@@ -57,26 +62,53 @@ pub trait Figure {
 
 /// Draws `fig` into `STEM.svg` and `STEM.png` (creating the folder) and returns both paths.
 pub fn save<F: Figure + ?Sized>(fig: &F, out_stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    save_with(fig, out_stem, &export::FigureOptions::default())
+}
+
+/// Draws `fig` into `STEM.svg`, `STEM.png` and, if asked, `STEM.pdf` (creating the folder)
+/// and returns the paths. The screen preset draws the PNG directly at the figure's size; the
+/// column presets give the SVG and PDF their printed width and render the PNG from the SVG at
+/// `opts.dpi`.
+pub fn save_with<F: Figure + ?Sized>(
+    fig: &F,
+    out_stem: &Path,
+    opts: &export::FigureOptions,
+) -> Result<Vec<PathBuf>, PlotError> {
     font::ensure_registered();
     if let Some(dir) = out_stem.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
-    let svg = with_ext(out_stem, "svg");
+    let svg_path = with_ext(out_stem, "svg");
     let png = with_ext(out_stem, "png");
     let size = fig.size();
+    let mut svg = String::new();
     {
-        let root = SVGBackend::new(&svg, size).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE)?;
         fig.draw(&root)?;
         root.present()?;
     }
-    {
-        let root = BitMapBackend::new(&png, size).into_drawing_area();
-        root.fill(&WHITE)?;
-        fig.draw(&root)?;
-        root.present()?;
+    let inches = opts.size.inches();
+    if let Some(i) = inches {
+        svg = export::with_print_size(&svg, i);
     }
-    Ok(vec![svg, png])
+    std::fs::write(&svg_path, &svg)?;
+    match inches {
+        Some(i) => export::svg_to_png(&svg, (i * opts.dpi as f64).round() as u32, &png)?,
+        None => {
+            let root = BitMapBackend::new(&png, size).into_drawing_area();
+            root.fill(&WHITE)?;
+            fig.draw(&root)?;
+            root.present()?;
+        }
+    }
+    let mut files = vec![svg_path, png];
+    if opts.pdf {
+        let pdf = with_ext(out_stem, "pdf");
+        export::svg_to_pdf(&svg, inches, &pdf)?;
+        files.push(pdf);
+    }
+    Ok(files)
 }
 
 /// `stem` with `.ext` appended (keeps dots already in the stem, e.g. `goal-zoom-rrt{k=5}`).

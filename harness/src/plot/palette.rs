@@ -1,4 +1,6 @@
-//! Colours: one per agent (the seed's cyan and green for the first two), black for tracked paths.
+//! Colours: one per agent (the seed's cyan and green for the first two), black for tracked
+//! paths, and two colour-blind-safe families for series: Paul Tol's *bright* scheme for
+//! planners and his *muted* scheme for trackers (P. Tol, "Colour schemes", SRON/EPS/TN/09-002).
 
 use plotters::style::RGBColor;
 
@@ -19,19 +21,35 @@ pub fn agent(i: usize) -> RGBColor {
     AGENTS[i % AGENTS.len()]
 }
 
-/// Series colours for planners and other categories (colour-blind friendly, Okabe–Ito).
-pub const SERIES: [RGBColor; 8] = [
-    RGBColor(0, 114, 178),
-    RGBColor(230, 159, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(213, 94, 0),
-    RGBColor(204, 121, 167),
-    RGBColor(86, 180, 233),
-    RGBColor(240, 228, 66),
-    RGBColor(0, 0, 0),
+/// Planner colours (Tol's bright scheme: blue, red, green, purple, cyan, yellow, grey); the
+/// yellow comes late because it has the least contrast on white.
+pub const PLANNERS: [RGBColor; 7] = [
+    RGBColor(0x44, 0x77, 0xAA),
+    RGBColor(0xEE, 0x66, 0x77),
+    RGBColor(0x22, 0x88, 0x33),
+    RGBColor(0xAA, 0x33, 0x77),
+    RGBColor(0x66, 0xCC, 0xEE),
+    RGBColor(0xCC, 0xBB, 0x44),
+    RGBColor(0xBB, 0xBB, 0xBB),
 ];
 
-/// The colour of series `i`.
+/// Tracker colours (Tol's muted scheme, darker tones first: indigo, teal, wine, olive, rose,
+/// sand, cyan, green).
+pub const TRACKERS: [RGBColor; 8] = [
+    RGBColor(0x33, 0x22, 0x88),
+    RGBColor(0x44, 0xAA, 0x99),
+    RGBColor(0x88, 0x22, 0x55),
+    RGBColor(0x99, 0x99, 0x33),
+    RGBColor(0xCC, 0x66, 0x77),
+    RGBColor(0xDD, 0xCC, 0x77),
+    RGBColor(0x88, 0xCC, 0xEE),
+    RGBColor(0x11, 0x77, 0x33),
+];
+
+/// Series colours for other categories: the planners' family.
+pub const SERIES: [RGBColor; 7] = PLANNERS;
+
+/// The colour of series `i` (the planners' family).
 pub fn series(i: usize) -> RGBColor {
     SERIES[i % SERIES.len()]
 }

@@ -35,6 +35,14 @@ use crate::run::Status;
 /// `progress.csv` into run order, writes `ompl.log`, the plots and `report.html`, and records
 /// the counts, end time and every file's hash in the manifest.
 pub fn finalize(dir: &Path) -> Result<(), CliError> {
+    finalize_with(dir, &crate::plot::export::FigureOptions::default())
+}
+
+/// [`finalize`] with figure options (size preset, DPI, axes, PDF).
+pub fn finalize_with(
+    dir: &Path,
+    opts: &crate::plot::export::FigureOptions,
+) -> Result<(), CliError> {
     let mut m = Manifest::read(dir)?;
     let runs = store::read_runs(dir)?;
     let progress = store::read_progress(dir)?;
@@ -45,7 +53,7 @@ pub fn finalize(dir: &Path) -> Result<(), CliError> {
     m.runs_failed = runs.iter().filter(|r| r.status == Status::Crash).count();
     m.finished = Some(manifest::now());
     ompl::write(dir, &m, &runs, &progress)?;
-    let figures = plots::write_all(dir, &m, &runs, &progress)?;
+    let figures = plots::write_all_with(dir, &m, &runs, &progress, opts)?;
     report::write(dir, &m, &runs, &figures)?;
     m.files = verify::file_hashes(dir)?;
     m.write(dir)

@@ -9,6 +9,10 @@
 //!   worst agent's, ...), one box per configuration;
 //! - with trackers: `rms-error-cdf` and, for a team of three or more, each agent's RMS error
 //!   (`rms-error-per-agent`, one colour per agent).
+//!
+//! Planners are drawn in one colour family and tracked configurations in another, each with
+//! its own dash and marker ([`crate::plot::style`]); iterations and times get a log axis when
+//! they span more than a decade ([`FigureOptions::axes`]). docs/figures.md has the options.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -18,7 +22,9 @@ use super::summary::groups;
 use crate::CliError;
 use crate::metrics::Metric;
 use crate::plot::charts::{BandPoint, BoxChart, CdfChart, LineBandChart, Series};
-use crate::plot::{Figure, save};
+use crate::plot::export::{AxisScale, FigureOptions};
+use crate::plot::style::{self, Family, Look};
+use crate::plot::{Figure, save_with};
 use crate::run::{ProgressRow, RunRecord};
 use crate::stats::quantile::quantile_sorted;
 use crate::stats::wilson;
@@ -51,13 +57,56 @@ pub fn slug(s: &str) -> String {
 
 const GRID: usize = 120;
 
-fn grid(max: f64) -> Vec<f64> {
+/// `GRID + 1` points from 0 to `max`, or log-spaced from `min` to `max` on a log axis.
+fn grid(max: f64, log_from: Option<f64>) -> Vec<f64> {
     let max = if max.is_finite() && max > 0.0 {
         max
     } else {
         1.0
     };
-    (0..=GRID).map(|k| max * k as f64 / GRID as f64).collect()
+    match log_from.filter(|m| m.is_finite() && *m > 0.0 && *m < max) {
+        Some(min) => {
+            let (a, b) = (min.ln(), max.ln());
+            (0..=GRID)
+                .map(|k| (a + (b - a) * k as f64 / GRID as f64).exp())
+                .collect()
+        }
+        None => (0..=GRID).map(|k| max * k as f64 / GRID as f64).collect(),
+    }
+}
+
+/// The decade at or below the smallest positive value (the start of a log axis).
+fn decade_below(values: impl Iterator<Item = f64>) -> Option<f64> {
+    let min = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    min.is_finite().then(|| 10f64.powf(min.log10().floor()))
+}
+
+/// The unit of a cost under the objectives of `runs` (planner parameter `objective`).
+pub fn cost_axis(runs: &[&RunRecord], what: &str) -> String {
+    let mut objectives: Vec<&str> = runs
+        .iter()
+        .map(|r| {
+            r.planner_params
+                .split(',')
+                .find_map(|kv| kv.trim().strip_prefix("objective="))
+                .map(|v| v.trim_matches('"'))
+                .unwrap_or("path-length")
+        })
+        .collect();
+    objectives.sort();
+    objectives.dedup();
+    let unit = |o: &str| match o {
+        "path-length" => "summed agent path length (BL)",
+        "duration" => "plan duration (s)",
+        "control-effort" => "control effort, ∫ normalised gradient² dt (s)",
+        _ => "objective's units",
+    };
+    match objectives.as_slice() {
+        [one] => format!("{what}: {}", unit(one)),
+        _ => format!("{what} ({})", objectives.join(" / ")),
+    }
 }
 
 fn success_curve(runs: &[&RunRecord], xs: &[f64], at: Metric) -> Vec<BandPoint> {
@@ -127,6 +176,7 @@ fn cost_curve(
 
 struct Writer<'a> {
     dir: &'a Path,
+    opts: &'a FigureOptions,
     files: Vec<PlotFile>,
 }
 
@@ -139,7 +189,7 @@ impl Writer<'_> {
         title: &str,
     ) -> Result<(), CliError> {
         let stem = self.dir.join("plots").join(slug(scenario)).join(name);
-        save(fig, &stem)?;
+        save_with(fig, &stem, self.opts)?;
         self.files.push(PlotFile {
             scenario: scenario.to_string(),
             title: title.to_string(),
@@ -159,6 +209,7 @@ fn per_agent_box(
     sc: &str,
     tracked: &[&Vec<&RunRecord>],
     label: &dyn Fn(&[&RunRecord]) -> String,
+    opts: &FigureOptions,
 ) -> Option<BoxChart> {
     let agents = |g: &[&RunRecord]| g.iter().map(|r| r.per_agent.len()).max().unwrap_or(0);
     if !tracked.iter().any(|g| agents(g) >= PER_AGENT_PLOT_AGENTS) {
@@ -188,6 +239,8 @@ fn per_agent_box(
         value_label: "RMS distance of the agent to its planned path (BL)".into(),
         groups,
         colors,
+        log: opts.axes == AxisScale::Log,
+        width: opts.size.layout_width(),
     })
 }
 
@@ -198,11 +251,43 @@ pub fn write_all(
     runs: &[RunRecord],
     progress: &[ProgressRow],
 ) -> Result<Vec<PlotFile>, CliError> {
+    write_all_with(dir, m, runs, progress, &FigureOptions::default())
+}
+
+/// The look of a configuration: planning runs in the planners' family by the planner's place
+/// in the experiment, tracked runs in the trackers' family by tracker and preset.
+fn look_of(m: &Manifest, g: &[&RunRecord]) -> Look {
+    let r = g[0];
+    let e = &m.experiment;
+    let place = |list: &[String], name: &str| list.iter().position(|p| p == name);
+    if r.tracker.is_empty() {
+        let i = place(&e.planners, &r.planner).unwrap_or(e.planners.len());
+        style::look(Family::Planner, i)
+    } else {
+        let t = place(&e.trackers, &r.tracker).unwrap_or(e.trackers.len());
+        let p = place(&e.presets, &r.preset).unwrap_or(0);
+        style::look(Family::Tracker, t + p * e.trackers.len().max(1))
+    }
+}
+
+/// [`write_all`] with the figure options `opts` (size preset, DPI, axes, PDF).
+pub fn write_all_with(
+    dir: &Path,
+    m: &Manifest,
+    runs: &[RunRecord],
+    progress: &[ProgressRow],
+    opts: &FigureOptions,
+) -> Result<Vec<PlotFile>, CliError> {
+    let width = opts.size.layout_width();
     let mut by_run: BTreeMap<usize, Vec<&ProgressRow>> = BTreeMap::new();
     for p in progress {
         by_run.entry(p.run).or_default().push(p);
     }
-    let mut w = Writer { dir, files: vec![] };
+    let mut w = Writer {
+        dir,
+        opts,
+        files: vec![],
+    };
     let all = groups(runs);
     let mut scenarios: Vec<&str> = vec![];
     for g in &all {
@@ -233,16 +318,29 @@ pub fn write_all(
                 Some(_) => {}
             }
         }
+        let looks: Vec<Look> = planning.iter().map(|g| look_of(m, g)).collect();
+        // Iterations count across legs: a run of several legs may use the limit once per leg.
+        let sc_runs = gs.iter().flat_map(|g| g.iter());
+        let most = sc_runs
+            .clone()
+            .filter_map(|r| r.get(Metric::Iterations))
+            .fold(0.0, f64::max);
         let max_it = m
             .experiment
             .max_iterations
-            .map(|i| i as f64)
-            .unwrap_or_else(|| {
-                runs.iter()
-                    .filter_map(|r| r.get(Metric::Iterations))
-                    .fold(0.0, f64::max)
-            });
-        let xs = grid(max_it);
+            .map(|i| (i as f64).max(most))
+            .unwrap_or(most);
+        let multi_leg = m.experiment.max_iterations.is_some_and(|i| most > i as f64);
+        let first_its = || {
+            sc_runs
+                .clone()
+                .filter_map(|r| r.get(Metric::FirstSolutionIteration))
+        };
+        let it_log = opts.axes.is_log(first_its().chain([max_it]));
+        let xs = grid(
+            max_it,
+            it_log.then(|| decade_below(first_its()).unwrap_or(1.0).max(1.0)),
+        );
         let series: Vec<Series<Vec<BandPoint>>> = planning
             .iter()
             .map(|g| Series {
@@ -250,16 +348,24 @@ pub fn write_all(
                 data: success_curve(g, &xs, Metric::FirstSolutionIteration),
             })
             .collect();
+        let it_label = if multi_leg {
+            "iterations (all legs)"
+        } else {
+            "iterations"
+        };
         let title = format!("{sc}: success rate vs iterations");
         let fig = LineBandChart {
             title: title.clone(),
-            x_label: "iterations".into(),
+            x_label: it_label.into(),
             y_label: "runs solved (fraction)".into(),
             series,
             y_range: Some((0.0, 1.0)),
             steps: true,
             band_label: "95% Wilson interval".into(),
             empty_note: String::new(),
+            looks: looks.clone(),
+            x_log: it_log,
+            width,
         };
         w.save(sc, "success-vs-iterations", &fig, &title)?;
 
@@ -273,7 +379,16 @@ pub fn write_all(
             .time_limit_s
             .map(|t| t.max(max_t))
             .unwrap_or(max_t);
-        let ts = grid(max_t);
+        let first_ts = || {
+            sc_runs
+                .clone()
+                .filter_map(|r| r.get(Metric::FirstSolutionTime))
+        };
+        let t_log = opts.axes.is_log(first_ts().chain([max_t]));
+        let ts = grid(
+            max_t,
+            t_log.then(|| decade_below(first_ts()).unwrap_or(1e-3)),
+        );
         let series = planning
             .iter()
             .map(|g| Series {
@@ -291,6 +406,9 @@ pub fn write_all(
             steps: true,
             band_label: "95% Wilson interval".into(),
             empty_note: String::new(),
+            looks: looks.clone(),
+            x_log: t_log,
+            width,
         };
         w.save(sc, "success-vs-time", &fig, &title)?;
 
@@ -315,38 +433,58 @@ pub fn write_all(
             (Some(a), Some(_)) => Some((a * 0.9 - 1e-9, a * 1.1 + 1e-9)),
             _ => Some((0.0, 1.0)),
         };
+        let planning_runs: Vec<&RunRecord> =
+            planning.iter().flat_map(|g| g.iter().copied()).collect();
         let title = format!("{sc}: best cost vs iterations");
         let fig = LineBandChart {
             title: title.clone(),
-            x_label: "iterations".into(),
-            y_label: "best cost (objective units)".into(),
+            x_label: it_label.into(),
+            y_label: cost_axis(&planning_runs, "best cost"),
             series,
             y_range,
             steps: true,
             band_label: "interquartile range (unsolved = +∞)".into(),
             empty_note: "no configuration solved half of its runs: no median cost yet".into(),
+            looks,
+            x_log: it_log,
+            width,
         };
         w.save(sc, "cost-vs-iterations", &fig, &title)?;
 
         // one box per configuration of a per-run figure
+        // `spans`: a quantity (times) that gets a log axis when it spans more than a decade
         let mut save_box = |name: &str,
                             what: &str,
                             value_label: &str,
                             f: &dyn Fn(&RunRecord) -> Option<f64>,
-                            groups: &[&Vec<&RunRecord>]|
+                            groups: &[&Vec<&RunRecord>],
+                            spans: bool|
          -> Result<(), CliError> {
             let title = format!("{sc}: {what}");
+            let colors = groups.iter().map(|g| look_of(m, g).color).collect();
+            let groups: Vec<Series<Vec<f64>>> = groups
+                .iter()
+                .map(|g| Series {
+                    label: label(g),
+                    data: g.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect(),
+                })
+                .collect();
+            let log = match opts.axes {
+                AxisScale::Auto => {
+                    spans
+                        && opts
+                            .axes
+                            .is_log(groups.iter().flat_map(|g| g.data.iter().copied()))
+                }
+                a => a == AxisScale::Log,
+            };
             let fig = BoxChart {
                 title: title.clone(),
                 value_label: value_label.into(),
-                groups: groups
-                    .iter()
-                    .map(|g| Series {
-                        label: label(g),
-                        data: g.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect(),
-                    })
-                    .collect(),
-                colors: vec![],
+                colors,
+                groups,
+                log,
+                width,
             };
             w.save(sc, name, &fig, &title)
         };
@@ -356,7 +494,8 @@ pub fn write_all(
             .filter(|g| !g[0].tracker.is_empty())
             .collect();
         // the table's box plots: planning and path metrics over the planning series, then
-        // tracking metrics over the tracked configurations
+        // tracking metrics over the tracked configurations; times and iterations may get a log
+        // axis, a cost's axis names its objective's unit
         for stage_tracking in [false, true] {
             let groups = if stage_tracking { &tracked } else { &planning };
             if groups.is_empty() {
@@ -369,12 +508,19 @@ pub fn write_all(
                 };
                 let any = groups.iter().any(|g| g.iter().any(|r| r.get(*m).is_some()));
                 if p.always || any {
-                    save_box(p.stem, p.title, &d.axis(), &|r| r.get(*m), groups)?;
+                    let spans = d.unit == "s"
+                        || matches!(m, Metric::Iterations | Metric::FirstSolutionIteration);
+                    let axis = if *m == Metric::Cost {
+                        cost_axis(&planning_runs, "final cost")
+                    } else {
+                        d.axis()
+                    };
+                    save_box(p.stem, p.title, &axis, &|r| r.get(*m), groups, spans)?;
                 }
             }
         }
         if !tracked.is_empty() {
-            if let Some(fig) = per_agent_box(sc, &tracked, &label) {
+            if let Some(fig) = per_agent_box(sc, &tracked, &label, opts) {
                 let title = fig.title.clone();
                 w.save(sc, "rms-error-per-agent", &fig, &title)?;
             }
@@ -382,6 +528,8 @@ pub fn write_all(
             let fig = CdfChart {
                 title: title.clone(),
                 x_label: Metric::RmsError.def().axis(),
+                looks: tracked.iter().map(|g| look_of(m, g)).collect(),
+                width,
                 series: tracked
                     .iter()
                     .map(|g| Series {

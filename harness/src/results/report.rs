@@ -1,5 +1,7 @@
-//! `report.html`: one self-contained page (inline SVG and CSS, no scripts, no network) with
-//! the experiment, a summary table per configuration, and every plot.
+//! `report.html`: one self-contained page (inline SVG and CSS, a few lines of inline script
+//! that sort the tables, no network) with the experiment, a summary table per configuration,
+//! and every plot. It fits a 1,280-px window; cells of columns that do not apply to a row
+//! (tracking columns of a planning-only configuration) are empty.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -64,7 +66,7 @@ fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecor
         let rate = g.succeeded as f64 / g.n.max(1) as f64;
         let _ = write!(
             o,
-            "<tr><td>{}</td><td>{}</td><td>{}/{} = {:.0}% <small>[{:.0}, {:.0}]</small></td><td>{}</td>",
+            "<tr><td>{}</td><td>{}</td><td data-v=\"{rate}\">{}/{} = {:.0}% <small>[{:.0}, {:.0}]</small></td><td>{}</td>",
             esc(&g.config_label()),
             g.n,
             g.succeeded,
@@ -75,9 +77,15 @@ fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecor
             g.crashed,
         );
         for &(m, digits) in &cols {
-            let _ = write!(o, "<td>{}</td>", cell(g, m, digits));
+            if m.def().tracking() && !g.tracked() {
+                o.push_str("<td class=\"na\"></td>");
+            } else {
+                let _ = write!(o, "<td>{}</td>", cell(g, m, digits));
+            }
         }
-        if tracked {
+        if tracked && !g.tracked() {
+            o.push_str("<td class=\"na\"></td>");
+        } else if tracked {
             let _ = write!(o, "<td>{}</td>", g.agent_contacts);
         }
         let _ = writeln!(
@@ -141,11 +149,23 @@ fn inline_svg(stem: &Path) -> Result<String, CliError> {
     Ok(text[start..].to_string())
 }
 
-const STYLE: &str = "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;margin:2em auto;max-width:1200px;color:#222;padding:0 1em}\
-h1{font-size:1.6em}h2{margin-top:2em;border-bottom:1px solid #ccc}table{border-collapse:collapse;font-size:.9em;margin:1em 0}\
-th,td{border:1px solid #ccc;padding:.3em .6em;text-align:right}th{background:#f3f3f3}td:first-child,th:first-child{text-align:left}\
-small{color:#666}.note{color:#555;font-size:.85em}figure{margin:1.5em 0}svg{max-width:100%;height:auto}pre{background:#f6f6f6;padding:1em;overflow:auto}\
-dl{display:grid;grid-template-columns:max-content auto;gap:.2em 1em}dt{font-weight:bold}";
+const STYLE: &str = "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;margin:1.5em auto;max-width:1220px;color:#222;padding:0 1em;box-sizing:border-box}\
+h1{font-size:1.6em}h2{margin-top:2em;border-bottom:1px solid #ccc}table{border-collapse:collapse;font-size:.78em;margin:1em 0;width:100%;table-layout:fixed}\
+th,td{border:1px solid #ccc;padding:.25em .3em;text-align:right;vertical-align:top;overflow-wrap:anywhere}th:first-child{width:11em}th{hyphens:auto;overflow-wrap:break-word}th{background:#f3f3f3;vertical-align:bottom;font-weight:600;cursor:pointer;user-select:none}\
+th[data-dir=asc]::after{content:' \\25B2'}th[data-dir=desc]::after{content:' \\25BC'}td:first-child,th:first-child{text-align:left}td.na{background:#fafafa}\
+td small{display:block}small{color:#666}.note{color:#555;font-size:.85em}figure{margin:1.5em 0}svg{max-width:100%;height:auto}\
+pre{background:#f6f6f6;padding:1em;overflow:auto;white-space:pre-wrap}code{overflow-wrap:anywhere}\
+dl{display:grid;grid-template-columns:max-content auto;gap:.2em 1em}dt{font-weight:bold}dd{margin:0;overflow-wrap:anywhere}";
+
+/// Sorts a table by the clicked column (again: the other way): by a cell's `data-v` if it has
+/// one, else by the number its text starts with, else by its text; empty cells last.
+const SORT_SCRIPT: &str = "document.querySelectorAll('table').forEach(function(t){var h=t.tHead;if(!h)return;\
+var hs=Array.prototype.slice.call(h.rows[0].cells);hs.forEach(function(th,i){th.title='sort';th.addEventListener('click',function(){\
+var asc=th.dataset.dir!=='asc';hs.forEach(function(c){delete c.dataset.dir});th.dataset.dir=asc?'asc':'desc';var b=t.tBodies[0];\
+var key=function(r){var c=r.cells[i];if(!c)return null;var s=c.dataset.v!==undefined?c.dataset.v:c.textContent.trim();if(s===''||s==='\\u2013')return null;\
+var n=parseFloat(s);return isNaN(n)?s.toLowerCase():n};var rows=Array.prototype.slice.call(b.rows);rows.sort(function(x,y){var p=key(x),q=key(y);\
+if(p===null)return q===null?0:1;if(q===null)return -1;var d=typeof p===typeof q?(p<q?-1:p>q?1:0):(typeof p==='number'?-1:1);return asc?d:-d});\
+rows.forEach(function(r){b.appendChild(r)})})})});";
 
 /// Writes `dir/report.html`.
 pub fn write(
@@ -275,6 +295,7 @@ pub fn write(
         esc(&e.source),
         esc(&e.content)
     );
+    let _ = writeln!(o, "<script>{SORT_SCRIPT}</script>");
     o.push_str("</body></html>\n");
     let path = dir.join("report.html");
     std::fs::write(&path, o).map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))

@@ -12,8 +12,13 @@
 //! BOOLEAN` (exact or approximate, as in OMPL), `approximate solution BOOLEAN`, `solution
 //! difference REAL`, `status ENUM` (`ompl::base::PlannerStatus`), `graph states INTEGER`,
 //! `iterations INTEGER`, `best cost REAL`, `solution length REAL`, `solution smoothness
-//! REAL`, `solution clearance REAL`, ... (the metric table's OMPL names); progress properties are `best cost REAL`,
-//! `iterations INTEGER` and `time REAL`. See [`parse`] for the grammar.
+//! REAL`, `solution clearance REAL`, ... (the metric table's OMPL names); progress properties
+//! are `best cost REAL`, `iterations INTEGER` and `time REAL` for planners that track a best
+//! cost; planners that stop at their first solution have no progress section, as OMPL's
+//! non-optimizing planners declare no progress properties (their traces stay in
+//! `progress.csv`). The log declares no experiment properties: Planner Arena's "Progress" tab
+//! filters progress rows by them and cannot find them (docs/ompl-logs.md); the team size is a
+//! planner configuration's common property `agents`. See [`parse`] for the grammar.
 
 pub mod parse;
 
@@ -146,6 +151,7 @@ fn settings(r: &RunRecord) -> Vec<(String, String)> {
     if let Some(i) = r.max_iterations {
         s.push(("max_iterations".into(), i.to_string()));
     }
+    s.push(("agents".into(), r.agents.to_string()));
     s.sort();
     s
 }
@@ -169,6 +175,16 @@ fn blocks<'a>(runs: &[&'a RunRecord], qualify_scenario: bool) -> Vec<Block<'a>> 
     out
 }
 
+/// Whether a planner configuration tracks a best cost: some run has a cost at more than one
+/// point of its progress trace (a planner that stops at its first solution has one at most).
+fn tracks_cost(runs: &[&RunRecord], progress: &BTreeMap<usize, Vec<&ProgressRow>>) -> bool {
+    runs.iter().any(|r| {
+        progress
+            .get(&r.run)
+            .is_some_and(|v| v.iter().filter(|p| p.best_cost.is_some()).count() > 1)
+    })
+}
+
 /// The text of one OMPL benchmark log holding `runs` as experiment `name`.
 pub fn log_text(
     name: &str,
@@ -181,16 +197,6 @@ pub fn log_text(
     let e = &m.experiment;
     let _ = writeln!(o, "magbench version {}", m.magbench_version);
     let _ = writeln!(o, "Experiment {}", token(name));
-    let agents = runs.first().map(|r| r.agents).unwrap_or(0);
-    let props = [
-        ("agents INTEGER", agents.to_string()),
-        ("max_iterations INTEGER", opt(e.max_iterations)),
-        ("seeds INTEGER", e.seeds.len().to_string()),
-    ];
-    let _ = writeln!(o, "{} experiment properties", props.len());
-    for (k, v) in props {
-        let _ = writeln!(o, "{k} = {v}");
-    }
     let _ = writeln!(o, "Running on {}", token(&m.host.name));
     let _ = writeln!(o, "Starting at {}", m.started.trim_end_matches('Z'));
     let mut setup = format!(
@@ -243,10 +249,10 @@ pub fn log_text(
             }
             o.push('\n');
         }
-        if b.runs
-            .iter()
-            .any(|r| progress.get(&r.run).is_some_and(|v| !v.is_empty()))
-        {
+        // OMPL writes progress only for planners that declare progress properties, which
+        // its non-optimizing planners (RRT, KPIECE, ...) do not.
+        let cost = tracks_cost(&b.runs, progress);
+        if cost {
             let _ = writeln!(o, "3 progress properties for each run");
             let _ = writeln!(o, "best cost REAL\niterations INTEGER\ntime REAL");
             let _ = writeln!(o, "{} runs", b.runs.len());
@@ -262,8 +268,8 @@ pub fn log_text(
                 }
                 for t in order {
                     let p = by_time[&t];
-                    let cost = p.best_cost.map(num).unwrap_or_else(|| "inf".into());
-                    let _ = write!(o, "{cost},{},{t},;", p.iteration);
+                    let c = p.best_cost.map(num).unwrap_or_else(|| "inf".into());
+                    let _ = write!(o, "{c},{},{t},;", p.iteration);
                 }
                 o.push('\n');
             }

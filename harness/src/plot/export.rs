@@ -1,0 +1,205 @@
+//! Figure output options: the size preset (screen, one or two journal columns), the PNG's
+//! resolution, the axis scale and whether a PDF is written; and the conversions from the SVG
+//! every figure is drawn into: PNG at any DPI (resvg) and PDF (svg2pdf), both with the
+//! embedded font, so the three files show the same figure.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::PlotError;
+
+/// A figure size preset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum SizePreset {
+    /// 900 px wide, for the report and a screen.
+    #[default]
+    Screen,
+    /// 3.5 in (89 mm) wide, a journal's single column; text about 9 pt.
+    OneColumn,
+    /// 7.16 in (182 mm) wide, a journal's full page width; text about 9 pt.
+    TwoColumn,
+}
+
+impl SizePreset {
+    /// The width the figure is laid out in (px, the SVG's user units): the fonts keep their
+    /// size in these units, so a narrower layout makes larger text on paper.
+    pub fn layout_width(self) -> u32 {
+        match self {
+            SizePreset::Screen => 900,
+            SizePreset::OneColumn => 560,
+            SizePreset::TwoColumn => 1100,
+        }
+    }
+
+    /// The printed width (in), or `None` for the screen preset.
+    pub fn inches(self) -> Option<f64> {
+        match self {
+            SizePreset::Screen => None,
+            SizePreset::OneColumn => Some(3.5),
+            SizePreset::TwoColumn => Some(7.16),
+        }
+    }
+}
+
+/// Linear or logarithmic axes for quantities such as iterations and times.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum AxisScale {
+    /// Logarithmic when the positive values span more than a decade, linear otherwise.
+    #[default]
+    Auto,
+    /// Always linear.
+    Linear,
+    /// Always logarithmic (values ≤ 0 are left out).
+    Log,
+}
+
+impl AxisScale {
+    /// Whether an axis holding `values` is drawn logarithmic.
+    pub fn is_log(self, values: impl IntoIterator<Item = f64>) -> bool {
+        match self {
+            AxisScale::Linear => false,
+            AxisScale::Log => true,
+            AxisScale::Auto => {
+                let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+                for v in values.into_iter().filter(|v| v.is_finite() && *v > 0.0) {
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+                lo.is_finite() && hi > 10.0 * lo
+            }
+        }
+    }
+}
+
+/// How figures are written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::Args)]
+pub struct FigureOptions {
+    /// Figure size: screen (900 px), one-column (3.5 in) or two-column (7.16 in).
+    #[arg(long = "figure-size", value_enum, default_value_t = SizePreset::Screen)]
+    pub size: SizePreset,
+    /// Resolution of the PNGs of the one- and two-column presets (dots per inch).
+    #[arg(long, default_value_t = 300, value_parser = clap::value_parser!(u32).range(50..=1200))]
+    pub dpi: u32,
+    /// Axes of iterations and times: log when they span more than a decade (auto), linear or
+    /// log.
+    #[arg(long, value_enum, default_value_t = AxisScale::Auto)]
+    pub axes: AxisScale,
+    /// Also write each figure as PDF.
+    #[arg(long)]
+    pub pdf: bool,
+}
+
+impl Default for FigureOptions {
+    fn default() -> Self {
+        FigureOptions {
+            size: SizePreset::Screen,
+            dpi: 300,
+            axes: AxisScale::Auto,
+            pdf: false,
+        }
+    }
+}
+
+fn usvg_options() -> usvg::Options<'static> {
+    let mut db = usvg::fontdb::Database::new();
+    db.load_font_data(super::font::DEJAVU_SANS.to_vec());
+    db.set_sans_serif_family("DejaVu Sans");
+    db.set_serif_family("DejaVu Sans");
+    db.set_monospace_family("DejaVu Sans");
+    usvg::Options {
+        fontdb: Arc::new(db),
+        ..usvg::Options::default()
+    }
+}
+
+fn parse(svg: &str) -> Result<usvg::Tree, PlotError> {
+    usvg::Tree::from_str(svg, &usvg_options()).map_err(|e| PlotError(format!("SVG: {e}")))
+}
+
+/// Gives the SVG text a printed size of `inches` wide (its user units unchanged).
+pub fn with_print_size(svg: &str, inches: f64) -> String {
+    let Some(start) = svg.find("<svg") else {
+        return svg.to_string();
+    };
+    let end = start + svg[start..].find('>').unwrap_or(0);
+    let head = &svg[start..end];
+    let attr = |name: &str| -> Option<f64> {
+        let at = head.find(&format!(" {name}=\""))? + name.len() + 3;
+        head[at..].split('"').next()?.parse().ok()
+    };
+    let (Some(w), Some(h)) = (attr("width"), attr("height")) else {
+        return svg.to_string();
+    };
+    let new_head = head
+        .replacen(
+            &format!(" width=\"{w}\""),
+            &format!(" width=\"{inches:.3}in\""),
+            1,
+        )
+        .replacen(
+            &format!(" height=\"{h}\""),
+            &format!(" height=\"{:.3}in\"", inches * h / w),
+            1,
+        );
+    format!("{}{new_head}{}", &svg[..start], &svg[end..])
+}
+
+/// Renders the SVG text into a PNG `width_px` wide.
+pub fn svg_to_png(svg: &str, width_px: u32, out: &Path) -> Result<(), PlotError> {
+    let tree = parse(svg)?;
+    let size = tree.size();
+    let scale = width_px as f32 / size.width();
+    let h = (size.height() * scale).ceil() as u32;
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(width_px, h.max(1))
+        .ok_or_else(|| PlotError(format!("PNG of {width_px}×{h} px")))?;
+    pixmap.fill(resvg::tiny_skia::Color::WHITE);
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::from_scale(scale, scale),
+        &mut pixmap.as_mut(),
+    );
+    pixmap
+        .save_png(out)
+        .map_err(|e| PlotError(format!("{}: {e}", out.display())))
+}
+
+/// Converts the SVG text into a PDF page `inches` wide (the SVG's own size at 72 user units
+/// per inch when `None`).
+pub fn svg_to_pdf(svg: &str, inches: Option<f64>, out: &Path) -> Result<(), PlotError> {
+    let tree = parse(svg)?;
+    let dpi = match inches {
+        Some(i) => (tree.size().width() as f64 / i) as f32,
+        None => 72.0,
+    };
+    let pdf = svg2pdf::to_pdf(
+        &tree,
+        svg2pdf::ConversionOptions::default(),
+        svg2pdf::PageOptions { dpi },
+    )
+    .map_err(|e| PlotError(format!("PDF: {e}")))?;
+    std::fs::write(out, pdf).map_err(|e| PlotError(format!("{}: {e}", out.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_is_log_only_beyond_a_decade() {
+        assert!(AxisScale::Auto.is_log([0.0, 50.0, 20000.0]));
+        assert!(!AxisScale::Auto.is_log([2.0, 19.0]));
+        assert!(!AxisScale::Auto.is_log([0.0, f64::NAN]));
+        assert!(AxisScale::Log.is_log([2.0, 3.0]));
+        assert!(!AxisScale::Linear.is_log([1.0, 1e6]));
+    }
+
+    #[test]
+    fn print_size_keeps_the_view_box() {
+        let s = "<?xml?>\n<svg width=\"900\" height=\"450\" viewBox=\"0 0 900 450\" xmlns=\"x\">";
+        let t = with_print_size(s, 3.5);
+        assert!(
+            t.contains("width=\"3.500in\" height=\"1.750in\" viewBox=\"0 0 900 450\""),
+            "{t}"
+        );
+    }
+}
