@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use magbench_env::InputError;
-use magbench_env::input::{parse_toml, read_text};
+use magbench_env::check::{parse_toml, read_text};
 use serde::Deserialize;
 
 use crate::calibration::Calibration;

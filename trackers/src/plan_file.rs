@@ -17,7 +17,7 @@ pub const MAX_PLAN_DURATION_S: f64 = 3600.0;
 /// Reads and checks a plan file for a team of `agents` (its form only).
 pub fn read_plan(path: &Path, agents: usize) -> Result<Plan, InputError> {
     let file = path.display().to_string();
-    let text = magbench_env::input::read_text(path, &file)?;
+    let text = magbench_env::check::read_text(path, &file)?;
     parse_plan(&text, &file, agents)
 }
 

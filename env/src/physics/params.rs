@@ -152,7 +152,7 @@ impl PhysicalParams {
     }
 
     /// Checks that every value is finite and physically meaningful; returns (field, reason).
-    pub fn check(&self) -> Result<(), (&'static str, String)> {
+    pub fn check(&self) -> Result<(), crate::check::Rejection> {
         let positive = [
             ("diameter_um", self.diameter_um),
             ("viscosity_mpa_s", self.viscosity_mpa_s),
@@ -164,23 +164,26 @@ impl PhysicalParams {
         ];
         for (name, v) in positive {
             if !v.is_finite() || v <= 0.0 {
-                return Err((name, format!("must be a finite number > 0, got {v}")));
+                return Err(crate::check::Rejection::new(
+                    name,
+                    format!("must be a finite number > 0, got {v}"),
+                ));
             }
         }
         if !self.r_min.is_finite() || self.r_min <= 1.0 {
-            return Err((
+            return Err(crate::check::Rejection::new(
                 "r_min",
                 format!("must be > 1 BL (agents touch at 1 BL), got {}", self.r_min),
             ));
         }
         if !self.r_max.is_finite() || self.r_max <= self.r_min {
-            return Err((
+            return Err(crate::check::Rejection::new(
                 "r_max",
                 format!("must be > r_min = {}, got {}", self.r_min, self.r_max),
             ));
         }
         if !(MIN_DT_S..=0.05).contains(&self.dt_s) {
-            return Err((
+            return Err(crate::check::Rejection::new(
                 "dt_s",
                 format!(
                     "must be in [{MIN_DT_S}, 0.05] s (≤ 0.05 s for an accurate integration, ≥ {MIN_DT_S} s so that a plan is not millions of steps), got {}",

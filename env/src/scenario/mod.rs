@@ -111,7 +111,7 @@ impl Scenario {
                 format!("no such file, and not a built-in scenario (built-ins: {names})"),
             ));
         }
-        let text = crate::input::read_text(path, name_or_path)?;
+        let text = crate::check::read_text(path, name_or_path)?;
         parse_scenario(&text, name_or_path)
     }
 

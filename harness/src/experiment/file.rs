@@ -5,7 +5,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use magbench_env::InputError;
-use magbench_env::input::parse_toml;
+use magbench_env::check::parse_toml;
 use magbench_env::plant::DisturbancePreset;
 use serde::Deserialize;
 

@@ -1,8 +1,9 @@
-//! The one loader of input files: read a file (bounded in size), parse TOML into a serde type,
-//! and report every failure as an [`InputError`] naming the file, the field and the line.
+//! The one loader of input files: read a regular file (bounded in size), parse TOML or JSON into
+//! a serde type, and report every failure as an [`InputError`] naming the file, the field path
+//! and the line. Unknown keys get the closest known key (see [`super::suggest`]).
 //!
-//! Scenario, experiment and rig files all load through here, so their messages read alike:
-//! `FILE: FIELD: REASON (line N)`.
+//! Scenario, experiment, rig, preset and plan files all load through here, so their messages
+//! read alike: `FILE: FIELD: REASON (line N)`.
 
 use std::io::Read;
 use std::path::Path;
@@ -15,9 +16,23 @@ use crate::error::InputError;
 /// the bound keeps `/dev/zero` or a mistaken multi-gigabyte file from exhausting memory.
 pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 
-/// Reads a text file of at most [`MAX_INPUT_BYTES`]; `file` names it in errors.
+/// Reads a regular text file of at most [`MAX_INPUT_BYTES`]; `file` names it in errors.
+///
+/// A FIFO, a socket or a device is refused before it is opened (reading one waits for a
+/// writer, or never ends): inputs are files.
 pub fn read_text(path: &Path, file: &str) -> Result<String, InputError> {
     let cannot = |e: std::io::Error| InputError::new(file, "", format!("cannot read: {e}"));
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    if !meta.is_file() {
+        return Err(InputError::new(
+            file,
+            "",
+            format!(
+                "cannot read: {} is not a regular file; inputs are files (copy a stream to one first)",
+                kind(&meta)
+            ),
+        ));
+    }
     let f = std::fs::File::open(path).map_err(cannot)?;
     let mut text = String::new();
     f.take(MAX_INPUT_BYTES + 1)
@@ -34,6 +49,54 @@ pub fn read_text(path: &Path, file: &str) -> Result<String, InputError> {
         ));
     }
     Ok(text)
+}
+
+/// What a non-regular file is, for a message.
+fn kind(meta: &std::fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = meta.file_type();
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+        if t.is_block_device() || t.is_char_device() {
+            return "a device";
+        }
+    }
+    if meta.is_dir() {
+        "a directory"
+    } else {
+        "a special file"
+    }
+}
+
+/// Parses JSON `text` into `T`; `file` names it in errors, which carry the field path
+/// (`states[3][1]`) and the line.
+pub fn parse_json<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, InputError> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let field = if path == "." { String::new() } else { path };
+        let msg = inner.to_string();
+        // serde_json ends its messages with " at line L column C"
+        let msg = match msg.rsplit_once(" at line ") {
+            Some((m, at)) => format!(
+                "{} (line {})",
+                super::suggest::explain(m),
+                at.split(' ').next().unwrap_or(at)
+            ),
+            None => super::suggest::explain(&msg),
+        };
+        InputError::new(file, field, msg)
+    })?;
+    de.end()
+        .map_err(|e| InputError::new(file, "", format!("invalid JSON: {e}")))?;
+    Ok(value)
 }
 
 /// Parses TOML `text` into `T`; `file` names it in errors, which carry the dotted field path
@@ -57,7 +120,11 @@ pub fn parse_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, Inpu
         InputError::new(
             file,
             field,
-            format!("{}{}", inner.message().trim(), at_line(text, inner.span())),
+            format!(
+                "{}{}",
+                super::suggest::explain(inner.message().trim()),
+                at_line(text, inner.span())
+            ),
         )
     })
 }
@@ -136,6 +203,20 @@ mod tests {
             e.reason.contains("unknown field") && e.reason.contains("line 2"),
             "{e}"
         );
+        let e = parse_toml::<T>(
+            "a = 1.0
+bb = 2
+",
+            "t.toml",
+        )
+        .unwrap_err();
+        assert!(e.reason.contains("did you mean `b`?"), "{e}");
+        let e = parse_json::<T>("{\"a\": 1, \"b\": [1, -2]}", "t.json").unwrap_err();
+        assert_eq!(e.field, "b[1]", "{e}");
+        assert!(e.reason.ends_with("(line 1)"), "{e}");
+        let e = parse_json::<T>("{\"a\": 1, \"c\": 2}", "t.json").unwrap_err();
+        assert!(e.reason.contains("unknown field `c`"), "{e}");
+        assert!(parse_json::<T>("{\"a\": 1} x", "t.json").is_err());
         let e = parse_toml::<T>("a = [\n", "t.toml").unwrap_err();
         assert!(e.reason.starts_with("invalid TOML"), "{e}");
     }
@@ -161,7 +242,13 @@ mod tests {
         #[cfg(unix)]
         {
             let e = read_text(Path::new("/dev/zero"), "/dev/zero").unwrap_err();
-            assert!(e.reason.contains("larger than"), "{e}");
+            assert!(e.reason.contains("a device"), "{e}");
+            let fifo = dir.path().join("fifo");
+            let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+            if made.is_ok_and(|s| s.success()) {
+                let e = read_text(&fifo, "fifo").unwrap_err();
+                assert!(e.reason.contains("FIFO"), "{e}");
+            }
         }
     }
 }
