@@ -62,6 +62,12 @@ pub struct PhysicalOverrides {
 /// default; below it every motion is so many steps that planning all but stops.
 pub const MIN_DT_S: f64 = 1e-4;
 
+/// Strongest field accepted (mT).
+pub const MAX_FIELD_MT: f64 = 1000.0;
+
+/// Most magnet-rotation sub-steps per integration step of a nominal agent in the bulk.
+pub const MAX_ROTATION_SUBSTEPS: f64 = 1000.0;
+
 impl Default for PhysicalParams {
     /// The default preset: 500 µm spheres in 30 mPa·s glycerol–water (see docs/physics.md).
     fn default() -> Self {
@@ -180,6 +186,28 @@ impl PhysicalParams {
             return Err(crate::check::Rejection::new(
                 "r_max",
                 format!("must be > r_min = {}, got {}", self.r_min, self.r_max),
+            ));
+        }
+        if self.field_mt > MAX_FIELD_MT {
+            return Err(crate::check::Rejection::new(
+                "field_mt",
+                format!(
+                    "must be at most {MAX_FIELD_MT} mT (1 T: beyond what coil systems for microrobots make), got {}",
+                    self.field_mt
+                ),
+            ));
+        }
+        // the magnet-lag term integrates each moment in sub-steps of its rotation time
+        let tau = std::f64::consts::PI * self.viscosity_mpa_s * 1e-3 * self.bl_m().powi(3)
+            / (self.moment() * self.field_mt * 1e-3);
+        let substeps = 1.5 * self.dt_s / tau;
+        if !(substeps <= MAX_ROTATION_SUBSTEPS) {
+            return Err(crate::check::Rejection::new(
+                "field_mt",
+                format!(
+                    "with these values a moment turns to the field in τ = {tau:.3e} s; the plant integrates that in {substeps:.3e} sub-steps per step of dt_s = {} s, at most {MAX_ROTATION_SUBSTEPS} are allowed (so that a simulated second stays under a minute): lower field_mt or magnetization_ka_per_m, or raise viscosity_mpa_s",
+                    self.dt_s
+                ),
             ));
         }
         if !(MIN_DT_S..=0.05).contains(&self.dt_s) {
