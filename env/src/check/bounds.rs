@@ -70,8 +70,11 @@ impl Bound {
         Err(Rejection::new(
             field,
             format!(
-                "must be in {open}{}, {}]{}{why}, got {v}",
-                self.lo, self.hi, self.unit
+                "must be in {open}{}, {}]{}{why}, got {}",
+                number(self.lo),
+                number(self.hi),
+                self.unit,
+                number(v)
             ),
         ))
     }
@@ -80,6 +83,13 @@ impl Bound {
     pub fn check_count(&self, field: &str, n: u64) -> Result<u64, Rejection> {
         self.check(field, n as f64).map(|_| n)
     }
+}
+
+/// `v` as a message shows it: plainly when short, else in scientific notation (`1e308`, not
+/// 309 digits).
+pub fn number(v: f64) -> String {
+    let plain = format!("{v}");
+    if plain.len() <= 12 { plain } else { format!("{v:e}") }
 }
 
 /// `v` must be a finite number.

@@ -21,6 +21,12 @@ pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 /// A FIFO, a socket or a device is refused before it is opened (reading one waits for a
 /// writer, or never ends): inputs are files.
 pub fn read_text(path: &Path, file: &str) -> Result<String, InputError> {
+    read_text_at_most(path, file, MAX_INPUT_BYTES)
+}
+
+/// Reads a regular text file of at most `max` bytes (a format's own bound, below
+/// [`MAX_INPUT_BYTES`]); `file` names it in errors.
+pub fn read_text_at_most(path: &Path, file: &str, max: u64) -> Result<String, InputError> {
     let cannot = |e: std::io::Error| InputError::new(file, "", format!("cannot read: {e}"));
     let meta = std::fs::metadata(path).map_err(cannot)?;
     if !meta.is_file() {
@@ -35,16 +41,14 @@ pub fn read_text(path: &Path, file: &str) -> Result<String, InputError> {
     }
     let f = std::fs::File::open(path).map_err(cannot)?;
     let mut text = String::new();
-    f.take(MAX_INPUT_BYTES + 1)
-        .read_to_string(&mut text)
-        .map_err(cannot)?;
-    if text.len() as u64 > MAX_INPUT_BYTES {
+    f.take(max + 1).read_to_string(&mut text).map_err(cannot)?;
+    if text.len() as u64 > max {
         return Err(InputError::new(
             file,
             "",
             format!(
-                "cannot read: larger than {} MiB; is it the right file?",
-                MAX_INPUT_BYTES >> 20
+                "cannot read: larger than {} KiB; is it the right file?",
+                max >> 10
             ),
         ));
     }
@@ -117,15 +121,13 @@ pub fn parse_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, Inpu
         let path = e.path().to_string();
         let inner = e.into_inner();
         let field = if path == "." { String::new() } else { path };
-        InputError::new(
-            file,
-            field,
-            format!(
-                "{}{}",
-                super::suggest::explain(inner.message().trim()),
-                at_line(text, inner.span())
-            ),
-        )
+        let reason = format!(
+            "{}{}{}",
+            super::suggest::explain(inner.message().trim()),
+            at_line(text, inner.span()),
+            misspelt(text, &field, inner.message())
+        );
+        InputError::new(file, field, reason)
     })
 }
 
@@ -164,6 +166,57 @@ pub fn field_line(text: &str, field: &str) -> String {
     table_line
         .map(|n| format!(" (line {n})"))
         .unwrap_or_default()
+}
+
+/// For a `missing field `F`` error at `field`: a key written next to it that looks like a
+/// misspelling of `F` (or of the table at `field` itself), as `; is `wrold` a misspelling of
+/// `world`?`. Tables are read in name order, so a misspelt table can show up as another
+/// table's missing field.
+fn misspelt(text: &str, field: &str, message: &str) -> String {
+    let Some(missing) = message
+        .strip_prefix("missing field `")
+        .and_then(|r| r.split('`').next())
+    else {
+        return String::new();
+    };
+    let Ok(doc) = text.parse::<toml::Table>() else {
+        return String::new();
+    };
+    // the table at a dotted path (indices step into arrays of tables)
+    let table_at = |path: &[&str]| -> Option<&toml::Table> {
+        let mut t = &doc;
+        for part in path {
+            let (key, index) = match part.split_once('[') {
+                Some((k, i)) => (k, i.trim_end_matches(']').parse::<usize>().ok()),
+                None => (*part, None),
+            };
+            let v = t.get(key)?;
+            t = match (v, index) {
+                (toml::Value::Array(a), Some(i)) => a.get(i)?.as_table()?,
+                (v, None) => v.as_table()?,
+                _ => return None,
+            };
+        }
+        Some(t)
+    };
+    let path: Vec<&str> = if field.is_empty() {
+        vec![]
+    } else {
+        field.split('.').collect()
+    };
+    let mut tries = vec![(path.clone(), missing.to_string())];
+    if let Some((last, parent)) = path.split_last() {
+        let name = last.split('[').next().unwrap_or(last).to_string();
+        tries.push((parent.to_vec(), name));
+    }
+    for (at, wanted) in tries {
+        if let Some(t) = table_at(&at)
+            && let Some(k) = super::suggest::did_you_mean(&wanted, t.keys().map(String::as_str))
+        {
+            return format!("; is `{k}` a misspelling of `{wanted}`?");
+        }
+    }
+    String::new()
 }
 
 /// ` (line N)` for a byte span of `text`, or nothing without one.

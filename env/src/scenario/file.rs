@@ -86,6 +86,10 @@ pub const MAX_OBSTACLES: usize = 1000;
 /// bound keeps a check under a second and a planner's step under a millisecond.
 pub const MAX_MAP_VERTICES: usize = 20_000;
 
+/// Largest scenario file (bytes): 4 MiB holds a map of [`MAX_MAP_VERTICES`] vertices several
+/// times over; parsing it takes well under a second.
+pub const MAX_SCENARIO_BYTES: u64 = 4 << 20;
+
 /// Most legs of a scenario.
 pub const MAX_LEGS: usize = 100;
 

@@ -111,7 +111,11 @@ impl Scenario {
                 format!("no such file, and not a built-in scenario (built-ins: {names})"),
             ));
         }
-        let text = crate::check::read_text(path, name_or_path)?;
+        let text = crate::check::file::read_text_at_most(
+            path,
+            name_or_path,
+            file::MAX_SCENARIO_BYTES,
+        )?;
         parse_scenario(&text, name_or_path)
     }
 
