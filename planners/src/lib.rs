@@ -46,7 +46,7 @@ pub mod validate;
 
 pub use metric::Metric;
 pub use objective::{Objective, plan_cost};
-pub use plan::Plan;
+pub use plan::{MadeFor, Plan};
 pub use planner::{Planner, PlannerResult, ProgressPoint};
 pub use problem::{Limits, Problem};
 pub use registry::Planners;

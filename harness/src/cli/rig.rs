@@ -431,6 +431,7 @@ fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), CliError> {
         planner: Some(a.planner),
         planner_params: &a.planner_params,
         plan: None,
+        force: false,
         tracker,
         seed: a.seed,
         setup,
