@@ -359,274 +359,272 @@ impl RigConfig {
 }
 
 fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
-        let endpoint = match (c.port, c.address) {
-            (Some(path), None) => {
-                if c.baud == 0 {
-                    return Err(ck.err("coil.baud", "must be > 0"));
-                }
-                CoilEndpoint::Serial { path, baud: c.baud }
+    let endpoint = match (c.port, c.address) {
+        (Some(path), None) => {
+            if c.baud == 0 {
+                return Err(ck.err("coil.baud", "must be > 0"));
             }
-            (None, Some(a)) => {
-                if !a.contains(':') {
-                    return Err(ck.err("coil.address", format!("must be HOST:PORT, got {a:?}")));
-                }
-                CoilEndpoint::Tcp(a)
-            }
-            (Some(_), Some(_)) => {
-                return Err(ck.err("coil", "has both `port` and `address`; give one"));
-            }
-            (None, None) => {
-                return Err(ck.err("coil", "needs `port` (serial) or `address` (TCP)"));
-            }
-        };
-        for (f, x) in [
-            ("coil.heartbeat_ms", c.heartbeat_ms),
-            ("coil.watchdog_ms", c.watchdog_ms),
-            ("coil.ack_timeout_ms", c.ack_timeout_ms),
-            ("coil.hold_timeout_ms", c.hold_timeout_ms),
-        ] {
-            if x == 0 {
-                return Err(ck.err(f, "must be > 0"));
-            }
+            CoilEndpoint::Serial { path, baud: c.baud }
         }
-        if c.heartbeat_ms * 2 > c.watchdog_ms {
-            return Err(ck.err(
+        (None, Some(a)) => {
+            if !a.contains(':') {
+                return Err(ck.err("coil.address", format!("must be HOST:PORT, got {a:?}")));
+            }
+            CoilEndpoint::Tcp(a)
+        }
+        (Some(_), Some(_)) => {
+            return Err(ck.err("coil", "has both `port` and `address`; give one"));
+        }
+        (None, None) => {
+            return Err(ck.err("coil", "needs `port` (serial) or `address` (TCP)"));
+        }
+    };
+    for (f, x) in [
+        ("coil.heartbeat_ms", c.heartbeat_ms),
+        ("coil.watchdog_ms", c.watchdog_ms),
+        ("coil.ack_timeout_ms", c.ack_timeout_ms),
+        ("coil.hold_timeout_ms", c.hold_timeout_ms),
+    ] {
+        if x == 0 {
+            return Err(ck.err(f, "must be > 0"));
+        }
+    }
+    if c.heartbeat_ms * 2 > c.watchdog_ms {
+        return Err(ck.err(
                 "coil.heartbeat_ms",
                 format!("must be at most half of watchdog_ms = {} so one lost heartbeat does not trip it, got {}", c.watchdog_ms, c.heartbeat_ms),
             ));
-        }
-        if c.watchdog_ms > u16::MAX as u32 {
-            return Err(ck.err(
-                "coil.watchdog_ms",
-                format!("must be ≤ {}, got {}", u16::MAX, c.watchdog_ms),
-            ));
-        }
-        if let Some(f) = c.field_mt {
-            ck.positive("coil.field_mt", f)?;
-            ck.bound(
-                "coil.field_mt",
-                f,
-                &Bound::above(
-                    0.0,
-                    magbench_env::physics::MAX_FIELD_MT,
-                    " mT",
-                    "1 T is beyond what coil systems for microrobots make",
-                ),
-            )?;
-        }
-        if !(c.alpha_max_deg.is_finite() && (0.0..=90.0).contains(&c.alpha_max_deg)) {
-            return Err(ck.err(
+    }
+    if c.watchdog_ms > u16::MAX as u32 {
+        return Err(ck.err(
+            "coil.watchdog_ms",
+            format!("must be ≤ {}, got {}", u16::MAX, c.watchdog_ms),
+        ));
+    }
+    if let Some(f) = c.field_mt {
+        ck.positive("coil.field_mt", f)?;
+        ck.bound(
+            "coil.field_mt",
+            f,
+            &Bound::above(
+                0.0,
+                magbench_env::physics::MAX_FIELD_MT,
+                " mT",
+                "1 T is beyond what coil systems for microrobots make",
+            ),
+        )?;
+    }
+    if !(c.alpha_max_deg.is_finite() && (0.0..=90.0).contains(&c.alpha_max_deg)) {
+        return Err(ck.err(
                 "coil.alpha_max_deg",
                 format!(
                     "must be an elevation in [0, 90]° (90 for a tri-axial coil, 0 for a planar coil set), got {}",
                     c.alpha_max_deg
                 ),
             ));
-        }
-        let calibration = calibration(ck, &c.calibration)?;
-        let n = calibration.channels();
-        let current_limit_a = match c.limits.current_a {
-            OneOrMany::One(x) => vec![ck.positive("coil.limits.current_a", x)?; n],
-            OneOrMany::Many(v) => {
-                if v.len() != n {
-                    return Err(ck.err(
-                        "coil.limits.current_a",
-                        format!(
-                            "has {} limits but the calibration has {n} channels",
-                            v.len()
-                        ),
-                    ));
-                }
-                for (i, x) in v.iter().enumerate() {
-                    ck.positive(&format!("coil.limits.current_a[{i}]"), *x)?;
-                }
-                v
-            }
-        };
-        let slew_a_per_s = ck.positive("coil.limits.slew_a_per_s", c.limits.slew_a_per_s)?;
-        Ok(CoilConfig {
-            endpoint,
-            heartbeat_ms: c.heartbeat_ms,
-            watchdog_ms: c.watchdog_ms,
-            ack_timeout_ms: c.ack_timeout_ms,
-            retries: c.retries,
-            hold_timeout_ms: c.hold_timeout_ms,
-            field_mt: c.field_mt,
-            alpha_max_deg: c.alpha_max_deg,
-            calibration,
-            current_limit_a,
-            slew_a_per_s,
-        })
     }
-
-fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputError> {
-        let f = "coil.calibration";
-        match (&c.field_mt_per_a, &c.gradient_mt_per_m_per_a, &c.matrix) {
-            (Some(Fixed(b)), Some(Fixed(g)), None) => {
-                for (i, x) in b.iter().enumerate() {
-                    ck.positive(&format!("{f}.field_mt_per_a[{i}]"), *x)?;
-                }
-                for (i, x) in g.iter().enumerate() {
-                    ck.positive(&format!("{f}.gradient_mt_per_m_per_a[{i}]"), *x)?;
-                }
-                Ok(Calibration::per_axis(*b, *g))
-            }
-            (None, None, Some(m)) => {
-                if m.len() != 5 {
-                    return Err(ck.err(
-                        &format!("{f}.matrix"),
-                        format!(
-                            "needs 5 rows (Bx, By, Bz in mT/A; Gx, Gy in mT/m/A), got {}",
-                            m.len()
-                        ),
-                    ));
-                }
-                let n = m[0].len();
-                if !(5..=32).contains(&n) {
-                    return Err(ck.err(
-                        &format!("{f}.matrix[0]"),
-                        format!("needs 5 to 32 channels (columns), got {n}"),
-                    ));
-                }
-                for (i, row) in m.iter().enumerate() {
-                    if row.len() != n {
-                        return Err(ck.err(
-                            &format!("{f}.matrix[{i}]"),
-                            format!("has {} columns, row 0 has {n}", row.len()),
-                        ));
-                    }
-                    for (j, x) in row.iter().enumerate() {
-                        ck.finite(&format!("{f}.matrix[{i}][{j}]"), *x)?;
-                    }
-                }
-                Calibration::matrix(m).map_err(|r| ck.err(&format!("{f}.matrix"), r))
-            }
-            (None, None, None) => Err(ck.err(
-                f,
-                "needs `field_mt_per_a` and `gradient_mt_per_m_per_a`, or `matrix`",
-            )),
-            (_, _, Some(_)) => {
-                Err(ck.err(f, "has both per-axis constants and `matrix`; give one"))
-            }
-            (None, Some(_), None) => Err(ck.err(
-                &format!("{f}.field_mt_per_a"),
-                "missing (needed with gradient_mt_per_m_per_a)",
-            )),
-            (Some(_), None, None) => Err(ck.err(
-                &format!("{f}.gradient_mt_per_m_per_a"),
-                "missing (needed with field_mt_per_a)",
-            )),
-        }
-    }
-
-fn camera(ck: Checker, c: CameraFile) -> Result<CameraConfig, InputError> {
-        let fps = ck.bound("camera.fps", c.fps, &FPS)?;
-        let need = |v: Option<String>, key: &str| {
-            v.ok_or_else(|| {
-                ck.err(
-                    &format!("camera.{key}"),
-                    format!("missing (needed by source = {:?})", c.source),
-                )
-            })
-        };
-        let source = match c.source.as_str() {
-            "emulator" => CameraSource::Emulator(need(c.address, "address")?),
-            "recorded" => CameraSource::Recorded(PathBuf::from(need(c.folder, "folder")?)),
-            "v4l2" => CameraSource::V4l2(need(c.device, "device")?),
-            other => {
+    let calibration = calibration(ck, &c.calibration)?;
+    let n = calibration.channels();
+    let current_limit_a = match c.limits.current_a {
+        OneOrMany::One(x) => vec![ck.positive("coil.limits.current_a", x)?; n],
+        OneOrMany::Many(v) => {
+            if v.len() != n {
                 return Err(ck.err(
-                    "camera.source",
-                    format!("unknown source {other:?}; use emulator, recorded or v4l2"),
+                    "coil.limits.current_a",
+                    format!(
+                        "has {} limits but the calibration has {n} channels",
+                        v.len()
+                    ),
                 ));
             }
-        };
-        let [w, h] = c.size_px.0;
-        if !(8..=16384).contains(&w) || !(8..=16384).contains(&h) {
+            for (i, x) in v.iter().enumerate() {
+                ck.positive(&format!("coil.limits.current_a[{i}]"), *x)?;
+            }
+            v
+        }
+    };
+    let slew_a_per_s = ck.positive("coil.limits.slew_a_per_s", c.limits.slew_a_per_s)?;
+    Ok(CoilConfig {
+        endpoint,
+        heartbeat_ms: c.heartbeat_ms,
+        watchdog_ms: c.watchdog_ms,
+        ack_timeout_ms: c.ack_timeout_ms,
+        retries: c.retries,
+        hold_timeout_ms: c.hold_timeout_ms,
+        field_mt: c.field_mt,
+        alpha_max_deg: c.alpha_max_deg,
+        calibration,
+        current_limit_a,
+        slew_a_per_s,
+    })
+}
+
+fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputError> {
+    let f = "coil.calibration";
+    match (&c.field_mt_per_a, &c.gradient_mt_per_m_per_a, &c.matrix) {
+        (Some(Fixed(b)), Some(Fixed(g)), None) => {
+            for (i, x) in b.iter().enumerate() {
+                ck.positive(&format!("{f}.field_mt_per_a[{i}]"), *x)?;
+            }
+            for (i, x) in g.iter().enumerate() {
+                ck.positive(&format!("{f}.gradient_mt_per_m_per_a[{i}]"), *x)?;
+            }
+            Ok(Calibration::per_axis(*b, *g))
+        }
+        (None, None, Some(m)) => {
+            if m.len() != 5 {
+                return Err(ck.err(
+                    &format!("{f}.matrix"),
+                    format!(
+                        "needs 5 rows (Bx, By, Bz in mT/A; Gx, Gy in mT/m/A), got {}",
+                        m.len()
+                    ),
+                ));
+            }
+            let n = m[0].len();
+            if !(5..=32).contains(&n) {
+                return Err(ck.err(
+                    &format!("{f}.matrix[0]"),
+                    format!("needs 5 to 32 channels (columns), got {n}"),
+                ));
+            }
+            for (i, row) in m.iter().enumerate() {
+                if row.len() != n {
+                    return Err(ck.err(
+                        &format!("{f}.matrix[{i}]"),
+                        format!("has {} columns, row 0 has {n}", row.len()),
+                    ));
+                }
+                for (j, x) in row.iter().enumerate() {
+                    ck.finite(&format!("{f}.matrix[{i}][{j}]"), *x)?;
+                }
+            }
+            Calibration::matrix(m).map_err(|r| ck.err(&format!("{f}.matrix"), r))
+        }
+        (None, None, None) => Err(ck.err(
+            f,
+            "needs `field_mt_per_a` and `gradient_mt_per_m_per_a`, or `matrix`",
+        )),
+        (_, _, Some(_)) => Err(ck.err(f, "has both per-axis constants and `matrix`; give one")),
+        (None, Some(_), None) => Err(ck.err(
+            &format!("{f}.field_mt_per_a"),
+            "missing (needed with gradient_mt_per_m_per_a)",
+        )),
+        (Some(_), None, None) => Err(ck.err(
+            &format!("{f}.gradient_mt_per_m_per_a"),
+            "missing (needed with field_mt_per_a)",
+        )),
+    }
+}
+
+fn camera(ck: Checker, c: CameraFile) -> Result<CameraConfig, InputError> {
+    let fps = ck.bound("camera.fps", c.fps, &FPS)?;
+    let need = |v: Option<String>, key: &str| {
+        v.ok_or_else(|| {
+            ck.err(
+                &format!("camera.{key}"),
+                format!("missing (needed by source = {:?})", c.source),
+            )
+        })
+    };
+    let source = match c.source.as_str() {
+        "emulator" => CameraSource::Emulator(need(c.address, "address")?),
+        "recorded" => CameraSource::Recorded(PathBuf::from(need(c.folder, "folder")?)),
+        "v4l2" => CameraSource::V4l2(need(c.device, "device")?),
+        other => {
             return Err(ck.err(
-                "camera.size_px",
-                format!("each side must be 8 to 16384 pixels, got {w} x {h}"),
+                "camera.source",
+                format!("unknown source {other:?}; use emulator, recorded or v4l2"),
             ));
         }
-        if w as u64 * h as u64 > MAX_FRAME_PIXELS {
-            return Err(ck.err(
+    };
+    let [w, h] = c.size_px.0;
+    if !(8..=16384).contains(&w) || !(8..=16384).contains(&h) {
+        return Err(ck.err(
+            "camera.size_px",
+            format!("each side must be 8 to 16384 pixels, got {w} x {h}"),
+        ));
+    }
+    if w as u64 * h as u64 > MAX_FRAME_PIXELS {
+        return Err(ck.err(
                 "camera.size_px",
                 format!(
                     "a frame has at most {MAX_FRAME_PIXELS} pixels (32 Mpx: an emulated frame takes 16 bytes a pixel, a quarter of the {} GiB memory budget), got {w} x {h}",
                     magbench_env::check::MEMORY_BUDGET_BYTES >> 30
                 ),
             ));
-        }
-        if c.frame_timeout_ms == 0 {
-            return Err(ck.err("camera.frame_timeout_ms", "must be > 0"));
-        }
-        if c.stuck_frames < 2 {
-            return Err(ck.err(
-                "camera.stuck_frames",
-                format!("must be ≥ 2, got {}", c.stuck_frames),
-            ));
-        }
-        if !(c.latency_ms.is_finite() && (0.0..=1000.0).contains(&c.latency_ms)) {
-            return Err(ck.err(
-                "camera.latency_ms",
-                format!("must be 0 to 1000 ms, got {}", c.latency_ms),
-            ));
-        }
-        Ok(CameraConfig {
-            source,
-            fps,
-            size_px: c.size_px.0,
-            frame_timeout_ms: c.frame_timeout_ms,
-            stuck_frames: c.stuck_frames,
-            latency_s: c.latency_ms * 1e-3,
-        })
     }
+    if c.frame_timeout_ms == 0 {
+        return Err(ck.err("camera.frame_timeout_ms", "must be > 0"));
+    }
+    if c.stuck_frames < 2 {
+        return Err(ck.err(
+            "camera.stuck_frames",
+            format!("must be ≥ 2, got {}", c.stuck_frames),
+        ));
+    }
+    if !(c.latency_ms.is_finite() && (0.0..=1000.0).contains(&c.latency_ms)) {
+        return Err(ck.err(
+            "camera.latency_ms",
+            format!("must be 0 to 1000 ms, got {}", c.latency_ms),
+        ));
+    }
+    Ok(CameraConfig {
+        source,
+        fps,
+        size_px: c.size_px.0,
+        frame_timeout_ms: c.frame_timeout_ms,
+        stuck_frames: c.stuck_frames,
+        latency_s: c.latency_ms * 1e-3,
+    })
+}
 
 fn pixels(ck: Checker, p: PixelsFile) -> Result<PixelMap, InputError> {
-        let scale = ck.bound("pixels.px_per_bl", p.px_per_bl, &PX_PER_BL)?;
-        let ox = ck.finite("pixels.origin_px[0]", p.origin_px.0[0])?;
-        let oy = ck.finite("pixels.origin_px[1]", p.origin_px.0[1])?;
-        let rot = ck.finite("pixels.rotation_deg", p.rotation_deg)?;
-        Ok(PixelMap::new(scale, [ox, oy], rot.to_radians(), p.flip_y))
-    }
+    let scale = ck.bound("pixels.px_per_bl", p.px_per_bl, &PX_PER_BL)?;
+    let ox = ck.finite("pixels.origin_px[0]", p.origin_px.0[0])?;
+    let oy = ck.finite("pixels.origin_px[1]", p.origin_px.0[1])?;
+    let rot = ck.finite("pixels.rotation_deg", p.rotation_deg)?;
+    Ok(PixelMap::new(scale, [ox, oy], rot.to_radians(), p.flip_y))
+}
 
 fn detector(ck: Checker, d: DetectorFile) -> Result<DetectorConfig, InputError> {
-        let polarity = match d.polarity.as_str() {
-            "dark" => Polarity::Dark,
-            "bright" => Polarity::Bright,
-            other => {
-                return Err(ck.err(
-                    "detector.polarity",
-                    format!("must be \"dark\" or \"bright\", got {other:?}"),
-                ));
-            }
-        };
-        let radius_px = ck.positive("detector.radius_px", d.radius_px)?;
-        if radius_px < 2.0 {
+    let polarity = match d.polarity.as_str() {
+        "dark" => Polarity::Dark,
+        "bright" => Polarity::Bright,
+        other => {
             return Err(ck.err(
-                "detector.radius_px",
-                format!("must be ≥ 2 pixels for sub-pixel detection, got {radius_px}"),
+                "detector.polarity",
+                format!("must be \"dark\" or \"bright\", got {other:?}"),
             ));
         }
-        let blur_px = ck.positive("detector.blur_px", d.blur_px)?;
-        ck.bound("detector.blur_px", blur_px, &BLUR_PX)?;
-        if radius_px > 0.5 * PX_PER_BL.hi {
-            return Err(ck.err(
-                "detector.radius_px",
-                format!(
-                    "must be at most {} px (half of pixels.px_per_bl's bound), got {radius_px}",
-                    0.5 * PX_PER_BL.hi
-                ),
-            ));
-        }
-        let max_jump_bl = ck.positive("detector.max_jump_bl", d.max_jump_bl)?;
-        Ok(DetectorConfig {
-            polarity,
-            radius_px,
-            blur_px,
-            threshold: d.threshold,
-            max_jump_bl,
-        })
+    };
+    let radius_px = ck.positive("detector.radius_px", d.radius_px)?;
+    if radius_px < 2.0 {
+        return Err(ck.err(
+            "detector.radius_px",
+            format!("must be ≥ 2 pixels for sub-pixel detection, got {radius_px}"),
+        ));
     }
+    let blur_px = ck.positive("detector.blur_px", d.blur_px)?;
+    ck.bound("detector.blur_px", blur_px, &BLUR_PX)?;
+    if radius_px > 0.5 * PX_PER_BL.hi {
+        return Err(ck.err(
+            "detector.radius_px",
+            format!(
+                "must be at most {} px (half of pixels.px_per_bl's bound), got {radius_px}",
+                0.5 * PX_PER_BL.hi
+            ),
+        ));
+    }
+    let max_jump_bl = ck.positive("detector.max_jump_bl", d.max_jump_bl)?;
+    Ok(DetectorConfig {
+        polarity,
+        radius_px,
+        blur_px,
+        threshold: d.threshold,
+        max_jump_bl,
+    })
+}
 
 #[cfg(test)]
 mod tests {

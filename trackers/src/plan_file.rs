@@ -96,7 +96,10 @@ pub fn check_origin(plan: &Plan, scenario: &Scenario, file: &str) -> Result<(), 
         if m.leg != 1 {
             return Err(bad(
                 "made_for.leg",
-                format!("the plan was made for leg {}; a plan file replaces leg 1", m.leg),
+                format!(
+                    "the plan was made for leg {}; a plan file replaces leg 1",
+                    m.leg
+                ),
             ));
         }
         if m.agents != here.agents {
@@ -377,10 +380,19 @@ mod tests {
                 .reason
                 .contains("expected")
         );
-        let e = parse_plan(&one.replace("\"controls\"", "\"colour\":1,\"controls\""), "p.json", 2)
-            .unwrap_err();
+        let e = parse_plan(
+            &one.replace("\"controls\"", "\"colour\":1,\"controls\""),
+            "p.json",
+            2,
+        )
+        .unwrap_err();
         assert!(e.reason.contains("unknown field `colour`"), "{e}");
-        let e = parse_plan(&one.replace("[[0,0],[2,0]]", "[[0,0,9],[2,0]]"), "p.json", 2).unwrap_err();
+        let e = parse_plan(
+            &one.replace("[[0,0],[2,0]]", "[[0,0,9],[2,0]]"),
+            "p.json",
+            2,
+        )
+        .unwrap_err();
         assert_eq!(e.field, "states[0][0]", "{e}");
     }
 }

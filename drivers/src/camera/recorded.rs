@@ -40,7 +40,11 @@ pub fn read_index(dir: &Path) -> Result<Vec<RecordedEntry>, InputError> {
             if x.is_finite() {
                 Ok(x)
             } else {
-                Err(InputError::new(&file, at(col), format!("must be finite, got {x}")))
+                Err(InputError::new(
+                    &file,
+                    at(col),
+                    format!("must be finite, got {x}"),
+                ))
             }
         };
         let index: u64 = rec
@@ -55,7 +59,10 @@ pub fn read_index(dir: &Path) -> Result<Vec<RecordedEntry>, InputError> {
             return Err(InputError::new(
                 &file,
                 at("positions"),
-                format!("true positions come in (x, y) pairs, got {} numbers", rec.len() - 3),
+                format!(
+                    "true positions come in (x, y) pairs, got {} numbers",
+                    rec.len() - 3
+                ),
             ));
         }
         let mut truth = Vec::with_capacity((rec.len() - 3) / 2);

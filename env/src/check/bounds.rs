@@ -89,7 +89,11 @@ impl Bound {
 /// 309 digits).
 pub fn number(v: f64) -> String {
     let plain = format!("{v}");
-    if plain.len() <= 12 { plain } else { format!("{v:e}") }
+    if plain.len() <= 12 {
+        plain
+    } else {
+        format!("{v:e}")
+    }
 }
 
 /// `v` must be a finite number.

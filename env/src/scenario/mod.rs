@@ -127,11 +127,8 @@ impl Scenario {
                 format!("no such file, and not a built-in scenario (built-ins: {names})"),
             ));
         }
-        let text = crate::check::file::read_text_at_most(
-            path,
-            name_or_path,
-            file::MAX_SCENARIO_BYTES,
-        )?;
+        let text =
+            crate::check::file::read_text_at_most(path, name_or_path, file::MAX_SCENARIO_BYTES)?;
         parse_scenario(&text, name_or_path)
     }
 
