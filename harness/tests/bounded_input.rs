@@ -246,7 +246,7 @@ fn tracker_work_stlc_steps_and_threads_are_bounded() {
     );
     refused(
         &["stlc", "--step", "1e-300"],
-        &["--step", "must be in [0.01, 90] degrees", "got 1e-300"],
+        &["--step", "must be in [0.001, 90] degrees", "got 1e-300"],
     );
     let ci = concat!(env!("CARGO_MANIFEST_DIR"), "/../experiments/ci.toml");
     refused(

@@ -49,10 +49,10 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
         ));
     }
     magbench_env::check::Bound::closed(
-        0.01,
+        0.001,
         90.0,
         " degrees",
-        "a step under 0.01° lists more than 9000 directions, finer than the rank test resolves",
+        "a step under 0.001° lists more than 90000 directions, finer than the rank test resolves",
     )
     .check("--step", a.step)
     .map_err(|r| CliError::arg("--step", r.reason))?;
