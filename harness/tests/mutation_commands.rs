@@ -112,7 +112,11 @@ fn supervise(target: Target) {
     let (mut tried, mut ran, mut skipped) = (0u64, 0u64, 0u64);
     let mut codes = [0u64; 3];
     let mut refusals = std::collections::BTreeSet::new();
-    let ext = if target == Target::Plan { "json" } else { "toml" };
+    let ext = if target == Target::Plan {
+        "json"
+    } else {
+        "toml"
+    };
     for i in 0..TRIED {
         if ran >= want {
             break;
@@ -138,7 +142,11 @@ fn supervise(target: Target) {
                     codes[c as usize] += 1;
                     if c == 2 {
                         // the kind of refusal: the field, without the file and the value
-                        refusals.insert(format!("{} {}", args[0], last.split(": ").nth(2).unwrap_or(&last)));
+                        refusals.insert(format!(
+                            "{} {}",
+                            args[0],
+                            last.split(": ").nth(2).unwrap_or(&last)
+                        ));
                     }
                 }
                 End::Bad(why) => {

@@ -32,18 +32,21 @@ impl Target {
         let v = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
         match self {
             Target::Scenario => vec![
-                v(&["plan", &p, "--planner", "goal-zoom-rrt", "--max-iters", "2000"]),
+                v(&[
+                    "plan",
+                    &p,
+                    "--planner",
+                    "goal-zoom-rrt",
+                    "--max-iters",
+                    "2000",
+                ]),
                 v(&["track", &p, "--tracker", "obc", "--max-iters", "2000"]),
             ],
             Target::Experiment => {
                 let text = String::from_utf8_lossy(data);
-                let Ok(e) = Experiment::parse(
-                    &text,
-                    &p,
-                    Path::new("."),
-                    "fuzz",
-                    &RealExecutor::default(),
-                ) else {
+                let Ok(e) =
+                    Experiment::parse(&text, &p, Path::new("."), "fuzz", &RealExecutor::default())
+                else {
                     return vec![];
                 };
                 let small = e
