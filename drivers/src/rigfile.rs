@@ -474,7 +474,7 @@ fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputErr
         (None, None, Some(m)) => {
             if m.len() != 5 {
                 return Err(ck.err(
-                    &format!("{f}.matrix"),
+                    format!("{f}.matrix"),
                     format!(
                         "needs 5 rows (Bx, By, Bz in mT/A; Gx, Gy in mT/m/A), got {}",
                         m.len()
@@ -484,14 +484,14 @@ fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputErr
             let n = m[0].len();
             if !(5..=32).contains(&n) {
                 return Err(ck.err(
-                    &format!("{f}.matrix[0]"),
+                    format!("{f}.matrix[0]"),
                     format!("needs 5 to 32 channels (columns), got {n}"),
                 ));
             }
             for (i, row) in m.iter().enumerate() {
                 if row.len() != n {
                     return Err(ck.err(
-                        &format!("{f}.matrix[{i}]"),
+                        format!("{f}.matrix[{i}]"),
                         format!("has {} columns, row 0 has {n}", row.len()),
                     ));
                 }
@@ -499,7 +499,7 @@ fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputErr
                     ck.finite(&format!("{f}.matrix[{i}][{j}]"), *x)?;
                 }
             }
-            Calibration::matrix(m).map_err(|r| ck.err(&format!("{f}.matrix"), r))
+            Calibration::matrix(m).map_err(|r| ck.err(format!("{f}.matrix"), r))
         }
         (None, None, None) => Err(ck.err(
             f,
@@ -507,11 +507,11 @@ fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputErr
         )),
         (_, _, Some(_)) => Err(ck.err(f, "has both per-axis constants and `matrix`; give one")),
         (None, Some(_), None) => Err(ck.err(
-            &format!("{f}.field_mt_per_a"),
+            format!("{f}.field_mt_per_a"),
             "missing (needed with gradient_mt_per_m_per_a)",
         )),
         (Some(_), None, None) => Err(ck.err(
-            &format!("{f}.gradient_mt_per_m_per_a"),
+            format!("{f}.gradient_mt_per_m_per_a"),
             "missing (needed with field_mt_per_a)",
         )),
     }
@@ -522,7 +522,7 @@ fn camera(ck: Checker, c: CameraFile) -> Result<CameraConfig, InputError> {
     let need = |v: Option<String>, key: &str| {
         v.ok_or_else(|| {
             ck.err(
-                &format!("camera.{key}"),
+                format!("camera.{key}"),
                 format!("missing (needed by source = {:?})", c.source),
             )
         })

@@ -127,7 +127,7 @@ pub fn check_origin(plan: &Plan, scenario: &Scenario, file: &str) -> Result<(), 
     }
     for (i, (p, q)) in start.iter().zip(&scenario.start).enumerate() {
         let d = (p - q).norm();
-        if !(d <= tol) {
+        if d.is_nan() || d > tol {
             return Err(bad(
                 &format!("states[0][{i}]"),
                 format!(

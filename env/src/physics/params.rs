@@ -201,7 +201,7 @@ impl PhysicalParams {
         let tau = std::f64::consts::PI * self.viscosity_mpa_s * 1e-3 * self.bl_m().powi(3)
             / (self.moment() * self.field_mt * 1e-3);
         let substeps = 1.5 * self.dt_s / tau;
-        if !(substeps <= MAX_ROTATION_SUBSTEPS) {
+        if substeps.is_nan() || substeps > MAX_ROTATION_SUBSTEPS {
             return Err(crate::check::Rejection::new(
                 "field_mt",
                 format!(
