@@ -6,11 +6,42 @@
 use std::path::{Path, PathBuf};
 
 use magbench_env::InputError;
-use magbench_env::input::{parse_toml, read_text};
+use magbench_env::check::{Bound, Checker, Fixed, parse_toml, read_text};
 use serde::Deserialize;
 
 use crate::calibration::Calibration;
 use crate::pixel_map::PixelMap;
+
+/// Pixels per body length: an agent 1000 px across fills a whole sensor side; beyond it the
+/// emulator's agent patches (side ≈ px_per_bl + 8 blur) outgrow the memory budget.
+pub const PX_PER_BL: Bound = Bound::above(
+    0.0,
+    1000.0,
+    " px/BL",
+    "an agent 1000 px across already fills a sensor side",
+);
+
+/// Optical blur σ (pixels) of the detector model and the emulator: a blur of 50 px wipes out
+/// any agent a detector can find, and the blur kernel's cost grows with it.
+pub const BLUR_PX: Bound = Bound::closed(
+    0.0,
+    50.0,
+    " px",
+    "a blur of 50 px wipes out any agent a detector can find, and its cost grows with it",
+);
+
+/// Camera frame rate (frames per second): a frame every 10 s tracks nothing; 10 kHz is a
+/// high-speed camera.
+pub const FPS: Bound = Bound::closed(
+    0.1,
+    10_000.0,
+    " fps",
+    "a frame every 10 s tracks nothing, 10 kHz is a high-speed camera",
+);
+
+/// Most pixels of one frame: 32 Mpx (a 16-byte-per-pixel emulator frame is 512 MiB, a
+/// quarter of the memory budget).
+pub const MAX_FRAME_PIXELS: u64 = 1 << 25;
 
 /// A validated rig description.
 #[derive(Debug, Clone, PartialEq)]
@@ -183,8 +214,8 @@ fn default_hold_timeout() -> u32 {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CalibrationFile {
-    field_mt_per_a: Option<[f64; 3]>,
-    gradient_mt_per_m_per_a: Option<[f64; 2]>,
+    field_mt_per_a: Option<Fixed<f64, 3>>,
+    gradient_mt_per_m_per_a: Option<Fixed<f64, 2>>,
     matrix: Option<Vec<Vec<f64>>>,
 }
 
@@ -211,7 +242,7 @@ struct CameraFile {
     device: Option<String>,
     #[serde(default = "default_fps")]
     fps: f64,
-    size_px: [u32; 2],
+    size_px: Fixed<u32, 2>,
     #[serde(default = "default_frame_timeout")]
     frame_timeout_ms: u32,
     #[serde(default = "default_stuck")]
@@ -234,7 +265,7 @@ fn default_stuck() -> u32 {
 #[serde(deny_unknown_fields)]
 struct PixelsFile {
     px_per_bl: f64,
-    origin_px: [f64; 2],
+    origin_px: Fixed<f64, 2>,
     #[serde(default)]
     rotation_deg: f64,
     #[serde(default = "default_true")]
@@ -283,11 +314,11 @@ impl RigConfig {
     /// Parses and validates rig TOML `text`; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<RigConfig, InputError> {
         let raw: RigFile = parse_toml(text, file)?;
-        let v = V { file };
-        let coil = v.coil(raw.coil)?;
-        let camera = v.camera(raw.camera)?;
-        let pixels = v.pixels(raw.pixels)?;
-        let detector = v.detector(raw.detector)?;
+        let ck = Checker::new(file);
+        let coil = coil(ck, raw.coil)?;
+        let camera = camera(ck, raw.camera)?;
+        let pixels = pixels(ck, raw.pixels)?;
+        let detector = detector(ck, raw.detector)?;
         Ok(RigConfig {
             name: raw.name,
             source: file.to_string(),
@@ -327,274 +358,272 @@ impl RigConfig {
     }
 }
 
-struct V<'a> {
-    file: &'a str,
-}
-
-impl V<'_> {
-    fn err(&self, field: &str, reason: impl Into<String>) -> InputError {
-        InputError::new(self.file, field, reason)
-    }
-
-    fn positive(&self, field: &str, x: f64) -> Result<f64, InputError> {
-        if x.is_finite() && x > 0.0 {
-            Ok(x)
-        } else {
-            Err(self.err(field, format!("must be a finite number > 0, got {x}")))
+fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
+    let endpoint = match (c.port, c.address) {
+        (Some(path), None) => {
+            if c.baud == 0 {
+                return Err(ck.err("coil.baud", "must be > 0"));
+            }
+            CoilEndpoint::Serial { path, baud: c.baud }
+        }
+        (None, Some(a)) => {
+            if !a.contains(':') {
+                return Err(ck.err("coil.address", format!("must be HOST:PORT, got {a:?}")));
+            }
+            CoilEndpoint::Tcp(a)
+        }
+        (Some(_), Some(_)) => {
+            return Err(ck.err("coil", "has both `port` and `address`; give one"));
+        }
+        (None, None) => {
+            return Err(ck.err("coil", "needs `port` (serial) or `address` (TCP)"));
+        }
+    };
+    for (f, x) in [
+        ("coil.heartbeat_ms", c.heartbeat_ms),
+        ("coil.watchdog_ms", c.watchdog_ms),
+        ("coil.ack_timeout_ms", c.ack_timeout_ms),
+        ("coil.hold_timeout_ms", c.hold_timeout_ms),
+    ] {
+        if x == 0 {
+            return Err(ck.err(f, "must be > 0"));
         }
     }
-
-    fn finite(&self, field: &str, x: f64) -> Result<f64, InputError> {
-        if x.is_finite() {
-            Ok(x)
-        } else {
-            Err(self.err(field, format!("must be a finite number, got {x}")))
-        }
-    }
-
-    fn coil(&self, c: CoilFile) -> Result<CoilConfig, InputError> {
-        let endpoint = match (c.port, c.address) {
-            (Some(path), None) => {
-                if c.baud == 0 {
-                    return Err(self.err("coil.baud", "must be > 0"));
-                }
-                CoilEndpoint::Serial { path, baud: c.baud }
-            }
-            (None, Some(a)) => {
-                if !a.contains(':') {
-                    return Err(self.err("coil.address", format!("must be HOST:PORT, got {a:?}")));
-                }
-                CoilEndpoint::Tcp(a)
-            }
-            (Some(_), Some(_)) => {
-                return Err(self.err("coil", "has both `port` and `address`; give one"));
-            }
-            (None, None) => {
-                return Err(self.err("coil", "needs `port` (serial) or `address` (TCP)"));
-            }
-        };
-        for (f, x) in [
-            ("coil.heartbeat_ms", c.heartbeat_ms),
-            ("coil.watchdog_ms", c.watchdog_ms),
-            ("coil.ack_timeout_ms", c.ack_timeout_ms),
-            ("coil.hold_timeout_ms", c.hold_timeout_ms),
-        ] {
-            if x == 0 {
-                return Err(self.err(f, "must be > 0"));
-            }
-        }
-        if c.heartbeat_ms * 2 > c.watchdog_ms {
-            return Err(self.err(
+    if c.heartbeat_ms * 2 > c.watchdog_ms {
+        return Err(ck.err(
                 "coil.heartbeat_ms",
                 format!("must be at most half of watchdog_ms = {} so one lost heartbeat does not trip it, got {}", c.watchdog_ms, c.heartbeat_ms),
             ));
-        }
-        if c.watchdog_ms > u16::MAX as u32 {
-            return Err(self.err(
-                "coil.watchdog_ms",
-                format!("must be ≤ {}, got {}", u16::MAX, c.watchdog_ms),
-            ));
-        }
-        if let Some(f) = c.field_mt {
-            self.positive("coil.field_mt", f)?;
-        }
-        if !(c.alpha_max_deg.is_finite() && (0.0..=90.0).contains(&c.alpha_max_deg)) {
-            return Err(self.err(
+    }
+    if c.watchdog_ms > u16::MAX as u32 {
+        return Err(ck.err(
+            "coil.watchdog_ms",
+            format!("must be ≤ {}, got {}", u16::MAX, c.watchdog_ms),
+        ));
+    }
+    if let Some(f) = c.field_mt {
+        ck.positive("coil.field_mt", f)?;
+        ck.bound(
+            "coil.field_mt",
+            f,
+            &Bound::above(
+                0.0,
+                magbench_env::physics::MAX_FIELD_MT,
+                " mT",
+                "1 T is beyond what coil systems for microrobots make",
+            ),
+        )?;
+    }
+    if !(c.alpha_max_deg.is_finite() && (0.0..=90.0).contains(&c.alpha_max_deg)) {
+        return Err(ck.err(
                 "coil.alpha_max_deg",
                 format!(
                     "must be an elevation in [0, 90]° (90 for a tri-axial coil, 0 for a planar coil set), got {}",
                     c.alpha_max_deg
                 ),
             ));
-        }
-        let calibration = self.calibration(&c.calibration)?;
-        let n = calibration.channels();
-        let current_limit_a = match c.limits.current_a {
-            OneOrMany::One(x) => vec![self.positive("coil.limits.current_a", x)?; n],
-            OneOrMany::Many(v) => {
-                if v.len() != n {
-                    return Err(self.err(
-                        "coil.limits.current_a",
-                        format!(
-                            "has {} limits but the calibration has {n} channels",
-                            v.len()
-                        ),
-                    ));
-                }
-                for (i, x) in v.iter().enumerate() {
-                    self.positive(&format!("coil.limits.current_a[{i}]"), *x)?;
-                }
-                v
-            }
-        };
-        let slew_a_per_s = self.positive("coil.limits.slew_a_per_s", c.limits.slew_a_per_s)?;
-        Ok(CoilConfig {
-            endpoint,
-            heartbeat_ms: c.heartbeat_ms,
-            watchdog_ms: c.watchdog_ms,
-            ack_timeout_ms: c.ack_timeout_ms,
-            retries: c.retries,
-            hold_timeout_ms: c.hold_timeout_ms,
-            field_mt: c.field_mt,
-            alpha_max_deg: c.alpha_max_deg,
-            calibration,
-            current_limit_a,
-            slew_a_per_s,
-        })
     }
-
-    fn calibration(&self, c: &CalibrationFile) -> Result<Calibration, InputError> {
-        let f = "coil.calibration";
-        match (&c.field_mt_per_a, &c.gradient_mt_per_m_per_a, &c.matrix) {
-            (Some(b), Some(g), None) => {
-                for (i, x) in b.iter().enumerate() {
-                    self.positive(&format!("{f}.field_mt_per_a[{i}]"), *x)?;
-                }
-                for (i, x) in g.iter().enumerate() {
-                    self.positive(&format!("{f}.gradient_mt_per_m_per_a[{i}]"), *x)?;
-                }
-                Ok(Calibration::per_axis(*b, *g))
-            }
-            (None, None, Some(m)) => {
-                if m.len() != 5 {
-                    return Err(self.err(
-                        &format!("{f}.matrix"),
-                        format!(
-                            "needs 5 rows (Bx, By, Bz in mT/A; Gx, Gy in mT/m/A), got {}",
-                            m.len()
-                        ),
-                    ));
-                }
-                let n = m[0].len();
-                if !(5..=32).contains(&n) {
-                    return Err(self.err(
-                        &format!("{f}.matrix[0]"),
-                        format!("needs 5 to 32 channels (columns), got {n}"),
-                    ));
-                }
-                for (i, row) in m.iter().enumerate() {
-                    if row.len() != n {
-                        return Err(self.err(
-                            &format!("{f}.matrix[{i}]"),
-                            format!("has {} columns, row 0 has {n}", row.len()),
-                        ));
-                    }
-                    for (j, x) in row.iter().enumerate() {
-                        self.finite(&format!("{f}.matrix[{i}][{j}]"), *x)?;
-                    }
-                }
-                Calibration::matrix(m).map_err(|r| self.err(&format!("{f}.matrix"), r))
-            }
-            (None, None, None) => Err(self.err(
-                f,
-                "needs `field_mt_per_a` and `gradient_mt_per_m_per_a`, or `matrix`",
-            )),
-            (_, _, Some(_)) => {
-                Err(self.err(f, "has both per-axis constants and `matrix`; give one"))
-            }
-            (None, Some(_), None) => Err(self.err(
-                &format!("{f}.field_mt_per_a"),
-                "missing (needed with gradient_mt_per_m_per_a)",
-            )),
-            (Some(_), None, None) => Err(self.err(
-                &format!("{f}.gradient_mt_per_m_per_a"),
-                "missing (needed with field_mt_per_a)",
-            )),
-        }
-    }
-
-    fn camera(&self, c: CameraFile) -> Result<CameraConfig, InputError> {
-        let fps = self.positive("camera.fps", c.fps)?;
-        if fps > 10_000.0 {
-            return Err(self.err("camera.fps", format!("must be ≤ 10000, got {fps}")));
-        }
-        let need = |v: Option<String>, key: &str| {
-            v.ok_or_else(|| {
-                self.err(
-                    &format!("camera.{key}"),
-                    format!("missing (needed by source = {:?})", c.source),
-                )
-            })
-        };
-        let source = match c.source.as_str() {
-            "emulator" => CameraSource::Emulator(need(c.address, "address")?),
-            "recorded" => CameraSource::Recorded(PathBuf::from(need(c.folder, "folder")?)),
-            "v4l2" => CameraSource::V4l2(need(c.device, "device")?),
-            other => {
-                return Err(self.err(
-                    "camera.source",
-                    format!("unknown source {other:?}; use emulator, recorded or v4l2"),
+    let calibration = calibration(ck, &c.calibration)?;
+    let n = calibration.channels();
+    let current_limit_a = match c.limits.current_a {
+        OneOrMany::One(x) => vec![ck.positive("coil.limits.current_a", x)?; n],
+        OneOrMany::Many(v) => {
+            if v.len() != n {
+                return Err(ck.err(
+                    "coil.limits.current_a",
+                    format!(
+                        "has {} limits but the calibration has {n} channels",
+                        v.len()
+                    ),
                 ));
             }
-        };
-        let [w, h] = c.size_px;
-        if !(8..=16384).contains(&w) || !(8..=16384).contains(&h) {
-            return Err(self.err(
+            for (i, x) in v.iter().enumerate() {
+                ck.positive(&format!("coil.limits.current_a[{i}]"), *x)?;
+            }
+            v
+        }
+    };
+    let slew_a_per_s = ck.positive("coil.limits.slew_a_per_s", c.limits.slew_a_per_s)?;
+    Ok(CoilConfig {
+        endpoint,
+        heartbeat_ms: c.heartbeat_ms,
+        watchdog_ms: c.watchdog_ms,
+        ack_timeout_ms: c.ack_timeout_ms,
+        retries: c.retries,
+        hold_timeout_ms: c.hold_timeout_ms,
+        field_mt: c.field_mt,
+        alpha_max_deg: c.alpha_max_deg,
+        calibration,
+        current_limit_a,
+        slew_a_per_s,
+    })
+}
+
+fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputError> {
+    let f = "coil.calibration";
+    match (&c.field_mt_per_a, &c.gradient_mt_per_m_per_a, &c.matrix) {
+        (Some(Fixed(b)), Some(Fixed(g)), None) => {
+            for (i, x) in b.iter().enumerate() {
+                ck.positive(&format!("{f}.field_mt_per_a[{i}]"), *x)?;
+            }
+            for (i, x) in g.iter().enumerate() {
+                ck.positive(&format!("{f}.gradient_mt_per_m_per_a[{i}]"), *x)?;
+            }
+            Ok(Calibration::per_axis(*b, *g))
+        }
+        (None, None, Some(m)) => {
+            if m.len() != 5 {
+                return Err(ck.err(
+                    format!("{f}.matrix"),
+                    format!(
+                        "needs 5 rows (Bx, By, Bz in mT/A; Gx, Gy in mT/m/A), got {}",
+                        m.len()
+                    ),
+                ));
+            }
+            let n = m[0].len();
+            if !(5..=32).contains(&n) {
+                return Err(ck.err(
+                    format!("{f}.matrix[0]"),
+                    format!("needs 5 to 32 channels (columns), got {n}"),
+                ));
+            }
+            for (i, row) in m.iter().enumerate() {
+                if row.len() != n {
+                    return Err(ck.err(
+                        format!("{f}.matrix[{i}]"),
+                        format!("has {} columns, row 0 has {n}", row.len()),
+                    ));
+                }
+                for (j, x) in row.iter().enumerate() {
+                    ck.finite(&format!("{f}.matrix[{i}][{j}]"), *x)?;
+                }
+            }
+            Calibration::matrix(m).map_err(|r| ck.err(format!("{f}.matrix"), r))
+        }
+        (None, None, None) => Err(ck.err(
+            f,
+            "needs `field_mt_per_a` and `gradient_mt_per_m_per_a`, or `matrix`",
+        )),
+        (_, _, Some(_)) => Err(ck.err(f, "has both per-axis constants and `matrix`; give one")),
+        (None, Some(_), None) => Err(ck.err(
+            format!("{f}.field_mt_per_a"),
+            "missing (needed with gradient_mt_per_m_per_a)",
+        )),
+        (Some(_), None, None) => Err(ck.err(
+            format!("{f}.gradient_mt_per_m_per_a"),
+            "missing (needed with field_mt_per_a)",
+        )),
+    }
+}
+
+fn camera(ck: Checker, c: CameraFile) -> Result<CameraConfig, InputError> {
+    let fps = ck.bound("camera.fps", c.fps, &FPS)?;
+    let need = |v: Option<String>, key: &str| {
+        v.ok_or_else(|| {
+            ck.err(
+                format!("camera.{key}"),
+                format!("missing (needed by source = {:?})", c.source),
+            )
+        })
+    };
+    let source = match c.source.as_str() {
+        "emulator" => CameraSource::Emulator(need(c.address, "address")?),
+        "recorded" => CameraSource::Recorded(PathBuf::from(need(c.folder, "folder")?)),
+        "v4l2" => CameraSource::V4l2(need(c.device, "device")?),
+        other => {
+            return Err(ck.err(
+                "camera.source",
+                format!("unknown source {other:?}; use emulator, recorded or v4l2"),
+            ));
+        }
+    };
+    let [w, h] = c.size_px.0;
+    if !(8..=16384).contains(&w) || !(8..=16384).contains(&h) {
+        return Err(ck.err(
+            "camera.size_px",
+            format!("each side must be 8 to 16384 pixels, got {w} x {h}"),
+        ));
+    }
+    if w as u64 * h as u64 > MAX_FRAME_PIXELS {
+        return Err(ck.err(
                 "camera.size_px",
-                format!("each side must be 8 to 16384 pixels, got {w} x {h}"),
+                format!(
+                    "a frame has at most {MAX_FRAME_PIXELS} pixels (32 Mpx: an emulated frame takes 16 bytes a pixel, a quarter of the {} GiB memory budget), got {w} x {h}",
+                    magbench_env::check::MEMORY_BUDGET_BYTES >> 30
+                ),
             ));
-        }
-        if c.frame_timeout_ms == 0 {
-            return Err(self.err("camera.frame_timeout_ms", "must be > 0"));
-        }
-        if c.stuck_frames < 2 {
-            return Err(self.err(
-                "camera.stuck_frames",
-                format!("must be ≥ 2, got {}", c.stuck_frames),
-            ));
-        }
-        if !(c.latency_ms.is_finite() && (0.0..=1000.0).contains(&c.latency_ms)) {
-            return Err(self.err(
-                "camera.latency_ms",
-                format!("must be 0 to 1000 ms, got {}", c.latency_ms),
-            ));
-        }
-        Ok(CameraConfig {
-            source,
-            fps,
-            size_px: c.size_px,
-            frame_timeout_ms: c.frame_timeout_ms,
-            stuck_frames: c.stuck_frames,
-            latency_s: c.latency_ms * 1e-3,
-        })
     }
+    if c.frame_timeout_ms == 0 {
+        return Err(ck.err("camera.frame_timeout_ms", "must be > 0"));
+    }
+    if c.stuck_frames < 2 {
+        return Err(ck.err(
+            "camera.stuck_frames",
+            format!("must be ≥ 2, got {}", c.stuck_frames),
+        ));
+    }
+    if !(c.latency_ms.is_finite() && (0.0..=1000.0).contains(&c.latency_ms)) {
+        return Err(ck.err(
+            "camera.latency_ms",
+            format!("must be 0 to 1000 ms, got {}", c.latency_ms),
+        ));
+    }
+    Ok(CameraConfig {
+        source,
+        fps,
+        size_px: c.size_px.0,
+        frame_timeout_ms: c.frame_timeout_ms,
+        stuck_frames: c.stuck_frames,
+        latency_s: c.latency_ms * 1e-3,
+    })
+}
 
-    fn pixels(&self, p: PixelsFile) -> Result<PixelMap, InputError> {
-        let scale = self.positive("pixels.px_per_bl", p.px_per_bl)?;
-        let ox = self.finite("pixels.origin_px", p.origin_px[0])?;
-        let oy = self.finite("pixels.origin_px", p.origin_px[1])?;
-        let rot = self.finite("pixels.rotation_deg", p.rotation_deg)?;
-        Ok(PixelMap::new(scale, [ox, oy], rot.to_radians(), p.flip_y))
-    }
+fn pixels(ck: Checker, p: PixelsFile) -> Result<PixelMap, InputError> {
+    let scale = ck.bound("pixels.px_per_bl", p.px_per_bl, &PX_PER_BL)?;
+    let ox = ck.finite("pixels.origin_px[0]", p.origin_px.0[0])?;
+    let oy = ck.finite("pixels.origin_px[1]", p.origin_px.0[1])?;
+    let rot = ck.finite("pixels.rotation_deg", p.rotation_deg)?;
+    Ok(PixelMap::new(scale, [ox, oy], rot.to_radians(), p.flip_y))
+}
 
-    fn detector(&self, d: DetectorFile) -> Result<DetectorConfig, InputError> {
-        let polarity = match d.polarity.as_str() {
-            "dark" => Polarity::Dark,
-            "bright" => Polarity::Bright,
-            other => {
-                return Err(self.err(
-                    "detector.polarity",
-                    format!("must be \"dark\" or \"bright\", got {other:?}"),
-                ));
-            }
-        };
-        let radius_px = self.positive("detector.radius_px", d.radius_px)?;
-        if radius_px < 2.0 {
-            return Err(self.err(
-                "detector.radius_px",
-                format!("must be ≥ 2 pixels for sub-pixel detection, got {radius_px}"),
+fn detector(ck: Checker, d: DetectorFile) -> Result<DetectorConfig, InputError> {
+    let polarity = match d.polarity.as_str() {
+        "dark" => Polarity::Dark,
+        "bright" => Polarity::Bright,
+        other => {
+            return Err(ck.err(
+                "detector.polarity",
+                format!("must be \"dark\" or \"bright\", got {other:?}"),
             ));
         }
-        let blur_px = self.positive("detector.blur_px", d.blur_px)?;
-        let max_jump_bl = self.positive("detector.max_jump_bl", d.max_jump_bl)?;
-        Ok(DetectorConfig {
-            polarity,
-            radius_px,
-            blur_px,
-            threshold: d.threshold,
-            max_jump_bl,
-        })
+    };
+    let radius_px = ck.positive("detector.radius_px", d.radius_px)?;
+    if radius_px < 2.0 {
+        return Err(ck.err(
+            "detector.radius_px",
+            format!("must be ≥ 2 pixels for sub-pixel detection, got {radius_px}"),
+        ));
     }
+    let blur_px = ck.positive("detector.blur_px", d.blur_px)?;
+    ck.bound("detector.blur_px", blur_px, &BLUR_PX)?;
+    if radius_px > 0.5 * PX_PER_BL.hi {
+        return Err(ck.err(
+            "detector.radius_px",
+            format!(
+                "must be at most {} px (half of pixels.px_per_bl's bound), got {radius_px}",
+                0.5 * PX_PER_BL.hi
+            ),
+        ));
+    }
+    let max_jump_bl = ck.positive("detector.max_jump_bl", d.max_jump_bl)?;
+    Ok(DetectorConfig {
+        polarity,
+        radius_px,
+        blur_px,
+        threshold: d.threshold,
+        max_jump_bl,
+    })
 }
 
 #[cfg(test)]
@@ -621,7 +650,7 @@ mod tests {
         let bad = EXAMPLE.replace("px_per_bl = 10.0", "px_per_bl = -1.0");
         assert_eq!(
             err(&bad),
-            "r.toml: pixels.px_per_bl: must be a finite number > 0, got -1"
+            "r.toml: pixels.px_per_bl: must be in (0, 1000] px/BL: an agent 1000 px across already fills a sensor side, got -1"
         );
         let bad = EXAMPLE.replace("[pixels]", "[pixels]\ncolour = 3");
         assert!(

@@ -10,7 +10,8 @@
 //!   magnet lag, field errors and non-uniformity, heterogeneity, hydrodynamic interaction,
 //!   capillarity, flow, Brownian motion) and the camera;
 //! - [`world`] and [`collision`]: maps, parry2d collision and the validity checker;
-//! - [`input`]: the one loader of input files (bounded reads, TOML with field and line);
+//! - [`check`]: the one input checker (regular files, bounded reads, TOML and JSON with field
+//!   path and line, did-you-mean, exact-size arrays, bounds with their reasons);
 //! - [`params`]: parameters declared once ([`declare_params!`]), for planners and trackers;
 //! - [`scenario`]: the TOML scenario format, its validation and the built-in scenarios;
 //! - [`controllability`]: the numerical Lie-bracket (LARC) tool.
@@ -19,11 +20,11 @@
 
 #![warn(missing_docs)]
 
+pub mod check;
 pub mod coil;
 pub mod collision;
 pub mod controllability;
 pub mod error;
-pub mod input;
 pub mod math;
 pub mod model;
 pub mod params;

@@ -72,7 +72,7 @@ fn rejects_nan_and_infinity() {
     let e = reject(&GOOD.replace("width = 30.0", "width = nan"));
     assert_names(&e, "world.width", "finite");
     let e = reject(&GOOD.replace("[3.0, 5.0], [5.0, 5.0]", "[3.0, inf], [5.0, 5.0]"));
-    assert_names(&e, "start.agents[0]", "finite");
+    assert_names(&e, "start.agents[0][1]", "finite");
 }
 
 #[test]
@@ -226,4 +226,62 @@ fn a_later_map_covering_an_earlier_goal_is_rejected() {
     let text = include_str!("data/leg-blocks-earlier-goal.toml");
     let e = reject(text);
     assert_names(&e, "legs[1].obstacles", "leg 2 starts at leg 1's goal");
+}
+
+#[test]
+fn a_first_leg_map_covering_the_start_is_refused() {
+    let text = GOOD.replace(
+        "[goal]\nagents = [[25.0, 15.0], [27.5, 15.0]]\ntolerance = 0.5\n",
+        "[[legs]]\ngoal = { agents = [[25.0, 15.0], [27.5, 15.0]], tolerance = 0.5 }\nobstacles = [{ circle = { center = [4.0, 5.0], radius = 2.0 } }]\n",
+    );
+    let e = reject(&text);
+    assert_names(&e, "legs[0].obstacles", "leg 1 starts at the start");
+}
+
+#[test]
+fn fixed_size_arrays_take_exactly_their_size() {
+    let e = reject(&GOOD.replace("[3.0, 5.0], [5.0, 5.0]", "[4, 4, 999], [5.0, 5.0]"));
+    assert_names(&e, "start.agents[0]", "invalid length 3");
+    let text = GOOD.replace(
+        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        "circle = { center = [10.0, 4.0, 1.0], radius = 1.0 }",
+    );
+    let e = reject(&text);
+    assert_names(&e, "world.obstacles[0].circle.center", "invalid length 3");
+}
+
+#[test]
+fn a_misspelt_table_is_named() {
+    let e = reject(&GOOD.replace("[world]", "[wrold]"));
+    assert!(
+        e.reason.contains("is `wrold` a misspelling of `world`?"),
+        "{e}"
+    );
+    let e = reject(&GOOD.replace("tolerance", "tolerence"));
+    assert!(e.reason.contains("did you mean `tolerance`?"), "{e}");
+}
+
+#[test]
+fn self_touching_polygons_are_refused() {
+    // vertex 2 lies on edge 4–5: the polygon pinches to a point
+    let text = GOOD.replace(
+        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        "polygon = [[10.0, 0.0], [14.0, 0.0], [12.0, 4.0], [14.0, 8.0], [10.0, 8.0], [12.0, 4.0]]",
+    );
+    let e = reject(&text);
+    assert_names(&e, "world.obstacles[0].polygon", "");
+    // vertex 3 touches edge 0 inside it
+    let text = GOOD.replace(
+        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        "polygon = [[10.0, 0.5], [14.0, 0.5], [14.0, 8.0], [12.0, 0.5], [10.0, 8.0]]",
+    );
+    let e = reject(&text);
+    assert_names(&e, "world.obstacles[0].polygon", "");
+    // two vertices at one place, apart in the ring
+    let text = GOOD.replace(
+        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        "polygon = [[10.0, 0.5], [12.0, 4.0], [14.0, 0.5], [14.0, 8.0], [12.0, 4.0], [10.0, 8.0]]",
+    );
+    let e = reject(&text);
+    assert_names(&e, "world.obstacles[0].polygon", "");
 }

@@ -50,7 +50,7 @@ pub mod validate;
 pub use first_plan::{Checked, FirstPlan, solve_checked};
 pub use metric::Metric;
 pub use objective::{Objective, plan_cost};
-pub use plan::Plan;
+pub use plan::{MadeFor, Plan};
 pub use planner::{Planner, PlannerResult, ProgressPoint};
 pub use problem::{Limits, Problem};
 pub use registry::Planners;

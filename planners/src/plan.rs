@@ -9,7 +9,12 @@ use serde::{Deserialize, Serialize};
 /// planning model with the plan's [`Flow`]. The control is what the coil applies (θ_B, α,
 /// gradient), not the local ψ.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Plan {
+    /// The scenario, leg and team the plan was made for; absent in plan files written before
+    /// plans named their scenario (those are checked by their start alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub made_for: Option<MadeFor>,
     /// How the planning model solved the edges (`pair-adaptive`, `pair-exact` or `rk4`); replay
     /// uses the same.
     /// Plan files written before the exact flow have no such field and are `rk4`.
@@ -28,6 +33,34 @@ pub struct Plan {
     pub durations: Vec<f64>,
 }
 
+/// What a plan was made for: a scenario (by name and [`content hash`]), its leg and its team.
+///
+/// [`content hash`]: magbench_env::Scenario::content_hash
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MadeFor {
+    /// The scenario's name.
+    pub scenario: String,
+    /// The scenario's content hash.
+    pub scenario_hash: String,
+    /// The leg (1 for the first).
+    pub leg: usize,
+    /// The number of agents.
+    pub agents: usize,
+}
+
+impl MadeFor {
+    /// Leg `leg` (1 for the first) of `scenario`.
+    pub fn new(scenario: &magbench_env::Scenario, leg: usize) -> Self {
+        MadeFor {
+            scenario: scenario.name.clone(),
+            scenario_hash: scenario.content_hash(),
+            leg,
+            agents: scenario.agents(),
+        }
+    }
+}
+
 /// The flow of a plan file that does not name one: every plan before the exact flow was RK4.
 fn legacy_flow() -> Flow {
     Flow::Rk4
@@ -37,6 +70,7 @@ impl Plan {
     /// A plan that stays at `start`, made with the default flow.
     pub fn at(start: &[Vec2]) -> Self {
         Plan {
+            made_for: None,
             flow: Flow::default(),
             alpha_max: None,
             states: vec![start.to_vec()],

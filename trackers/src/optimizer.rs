@@ -99,6 +99,27 @@ declare_params! {
         #[param("alpha_levels", 2..=64)]
         pub alpha_levels: usize = 4,
     }
+    check(check_work);
+}
+
+/// Most predicted control ticks in one solve (grid points and refinements, times the
+/// horizon): a bound chosen so that one control tick is computed in well under a second.
+pub const MAX_PREDICTIONS: usize = 200_000;
+
+/// Refuses settings whose one solve predicts more than [`MAX_PREDICTIONS`] ticks.
+fn check_work(w: &ObcWeights) -> Result<(), String> {
+    let grid = w.grid.saturating_mul(w.alpha_levels);
+    let refine = w.refine.saturating_mul(1 + 2 * ELEVATED_ROUNDS);
+    let work = grid.saturating_add(refine).saturating_mul(w.horizon);
+    if work > MAX_PREDICTIONS {
+        return Err(format!(
+            "grid × alpha_levels + refine × {} = {} candidates, each predicted over horizon = {} ticks, is {work} predictions per control tick; at most {MAX_PREDICTIONS} (so that one tick is computed in well under a second): lower grid, refine or horizon",
+            1 + 2 * ELEVATED_ROUNDS,
+            grid.saturating_add(refine),
+            w.horizon
+        ));
+    }
+    Ok(())
 }
 
 /// Alternating θ and α refinements of an elevated solve.

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use magbench_env::{InputError, Scenario};
-use magbench_planners::{Plan, PlanError, PlanningSetup, validate_path};
+use magbench_planners::{MadeFor, Plan, PlanError, PlanningSetup, validate_path};
 
 /// Longest plan accepted (s of motion): an hour, far beyond any scenario's. A plan is resampled
 /// at every integration step to be tracked; 1e10 s would need terabytes.
@@ -17,7 +17,7 @@ pub const MAX_PLAN_DURATION_S: f64 = 3600.0;
 /// Reads and checks a plan file for a team of `agents` (its form only).
 pub fn read_plan(path: &Path, agents: usize) -> Result<Plan, InputError> {
     let file = path.display().to_string();
-    let text = magbench_env::input::read_text(path, &file)?;
+    let text = magbench_env::check::read_text(path, &file)?;
     parse_plan(&text, &file, agents)
 }
 
@@ -76,10 +76,81 @@ pub fn check_plan(
     })
 }
 
-/// Parses and checks plan JSON `text` (`file` names it in errors).
+/// Checks that `plan` was made for the first leg of `scenario`: the scenario it names (by name
+/// and content hash), its leg and its team, and its start within the goal tolerance of the
+/// scenario's start (agents in the same order). A plan file without a `made_for` record (written
+/// before plans named their scenario) is checked by its start alone. `file` names the plan.
+pub fn check_origin(plan: &Plan, scenario: &Scenario, file: &str) -> Result<(), InputError> {
+    let bad = |field: &str, reason: String| InputError::new(file, field, reason);
+    if let Some(m) = &plan.made_for {
+        let here = MadeFor::new(scenario, 1);
+        if m.scenario != here.scenario || m.scenario_hash != here.scenario_hash {
+            return Err(bad(
+                "made_for.scenario",
+                format!(
+                    "the plan was made for scenario {:?} (content {}), not {:?} (content {})",
+                    m.scenario, m.scenario_hash, here.scenario, here.scenario_hash
+                ),
+            ));
+        }
+        if m.leg != 1 {
+            return Err(bad(
+                "made_for.leg",
+                format!(
+                    "the plan was made for leg {}; a plan file replaces leg 1",
+                    m.leg
+                ),
+            ));
+        }
+        if m.agents != here.agents {
+            return Err(bad(
+                "made_for.agents",
+                format!(
+                    "the plan is for {} agents, {} has {}",
+                    m.agents, scenario.name, here.agents
+                ),
+            ));
+        }
+    }
+    let tol = scenario.legs[0].goal.tolerance;
+    let start = plan.start();
+    if start.len() != scenario.agents() {
+        return Err(bad(
+            "states[0]",
+            format!(
+                "the plan moves {} agents, {} has {}",
+                start.len(),
+                scenario.name,
+                scenario.agents()
+            ),
+        ));
+    }
+    for (i, (p, q)) in start.iter().zip(&scenario.start).enumerate() {
+        let d = (p - q).norm();
+        if d.is_nan() || d > tol {
+            return Err(bad(
+                &format!("states[0][{i}]"),
+                format!(
+                    "the plan starts agent {i} at ({}, {}), {d:.3} BL from the scenario's start ({}, {}); at most the goal tolerance {tol} BL (is it another scenario's plan, or are its agents in another order?)",
+                    p.x, p.y, q.x, q.y
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The plan as JSON, stamped with the leg (1 for the first) of `scenario` it was made for.
+pub fn plan_json_for(plan: &Plan, scenario: &Scenario, leg: usize) -> String {
+    let mut p = plan.clone();
+    p.made_for = Some(MadeFor::new(scenario, leg));
+    plan_json(&p)
+}
+
+/// Parses and checks plan JSON `text` (`file` names it in errors, with the field path of
+/// a malformed value; unknown keys are refused).
 pub fn parse_plan(text: &str, file: &str, agents: usize) -> Result<Plan, InputError> {
-    let plan: Plan = serde_json::from_str(text)
-        .map_err(|e| InputError::new(file, "", format!("not a plan: {e}")))?;
+    let plan: Plan = magbench_env::check::parse_json(text, file)?;
     let bad = |field: &str, reason: String| InputError::new(file, field, reason);
     if plan.states.is_empty() || plan.states.len() != plan.controls.len() + 1 {
         return Err(bad(
@@ -241,6 +312,33 @@ mod tests {
     }
 
     #[test]
+    fn plans_of_another_scenario_or_start_are_refused() {
+        let (plan, s) = valid();
+        check_origin(&plan, &s, "p.json").unwrap();
+        let stamped = parse_plan(&plan_json_for(&plan, &s, 1), "p.json", 2).unwrap();
+        check_origin(&stamped, &s, "p.json").unwrap();
+        // another scenario's
+        let other = Scenario::load("trio-triangle").unwrap();
+        let mut foreign = stamped.clone();
+        foreign.made_for = Some(MadeFor::new(&other, 1));
+        let e = check_origin(&foreign, &s, "p.json").unwrap_err();
+        assert_eq!(e.field, "made_for.scenario", "{e}");
+        // agents swapped
+        let mut swapped = plan.clone();
+        for st in &mut swapped.states {
+            st.swap(0, 1);
+        }
+        let e = check_origin(&swapped, &s, "p.json").unwrap_err();
+        assert_eq!(e.field, "states[0][0]", "{e}");
+        // a zero-edge plan far from the start
+        let mut far = Plan::at(&s.start);
+        far.states[0][0].x += 5.0;
+        far.states[0][1].x += 5.0;
+        let e = check_origin(&far, &s, "p.json").unwrap_err();
+        assert!(e.reason.contains("from the scenario's start"), "{e}");
+    }
+
+    #[test]
     fn round_trip_is_bit_exact() {
         // numbers whose decimal form needs all 17 digits
         let mut plan = Plan::at(&[
@@ -280,7 +378,21 @@ mod tests {
             parse_plan("nope", "p.json", 2)
                 .unwrap_err()
                 .reason
-                .contains("not a plan")
+                .contains("expected")
         );
+        let e = parse_plan(
+            &one.replace("\"controls\"", "\"colour\":1,\"controls\""),
+            "p.json",
+            2,
+        )
+        .unwrap_err();
+        assert!(e.reason.contains("unknown field `colour`"), "{e}");
+        let e = parse_plan(
+            &one.replace("[[0,0],[2,0]]", "[[0,0,9],[2,0]]"),
+            "p.json",
+            2,
+        )
+        .unwrap_err();
+        assert_eq!(e.field, "states[0][0]", "{e}");
     }
 }

@@ -6,7 +6,7 @@ mod stream;
 #[cfg(feature = "v4l2")]
 mod v4l2;
 
-pub use recorded::RecordedCamera;
+pub use recorded::{RecordedCamera, read_index};
 pub use recorder::FrameRecorder;
 pub use stream::StreamCamera;
 #[cfg(feature = "v4l2")]

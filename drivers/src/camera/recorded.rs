@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use magbench_env::Vec2;
+use magbench_env::{InputError, Vec2};
 
 use super::{Camera, CameraError};
 use crate::frame::Frame;
@@ -21,6 +21,68 @@ pub struct RecordedEntry {
     pub truth: Vec<Vec2>,
 }
 
+/// Reads and checks a recording's `frames.csv` (`index,t_s,file[,x0_bl,y0_bl,...]`): every
+/// time and true position finite, positions in pairs. Errors name the file, the line and column.
+pub fn read_index(dir: &Path) -> Result<Vec<RecordedEntry>, InputError> {
+    let path = dir.join("frames.csv");
+    let file = path.display().to_string();
+    let text = magbench_env::check::read_text(&path, &file)?;
+    let mut rd = csv::Reader::from_reader(text.as_bytes());
+    let mut v = Vec::new();
+    for (line, rec) in rd.records().enumerate() {
+        let at = |col: &str| format!("line {}: {col}", line + 2);
+        let rec = rec.map_err(|e| InputError::new(&file, at("row"), e.to_string()))?;
+        let number = |k: usize, col: &str| -> Result<f64, InputError> {
+            let x: f64 = rec
+                .get(k)
+                .and_then(|s| s.trim().parse().ok())
+                .ok_or_else(|| InputError::new(&file, at(col), "missing or not a number"))?;
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(InputError::new(
+                    &file,
+                    at(col),
+                    format!("must be finite, got {x}"),
+                ))
+            }
+        };
+        let index: u64 = rec
+            .get(0)
+            .and_then(|s| s.trim().parse().ok())
+            .ok_or_else(|| InputError::new(&file, at("index"), "not a whole number ≥ 0"))?;
+        let t = number(1, "t_s")?;
+        let name = rec
+            .get(2)
+            .ok_or_else(|| InputError::new(&file, at("file"), "missing"))?;
+        if (rec.len() - 3) % 2 != 0 {
+            return Err(InputError::new(
+                &file,
+                at("positions"),
+                format!(
+                    "true positions come in (x, y) pairs, got {} numbers",
+                    rec.len() - 3
+                ),
+            ));
+        }
+        let mut truth = Vec::with_capacity((rec.len() - 3) / 2);
+        for k in (3..rec.len()).step_by(2) {
+            let i = (k - 3) / 2;
+            truth.push(Vec2::new(
+                number(k, &format!("x{i}_bl"))?,
+                number(k + 1, &format!("y{i}_bl"))?,
+            ));
+        }
+        v.push(RecordedEntry {
+            index,
+            t,
+            path: dir.join(name),
+            truth,
+        });
+    }
+    Ok(v)
+}
+
 /// A camera over a folder of frames: `frames.csv` (`index,t_s,file[,x0_bl,y0_bl,...]`) when
 /// present, else every `.pgm`/`.png` file in name order at the nominal frame rate.
 pub struct RecordedCamera {
@@ -35,37 +97,7 @@ impl RecordedCamera {
         let lost = |e: String| CameraError::Lost(format!("{}: {e}", dir.display()));
         let index = dir.join("frames.csv");
         let entries = if index.exists() {
-            let mut rd = csv::Reader::from_path(&index).map_err(|e| lost(e.to_string()))?;
-            let mut v = Vec::new();
-            for (line, rec) in rd.records().enumerate() {
-                let rec = rec.map_err(|e| lost(e.to_string()))?;
-                let bad = |what: &str| lost(format!("frames.csv line {}: bad {what}", line + 2));
-                let index: u64 = rec
-                    .get(0)
-                    .and_then(|s| s.parse().ok())
-                    .ok_or_else(|| bad("index"))?;
-                let t: f64 = rec
-                    .get(1)
-                    .and_then(|s| s.parse().ok())
-                    .ok_or_else(|| bad("t_s"))?;
-                let file = rec.get(2).ok_or_else(|| bad("file"))?;
-                let nums: Vec<f64> = rec
-                    .iter()
-                    .skip(3)
-                    .map(|s| s.parse().map_err(|_| bad("position")))
-                    .collect::<Result<_, _>>()?;
-                let truth = nums
-                    .chunks_exact(2)
-                    .map(|c| Vec2::new(c[0], c[1]))
-                    .collect();
-                v.push(RecordedEntry {
-                    index,
-                    t,
-                    path: dir.join(file),
-                    truth,
-                });
-            }
-            v
+            read_index(dir).map_err(|e| CameraError::Lost(e.to_string()))?
         } else {
             let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
                 .map_err(|e| lost(e.to_string()))?

@@ -107,8 +107,9 @@ pub fn apply<P: ParamSet + ?Sized>(
                         .map(|p| p.name.into_owned())
                         .collect();
                     format!(
-                        "{owner} has no parameter {key:?} (known: {})",
-                        known.join(", ")
+                        "{owner} has no parameter {key:?} (known: {}){}",
+                        known.join(", "),
+                        crate::check::suggest::hint(key, known.iter().map(String::as_str))
                     )
                 }
                 ParamError::BadValue(r) => r,

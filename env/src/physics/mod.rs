@@ -7,4 +7,4 @@ pub mod params;
 
 pub use dipole::{aligned_pair_force, dipole_force, field_direction, radial_transverse};
 pub use local::LocalView;
-pub use params::{PhysicalOverrides, PhysicalParams};
+pub use params::{MAX_FIELD_MT, PhysicalOverrides, PhysicalParams};

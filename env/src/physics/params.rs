@@ -62,6 +62,12 @@ pub struct PhysicalOverrides {
 /// default; below it every motion is so many steps that planning all but stops.
 pub const MIN_DT_S: f64 = 1e-4;
 
+/// Strongest field accepted (mT).
+pub const MAX_FIELD_MT: f64 = 1000.0;
+
+/// Most magnet-rotation sub-steps per integration step of a nominal agent in the bulk.
+pub const MAX_ROTATION_SUBSTEPS: f64 = 1000.0;
+
 impl Default for PhysicalParams {
     /// The default preset: 500 µm spheres in 30 mPa·s glycerol–water (see docs/physics.md).
     fn default() -> Self {
@@ -152,7 +158,7 @@ impl PhysicalParams {
     }
 
     /// Checks that every value is finite and physically meaningful; returns (field, reason).
-    pub fn check(&self) -> Result<(), (&'static str, String)> {
+    pub fn check(&self) -> Result<(), crate::check::Rejection> {
         let positive = [
             ("diameter_um", self.diameter_um),
             ("viscosity_mpa_s", self.viscosity_mpa_s),
@@ -164,23 +170,48 @@ impl PhysicalParams {
         ];
         for (name, v) in positive {
             if !v.is_finite() || v <= 0.0 {
-                return Err((name, format!("must be a finite number > 0, got {v}")));
+                return Err(crate::check::Rejection::new(
+                    name,
+                    format!("must be a finite number > 0, got {v}"),
+                ));
             }
         }
         if !self.r_min.is_finite() || self.r_min <= 1.0 {
-            return Err((
+            return Err(crate::check::Rejection::new(
                 "r_min",
                 format!("must be > 1 BL (agents touch at 1 BL), got {}", self.r_min),
             ));
         }
         if !self.r_max.is_finite() || self.r_max <= self.r_min {
-            return Err((
+            return Err(crate::check::Rejection::new(
                 "r_max",
                 format!("must be > r_min = {}, got {}", self.r_min, self.r_max),
             ));
         }
+        if self.field_mt > MAX_FIELD_MT {
+            return Err(crate::check::Rejection::new(
+                "field_mt",
+                format!(
+                    "must be at most {MAX_FIELD_MT} mT (1 T: beyond what coil systems for microrobots make), got {}",
+                    self.field_mt
+                ),
+            ));
+        }
+        // the magnet-lag term integrates each moment in sub-steps of its rotation time
+        let tau = std::f64::consts::PI * self.viscosity_mpa_s * 1e-3 * self.bl_m().powi(3)
+            / (self.moment() * self.field_mt * 1e-3);
+        let substeps = 1.5 * self.dt_s / tau;
+        if substeps.is_nan() || substeps > MAX_ROTATION_SUBSTEPS {
+            return Err(crate::check::Rejection::new(
+                "field_mt",
+                format!(
+                    "with these values a moment turns to the field in τ = {tau:.3e} s; the plant integrates that in {substeps:.3e} sub-steps per step of dt_s = {} s, at most {MAX_ROTATION_SUBSTEPS} are allowed (so that a simulated second stays under a minute): lower field_mt or magnetization_ka_per_m, or raise viscosity_mpa_s",
+                    self.dt_s
+                ),
+            ));
+        }
         if !(MIN_DT_S..=0.05).contains(&self.dt_s) {
-            return Err((
+            return Err(crate::check::Rejection::new(
                 "dt_s",
                 format!(
                     "must be in [{MIN_DT_S}, 0.05] s (≤ 0.05 s for an accurate integration, ≥ {MIN_DT_S} s so that a plan is not millions of steps), got {}",

@@ -7,7 +7,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, within};
+use crate::check::Rejection;
+use crate::check::bounds::within;
 
 /// The coil-calibration term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

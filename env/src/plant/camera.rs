@@ -17,8 +17,9 @@ use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative, positive, probability, within};
 use super::streams::{Stream, normal, stream};
+use crate::check::Rejection;
+use crate::check::bounds::{non_negative, positive, probability, within};
 use crate::math::Vec2;
 
 /// The camera of a disturbance preset.
@@ -112,14 +113,14 @@ impl CameraParams {
         within("camera.fps", self.fps, 1.0, 10_000.0, "")?;
         non_negative("camera.latency.frames", self.latency.frames)?;
         if self.latency.frames > 100.0 {
-            return Err((
+            return Err(Rejection::new(
                 "camera.latency.frames",
                 format!("must be ≤ 100 frames, got {}", self.latency.frames),
             ));
         }
         non_negative("camera.latency.jitter_frames", self.latency.jitter_frames)?;
         if self.latency.jitter_frames > 10.0 {
-            return Err((
+            return Err(Rejection::new(
                 "camera.latency.jitter_frames",
                 format!("must be ≤ 10 frames, got {}", self.latency.jitter_frames),
             ));
@@ -493,10 +494,10 @@ mod tests {
     #[test]
     fn check_names_the_field() {
         let mut p = misses(1.5, 0.0);
-        assert_eq!(p.check().unwrap_err().0, "camera.misses.prob");
+        assert_eq!(p.check().unwrap_err().field, "camera.misses.prob");
         p.misses.prob = f64::NAN;
-        assert_eq!(p.check().unwrap_err().0, "camera.misses.prob");
+        assert_eq!(p.check().unwrap_err().field, "camera.misses.prob");
         let l = latency(-1.0, 0.0);
-        assert_eq!(l.check().unwrap_err().0, "camera.latency.frames");
+        assert_eq!(l.check().unwrap_err().field, "camera.latency.frames");
     }
 }

@@ -9,7 +9,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative, within};
+use crate::check::Rejection;
+use crate::check::bounds::{non_negative, within};
 
 /// The coil-dynamics term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

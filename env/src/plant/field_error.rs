@@ -3,7 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, non_negative};
+use crate::check::Rejection;
+use crate::check::bounds::non_negative;
 
 /// The field-angle-error term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

@@ -10,7 +10,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, within};
+use crate::check::Rejection;
+use crate::check::bounds::within;
 
 /// The `[fitted]` table of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

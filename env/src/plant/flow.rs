@@ -10,8 +10,9 @@
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, positive, within};
 use super::streams::{Stream, stream};
+use crate::check::Rejection;
+use crate::check::bounds::{positive, within};
 use crate::math::Vec2;
 
 /// The uniform-drift term of a preset: one steady, uniform flow per run.

@@ -10,9 +10,10 @@
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, within};
 use super::medium::{Interface, Medium};
 use super::streams::{Stream, normal, stream};
+use crate::check::Rejection;
+use crate::check::bounds::within;
 use crate::math::MAX_AGENTS;
 
 /// How a per-agent factor is drawn.

@@ -17,7 +17,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, positive, within};
+use crate::check::Rejection;
+use crate::check::bounds::{positive, within};
 use crate::physics::PhysicalParams;
 
 /// Standard gravity (m/s²).

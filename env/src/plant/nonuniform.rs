@@ -8,7 +8,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, within};
+use crate::check::Rejection;
+use crate::check::bounds::within;
 
 /// The field-non-uniformity term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

@@ -7,14 +7,15 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::check::{Rejection, within};
 use super::{
     AmbientField, Brownian, CameraParams, Capillary, CoilCalibration, CoilLag, Drift, FieldError,
     Fitted, Flow, Heterogeneity, Hydrodynamics, MagnetLag, Medium, NonuniformField,
 };
+use crate::check;
+use crate::check::Rejection;
+use crate::check::bounds::within;
 use crate::coil::COIL_ALPHA_MAX_DEG;
 use crate::error::InputError;
-use crate::input;
 
 /// Everything the simulated plant and camera add to the planning model (see docs/plant.md,
 /// "The simulated plant", for each term's physics and the `hardware` values' sources).
@@ -183,10 +184,10 @@ impl DisturbancePreset {
         }
     }
 
-    /// Reads and validates a preset file (through the shared loader, [`crate::input`]).
+    /// Reads and validates a preset file (through the shared loader, [`crate::check`]).
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let file = path.display().to_string();
-        let text = input::read_text(path, &file).map_err(|e| {
+        let text = check::read_text(path, &file).map_err(|e| {
             InputError::new(
                 &file,
                 "",
@@ -199,10 +200,10 @@ impl DisturbancePreset {
     /// Parses and validates preset TOML `text`; `file` names it in errors, which give the
     /// field and its line.
     pub fn parse(text: &str, file: &str) -> Result<Self, InputError> {
-        let preset: Self = input::parse_toml(text, file)?;
-        preset.check().map_err(|(field, reason)| {
-            let line = input::field_line(text, field);
-            InputError::new(file, field, format!("{reason}{line}"))
+        let preset: Self = check::parse_toml(text, file)?;
+        preset.check().map_err(|r| {
+            let line = check::field_line(text, &r.field);
+            InputError::new(file, &r.field, format!("{}{line}", r.reason))
         })?;
         Ok(preset)
     }
@@ -215,7 +216,7 @@ impl DisturbancePreset {
     /// Checks every value (finite, in range); returns (field, reason).
     pub fn check(&self) -> Result<(), Rejection> {
         if self.name.trim().is_empty() {
-            return Err(("name", "must not be empty".into()));
+            return Err(Rejection::new("name", "must not be empty"));
         }
         self.medium.check()?;
         self.coil.check()?;
@@ -375,33 +376,33 @@ mod tests {
         let hw = DisturbancePreset::hardware();
         let mut p = hw.clone();
         p.coil_lag.field_tau_ms = f64::NAN;
-        assert_eq!(p.check().unwrap_err().0, "coil_lag.field_tau_ms");
+        assert_eq!(p.check().unwrap_err().field, "coil_lag.field_tau_ms");
         let mut p = hw.clone();
         p.coil_lag.gradient_slew_mt_per_m_per_s = -1.0;
         assert_eq!(
-            p.check().unwrap_err().0,
+            p.check().unwrap_err().field,
             "coil_lag.gradient_slew_mt_per_m_per_s"
         );
         let mut p = hw.clone();
         p.camera.misses.close_prob = 2.0;
-        assert_eq!(p.check().unwrap_err().0, "camera.misses.close_prob");
+        assert_eq!(p.check().unwrap_err().field, "camera.misses.close_prob");
         let mut p = hw.clone();
         p.heterogeneity.moment_spread = f64::INFINITY;
-        assert_eq!(p.check().unwrap_err().0, "heterogeneity.moment_spread");
+        assert_eq!(p.check().unwrap_err().field, "heterogeneity.moment_spread");
         let mut p = hw.clone();
         if let Medium::Interface(i) = &mut p.medium {
             i.contact_angle_deg = 180.0;
         }
-        assert_eq!(p.check().unwrap_err().0, "medium.contact_angle_deg");
+        assert_eq!(p.check().unwrap_err().field, "medium.contact_angle_deg");
         let mut p = hw.clone();
         p.flow.length_bl = 0.0;
-        assert_eq!(p.check().unwrap_err().0, "flow.length_bl");
+        assert_eq!(p.check().unwrap_err().field, "flow.length_bl");
         let mut p = hw.clone();
         p.coil.alpha_max_deg = 91.0;
-        assert_eq!(p.check().unwrap_err().0, "coil.alpha_max_deg");
+        assert_eq!(p.check().unwrap_err().field, "coil.alpha_max_deg");
         let mut p = hw;
         p.camera.fps = 0.0;
-        assert_eq!(p.check().unwrap_err().0, "camera.fps");
+        assert_eq!(p.check().unwrap_err().field, "camera.fps");
         // through the file: FILE: FIELD: REASON
         let e = DisturbancePreset::parse(
             "name = \"x\"\n[drift]\nenabled = true\nmax_speed_bl_s = -0.1\n",

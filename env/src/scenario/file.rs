@@ -5,13 +5,16 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 use super::{Goal, Leg, Scenario};
+use crate::check::{Checker, Fixed, parse_toml};
 use crate::collision::{CollisionWorld, ValidityChecker};
 use crate::error::InputError;
-use crate::input::parse_toml;
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::{PhysicalOverrides, PhysicalParams};
 use crate::plant::Medium;
 use crate::world::{Obstacle, World, check_polygon};
+
+/// A point `[x, y]`: exactly two numbers.
+type Point = Fixed<f64, 2>;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -41,27 +44,27 @@ struct WorldFile {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ObstacleFile {
-    polygon: Option<Vec<[f64; 2]>>,
+    polygon: Option<Vec<Point>>,
     circle: Option<CircleFile>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CircleFile {
-    center: [f64; 2],
+    center: Point,
     radius: f64,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct StartFile {
-    agents: Vec<[f64; 2]>,
+    agents: Vec<Point>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct GoalFile {
-    agents: Vec<[f64; 2]>,
+    agents: Vec<Point>,
     tolerance: f64,
 }
 
@@ -78,23 +81,28 @@ pub const MAX_WORLD_BL: f64 = 10_000.0;
 /// Most obstacles in one map.
 pub const MAX_OBSTACLES: usize = 1000;
 
+/// Most polygon vertices in one map (all its obstacles together). A choice: every collision
+/// query of a planner step walks the map, and the largest shipped map has a few hundred; this
+/// bound keeps a check under a second and a planner's step under a millisecond.
+pub const MAX_MAP_VERTICES: usize = 20_000;
+
+/// Largest scenario file (bytes): 4 MiB holds a map of [`MAX_MAP_VERTICES`] vertices several
+/// times over; parsing it takes well under a second.
+pub const MAX_SCENARIO_BYTES: u64 = 4 << 20;
+
 /// Most legs of a scenario.
 pub const MAX_LEGS: usize = 100;
 
 /// Parses and validates scenario TOML `text`; `file` names it in errors.
 pub fn parse_scenario(text: &str, file: &str) -> Result<Scenario, InputError> {
     let raw: ScenarioFile = parse_toml(text, file)?;
-    Validator { file }.scenario(raw).map_err(|mut e| {
+    scenario(Checker::new(file), raw).map_err(|mut e| {
         // a medium out of range: point at its line, as the preset loader does
         if e.field.starts_with("medium.") {
-            e.reason += &crate::input::field_line(text, &e.field);
+            e.reason += &crate::check::field_line(text, &e.field);
         }
         e
     })
-}
-
-struct Validator<'a> {
-    file: &'a str,
 }
 
 /// The world's extent, for checking where things are.
@@ -117,288 +125,290 @@ impl Extent {
     }
 }
 
-impl Validator<'_> {
-    fn err(&self, field: impl Into<String>, reason: impl Into<String>) -> InputError {
-        InputError::new(self.file, field, reason)
-    }
+fn point(c: Checker, field: &str, p: Point) -> Result<Vec2, InputError> {
+    let [x, y] = p.0;
+    Ok(Vec2::new(
+        c.finite(&format!("{field}[0]"), x)?,
+        c.finite(&format!("{field}[1]"), y)?,
+    ))
+}
 
-    fn finite(&self, field: &str, v: f64) -> Result<f64, InputError> {
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(self.err(field, format!("must be a finite number, got {v}")))
-        }
-    }
+fn points(c: Checker, field: &str, ps: &[Point]) -> Result<Vec<Vec2>, InputError> {
+    ps.iter()
+        .enumerate()
+        .map(|(i, p)| point(c, &format!("{field}[{i}]"), *p))
+        .collect()
+}
 
-    fn point(&self, field: &str, p: [f64; 2]) -> Result<Vec2, InputError> {
-        Ok(Vec2::new(
-            self.finite(field, p[0])?,
-            self.finite(field, p[1])?,
-        ))
+fn obstacles(
+    c: Checker,
+    field: &str,
+    obs: &[ObstacleFile],
+    ext: Extent,
+) -> Result<Vec<Obstacle>, InputError> {
+    if obs.len() > MAX_OBSTACLES {
+        return Err(c.err(
+            field,
+            format!(
+                "a map has at most {MAX_OBSTACLES} obstacles, got {}",
+                obs.len()
+            ),
+        ));
     }
-
-    fn points(&self, field: &str, ps: &[[f64; 2]]) -> Result<Vec<Vec2>, InputError> {
-        ps.iter()
-            .enumerate()
-            .map(|(i, p)| self.point(&format!("{field}[{i}]"), *p))
-            .collect()
-    }
-
-    fn obstacles(
-        &self,
-        field: &str,
-        obs: &[ObstacleFile],
-        ext: Extent,
-    ) -> Result<Vec<Obstacle>, InputError> {
-        if obs.len() > MAX_OBSTACLES {
-            return Err(self.err(
+    let vertices: usize = obs
+        .iter()
+        .map(|o| o.polygon.as_ref().map_or(0, Vec::len))
+        .sum();
+    if vertices > MAX_MAP_VERTICES {
+        return Err(c.err(
                 field,
                 format!(
-                    "a map has at most {MAX_OBSTACLES} obstacles, got {}",
-                    obs.len()
+                    "a map has at most {MAX_MAP_VERTICES} polygon vertices in all (so that a check takes under a second and a planner step under a millisecond), got {vertices}: simplify the polygons"
                 ),
             ));
+    }
+    let near = |f: &str, p: Vec2| {
+        if ext.near(p) {
+            Ok(p)
+        } else {
+            Err(c.err(
+                f,
+                format!(
+                    "({}, {}) is more than one world size outside the {} × {} BL world",
+                    p.x, p.y, ext.width, ext.height
+                ),
+            ))
         }
-        let near = |f: &str, p: Vec2| {
-            if ext.near(p) {
-                Ok(p)
-            } else {
-                Err(self.err(
-                    f,
-                    format!(
-                        "({}, {}) is more than one world size outside the {} × {} BL world",
-                        p.x, p.y, ext.width, ext.height
-                    ),
-                ))
-            }
-        };
-        let mut out = Vec::with_capacity(obs.len());
-        for (i, o) in obs.iter().enumerate() {
-            let f = format!("{field}[{i}]");
-            match (&o.polygon, &o.circle) {
-                (Some(poly), None) => {
-                    let f = format!("{f}.polygon");
-                    let v = self.points(&f, poly)?;
-                    for (k, p) in v.iter().enumerate() {
-                        near(&format!("{f}[{k}]"), *p)?;
-                    }
-                    check_polygon(&v).map_err(|r| self.err(&f, r))?;
-                    out.push(Obstacle::Polygon(v));
+    };
+    let mut out = Vec::with_capacity(obs.len());
+    for (i, o) in obs.iter().enumerate() {
+        let f = format!("{field}[{i}]");
+        match (&o.polygon, &o.circle) {
+            (Some(poly), None) => {
+                let f = format!("{f}.polygon");
+                let v = points(c, &f, poly)?;
+                for (k, p) in v.iter().enumerate() {
+                    near(&format!("{f}[{k}]"), *p)?;
                 }
-                (None, Some(c)) => {
-                    let center = self.point(&format!("{f}.circle.center"), c.center)?;
-                    near(&format!("{f}.circle.center"), center)?;
-                    let radius = self.finite(&format!("{f}.circle.radius"), c.radius)?;
-                    let largest = ext.width.max(ext.height);
-                    if radius <= 0.0 || radius > largest {
-                        return Err(self.err(
+                check_polygon(&v).map_err(|r| c.err(&f, r))?;
+                out.push(Obstacle::Polygon(v));
+            }
+            (None, Some(circle)) => {
+                let center = point(c, &format!("{f}.circle.center"), circle.center)?;
+                near(&format!("{f}.circle.center"), center)?;
+                let radius = c.finite(&format!("{f}.circle.radius"), circle.radius)?;
+                let largest = ext.width.max(ext.height);
+                if radius <= 0.0 || radius > largest {
+                    return Err(c.err(
                             format!("{f}.circle.radius"),
                             format!(
                                 "must be > 0 and at most the world's larger side ({largest} BL), got {radius}"
                             ),
                         ));
-                    }
-                    out.push(Obstacle::Circle { center, radius });
                 }
-                _ => {
-                    return Err(self.err(f, "an obstacle has exactly one of `polygon` or `circle`"));
-                }
+                out.push(Obstacle::Circle { center, radius });
+            }
+            _ => {
+                return Err(c.err(f, "an obstacle has exactly one of `polygon` or `circle`"));
             }
         }
-        Ok(out)
     }
+    Ok(out)
+}
 
-    /// Agent positions `ps` (field `field`), each inside the world.
-    fn agents(&self, field: &str, ps: &[[f64; 2]], ext: Extent) -> Result<Vec<Vec2>, InputError> {
-        let v = self.points(field, ps)?;
-        for (i, p) in v.iter().enumerate() {
-            if !ext.inside(*p) {
-                return Err(self.err(
-                    format!("{field}[{i}]"),
-                    format!(
-                        "({}, {}) is outside the world [0, {}] × [0, {}]",
-                        p.x, p.y, ext.width, ext.height
-                    ),
-                ));
-            }
-        }
-        Ok(v)
-    }
-
-    fn goal(
-        &self,
-        field: &str,
-        g: &GoalFile,
-        n_agents: usize,
-        ext: Extent,
-    ) -> Result<Goal, InputError> {
-        let agents = self.agents(&format!("{field}.agents"), &g.agents, ext)?;
-        if agents.len() != n_agents {
-            return Err(self.err(
-                format!("{field}.agents"),
+/// Agent positions `ps` (field `field`), each inside the world.
+fn agents(c: Checker, field: &str, ps: &[Point], ext: Extent) -> Result<Vec<Vec2>, InputError> {
+    let v = points(c, field, ps)?;
+    for (i, p) in v.iter().enumerate() {
+        if !ext.inside(*p) {
+            return Err(c.err(
+                format!("{field}[{i}]"),
                 format!(
-                    "has {} agents but start.agents has {n_agents}; the counts must match",
-                    agents.len()
+                    "({}, {}) is outside the world [0, {}] × [0, {}]",
+                    p.x, p.y, ext.width, ext.height
                 ),
             ));
         }
-        let tolerance = self.finite(&format!("{field}.tolerance"), g.tolerance)?;
-        if tolerance <= 0.0 {
-            return Err(self.err(
-                format!("{field}.tolerance"),
-                format!("must be > 0, got {tolerance}"),
+    }
+    Ok(v)
+}
+
+fn goal(
+    c: Checker,
+    field: &str,
+    g: &GoalFile,
+    n_agents: usize,
+    ext: Extent,
+) -> Result<Goal, InputError> {
+    let agents = agents(c, &format!("{field}.agents"), &g.agents, ext)?;
+    if agents.len() != n_agents {
+        return Err(c.err(
+            format!("{field}.agents"),
+            format!(
+                "has {} agents but start.agents has {n_agents}; the counts must match",
+                agents.len()
+            ),
+        ));
+    }
+    let tolerance = c.finite(&format!("{field}.tolerance"), g.tolerance)?;
+    if tolerance <= 0.0 {
+        return Err(c.err(
+            format!("{field}.tolerance"),
+            format!("must be > 0, got {tolerance}"),
+        ));
+    }
+    Ok(Goal { agents, tolerance })
+}
+
+/// Rejects a configuration in collision or outside the proximity range.
+fn placement(
+    c: Checker,
+    field: &str,
+    s: &[Vec2],
+    checker: &ValidityChecker,
+) -> Result<(), InputError> {
+    for (i, p) in s.iter().enumerate() {
+        if !checker.collision.agent_clear(*p) {
+            return Err(c.err(
+                format!("{field}[{i}]"),
+                format!(
+                    "agent at ({}, {}) is in collision with a wall or obstacle",
+                    p.x, p.y
+                ),
             ));
         }
-        Ok(Goal { agents, tolerance })
     }
-
-    /// Rejects a configuration in collision or outside the proximity range.
-    fn placement(
-        &self,
-        field: &str,
-        s: &[Vec2],
-        checker: &ValidityChecker,
-    ) -> Result<(), InputError> {
-        for (i, p) in s.iter().enumerate() {
-            if !checker.collision.agent_clear(*p) {
-                return Err(self.err(
-                    format!("{field}[{i}]"),
-                    format!(
-                        "agent at ({}, {}) is in collision with a wall or obstacle",
-                        p.x, p.y
-                    ),
-                ));
-            }
-        }
-        for i in 0..s.len() {
-            for j in (i + 1)..s.len() {
-                let r = (s[j] - s[i]).norm();
-                if r <= checker.r_min || r >= checker.r_max {
-                    return Err(self.err(
+    for i in 0..s.len() {
+        for j in (i + 1)..s.len() {
+            let r = (s[j] - s[i]).norm();
+            if r <= checker.r_min || r >= checker.r_max {
+                return Err(c.err(
                         field,
                         format!(
                             "agents {i} and {j} are {r:.3} BL apart, outside the proximity range ({}, {}) BL",
                             checker.r_min, checker.r_max
                         ),
                     ));
-                }
             }
         }
-        Ok(())
     }
+    Ok(())
+}
 
-    fn scenario(&self, raw: ScenarioFile) -> Result<Scenario, InputError> {
-        let physics = PhysicalParams::default().with_overrides(&raw.physics);
-        physics
-            .check()
-            .map_err(|(f, r)| self.err(format!("physics.{f}"), r))?;
-        let width = self.finite("world.width", raw.world.width)?;
-        let height = self.finite("world.height", raw.world.height)?;
-        for (f, v) in [("world.width", width), ("world.height", height)] {
-            if v <= 2.0 || v > MAX_WORLD_BL {
-                return Err(self.err(
-                    f,
-                    format!("must be > 2 BL and at most {MAX_WORLD_BL} BL, got {v}"),
-                ));
-            }
-        }
-        let ext = Extent { width, height };
-        let world = World {
-            width,
-            height,
-            obstacles: self.obstacles("world.obstacles", &raw.world.obstacles, ext)?,
-        };
-        let start = self.agents("start.agents", &raw.start.agents, ext)?;
-        if !(2..=MAX_AGENTS).contains(&start.len()) {
-            return Err(self.err(
-                "start.agents",
-                format!("needs 2 to {MAX_AGENTS} agents, got {}", start.len()),
+fn scenario(c: Checker, raw: ScenarioFile) -> Result<Scenario, InputError> {
+    let physics = PhysicalParams::default().with_overrides(&raw.physics);
+    physics
+        .check()
+        .map_err(|r| r.under("physics").in_file(c.file))?;
+    let width = c.finite("world.width", raw.world.width)?;
+    let height = c.finite("world.height", raw.world.height)?;
+    for (f, v) in [("world.width", width), ("world.height", height)] {
+        if v <= 2.0 || v > MAX_WORLD_BL {
+            return Err(c.err(
+                f,
+                format!("must be > 2 BL and at most {MAX_WORLD_BL} BL, got {v}"),
             ));
         }
-        let legs = match (&raw.goal, &raw.legs) {
-            (Some(_), Some(_)) => {
-                return Err(self.err("legs", "a scenario has `[goal]` or `[[legs]]`, never both"));
-            }
-            (None, None) => {
-                return Err(self.err("goal", "missing: a scenario needs `[goal]` or `[[legs]]`"));
-            }
-            (Some(g), None) => vec![Leg {
-                goal: self.goal("goal", g, start.len(), ext)?,
-                obstacles: None,
-            }],
-            (None, Some(ls)) => {
-                if ls.is_empty() || ls.len() > MAX_LEGS {
-                    return Err(self.err(
-                        "legs",
-                        format!("needs 1 to {MAX_LEGS} legs, got {}", ls.len()),
-                    ));
-                }
-                let mut legs = Vec::with_capacity(ls.len());
-                for (i, l) in ls.iter().enumerate() {
-                    let goal = self.goal(&format!("legs[{i}].goal"), &l.goal, start.len(), ext)?;
-                    let obstacles = match &l.obstacles {
-                        Some(o) => Some(self.obstacles(&format!("legs[{i}].obstacles"), o, ext)?),
-                        None => None,
-                    };
-                    legs.push(Leg { goal, obstacles });
-                }
-                legs
-            }
-        };
-        let (r_min, r_max) = (physics.r_min, physics.r_max);
-        if let Some(m) = &raw.medium {
-            m.check()
-                .map_err(|(field, reason)| self.err(field, reason))?;
-        }
-        let scenario = Scenario {
-            name: raw.name,
-            description: raw.description,
-            source: self.file.to_string(),
-            world,
-            start,
-            legs,
-            physics,
-            medium: raw.medium,
-        };
-        let checker =
-            |w: &World| ValidityChecker::new(Arc::new(CollisionWorld::new(w, 0.5)), r_min, r_max);
-        self.placement("start.agents", &scenario.start, &checker(&scenario.world))?;
-        let single = raw.goal.is_some();
-        for i in 0..scenario.legs.len() {
-            let field = if single {
-                "goal.agents".to_string()
-            } else {
-                format!("legs[{i}].goal.agents")
-            };
-            self.placement(
-                &field,
-                &scenario.legs[i].goal.agents,
-                &checker(&scenario.world_for_leg(i)),
-            )?;
-            // the next leg starts where this one ends: its map must leave that place free
-            if scenario
-                .legs
-                .get(i + 1)
-                .is_some_and(|l| l.obstacles.is_some())
-            {
-                self.placement(
-                    &field,
-                    &scenario.legs[i].goal.agents,
-                    &checker(&scenario.world_for_leg(i + 1)),
-                )
-                .map_err(|e| {
-                    self.err(
-                        format!("legs[{}].obstacles", i + 1),
-                        format!(
-                            "leg {} starts at leg {}'s goal ({field}), which this map blocks: {}",
-                            i + 2,
-                            i + 1,
-                            e.reason
-                        ),
-                    )
-                })?;
-            }
-        }
-        Ok(scenario)
     }
+    let ext = Extent { width, height };
+    let world = World {
+        width,
+        height,
+        obstacles: obstacles(c, "world.obstacles", &raw.world.obstacles, ext)?,
+    };
+    let start = agents(c, "start.agents", &raw.start.agents, ext)?;
+    if !(2..=MAX_AGENTS).contains(&start.len()) {
+        return Err(c.err(
+            "start.agents",
+            format!("needs 2 to {MAX_AGENTS} agents, got {}", start.len()),
+        ));
+    }
+    let legs = match (&raw.goal, &raw.legs) {
+        (Some(_), Some(_)) => {
+            return Err(c.err("legs", "a scenario has `[goal]` or `[[legs]]`, never both"));
+        }
+        (None, None) => {
+            return Err(c.err("goal", "missing: a scenario needs `[goal]` or `[[legs]]`"));
+        }
+        (Some(g), None) => vec![Leg {
+            goal: goal(c, "goal", g, start.len(), ext)?,
+            obstacles: None,
+        }],
+        (None, Some(ls)) => {
+            if ls.is_empty() || ls.len() > MAX_LEGS {
+                return Err(c.err(
+                    "legs",
+                    format!("needs 1 to {MAX_LEGS} legs, got {}", ls.len()),
+                ));
+            }
+            let mut legs = Vec::with_capacity(ls.len());
+            for (i, l) in ls.iter().enumerate() {
+                let goal = goal(c, &format!("legs[{i}].goal"), &l.goal, start.len(), ext)?;
+                let obstacles = match &l.obstacles {
+                    Some(o) => Some(obstacles(c, &format!("legs[{i}].obstacles"), o, ext)?),
+                    None => None,
+                };
+                legs.push(Leg { goal, obstacles });
+            }
+            legs
+        }
+    };
+    let (r_min, r_max) = (physics.r_min, physics.r_max);
+    if let Some(m) = &raw.medium {
+        c.at(m.check())?;
+    }
+    let scenario = Scenario {
+        name: raw.name,
+        description: raw.description,
+        source: c.file.to_string(),
+        world,
+        start,
+        legs,
+        physics,
+        medium: raw.medium,
+    };
+    let checker =
+        |w: &World| ValidityChecker::new(Arc::new(CollisionWorld::new(w, 0.5)), r_min, r_max);
+    let single = raw.goal.is_some();
+    let goal_field = |i: usize| {
+        if single {
+            "goal.agents".to_string()
+        } else {
+            format!("legs[{i}].goal.agents")
+        }
+    };
+    for i in 0..scenario.legs.len() {
+        let map = checker(&scenario.world_for_leg(i));
+        // where leg i starts: the scenario's start, then the previous leg's goal
+        let (from, from_field) = if i == 0 {
+            (&scenario.start, "start.agents".to_string())
+        } else {
+            (&scenario.legs[i - 1].goal.agents, goal_field(i - 1))
+        };
+        placement(c, &from_field, from, &map).map_err(|e| {
+            if i == 0 && scenario.legs[0].obstacles.is_none() {
+                return e;
+            }
+            let what = if i == 0 {
+                "the start".to_string()
+            } else {
+                format!("leg {i}'s goal ({from_field})")
+            };
+            let map_field = if scenario.legs[i].obstacles.is_some() {
+                format!("legs[{i}].obstacles")
+            } else {
+                "world.obstacles".to_string()
+            };
+            c.err(
+                map_field,
+                format!(
+                    "leg {} starts at {what}, which its map blocks: {}",
+                    i + 1,
+                    e.reason
+                ),
+            )
+        })?;
+        placement(c, &goal_field(i), &scenario.legs[i].goal.agents, &map)?;
+    }
+    Ok(scenario)
 }

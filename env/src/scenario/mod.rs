@@ -88,6 +88,22 @@ pub struct Scenario {
 }
 
 impl Scenario {
+    /// A fingerprint of what the scenario asks — its maps, start, legs, physics and medium,
+    /// not its name, description or file: 16 hex digits of FNV-1a over the exact text of
+    /// those values. Plan files carry it to name the scenario they were made for.
+    pub fn content_hash(&self) -> String {
+        let text = format!(
+            "{:?}|{:?}|{:?}|{:?}|{:?}",
+            self.world, self.start, self.legs, self.physics, self.medium
+        );
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in text.bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+        format!("{h:016x}")
+    }
+
     /// `preset` as it applies to this scenario: with the scenario's medium, if it sets one.
     pub fn plant_preset(&self, preset: &DisturbancePreset) -> DisturbancePreset {
         let mut p = preset.clone();
@@ -111,7 +127,8 @@ impl Scenario {
                 format!("no such file, and not a built-in scenario (built-ins: {names})"),
             ));
         }
-        let text = crate::input::read_text(path, name_or_path)?;
+        let text =
+            crate::check::file::read_text_at_most(path, name_or_path, file::MAX_SCENARIO_BYTES)?;
         parse_scenario(&text, name_or_path)
     }
 

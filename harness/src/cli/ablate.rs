@@ -75,8 +75,8 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
         ));
     }
     let threads = match a.threads {
-        Some(0) => return Err(CliError::arg("--threads", "must be at least 1")),
-        Some(n) => n,
+        Some(n) => magbench_env::check::bounds::threads("--threads", n)
+            .map_err(|r| CliError::arg("--threads", r.reason))?,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
     let name = format!(

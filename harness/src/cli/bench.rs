@@ -94,8 +94,8 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
         .transpose()
         .map_err(|r| CliError::arg("--shard", r))?;
     let threads = match a.threads {
-        Some(0) => return Err(CliError::arg("--threads", "must be at least 1")),
-        Some(n) => n,
+        Some(n) => magbench_env::check::bounds::threads("--threads", n)
+            .map_err(|r| CliError::arg("--threads", r.reason))?,
         None => std::thread::available_parallelism()
             .map(|n| n.get())
             .unwrap_or(1),

@@ -412,7 +412,7 @@ fn write_outputs(
         let path = dir.join(format!("{stem}.json"));
         std::fs::write(
             &path,
-            serde_json::to_string_pretty(&r.result.plan).expect("json"),
+            magbench_trackers::plan_file::plan_json_for(&r.result.plan, s, k + 1),
         )
         .map_err(|e| fail(&path, &e))?;
         let path = dir.join(format!("{stem}.csv"));

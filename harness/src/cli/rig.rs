@@ -263,9 +263,15 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
             format!("must be in (0, 100], got {}", a.speed),
         ));
     }
-    if !(a.noise.is_finite() && a.noise >= 0.0 && a.blur.is_finite() && a.blur >= 0.0) {
-        return Err(CliError::arg("--noise/--blur", "must be finite and ≥ 0"));
+    if !(a.noise.is_finite() && (0.0..=255.0).contains(&a.noise)) {
+        return Err(CliError::arg(
+            "--noise",
+            format!("must be in [0, 255] grey levels, got {}", a.noise),
+        ));
     }
+    magbench_drivers::rigfile::BLUR_PX
+        .check("--blur", a.blur)
+        .map_err(|r| CliError::arg("--blur", r.reason))?;
     prepare_file(&a.log, "--log")?;
     if let Some(d) = &a.record {
         prepare_dir(d, "--record")?;
@@ -405,6 +411,9 @@ fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
         Some(s) => Some(Scenario::load(s)?.start),
         None => None,
     };
+    if a.frames.join("frames.csv").exists() {
+        magbench_drivers::camera::read_index(&a.frames)?;
+    }
     let r = replay::replay(&rig, &a.frames, prior.as_deref(), a.out.as_deref())
         .map_err(CliError::Failed)?;
     outln!("frames       {}", r.frames);
@@ -427,6 +436,7 @@ fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), CliError> {
         planner: Some(a.planner),
         planner_params: &a.planner_params,
         plan: None,
+        force: false,
         tracker,
         seed: a.seed,
         setup,

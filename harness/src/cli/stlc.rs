@@ -48,12 +48,14 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
             ),
         ));
     }
-    if !a.step.is_finite() || a.step <= 0.0 || a.step > 90.0 {
-        return Err(CliError::arg(
-            "--step",
-            format!("must be in (0, 90] degrees, got {}", a.step),
-        ));
-    }
+    magbench_env::check::Bound::closed(
+        0.001,
+        90.0,
+        " degrees",
+        "a step under 0.001° lists more than 90000 directions, finer than the rank test resolves",
+    )
+    .check("--step", a.step)
+    .map_err(|r| CliError::arg("--step", r.reason))?;
     if (3..=MAX_TEAM).contains(&a.agents) {
         return team(&a);
     }

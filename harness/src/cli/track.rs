@@ -42,6 +42,9 @@ pub struct TrackArgs {
     /// the first leg; the planner, if given, still makes the replans.
     #[arg(long, value_name = "FILE")]
     pub plan: Option<PathBuf>,
+    /// Track a --plan made for another scenario, team or start (a warning instead of exit 2).
+    #[arg(long, requires = "plan")]
+    pub force: bool,
     /// Planner limits, objective, metric and flow of every planning call.
     #[command(flatten)]
     pub setup: SetupArgs,
@@ -76,6 +79,7 @@ pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
         planner,
         planner_params: &a.planner_params,
         plan: a.plan,
+        force: a.force,
         tracker,
         seed: a.seed,
         setup,

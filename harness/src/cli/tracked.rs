@@ -11,7 +11,7 @@ use magbench_drivers::{RigStats, stats};
 use magbench_env::params::split_all;
 use magbench_env::{Scenario, Vec2};
 use magbench_planners::{FirstPlan, Limits, Planner, PlanningSetup, Unusable, solve_checked};
-use magbench_trackers::plan_file::{check_plan, plan_json, read_plan};
+use magbench_trackers::plan_file::{check_origin, check_plan, plan_json_for, read_plan};
 use magbench_trackers::{
     Mission, RunStatus, TrackOutcome, TrackerSpec, reference_for, track, write_ticks_csv,
 };
@@ -38,6 +38,8 @@ pub struct TrackRun<'a> {
     pub planner_params: &'a [String],
     /// A plan file to track instead of planning the first leg.
     pub plan: Option<PathBuf>,
+    /// Track a plan file made for another scenario, team or start, with a warning.
+    pub force: bool,
     /// The tracker and its (and the loop's) parameters.
     pub tracker: TrackerSpec,
     /// Seed of the planner and of the simulated disturbances.
@@ -101,7 +103,12 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     let given = match &r.plan {
         Some(path) => {
             let plan = read_plan(path, s.agents())?;
-            check_plan(&plan, s, &path.display().to_string(), &setup)?;
+            let file = path.display().to_string();
+            match check_origin(&plan, s, &file) {
+                Err(e) if r.force => eprintln!("warning: {e} (tracked anyway: --force)"),
+                origin => origin?,
+            }
+            check_plan(&plan, s, &file, &setup)?;
             Some(plan)
         }
         None => None,
@@ -466,7 +473,7 @@ fn write_outputs(
         serde_json::to_string_pretty(&plans).expect("json"),
     )?;
     if let Some(first) = out.plans.first() {
-        write(&dir.join("plan.json"), plan_json(&first.plan))?;
+        write(&dir.join("plan.json"), plan_json_for(&first.plan, s, 1))?;
     }
     let model = magbench_env::PlanningModel::new(&s.physics);
     let legs = s.legs.len();

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use magbench_env::InputError;
-use magbench_env::input::parse_toml;
+use magbench_env::check::parse_toml;
 use magbench_env::plant::DisturbancePreset;
 use serde::Deserialize;
 
@@ -94,13 +94,13 @@ fn components(
     list: &[toml::Value],
     file: &str,
     key: &str,
-    check: &dyn Fn(&Variant) -> Result<(), String>,
+    check: &dyn Fn(&Variant) -> Result<(), magbench_env::check::Rejection>,
 ) -> Result<Vec<Variant>, InputError> {
     let mut out: Vec<Variant> = vec![];
     for (i, v) in list.iter().enumerate() {
         let field = format!("{key}[{i}]");
         let c = component(v, file, &field)?;
-        check(&c).map_err(|e| InputError::new(file, &field, e))?;
+        check(&c).map_err(|r| r.under(&field).in_file(file))?;
         if out.iter().any(|o| o.label() == c.label()) {
             return Err(InputError::new(
                 file,

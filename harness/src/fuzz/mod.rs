@@ -5,8 +5,10 @@
 //! return for every input — an `Err` is a fine answer, a panic, an abort or a hang is a bug.
 //! Two drivers use it: the `cargo fuzz` targets in `fuzz/` (nightly, coverage-guided), and
 //! the deterministic mutation test `harness/tests/mutation.rs` (stable, in CI), which mutates
-//! [`Target::seeds`] with [`mutate`].
+//! [`Target::seeds`] with [`mutate`]. `harness/tests/mutation_commands.rs` then runs the
+//! commands that use each accepted mutant ([`Target::commands`]) under a time and memory cap.
 
+pub mod commands;
 pub mod mutate;
 
 use std::path::Path;
@@ -17,6 +19,7 @@ use magbench_env::Scenario;
 use crate::experiment::Experiment;
 use crate::run::real::RealExecutor;
 
+pub use commands::stlc_command;
 pub use mutate::mutate;
 
 /// One input format.

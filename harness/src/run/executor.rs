@@ -4,6 +4,8 @@ use std::cell::RefCell;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Once;
 
+use magbench_env::check::Rejection;
+
 use super::{ProgressRow, RunRecord, RunSpec, Status, Variant};
 
 /// What one run produced.
@@ -23,10 +25,11 @@ pub struct RunOutput {
 pub trait Executor: Sync {
     /// A short name for manifests (`real`, `fake`).
     fn name(&self) -> &str;
-    /// Checks that a planner exists and accepts these parameters.
-    fn check_planner(&self, v: &Variant) -> Result<(), String>;
-    /// Checks that a tracker exists and accepts these parameters.
-    fn check_tracker(&self, v: &Variant) -> Result<(), String>;
+    /// Checks that a planner exists and accepts these parameters; a rejection's field is the
+    /// parameter's key (empty for the planner itself).
+    fn check_planner(&self, v: &Variant) -> Result<(), Rejection>;
+    /// Checks that a tracker exists and accepts these parameters (a rejection as for planners).
+    fn check_tracker(&self, v: &Variant) -> Result<(), Rejection>;
     /// Checks what only a whole run can tell (a planner's or tracker's elevation setting against
     /// the run's scenario and preset); the error is (field, reason).
     fn check_run(&self, _spec: &RunSpec) -> Result<(), (String, String)> {

@@ -93,12 +93,13 @@ impl Executor for FakeExecutor {
         "fake"
     }
 
-    fn check_planner(&self, v: &Variant) -> Result<(), String> {
+    fn check_planner(&self, v: &Variant) -> Result<(), magbench_env::check::Rejection> {
         check(v, "planner", &["p", "cost", "spin", "sleep_ms", "panic"])
+            .map_err(|r| magbench_env::check::Rejection::new("", r))
     }
 
-    fn check_tracker(&self, v: &Variant) -> Result<(), String> {
-        check(v, "tracker", &["gain"])
+    fn check_tracker(&self, v: &Variant) -> Result<(), magbench_env::check::Rejection> {
+        check(v, "tracker", &["gain"]).map_err(|r| magbench_env::check::Rejection::new("", r))
     }
 
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {

@@ -21,6 +21,7 @@ use std::time::Duration;
 
 use std::time::Instant;
 
+use magbench_env::check::Rejection;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::ElevationRefused;
 use magbench_planners::setup::SETUP_KEYS;
@@ -242,25 +243,31 @@ fn fill_planning(
     progress
 }
 
+/// A registry's error as a rejection within one component: `param.KEY` → `KEY`.
+fn component_rejection(e: magbench_env::InputError) -> Rejection {
+    let field = e.field.strip_prefix("param.").unwrap_or("");
+    Rejection::new(field, e.reason)
+}
+
 impl Executor for RealExecutor {
     fn name(&self) -> &str {
         "real"
     }
 
-    fn check_planner(&self, v: &Variant) -> Result<(), String> {
+    fn check_planner(&self, v: &Variant) -> Result<(), Rejection> {
         self.registry
             .planners()
             .create_in("", &v.name, &planner_params(v))
-            .map_err(|e| e.reason)?;
-        configure(&mut PlanningSetup::default(), v, "")
+            .map_err(component_rejection)?;
+        configure(&mut PlanningSetup::default(), v, "").map_err(|r| Rejection::new("", r))
     }
 
-    fn check_tracker(&self, v: &Variant) -> Result<(), String> {
+    fn check_tracker(&self, v: &Variant) -> Result<(), Rejection> {
         self.registry
             .trackers()
             .spec(&v.name, &v.params_as_strings(), "")
             .map(|_| ())
-            .map_err(|e| e.reason)
+            .map_err(component_rejection)
     }
 
     fn one_at_a_time(&self, spec: &RunSpec) -> Vec<String> {

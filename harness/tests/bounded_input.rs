@@ -1,0 +1,500 @@
+//! The accepted values that crashed or hung, and the garbage that was accepted, each from the
+//! outside: every input exits 2 naming the file or option, the field and the reason (with the
+//! bound and why, where the bound is a choice). Each command runs under a deadline; one that
+//! outlives it is killed and fails the test as a hang.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+const BIN: &str = env!("CARGO_BIN_EXE_magbench");
+
+/// Longer than any refusal takes (they take milliseconds); a command still running then hangs.
+const DEADLINE: Duration = Duration::from_secs(30);
+
+/// Runs magbench with a deadline; (exit code, stderr).
+fn magbench(args: &[&str]) -> (i32, String) {
+    let child = Command::new(BIN)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run magbench");
+    let pid = child.id();
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(child.wait_with_output());
+    });
+    match rx.recv_timeout(DEADLINE) {
+        Ok(out) => {
+            let out = out.expect("wait for magbench");
+            (
+                out.status.code().unwrap_or(-1),
+                String::from_utf8_lossy(&out.stderr).into_owned(),
+            )
+        }
+        Err(_) => {
+            let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
+            panic!("{args:?} hung (still running after {DEADLINE:?})");
+        }
+    }
+}
+
+/// Exit 2 with every part in the message, and no panic.
+fn refused(args: &[&str], parts: &[&str]) {
+    let (code, stderr) = magbench(args);
+    assert_eq!(code, 2, "{args:?}: exit {code}, stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    for p in parts {
+        assert!(stderr.contains(p), "{args:?}: {p:?} missing from: {stderr}");
+    }
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+const RIG: &str = include_str!("../../rigs/emulator.toml");
+const SCENARIO: &str = include_str!("../../env/tests/data/good.toml");
+
+fn rig(dir: &Path, from: &str, to: &str) -> String {
+    assert!(RIG.contains(from), "{from}");
+    write(dir, "r.toml", &RIG.replace(from, to))
+}
+
+fn scenario(dir: &Path, from: &str, to: &str) -> String {
+    assert!(SCENARIO.contains(from), "{from}");
+    write(dir, "s.toml", &SCENARIO.replace(from, to))
+}
+
+#[test]
+fn image_sizes_and_blur_are_bounded() {
+    let d = tempfile::tempdir().unwrap();
+    for v in ["1e308", "1e5"] {
+        let r = rig(d.path(), "px_per_bl = 10.0", &format!("px_per_bl = {v}"));
+        refused(
+            &[
+                "rig",
+                "emulate",
+                "--rig",
+                &r,
+                "open-field",
+                "--duration",
+                "0.1",
+            ],
+            &[
+                &r,
+                "pixels.px_per_bl",
+                "must be in (0, 1000] px/BL",
+                "fills a sensor side",
+            ],
+        );
+    }
+    for v in ["1e308", "1e5"] {
+        let r = write(d.path(), "ok.toml", RIG);
+        refused(
+            &[
+                "rig",
+                "emulate",
+                "--rig",
+                &r,
+                "open-field",
+                "--duration",
+                "0.1",
+                "--blur",
+                v,
+            ],
+            &[
+                "<command line>",
+                "--blur",
+                "must be in [0, 50] px",
+                "wipes out any agent",
+            ],
+        );
+    }
+    let r = rig(d.path(), "size_px = [520, 340]", "size_px = [16384, 16384]");
+    refused(
+        &["rig", "check", "--rig", &r, "open-field"],
+        &[&r, "camera.size_px", "Mpx"],
+    );
+}
+
+#[test]
+fn camera_rates_and_fixed_arrays_of_rig_files_are_checked() {
+    let d = tempfile::tempdir().unwrap();
+    let r = rig(d.path(), "fps = 60.0", "fps = 5e-324");
+    refused(
+        &["rig", "check", "--rig", &r, "open-field"],
+        &[
+            &r,
+            "camera.fps",
+            "must be in [0.1, 10000] fps",
+            "got 5e-324",
+        ],
+    );
+    let r = rig(
+        d.path(),
+        "origin_px = [10.0, 330.0]",
+        "origin_px = [10.0, 330.0, 1.0]",
+    );
+    refused(
+        &["rig", "check", "--rig", &r, "open-field"],
+        &[&r, "pixels.origin_px", "invalid length 3"],
+    );
+    let r = rig(d.path(), "[1.0, 1.0, 1.0]", "[1.0, 1.0, 1.0, 1.0]");
+    refused(
+        &["rig", "check", "--rig", &r, "open-field"],
+        &[&r, "coil.calibration.field_mt_per_a", "invalid length 4"],
+    );
+    let r = rig(
+        d.path(),
+        "alpha_max_deg = 90.0",
+        "alpha_max_deg = 90.0\nfield_mt = 1e9",
+    );
+    refused(
+        &["rig", "check", "--rig", &r, "open-field"],
+        &[&r, "coil.field_mt", "1 T"],
+    );
+}
+
+#[test]
+fn nan_truth_in_a_recording_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let r = write(d.path(), "r.toml", RIG);
+    let frames = d.path().join("frames");
+    std::fs::create_dir(&frames).unwrap();
+    write(
+        &frames,
+        "frames.csv",
+        "index,t_s,file,x0_bl,y0_bl,x1_bl,y1_bl\n0,0.0,f0.pgm,NaN,4.0,6.0,4.0\n",
+    );
+    refused(
+        &["rig", "replay", "--rig", &r, frames.to_str().unwrap()],
+        &["frames.csv", "line 2: x0_bl", "must be finite"],
+    );
+}
+
+#[test]
+fn strong_fields_under_the_hardware_preset_are_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let s = write(
+        d.path(),
+        "s.toml",
+        &format!("{SCENARIO}[physics]\nfield_mt = 1e9\n"),
+    );
+    refused(
+        &[
+            "track",
+            &s,
+            "--tracker",
+            "obc",
+            "--preset",
+            "hardware",
+            "--max-iters",
+            "100",
+        ],
+        &[&s, "physics.field_mt", "at most 1000 mT"],
+    );
+    // within 1 T, but a moment that turns faster than the plant can integrate
+    let s = write(
+        d.path(),
+        "s.toml",
+        &format!("{SCENARIO}[physics]\nfield_mt = 900.0\nviscosity_mpa_s = 0.01\n"),
+    );
+    refused(
+        &[
+            "track",
+            &s,
+            "--tracker",
+            "obc",
+            "--preset",
+            "hardware",
+            "--max-iters",
+            "100",
+        ],
+        &[&s, "physics.field_mt", "sub-steps per step"],
+    );
+}
+
+#[test]
+fn tracker_work_stlc_steps_and_threads_are_bounded() {
+    refused(
+        &[
+            "track",
+            "open-field",
+            "--tracker",
+            "obc",
+            "--param",
+            "grid=100000",
+            "--param",
+            "horizon=120",
+            "--param",
+            "refine=100",
+            "--max-iters",
+            "10",
+        ],
+        &[
+            "<command line>",
+            "param",
+            "predictions per control tick",
+            "at most 200000",
+        ],
+    );
+    refused(
+        &["stlc", "--step", "1e-300"],
+        &["--step", "must be in [0.001, 90] degrees", "got 1e-300"],
+    );
+    let ci = concat!(env!("CARGO_MANIFEST_DIR"), "/../experiments/ci.toml");
+    refused(
+        &["bench", ci, "--dry-run", "--threads", "100000"],
+        &["--threads", "per core of this machine", "got 100000"],
+    );
+}
+
+#[test]
+fn huge_maps_are_refused_by_their_bounds() {
+    let d = tempfile::tempdir().unwrap();
+    // 992 polygons of 2000 vertices: larger than a scenario file may be
+    let ring = |cx: f64, cy: f64, n: usize| {
+        (0..n)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                format!("[{:.3},{:.3}]", cx + 0.3 * a.cos(), cy + 0.3 * a.sin())
+            })
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let map = |polys: usize, n: usize| {
+        let mut s = String::from("name = \"big\"\n[world]\nwidth = 60.0\nheight = 60.0\n");
+        for k in 0..polys {
+            let (cx, cy) = (10.0 + (k % 40) as f64, 10.0 + (k / 40) as f64);
+            s += &format!("[[world.obstacles]]\npolygon = [{}]\n", ring(cx, cy, n));
+        }
+        s + "[start]\nagents = [[2.0, 2.0], [4.0, 2.0]]\n[goal]\nagents = [[55.0, 55.0], [57.0, 55.0]]\ntolerance = 0.5\n"
+    };
+    let s = write(d.path(), "big.toml", &map(992, 2000));
+    refused(&["scenario", "check", &s], &[&s, "larger than 4096 KiB"]);
+    // 30 polygons of 1000 vertices: a small file, but too many vertices for one map
+    let s = write(d.path(), "many.toml", &map(30, 1000));
+    refused(
+        &["scenario", "check", &s],
+        &[
+            &s,
+            "world.obstacles",
+            "at most 20000 polygon vertices",
+            "got 30000",
+        ],
+    );
+}
+
+#[test]
+fn special_files_are_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let fifo = d.path().join("fifo.toml");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("skipped: no mkfifo");
+        return;
+    }
+    let f = fifo.to_str().unwrap();
+    refused(
+        &["scenario", "check", f],
+        &[f, "a FIFO", "not a regular file"],
+    );
+    refused(&["bench", f, "--dry-run"], &[f, "a FIFO"]);
+    refused(&["rig", "check", "--rig", f, "open-field"], &[f, "a FIFO"]);
+    refused(
+        &["scenario", "check", "/dev/zero"],
+        &["/dev/zero", "a device"],
+    );
+}
+
+#[test]
+fn garbage_scenarios_are_refused() {
+    let d = tempfile::tempdir().unwrap();
+    // an obstacle of leg 1's map covers the start
+    let s = scenario(
+        d.path(),
+        "[goal]\nagents = [[25.0, 15.0], [27.5, 15.0]]\ntolerance = 0.5\n",
+        "[[legs]]\ngoal = { agents = [[25.0, 15.0], [27.5, 15.0]], tolerance = 0.5 }\nobstacles = [{ circle = { center = [4.0, 5.0], radius = 2.0 } }]\n",
+    );
+    refused(
+        &["scenario", "check", &s],
+        &[
+            &s,
+            "legs[0].obstacles",
+            "leg 1 starts at the start",
+            "collision",
+        ],
+    );
+    let s = scenario(
+        d.path(),
+        "[[3.0, 5.0], [5.0, 5.0]]",
+        "[[4, 4, 999], [5.0, 5.0]]",
+    );
+    refused(
+        &["scenario", "check", &s],
+        &[&s, "start.agents[0]", "invalid length 3"],
+    );
+    let s = scenario(
+        d.path(),
+        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        "circle = { center = [11.0, 4.0, 1.0], radius = 1.0 }",
+    );
+    refused(
+        &["scenario", "check", &s],
+        &[&s, "world.obstacles[0].circle.center", "invalid length 3"],
+    );
+    let s = scenario(
+        d.path(),
+        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+        "polygon = [[10.0, 0.5], [14.0, 0.5], [14.0, 8.0], [12.0, 0.5], [10.0, 8.0]]",
+    );
+    refused(
+        &["scenario", "check", &s],
+        &[&s, "world.obstacles[0].polygon"],
+    );
+    let s = scenario(d.path(), "[world]", "[wrold]");
+    refused(
+        &["scenario", "check", &s],
+        &[&s, "is `wrold` a misspelling of `world`?"],
+    );
+}
+
+#[test]
+fn experiment_parameter_errors_name_the_key() {
+    let d = tempfile::tempdir().unwrap();
+    let e = write(
+        d.path(),
+        "e.toml",
+        "name = \"e\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt{k=0}\"]\nseeds = 1\n[limits]\niterations = 10\n",
+    );
+    refused(
+        &["bench", &e, "--dry-run"],
+        &[&e, "planners[0].k", "must be in"],
+    );
+    let e = write(
+        d.path(),
+        "e.toml",
+        "name = \"e\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt{kk=3}\"]\nseeds = 1\n[limits]\niterations = 10\n",
+    );
+    refused(
+        &["bench", &e, "--dry-run"],
+        &[&e, "planners[0].kk", "did you mean `k`?"],
+    );
+    let e = write(
+        d.path(),
+        "e.toml",
+        "name = \"e\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt\"]\nseeds = 1\n[limits]\niteration = 10\n",
+    );
+    refused(
+        &["bench", &e, "--dry-run"],
+        &[&e, "limits.iteration", "did you mean `iterations`?"],
+    );
+}
+
+/// A plan of open-field from `magbench plan --out`, as JSON.
+fn plan_json(dir: &Path) -> (PathBuf, serde_json::Value) {
+    let out = dir.join("p");
+    let (code, stderr) = magbench(&[
+        "plan",
+        "open-field",
+        "--planner",
+        "goal-zoom-rrt",
+        "--max-iters",
+        "3000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let p = out.join("plan.json");
+    let v = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    (p, v)
+}
+
+#[test]
+fn plans_of_other_scenarios_teams_or_starts_are_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let (good, plan) = plan_json(d.path());
+    assert_eq!(plan["made_for"]["scenario"], "open-field");
+    assert_eq!(plan["made_for"]["agents"], 2);
+    let good = good.to_str().unwrap();
+    let track = |scenario: &str, file: &str, extra: &[&str], parts: &[&str]| {
+        let mut a = vec![
+            "track",
+            scenario,
+            "--tracker",
+            "obc",
+            "--max-iters",
+            "100",
+            "--plan",
+            file,
+        ];
+        a.extend_from_slice(extra);
+        refused(&a, parts);
+    };
+    // another scenario's (same team): its record names it
+    track(
+        "narrow-passage",
+        good,
+        &[],
+        &[good, "made_for.scenario", "\"open-field\""],
+    );
+    // another team
+    track("trio-triangle", good, &[], &[good, "needs 3 agents"]);
+    // agents swapped
+    let mut swapped = plan.clone();
+    for s in swapped["states"].as_array_mut().unwrap() {
+        s.as_array_mut().unwrap().swap(0, 1);
+    }
+    let f = write(d.path(), "swapped.json", &swapped.to_string());
+    track(
+        "open-field",
+        &f,
+        &[],
+        &[&f, "states[0][0]", "goal tolerance", "another order"],
+    );
+    // zero edges, far from the start, and no record (an older plan file)
+    let mut far = plan.clone();
+    let start = far["states"][0].clone();
+    far["states"] = serde_json::json!([start]);
+    far["states"][0][0][0] = serde_json::json!(20.0);
+    far["states"][0][1][0] = serde_json::json!(22.0);
+    far["controls"] = serde_json::json!([]);
+    far["durations"] = serde_json::json!([]);
+    far.as_object_mut().unwrap().remove("made_for");
+    let f = write(d.path(), "far.json", &far.to_string());
+    track(
+        "open-field",
+        &f,
+        &[],
+        &[&f, "states[0][0]", "from the scenario's start"],
+    );
+    // unknown keys
+    let mut extra = plan.clone();
+    extra["colour"] = serde_json::json!(1);
+    let f = write(d.path(), "extra.json", &extra.to_string());
+    track("open-field", &f, &[], &[&f, "colour", "unknown field"]);
+    // --force tracks it with a warning
+    let f = write(d.path(), "swapped.json", &swapped.to_string());
+    let (code, stderr) = magbench(&[
+        "track",
+        "open-field",
+        "--tracker",
+        "obc",
+        "--max-iters",
+        "100",
+        "--plan",
+        &f,
+        "--force",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("warning:") && stderr.contains("--force"),
+        "{stderr}"
+    );
+}
