@@ -135,6 +135,7 @@ impl Plan {
             states: out_states,
             controls: out_controls,
             durations: out_durations,
+            made_for: None,
         })
     }
 }
