@@ -76,13 +76,14 @@ fn results_are_identical_at_one_and_two_threads() {
             }
         }
     }
-    // The report is one self-contained page: inline SVG, no scripts, no remote resources.
+    // The report is one self-contained page: inline SVG, inline script (table sorting), no
+    // remote resources.
     let html = std::fs::read_to_string(a.join("report.html")).unwrap();
     // per scenario its preview and 13 plots (two agents: no per-agent plot)
     assert_eq!(html.matches("<svg").count(), 28);
     let without_ns = html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "");
     assert!(
-        !html.contains("<script")
+        !html.contains("<script src")
             && !without_ns.contains("http://")
             && !without_ns.contains("https://")
             && !html.contains(" src=")

@@ -58,7 +58,7 @@ fn unknown_planners_and_parameters_are_input_errors() {
     let dir = tempfile::tempdir().unwrap();
     for (bad, field) in [
         ("\"no-such-planner\"", "planners[0]"),
-        ("\"goal-zoom-rrt{kk=5}\"", "planners[0]"),
+        ("\"goal-zoom-rrt{kk=5}\"", "planners[0].kk"),
         ("\"goal-zoom-rrt{objective=\\\"speed\\\"}\"", "planners[0]"),
         ("\"goal-zoom-rrt{flow=\\\"euler\\\"}\"", "planners[0]"),
     ] {
@@ -125,7 +125,7 @@ fn tracked_runs_fill_the_tracking_columns_deterministically() {
     // Bad tracker names and parameters are input errors naming the field.
     for (bad, field) in [
         ("\"nope\"", "trackers[0]"),
-        ("\"obc{zz=1}\"", "trackers[0]"),
+        ("\"obc{zz=1}\"", "trackers[0].zz"),
     ] {
         let err = Experiment::load(
             &write(dir.path(), "bad.toml", &text.replace("\"open-loop\"", bad)),

@@ -72,7 +72,7 @@ metrics! {
     /// Simulated time to reach the final goal (s).
     TimeToGoal = Def::new("time_to_goal_s", "time to goal", "s", Lower,
         Track(|f| f.metrics.time_to_goal_s))
-        .ompl("tracking time to goal REAL");
+        .report(1).ompl("tracking time to goal REAL");
     /// RMS path error of the observed positions, over agents and ticks (BL): what a rig
     /// measures (definitions: docs/tracking.md, "Metrics").
     RmsError = Def::new("rms_error_bl", "RMS error, observed", "BL", Lower,
@@ -136,7 +136,7 @@ metrics! {
     /// Wall contact events while tracking.
     WallContacts = Def::new("wall_contacts", "wall contacts", "", Lower,
         Track(|f| count(f.metrics.wall_contacts)))
-        .aggregate(Sum).ompl("tracking wall contacts INTEGER");
+        .aggregate(Sum).report(0).ompl("tracking wall contacts INTEGER");
     /// Frames with at least one missed detection (or no frame at all).
     MissedFrames = Def::new("missed_frames", "missed frames", "", Lower,
         Track(|f| count(f.metrics.missed_frames)))
@@ -144,7 +144,7 @@ metrics! {
     /// Replans during tracking (one per leg after the first, plus those for a persistent
     /// tracking error).
     Replans = Def::new("replans", "replans", "", Lower, Track(|f| count(f.metrics.replans)))
-        .aggregate(Sum).ompl("tracking replans INTEGER");
+        .aggregate(Sum).report(0).ompl("tracking replans INTEGER");
     /// Simulated duration of tracking (s).
     TrackDuration = Def::new("track_duration_s", "tracking duration", "s", Lower,
         Track(|f| Some(f.metrics.duration_s)))
