@@ -185,12 +185,14 @@
     var h = "#t=" + t.toFixed(2) + (speed !== 1 ? "&speed=" + speed : "") + (treeBox.checked ? "&tree=1" : "");
     if (history.replaceState) history.replaceState(null, "", h);
   }
-  function tick(now) {
+  // a timer, not animation frames: a headless browser's virtual clock runs timers exactly
+  function tick() {
     if (!playing) return;
+    var now = performance.now();
     if (last !== null) seek(t + (now - last) / 1000 * speed);
     last = now;
     if (t >= T) { setPlaying(false); setHash(); return; }
-    requestAnimationFrame(tick);
+    setTimeout(tick, 16);
   }
   function setPlaying(p) {
     playing = p;
@@ -199,7 +201,7 @@
     if (p) {
       if (t >= T) seek(0);
       last = null;
-      requestAnimationFrame(tick);
+      setTimeout(tick, 16);
     }
   }
   function setTree(on) {
