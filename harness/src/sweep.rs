@@ -132,7 +132,9 @@ impl Reporter {
 
     fn end(&self) {
         if let Reporter::Bar(b) = self {
+            // the bar stays on its line; what follows starts on the next
             b.finish();
+            let _ = crate::cli::output::emit("\n");
         }
     }
 }

@@ -195,3 +195,44 @@ fn dry_run_counts_the_matrix_and_merge_rejects_mixed_experiments() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("differs"), "{err}");
 }
+
+/// On a terminal (a real PTY, from util-linux `script`) the progress bar ends its line, so the
+/// summary starts a line of its own.
+#[test]
+fn on_a_terminal_the_summary_follows_the_progress_bar_on_its_own_line() {
+    if Command::new("script").arg("--version").output().is_err() {
+        eprintln!("skipped: util-linux `script` (a PTY) is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let exp = write(
+        dir.path(),
+        "tty.toml",
+        "name = \"tty\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt\"]\nseeds = 2\n[limits]\niterations = 2000\n",
+    );
+    let out = dir.path().join("out");
+    let cmd = format!(
+        "'{}' bench '{}' --out '{}'",
+        env!("CARGO_BIN_EXE_magbench"),
+        exp.display(),
+        out.display()
+    );
+    let o = Command::new("script")
+        .args(["-qec", &cmd, "/dev/null"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{o:?}");
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("runs, ETA"),
+        "a progress bar is drawn: {text:?}"
+    );
+    let summary = text
+        .split(['\n', '\r'])
+        .find(|l| l.contains("tty: 2 runs in"))
+        .unwrap_or_else(|| panic!("no summary: {text:?}"));
+    assert!(
+        summary.starts_with("tty: 2 runs in"),
+        "the summary shares a line with the bar: {summary:?}"
+    );
+}
