@@ -498,3 +498,69 @@ fn plans_of_other_scenarios_teams_or_starts_are_refused() {
         "{stderr}"
     );
 }
+
+/// The rig commands' numbers go through the one bound type: `rig check --duration` is bounded
+/// above, so no accepted duration runs unbounded.
+#[test]
+fn rig_command_numbers_are_bounded() {
+    let d = tempfile::tempdir().unwrap();
+    let r = write(d.path(), "ok.toml", RIG);
+    for (args, field, reason) in [
+        (
+            vec![
+                "rig",
+                "check",
+                "--rig",
+                &r,
+                "open-field",
+                "--duration",
+                "1e300",
+            ],
+            "--duration",
+            "must be in (0, 86400] s",
+        ),
+        (
+            vec![
+                "rig",
+                "excite",
+                "--rig",
+                &r,
+                "open-field",
+                "--out",
+                "x",
+                "--duration",
+                "0",
+            ],
+            "--duration",
+            "must be in (0, 86400] s",
+        ),
+        (
+            vec![
+                "rig",
+                "emulate",
+                "--rig",
+                &r,
+                "open-field",
+                "--speed",
+                "1e9",
+            ],
+            "--speed",
+            "must be in (0, 100] × real time",
+        ),
+        (
+            vec![
+                "rig",
+                "emulate",
+                "--rig",
+                &r,
+                "open-field",
+                "--noise",
+                "NaN",
+            ],
+            "--noise",
+            "must be in [0, 255] grey levels",
+        ),
+    ] {
+        refused(&args, &["<command line>", field, reason]);
+    }
+}

@@ -1,6 +1,7 @@
 //! `magbench rig emulate|check|replay|run`: physical runs on a coil-and-camera rig, and the
 //! emulator that stands in for one.
 
+use magbench_env::check::Bound;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -200,12 +201,7 @@ pub fn run(cmd: RigCmd, registry: &Registry) -> Result<(), CliError> {
 fn excite_cmd(a: ExciteArgs) -> Result<(), CliError> {
     use magbench_drivers::excite::{ExciteSetup, excite, log_for};
     let scenario = Scenario::load(&a.scenario)?;
-    if !(a.duration.is_finite() && a.duration > 0.0 && a.duration <= 86_400.0) {
-        return Err(CliError::arg(
-            "--duration",
-            format!("must be in (0, 86400] s, got {}", a.duration),
-        ));
-    }
+    option("--duration", RUN_DURATION, a.duration)?;
     prepare_dir(&a.out, "--out")?;
     let log = a.out.join("rig-log.csv");
     let mut setup = ExciteSetup {
@@ -257,18 +253,21 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
     let faults = FaultPlan::parse(&a.faults).map_err(|r| CliError::arg("--faults", r))?;
     let preset = preset_named(&a.preset, "--preset")?;
-    if !(a.speed.is_finite() && a.speed > 0.0 && a.speed <= 100.0) {
-        return Err(CliError::arg(
-            "--speed",
-            format!("must be in (0, 100], got {}", a.speed),
-        ));
-    }
-    if !(a.noise.is_finite() && (0.0..=255.0).contains(&a.noise)) {
-        return Err(CliError::arg(
-            "--noise",
-            format!("must be in [0, 255] grey levels, got {}", a.noise),
-        ));
-    }
+    option(
+        "--speed",
+        Bound::above(
+            0.0,
+            100.0,
+            " × real time",
+            "faster than 100× the emulated camera's frames outrun the renderer",
+        ),
+        a.speed,
+    )?;
+    option(
+        "--noise",
+        Bound::closed(0.0, 255.0, " grey levels", "an 8-bit image's range"),
+        a.noise,
+    )?;
     magbench_drivers::rigfile::BLUR_PX
         .check("--blur", a.blur)
         .map_err(|r| CliError::arg("--blur", r.reason))?;
@@ -359,12 +358,7 @@ fn open_rig(
 
 fn check_cmd(a: CheckArgs) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
-    if !(a.duration.is_finite() && a.duration > 0.0) {
-        return Err(CliError::arg(
-            "--duration",
-            format!("must be > 0, got {}", a.duration),
-        ));
-    }
+    option("--duration", RUN_DURATION, a.duration)?;
     let log = match &a.out {
         Some(d) => {
             prepare_dir(d, "--out")?;
@@ -444,4 +438,20 @@ fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), CliError> {
         gif: false,
         json: a.json,
     })
+}
+
+/// How long `rig excite` and `rig check` may drive a rig: a day, so that no accepted duration
+/// runs unbounded.
+const RUN_DURATION: Bound = Bound::above(
+    0.0,
+    86_400.0,
+    " s",
+    "a day bounds a rig session and its log",
+);
+
+/// A command-line number checked against its bound, refused naming the option.
+fn option(name: &str, bound: Bound, v: f64) -> Result<f64, CliError> {
+    bound
+        .check(name, v)
+        .map_err(|r| CliError::arg(name, r.reason))
 }
