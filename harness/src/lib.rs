@@ -30,6 +30,7 @@ pub mod run;
 pub mod stats;
 pub mod suite;
 pub mod sweep;
+pub mod units;
 
 pub use app::Cli;
 pub use error::CliError;

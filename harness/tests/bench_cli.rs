@@ -236,3 +236,47 @@ fn on_a_terminal_the_summary_follows_the_progress_bar_on_its_own_line() {
         "the summary shares a line with the bar: {summary:?}"
     );
 }
+
+/// `results plot --units physical` shows lengths in µm from the scenario's agent diameter, in
+/// the report's tables and the plots; `--units bl` (the default) in body lengths.
+#[test]
+fn results_plot_shows_lengths_in_micrometres_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../results/baseline");
+    let copy = dir.path().join("baseline");
+    std::fs::create_dir_all(copy.join("plots/open-field")).unwrap();
+    for entry in walk(&src) {
+        let to = copy.join(entry.strip_prefix(&src).unwrap());
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(&entry, &to).unwrap();
+    }
+    let dir_arg = copy.display().to_string();
+    let (code, _, err) = magbench(&["results", "plot", &dir_arg, "--units", "physical"]);
+    assert_eq!(code, 0, "{err}");
+    let html = std::fs::read_to_string(copy.join("report.html")).unwrap();
+    assert!(html.contains("1 BL = 500 µm"), "the scale is stated");
+    assert!(html.contains("RMS error, observed (µm)"));
+    assert!(!html.contains("RMS error, observed (BL)"));
+    let cdf = std::fs::read_to_string(copy.join("plots/open-field/rms-error-cdf.svg")).unwrap();
+    assert!(cdf.contains("(µm)"), "the CDF's axis is in µm");
+    let (code, _, err) = magbench(&["results", "plot", &dir_arg]);
+    assert_eq!(code, 0, "{err}");
+    let html = std::fs::read_to_string(copy.join("report.html")).unwrap();
+    assert!(html.contains("RMS error, observed (BL)") && !html.contains("1 BL = "));
+    let (code, _, err) = magbench(&["results", "plot", &dir_arg, "--units", "furlongs"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// Every file under `dir`.
+fn walk(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = vec![];
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}

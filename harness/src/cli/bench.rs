@@ -75,7 +75,15 @@ pub fn default_experiment() -> PathBuf {
         return local;
     }
     let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments/default.toml");
-    if built.exists() { built } else { local }
+    if built.exists() {
+        eprintln!(
+            "note: no experiments/default.toml here; using the source tree's, {}",
+            built.display()
+        );
+        built
+    } else {
+        local
+    }
 }
 
 /// Runs `magbench bench` with the planners and trackers of `registry`.

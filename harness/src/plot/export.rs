@@ -3,6 +3,7 @@
 //! every figure is drawn into: PNG at any DPI (resvg) and PDF (svg2pdf), both with the
 //! embedded font, so the three files show the same figure.
 
+use crate::units::Units;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -87,6 +88,10 @@ pub struct FigureOptions {
     /// Also write each figure as PDF.
     #[arg(long)]
     pub pdf: bool,
+    /// Lengths in body lengths (bl) or in µm and mm/s from each scenario's agent diameter
+    /// (physical), in the report and the plots.
+    #[arg(long, value_enum, default_value_t = Units::Bl)]
+    pub units: Units,
 }
 
 impl Default for FigureOptions {
@@ -96,6 +101,7 @@ impl Default for FigureOptions {
             dpi: 300,
             axes: AxisScale::Auto,
             pdf: false,
+            units: Units::Bl,
         }
     }
 }

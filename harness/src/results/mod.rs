@@ -54,7 +54,7 @@ pub fn finalize_with(
     m.finished = Some(manifest::now());
     ompl::write(dir, &m, &runs, &progress)?;
     let figures = plots::write_all_with(dir, &m, &runs, &progress, opts)?;
-    report::write(dir, &m, &runs, &figures)?;
+    report::write(dir, &m, &runs, &figures, opts.units)?;
     m.files = verify::file_hashes(dir)?;
     m.write(dir)
 }

@@ -14,6 +14,7 @@
 //! its own dash and marker ([`crate::plot::style`]); iterations and times get a log axis when
 //! they span more than a decade ([`FigureOptions::axes`]). docs/figures.md has the options.
 
+use crate::units::Shown;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -296,6 +297,7 @@ pub fn write_all_with(
         }
     }
     for sc in scenarios {
+        let shown = Shown::for_scenario(opts.units, sc, dir);
         let gs: Vec<&Vec<&RunRecord>> = all.iter().filter(|g| g[0].scenario == sc).collect();
         let label = |g: &[&RunRecord]| {
             let r = g[0];
@@ -513,9 +515,10 @@ pub fn write_all_with(
                     let axis = if *m == Metric::Cost {
                         cost_axis(&planning_runs, "final cost")
                     } else {
-                        d.axis()
+                        shown.axis(d.label, d.unit)
                     };
-                    save_box(p.stem, p.title, &axis, &|r| r.get(*m), groups, spans)?;
+                    let value = |r: &RunRecord| r.get(*m).map(|v| shown.value(d.unit, v));
+                    save_box(p.stem, p.title, &axis, &value, groups, spans)?;
                 }
             }
         }
@@ -525,9 +528,10 @@ pub fn write_all_with(
                 w.save(sc, "rms-error-per-agent", &fig, &title)?;
             }
             let title = format!("{sc}: distribution of RMS tracking error");
+            let rms = Metric::RmsError.def();
             let fig = CdfChart {
                 title: title.clone(),
-                x_label: Metric::RmsError.def().axis(),
+                x_label: shown.axis(rms.label, rms.unit),
                 looks: tracked.iter().map(|g| look_of(m, g)).collect(),
                 width,
                 series: tracked
@@ -536,7 +540,10 @@ pub fn write_all_with(
                         label: label(g),
                         data: g
                             .iter()
-                            .map(|r| r.get(Metric::RmsError).unwrap_or(f64::NAN))
+                            .map(|r| {
+                                r.get(Metric::RmsError)
+                                    .map_or(f64::NAN, |v| shown.value(rms.unit, v))
+                            })
                             .collect(),
                     })
                     .collect(),

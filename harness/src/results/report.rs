@@ -3,6 +3,7 @@
 //! and every plot. It fits a 1,280-px window; cells of columns that do not apply to a row
 //! (tracking columns of a planning-only configuration) are empty.
 
+use crate::units::{Shown, Units};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -10,7 +11,7 @@ use super::manifest::Manifest;
 use super::plots::PlotFile;
 use super::summary::{GroupSummary, summaries};
 use crate::CliError;
-use crate::metrics::{Aggregation, Metric};
+use crate::metrics::{Aggregation, Compute, Metric};
 use crate::run::RunRecord;
 use crate::stats::Summary;
 
@@ -23,44 +24,72 @@ pub fn esc(s: &str) -> String {
 }
 
 fn med(s: Option<&Summary>, digits: usize) -> String {
+    med_in(s, digits, |v| v)
+}
+
+/// A median with its quartiles, each value shown through `f`.
+fn med_in(s: Option<&Summary>, digits: usize, f: impl Fn(f64) -> f64) -> String {
     match s {
         Some(s) => format!(
             "{:.*} <small>[{:.*}, {:.*}]</small>",
-            digits, s.median, digits, s.q1, digits, s.q3
+            digits,
+            f(s.median),
+            digits,
+            f(s.q1),
+            digits,
+            f(s.q3)
         ),
         None => "–".into(),
     }
 }
 
-/// A metric's cell: its median with the quartiles, or its total over the runs.
-fn cell(g: &GroupSummary, m: Metric, digits: usize) -> String {
-    match m.def().aggregation {
-        Aggregation::Median => med(g.metric(m), digits),
+/// A metric's cell: its median with the quartiles, or its total over the runs, in the units
+/// `shown` gives.
+fn cell(g: &GroupSummary, m: Metric, digits: usize, shown: Shown) -> String {
+    let d = m.def();
+    let digits = shown.digits(d.unit, digits);
+    let f = |v: f64| shown.value(d.unit, v);
+    match d.aggregation {
+        Aggregation::Median => med_in(g.metric(m), digits, f),
         Aggregation::Sum => g.metric(m).map_or("–".into(), |s| {
-            format!("{:.*}", digits, s.mean * s.n as f64)
+            format!("{:.*}", digits, f(s.mean * s.n as f64))
         }),
     }
 }
 
-/// The metrics of the table's report columns, tracking metrics only when `tracked`.
-fn columns(tracked: bool) -> Vec<(Metric, usize)> {
+/// The table's report columns whose computation `stage` accepts and that some row of `rows`
+/// has a value of: a column empty in every row is left out.
+fn columns(stage: fn(&Compute) -> bool, rows: &[&GroupSummary]) -> Vec<(Metric, usize)> {
     Metric::ALL
         .iter()
         .filter_map(|m| Some((*m, m.def().report?)))
-        .filter(|(m, _)| tracked || !m.def().tracking())
+        .filter(|(m, _)| stage(&m.def().compute))
+        .filter(|(m, _)| rows.iter().any(|g| g.metric(*m).is_some()))
         .collect()
 }
 
-fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecord])) {
-    let tracked = rows.iter().any(|g| g.tracked());
-    let cols = columns(tracked);
-    o.push_str("<table><thead><tr><th>configuration</th><th>runs</th><th>success (95% CI)</th><th>crashed</th>");
-    for (m, _) in &cols {
-        let _ = write!(o, "<th>{}</th>", esc(&m.def().axis()));
+/// A header cell per column, in the units `shown` gives.
+fn headers(o: &mut String, cols: &[(Metric, usize)], shown: Shown) {
+    for (m, _) in cols {
+        let d = m.def();
+        let _ = write!(o, "<th>{}</th>", esc(&shown.axis(d.label, d.unit)));
     }
-    if tracked {
-        o.push_str("<th>agent contacts</th>");
+}
+
+/// A cell per column of row `g`.
+fn cells(o: &mut String, g: &GroupSummary, cols: &[(Metric, usize)], shown: Shown) {
+    for &(m, digits) in cols {
+        let _ = write!(o, "<td>{}</td>", cell(g, m, digits, shown));
     }
+}
+
+/// The summary of one scenario's configurations, as three narrow tables rather than one wide
+/// one: planning (with success and the replays), tracking (tracked configurations only) and
+/// the plan's path quality.
+fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecord]), shown: Shown) {
+    let cols = columns(|c| matches!(c, Compute::Plan(_)), rows);
+    o.push_str("<h3>Planning</h3>\n<table><thead><tr><th>configuration</th><th>runs</th><th>success (95% CI)</th><th>crashed</th>");
+    headers(o, &cols, shown);
     o.push_str("<th>replays (by seed)</th></tr></thead><tbody>\n");
     for g in rows {
         let rate = g.succeeded as f64 / g.n.max(1) as f64;
@@ -76,25 +105,40 @@ fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecor
             100.0 * g.success_ci.1,
             g.crashed,
         );
-        for &(m, digits) in &cols {
-            if m.def().tracking() && !g.tracked() {
-                o.push_str("<td class=\"na\"></td>");
-            } else {
-                let _ = write!(o, "<td>{}</td>", cell(g, m, digits));
-            }
-        }
-        if tracked && !g.tracked() {
-            o.push_str("<td class=\"na\"></td>");
-        } else if tracked {
-            let _ = write!(o, "<td>{}</td>", g.agent_contacts);
-        }
+        cells(o, g, &cols, shown);
         let _ = writeln!(
             o,
             "<td class=\"replays\">{}</td></tr>",
             crate::replay::files::links_cell(dir, runs, g)
         );
     }
-    o.push_str("</tbody></table>\n<p class=\"note\">Medians with [first quartile, third quartile] over the runs that have the metric; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking). Tracking errors: the observed positions' distance to each agent's own path (RMS and max), the true positions' (simulation only), the worst agent's (the agent with the largest RMS), the team against the nearest common point of the team path (synchronous) and against the reference at the same elapsed time (time-indexed), and the team against its nearest plan node (node: the seed's tracking error, to which its ≈ 0.2 BL compares); docs/tracking.md, \"Metrics\". Path quality (length, smoothness, cusps, clearance, proximity margin, field flips and field-angle variation) of the plan, the first leg's for tracked runs; docs/results.md, \"The metric table\".</p>\n");
+    o.push_str("</tbody></table>\n");
+    let tracked: Vec<&GroupSummary> = rows.iter().copied().filter(|g| g.tracked()).collect();
+    if !tracked.is_empty() {
+        let cols = columns(|c| matches!(c, Compute::Track(_)), &tracked);
+        o.push_str("<h3>Tracking</h3>\n<table><thead><tr><th>configuration</th>");
+        headers(o, &cols, shown);
+        o.push_str("<th>agent contacts</th></tr></thead><tbody>\n");
+        for g in &tracked {
+            let _ = write!(o, "<tr><td>{}</td>", esc(&g.config_label()));
+            cells(o, g, &cols, shown);
+            let _ = writeln!(o, "<td>{}</td></tr>", g.agent_contacts);
+        }
+        o.push_str("</tbody></table>\n");
+    }
+    let cols = columns(|c| matches!(c, Compute::Path(_)), rows);
+    if !cols.is_empty() {
+        o.push_str("<h3>Path quality of the plan</h3>\n<table><thead><tr><th>configuration</th>");
+        headers(o, &cols, shown);
+        o.push_str("</tr></thead><tbody>\n");
+        for g in rows {
+            let _ = write!(o, "<tr><td>{}</td>", esc(&g.config_label()));
+            cells(o, g, &cols, shown);
+            o.push_str("</tr>\n");
+        }
+        o.push_str("</tbody></table>\n");
+    }
+    o.push_str("<p class=\"note\">Medians with [first quartile, third quartile] over the runs that have the metric; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking). Tracking errors: the observed positions' distance to each agent's own path (RMS and max), the true positions' (simulation only), the worst agent's (the agent with the largest RMS), the team against the nearest common point of the team path (synchronous) and against the reference at the same elapsed time (time-indexed), and the team against its nearest plan node (node: the seed's tracking error, to which its ≈ 0.2 BL compares); docs/tracking.md, \"Metrics\". Path quality (length, smoothness, cusps, clearance, proximity margin, field flips and field-angle variation) of the plan, the first leg's for tracked runs; docs/results.md, \"The metric table\".</p>\n");
 }
 
 /// Teams this large get the per-agent table (a pair's worst agent is in the main table).
@@ -173,6 +217,7 @@ pub fn write(
     m: &Manifest,
     runs: &[RunRecord],
     plots: &[PlotFile],
+    units: Units,
 ) -> Result<(), CliError> {
     let e = &m.experiment;
     let mut o = String::new();
@@ -269,7 +314,14 @@ pub fn write(
             );
         }
         let rows: Vec<&GroupSummary> = sums.iter().filter(|g| g.scenario == sc).collect();
-        table(&mut o, &rows, (dir, runs));
+        let shown = Shown::for_scenario(units, sc, dir);
+        if let Some(k) = shown.um_per_bl {
+            let _ = writeln!(
+                o,
+                "<p class=\"note\">Lengths in µm and speeds in mm/s: 1 BL = {k} µm, this scenario's agent diameter.</p>"
+            );
+        }
+        table(&mut o, &rows, (dir, runs), shown);
         agent_table(&mut o, &rows);
         for p in plots.iter().filter(|p| p.scenario == sc) {
             let rel = p
