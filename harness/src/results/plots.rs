@@ -210,7 +210,7 @@ fn per_agent_box(
     sc: &str,
     tracked: &[&Vec<&RunRecord>],
     label: &dyn Fn(&[&RunRecord]) -> String,
-    opts: &FigureOptions,
+    (opts, shown): (&FigureOptions, Shown),
 ) -> Option<BoxChart> {
     let agents = |g: &[&RunRecord]| g.iter().map(|r| r.per_agent.len()).max().unwrap_or(0);
     if !tracked.iter().any(|g| agents(g) >= PER_AGENT_PLOT_AGENTS) {
@@ -228,7 +228,7 @@ fn per_agent_box(
                         r.per_agent
                             .get(i)
                             .and_then(|a| a.rms_bl)
-                            .unwrap_or(f64::NAN)
+                            .map_or(f64::NAN, |v| shown.value("BL", v))
                     })
                     .collect(),
             });
@@ -237,7 +237,7 @@ fn per_agent_box(
     }
     Some(BoxChart {
         title: format!("{sc}: RMS tracking error of each agent (observed positions)"),
-        value_label: "RMS distance of the agent to its planned path (BL)".into(),
+        value_label: shown.axis("RMS distance of the agent to its planned path", "BL"),
         groups,
         colors,
         log: opts.axes == AxisScale::Log,
@@ -523,7 +523,7 @@ pub fn write_all_with(
             }
         }
         if !tracked.is_empty() {
-            if let Some(fig) = per_agent_box(sc, &tracked, &label, opts) {
+            if let Some(fig) = per_agent_box(sc, &tracked, &label, (opts, shown)) {
                 let title = fig.title.clone();
                 w.save(sc, "rms-error-per-agent", &fig, &title)?;
             }

@@ -23,10 +23,6 @@ pub fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-fn med(s: Option<&Summary>, digits: usize) -> String {
-    med_in(s, digits, |v| v)
-}
-
 /// A median with its quartiles, each value shown through `f`.
 fn med_in(s: Option<&Summary>, digits: usize, f: impl Fn(f64) -> f64) -> String {
     match s {
@@ -146,7 +142,7 @@ const PER_AGENT_TABLE_AGENTS: usize = 3;
 
 /// Each agent's errors, one row per configuration and agent, for configurations tracking a
 /// team of [`PER_AGENT_TABLE_AGENTS`] or more; nothing otherwise.
-fn agent_table(o: &mut String, rows: &[&GroupSummary]) {
+fn agent_table(o: &mut String, rows: &[&GroupSummary], shown: Shown) {
     let teams: Vec<&&GroupSummary> = rows
         .iter()
         .filter(|g| g.per_agent.len() >= PER_AGENT_TABLE_AGENTS)
@@ -154,7 +150,13 @@ fn agent_table(o: &mut String, rows: &[&GroupSummary]) {
     if teams.is_empty() {
         return;
     }
-    o.push_str("<h3>Per agent</h3>\n<table class=\"agents\"><thead><tr><th>configuration</th><th>agent</th><th>RMS error, observed (BL)</th><th>max error, observed (BL)</th><th>RMS error, true (BL)</th><th>worst agent in</th></tr></thead><tbody>\n");
+    let u = shown.unit("BL");
+    let digits = shown.digits("BL", 3);
+    let length = |s: Option<&Summary>| med_in(s, digits, |v| shown.value("BL", v));
+    let _ = writeln!(
+        o,
+        "<h3>Per agent</h3>\n<table class=\"agents\"><thead><tr><th>configuration</th><th>agent</th><th>RMS error, observed ({u})</th><th>max error, observed ({u})</th><th>RMS error, true ({u})</th><th>worst agent in</th></tr></thead><tbody>"
+    );
     for g in teams {
         for (i, a) in g.per_agent.iter().enumerate() {
             let c = crate::plot::palette::agent(i);
@@ -166,9 +168,9 @@ fn agent_table(o: &mut String, rows: &[&GroupSummary]) {
                 c.1,
                 c.2,
                 i + 1,
-                med(a.rms_error.as_ref(), 3),
-                med(a.max_error.as_ref(), 3),
-                med(a.rms_error_true.as_ref(), 3),
+                length(a.rms_error.as_ref()),
+                length(a.max_error.as_ref()),
+                length(a.rms_error_true.as_ref()),
                 a.worst,
                 g.n,
             );
@@ -177,12 +179,12 @@ fn agent_table(o: &mut String, rows: &[&GroupSummary]) {
             o,
             "<tr><td>{}</td><td>worst agent</td><td>{}</td><td>{}</td><td>{}</td><td></td></tr>",
             esc(&g.config_label()),
-            med(g.metric(Metric::RmsErrorWorstAgent), 3),
-            med(g.metric(Metric::MaxError), 3),
-            med(g.metric(Metric::RmsErrorTrueWorstAgent), 3),
+            length(g.metric(Metric::RmsErrorWorstAgent)),
+            length(g.metric(Metric::MaxError)),
+            length(g.metric(Metric::RmsErrorTrueWorstAgent)),
         );
     }
-    o.push_str("</tbody></table>\n<p class=\"note\">Agents numbered from 1 as in the plots (column <code>rms_error_agent0_bl</code> of runs.csv is agent 1). Medians with [first quartile, third quartile] over the tracked runs. The worst agent of a run is the one with the largest observed RMS error; its row is the median of that per-run worst, its max the largest error of any agent. README, \"Tracking metrics\".</p>\n");
+    o.push_str("</tbody></table>\n<p class=\"note\">Agents numbered from 1 as in the plots (column <code>rms_error_agent0_bl</code> of runs.csv is agent 1). Medians with [first quartile, third quartile] over the tracked runs. The worst agent of a run is the one with the largest observed RMS error; its row is the median of that per-run worst, its max the largest error of any agent. docs/tracking.md, \"Metrics\".</p>\n");
 }
 
 fn inline_svg(stem: &Path) -> Result<String, CliError> {
@@ -322,7 +324,7 @@ pub fn write(
             );
         }
         table(&mut o, &rows, (dir, runs), shown);
-        agent_table(&mut o, &rows);
+        agent_table(&mut o, &rows, shown);
         for p in plots.iter().filter(|p| p.scenario == sc) {
             let rel = p
                 .stem
