@@ -280,3 +280,24 @@ fn walk(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
     }
     out
 }
+
+/// `ablate` checks its options before it runs: a bad one exits 2 naming the option, and the
+/// results folder it made for the run is removed again.
+#[test]
+fn ablate_refuses_bad_options_naming_them_and_leaves_no_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("abl");
+    let out_arg = out.display().to_string();
+    for (args, option) in [
+        (vec!["--planner", "nope"], "--planner: unknown planner"),
+        (vec!["--tracker", "nope"], "--tracker: unknown tracker"),
+        (vec!["--seeds", "100000000"], "--seeds: must be 1 to 100000"),
+    ] {
+        let mut all = vec!["ablate", "--out", &out_arg];
+        all.extend(args);
+        let (code, _, err) = magbench(&all);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(option), "{err}");
+        assert!(!out.exists(), "{} was left behind", out.display());
+    }
+}

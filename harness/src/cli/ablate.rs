@@ -6,6 +6,7 @@
 //! report.html, plots; `--resume` completes an interrupted ablation), then adds
 //! `ablation.csv`, `variants.csv` and `ablation.svg`/`.png`.
 
+use crate::experiment::MAX_SEEDS;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -61,8 +62,14 @@ pub struct AblateArgs {
 /// Runs `magbench ablate` with the planners and trackers of `registry`.
 pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
     let base = preset_named(&a.preset, "--preset")?;
-    if a.seeds == 0 {
-        return Err(CliError::arg("--seeds", "must be at least 1"));
+    if !(1..=MAX_SEEDS as u64).contains(&a.seeds) {
+        return Err(CliError::arg(
+            "--seeds",
+            format!(
+                "must be 1 to {MAX_SEEDS} (as in an experiment file), got {}",
+                a.seeds
+            ),
+        ));
     }
     if a.max_iters == 0 {
         return Err(CliError::arg("--max-iters", "must be at least 1"));
@@ -88,6 +95,8 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("results").join(&name));
+    // a folder this command makes is removed again if its experiment is refused
+    let fresh = !out.exists();
     prepare_dir(&out, "--out")?;
     let presets = out.join("presets");
     std::fs::create_dir_all(&presets)?;
@@ -125,7 +134,22 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
     let file = out.join("ablation.toml");
     std::fs::write(&file, experiment)?;
     let executor = RealExecutor::new(registry.clone());
-    let e = Experiment::load(&file, &executor)?;
+    let e = match Experiment::load(&file, &executor) {
+        Ok(e) => e,
+        Err(err) => {
+            if fresh {
+                let _ = std::fs::remove_dir_all(&out);
+            }
+            // the experiment is this command's: name the option its field came from
+            let option = match err.field.split(['[', '.']).next() {
+                Some("planners") => "--planner",
+                Some("trackers") => "--tracker",
+                Some("scenarios") => "SCENARIO",
+                _ => return Err(err.into()),
+            };
+            return Err(CliError::arg(option, err.reason));
+        }
+    };
     let opts = SweepOptions {
         out: out.clone(),
         threads,

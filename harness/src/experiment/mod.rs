@@ -33,6 +33,7 @@
 //! tracked runs with every tracker and preset.
 
 mod file;
+pub use file::MAX_SEEDS;
 pub mod generated;
 
 use std::path::{Path, PathBuf};
