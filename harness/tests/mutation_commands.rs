@@ -10,10 +10,10 @@
 //! `MAGBENCH_COMMAND_MUTANTS` sets how many accepted mutants per format run (default
 //! [`ACCEPTED`]); each test prints how many inputs it tried, ran and how they ended.
 
-use std::io::Read;
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::sync::mpsc;
 use std::time::Duration;
 
 use magbench::fuzz::{Target, mutate, stlc_command};
@@ -52,7 +52,7 @@ enum End {
 
 /// Runs `magbench ARGS` under the memory cap and the deadline.
 fn run_capped(args: &[String]) -> End {
-    let mut child = Command::new("sh")
+    let child = Command::new("sh")
         .arg("-c")
         .arg(format!("ulimit -v {MEMORY_CAP_KIB} && exec \"$0\" \"$@\""))
         .arg(BIN)
@@ -62,17 +62,8 @@ fn run_capped(args: &[String]) -> End {
         .stderr(Stdio::piped())
         .spawn()
         .expect("run sh");
-    let pid = child.id();
-    let mut err = child.stderr.take().unwrap();
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let mut s = String::new();
-        let _ = err.read_to_string(&mut s);
-        let _ = tx.send((child.wait(), s));
-    });
-    match rx.recv_timeout(DEADLINE) {
-        Ok((status, stderr)) => {
-            let status = status.expect("wait");
+    match common::wait_with_deadline(child, DEADLINE) {
+        Some((status, stderr)) => {
             // a usage error is a mistake of the test's command line, not of the input
             assert!(
                 !stderr.contains("For more information, try '--help'"),
@@ -89,10 +80,7 @@ fn run_capped(args: &[String]) -> End {
                 )),
             }
         }
-        Err(_) => {
-            let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
-            End::Bad(format!("still running after {DEADLINE:?}: a hang"))
-        }
+        None => End::Bad(format!("still running after {DEADLINE:?}: a hang")),
     }
 }
 

@@ -10,10 +10,10 @@
 //! writes the next can read. Each runs under a deadline and must exit 0. Some are bounded or
 //! skipped, each for a reason that [`adapt`] states and the test prints.
 
-use std::io::Read;
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::sync::mpsc;
 use std::time::Duration;
 
 const BIN: &str = env!("CARGO_BIN_EXE_magbench");
@@ -79,7 +79,7 @@ fn adapt(cmd: &str) -> Result<Vec<String>, String> {
 
 /// Runs `magbench ARGS` in `dir` under the deadline; (exit code, stderr).
 fn run(dir: &Path, args: &[String]) -> (Option<i32>, String) {
-    let mut child = Command::new(BIN)
+    let child = Command::new(BIN)
         .args(args)
         .current_dir(dir)
         .stdin(Stdio::null())
@@ -87,20 +87,9 @@ fn run(dir: &Path, args: &[String]) -> (Option<i32>, String) {
         .stderr(Stdio::piped())
         .spawn()
         .expect("run magbench");
-    let pid = child.id();
-    let mut err = child.stderr.take().unwrap();
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let mut s = String::new();
-        let _ = err.read_to_string(&mut s);
-        let _ = tx.send((child.wait(), s));
-    });
-    match rx.recv_timeout(DEADLINE) {
-        Ok((status, stderr)) => (status.ok().and_then(|s| s.code()), stderr),
-        Err(_) => {
-            let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
-            (None, format!("still running after {DEADLINE:?}"))
-        }
+    match common::wait_with_deadline(child, DEADLINE) {
+        Some((status, stderr)) => (status.code(), stderr),
+        None => (None, format!("still running after {DEADLINE:?}")),
     }
 }
 

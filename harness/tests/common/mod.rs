@@ -62,3 +62,29 @@ pub fn opts(out: &Path, threads: usize) -> SweepOptions {
         progress: ProgressMode::Quiet,
     }
 }
+
+/// Waits at most `deadline` for `child`, whose stderr is piped: its exit status and stderr,
+/// or `None` once the deadline has passed (the child is then killed).
+pub fn wait_with_deadline(
+    mut child: std::process::Child,
+    deadline: std::time::Duration,
+) -> Option<(std::process::ExitStatus, String)> {
+    use std::io::Read;
+    let pid = child.id();
+    let mut err = child.stderr.take().expect("stderr piped");
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = err.read_to_string(&mut s);
+        let _ = tx.send((child.wait(), s));
+    });
+    match rx.recv_timeout(deadline) {
+        Ok((status, stderr)) => Some((status.expect("wait for the child"), stderr)),
+        Err(_) => {
+            let _ = std::process::Command::new("kill")
+                .args(["-9", &pid.to_string()])
+                .status();
+            None
+        }
+    }
+}
