@@ -368,33 +368,32 @@ fn garbage_scenarios_are_refused() {
 #[test]
 fn experiment_parameter_errors_name_the_key() {
     let d = tempfile::tempdir().unwrap();
-    let e = write(
-        d.path(),
-        "e.toml",
-        "name = \"e\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt{k=0}\"]\nseeds = 1\n[limits]\niterations = 10\n",
-    );
-    refused(
-        &["bench", &e, "--dry-run"],
-        &[&e, "planners[0].k", "must be in"],
-    );
-    let e = write(
-        d.path(),
-        "e.toml",
-        "name = \"e\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt{kk=3}\"]\nseeds = 1\n[limits]\niterations = 10\n",
-    );
-    refused(
-        &["bench", &e, "--dry-run"],
-        &[&e, "planners[0].kk", "did you mean `k`?"],
-    );
-    let e = write(
-        d.path(),
-        "e.toml",
-        "name = \"e\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt\"]\nseeds = 1\n[limits]\niteration = 10\n",
-    );
-    refused(
-        &["bench", &e, "--dry-run"],
-        &[&e, "limits.iteration", "did you mean `iterations`?"],
-    );
+    for (planner, limits, parts) in [
+        (
+            "goal-zoom-rrt{k=0}",
+            "iterations",
+            ["planners[0].k", "must be in"],
+        ),
+        (
+            "goal-zoom-rrt{kk=3}",
+            "iterations",
+            ["planners[0].kk", "did you mean `k`?"],
+        ),
+        (
+            "goal-zoom-rrt",
+            "iteration",
+            ["limits.iteration", "did you mean `iterations`?"],
+        ),
+    ] {
+        let e = write(
+            d.path(),
+            "e.toml",
+            &format!(
+                "name = \"e\"\nscenarios = [\"open-field\"]\nplanners = [\"{planner}\"]\nseeds = 1\n[limits]\n{limits} = 10\n"
+            ),
+        );
+        refused(&["bench", &e, "--dry-run"], &[&e, parts[0], parts[1]]);
+    }
 }
 
 /// A plan of open-field from `magbench plan --out`, as JSON.
