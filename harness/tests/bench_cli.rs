@@ -244,12 +244,7 @@ fn results_plot_shows_lengths_in_micrometres_on_request() {
     let dir = tempfile::tempdir().unwrap();
     let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../results/baseline");
     let copy = dir.path().join("baseline");
-    std::fs::create_dir_all(copy.join("plots/open-field")).unwrap();
-    for entry in walk(&src) {
-        let to = copy.join(entry.strip_prefix(&src).unwrap());
-        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
-        std::fs::copy(&entry, &to).unwrap();
-    }
+    common::copy_dir(&src, &copy, &[]);
     let dir_arg = copy.display().to_string();
     let (code, _, err) = magbench(&["results", "plot", &dir_arg, "--units", "physical"]);
     assert_eq!(code, 0, "{err}");
@@ -265,20 +260,6 @@ fn results_plot_shows_lengths_in_micrometres_on_request() {
     assert!(html.contains("RMS error, observed (BL)") && !html.contains("1 BL = "));
     let (code, _, err) = magbench(&["results", "plot", &dir_arg, "--units", "furlongs"]);
     assert_eq!(code, 2, "{err}");
-}
-
-/// Every file under `dir`.
-fn walk(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
-    let mut out = vec![];
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            out.extend(walk(&p));
-        } else {
-            out.push(p);
-        }
-    }
-    out
 }
 
 /// `ablate` checks its options before it runs: a bad one exits 2 naming the option, and the

@@ -6,6 +6,8 @@
 //! Skipped (with the reason printed) only when cargo cannot be run. The build goes to a
 //! target folder under `target/tmp/` that is kept between runs, so a second run is incremental.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -13,23 +15,8 @@ use std::process::Command;
 const PLANNER: &str = "plain-rrt";
 const TRACKER: &str = "com-p";
 
-/// Copies the folder `from` into `to`, leaving out build outputs and results.
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        let name = entry.file_name();
-        if name == "target" || name == "results" || name == "Cargo.lock" {
-            continue;
-        }
-        let path = entry.path();
-        if path.is_dir() {
-            copy_dir(&path, &to.join(&name));
-        } else {
-            std::fs::copy(&path, to.join(&name)).unwrap();
-        }
-    }
-}
+/// Build outputs and results, left out of the copy.
+const NOT_COPIED: [&str; 3] = ["target", "results", "Cargo.lock"];
 
 /// The text of every SVG under `dir`.
 fn svg_text(dir: &Path) -> String {
@@ -78,7 +65,7 @@ fn a_plugin_crate_outside_the_workspace_is_benchmarked_beside_the_built_ins() {
     let root = harness.parent().unwrap();
     let tmp = tempfile::tempdir().unwrap();
     let crate_dir = tmp.path().join("my-plugin");
-    copy_dir(&root.join("examples/plugin-crate"), &crate_dir);
+    common::copy_dir(&root.join("examples/plugin-crate"), &crate_dir, &NOT_COPIED);
 
     // point the dependency at this checkout, by absolute path
     let manifest = crate_dir.join("Cargo.toml");
