@@ -282,3 +282,40 @@ fn ablate_refuses_bad_options_naming_them_and_leaves_no_folder() {
         assert!(!out.exists(), "{} was left behind", out.display());
     }
 }
+
+/// The options of this round's commands refuse bad input with exit 2, naming the file or
+/// option and the reason.
+#[test]
+fn suite_preview_and_results_plot_refuse_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing").display().to_string();
+    let empty = dir.path().join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let empty = empty.display().to_string();
+    let gif = dir.path().join("x.gif").display().to_string();
+    for (args, parts) in [
+        (
+            vec!["bench", "--suite", "no-such-suite", "--dry-run"],
+            vec!["suites/no-such-suite/suite.toml", "cannot read"],
+        ),
+        (
+            vec!["scenario", "show", "open-field", "--out", &gif],
+            vec!["--out", "must end in .svg or .png"],
+        ),
+        (
+            vec!["results", "plot", &missing],
+            vec!["DIR", "not a folder"],
+        ),
+        (
+            vec!["results", "plot", &empty],
+            vec!["manifest.json", "cannot read"],
+        ),
+    ] {
+        let (code, _, err) = magbench(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        for p in parts {
+            assert!(err.contains(p), "{args:?}: {err}");
+        }
+        assert!(!err.contains("note: no experiments"), "{err}");
+    }
+}

@@ -90,10 +90,9 @@ pub fn default_experiment() -> PathBuf {
 pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     let executor = a.executor.executor(registry);
     let ex = executor.as_ref();
-    let file = a.file.clone().unwrap_or_else(default_experiment);
     let e = match &a.suite {
         Some(name) => super::suite::experiment(name, registry, ex)?,
-        None => Experiment::load(&file, ex)?,
+        None => Experiment::load(&a.file.clone().unwrap_or_else(default_experiment), ex)?,
     };
     let shard = a
         .shard

@@ -51,6 +51,12 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
     match cmd {
         ResultsCmd::Scaling { dir, by, family } => scaling(&dir, &by, family.as_deref()),
         ResultsCmd::Plot { dir, figures } => {
+            if !dir.is_dir() {
+                return Err(CliError::arg(
+                    "DIR",
+                    format!("{}: not a folder", dir.display()),
+                ));
+            }
             let _lock = lock::exclusive(&dir, "results plot", "DIR")?;
             crate::results::Manifest::read(&dir)?;
             crate::results::finalize_with(&dir, &figures)?;
