@@ -54,6 +54,7 @@ fn emulator() -> Emu {
         faults: FaultPlan::default(),
         preset: DisturbancePreset::ideal(),
         render: RenderParams::default(),
+        preset_camera: false,
         seed: 1,
         clock: clock.clone(),
         speed: 1.0,

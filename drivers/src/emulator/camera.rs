@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use super::clock::DeviceClock;
+use super::error::EmulatorError;
 use super::log::EventLog;
 
 /// Streams encoded frames to the connected host.
@@ -22,14 +23,16 @@ impl CameraServer {
         stop: Arc<AtomicBool>,
         log: Arc<EventLog>,
         clock: Arc<DeviceClock>,
-    ) -> Result<Self, String> {
-        let listener =
-            TcpListener::bind(listen).map_err(|e| format!("camera listen {listen}: {e}"))?;
+    ) -> Result<Self, EmulatorError> {
+        let what = || format!("camera listen {listen}");
+        let listener = TcpListener::bind(listen).map_err(|e| EmulatorError::io(what(), e))?;
         let addr = listener
             .local_addr()
-            .map_err(|e| e.to_string())?
+            .map_err(|e| EmulatorError::io(what(), e))?
             .to_string();
-        listener.set_nonblocking(true).map_err(|e| e.to_string())?;
+        listener
+            .set_nonblocking(true)
+            .map_err(|e| EmulatorError::io(what(), e))?;
         let client: Arc<Mutex<Option<TcpStream>>> = Arc::new(Mutex::new(None));
         let c = client.clone();
         std::thread::spawn(move || {

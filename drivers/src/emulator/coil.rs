@@ -13,6 +13,7 @@ use std::time::Duration;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::error::EmulatorError;
 use super::clock::DeviceClock;
 use super::device::{DeviceEvent, DeviceState};
 use super::faults::{Cut, FaultPlan, maybe_corrupt};
@@ -51,10 +52,15 @@ pub struct TcpTransport(TcpListener);
 
 impl TcpTransport {
     /// Listens on `addr`; returns the transport and the bound address.
-    pub fn bind(addr: &str) -> Result<(Self, String), String> {
-        let l = TcpListener::bind(addr).map_err(|e| format!("coil listen {addr}: {e}"))?;
-        let bound = l.local_addr().map_err(|e| e.to_string())?.to_string();
-        l.set_nonblocking(true).map_err(|e| e.to_string())?;
+    pub fn bind(addr: &str) -> Result<(Self, String), EmulatorError> {
+        let what = || format!("coil listen {addr}");
+        let l = TcpListener::bind(addr).map_err(|e| EmulatorError::io(what(), e))?;
+        let bound = l
+            .local_addr()
+            .map_err(|e| EmulatorError::io(what(), e))?
+            .to_string();
+        l.set_nonblocking(true)
+            .map_err(|e| EmulatorError::io(what(), e))?;
         Ok((Self(l), bound))
     }
 }
@@ -75,10 +81,10 @@ pub struct PtyTransport(Option<super::io::pty::Pty>);
 #[cfg(unix)]
 impl PtyTransport {
     /// Opens a pseudo-terminal linked at `link`.
-    pub fn open(link: &std::path::Path) -> Result<Self, String> {
+    pub fn open(link: &std::path::Path) -> Result<Self, EmulatorError> {
         super::io::pty::Pty::open(link)
             .map(|p| Self(Some(p)))
-            .map_err(|e| format!("pty {}: {e}", link.display()))
+            .map_err(|e| EmulatorError::io(format!("pty {}", link.display()), e))
     }
 }
 

@@ -6,6 +6,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::log::EventLog;
 use magbench_env::Vec2;
+use magbench_env::check::Rejection;
 
 /// Which link a disconnect cuts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,22 +37,24 @@ pub struct FaultPlan {
 pub const FAULT_SYNTAX: &str = "drop=P | delay=P:MS | disconnect=T[:coil|:camera] | corrupt=P | stuck=T:D (comma-separated; P probability, MS milliseconds, T and D seconds of device time after the host's HELLO)";
 
 impl FaultPlan {
-    /// Parses a comma-separated fault list; `Err` names the bad item and why.
-    pub fn parse(spec: &str) -> Result<FaultPlan, String> {
+    /// Parses a comma-separated fault list; a rejection names the fault (`drop`, `delay`, ...)
+    /// and why.
+    pub fn parse(spec: &str) -> Result<FaultPlan, Rejection> {
         let mut plan = FaultPlan::default();
         for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-            let (kind, args) = item
-                .split_once('=')
-                .ok_or_else(|| format!("{item:?}: expected KIND=VALUE ({FAULT_SYNTAX})"))?;
-            let nums = |n: usize| -> Result<Vec<f64>, String> {
+            let (kind, args) = item.split_once('=').ok_or_else(|| {
+                Rejection::new(item, format!("expected KIND=VALUE ({FAULT_SYNTAX})"))
+            })?;
+            let bad = |reason: String| Rejection::new(kind, format!("{item:?}: {reason}"));
+            let nums = |n: usize| -> Result<Vec<f64>, Rejection> {
                 let parts: Vec<&str> = args.split(':').collect();
                 let v: Result<Vec<f64>, _> =
                     parts.iter().take(n).map(|p| p.parse::<f64>()).collect();
-                let v = v.map_err(|_| format!("{item:?}: not a number"))?;
+                let v = v.map_err(|_| bad("not a number".into()))?;
                 if v.len() != n || v.iter().any(|x| !x.is_finite() || *x < 0.0) {
-                    return Err(format!(
-                        "{item:?}: needs {n} non-negative number(s) ({FAULT_SYNTAX})"
-                    ));
+                    return Err(bad(format!(
+                        "needs {n} non-negative number(s) ({FAULT_SYNTAX})"
+                    )));
                 }
                 Ok(v)
             };
@@ -59,7 +62,7 @@ impl FaultPlan {
                 if p <= 1.0 {
                     Ok(p)
                 } else {
-                    Err(format!("{item:?}: a probability is at most 1"))
+                    Err(bad("a probability is at most 1".into()))
                 }
             };
             match kind {
@@ -77,16 +80,21 @@ impl FaultPlan {
                     let (t, which) = match args.split_once(':') {
                         Some((t, "coil")) => (t, Cut::Coil),
                         Some((t, "camera")) => (t, Cut::Camera),
-                        Some(_) => return Err(format!("{item:?}: the link is `coil` or `camera`")),
+                        Some(_) => return Err(bad("the link is `coil` or `camera`".into())),
                         None => (args, Cut::Coil),
                     };
-                    let t: f64 = t.parse().map_err(|_| format!("{item:?}: not a number"))?;
+                    let t: f64 = t.parse().map_err(|_| bad("not a number".into()))?;
                     if !t.is_finite() || t < 0.0 {
-                        return Err(format!("{item:?}: the time must be ≥ 0"));
+                        return Err(bad("the time must be ≥ 0".into()));
                     }
                     plan.disconnect = Some((t, which));
                 }
-                other => return Err(format!("unknown fault {other:?} ({FAULT_SYNTAX})")),
+                other => {
+                    return Err(Rejection::new(
+                        other,
+                        format!("unknown fault ({FAULT_SYNTAX})"),
+                    ));
+                }
             }
         }
         Ok(plan)
@@ -248,7 +256,7 @@ mod tests {
         assert_eq!(p.disconnect, Some((4.0, Cut::Camera)));
         assert!(p.stuck_at(2.2) && !p.stuck_at(2.6));
         assert!(FaultPlan::parse("drop=2").is_err());
-        assert!(FaultPlan::parse("fire=1").is_err());
+        assert_eq!(FaultPlan::parse("fire=1").unwrap_err().field, "fire");
         assert!(FaultPlan::parse("delay=0.5").is_err());
         assert_eq!(
             FaultPlan::parse("disconnect=3").unwrap().disconnect,

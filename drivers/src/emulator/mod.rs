@@ -18,6 +18,7 @@ pub mod camera;
 pub mod clock;
 pub mod coil;
 pub mod device;
+pub mod error;
 pub mod faults;
 pub mod io;
 pub mod log;
@@ -29,13 +30,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use magbench_env::plant::{DisturbancePreset, Plant};
+use magbench_env::plant::{Camera, CameraParams, DisturbancePreset, Plant};
 use magbench_env::{Coil, Scenario, TriaxialMaxwell};
 
 use self::camera::CameraServer;
 use self::clock::DeviceClock;
 use self::coil::{CoilServer, DeviceShared, Shared, TcpTransport, lock};
 use self::device::DeviceState;
+pub use self::error::EmulatorError;
 use self::faults::{Delivery, FaultInjector, FaultPlan};
 use self::log::EventLog;
 use self::plant::PlantStepper;
@@ -73,6 +75,10 @@ pub struct EmulatorConfig {
     pub preset: DisturbancePreset,
     /// How frames look.
     pub render: RenderParams,
+    /// Frames show the agents as the preset's camera model sees them ([`seen_by`]): late by
+    /// its latency, displaced by its detection noise and bias; the detector's own pixel error
+    /// comes on top. Off: frames show the true positions.
+    pub preset_camera: bool,
     /// Seed of the plant, the renderer and the faults.
     pub seed: u64,
     /// The clock of the device (its watchdog and its frame pacing): the wall clock on a
@@ -98,7 +104,7 @@ pub struct EmulatorConfig {
 }
 
 /// Runs the emulator until `duration` passes or `stop` is set.
-pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), String> {
+pub fn run(cfg: EmulatorConfig, stop: Arc<AtomicBool>) -> Result<(), EmulatorError> {
     let mut emu = Emulator::start(cfg, &stop)?;
     emu.wait_for_host(&stop);
     let mut result = Ok(());
@@ -125,6 +131,8 @@ struct Emulator {
     camera: CameraServer,
     plant: PlantStepper,
     renderer: Renderer,
+    /// The preset's camera model, when frames show what it sees.
+    seen: Option<Camera>,
     recorder: Option<FrameRecorder>,
     faults: FaultInjector,
     period: f64,
@@ -137,9 +145,9 @@ impl Emulator {
     /// Starts every part: the clock, the log, the camera server, the coil server on its
     /// transport (a thread each), the plant stepper, the renderer and the fault injector; then
     /// reports the live endpoints.
-    fn start(cfg: EmulatorConfig, stop: &Arc<AtomicBool>) -> Result<Self, String> {
+    fn start(cfg: EmulatorConfig, stop: &Arc<AtomicBool>) -> Result<Self, EmulatorError> {
         if !(cfg.speed.is_finite() && cfg.speed > 0.0) {
-            return Err(format!("speed must be > 0, got {}", cfg.speed));
+            return Err(EmulatorError::Speed(cfg.speed));
         }
         let clock = Arc::new(if cfg.lockstep {
             DeviceClock::lockstep(cfg.clock.clone())
@@ -148,7 +156,7 @@ impl Emulator {
         });
         let log = Arc::new(
             EventLog::create(&cfg.log, cfg.clock.clone())
-                .map_err(|e| format!("{}: {e}", cfg.log.display()))?,
+                .map_err(|e| EmulatorError::io(cfg.log.display().to_string(), e))?,
         );
         let shared: Shared = Arc::new(Mutex::new(DeviceShared {
             device: DeviceState::new(
@@ -186,7 +194,7 @@ impl Emulator {
                 format!("serial {}", link.display())
             }
             #[cfg(not(unix))]
-            DeviceEndpoint::Pty(_) => return Err("pseudo-terminals need a Unix system".into()),
+            DeviceEndpoint::Pty(_) => return Err(EmulatorError::NoPty),
         };
         let scenario = &cfg.scenario;
         let p = &scenario.physics;
@@ -216,7 +224,7 @@ impl Emulator {
         let recorder = match &cfg.record {
             Some(dir) => Some(
                 FrameRecorder::create(dir, scenario.agents())
-                    .map_err(|e| format!("{}: {e}", dir.display()))?,
+                    .map_err(|e| EmulatorError::io(dir.display().to_string(), e))?,
             ),
             None => None,
         };
@@ -239,6 +247,9 @@ impl Emulator {
             camera,
             plant,
             renderer,
+            seen: cfg
+                .preset_camera
+                .then(|| seen_by(&cfg.preset.camera, cfg.seed)),
             recorder,
             faults: FaultInjector::new(cfg.faults.clone(), cfg.seed),
             period: 1.0 / cfg.rig.camera.fps,
@@ -267,7 +278,7 @@ impl Emulator {
 
     /// Frame `k`: wait for its time, step the plant to it, render it, inject its faults and
     /// send it.
-    fn frame(&mut self, k: u64, stop: &AtomicBool) -> Result<(), String> {
+    fn frame(&mut self, k: u64, stop: &AtomicBool) -> Result<(), EmulatorError> {
         let t = k as f64 * self.period;
         if self.clock.is_lockstep() {
             // the host's answer to the last frame, or 50 ms
@@ -295,11 +306,18 @@ impl Emulator {
         }
         // the frame, and its faults (fault times count from the host's HELLO)
         let since_hello = lock(&self.shared).hello_t.map(|h| t - h);
+        let drawn = match self.seen.as_mut() {
+            Some(cam) => cam
+                .capture(t, &truth)
+                .map(|o| o.agents.iter().zip(&truth).map(|(s, p)| s.unwrap_or(*p)).collect())
+                .unwrap_or_else(|| truth.clone()),
+            None => truth.clone(),
+        };
         let renderer = &self.renderer;
         let image = self.faults.image(
             t,
             since_hello,
-            || renderer.render_frame(&truth, k),
+            || renderer.render_frame(&drawn, k),
             (log, &in_force, &truth),
         );
         let frame = Frame {
@@ -311,7 +329,7 @@ impl Emulator {
         log.event(t, "frame", None, &in_force, &truth, &format!("index {k}"));
         if let Some(r) = self.recorder.as_mut() {
             r.write(&frame, &truth)
-                .map_err(|e| format!("recording: {e}"))?;
+                .map_err(|e| EmulatorError::io("recording", e))?;
         }
         let camera = &self.camera;
         match self
@@ -341,6 +359,15 @@ impl Emulator {
             "emulator stopped; currents zero",
         );
     }
+}
+
+/// The camera model of `params` that an emulated frame shows: its latency and detection noise
+/// and bias; misses and swaps are left to the detector on the rendered frame.
+pub fn seen_by(params: &CameraParams, seed: u64) -> Camera {
+    let mut p = params.clone();
+    p.misses.enabled = false;
+    p.swaps.enabled = false;
+    Camera::new(p, seed)
 }
 
 /// The preset the emulated coil and agents follow: `preset` with the scenario's medium, and

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use magbench_env::{Control, Vec2};
+use magbench_env::{Control, InputError, Vec2};
 
 /// One observed frame of a logged run.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,8 +27,9 @@ pub struct LoggedRun {
     pub frames: Vec<LoggedFrame>,
 }
 
-/// Reads `rig-log.csv` from `path` (a file, or a folder that holds one) for `agents` agents.
-pub fn read_log(path: &Path, agents: usize) -> Result<LoggedRun, String> {
+/// Reads `rig-log.csv` from `path` (a file, or a folder that holds one) for `agents` agents;
+/// a file that cannot be read or is not a rig log is an [`InputError`] naming it.
+pub fn read_log(path: &Path, agents: usize) -> Result<LoggedRun, InputError> {
     let file = if path.is_dir() {
         path.join("rig-log.csv")
     } else {
@@ -38,29 +39,41 @@ pub fn read_log(path: &Path, agents: usize) -> Result<LoggedRun, String> {
     let mut rd = csv::ReaderBuilder::new()
         .flexible(false)
         .from_path(&file)
-        .map_err(|e| format!("{name}: {e}"))?;
-    let head = rd.headers().map_err(|e| format!("{name}: {e}"))?.clone();
+        .map_err(|e| InputError::new(&name, "", e.to_string()))?;
+    let head = rd
+        .headers()
+        .map_err(|e| InputError::new(&name, "header", e.to_string()))?
+        .clone();
     let col = |c: &str| {
-        head.iter()
-            .position(|h| h == c)
-            .ok_or_else(|| format!("{name}: header: no column `{c}` (not a rig log?)"))
+        head.iter().position(|h| h == c).ok_or_else(|| {
+            InputError::new(
+                &name,
+                "header",
+                format!("no column `{c}` (not a rig log?); the scenario has {agents} agents"),
+            )
+        })
     };
     let (kind, frame, t) = (col("kind")?, col("frame")?, col("t_s")?);
     let xy: Vec<(usize, usize)> = (0..agents)
         .map(|i| Ok((col(&format!("x{i}_bl"))?, col(&format!("y{i}_bl"))?)))
-        .collect::<Result<_, String>>()
-        .map_err(|e| format!("{e}; the scenario has {agents} agents"))?;
+        .collect::<Result<_, InputError>>()?;
     let (th, al, gx, gy) = (col("theta")?, col("alpha")?, col("gx")?, col("gy")?);
     let mut frames: Vec<LoggedFrame> = vec![];
     let mut in_force: Option<Control> = None;
     for (line, rec) in rd.records().enumerate() {
-        let rec = rec.map_err(|e| format!("{name}: {e}"))?;
-        let at = |c: usize, what: &str| -> Result<f64, String> {
+        let rec = rec.map_err(|e| InputError::new(&name, format!("line {}", line + 2), e.to_string()))?;
+        let at = |c: usize, what: &str| -> Result<f64, InputError> {
             let s = rec.get(c).unwrap_or("");
             s.parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("{name}: line {}: {what}: not a number: `{s}`", line + 2))
+                .ok_or_else(|| {
+                    InputError::new(
+                        &name,
+                        format!("line {}: {what}", line + 2),
+                        format!("not a finite number: `{s}`"),
+                    )
+                })
         };
         match rec.get(kind).unwrap_or("") {
             "observation" => {
@@ -99,7 +112,11 @@ pub fn read_log(path: &Path, agents: usize) -> Result<LoggedRun, String> {
         }
     }
     if frames.len() < 2 {
-        return Err(format!("{name}: fewer than 2 observations"));
+        return Err(InputError::new(
+            &name,
+            "",
+            "fewer than 2 observations (not a rig log of a run?)",
+        ));
     }
     Ok(LoggedRun {
         source: name,

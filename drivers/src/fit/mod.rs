@@ -19,17 +19,19 @@
 //! the agent's own drag or moment break (hydrodynamic interaction, capillary attraction, the
 //! magnet's rotation lag); without them one of the three is held.
 
+pub mod error;
 pub mod log;
 pub mod model;
 mod problem;
 pub mod report;
 
-use magbench_env::Scenario;
+use magbench_env::{InputError, Scenario};
 use magbench_env::plant::DisturbancePreset;
 
+pub use self::error::FitError;
 pub use self::log::{LoggedFrame, LoggedRun, read_log};
-pub use self::model::{Kind, Model};
-pub use self::report::{FitReport, ParamFit, Status};
+pub use self::model::{Kind, Model, SegmentTrace};
+pub use self::report::{FitReport, ParamFit, Status, TRACE_S};
 
 use self::problem::{Problem, solve};
 
@@ -60,20 +62,31 @@ pub fn calibrate(
     base: &DisturbancePreset,
     runs: Vec<LoggedRun>,
     opts: &FitOptions,
-) -> Result<FitReport, String> {
+) -> Result<FitReport, FitError> {
     for run in &runs {
-        if run
+        if let Some(f) = run
             .frames
             .iter()
-            .any(|f| f.agents.len() != scenario.agents())
+            .find(|f| f.agents.len() != scenario.agents())
         {
-            return Err(format!(
-                "{}: agent count differs from the scenario's {}",
-                run.source,
-                scenario.agents()
-            ));
+            return Err(InputError::new(
+                &run.source,
+                format!("frame {}", f.frame),
+                format!(
+                    "{} agents, the scenario {} has {}",
+                    f.agents.len(),
+                    scenario.name,
+                    scenario.agents()
+                ),
+            )
+            .into());
         }
     }
+    let sources = runs
+        .iter()
+        .map(|r| r.source.as_str())
+        .collect::<Vec<_>>()
+        .join(", ");
     let model = Model::new(scenario, base, runs);
     let x0 = model.base_point(base);
     let mut free: Vec<bool> = model
@@ -95,7 +108,7 @@ pub fn calibrate(
     let &(latency, _) = latency_table
         .iter()
         .min_by(|a, b| a.1.total_cmp(&b.1))
-        .ok_or("no segment of consecutive frames with every agent observed and the field on")?;
+        .ok_or(FitError::NoSegments(sources))?;
     let segs = model.segments(opts.segment_frames, latency);
     let mut unidentified = vec![];
     let (problem, se) = loop {

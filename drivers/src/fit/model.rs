@@ -90,6 +90,17 @@ pub struct Segment {
     pub len: usize,
 }
 
+/// One segment's observed and predicted motion, frame by frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SegmentTrace {
+    /// Capture times (s).
+    pub t: Vec<f64>,
+    /// Observed positions per frame and agent (`None`: missed).
+    pub observed: Vec<Vec<Option<Vec2>>>,
+    /// Predicted positions per frame and agent.
+    pub predicted: Vec<Vec<Vec2>>,
+}
+
 /// The model of the logged runs: the plant's fixed parts and the segments it predicts.
 pub struct Model {
     params: PhysicalParams,
@@ -255,18 +266,12 @@ impl Model {
         segs.iter().map(|s| s.len * 2 * self.n).sum()
     }
 
-    fn segment_residuals(
-        &self,
-        preset: &DisturbancePreset,
-        s: &Segment,
-        latency: usize,
-    ) -> (Vec<f64>, bool) {
+    /// The prediction of segment `s` under `preset`: the times, observations and predicted
+    /// positions of its first frame (predicted = observed) and of every frame it predicts; the
+    /// flag is set when the prediction touched a wall or stuck.
+    pub fn predict(&self, preset: &DisturbancePreset, s: &Segment, latency: usize) -> (SegmentTrace, bool) {
         let f = &self.runs[s.run].frames;
-        let start: Vec<Vec2> = f[s.start]
-            .agents
-            .iter()
-            .map(|a| a.expect("observed"))
-            .collect();
+        let start: Vec<Vec2> = f[s.start].agents.iter().flatten().copied().collect();
         let mut plant = Plant::new(
             &self.params,
             self.coil.clone(),
@@ -276,21 +281,38 @@ impl Model {
             &start,
         );
         plant.set_coil_centre(self.centre);
-        let mut out = Vec::with_capacity(s.len * 2 * self.n);
+        let mut tr = SegmentTrace {
+            t: vec![f[s.start].t],
+            observed: vec![f[s.start].agents.clone()],
+            predicted: vec![start],
+        };
         for j in s.start..s.start + s.len {
-            let u = f[j - latency].command.expect("segments have the field on");
-            plant.run(&u, f[j + 1].t - f[j].t);
-            for (o, p) in f[j + 1].agents.iter().zip(plant.positions()) {
+            if let Some(u) = f[j - latency].command {
+                plant.run(&u, f[j + 1].t - f[j].t);
+            }
+            tr.t.push(f[j + 1].t);
+            tr.observed.push(f[j + 1].agents.clone());
+            tr.predicted.push(plant.positions().to_vec());
+        }
+        (tr, plant.stuck() || plant.wall_contacts() > 0)
+    }
+
+    fn segment_residuals(
+        &self,
+        preset: &DisturbancePreset,
+        s: &Segment,
+        latency: usize,
+    ) -> (Vec<f64>, bool) {
+        let (tr, bad) = self.predict(preset, s, latency);
+        let mut out = Vec::with_capacity(s.len * 2 * self.n);
+        for (obs, pred) in tr.observed.iter().zip(&tr.predicted).skip(1) {
+            for (o, p) in obs.iter().zip(pred) {
                 match o {
-                    Some(o) => out.extend([o.x - p.x, o.y - p.y]),
-                    None => out.extend([0.0, 0.0]),
+                    Some(o) if !bad => out.extend([o.x - p.x, o.y - p.y]),
+                    _ => out.extend([0.0, 0.0]),
                 }
             }
         }
-        if plant.stuck() || plant.wall_contacts() > 0 {
-            out.iter_mut().for_each(|v| *v = 0.0);
-            return (out, true);
-        }
-        (out, false)
+        (out, bad)
     }
 }

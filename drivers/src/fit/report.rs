@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use magbench_env::plant::DisturbancePreset;
 
-use super::model::{Kind, Model};
+use super::model::{Kind, Model, SegmentTrace};
 use super::problem::Problem;
 
 /// Whether a parameter was fitted.
@@ -53,7 +53,13 @@ pub struct FitReport {
     pub residuals: usize,
     /// The fitted preset.
     pub preset: DisturbancePreset,
+    /// Predicted against observed motion under the fitted preset: the segments of the first
+    /// run within its first [`TRACE_S`] seconds.
+    pub traces: Vec<SegmentTrace>,
 }
+
+/// How much of the first run [`FitReport::traces`] shows (s).
+pub const TRACE_S: f64 = 10.0;
 
 /// Assembles the report of a finished fit.
 #[allow(clippy::too_many_arguments)]
@@ -118,7 +124,16 @@ pub(super) fn build(
         preset.camera.noise.enabled = true;
         preset.camera.noise.sigma_bl = s;
     }
+    let predict = model.preset_at(model.predict_base(), x);
+    let t0 = model.runs.first().and_then(|r| r.frames.first()).map_or(0.0, |f| f.t);
+    let traces = p
+        .segments()
+        .iter()
+        .filter(|s| s.run == 0 && model.runs[0].frames[s.start].t < t0 + TRACE_S)
+        .map(|s| model.predict(&predict, s, latency).0)
+        .collect();
     FitReport {
+        traces,
         params,
         latency,
         latency_table,

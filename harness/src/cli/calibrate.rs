@@ -3,10 +3,12 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use magbench_drivers::fit::{FitOptions, calibrate, read_log};
+use magbench_drivers::fit::{FitError, FitOptions, calibrate, read_log};
+use magbench_env::check::Bound;
 use magbench_drivers::rigs::preset_named;
 use magbench_env::Scenario;
 
+use super::calibrate_plot::MotionFigure;
 use super::output::{outln, prepare_file};
 use crate::CliError;
 
@@ -41,23 +43,19 @@ pub struct CalibrateArgs {
 pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
     let base = preset_named(&a.base, "--base")?;
-    if !(1..=600).contains(&a.segment_frames) {
-        return Err(CliError::arg(
-            "--segment-frames",
-            format!("must be in [1, 600], got {}", a.segment_frames),
-        ));
-    }
-    if a.max_latency > 30 {
-        return Err(CliError::arg(
-            "--max-latency",
-            format!("must be at most 30 frames, got {}", a.max_latency),
-        ));
+    for (name, bound, v) in [
+        ("--segment-frames", SEGMENT_FRAMES, a.segment_frames),
+        ("--max-latency", MAX_LATENCY, a.max_latency),
+    ] {
+        bound
+            .check_count(name, v as u64)
+            .map_err(|r| CliError::arg(name, r.reason))?;
     }
     prepare_file(&a.out, "--out")?;
     let runs = a
         .logs
         .iter()
-        .map(|p| read_log(p, scenario.agents()).map_err(|e| CliError::arg("LOG_DIR", e)))
+        .map(|p| read_log(p, scenario.agents()).map_err(CliError::Input))
         .collect::<Result<Vec<_>, _>>()?;
     let sources: Vec<String> = runs.iter().map(|r| r.source.clone()).collect();
     let opts = FitOptions {
@@ -65,7 +63,10 @@ pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
         max_latency: a.max_latency,
         hold: a.hold,
     };
-    let mut fit = calibrate(&scenario, &base, runs, &opts).map_err(CliError::Failed)?;
+    let mut fit = calibrate(&scenario, &base, runs, &opts).map_err(|e| match e {
+        FitError::Input(i) => CliError::Input(i),
+        e @ FitError::NoSegments(_) => CliError::arg("LOG_DIR", e.to_string()),
+    })?;
     fit.preset.name = a
         .out
         .file_stem()
@@ -78,5 +79,28 @@ pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
     std::fs::write(&a.out, fit.preset_file(&sources))
         .map_err(|e| CliError::Failed(format!("{}: {e}", a.out.display())))?;
     outln!("preset       {}", a.out.display());
+    let stem = a.out.with_extension("motion");
+    let files = crate::plot::save(&MotionFigure::new(&fit.traces), &stem)?;
+    for f in files {
+        outln!("report       {}", f.display());
+    }
     Ok(())
 }
+
+/// Frames one prediction may span: 10 s of a 60 fps camera (a longer prediction from one
+/// observation drifts beyond what the fit can follow).
+const SEGMENT_FRAMES: Bound = Bound::closed(
+    1.0,
+    600.0,
+    " frames",
+    "10 s at 60 fps; a longer prediction drifts beyond what one observation pins",
+);
+
+/// Latencies searched: each candidate is a fit of its own; 30 frames is half a second at
+/// 60 fps, far beyond any camera pipeline.
+const MAX_LATENCY: Bound = Bound::closed(
+    0.0,
+    30.0,
+    " frames",
+    "each candidate is a fit of its own; half a second at 60 fps",
+);

@@ -3,6 +3,7 @@
 mod ablate;
 mod bench;
 mod calibrate;
+mod calibrate_plot;
 mod figures;
 mod merge;
 pub(crate) mod output;

@@ -153,6 +153,10 @@ pub struct EmulateArgs {
     /// Optical blur, Gaussian σ (pixels).
     #[arg(long, default_value_t = 1.0)]
     pub blur: f64,
+    /// Frames show the agents as the preset's camera sees them: late by its latency, displaced
+    /// by its detection noise and bias (the detector's pixel error comes on top).
+    #[arg(long)]
+    pub preset_camera: bool,
 }
 
 /// `magbench rig check`.
@@ -251,7 +255,8 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
     let rig = RigConfig::load(&a.rig)?;
     let rig_text = std::fs::read_to_string(&a.rig)?;
     let scenario = Scenario::load(&a.scenario)?;
-    let faults = FaultPlan::parse(&a.faults).map_err(|r| CliError::arg("--faults", r))?;
+    let faults = FaultPlan::parse(&a.faults)
+        .map_err(|r| CliError::Input(r.under("--faults").in_file("<command line>")))?;
     let preset = preset_named(&a.preset, "--preset")?;
     option(
         "--speed",
@@ -326,6 +331,7 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
             blur_px: a.blur,
             ..RenderParams::default()
         },
+        preset_camera: a.preset_camera,
         seed: a.seed,
         clock: magbench_drivers::clock::wall(),
         speed: a.speed,
@@ -335,7 +341,7 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
         record: a.record,
         on_ready,
     };
-    emulator::run(cfg, stop).map_err(CliError::Failed)
+    emulator::run(cfg, stop).map_err(|e| CliError::Failed(e.to_string()))
 }
 
 fn open_rig(
