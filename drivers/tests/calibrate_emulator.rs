@@ -127,13 +127,24 @@ fn excite_on_the_emulator_then_calibrate_recovers_its_preset() {
             _ => continue,
         };
         let err = (p.value / truth - 1.0).abs();
-        eprintln!("  {:<18} true {truth:.4} fitted {:.4} error {:.1}%", p.name, p.value, 100.0 * err);
+        eprintln!(
+            "  {:<18} true {truth:.4} fitted {:.4} error {:.1}%",
+            p.name,
+            p.value,
+            100.0 * err
+        );
         assert!(err <= tol, "{} = {} against {truth}", p.name, p.value);
         checked += 1;
     }
-    assert!(checked >= 4, "only {checked} of moments, drags and gains identified");
+    assert!(
+        checked >= 4,
+        "only {checked} of moments, drags and gains identified"
+    );
     assert!(fit.latency.abs_diff(2) <= 1, "latency {}", fit.latency);
     let s = fit.noise.expect("noise seen");
     assert!((0.008..0.02).contains(&s), "noise {s}");
-    assert!(!fit.traces.is_empty(), "the report has predicted against observed motion");
+    assert!(
+        !fit.traces.is_empty(),
+        "the report has predicted against observed motion"
+    );
 }

@@ -13,9 +13,9 @@ use std::time::Duration;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::error::EmulatorError;
 use super::clock::DeviceClock;
 use super::device::{DeviceEvent, DeviceState};
+use super::error::EmulatorError;
 use super::faults::{Cut, FaultPlan, maybe_corrupt};
 use super::io::DeviceIo;
 use super::log::EventLog;

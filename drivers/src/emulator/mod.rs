@@ -309,7 +309,13 @@ impl Emulator {
         let drawn = match self.seen.as_mut() {
             Some(cam) => cam
                 .capture(t, &truth)
-                .map(|o| o.agents.iter().zip(&truth).map(|(s, p)| s.unwrap_or(*p)).collect())
+                .map(|o| {
+                    o.agents
+                        .iter()
+                        .zip(&truth)
+                        .map(|(s, p)| s.unwrap_or(*p))
+                        .collect()
+                })
                 .unwrap_or_else(|| truth.clone()),
             None => truth.clone(),
         };

@@ -61,7 +61,8 @@ pub fn read_log(path: &Path, agents: usize) -> Result<LoggedRun, InputError> {
     let mut frames: Vec<LoggedFrame> = vec![];
     let mut in_force: Option<Control> = None;
     for (line, rec) in rd.records().enumerate() {
-        let rec = rec.map_err(|e| InputError::new(&name, format!("line {}", line + 2), e.to_string()))?;
+        let rec =
+            rec.map_err(|e| InputError::new(&name, format!("line {}", line + 2), e.to_string()))?;
         let at = |c: usize, what: &str| -> Result<f64, InputError> {
             let s = rec.get(c).unwrap_or("");
             s.parse::<f64>()

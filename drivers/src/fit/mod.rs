@@ -25,8 +25,8 @@ pub mod model;
 mod problem;
 pub mod report;
 
-use magbench_env::{InputError, Scenario};
 use magbench_env::plant::DisturbancePreset;
+use magbench_env::{InputError, Scenario};
 
 pub use self::error::FitError;
 pub use self::log::{LoggedFrame, LoggedRun, read_log};

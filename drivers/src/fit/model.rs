@@ -269,7 +269,12 @@ impl Model {
     /// The prediction of segment `s` under `preset`: the times, observations and predicted
     /// positions of its first frame (predicted = observed) and of every frame it predicts; the
     /// flag is set when the prediction touched a wall or stuck.
-    pub fn predict(&self, preset: &DisturbancePreset, s: &Segment, latency: usize) -> (SegmentTrace, bool) {
+    pub fn predict(
+        &self,
+        preset: &DisturbancePreset,
+        s: &Segment,
+        latency: usize,
+    ) -> (SegmentTrace, bool) {
         let f = &self.runs[s.run].frames;
         let start: Vec<Vec2> = f[s.start].agents.iter().flatten().copied().collect();
         let mut plant = Plant::new(

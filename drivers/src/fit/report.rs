@@ -125,7 +125,11 @@ pub(super) fn build(
         preset.camera.noise.sigma_bl = s;
     }
     let predict = model.preset_at(model.predict_base(), x);
-    let t0 = model.runs.first().and_then(|r| r.frames.first()).map_or(0.0, |f| f.t);
+    let t0 = model
+        .runs
+        .first()
+        .and_then(|r| r.frames.first())
+        .map_or(0.0, |f| f.t);
     let traces = p
         .segments()
         .iter()

@@ -4,9 +4,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 use magbench_drivers::fit::{FitError, FitOptions, calibrate, read_log};
-use magbench_env::check::Bound;
 use magbench_drivers::rigs::preset_named;
 use magbench_env::Scenario;
+use magbench_env::check::Bound;
 
 use super::calibrate_plot::MotionFigure;
 use super::output::{outln, prepare_file};

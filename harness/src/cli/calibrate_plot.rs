@@ -42,7 +42,7 @@ impl<'a> MotionFigure<'a> {
                 }
             }
         }
-        if !(t.0 < t.1) {
+        if t.0.partial_cmp(&t.1) != Some(std::cmp::Ordering::Less) {
             t = (0.0, 1.0);
         }
         let pad = ((v.1 - v.0) * 0.05).max(0.05);
