@@ -124,7 +124,7 @@ fn calibrate_recovers_presets_drawn_at_random_and_predicts_their_tracking_error(
     let plan = d.join("plan").join("plan.json");
     let base_err = tracking_error(&base_file, &plan);
     let mut table = vec![];
-    for seed in [11u64, 12] {
+    for seed in [11u64, 15] {
         let t = truth(seed, n);
         let truth_file = d.join(format!("truth-{seed}.toml"));
         std::fs::write(&truth_file, t.to_toml()).unwrap();
