@@ -5,6 +5,7 @@ mod bench;
 mod calibrate;
 mod figures;
 mod merge;
+mod number;
 pub(crate) mod output;
 mod plan;
 mod preset;
