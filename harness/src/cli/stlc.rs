@@ -27,7 +27,7 @@ const R: Bound = Bound::above(
     1.0,
     MAX_R_BL,
     " BL",
-    "the agents touch at 1 BL; beyond 30 BL the pair forces, ∝ r⁻⁴, are too weak for the finite-difference rank test",
+    "a separation: the agents touch at 1 BL; beyond 30 BL the pair forces, ∝ r⁻⁴, are too weak for the finite-difference rank test",
 );
 
 /// `--step`: the ψ sweep's step.
