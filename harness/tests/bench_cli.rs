@@ -76,6 +76,11 @@ fn bad_experiments_exit_2_naming_file_field_and_reason() {
             "presets[0]",
         ),
         (
+            "iterations beyond the memory budget",
+            GOOD.replace("iterations = 100", "iterations = 100000000"),
+            "limits.iterations: must be in [1, 2097152] iterations",
+        ),
+        (
             "negative time",
             GOOD.replace("iterations = 100", "time = -1.0"),
             "limits.time",
@@ -272,7 +277,10 @@ fn ablate_refuses_bad_options_naming_them_and_leaves_no_folder() {
     for (args, option) in [
         (vec!["--planner", "nope"], "--planner: unknown planner"),
         (vec!["--tracker", "nope"], "--tracker: unknown tracker"),
-        (vec!["--seeds", "100000000"], "--seeds: must be 1 to 100000"),
+        (
+            vec!["--seeds", "100000000"],
+            "--seeds: must be in [1, 100000] seeds",
+        ),
     ] {
         let mut all = vec!["ablate", "--out", &out_arg];
         all.extend(args);

@@ -553,6 +553,19 @@ fn rig_command_numbers_are_bounded() {
                 "--rig",
                 &r,
                 "open-field",
+                "--duration",
+                "NaN",
+            ],
+            "--duration",
+            "must be in (0, 86400] s",
+        ),
+        (
+            vec![
+                "rig",
+                "emulate",
+                "--rig",
+                &r,
+                "open-field",
                 "--noise",
                 "NaN",
             ],
@@ -561,5 +574,207 @@ fn rig_command_numbers_are_bounded() {
         ),
     ] {
         refused(&args, &["<command line>", field, reason]);
+    }
+}
+
+/// Every number of the command line goes through the one bound type: a value outside its
+/// bound exits 2 naming the option, the interval with its unit, and why, before any work.
+#[test]
+fn every_command_line_number_names_its_bound_and_why() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path().to_str().unwrap();
+    let gen_out = d.path().join("gen");
+    let gen_out = gen_out.to_str().unwrap();
+    let ci = concat!(env!("CARGO_MANIFEST_DIR"), "/../experiments/ci.toml");
+    let iterations = "must be in [1, 2097152] iterations";
+    let memory = "within the 2 GiB memory budget";
+    let plan = ["plan", "open-field", "--planner", "sst"];
+    let cases: Vec<(Vec<&str>, &str, &str, &str)> = vec![
+        (
+            vec!["ablate", "--seeds", "0"],
+            "--seeds",
+            "must be in [1, 100000] seeds",
+            "run matrix",
+        ),
+        (
+            vec!["ablate", "--seeds", "18446744073709551615"],
+            "--seeds",
+            "must be in [1, 100000] seeds",
+            "run matrix",
+        ),
+        (
+            vec!["ablate", "--max-iters", "0"],
+            "--max-iters",
+            iterations,
+            memory,
+        ),
+        (
+            vec!["ablate", "--max-iters", "2097153"],
+            "--max-iters",
+            iterations,
+            memory,
+        ),
+        (
+            vec!["figures", "--maze-iterations", "100000000", "--out", dir],
+            "--maze-iterations",
+            iterations,
+            memory,
+        ),
+        (
+            [&plan[..], &["--max-iters", "18446744073709551615"]].concat(),
+            "--max-iters",
+            iterations,
+            memory,
+        ),
+        (
+            [&plan[..], &["--time-limit", "1e9"]].concat(),
+            "--time-limit",
+            "must be in (0, 604800] s",
+            "a week",
+        ),
+        (
+            [&plan[..], &["--fps", "1e9"]].concat(),
+            "--fps",
+            "must be in [0.1, 10000] fps",
+            "high-speed camera",
+        ),
+        (
+            [&plan[..], &["--fps", "NaN"]].concat(),
+            "--fps",
+            "must be in [0.1, 10000] fps",
+            "high-speed camera",
+        ),
+        (
+            vec!["regress", dir, dir, "--alpha", "0.5"],
+            "--alpha",
+            "must be in (0, 0.25]",
+            "cover less than half",
+        ),
+        (
+            vec!["regress", dir, dir, "--alpha", "0"],
+            "--alpha",
+            "must be in (0, 0.25]",
+            "cover less than half",
+        ),
+        (
+            vec!["regress", dir, dir, "--success-tolerance", "1.5"],
+            "--success-tolerance",
+            "must be in [0, 1] (fraction of the runs)",
+            "drops by at most 1",
+        ),
+        (
+            vec!["regress", dir, dir, "--tolerance", "inf"],
+            "--tolerance",
+            "must be in [0, 1000000] (relative growth)",
+            "lets every change pass",
+        ),
+        (
+            vec!["regress", dir, dir, "--time-tolerance=-1"],
+            "--time-tolerance",
+            "must be in [0, 1000000] (relative growth)",
+            "lets every change pass",
+        ),
+        (
+            vec![
+                "scenario", "generate", "corridor", "--count", "100001", "--out", gen_out,
+            ],
+            "--count",
+            "must be in [1, 100000] files",
+            "as many as an experiment has seeds",
+        ),
+        (
+            vec!["stlc", "--r", "1e308"],
+            "--r",
+            "must be in (1, 30] BL",
+            "too weak for the finite-difference rank test",
+        ),
+        (
+            vec!["stlc", "--step", "0"],
+            "--step",
+            "must be in [0.001, 90] degrees",
+            "finer than the rank test resolves",
+        ),
+        (
+            vec!["stlc", "--agents", "18446744073709551615"],
+            "--agents",
+            "must be in [2, 4] agents",
+            "takes minutes",
+        ),
+        (
+            vec!["stlc", "--agents", "1"],
+            "--agents",
+            "must be in [2, 4] agents",
+            "takes minutes",
+        ),
+        (
+            vec!["stlc", "--agents", "3", "--alpha-max", "91"],
+            "--alpha-max",
+            "must be in (0, 90] degrees",
+            "straight up",
+        ),
+        (
+            vec!["stlc", "--alpha-max", "0"],
+            "--alpha-max",
+            "must be in (0, 90] degrees",
+            "straight up",
+        ),
+        (
+            vec!["bench", ci, "--dry-run", "--threads", "0"],
+            "--threads",
+            "threads",
+            "per core of this machine",
+        ),
+        (
+            vec!["bench", ci, "--dry-run", "--shard", "1/2000000"],
+            "--shard",
+            "must be in [1, 1000000] shards",
+            "would be empty",
+        ),
+        (
+            vec!["ablate", "--threads", "100000"],
+            "--threads",
+            "threads",
+            "per core of this machine",
+        ),
+        (
+            vec!["results", "plot", dir, "--dpi", "5000"],
+            "--dpi",
+            "must be in [50, 1200] dpi",
+            "8592 px wide",
+        ),
+        (
+            vec!["results", "plot", dir, "--dpi", "10"],
+            "--dpi",
+            "must be in [50, 1200] dpi",
+            "unreadable",
+        ),
+    ];
+    for (args, option, bound, why) in &cases {
+        refused(
+            args,
+            &["<command line>", &format!("{option}: "), bound, why],
+        );
+    }
+    assert!(
+        !Path::new(gen_out).exists(),
+        "a refused --count wrote files"
+    );
+}
+
+/// A TOML file of more than 4 MiB (which parsing would take about 80 bytes of memory per byte
+/// of) is refused before it is parsed, whatever its format.
+#[test]
+fn toml_files_beyond_4_mib_are_refused_before_parsing() {
+    let d = tempfile::tempdir().unwrap();
+    let mut text = String::from("name = \"big\"\nseeds = [");
+    text.push_str(&"1,".repeat(5 << 19));
+    text.push_str("1]\n");
+    let f = write(d.path(), "big.toml", &text);
+    for args in [
+        vec!["bench", &f, "--dry-run"],
+        vec!["preset", "check", &f],
+        vec!["rig", "check", "--rig", &f, "open-field"],
+    ] {
+        refused(&args, &[&f, "larger than 4096 KiB", "memory budget"]);
     }
 }

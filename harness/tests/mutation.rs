@@ -2,10 +2,11 @@
 //! CI): 100 000 mutated inputs per format (scenario, experiment, rig, plan, preset), the same
 //! inputs on every run, each parsed and validated by `magbench::fuzz::Target::run`.
 //!
-//! The inputs run in a child process (this test binary again, the ignored test `child`), which
-//! reports each input's number before trying it. A panic, an abort (say, a failed allocation)
-//! or an input that takes more than a minute fails the test with that input, also written to
-//! `target/mutation-failures/`. `MAGBENCH_MUTATION_INPUTS` changes the count.
+//! The inputs run in a child process (this test binary again, the ignored test `child`, under
+//! an address-space cap of [`MEMORY_CAP_KIB`]), which reports each input's number before trying
+//! it. A panic, an abort (say, an allocation beyond the cap) or an input that takes more than a
+//! minute fails the test with that input, also written to `target/mutation-failures/`.
+//! `MAGBENCH_MUTATION_INPUTS` changes the count.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::process::{Command, Stdio};
@@ -16,6 +17,11 @@ use magbench::fuzz::{Target, mutate};
 
 /// Inputs per format.
 const INPUTS: u64 = 100_000;
+
+/// The child's address-space cap: the 2 GiB memory budget of inputs plus 1 GiB for the test
+/// binary, its threads and the allocator. An input whose check allocates beyond it aborts the
+/// child and fails the test.
+const MEMORY_CAP_KIB: u64 = 3 << 20;
 
 /// Longest time one input may take before it counts as a hang.
 const HANG: Duration = Duration::from_secs(60);
@@ -36,7 +42,10 @@ fn input(target: Target, seeds: &[String], i: u64) -> Vec<u8> {
 /// Runs every input of `target` in a child process and fails on a panic, abort or hang.
 fn supervise(target: Target) {
     let n = inputs();
-    let mut child = Command::new(std::env::current_exe().unwrap())
+    let mut child = Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v {MEMORY_CAP_KIB} && exec \"$0\" \"$@\""))
+        .arg(std::env::current_exe().unwrap())
         .args([
             "child",
             "--exact",

@@ -158,19 +158,22 @@ pub fn max_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get()) * THREADS_PER_CORE
 }
 
+// the reason in `thread_bound` says 8
+const _: () = assert!(THREADS_PER_CORE == 8);
+
+/// The thread counts this machine accepts: 1 to [`max_threads`].
+pub fn thread_bound() -> Bound {
+    Bound::closed(
+        1.0,
+        max_threads() as f64,
+        " threads",
+        "8 per core of this machine; more only slow it down, and the OS refuses threads beyond its limit",
+    )
+}
+
 /// `n` threads at `field`: 1 to [`max_threads`].
 pub fn threads(field: &str, n: usize) -> Result<usize, Rejection> {
-    let max = max_threads();
-    if (1..=max).contains(&n) {
-        Ok(n)
-    } else {
-        Err(Rejection::new(
-            field,
-            format!(
-                "must be 1 to {max} ({THREADS_PER_CORE} per core of this machine; more only slow it down), got {n}"
-            ),
-        ))
-    }
+    thread_bound().check_count(field, n as u64).map(|_| n)
 }
 
 #[cfg(test)]

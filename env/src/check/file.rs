@@ -16,6 +16,12 @@ use crate::error::InputError;
 /// the bound keeps `/dev/zero` or a mistaken multi-gigabyte file from exhausting memory.
 pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 
+/// Largest TOML input parsed (bytes): 4 MiB. The TOML parser takes about 80 bytes of memory per
+/// byte of dense TOML (`magbench bench --dry-run` of a 62 MiB experiment file of one long array
+/// peaked at 4.9 GB), so 4 MiB stays within the memory budget; the TOML formats' files
+/// (scenario, experiment, rig, preset, suite) are a few KiB.
+pub const MAX_TOML_BYTES: usize = 4 << 20;
+
 /// Reads a regular text file of at most [`MAX_INPUT_BYTES`]; `file` names it in errors.
 ///
 /// A FIFO, a socket or a device is refused before it is opened (reading one waits for a
@@ -106,6 +112,16 @@ pub fn parse_json<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, Inpu
 /// Parses TOML `text` into `T`; `file` names it in errors, which carry the dotted field path
 /// and the line of the offending value.
 pub fn parse_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, InputError> {
+    if text.len() > MAX_TOML_BYTES {
+        return Err(InputError::new(
+            file,
+            "",
+            format!(
+                "larger than {} KiB, the most a TOML input may be (parsing takes about 80 bytes of memory per byte, within the 2 GiB memory budget); is it the right file?",
+                MAX_TOML_BYTES >> 10
+            ),
+        ));
+    }
     let de = toml::Deserializer::parse(text).map_err(|e| {
         InputError::new(
             file,
@@ -243,6 +259,22 @@ mod tests {
     struct T {
         a: f64,
         b: Option<Vec<u32>>,
+    }
+
+    #[test]
+    fn toml_beyond_its_bound_is_refused_before_parsing() {
+        let mut big = String::from("a = 1.0\nb = [");
+        while big.len() <= MAX_TOML_BYTES {
+            big.push_str("1,");
+        }
+        big.push_str("1]\n");
+        let e = parse_toml::<T>(&big, "t.toml").unwrap_err();
+        assert_eq!((e.file.as_str(), e.field.as_str()), ("t.toml", ""));
+        assert!(e.reason.contains("larger than 4096 KiB"), "{e}");
+        // one byte under the bound parses
+        let ok = format!("a = 1.0\n#{}\n", "x".repeat(MAX_TOML_BYTES - 10));
+        assert_eq!(ok.len(), MAX_TOML_BYTES);
+        assert!(parse_toml::<T>(&ok, "t.toml").is_ok());
     }
 
     #[test]

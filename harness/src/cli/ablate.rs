@@ -6,22 +6,23 @@
 //! report.html, plots; `--resume` completes an interrupted ablation), then adds
 //! `ablation.csv`, `variants.csv` and `ablation.svg`/`.png`.
 
-use crate::experiment::MAX_SEEDS;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
 use magbench_drivers::rigs::preset_named;
 
+use super::number::count;
 use super::output::{outln, prepare_dir};
 use crate::CliError;
 use crate::ablation::{TermRow, contributions, label, terms_on, variant_medians, variants};
-use crate::experiment::Experiment;
+use crate::experiment::{Experiment, SEED_COUNT};
 use crate::plot::bars::BarChart;
 use crate::plot::charts::Series;
 use crate::registry::Registry;
 use crate::results::store::read_runs;
 use crate::run::real::RealExecutor;
+use crate::run::spec::ITERATIONS;
 use crate::sweep::{ProgressMode, SweepOptions, run_sweep};
 
 /// Arguments of `magbench ablate`.
@@ -62,18 +63,8 @@ pub struct AblateArgs {
 /// Runs `magbench ablate` with the planners and trackers of `registry`.
 pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
     let base = preset_named(&a.preset, "--preset")?;
-    if !(1..=MAX_SEEDS as u64).contains(&a.seeds) {
-        return Err(CliError::arg(
-            "--seeds",
-            format!(
-                "must be 1 to {MAX_SEEDS} (as in an experiment file), got {}",
-                a.seeds
-            ),
-        ));
-    }
-    if a.max_iters == 0 {
-        return Err(CliError::arg("--max-iters", "must be at least 1"));
-    }
+    count("--seeds", &SEED_COUNT, a.seeds)?;
+    count("--max-iters", &ITERATIONS, a.max_iters)?;
     let terms = terms_on(&base);
     if terms.is_empty() {
         return Err(CliError::arg(
@@ -145,6 +136,7 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
                 Some("planners") => "--planner",
                 Some("trackers") => "--tracker",
                 Some("scenarios") => "SCENARIO",
+                Some("seeds") => "--seeds",
                 _ => return Err(err.into()),
             };
             return Err(CliError::arg(option, err.reason));

@@ -3,10 +3,12 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
+use magbench_env::check::Bound;
 
+use super::number::count;
 use super::output::outln;
 use crate::CliError;
-use crate::experiment::{Experiment, Tracking};
+use crate::experiment::{Experiment, MAX_RUNS, Tracking};
 use crate::registry::Registry;
 use crate::run::Executor;
 use crate::run::fake::FakeExecutor;
@@ -86,6 +88,14 @@ pub fn default_experiment() -> PathBuf {
     }
 }
 
+/// `--shard I/N`: N shards, at most one run each.
+const SHARDS: Bound = Bound::closed(
+    1.0,
+    MAX_RUNS as f64,
+    " shards (N of I/N)",
+    "an experiment has at most 1000000 runs, and a shard beyond them would be empty",
+);
+
 /// Runs `magbench bench` with the planners and trackers of `registry`.
 pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     let executor = a.executor.executor(registry);
@@ -100,6 +110,9 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
         .map(parse_shard)
         .transpose()
         .map_err(|r| CliError::arg("--shard", r))?;
+    if let Some((_, n)) = shard {
+        count("--shard", &SHARDS, n as u64)?;
+    }
     let threads = match a.threads {
         Some(n) => magbench_env::check::bounds::threads("--threads", n)
             .map_err(|r| CliError::arg("--threads", r.reason))?,

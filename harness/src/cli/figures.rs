@@ -4,10 +4,12 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::number::count;
 use super::output::outln;
 use crate::CliError;
 use crate::figures::{svgs, write_all};
 use crate::registry::Registry;
+use crate::run::spec::ITERATIONS;
 
 /// Arguments of `magbench figures`.
 #[derive(Debug, Args)]
@@ -22,8 +24,8 @@ pub struct FiguresArgs {
 
 /// Runs `magbench figures`.
 pub fn run(a: FiguresArgs, registry: &Registry) -> Result<(), CliError> {
-    if a.maze_iterations == Some(0) {
-        return Err(CliError::arg("--maze-iterations", "must be at least 1"));
+    if let Some(n) = a.maze_iterations {
+        count("--maze-iterations", &ITERATIONS, n)?;
     }
     super::output::prepare_dir(&a.out, "--out")?;
     let files = write_all(&a.out, a.maze_iterations, registry, &|m| eprintln!("{m}"))?;

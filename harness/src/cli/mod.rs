@@ -6,6 +6,7 @@ mod calibrate;
 mod calibrate_plot;
 mod figures;
 mod merge;
+mod number;
 pub(crate) mod output;
 mod plan;
 mod preset;

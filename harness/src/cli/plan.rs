@@ -19,6 +19,7 @@ use magbench_planners::{
 };
 use serde_json::{Value, json};
 
+use super::number::checked;
 use super::output::{out, outln};
 use super::setup::{SetupArgs, check_elevation};
 use crate::CliError;
@@ -65,9 +66,6 @@ pub struct PlanArgs {
     pub list: bool,
 }
 
-/// Highest `--fps` accepted (a rig file's `camera.fps` has the same bound).
-const MAX_FPS: f64 = 10_000.0;
-
 /// One planned leg.
 struct LegRun {
     problem: Problem,
@@ -93,12 +91,8 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     let scenario = Scenario::load(scenario_name)?;
     let params = split_all("<command line>", &a.params)?;
     let mut planner = registry.planners().create(planner_name, &params)?;
-    if !(a.fps.is_finite() && a.fps > 0.0 && a.fps <= MAX_FPS) {
-        return Err(CliError::arg(
-            "--fps",
-            format!("must be in (0, {MAX_FPS}], got {}", a.fps),
-        ));
-    }
+    // the bound of a rig file's `camera.fps`: the rig that runs the plan has one of those
+    checked("--fps", &magbench_drivers::rigfile::FPS, a.fps)?;
     let setup = a.setup.setup()?.in_frames_of(1.0 / a.fps);
     check_elevation(
         &setup,

@@ -5,6 +5,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use magbench_env::check::Bound;
+
+use super::number::checked;
 use super::output::out;
 use crate::CliError;
 use crate::regress::manifests::check;
@@ -48,23 +51,40 @@ pub struct RegressArgs {
     pub strict: bool,
 }
 
+/// `--alpha`: a level of the tests, in (0, 0.25].
+const ALPHA: Bound = Bound::above(
+    0.0,
+    0.25,
+    "",
+    "each end of the 1 − 2·alpha intervals; above 0.25 they cover less than half and say nothing",
+);
+
+/// `--success-tolerance`: a drop of a success rate, a fraction of the runs.
+const SUCCESS_TOLERANCE: Bound = Bound::closed(
+    0.0,
+    1.0,
+    " (fraction of the runs)",
+    "a success rate drops by at most 1",
+);
+
+/// `--tolerance` and `--time-tolerance`: a relative growth (1 = 100%).
+const TOLERANCE: Bound = Bound::closed(
+    0.0,
+    1e6,
+    " (relative growth)",
+    "a millionfold growth; a tolerance beyond it lets every change pass",
+);
+
 /// Runs `magbench regress`.
 pub fn run(a: RegressArgs) -> Result<(), CliError> {
-    for (name, v, lo, hi) in [
-        ("--alpha", a.alpha, f64::MIN_POSITIVE, 0.25),
-        ("--success-tolerance", a.success_tolerance, 0.0, 1.0),
-        ("--tolerance", a.tolerance, 0.0, 1e6),
-        ("--time-tolerance", a.time_tolerance, 0.0, 1e6),
-    ] {
-        if !(v.is_finite() && v >= lo && v <= hi) {
-            let range = if lo > 0.0 {
-                format!("(0, {hi}]")
-            } else {
-                format!("[0, {hi}]")
-            };
-            return Err(CliError::arg(name, format!("must be in {range}, got {v}")));
-        }
-    }
+    checked("--alpha", &ALPHA, a.alpha)?;
+    checked(
+        "--success-tolerance",
+        &SUCCESS_TOLERANCE,
+        a.success_tolerance,
+    )?;
+    checked("--tolerance", &TOLERANCE, a.tolerance)?;
+    checked("--time-tolerance", &TOLERANCE, a.time_tolerance)?;
     for d in [&a.baseline, &a.current] {
         if !d.join("runs.csv").is_file() {
             return Err(CliError::Input(magbench_env::InputError::new(

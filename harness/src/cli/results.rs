@@ -6,9 +6,10 @@ use std::path::PathBuf;
 
 use clap::Subcommand;
 
+use super::number::count;
 use super::output::outln;
 use crate::CliError;
-use crate::plot::export::FigureOptions;
+use crate::plot::export::{DPI, FigureOptions};
 use crate::results::{lock, verify};
 
 /// Results-folder subcommands.
@@ -51,6 +52,7 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
     match cmd {
         ResultsCmd::Scaling { dir, by, family } => scaling(&dir, &by, family.as_deref()),
         ResultsCmd::Plot { dir, figures } => {
+            count("--dpi", &DPI, u64::from(figures.dpi))?;
             if !dir.is_dir() {
                 return Err(CliError::arg(
                     "DIR",

@@ -276,6 +276,9 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
     magbench_drivers::rigfile::BLUR_PX
         .check("--blur", a.blur)
         .map_err(|r| CliError::arg("--blur", r.reason))?;
+    if let Some(d) = a.duration {
+        option("--duration", RUN_DURATION, d)?;
+    }
     prepare_file(&a.log, "--log")?;
     if let Some(d) = &a.record {
         prepare_dir(d, "--record")?;

@@ -3,12 +3,14 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
+use magbench_env::check::Bound;
 use magbench_env::params::split_all;
 use magbench_env::scenario::difficulty::measure;
 use magbench_env::scenario::{builtin_names, generate};
 use magbench_env::{Obstacle, Scenario};
 use sha2::{Digest, Sha256};
 
+use super::number::count;
 use super::output::{out, outln};
 use crate::CliError;
 
@@ -60,8 +62,13 @@ pub struct GenerateArgs {
     pub list: bool,
 }
 
-/// Most files one `scenario generate` writes.
-const MAX_COUNT: u64 = 100_000;
+/// How many files one `scenario generate` writes: as many as an experiment's most seeds.
+const COUNT: Bound = Bound::closed(
+    1.0,
+    crate::experiment::MAX_SEEDS as f64,
+    " files",
+    "as many as an experiment has seeds at most; each file is generated, checked and written in turn",
+);
 
 /// Runs a scenario subcommand.
 pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
@@ -106,12 +113,7 @@ fn generate_files(a: GenerateArgs) -> Result<(), CliError> {
     let (Some(family), Some(dir)) = (a.family.as_deref(), a.out.as_ref()) else {
         return Err(CliError::arg("FAMILY", "a family and --out are required"));
     };
-    if !(1..=MAX_COUNT).contains(&a.count) {
-        return Err(CliError::arg(
-            "--count",
-            format!("must be in [1, {MAX_COUNT}], got {}", a.count),
-        ));
-    }
+    count("--count", &COUNT, a.count)?;
     let params =
         split_all("<command line>", &a.set).map_err(|e| CliError::arg("--set", e.reason))?;
     generate::family("<command line>", family, &params)?;

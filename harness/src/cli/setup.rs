@@ -7,8 +7,9 @@ use magbench_env::Scenario;
 use magbench_env::params::ParamInfo;
 use magbench_planners::{ElevationRefused, Limits, PlanningSetup};
 
+use super::number::count;
 use crate::CliError;
-use crate::run::spec::time_limit;
+use crate::run::spec::{ITERATIONS, time_limit};
 
 /// The planning setup options.
 #[derive(Debug, Clone, Args)]
@@ -101,8 +102,8 @@ pub struct LimitArgs {
 impl LimitArgs {
     /// The limits, or `None` when neither is given; exit 2 on a bad value.
     pub fn limits(&self) -> Result<Option<Limits>, CliError> {
-        if self.max_iters == Some(0) {
-            return Err(CliError::arg("--max-iters", "must be at least 1, got 0"));
+        if let Some(n) = self.max_iters {
+            count("--max-iters", &ITERATIONS, n)?;
         }
         let time_limit = match self.time_limit {
             Some(t) => Some(time_limit(t).map_err(|r| CliError::arg("--time-limit", r))?),
@@ -139,6 +140,15 @@ mod tests {
             time_limit: None,
         };
         assert!(a.limits().unwrap_err().to_string().contains("--max-iters"));
+        let a = LimitArgs {
+            max_iters: Some(u64::MAX),
+            time_limit: None,
+        };
+        let e = a.limits().unwrap_err().to_string();
+        assert!(
+            e.contains("--max-iters: must be in [1, 2097152] iterations"),
+            "{e}"
+        );
         let a = LimitArgs {
             max_iters: Some(5),
             time_limit: Some(2.5),

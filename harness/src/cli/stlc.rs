@@ -5,10 +5,12 @@
 use clap::Args;
 use magbench_env::PhysicalParams;
 use magbench_env::Vec2;
+use magbench_env::check::Bound;
 use magbench_env::controllability::{closed_form, larc, velocity_ellipse};
 use magbench_env::model::Kinematics;
 use magbench_env::team_controllability::{FieldSet, TeamReport, formations, team_report};
 
+use super::number::{checked, count};
 use super::output::outln;
 use crate::CliError;
 
@@ -19,6 +21,38 @@ pub const MAX_R_BL: f64 = 30.0;
 /// The largest team of the rank tables: beyond four the velocity-set hull test (thousands of
 /// points in 2(N−1) dimensions) takes minutes.
 pub const MAX_TEAM: usize = 4;
+
+/// `--r`: a separation between touching (1 BL) and [`MAX_R_BL`].
+const R: Bound = Bound::above(
+    1.0,
+    MAX_R_BL,
+    " BL",
+    "a separation: the agents touch at 1 BL; beyond 30 BL the pair forces, ∝ r⁻⁴, are too weak for the finite-difference rank test",
+);
+
+/// `--step`: the ψ sweep's step.
+const STEP: Bound = Bound::closed(
+    0.001,
+    90.0,
+    " degrees",
+    "a step under 0.001° lists more than 90000 directions, finer than the rank test resolves",
+);
+
+/// `--agents`: the pair's local model (2) or a team of the rank tables (3 to [`MAX_TEAM`]).
+const AGENTS: Bound = Bound::closed(
+    2.0,
+    MAX_TEAM as f64,
+    " agents",
+    "beyond four the velocity-set hull test (thousands of points in 2(N−1) dimensions) takes minutes",
+);
+
+/// `--alpha-max`: a field elevation out of the plane.
+const ALPHA_MAX: Bound = Bound::above(
+    0.0,
+    90.0,
+    " degrees",
+    "an elevation out of the plane; 90° points the field straight up",
+);
 
 /// Arguments of `magbench stlc`.
 #[derive(Debug, Args)]
@@ -39,31 +73,12 @@ pub struct StlcArgs {
 
 /// Prints the rank table.
 pub fn run(a: StlcArgs) -> Result<(), CliError> {
-    if !(a.r.is_finite() && a.r > 1.0 && a.r <= MAX_R_BL) {
-        return Err(CliError::arg(
-            "--r",
-            format!(
-                "the separation must be in (1, {MAX_R_BL}] BL (the agents touch at 1 BL; beyond {MAX_R_BL} BL the pair forces, ∝ r⁻⁴, are too weak for the finite-difference rank test), got {}",
-                a.r
-            ),
-        ));
-    }
-    magbench_env::check::Bound::closed(
-        0.001,
-        90.0,
-        " degrees",
-        "a step under 0.001° lists more than 90000 directions, finer than the rank test resolves",
-    )
-    .check("--step", a.step)
-    .map_err(|r| CliError::arg("--step", r.reason))?;
-    if (3..=MAX_TEAM).contains(&a.agents) {
+    checked("--r", &R, a.r)?;
+    checked("--step", &STEP, a.step)?;
+    count("--agents", &AGENTS, a.agents as u64)?;
+    checked("--alpha-max", &ALPHA_MAX, a.alpha_max)?;
+    if a.agents > 2 {
         return team(&a);
-    }
-    if a.agents != 2 {
-        return Err(CliError::arg(
-            "--agents",
-            format!("must be 2, 3 or {MAX_TEAM}, got {}", a.agents),
-        ));
     }
     let p = PhysicalParams::default();
     let kin = Kinematics::nominal(&p);
@@ -125,12 +140,6 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
 
 /// The team tables: sample formations, then (three agents) a sweep of the isosceles apex angle.
 fn team(a: &StlcArgs) -> Result<(), CliError> {
-    if !(a.alpha_max.is_finite() && a.alpha_max > 0.0 && a.alpha_max <= 90.0) {
-        return Err(CliError::arg(
-            "--alpha-max",
-            format!("must be in (0, 90] degrees, got {}", a.alpha_max),
-        ));
-    }
     let kin = Kinematics::nominal(&PhysicalParams::default());
     let elevated = FieldSet::Elevated {
         alpha_max: a.alpha_max.to_radians(),

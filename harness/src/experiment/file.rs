@@ -5,12 +5,12 @@ use std::path::Path;
 use std::sync::Arc;
 
 use magbench_env::InputError;
-use magbench_env::check::parse_toml;
+use magbench_env::check::{Bound, parse_toml};
 use magbench_env::plant::DisturbancePreset;
 use serde::Deserialize;
 
 use super::{Experiment, LabelledPreset, Tracking, resolve_preset, resolve_scenario};
-use crate::run::spec::time_limit;
+use crate::run::spec::{ITERATIONS, time_limit};
 use crate::run::{Executor, ParamValue, RunLimits, Variant};
 
 #[derive(Deserialize)]
@@ -116,6 +116,14 @@ fn components(
 /// Most seeds of an experiment.
 pub const MAX_SEEDS: usize = 100_000;
 
+/// A seed count (`seeds = N`, `ablate --seeds`): 1 to [`MAX_SEEDS`].
+pub const SEED_COUNT: Bound = Bound::closed(
+    1.0,
+    MAX_SEEDS as f64,
+    " seeds",
+    "each seed is a run of every variant, and a sweep holds its whole run matrix in memory",
+);
+
 /// Most runs in an experiment's run matrix.
 pub const MAX_RUNS: usize = 1_000_000;
 
@@ -125,12 +133,12 @@ pub const MAX_NAME_CHARS: usize = 64;
 fn seeds(v: &toml::Value, file: &str) -> Result<Vec<u64>, InputError> {
     let err = |r: String| InputError::new(file, "seeds", r);
     match v {
-        toml::Value::Integer(n) if (1..=MAX_SEEDS as i64).contains(n) => {
+        toml::Value::Integer(n) => {
+            SEED_COUNT
+                .check("seeds", *n as f64)
+                .map_err(|r| err(format!("a seed count {}", r.reason)))?;
             Ok((0..*n as u64).collect())
         }
-        toml::Value::Integer(n) => Err(err(format!(
-            "a seed count must be 1 to {MAX_SEEDS}, got {n}"
-        ))),
         toml::Value::Array(a) if a.len() > MAX_SEEDS => {
             Err(err(format!("at most {MAX_SEEDS} seeds, got {}", a.len())))
         }
@@ -356,14 +364,12 @@ pub fn parse(
     };
     let seeds = seeds(&raw.seeds, file)?;
     let iterations = match raw.limits.iterations {
-        Some(n) if n >= 1 => Some(n as u64),
-        Some(n) => {
-            return Err(InputError::new(
-                file,
-                "limits.iterations",
-                format!("must be at least 1, got {n}"),
-            ));
-        }
+        Some(n) => Some(
+            ITERATIONS
+                .check("limits.iterations", n as f64)
+                .map(|_| n as u64)
+                .map_err(|r| InputError::new(file, "limits.iterations", r.reason))?,
+        ),
         None => None,
     };
     let time_s = match raw.limits.time {

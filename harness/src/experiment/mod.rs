@@ -33,7 +33,7 @@
 //! tracked runs with every tracker and preset.
 
 mod file;
-pub use file::MAX_SEEDS;
+pub use file::{MAX_RUNS, MAX_SEEDS, SEED_COUNT};
 pub mod generated;
 
 use std::path::{Path, PathBuf};

@@ -63,8 +63,16 @@ impl Target {
         Target::ALL.into_iter().find(|t| t.name() == name)
     }
 
-    /// Parses and validates `data`; `Ok` when the input was accepted.
+    /// Parses and validates `data`; `Ok` when the input was accepted. Data larger than the
+    /// format's files may be is refused, as reading such a file is.
     pub fn run(self, data: &[u8]) -> Result<(), String> {
+        let max = magbench_env::check::file::MAX_INPUT_BYTES;
+        if data.len() as u64 > max {
+            return Err(format!(
+                "fuzz: : cannot read: larger than {} KiB",
+                max >> 10
+            ));
+        }
         let text = String::from_utf8_lossy(data);
         let file = format!(
             "fuzz.{}",

@@ -4,6 +4,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use magbench_env::Scenario;
+use magbench_env::check::{Bound, MEMORY_BUDGET_BYTES};
 use magbench_env::plant::DisturbancePreset;
 
 use super::Variant;
@@ -21,14 +22,39 @@ pub struct RunLimits {
 /// what a [`Duration`] can hold (1e20 s panicked converting).
 pub const MAX_TIME_LIMIT_S: f64 = 7.0 * 24.0 * 3600.0;
 
+/// Planning time limits (`--time-limit`, an experiment's `limits.time`): up to
+/// [`MAX_TIME_LIMIT_S`].
+pub const TIME_LIMIT: Bound = Bound::above(
+    0.0,
+    MAX_TIME_LIMIT_S,
+    " s",
+    "a week, far beyond any useful plan",
+);
+
+/// Memory one planner iteration may take at most (bytes): a planner keeps at most one tree node
+/// per iteration (its states, control, links and its place in the neighbour index), about
+/// 360 B for four agents (`plan quad-square --planner rrt-star`: 4.3 MB more peak memory for
+/// 12 154 more nodes) and so under 1 KiB for the eight agents of the largest team.
+pub const BYTES_PER_ITERATION: u64 = 1 << 10;
+
+/// Planner iteration limits (`--max-iters`, `figures --maze-iterations`, an experiment's
+/// `limits.iterations`): as many as the memory budget holds tree nodes, 2 097 152.
+pub const ITERATIONS: Bound = Bound::closed(
+    1.0,
+    (MEMORY_BUDGET_BYTES / BYTES_PER_ITERATION) as f64,
+    " iterations",
+    "a planner keeps up to one tree node of about 1 KiB per iteration, within the 2 GiB memory budget",
+);
+
 /// A planning time limit of `t` seconds, or why not.
 pub fn time_limit(t: f64) -> Result<Duration, String> {
-    if !(t.is_finite() && t > 0.0 && t <= MAX_TIME_LIMIT_S) {
-        return Err(format!(
-            "must be a number of seconds in (0, {MAX_TIME_LIMIT_S}] (a week), got {t}"
-        ));
-    }
+    let t = TIME_LIMIT.check("", t).map_err(|r| r.reason)?;
     Duration::try_from_secs_f64(t).map_err(|e| format!("{t} s: {e}"))
+}
+
+/// An iteration limit of `n`, or why not.
+pub fn iterations(n: u64) -> Result<u64, String> {
+    ITERATIONS.check_count("", n).map_err(|r| r.reason)
 }
 
 /// One run of the run matrix.

@@ -1,0 +1,21 @@
+//! Command-line numbers checked against their [`Bound`]: a refusal names the option, the
+//! interval, its unit and why (`<command line>: --max-iters: must be in [1, 2097152]
+//! iterations: …, got 1e19`).
+
+use magbench_env::check::Bound;
+
+use crate::CliError;
+
+/// `v` given to option `name`, within `bound`.
+pub(crate) fn checked(name: &str, bound: &Bound, v: f64) -> Result<f64, CliError> {
+    bound
+        .check(name, v)
+        .map_err(|r| CliError::arg(name, r.reason))
+}
+
+/// The whole number `n` given to option `name`, within `bound`.
+pub(crate) fn count(name: &str, bound: &Bound, n: u64) -> Result<u64, CliError> {
+    bound
+        .check_count(name, n)
+        .map_err(|r| CliError::arg(name, r.reason))
+}
