@@ -76,7 +76,10 @@ mod tests {
     #[test]
     fn exit_codes_come_from_the_error_kind() {
         let input: CliError = OpenError::Input(InputError::new("r.toml", "coil", "bad")).into();
-        assert_eq!((input.exit_code(), input.to_string().as_str()), (2, "r.toml: coil: bad"));
+        assert_eq!(
+            (input.exit_code(), input.to_string().as_str()),
+            (2, "r.toml: coil: bad")
+        );
         let failed: CliError = OpenError::Failed("no link".into()).into();
         assert_eq!(failed.exit_code(), 1);
         let start: CliError = StartError::InvalidStart.into();

@@ -267,7 +267,9 @@ pub enum ElevationError {
         own_medium: bool,
     },
     /// An elevation bound beyond the coil's range.
-    #[error("{alpha_max_deg}° exceeds the coil's elevation range alpha_max_deg = {coil_alpha_max_deg}°")]
+    #[error(
+        "{alpha_max_deg}° exceeds the coil's elevation range alpha_max_deg = {coil_alpha_max_deg}°"
+    )]
     BeyondCoil {
         /// The bound asked for (degrees).
         alpha_max_deg: f64,

@@ -41,9 +41,9 @@
 //! gradient takes α's pull axes; the smoothness term adds the change of α. Planar solves are
 //! the same arithmetic as before, bit for bit.
 
+use magbench_env::check::Rejection;
 use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};
 use magbench_env::model::pair_flow::PairStart;
-use magbench_env::check::Rejection;
 use magbench_env::params::Reals;
 use magbench_env::{
     Actuation, Control, MAX_AGENTS, PlanningModel, ValidityChecker, Vec2, declare_params,

@@ -58,9 +58,7 @@ impl RigDescription for CoilRig {
         log_dir: Option<&Path>,
     ) -> Result<Box<dyn RunRig>, OpenError> {
         let log = log_dir.map(|d| d.join("rig-log.csv"));
-        Ok(Box::new(
-            PhysicalRig::open(&self.config, scenario, log)?,
-        ))
+        Ok(Box::new(PhysicalRig::open(&self.config, scenario, log)?))
     }
 }
 

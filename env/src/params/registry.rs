@@ -127,11 +127,7 @@ pub fn check_name(name: &str) -> Result<(), NameError> {
         Some((family, rest)) => word(family) && word(rest),
         None => word(name),
     };
-    if ok {
-        Ok(())
-    } else {
-        Err(NameError)
-    }
+    if ok { Ok(()) } else { Err(NameError) }
 }
 
 /// A table of components of type `T`, in the order they were added.

@@ -259,7 +259,8 @@ impl Executor for RealExecutor {
             .planners()
             .create_in("", &v.name, &planner_params(v))
             .map_err(component_rejection)?;
-        configure(&mut PlanningSetup::default(), v, "").map_err(|r| Rejection::new("", r.to_string()))
+        configure(&mut PlanningSetup::default(), v, "")
+            .map_err(|r| Rejection::new("", r.to_string()))
     }
 
     fn check_tracker(&self, v: &Variant) -> Result<(), Rejection> {
