@@ -10,6 +10,20 @@ use nalgebra::{DMatrix, DVector};
 /// Field and gradient `(Bx, By, Bz, Gx, Gy)` in T and T/m.
 pub type FieldVector = [f64; 5];
 
+/// Why an actuation matrix cannot be used.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CalibrationError {
+    /// The rows are not independent: some field cannot be produced.
+    #[error("has rank {rank}; it needs rank 5 to produce every field and gradient")]
+    Rank {
+        /// The matrix's numerical rank.
+        rank: usize,
+    },
+    /// The pseudo-inverse could not be computed.
+    #[error("{0}")]
+    PseudoInverse(&'static str),
+}
+
 /// The actuation matrix and its pseudo-inverse.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Calibration {
@@ -35,7 +49,7 @@ impl Calibration {
 
     /// A full actuation matrix: 5 rows (Bx, By, Bz in mT/A; Gx, Gy in mT/m/A), one column per
     /// channel. Fails when the rows are not independent (some field cannot be produced).
-    pub fn matrix(rows: &[Vec<f64>]) -> Result<Self, String> {
+    pub fn matrix(rows: &[Vec<f64>]) -> Result<Self, CalibrationError> {
         let n = rows[0].len();
         let a = DMatrix::from_fn(5, n, |i, j| rows[i][j] * 1e-3);
         let svd = a.clone().svd(true, true);
@@ -46,13 +60,11 @@ impl Calibration {
             .filter(|s| **s > smax * 1e-9)
             .count();
         if rank < 5 {
-            return Err(format!(
-                "has rank {rank}; it needs rank 5 to produce every field and gradient"
-            ));
+            return Err(CalibrationError::Rank { rank });
         }
         let a_pinv = svd
             .pseudo_inverse(smax * 1e-12)
-            .map_err(|e| e.to_string())?;
+            .map_err(CalibrationError::PseudoInverse)?;
         Ok(Self { a, a_pinv })
     }
 
@@ -123,6 +135,9 @@ mod tests {
             .map(|i| (0..5).map(|j| if i == j { 1.0 } else { 0.0 }).collect())
             .collect();
         rows[4] = rows[3].clone();
-        assert!(Calibration::matrix(&rows).unwrap_err().contains("rank 4"));
+        assert_eq!(
+            Calibration::matrix(&rows),
+            Err(CalibrationError::Rank { rank: 4 })
+        );
     }
 }

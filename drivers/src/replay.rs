@@ -2,7 +2,7 @@
 //! truth when the recording has it (emulator recordings do).
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use magbench_env::Vec2;
@@ -26,6 +26,39 @@ pub struct ReplayReport {
     pub mean_detect_ms: f64,
 }
 
+/// Why a replay stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum ReplayError {
+    /// The recorded frames cannot be read.
+    #[error(transparent)]
+    Camera(#[from] CameraError),
+    /// The recording has no truth to start from and no start was given.
+    #[error(
+        "{}: the recording has no true positions; give --scenario for the agents' start",
+        dir.display()
+    )]
+    NoStart {
+        /// The recording's folder.
+        dir: PathBuf,
+    },
+    /// The output file cannot be written.
+    #[error("{}: {source}", path.display())]
+    Write {
+        /// The output file.
+        path: PathBuf,
+        /// The I/O failure.
+        source: std::io::Error,
+    },
+}
+
+/// The error of writing `path`.
+fn write_err(path: &Path) -> impl Fn(std::io::Error) -> ReplayError + '_ {
+    move |source| ReplayError::Write {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
 /// Detects the agents in every frame of `dir`; `prior` primes identities (default: the truth
 /// of the first frame). Writes `index,t_s,x0_bl,y0_bl,...` lines to `out` when given.
 pub fn replay(
@@ -33,28 +66,25 @@ pub fn replay(
     dir: &Path,
     prior: Option<&[Vec2]>,
     out: Option<&Path>,
-) -> Result<ReplayReport, String> {
-    let mut cam = RecordedCamera::open(dir, rig.camera.fps).map_err(|e| e.to_string())?;
+) -> Result<ReplayReport, ReplayError> {
+    let mut cam = RecordedCamera::open(dir, rig.camera.fps)?;
     let entries = cam.entries().to_vec();
     let prior: Vec<Vec2> = match prior {
         Some(p) => p.to_vec(),
         None if !entries[0].truth.is_empty() => entries[0].truth.clone(),
         None => {
-            return Err(format!(
-                "{}: the recording has no true positions; give --scenario for the agents' start",
-                dir.display()
-            ));
+            return Err(ReplayError::NoStart {
+                dir: dir.to_path_buf(),
+            });
         }
     };
     let n = prior.len();
     let mut det = Detector::new(rig.detector.clone(), rig.pixels.clone(), &prior);
     let mut w = match out {
         Some(p) => {
-            let mut f = std::io::BufWriter::new(
-                std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?,
-            );
+            let mut f = std::io::BufWriter::new(std::fs::File::create(p).map_err(write_err(p))?);
             let cols: Vec<String> = (0..n).map(|i| format!(",x{i}_bl,y{i}_bl")).collect();
-            writeln!(f, "index,t_s{}", cols.concat()).map_err(|e| e.to_string())?;
+            writeln!(f, "index,t_s{}", cols.concat()).map_err(write_err(p))?;
             Some(f)
         }
         None => None,
@@ -66,7 +96,7 @@ pub fn replay(
         let f = match cam.next_frame(Duration::ZERO) {
             Ok(f) => f,
             Err(CameraError::Ended) => break,
-            Err(err) => return Err(err.to_string()),
+            Err(err) => return Err(err.into()),
         };
         let t0 = std::time::Instant::now();
         let d = det.detect(&f.image);
@@ -86,7 +116,7 @@ pub fn replay(
                 None => missed += 1,
             }
         }
-        if let Some(w) = w.as_mut() {
+        if let (Some(w), Some(p)) = (w.as_mut(), out) {
             let cols: Vec<String> = d
                 .agents
                 .iter()
@@ -95,7 +125,7 @@ pub fn replay(
                         .unwrap_or(",,".into())
                 })
                 .collect();
-            writeln!(w, "{},{}{}", f.index, f.t, cols.concat()).map_err(|e| e.to_string())?;
+            writeln!(w, "{},{}{}", f.index, f.t, cols.concat()).map_err(write_err(p))?;
         }
     }
     Ok(ReplayReport {

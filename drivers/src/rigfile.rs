@@ -334,12 +334,12 @@ impl RigConfig {
         text: &str,
         coil: &CoilEndpoint,
         camera_address: Option<&str>,
-    ) -> Result<String, String> {
-        let mut doc: toml::Table = toml::from_str(text).map_err(|e| e.to_string())?;
+    ) -> Result<String, EndpointsError> {
+        let mut doc: toml::Table = toml::from_str(text)?;
         let coil_t = doc
             .get_mut("coil")
             .and_then(|c| c.as_table_mut())
-            .ok_or("no [coil] table")?;
+            .ok_or(EndpointsError::NoTable("coil"))?;
         coil_t.remove("port");
         coil_t.remove("address");
         match coil {
@@ -350,12 +350,26 @@ impl RigConfig {
             let cam = doc
                 .get_mut("camera")
                 .and_then(|c| c.as_table_mut())
-                .ok_or("no [camera] table")?;
+                .ok_or(EndpointsError::NoTable("camera"))?;
             cam.insert("source".into(), "emulator".into());
             cam.insert("address".into(), addr.into());
         }
-        toml::to_string(&doc).map_err(|e| e.to_string())
+        Ok(toml::to_string(&doc)?)
     }
+}
+
+/// Why [`RigConfig::with_endpoints`] cannot rewrite a rig file's text.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EndpointsError {
+    /// The text is not TOML.
+    #[error("{0}")]
+    Parse(#[from] toml::de::Error),
+    /// The rewritten table cannot be written back as TOML.
+    #[error("{0}")]
+    Write(#[from] toml::ser::Error),
+    /// The text lacks a table (`coil`, `camera`).
+    #[error("no [{0}] table")]
+    NoTable(&'static str),
 }
 
 fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
@@ -499,7 +513,7 @@ fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputErr
                     ck.finite(&format!("{f}.matrix[{i}][{j}]"), *x)?;
                 }
             }
-            Calibration::matrix(m).map_err(|r| ck.err(format!("{f}.matrix"), r))
+            Calibration::matrix(m).map_err(|r| ck.err(format!("{f}.matrix"), r.to_string()))
         }
         (None, None, None) => Err(ck.err(
             f,

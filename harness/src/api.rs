@@ -47,9 +47,9 @@ pub fn plan_leg(
     setup
         .check_settings(scenario, &planner.params())
         .map_err(|e| match e {
-            ElevationRefused::Planar(r) => CliError::arg("param.planar", r),
-            ElevationRefused::AlphaMax(r) => CliError::arg("param.alpha_max", r),
-            ElevationRefused::SetupAlphaMax(r) => CliError::arg("alpha_max", r),
+            ElevationRefused::Planar(r) => CliError::arg("param.planar", r.to_string()),
+            ElevationRefused::AlphaMax(r) => CliError::arg("param.alpha_max", r.to_string()),
+            ElevationRefused::SetupAlphaMax(r) => CliError::arg("alpha_max", r.to_string()),
         })?;
     let checked = solve_checked(planner, &problem);
     if let Some(e) = checked.invalid() {

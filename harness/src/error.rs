@@ -1,6 +1,12 @@
-//! Command errors and their exit codes: 2 for bad input, 1 for anything else.
+//! Command errors and their exit codes: 2 for bad input, 1 for anything else. The libraries'
+//! typed errors become a [`CliError`] here, by their kind: bad input keeps its file, field and
+//! reason; every other failure becomes its message.
 
+use magbench_drivers::hardware::HardwareError;
+use magbench_drivers::replay::ReplayError;
+use magbench_drivers::rigs::{OpenError, StartError};
 use magbench_env::InputError;
+use magbench_env::params::RegistryError;
 
 /// An error that ends a `magbench` command.
 #[derive(Debug, thiserror::Error)]
@@ -28,8 +34,63 @@ impl CliError {
     }
 }
 
-impl From<std::io::Error> for CliError {
-    fn from(e: std::io::Error) -> Self {
-        CliError::Failed(e.to_string())
+/// Failures that are never the user's input: exit code 1 with their message.
+macro_rules! failed_from {
+    ($($t:ty),* $(,)?) => {$(
+        impl From<$t> for CliError {
+            fn from(e: $t) -> Self {
+                CliError::Failed(e.to_string())
+            }
+        }
+    )*};
+}
+
+failed_from!(std::io::Error, HardwareError, StartError, RegistryError);
+
+impl From<OpenError> for CliError {
+    fn from(e: OpenError) -> Self {
+        match e {
+            OpenError::Input(e) => CliError::Input(e),
+            e @ (OpenError::Hardware(_) | OpenError::Failed(_)) => CliError::Failed(e.to_string()),
+        }
+    }
+}
+
+impl From<ReplayError> for CliError {
+    fn from(e: ReplayError) -> Self {
+        match e {
+            ReplayError::NoStart { ref dir } => CliError::Input(InputError::new(
+                dir.display().to_string(),
+                "",
+                "the recording has no true positions; give --scenario for the agents' start",
+            )),
+            e => CliError::Failed(e.to_string()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exit_codes_come_from_the_error_kind() {
+        let input: CliError = OpenError::Input(InputError::new("r.toml", "coil", "bad")).into();
+        assert_eq!(
+            (input.exit_code(), input.to_string().as_str()),
+            (2, "r.toml: coil: bad")
+        );
+        let failed: CliError = OpenError::Failed("no link".into()).into();
+        assert_eq!(failed.exit_code(), 1);
+        let start: CliError = StartError::InvalidStart.into();
+        assert_eq!(start.exit_code(), 1);
+        let dir = std::path::PathBuf::from("frames");
+        let replay: CliError = ReplayError::NoStart { dir: dir.clone() }.into();
+        assert_eq!(replay.exit_code(), 2);
+        assert_eq!(
+            replay.to_string(),
+            ReplayError::NoStart { dir }.to_string(),
+            "the same text as the library's"
+        );
     }
 }

@@ -19,7 +19,7 @@
 //! or the whole control period at which the try's motion passes closest to the target
 //! ([`Timing::Closest`]: the exact flow makes a look along the whole motion cheap).
 
-use magbench_env::params::{ParamType, Value, choose};
+use magbench_env::params::{BadValue, ParamType, Value, choose};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
@@ -57,7 +57,7 @@ impl Timing {
 impl ParamType for Timing {
     type Domain = ();
 
-    fn parse(text: &str, _: &()) -> Result<Self, String> {
+    fn parse(text: &str, _: &()) -> Result<Self, BadValue> {
         let options = Timing::ALL.map(|t| (t.name(), t));
         choose(text, &options)
     }

@@ -48,13 +48,13 @@ pub mod tree;
 pub mod validate;
 
 pub use first_plan::{Checked, FirstPlan, solve_checked};
-pub use metric::Metric;
+pub use metric::{Metric, MetricError};
 pub use objective::{Objective, plan_cost};
 pub use plan::{MadeFor, Plan};
 pub use planner::{Planner, PlannerResult, ProgressPoint};
 pub use problem::{Limits, Problem};
 pub use registry::Planners;
-pub use setup::{ElevationRefused, PlanningSetup, Unusable, check_result};
+pub use setup::{ElevationError, ElevationRefused, PlanningSetup, Unusable, check_result};
 pub use validate::{PlanError, validate_path, validate_plan};
 
 /// The planners' random stream: portable and seedable (ChaCha8), never a thread or OS RNG.

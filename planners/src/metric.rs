@@ -27,9 +27,31 @@ pub enum Metric {
     },
 }
 
+/// Why a metric's text was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MetricError {
+    /// A weight is not a number.
+    #[error("bad {which} weight {text:?}")]
+    BadWeight {
+        /// `centroid` or `shape`.
+        which: &'static str,
+        /// The text given.
+        text: String,
+    },
+    /// `centroid-shape` with other than two weights.
+    #[error("expected centroid-shape:W_CENTROID:W_SHAPE")]
+    WeightCount,
+    /// A weight is not finite and > 0.
+    #[error("metric weights must be finite and > 0")]
+    NotPositive,
+    /// No metric of that name.
+    #[error("unknown metric {0:?} (expected positions or centroid-shape:W_C:W_S)")]
+    Unknown(String),
+}
+
 impl Metric {
     /// Parses `positions` or `centroid-shape:W_C:W_S` (e.g. `centroid-shape:1:2`).
-    pub fn parse(s: &str) -> Result<Metric, String> {
+    pub fn parse(s: &str) -> Result<Metric, MetricError> {
         if s == "positions" {
             return Ok(Metric::Positions);
         }
@@ -38,24 +60,26 @@ impl Metric {
             let (wc, ws) = match parts.as_slice() {
                 [] => (1.0, 1.0),
                 [a, b] => (
-                    a.parse::<f64>()
-                        .map_err(|_| format!("bad centroid weight {a:?}"))?,
-                    b.parse::<f64>()
-                        .map_err(|_| format!("bad shape weight {b:?}"))?,
+                    a.parse::<f64>().map_err(|_| MetricError::BadWeight {
+                        which: "centroid",
+                        text: a.to_string(),
+                    })?,
+                    b.parse::<f64>().map_err(|_| MetricError::BadWeight {
+                        which: "shape",
+                        text: b.to_string(),
+                    })?,
                 ),
-                _ => return Err("expected centroid-shape:W_CENTROID:W_SHAPE".into()),
+                _ => return Err(MetricError::WeightCount),
             };
             if !(wc.is_finite() && ws.is_finite() && wc > 0.0 && ws > 0.0) {
-                return Err("metric weights must be finite and > 0".into());
+                return Err(MetricError::NotPositive);
             }
             return Ok(Metric::CentroidShape {
                 centroid: wc,
                 shape: ws,
             });
         }
-        Err(format!(
-            "unknown metric {s:?} (expected positions or centroid-shape:W_C:W_S)"
-        ))
+        Err(MetricError::Unknown(s.to_string()))
     }
 
     /// The metric's name as [`Metric::parse`] reads it.

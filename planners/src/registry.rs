@@ -135,7 +135,7 @@ impl ParamSet for Named {
     fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
         self.inner.set_param(key, value)
     }
-    fn check_params(&self) -> Result<(), String> {
+    fn check_params(&self) -> Result<(), magbench_env::check::Rejection> {
         self.inner.check_params()
     }
 }

@@ -11,6 +11,7 @@
 //! Durations are given in seconds and used in whole control periods of the problem (the
 //! camera frames of the rig that will run the plan): the nearest whole number, at least one.
 
+use magbench_env::check::Rejection;
 use magbench_env::coil::Planar;
 use magbench_env::declare_params;
 use magbench_env::params::Reals;
@@ -85,16 +86,17 @@ impl Sampling {
         }
     }
 
-    fn check_durations(&self) -> Result<(), String> {
+    fn check_durations(&self) -> Result<(), Rejection> {
         check_durations(self.min_duration, self.max_duration)
     }
 }
 
 /// The one rule between an edge's duration bounds (s): the shortest may not exceed the longest.
-pub fn check_durations(min_duration: f64, max_duration: f64) -> Result<(), String> {
+pub fn check_durations(min_duration: f64, max_duration: f64) -> Result<(), Rejection> {
     if min_duration > max_duration {
-        return Err(format!(
-            "min_duration {min_duration} exceeds max_duration {max_duration}"
+        return Err(Rejection::new(
+            "",
+            format!("min_duration {min_duration} exceeds max_duration {max_duration}"),
         ));
     }
     Ok(())

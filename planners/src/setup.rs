@@ -131,31 +131,27 @@ impl PlanningSetup {
     }
 
     /// Whether `planar` (a planner's or tracker's) fits `scenario` on this plant: `false`
-    /// needs a medium that carries the out-of-plane force. The error is the reason.
-    pub fn check_planar(&self, scenario: &Scenario, planar: Planar) -> Result<(), String> {
+    /// needs a medium that carries the out-of-plane force.
+    pub fn check_planar(&self, scenario: &Scenario, planar: Planar) -> Result<(), ElevationError> {
         let medium = self.medium_of(scenario);
-        planar.check_medium(medium.carries_fz()).map_err(|why| {
-            format!(
-                "{why}; scenario {} is in {}{}",
-                scenario.name,
-                medium.kind(),
-                if scenario.medium.is_some() {
-                    " (its [medium])"
-                } else {
-                    " (the plant's medium; the scenario names none)"
-                }
-            )
-        })
+        planar
+            .check_medium(medium.carries_fz())
+            .map_err(|why| ElevationError::NoOutOfPlaneForce {
+                why,
+                scenario: scenario.name.clone(),
+                medium: medium.kind(),
+                own_medium: scenario.medium.is_some(),
+            })
     }
 
     /// Whether an elevation bound `alpha_max_deg` (this setup's or a tracker's) is within the
-    /// coil's range; the error is the reason.
-    pub fn check_alpha_max(&self, alpha_max_deg: f64) -> Result<(), String> {
+    /// coil's range.
+    pub fn check_alpha_max(&self, alpha_max_deg: f64) -> Result<(), ElevationError> {
         if alpha_max_deg > self.coil_alpha_max_deg {
-            return Err(format!(
-                "{alpha_max_deg}° exceeds the coil's elevation range alpha_max_deg = {}°",
-                self.coil_alpha_max_deg
-            ));
+            return Err(ElevationError::BeyondCoil {
+                alpha_max_deg,
+                coil_alpha_max_deg: self.coil_alpha_max_deg,
+            });
         }
         Ok(())
     }
@@ -210,7 +206,7 @@ impl PlanningSetup {
                         ))
                     })?;
             }
-            "metric" => self.metric = Metric::parse(value).map_err(bad)?,
+            "metric" => self.metric = Metric::parse(value).map_err(|e| bad(e.to_string()))?,
             "flow" => {
                 self.flow = Flow::from_name(value).ok_or_else(|| {
                     let known: Vec<_> = Flow::ALL.iter().map(|f| f.name()).collect();
@@ -252,15 +248,45 @@ impl PlanningSetup {
     }
 }
 
+/// Why an elevation setting does not fit a scenario on a plant.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ElevationError {
+    /// `planar = false` in a medium that carries no out-of-plane force.
+    #[error(
+        "{why}; scenario {scenario} is in {medium}{}",
+        if *own_medium { " (its [medium])" } else { " (the plant's medium; the scenario names none)" }
+    )]
+    NoOutOfPlaneForce {
+        /// Why the setting needs the force.
+        why: &'static str,
+        /// The scenario's name.
+        scenario: String,
+        /// The medium's kind (`bulk`, `interface`).
+        medium: &'static str,
+        /// The medium is the scenario's own (else the plant's).
+        own_medium: bool,
+    },
+    /// An elevation bound beyond the coil's range.
+    #[error(
+        "{alpha_max_deg}° exceeds the coil's elevation range alpha_max_deg = {coil_alpha_max_deg}°"
+    )]
+    BeyondCoil {
+        /// The bound asked for (degrees).
+        alpha_max_deg: f64,
+        /// The coil's range (degrees).
+        coil_alpha_max_deg: f64,
+    },
+}
+
 /// Which elevation setting [`PlanningSetup::check_settings`] refuses, and why.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ElevationRefused {
     /// The planner's or tracker's `planar`.
-    Planar(String),
+    Planar(ElevationError),
     /// The tracker's own `alpha_max`.
-    AlphaMax(String),
+    AlphaMax(ElevationError),
     /// The setup's `alpha_max` (a planner's elevation bound).
-    SetupAlphaMax(String),
+    SetupAlphaMax(ElevationError),
 }
 
 /// Why a planner's result cannot be followed.

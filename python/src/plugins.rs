@@ -12,8 +12,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 use magbench::Registry;
+use magbench_env::check::Rejection;
 use magbench_env::coil::Planar;
-use magbench_env::params::{ParamError, ParamInfo, ParamSet, Value};
+use magbench_env::params::{BadValue, ParamError, ParamInfo, ParamSet, Value};
 use magbench_env::{Control, Vec2};
 use magbench_planners::objective::objective_by_name;
 use magbench_planners::registry::Entry as PlannerEntry;
@@ -208,14 +209,16 @@ impl Values {
             Kind::Text => true,
         };
         if !ok {
-            let what = match self.class.params[i].kind {
+            let expected = match self.class.params[i].kind {
                 Kind::Real => "a finite number",
                 Kind::Whole => "a whole number ≥ 0",
                 _ => "true or false",
             };
-            return Err(ParamError::BadValue(format!(
-                "{key}: expected {what}, got {value:?}"
-            )));
+            return Err(ParamError::BadValue(BadValue::Expected {
+                key: key.to_string(),
+                expected,
+                text: value.to_string(),
+            }));
         }
         self.values[i] = value.to_string();
         Ok(())
@@ -235,9 +238,14 @@ impl Values {
         self.class.cls.bind(py).call((), Some(&kwargs))
     }
 
-    /// Checks the values by making an instance; the error is the exception's text.
-    fn check(&self) -> Result<(), String> {
-        Python::attach(|py| self.instance(py).map(|_| ()).map_err(|e| describe(py, &e)))
+    /// Checks the values by making an instance; the rejection's reason is the exception's
+    /// text.
+    fn check(&self) -> Result<(), Rejection> {
+        Python::attach(|py| {
+            self.instance(py)
+                .map(|_| ())
+                .map_err(|e| Rejection::new("", describe(py, &e)))
+        })
     }
 }
 
@@ -271,7 +279,7 @@ impl ParamSet for PyPlanner {
     fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
         self.values.set(key, value)
     }
-    fn check_params(&self) -> Result<(), String> {
+    fn check_params(&self) -> Result<(), Rejection> {
         self.values.check()
     }
 }
@@ -487,7 +495,7 @@ impl ParamSet for PyTracker {
     fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
         self.values.set(key, value)
     }
-    fn check_params(&self) -> Result<(), String> {
+    fn check_params(&self) -> Result<(), Rejection> {
         self.values.check()
     }
 }

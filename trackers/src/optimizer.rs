@@ -41,6 +41,7 @@
 //! gradient takes α's pull axes; the smoothness term adds the change of α. Planar solves are
 //! the same arithmetic as before, bit for bit.
 
+use magbench_env::check::Rejection;
 use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};
 use magbench_env::model::pair_flow::PairStart;
 use magbench_env::params::Reals;
@@ -107,16 +108,19 @@ declare_params! {
 pub const MAX_PREDICTIONS: usize = 200_000;
 
 /// Refuses settings whose one solve predicts more than [`MAX_PREDICTIONS`] ticks.
-fn check_work(w: &ObcWeights) -> Result<(), String> {
+fn check_work(w: &ObcWeights) -> Result<(), Rejection> {
     let grid = w.grid.saturating_mul(w.alpha_levels);
     let refine = w.refine.saturating_mul(1 + 2 * ELEVATED_ROUNDS);
     let work = grid.saturating_add(refine).saturating_mul(w.horizon);
     if work > MAX_PREDICTIONS {
-        return Err(format!(
-            "grid × alpha_levels + refine × {} = {} candidates, each predicted over horizon = {} ticks, is {work} predictions per control tick; at most {MAX_PREDICTIONS} (so that one tick is computed in well under a second): lower grid, refine or horizon",
-            1 + 2 * ELEVATED_ROUNDS,
-            grid.saturating_add(refine),
-            w.horizon
+        return Err(Rejection::new(
+            "",
+            format!(
+                "grid × alpha_levels + refine × {} = {} candidates, each predicted over horizon = {} ticks, is {work} predictions per control tick; at most {MAX_PREDICTIONS} (so that one tick is computed in well under a second): lower grid, refine or horizon",
+                1 + 2 * ELEVATED_ROUNDS,
+                grid.saturating_add(refine),
+                w.horizon
+            ),
         ));
     }
     Ok(())

@@ -10,8 +10,8 @@ use magbench_env::{Scenario, Vec2};
 use magbench_trackers::Rig;
 
 use super::forward::forward_rig;
-use super::{OpenError, RigDescription, RigKind, RigPlant, RunRig};
-use crate::hardware::{HardwareRig, RigStats};
+use super::{OpenError, RigDescription, RigKind, RigPlant, RunRig, StartError};
+use crate::hardware::{HardwareError, HardwareRig, RigStats};
 use crate::interrupt;
 use crate::rigfile::RigConfig;
 
@@ -58,9 +58,7 @@ impl RigDescription for CoilRig {
         log_dir: Option<&Path>,
     ) -> Result<Box<dyn RunRig>, OpenError> {
         let log = log_dir.map(|d| d.join("rig-log.csv"));
-        Ok(Box::new(
-            PhysicalRig::open(&self.config, scenario, log).map_err(OpenError::Failed)?,
-        ))
+        Ok(Box::new(PhysicalRig::open(&self.config, scenario, log)?))
     }
 }
 
@@ -79,11 +77,14 @@ const START_FRAMES: usize = 10;
 const START_FRAME_LIMIT: usize = 120;
 
 impl PhysicalRig {
-    fn open(cfg: &RigConfig, scenario: &Scenario, log: Option<PathBuf>) -> Result<Self, String> {
+    fn open(
+        cfg: &RigConfig,
+        scenario: &Scenario,
+        log: Option<PathBuf>,
+    ) -> Result<Self, HardwareError> {
         let field = cfg.coil.field_mt.unwrap_or(scenario.physics.field_mt);
         let abort = interrupt::interrupt_flag();
-        let rig = HardwareRig::open(cfg, field, &scenario.start, abort.clone(), log.as_deref())
-            .map_err(|e| e.to_string())?;
+        let rig = HardwareRig::open(cfg, field, &scenario.start, abort.clone(), log.as_deref())?;
         Ok(Self {
             rig,
             name: cfg.name.clone(),
@@ -93,16 +94,14 @@ impl PhysicalRig {
     }
 
     /// The mean of the first frames in which every agent is found.
-    fn mean_start(&mut self, agents: usize) -> Result<Vec<Vec2>, String> {
+    fn mean_start(&mut self, agents: usize) -> Result<Vec<Vec2>, StartError> {
         let mut sum = vec![Vec2::zeros(); agents];
         let (mut n, mut frames) = (0, 0);
         while n < START_FRAMES {
-            let o = self.rig.observe().map_err(|e| e.to_string())?;
+            let o = self.rig.observe()?;
             frames += 1;
             if frames > START_FRAME_LIMIT {
-                return Err(format!(
-                    "the detector found every agent in only {n} of {frames} frames at the start; check the rig's [detector] and [pixels] calibration (magbench rig replay helps)"
-                ));
+                return Err(StartError::Undetected { found: n, frames });
             }
             if o.agents.iter().all(|a| a.is_some()) {
                 for (s, a) in sum.iter_mut().zip(&o.agents) {
@@ -130,12 +129,10 @@ impl RunRig for PhysicalRig {
         Some(self.rig.describe())
     }
 
-    fn observe_start(&mut self, scenario: &Scenario) -> Result<Option<Vec<Vec2>>, String> {
+    fn observe_start(&mut self, scenario: &Scenario) -> Result<Option<Vec<Vec2>>, StartError> {
         let start = self.mean_start(scenario.agents())?;
         if !scenario.checker_for_leg(0).is_valid(&start) {
-            return Err(
-                "the observed start is in collision or outside the proximity range; place the agents at the scenario's start".into(),
-            );
+            return Err(StartError::InvalidStart);
         }
         Ok(Some(start))
     }

@@ -19,7 +19,7 @@ use magbench_env::plant::{DisturbancePreset, Medium};
 use magbench_env::{InputError, Scenario, Vec2};
 use magbench_trackers::Rig;
 
-use crate::hardware::RigStats;
+use crate::hardware::{HardwareError, RigStats};
 
 pub use self::coil::CoilRig;
 pub use self::simulated::SimulatedRig;
@@ -97,7 +97,7 @@ pub trait RunRig: Rig {
 
     /// Where the team starts: `None` for the scenario's start (a simulation puts it there),
     /// else the start the rig observes. `Err` when it cannot tell (the field is zero).
-    fn observe_start(&mut self, _scenario: &Scenario) -> Result<Option<Vec<Vec2>>, String> {
+    fn observe_start(&mut self, _scenario: &Scenario) -> Result<Option<Vec<Vec2>>, StartError> {
         Ok(None)
     }
 
@@ -123,7 +123,33 @@ pub enum OpenError {
     /// Bad input: the rig's name, its preset or its rig file.
     #[error("{0}")]
     Input(#[from] InputError),
-    /// The rig did not answer (no link, no camera).
+    /// The coil link or camera did not answer.
+    #[error(transparent)]
+    Hardware(#[from] HardwareError),
+    /// The rig did not answer (a rig kind's own message).
     #[error("{0}")]
     Failed(String),
+}
+
+/// Why a rig cannot tell where the team starts.
+#[derive(Debug, thiserror::Error)]
+pub enum StartError {
+    /// The coil link or camera failed.
+    #[error(transparent)]
+    Hardware(#[from] HardwareError),
+    /// The detector did not find every agent in enough of the first frames.
+    #[error(
+        "the detector found every agent in only {found} of {frames} frames at the start; check the rig's [detector] and [pixels] calibration (magbench rig replay helps)"
+    )]
+    Undetected {
+        /// Frames in which every agent was found.
+        found: usize,
+        /// Frames looked at.
+        frames: usize,
+    },
+    /// The observed start is not a valid state of the scenario.
+    #[error(
+        "the observed start is in collision or outside the proximity range; place the agents at the scenario's start"
+    )]
+    InvalidStart,
 }

@@ -13,7 +13,7 @@
 //! tri-axial coil; a rig file's or a preset's `alpha_max_deg`), and within it by the planner's
 //! or tracker's `alpha_max` ([`DEFAULT_ALPHA_MAX_DEG`]).
 
-use crate::params::{ParamInfo, ParamType, Value, choose};
+use crate::params::{BadValue, ParamInfo, ParamType, Value, choose};
 
 /// The largest elevation a planner or tracker uses when nothing else says (degrees). It
 /// covers the cone cos²α = 2/3 (α = 35.26°) on which the pair forces cancel on average, so any
@@ -92,7 +92,7 @@ impl Planar {
 impl ParamType for Planar {
     type Domain = ();
 
-    fn parse(text: &str, _: &()) -> Result<Self, String> {
+    fn parse(text: &str, _: &()) -> Result<Self, BadValue> {
         choose(
             text,
             &[

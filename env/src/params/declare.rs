@@ -15,7 +15,7 @@
 ///   the same way, whose parameters are listed and set as this struct's own;
 /// - state: `field: TYPE = DEFAULT,`, not a parameter.
 ///
-/// After the struct, `check(FN);` names a function `fn(&Self) -> Result<(), String>` that checks
+/// After the struct, `check(FN);` names a function `fn(&Self) -> Result<(), Rejection>` that checks
 /// the parameters together (embedded structs check themselves first).
 ///
 /// ```
@@ -131,7 +131,7 @@ macro_rules! declare_params {
                 Err($crate::params::ParamError::Unknown(key.to_string()))
             }
 
-            fn check_params(&self) -> ::core::result::Result<(), ::std::string::String> {
+            fn check_params(&self) -> ::core::result::Result<(), $crate::check::Rejection> {
                 $($crate::__declared!(@check self $entry);)*
                 $(($check)(self)?;)?
                 Ok(())

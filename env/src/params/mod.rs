@@ -15,12 +15,13 @@ mod declare;
 mod registry;
 mod types;
 
-pub use registry::{Entry, Make, RegistryError, Table, check_name};
-pub use types::{ParamType, Reals, Value, choose};
+pub use registry::{Entry, Make, NameError, RegistryError, Table, check_name};
+pub use types::{BadValue, ParamType, Reals, Value, choose};
 
 use std::borrow::Cow;
 
 use crate::InputError;
+use crate::check::Rejection;
 
 /// One parameter as listed: its key, help line, allowed values and current value.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,8 +43,8 @@ pub enum ParamError {
     #[error("unknown parameter {0:?}")]
     Unknown(String),
     /// The value does not parse or is out of range.
-    #[error("{0}")]
-    BadValue(String),
+    #[error(transparent)]
+    BadValue(#[from] BadValue),
 }
 
 /// A struct of declared parameters (made by [`declare_params!`]). The defaults are a set with
@@ -58,8 +59,9 @@ pub trait ParamSet {
         let _ = value;
         Err(ParamError::Unknown(key.to_string()))
     }
-    /// Checks the parameters together, once all are set (e.g. a duration range).
-    fn check_params(&self) -> Result<(), String> {
+    /// Checks the parameters together, once all are set (e.g. a duration range). The
+    /// rejection's field is relative to the set (empty when no one parameter is to blame).
+    fn check_params(&self) -> Result<(), Rejection> {
         Ok(())
     }
 }
@@ -82,7 +84,7 @@ impl<A: ParamSet + ?Sized, B: ParamSet + ?Sized> ParamSet for Both<'_, A, B> {
         }
     }
 
-    fn check_params(&self) -> Result<(), String> {
+    fn check_params(&self) -> Result<(), Rejection> {
         self.0.check_params()?;
         self.1.check_params()
     }
@@ -112,13 +114,15 @@ pub fn apply<P: ParamSet + ?Sized>(
                         crate::check::suggest::hint(key, known.iter().map(String::as_str))
                     )
                 }
-                ParamError::BadValue(r) => r,
+                ParamError::BadValue(r) => r.to_string(),
             };
             InputError::new(source, format!("param.{key}"), reason)
         })?;
     }
-    set.check_params()
-        .map_err(|r| InputError::new(source, "param", format!("{owner}: {r}")))
+    set.check_params().map_err(|r| {
+        let r = r.under("param");
+        InputError::new(source, r.field, format!("{owner}: {}", r.reason))
+    })
 }
 
 /// Splits `key=value` text (a `--param` option); an error names `source`, the field `param`

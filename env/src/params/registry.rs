@@ -104,13 +104,20 @@ pub enum RegistryError {
         /// The name given.
         name: String,
         /// What is wrong with it.
-        reason: String,
+        reason: NameError,
     },
 }
 
+/// A name that experiment files and the command line cannot write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "a name is letters, digits, '_', '-' and '.', with an optional family prefix such as `ompl:`"
+)]
+pub struct NameError;
+
 /// Checks that `name` can be written where experiment files and the command line name
 /// components: letters, digits, `_`, `-` and `.`, with an optional family prefix (`ompl:rrt`).
-pub fn check_name(name: &str) -> Result<(), String> {
+pub fn check_name(name: &str) -> Result<(), NameError> {
     let word = |s: &str| {
         !s.is_empty()
             && s.chars()
@@ -120,11 +127,7 @@ pub fn check_name(name: &str) -> Result<(), String> {
         Some((family, rest)) => word(family) && word(rest),
         None => word(name),
     };
-    if ok {
-        Ok(())
-    } else {
-        Err("a name is letters, digits, '_', '-' and '.', with an optional family prefix such as `ompl:`".into())
-    }
+    if ok { Ok(()) } else { Err(NameError) }
 }
 
 /// A table of components of type `T`, in the order they were added.

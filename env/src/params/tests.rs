@@ -8,7 +8,7 @@ pub enum Mode {
 
 impl ParamType for Mode {
     type Domain = ();
-    fn parse(text: &str, _: &()) -> Result<Self, String> {
+    fn parse(text: &str, _: &()) -> Result<Self, BadValue> {
         choose(text, &[("fast", Mode::Fast), ("slow", Mode::Slow)])
     }
     fn value(&self) -> Value {
@@ -33,7 +33,11 @@ crate::declare_params! {
         #[param("hi", Reals::POSITIVE)]
         pub hi: f64 = 2.0,
     }
-    check(|s: &Inner| if s.lo > s.hi { Err(format!("lo {} exceeds hi {}", s.lo, s.hi)) } else { Ok(()) });
+    check(|s: &Inner| if s.lo > s.hi {
+        Err(crate::check::Rejection::new("", format!("lo {} exceeds hi {}", s.lo, s.hi)))
+    } else {
+        Ok(())
+    });
 }
 
 crate::declare_params! {
@@ -128,7 +132,7 @@ fn typed_setters_parse_and_validate() {
         ("mode", "medium", "not one of fast, slow"),
     ] {
         match o.set_param(k, v) {
-            Err(ParamError::BadValue(r)) => assert!(r.contains(why), "{k}={v}: {r}"),
+            Err(ParamError::BadValue(r)) => assert!(r.to_string().contains(why), "{k}={v}: {r}"),
             other => panic!("{k}={v}: {other:?}"),
         }
     }

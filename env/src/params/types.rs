@@ -31,12 +31,55 @@ impl fmt::Display for Value {
     }
 }
 
+/// Why a parameter's text was refused (the reason of an error naming the parameter).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BadValue {
+    /// The text is not a real number.
+    #[error("{text:?} is not a number")]
+    NotANumber {
+        /// The text given.
+        text: String,
+    },
+    /// The text is not a whole number.
+    #[error("{text:?} is not a whole number")]
+    NotWhole {
+        /// The text given.
+        text: String,
+    },
+    /// The number lies outside the allowed values.
+    #[error("must be in {allowed}, got {text}")]
+    OutOfRange {
+        /// The allowed values, e.g. `[0, 1]`.
+        allowed: String,
+        /// The text given.
+        text: String,
+    },
+    /// The text names none of the choices.
+    #[error("{text:?} is not one of {}", options.join(", "))]
+    NotOneOf {
+        /// The text given.
+        text: String,
+        /// The names allowed.
+        options: Vec<String>,
+    },
+    /// The text is not of the kind the parameter takes (a parameter declared at run time).
+    #[error("{key}: expected {expected}, got {text:?}")]
+    Expected {
+        /// The parameter's key.
+        key: String,
+        /// What it takes, e.g. `a finite number`.
+        expected: &'static str,
+        /// The text given.
+        text: String,
+    },
+}
+
 /// A type a parameter can have.
 pub trait ParamType: Sized {
     /// What values of the type the parameter allows (`()` when every value is allowed).
     type Domain;
     /// Parses `text`, or says why not (the reason of an error naming the parameter).
-    fn parse(text: &str, domain: &Self::Domain) -> Result<Self, String>;
+    fn parse(text: &str, domain: &Self::Domain) -> Result<Self, BadValue>;
     /// The value, for listings.
     fn value(&self) -> Value;
     /// The allowed values, e.g. `[0, 1]`.
@@ -75,14 +118,16 @@ impl Reals {
 impl ParamType for f64 {
     type Domain = Reals;
 
-    fn parse(text: &str, d: &Reals) -> Result<f64, String> {
-        let v: f64 = text
-            .trim()
-            .parse()
-            .map_err(|_| format!("{text:?} is not a number"))?;
+    fn parse(text: &str, d: &Reals) -> Result<f64, BadValue> {
+        let v: f64 = text.trim().parse().map_err(|_| BadValue::NotANumber {
+            text: text.to_string(),
+        })?;
         let low = if d.above { v <= d.min } else { v < d.min };
         if !v.is_finite() || low || v > d.max {
-            return Err(format!("must be in {}, got {text}", f64::describe(d)));
+            return Err(BadValue::OutOfRange {
+                allowed: f64::describe(d),
+                text: text.to_string(),
+            });
         }
         Ok(v)
     }
@@ -110,17 +155,24 @@ impl ParamType for usize {
 
     /// A whole number, also written as a real with no fraction (`48.0`, as TOML floats and
     /// older experiment files give it).
-    fn parse(text: &str, d: &RangeInclusive<usize>) -> Result<usize, String> {
+    fn parse(text: &str, d: &RangeInclusive<usize>) -> Result<usize, BadValue> {
         let t = text.trim();
         let v = match t.parse::<usize>() {
             Ok(v) => v,
             Err(_) => match t.parse::<f64>() {
                 Ok(x) if x.fract() == 0.0 && (0.0..=EXACT_WHOLE).contains(&x) => x as usize,
-                _ => return Err(format!("{text:?} is not a whole number")),
+                _ => {
+                    return Err(BadValue::NotWhole {
+                        text: text.to_string(),
+                    });
+                }
             },
         };
         if !d.contains(&v) {
-            return Err(format!("must be in {}, got {text}", usize::describe(d)));
+            return Err(BadValue::OutOfRange {
+                allowed: usize::describe(d),
+                text: text.to_string(),
+            });
         }
         Ok(v)
     }
@@ -138,7 +190,7 @@ impl ParamType for bool {
     type Domain = ();
 
     /// `true` or `false` (also `1`/`0`, `yes`/`no`).
-    fn parse(text: &str, _: &()) -> Result<bool, String> {
+    fn parse(text: &str, _: &()) -> Result<bool, BadValue> {
         choose(text, &[("true", true), ("false", false)]).or_else(|e| {
             choose(
                 text,
@@ -159,14 +211,14 @@ impl ParamType for bool {
 
 /// The value of `text` among named `options` (for a parameter that names one of a few
 /// choices); the error lists the names.
-pub fn choose<T: Copy>(text: &str, options: &[(&str, T)]) -> Result<T, String> {
+pub fn choose<T: Copy>(text: &str, options: &[(&str, T)]) -> Result<T, BadValue> {
     let t = text.trim();
     options
         .iter()
         .find(|(name, _)| *name == t)
         .map(|(_, v)| *v)
-        .ok_or_else(|| {
-            let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
-            format!("{text:?} is not one of {}", names.join(", "))
+        .ok_or_else(|| BadValue::NotOneOf {
+            text: text.to_string(),
+            options: options.iter().map(|(n, _)| n.to_string()).collect(),
         })
 }

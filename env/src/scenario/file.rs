@@ -190,7 +190,7 @@ fn obstacles(
                 for (k, p) in v.iter().enumerate() {
                     near(&format!("{f}[{k}]"), *p)?;
                 }
-                check_polygon(&v).map_err(|r| c.err(&f, r))?;
+                check_polygon(&v).map_err(|r| c.err(&f, r.to_string()))?;
                 out.push(Obstacle::Polygon(v));
             }
             (None, Some(circle)) => {

@@ -2,7 +2,7 @@
 
 mod polygon;
 
-pub use polygon::{MAX_POLYGON_VERTICES, check_polygon, signed_area};
+pub use polygon::{MAX_POLYGON_VERTICES, PolygonError, check_polygon, signed_area};
 
 use crate::math::Vec2;
 

@@ -14,28 +14,45 @@ pub fn signed_area(v: &[Vec2]) -> f64 {
 /// scenario's collision queries fast and the self-intersection check's worst case small.
 pub const MAX_POLYGON_VERTICES: usize = 2000;
 
+/// Why a list of vertices is not a simple polygon.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum PolygonError {
+    /// Fewer than 3 vertices.
+    #[error("a polygon needs at least 3 vertices, got {0}")]
+    TooFew(usize),
+    /// More than [`MAX_POLYGON_VERTICES`] vertices.
+    #[error(
+        "a polygon has at most {MAX_POLYGON_VERTICES} vertices, got {0}: simplify it or split it into several obstacles"
+    )]
+    TooMany(usize),
+    /// Two consecutive vertices coincide.
+    #[error("degenerate polygon: vertices {0} and {1} coincide")]
+    Coincident(usize, usize),
+    /// Two non-adjacent edges touch.
+    #[error("self-intersecting polygon: edge {0} crosses edge {1}")]
+    Crossing(usize, usize),
+    /// The vertices enclose no area.
+    #[error("degenerate polygon: zero area")]
+    ZeroArea,
+}
+
 /// Checks that `v` is a simple polygon: at most [`MAX_POLYGON_VERTICES`] vertices, ≥ 3
 /// distinct ones, non-zero area, and no two non-adjacent edges touching. Returns the reason
 /// when it is not.
 ///
 /// Edges are swept in order of their smallest x: only edges whose x-ranges overlap are tested
 /// against each other, so an ordinary polygon is checked in about n log n.
-pub fn check_polygon(v: &[Vec2]) -> Result<(), String> {
+pub fn check_polygon(v: &[Vec2]) -> Result<(), PolygonError> {
     let n = v.len();
     if n < 3 {
-        return Err(format!("a polygon needs at least 3 vertices, got {n}"));
+        return Err(PolygonError::TooFew(n));
     }
     if n > MAX_POLYGON_VERTICES {
-        return Err(format!(
-            "a polygon has at most {MAX_POLYGON_VERTICES} vertices, got {n}: simplify it or split it into several obstacles"
-        ));
+        return Err(PolygonError::TooMany(n));
     }
     for i in 0..n {
         if (v[i] - v[(i + 1) % n]).norm() < 1e-9 {
-            return Err(format!(
-                "degenerate polygon: vertices {i} and {} coincide",
-                (i + 1) % n
-            ));
+            return Err(PolygonError::Coincident(i, (i + 1) % n));
         }
     }
     let p = |i: usize| Vector::new(v[i % n].x, v[i % n].y);
@@ -65,15 +82,13 @@ pub fn check_polygon(v: &[Vec2]) -> Result<(), String> {
                 continue;
             }
             if segments_intersection2d(p(a), p(a + 1), p(b), p(b + 1), 1e-12).is_some() {
-                return Err(format!(
-                    "self-intersecting polygon: edge {a} crosses edge {b}"
-                ));
+                return Err(PolygonError::Crossing(a, b));
             }
         }
         active.push(j);
     }
     if signed_area(v).abs() < 1e-9 {
-        return Err("degenerate polygon: zero area".into());
+        return Err(PolygonError::ZeroArea);
     }
     Ok(())
 }
@@ -99,9 +114,9 @@ mod tests {
             .is_ok()
         );
         let bowtie = check_polygon(&pts(&[[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]]));
-        assert!(bowtie.unwrap_err().contains("self-intersecting"));
+        assert!(matches!(bowtie, Err(PolygonError::Crossing(..))));
         let flat = check_polygon(&pts(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]));
-        assert!(flat.unwrap_err().contains("degenerate"));
+        assert_eq!(flat, Err(PolygonError::ZeroArea));
         assert!(check_polygon(&pts(&[[0.0, 0.0], [1.0, 0.0]])).is_err());
     }
 
@@ -120,9 +135,9 @@ mod tests {
     fn large_polygons_are_checked_or_bounded() {
         assert!(check_polygon(&star(MAX_POLYGON_VERTICES, None)).is_ok());
         let e = check_polygon(&star(MAX_POLYGON_VERTICES, Some(7))).unwrap_err();
-        assert!(e.contains("self-intersecting"), "{e}");
+        assert!(matches!(e, PolygonError::Crossing(..)), "{e}");
         let e = check_polygon(&star(10_000, None)).unwrap_err();
-        assert!(e.contains("at most 2000 vertices"), "{e}");
+        assert!(e.to_string().contains("at most 2000 vertices"), "{e}");
     }
 
     #[test]
@@ -146,7 +161,7 @@ mod tests {
             let degenerate = (0..n).any(|i| (v[i] - v[(i + 1) % n]).norm() < 1e-9);
             if !degenerate {
                 assert_eq!(
-                    r.as_ref().is_err_and(|e| e.contains("self-intersecting")),
+                    matches!(r, Err(PolygonError::Crossing(..))),
                     pairs,
                     "{v:?}: {r:?}"
                 );

@@ -360,8 +360,7 @@ fn open_rig(
         &scenario.start,
         interrupt::interrupt_flag(),
         log,
-    )
-    .map_err(|e| CliError::Failed(e.to_string()))?;
+    )?;
     Ok((rig, hw))
 }
 
@@ -377,7 +376,7 @@ fn check_cmd(a: CheckArgs) -> Result<(), CliError> {
     };
     let (_, mut hw) = open_rig(&a.rig, &scenario, log.as_deref())?;
     outln!("rig: {}", hw.describe());
-    let r = check::spin_check(&mut hw, a.duration).map_err(|e| CliError::Failed(e.to_string()))?;
+    let r = check::spin_check(&mut hw, a.duration)?;
     outln!(
         "frames       {} ({} dropped, {} stuck) over {:.2} s",
         r.frames,
@@ -417,8 +416,7 @@ fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
     if a.frames.join("frames.csv").exists() {
         magbench_drivers::camera::read_index(&a.frames)?;
     }
-    let r = replay::replay(&rig, &a.frames, prior.as_deref(), a.out.as_deref())
-        .map_err(CliError::Failed)?;
+    let r = replay::replay(&rig, &a.frames, prior.as_deref(), a.out.as_deref())?;
     outln!("frames       {}", r.frames);
     outln!("detections   {} ({} missed)", r.detections, r.missed);
     if let Some((rms, max)) = r.error_px {

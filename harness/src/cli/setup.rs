@@ -74,7 +74,9 @@ pub fn check_elevation(
         setup
             .check_settings(scenario, params)
             .map_err(|e| match e {
-                ElevationRefused::Planar(r) => CliError::arg(format!("{prefix}.planar"), r),
+                ElevationRefused::Planar(r) => {
+                    CliError::arg(format!("{prefix}.planar"), r.to_string())
+                }
                 ElevationRefused::AlphaMax(r) => CliError::arg(
                     format!("{prefix}.alpha_max"),
                     format!("{r} ({coil}); or set planar=true"),

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use magbench_drivers::rigs::{OpenError, RigDescription};
+use magbench_drivers::rigs::RigDescription;
 use magbench_drivers::{RigStats, stats};
 use magbench_env::params::split_all;
 use magbench_env::{Scenario, Vec2};
@@ -64,15 +64,6 @@ pub fn tracker_spec(
     Ok(registry.trackers().spec(name, &params, "<command line>")?)
 }
 
-impl From<OpenError> for CliError {
-    fn from(e: OpenError) -> Self {
-        match e {
-            OpenError::Input(e) => CliError::Input(e),
-            OpenError::Failed(m) => CliError::Failed(m),
-        }
-    }
-}
-
 /// Runs it: open the rig, find the start, make (or read) the first plan, track it, stop the
 /// rig, write the outputs and print the summary.
 pub fn run(r: TrackRun) -> Result<(), CliError> {
@@ -121,9 +112,9 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         eprintln!("rig: {d}");
     }
     // the start: the scenario's, or as the rig observes it (the field is zero meanwhile)
-    let observed = rig.observe_start(s).map_err(|m| {
+    let observed = rig.observe_start(s).map_err(|e| {
         let _ = rig.stop();
-        CliError::Failed(m)
+        CliError::from(e)
     })?;
     if let Some(start) = &observed {
         eprintln!("observed start: {}", describe_start(start, &s.start));

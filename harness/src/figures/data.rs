@@ -5,6 +5,7 @@ use magbench_env::{Scenario, Vec2};
 use magbench_planners::{Limits, PlannerResult, PlanningSetup, solve_checked};
 use magbench_trackers::{Mission, Reference, track};
 
+use crate::error::CliError;
 use crate::registry::Registry;
 
 /// A planned and tracked run of a scenario's first leg.
@@ -42,22 +43,16 @@ pub struct RunSpec<'a> {
 }
 
 /// Plans and tracks, with the planner, tracker and `simulated` rig of `registry`.
-pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, String> {
-    let scenario = Scenario::load(s.scenario).map_err(|e| e.to_string())?;
+pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, CliError> {
+    let scenario = Scenario::load(s.scenario)?;
     let params: Vec<(String, String)> = s
         .planner
         .1
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
-    let mut planner = registry
-        .planners()
-        .create(s.planner.0, &params)
-        .map_err(|e| e.to_string())?;
-    let rig = registry
-        .rigs()
-        .load("simulated", s.preset, "preset")
-        .map_err(|e| e.to_string())?;
+    let mut planner = registry.planners().create(s.planner.0, &params)?;
+    let rig = registry.rigs().load("simulated", s.preset, "preset")?;
     let period = rig.frame_period();
     let setup = PlanningSetup {
         limits: Limits {
@@ -72,15 +67,12 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, St
     let planned = checked.result.clone();
     let first = checked
         .followable()
-        .map_err(|e| format!("{} seed {}: {e}", s.planner.0, s.seed))?;
+        .map_err(|e| CliError::Failed(format!("{} seed {}: {e}", s.planner.0, s.seed)))?;
     let reference = Reference::from_plan(&planned.plan, &problem.model);
     let plan_samples = (0..reference.len())
         .map(|k| (reference.time(k), reference.state(k).to_vec()))
         .collect();
-    let spec = registry
-        .trackers()
-        .spec(s.tracker, &[], "<figures>")
-        .map_err(|e| e.to_string())?;
+    let spec = registry.trackers().spec(s.tracker, &[], "<figures>")?;
     let mission = Mission {
         scenario: &scenario,
         first,
@@ -91,9 +83,7 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, St
     let mut tracker = spec.build();
     let mut opts = spec.loop_options();
     opts.record_ticks = true;
-    let mut sim = rig
-        .open(&scenario, s.seed, None)
-        .map_err(|e| e.to_string())?;
+    let mut sim = rig.open(&scenario, s.seed, None)?;
     let out = track(sim.as_rig(), tracker.as_mut(), mission, &opts);
     let n = scenario.agents();
     let tracked = out

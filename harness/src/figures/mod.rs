@@ -81,7 +81,7 @@ pub fn write_all(
     )?);
 
     log("open-field: plan (goal-zoom-rrt, seed 0) and track (obc, realistic)");
-    let run = plan_and_track(&OPEN_FIELD, registry).map_err(CliError::Failed)?;
+    let run = plan_and_track(&OPEN_FIELD, registry)?;
     let kappa = run.scenario.physics.kappa();
     let n = run.plan_samples.len();
     let waypoints: Vec<[magbench_env::Vec2; 2]> = (1..=7)
@@ -123,7 +123,7 @@ pub fn write_all(
         "micro-factory: plan (goal-zoom-rrt, seed {}, up to {} iterations) and track (obc, realistic)",
         maze.seed, maze.iterations
     ));
-    let run = plan_and_track(&maze, registry).map_err(CliError::Failed)?;
+    let run = plan_and_track(&maze, registry)?;
     let title = format!(
         "micro-factory: {}{}",
         run.label,

@@ -6,7 +6,7 @@ use std::sync::Once;
 
 use magbench_env::check::Rejection;
 
-use super::{ProgressRow, RunRecord, RunSpec, Status, Variant};
+use super::{ProgressRow, RunError, RunRecord, RunSpec, Status, Variant};
 
 /// What one run produced.
 #[derive(Debug, Clone, PartialEq)]
@@ -41,7 +41,7 @@ pub trait Executor: Sync {
         vec![]
     }
     /// Executes one run. An `Err` becomes a `crash` row.
-    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String>;
+    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, RunError>;
 }
 
 /// The row of `spec` with its input columns filled and no result yet.
@@ -115,7 +115,7 @@ pub fn execute_caught(ex: &dyn Executor, spec: &RunSpec) -> RunOutput {
             o.record.error = one_line(&o.record.error);
             return o;
         }
-        Ok(Err(e)) => e,
+        Ok(Err(e)) => e.to_string(),
         Err(panic) => hooked.unwrap_or_else(|| {
             let msg = panic
                 .downcast_ref::<String>()

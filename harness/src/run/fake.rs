@@ -21,7 +21,7 @@ use sha2::{Digest, Sha256};
 
 use super::executor::base_record;
 use super::record::AgentErrors;
-use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
+use super::{Executor, ProgressRow, RunError, RunOutput, RunSpec, Status, Variant};
 use crate::metrics::Metric;
 
 /// Runs of this process the fake executor has finished.
@@ -102,7 +102,7 @@ impl Executor for FakeExecutor {
         check(v, "tracker", &["gain"]).map_err(|r| magbench_env::check::Rejection::new("", r))
     }
 
-    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {
+    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, RunError> {
         stall_if_asked();
         let t0 = Instant::now();
         let pv = &spec.planner;

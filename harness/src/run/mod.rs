@@ -2,6 +2,7 @@
 //! variant and disturbance preset, seed, limits) goes into an [`Executor`]; a [`RunRecord`]
 //! (one tidy row) and its progress trace come out. A run's result depends only on its spec.
 
+pub mod error;
 pub mod executor;
 pub mod fake;
 pub mod real;
@@ -9,6 +10,7 @@ pub mod record;
 pub mod spec;
 pub mod variant;
 
+pub use error::RunError;
 pub use executor::{Executor, RunOutput, execute_caught};
 pub use record::{ProgressRow, RunRecord, Status};
 pub use spec::{RunLimits, RunSpec};

@@ -29,7 +29,7 @@ use magbench_planners::{Checked, Limits, Plan, PlannerResult, PlanningSetup, sol
 use magbench_trackers::{Mission, RunStatus, simulate};
 
 use super::executor::base_record;
-use super::{Executor, ProgressRow, RunOutput, RunSpec, Status, Variant};
+use super::{Executor, ProgressRow, RunError, RunOutput, RunSpec, Status, Variant};
 use crate::metrics::{PathFacts, PlanFacts, TrackFacts};
 use crate::registry::Registry;
 use crate::replay::{LegTree, ReplayData};
@@ -60,12 +60,12 @@ fn planner_params(v: &Variant) -> Vec<(String, String)> {
 }
 
 /// The setup keys of `v` set on `setup`; errors name `source` and the key.
-fn configure(setup: &mut PlanningSetup, v: &Variant, source: &str) -> Result<(), String> {
+fn configure(setup: &mut PlanningSetup, v: &Variant, source: &str) -> Result<(), RunError> {
     for key in SETUP_KEYS {
         if let Some(value) = v.params.get(key) {
             setup
                 .set(source, key, &value.to_string())
-                .map_err(|e| format!("{key}: {}", e.reason))?;
+                .map_err(RunError::Setup)?;
         }
     }
     Ok(())
@@ -74,7 +74,7 @@ fn configure(setup: &mut PlanningSetup, v: &Variant, source: &str) -> Result<(),
 /// The planning setup of every planning call of the run: the experiment's limits, the
 /// planner variant's setup keys, its preset's medium and coil (ideal's, bulk and tri-axial, for
 /// a planning-only run) and, for a tracked run, the frame period of its preset.
-pub fn setup(spec: &RunSpec) -> Result<PlanningSetup, String> {
+pub fn setup(spec: &RunSpec) -> Result<PlanningSetup, RunError> {
     let mut setup = PlanningSetup {
         limits: Limits {
             max_iterations: spec.limits.iterations,
@@ -111,7 +111,7 @@ fn plan_leg(
     setup: &PlanningSetup,
     leg: usize,
     start: &[magbench_env::Vec2],
-) -> Result<(Checked, Option<LegTree>), String> {
+) -> Result<(Checked, Option<LegTree>), RunError> {
     let mut planner = registry
         .planners()
         .create_in(
@@ -119,14 +119,14 @@ fn plan_leg(
             &spec.planner.name,
             &planner_params(&spec.planner),
         )
-        .map_err(|e| e.reason)?;
+        .map_err(RunError::Component)?;
     let p = setup.problem(&spec.scenario, leg, Some(start), leg_seed(spec, leg));
     let checked = solve_checked(planner.as_mut(), &p);
     if let Some(e) = checked.invalid() {
-        return Err(format!(
-            "leg {}: the planner's plan is invalid: {e}",
-            leg + 1
-        ));
+        return Err(RunError::InvalidPlan {
+            leg,
+            error: e.clone(),
+        });
     }
     let tree = LegTree::of_planner(&*planner, &p, leg);
     Ok((checked, tree))
@@ -138,7 +138,7 @@ pub fn plan_legs(
     registry: &Registry,
     spec: &RunSpec,
     setup: &PlanningSetup,
-) -> Result<Vec<PlannerResult>, String> {
+) -> Result<Vec<PlannerResult>, RunError> {
     plan_legs_with_trees(registry, spec, setup).map(|(r, _)| r)
 }
 
@@ -147,7 +147,7 @@ pub fn plan_legs_with_trees(
     registry: &Registry,
     spec: &RunSpec,
     setup: &PlanningSetup,
-) -> Result<(Vec<PlannerResult>, Vec<LegTree>), String> {
+) -> Result<(Vec<PlannerResult>, Vec<LegTree>), RunError> {
     let mut trees = vec![];
     let mut start = spec.scenario.start.clone();
     let mut out = vec![];
@@ -259,7 +259,8 @@ impl Executor for RealExecutor {
             .planners()
             .create_in("", &v.name, &planner_params(v))
             .map_err(component_rejection)?;
-        configure(&mut PlanningSetup::default(), v, "").map_err(|r| Rejection::new("", r))
+        configure(&mut PlanningSetup::default(), v, "")
+            .map_err(|r| Rejection::new("", r.to_string()))
     }
 
     fn check_tracker(&self, v: &Variant) -> Result<(), Rejection> {
@@ -278,7 +279,7 @@ impl Executor for RealExecutor {
     }
 
     fn check_run(&self, spec: &RunSpec) -> Result<(), (String, String)> {
-        let setup = setup(spec).map_err(|r| ("planners".to_string(), r))?;
+        let setup = setup(spec).map_err(|r| ("planners".to_string(), r.to_string()))?;
         let mut sets = vec![(
             "planners",
             &spec.planner,
@@ -311,7 +312,7 @@ impl Executor for RealExecutor {
         Ok(())
     }
 
-    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, String> {
+    fn execute(&self, spec: &RunSpec) -> Result<RunOutput, RunError> {
         let mut rec = base_record(spec);
         let setup = setup(spec)?;
         let Some(tv) = &spec.tracker else {
@@ -335,7 +336,7 @@ impl Executor for RealExecutor {
             .registry
             .trackers()
             .spec(&tv.name, &tv.params_as_strings(), &spec.experiment)
-            .map_err(|e| e.reason)?;
+            .map_err(RunError::Component)?;
         let first = match first.followable() {
             Ok(first) => first,
             Err(e) => {
@@ -358,7 +359,7 @@ impl Executor for RealExecutor {
                 &spec.planner.name,
                 &planner_params(&spec.planner),
             )
-            .map_err(|e| e.reason)?;
+            .map_err(RunError::Component)?;
         let mission = Mission {
             scenario: &spec.scenario,
             first,

@@ -113,9 +113,9 @@ impl<P: OmplParams> Ompl<P> {
         let found = if code != 0 {
             // SAFETY: the shim wrote a NUL-terminated message.
             let why = unsafe { CStr::from_ptr(r.error.as_ptr()) }.to_string_lossy();
-            Err(why.into_owned())
+            Err(Some(path::OmplError::Shim(why.into_owned())))
         } else if r.status == 0 {
-            Err(String::new())
+            Err(None)
         } else {
             let n2 = 2 * problem.agents();
             // SAFETY: the shim filled `edges` controls and steps and `edges + 1` states.
@@ -126,13 +126,11 @@ impl<P: OmplParams> Ompl<P> {
                     std::slice::from_raw_parts(r.states, n2 * (r.edges + 1)),
                 )
             };
-            path::from_ompl(problem, dims, controls, steps, Some(states))
+            path::from_ompl(problem, dims, controls, steps, Some(states)).map_err(Some)
         };
         // SAFETY: frees what the shim allocated (null pointers are fine).
         unsafe { mb_ompl_free(&mut r) };
-        if let Err(why) = &found
-            && !why.is_empty()
-        {
+        if let Err(Some(why)) = &found {
             eprintln!("warning: {}: {why}", self.name);
         }
         let live = run.live.into_inner();
@@ -274,7 +272,7 @@ impl<P: OmplParams> ParamSet for Ompl<P> {
     fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
         self.params.set_param(key, value)
     }
-    fn check_params(&self) -> Result<(), String> {
+    fn check_params(&self) -> Result<(), magbench_env::check::Rejection> {
         self.params.check_params()
     }
 }

@@ -49,7 +49,7 @@ impl Durations {
         .then_some(problem.alpha_max)
     }
 
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), magbench_env::check::Rejection> {
         check_durations(self.min_duration, self.max_duration)
     }
 }

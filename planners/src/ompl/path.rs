@@ -17,6 +17,28 @@ use crate::{Plan, Problem};
 
 use super::ffi::control;
 
+/// Why OMPL gave no plan magbench can use.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OmplError {
+    /// The C++ shim's own message (an exception OMPL raised).
+    #[error("{0}")]
+    Shim(String),
+    /// One of OMPL's edges fails magbench's edge check when replayed.
+    #[error("OMPL's edge {edge} fails magbench's edge check")]
+    EdgeCheck {
+        /// The edge's index.
+        edge: usize,
+    },
+    /// Replaying one of OMPL's edges does not land on OMPL's state.
+    #[error("replaying OMPL's edge {edge} ends {dev:e} BL from OMPL's state")]
+    Drift {
+        /// The edge's index.
+        edge: usize,
+        /// The largest distance of an agent from OMPL's state (BL).
+        dev: f64,
+    },
+}
+
 /// The plan of OMPL's `controls` (`dims` per edge: θ_B, g_x, g_y and, with 4, α) and `steps`,
 /// one plan edge per propagation step, replayed from the problem's start. With `states`
 /// (OMPL's waypoints, 2N per waypoint), every edge's end must match OMPL's.
@@ -26,7 +48,7 @@ pub fn from_ompl(
     controls: &[f64],
     steps: &[u32],
     states: Option<&[f64]>,
-) -> Result<Plan, String> {
+) -> Result<Plan, OmplError> {
     let n = problem.agents();
     let period = problem.control_period;
     let mut plan = Plan::at(&problem.start);
@@ -38,7 +60,7 @@ pub fn from_ompl(
         let u = control(u);
         for _ in 0..k {
             if !propagate_valid(problem, &x[..n], &u, period, &mut next[..n]) {
-                return Err(format!("OMPL's edge {edge} fails magbench's edge check"));
+                return Err(OmplError::EdgeCheck { edge });
             }
             plan.push(u, period, next[..n].to_vec());
             x = next;
@@ -51,9 +73,7 @@ pub fn from_ompl(
                 .map(|(p, q)| (p - Vec2::new(q[0], q[1])).norm())
                 .fold(0.0, f64::max);
             if dev.is_nan() || dev > REPLAY_TOLERANCE {
-                return Err(format!(
-                    "replaying OMPL's edge {edge} ends {dev:e} BL from OMPL's state"
-                ));
+                return Err(OmplError::Drift { edge, dev });
             }
         }
     }

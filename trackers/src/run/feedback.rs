@@ -11,6 +11,22 @@ use super::tick::TickContext;
 use crate::estimator::Estimator;
 use crate::rig::{Rig, RigError};
 
+/// Why the loop cannot go on after an observation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SenseError {
+    /// The rig observed another number of agents than the scenario has.
+    #[error("the rig reported {got} agents, the scenario has {expected}")]
+    AgentCount {
+        /// Agents in the observation.
+        got: usize,
+        /// Agents in the scenario.
+        expected: usize,
+    },
+    /// A fatal rig fault.
+    #[error(transparent)]
+    Rig(#[from] RigError),
+}
+
 /// The loop's eyes: the estimator and the rig clock as the observations tell it.
 #[derive(Debug, Clone)]
 pub struct Feedback {
@@ -58,17 +74,19 @@ impl Feedback {
     }
 
     /// Waits for the rig's next observation and folds it into the estimate. A recoverable
-    /// fault is a frame with every agent missed (the model predicts); `Err` is a fatal fault,
-    /// described.
-    pub fn sense(&mut self, rig: &mut dyn Rig, rec: &mut Recorder) -> Result<TickContext, String> {
+    /// fault is a frame with every agent missed (the model predicts); `Err` is a fatal fault.
+    pub fn sense(
+        &mut self,
+        rig: &mut dyn Rig,
+        rec: &mut Recorder,
+    ) -> Result<TickContext, SenseError> {
         let observation = match rig.observe() {
             Ok(o) if o.agents.len() == self.agents => o,
             Ok(o) => {
-                return Err(format!(
-                    "the rig reported {} agents, the scenario has {}",
-                    o.agents.len(),
-                    self.agents
-                ));
+                return Err(SenseError::AgentCount {
+                    got: o.agents.len(),
+                    expected: self.agents,
+                });
             }
             Err(RigError::Recoverable(_)) => {
                 rec.rig_fault();
@@ -77,7 +95,7 @@ impl Feedback {
                     agents: vec![None; self.agents],
                 }
             }
-            Err(e) => return Err(e.to_string()),
+            Err(e) => return Err(e.into()),
         };
         rec.observation(&observation);
         let (now, estimate) = self.estimator.update(&observation);

@@ -310,7 +310,7 @@ impl<'a> Run<'a> {
         // visual feedback: the frame, through the estimator
         let tick = match self.feedback.sense(rig, &mut self.rec) {
             Ok(t) => t,
-            Err(m) => return self.fail(m, RunStatus::RigFault),
+            Err(e) => return self.fail(e.to_string(), RunStatus::RigFault),
         };
         let following = &self.following;
         let errors = self

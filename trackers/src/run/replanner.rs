@@ -50,7 +50,7 @@ impl StallReplan {
 impl ParamType for StallReplan {
     type Domain = ();
 
-    fn parse(text: &str, _: &()) -> Result<Self, String> {
+    fn parse(text: &str, _: &()) -> Result<Self, magbench_env::params::BadValue> {
         choose(
             text,
             &[

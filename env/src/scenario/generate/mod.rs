@@ -218,7 +218,7 @@ pub fn generate_named(
                         scenario,
                     });
                 }
-                Err(e) => last = e,
+                Err(e) => last = e.to_string(),
             },
             Err(e) => last = e.to_string(),
         }
@@ -230,19 +230,33 @@ pub fn generate_named(
     ))
 }
 
+/// Why a drawn problem is thrown away.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Unsolvable {
+    /// The start already lies inside the goal.
+    #[error("the start is already inside the goal")]
+    StartInGoal,
+    /// A grid search finds no corridor for the centre of mass.
+    #[error("no corridor for the centre of mass at clearance {clearance:.3} BL")]
+    NoCorridor {
+        /// The clearance searched at (BL).
+        clearance: f64,
+    },
+}
+
 /// The checks beyond the file's validation: the start is not already in the goal, and a grid
 /// search finds a corridor for the centre of mass at [`corridor_clearance`].
-fn check(s: &Scenario, physics: &PhysicalParams) -> Result<(), String> {
+fn check(s: &Scenario, physics: &PhysicalParams) -> Result<(), Unsolvable> {
     let goal = s.final_goal();
     if goal.contains(&s.start) {
-        return Err("the start is already inside the goal".into());
+        return Err(Unsolvable::StartInGoal);
     }
     let clearance = corridor_clearance(&s.start, &goal.agents, physics);
     let c = |v: &[Vec2]| v.iter().sum::<Vec2>() / v.len() as f64;
     FreeGrid::new(&s.world)
         .grid_path(c(&s.start), c(&goal.agents), clearance)
         .map(|_| ())
-        .ok_or_else(|| format!("no corridor for the centre of mass at clearance {clearance:.3} BL"))
+        .ok_or(Unsolvable::NoCorridor { clearance })
 }
 
 /// Every family's name, summary and parameters with their defaults.

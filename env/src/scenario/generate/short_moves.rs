@@ -9,7 +9,7 @@ use super::place::{pair_at, round_pt};
 use super::{Family, Refusal, Rng};
 use crate::declare_params;
 use crate::math::Vec2;
-use crate::params::{ParamType, Reals, Value, choose};
+use crate::params::{BadValue, ParamType, Reals, Value, choose};
 use crate::physics::PhysicalParams;
 use crate::scenario::Draft;
 
@@ -27,7 +27,7 @@ pub enum Move {
 impl ParamType for Move {
     type Domain = ();
 
-    fn parse(text: &str, _: &()) -> Result<Self, String> {
+    fn parse(text: &str, _: &()) -> Result<Self, BadValue> {
         choose(
             text,
             &[

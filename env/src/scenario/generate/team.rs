@@ -9,7 +9,7 @@ use super::place::round_pt;
 use super::{Family, Refusal, Rng};
 use crate::declare_params;
 use crate::math::{MAX_AGENTS, Vec2};
-use crate::params::{ParamType, Reals, Value, choose};
+use crate::params::{BadValue, ParamType, Reals, Value, choose};
 use crate::physics::PhysicalParams;
 use crate::plant::DisturbancePreset;
 use crate::scenario::Draft;
@@ -30,7 +30,7 @@ pub enum Formation {
 impl ParamType for Formation {
     type Domain = ();
 
-    fn parse(text: &str, _: &()) -> Result<Self, String> {
+    fn parse(text: &str, _: &()) -> Result<Self, BadValue> {
         choose(
             text,
             &[
