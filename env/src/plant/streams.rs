@@ -14,6 +14,17 @@ pub fn stream(seed: u64, id: Stream) -> ChaCha8Rng {
     rng
 }
 
+/// The random stream of the term with table name `name`, in the run seeded with `seed`: its
+/// id is a hash of the name (FNV-1a) above 2³², clear of the numbered [`Stream`]s.
+pub fn named_stream(seed: u64, name: &str) -> ChaCha8Rng {
+    let hash = name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x9147_A11E_0000_0001);
+    rng.set_stream(hash | (1 << 32));
+    rng
+}
+
 /// A standard normal draw.
 pub fn normal(rng: &mut ChaCha8Rng) -> f64 {
     StandardNormal.sample(rng)
