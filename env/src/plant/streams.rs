@@ -49,3 +49,22 @@ pub enum Stream {
     CameraSwaps = 13,
     ContactAngle = 15,
 }
+
+#[cfg(test)]
+mod tests {
+    use rand::RngExt;
+
+    use super::*;
+
+    #[test]
+    fn named_streams_differ_by_name_and_from_numbered_streams() {
+        let first = |mut r: ChaCha8Rng| r.random::<u64>();
+        let a = first(named_stream(7, "dish_tilt"));
+        assert_eq!(a, first(named_stream(7, "dish_tilt")));
+        assert_ne!(a, first(named_stream(8, "dish_tilt")));
+        assert_ne!(a, first(named_stream(7, "dish_tilt2")));
+        for id in [Stream::Heterogeneity, Stream::Drift, Stream::ContactAngle] {
+            assert_ne!(a, first(stream(7, id)));
+        }
+    }
+}
