@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
 use crate::check::Rejection;
 use crate::check::bounds::within;
 
@@ -16,11 +17,18 @@ pub struct AmbientField {
     pub field_ut: f64,
 }
 
-impl AmbientField {
-    /// Checks every value; returns (field, reason).
-    pub fn check(&self) -> Result<(), Rejection> {
+impl Term for AmbientField {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
+
+    fn check(&self) -> Result<(), Rejection> {
         within(
-            "ambient_field.field_ut",
+            "field_ut",
             self.field_ut,
             0.0,
             10_000.0,

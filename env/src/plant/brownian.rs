@@ -4,10 +4,22 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
+
 /// The Brownian-motion term of a preset (no parameter: D follows from the physical preset).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Brownian {
     /// Whether the term acts.
     pub enabled: bool,
+}
+
+impl Term for Brownian {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
 }

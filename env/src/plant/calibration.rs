@@ -7,6 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
 use crate::check::Rejection;
 use crate::check::bounds::within;
 
@@ -28,32 +29,39 @@ pub struct CoilCalibration {
     pub gradient_crosstalk: f64,
 }
 
-impl CoilCalibration {
-    /// Checks every value; returns (field, reason).
-    pub fn check(&self) -> Result<(), Rejection> {
+impl Term for CoilCalibration {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
+
+    fn check(&self) -> Result<(), Rejection> {
         within(
-            "coil_calibration.axis_gain_error",
+            "axis_gain_error",
             self.axis_gain_error,
             0.0,
             0.5,
             "",
         )?;
         within(
-            "coil_calibration.axis_skew_deg",
+            "axis_skew_deg",
             self.axis_skew_deg,
             0.0,
             20.0,
             "°",
         )?;
         within(
-            "coil_calibration.gradient_gain_error",
+            "gradient_gain_error",
             self.gradient_gain_error,
             0.0,
             0.5,
             "",
         )?;
         within(
-            "coil_calibration.gradient_crosstalk",
+            "gradient_crosstalk",
             self.gradient_crosstalk,
             0.0,
             0.5,

@@ -20,6 +20,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
+
 use super::heterogeneity::AgentFactors;
 use super::medium::Interface;
 use crate::math::{MAX_AGENTS, Vec2};
@@ -31,6 +33,16 @@ use crate::physics::PhysicalParams;
 pub struct Capillary {
     /// Whether the term acts (at an interface).
     pub enabled: bool,
+}
+
+impl Term for Capillary {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
 }
 
 /// The capillary force law of one run, in velocity units of a nominal agent.

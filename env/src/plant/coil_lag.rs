@@ -9,6 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
 use crate::check::Rejection;
 use crate::check::bounds::{non_negative, within};
 
@@ -28,30 +29,39 @@ pub struct CoilLag {
     pub gradient_slew_mt_per_m_per_s: f64,
 }
 
-impl CoilLag {
-    /// Checks every value; returns (field, reason).
-    pub fn check(&self) -> Result<(), Rejection> {
+impl Term for CoilLag {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
+
+    fn check(&self) -> Result<(), Rejection> {
         within(
-            "coil_lag.field_tau_ms",
+            "field_tau_ms",
             self.field_tau_ms,
             0.0,
             1000.0,
             " ms",
         )?;
         within(
-            "coil_lag.gradient_tau_ms",
+            "gradient_tau_ms",
             self.gradient_tau_ms,
             0.0,
             1000.0,
             " ms",
         )?;
-        non_negative("coil_lag.field_slew_mt_per_s", self.field_slew_mt_per_s)?;
+        non_negative("field_slew_mt_per_s", self.field_slew_mt_per_s)?;
         non_negative(
-            "coil_lag.gradient_slew_mt_per_m_per_s",
+            "gradient_slew_mt_per_m_per_s",
             self.gradient_slew_mt_per_m_per_s,
         )
     }
+}
 
+impl CoilLag {
     /// The response of a field axis (values in T).
     pub fn field_axis(&self) -> AxisResponse {
         AxisResponse::new(self.enabled, self.field_tau_ms, self.field_slew_mt_per_s)

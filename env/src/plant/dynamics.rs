@@ -6,17 +6,21 @@
 //!
 //! ```text
 //! B_i   = A B_coil + B_ambient + ∇B (P_i − x_c)               (field it feels, T)
-//! F_i   = k_pull s_i ∇B m̂_i + Σ_j c_F s_i s_j F̂(m̂_j, m̂_i, P_i − P_j) + Σ_j F_cap,ij
-//! Ṗ_i   = μ_i F_i + Σ_{j≠i} M_RP(P_i − P_j) F_j + u_flow(P_i, t)
+//! F_i   = k_pull s_i ∇B m̂_i + Σ_k F_k,i + Σ_j c_F s_i s_j F̂(m̂_j, m̂_i, P_i − P_j) + Σ_j F_cap,ij
+//! Ṗ_i   = μ_i F_i + Σ_{j≠i} M_RP(P_i − P_j) F_j + u_flow(P_i, t) + Σ_k u_k,i
 //! dm̂_i/dt = (s_i μ_i / (τ₀ B₀)) (B_i − (B_i·m̂_i) m̂_i)
 //! ```
 //!
 //! with forces in velocity units of a nominal agent (BL/s), `s_i`, `μ_i` the agent's moment
 //! and mobility factors, `F̂` the general dipole–dipole force ([`crate::physics::dipole`]) in
-//! the plane, `M_RP` the Rotne–Prager coupling and τ₀ the nominal rotation time. With every
+//! the plane, `M_RP` the Rotne–Prager coupling, `F_k,i` and `u_k,i` the force and velocity
+//! of each term `k` that contributes through [`super::Term::draw`], and τ₀ the nominal
+//! rotation time. With every
 //! term off this is exactly the planning model's kinematics. Integration: classic RK4, in
 //! `n` equal sub-steps of each plant step, `n` the smallest with a sub-step under the fastest
 //! rotation time at 1.5 B₀ (one sub-step without the magnet-lag term).
+
+use std::sync::Arc;
 
 use nalgebra::Matrix3;
 
@@ -29,6 +33,7 @@ use super::heterogeneity::AgentFactors;
 use super::hydrodynamics::rotne_prager;
 use super::magnet_lag::rotation_time;
 use super::medium::Interface;
+use super::term::Contribution;
 use crate::math::{MAX_AGENTS, Vec2, Vec3};
 use crate::physics::PhysicalParams;
 use crate::physics::dipole::dipole_force;
@@ -77,6 +82,8 @@ pub struct Dynamics {
     capillary: Option<CapillaryLaw>,
     /// The drawn background flow.
     pub flow: FlowField,
+    /// The contributions of the terms drawn through [`super::Term::draw`].
+    contributions: Vec<Arc<dyn Contribution>>,
 }
 
 impl Dynamics {
@@ -113,6 +120,7 @@ impl Dynamics {
             (true, Some(iface)) => Some(CapillaryLaw::new(iface, p, &factors, n)),
             _ => None,
         };
+        let contributions = preset.contributions(p, &factors, n, seed);
         Self {
             n,
             force_coeff: p.force_coeff(),
@@ -125,6 +133,7 @@ impl Dynamics {
             capillary,
             flow: FlowField::draw(&preset.drift, &preset.flow, seed)
                 .with_drift(preset.fitted.drift()),
+            contributions,
         }
     }
 
@@ -139,6 +148,7 @@ impl Dynamics {
             && !self.hydrodynamics
             && self.capillary.is_none()
             && self.flow.is_uniform()
+            && self.contributions.is_empty()
     }
 
     /// True with the magnet-lag term: the state's moment directions are integrated.
@@ -188,6 +198,11 @@ impl Dynamics {
             let pull = g * m[i] * (self.pull_coeff * f.moment[i]);
             force[i] = Vec2::new(pull.x, pull.y);
         }
+        for c in &self.contributions {
+            for (i, fi) in force[..n].iter_mut().enumerate() {
+                *fi += c.force(i, s.p[i], t);
+            }
+        }
         for i in 0..n {
             for j in (i + 1)..n {
                 let r = s.p[j] - s.p[i];
@@ -203,6 +218,9 @@ impl Dynamics {
         }
         for i in 0..n {
             let mut v = force[i] * f.mobility[i] + self.flow.at(s.p[i], t);
+            for c in &self.contributions {
+                v += c.velocity(i, s.p[i], t);
+            }
             if self.hydrodynamics {
                 for (j, (pj, fj)) in s.p[..n].iter().zip(&force[..n]).enumerate() {
                     if j != i {

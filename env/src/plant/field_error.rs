@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
 use crate::check::Rejection;
 use crate::check::bounds::non_negative;
 
@@ -20,13 +21,22 @@ pub struct FieldError {
     pub angle_jitter_deg: f64,
 }
 
-impl FieldError {
-    /// Checks every value; returns (field, reason).
-    pub fn check(&self) -> Result<(), Rejection> {
-        non_negative("field_error.angle_bias_deg", self.angle_bias_deg)?;
-        non_negative("field_error.angle_jitter_deg", self.angle_jitter_deg)
+impl Term for FieldError {
+    fn enabled(&self) -> bool {
+        self.enabled
     }
 
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
+
+    fn check(&self) -> Result<(), Rejection> {
+        non_negative("angle_bias_deg", self.angle_bias_deg)?;
+        non_negative("angle_jitter_deg", self.angle_jitter_deg)
+    }
+}
+
+impl FieldError {
     /// Standard deviation of the per-run bias (radians); 0 when off.
     pub fn bias_sd(&self) -> f64 {
         if self.enabled {

@@ -1,5 +1,5 @@
-//! Background flow of the liquid: a uniform drift, and a flow that varies smoothly in space and
-//! time.
+//! Background flow of the liquid: a flow that varies smoothly in space and time, and the run's
+//! flow field (that flow plus the uniform drift of [`super::drift`]).
 //!
 //! The varying flow is divergence-free, from a stream function of `N = 8` random modes:
 //! `ψ(x, t) = Σ A_n sin(k_n·x + φ_n) cos(ω_n t + χ_n)` and `u = (∂ψ/∂y, −∂ψ/∂x)`. Each mode's
@@ -10,21 +10,12 @@
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
+use super::drift::Drift;
 use super::streams::{Stream, stream};
+use super::term::Term;
 use crate::check::Rejection;
 use crate::check::bounds::{positive, within};
 use crate::math::Vec2;
-
-/// The uniform-drift term of a preset: one steady, uniform flow per run.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Drift {
-    /// Whether the term acts.
-    pub enabled: bool,
-    /// Largest speed (BL/s); the speed is drawn uniformly in `[0, max]`, the direction
-    /// uniformly.
-    pub max_speed_bl_s: f64,
-}
 
 /// The varying-flow term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -40,31 +31,28 @@ pub struct Flow {
     pub period_s: f64,
 }
 
-impl Drift {
-    /// Checks every value; returns (field, reason).
-    pub fn check(&self) -> Result<(), Rejection> {
-        within(
-            "drift.max_speed_bl_s",
-            self.max_speed_bl_s,
-            0.0,
-            100.0,
-            " BL/s",
-        )
+impl Term for Flow {
+    fn enabled(&self) -> bool {
+        self.enabled
     }
-}
 
-impl Flow {
-    /// Checks every value; returns (field, reason).
-    pub fn check(&self) -> Result<(), Rejection> {
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
+
+    fn check(&self) -> Result<(), Rejection> {
+        if !self.enabled {
+            return Ok(());
+        }
         within(
-            "flow.rms_speed_bl_s",
+            "rms_speed_bl_s",
             self.rms_speed_bl_s,
             0.0,
             100.0,
             " BL/s",
         )?;
-        positive("flow.length_bl", self.length_bl)?;
-        positive("flow.period_s", self.period_s)
+        positive("length_bl", self.length_bl)?;
+        positive("period_s", self.period_s)
     }
 }
 

@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use super::medium::{Interface, Medium};
 use super::streams::{Stream, normal, stream};
+use super::term::Term;
 use crate::check::Rejection;
 use crate::check::bounds::within;
 use crate::math::MAX_AGENTS;
@@ -52,23 +53,32 @@ pub struct AgentFactors {
     pub contact_angle: [f64; MAX_AGENTS],
 }
 
-impl Heterogeneity {
-    /// Checks every value; returns (field, reason).
-    pub fn check(&self) -> Result<(), Rejection> {
+impl Term for Heterogeneity {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
+
+    fn check(&self) -> Result<(), Rejection> {
         let hi = match self.distribution {
             Spread::Uniform => 0.9,
             Spread::Lognormal => 1.0,
         };
         within(
-            "heterogeneity.moment_spread",
+            "moment_spread",
             self.moment_spread,
             0.0,
             hi,
             "",
         )?;
-        within("heterogeneity.drag_spread", self.drag_spread, 0.0, hi, "")
+        within("drag_spread", self.drag_spread, 0.0, hi, "")
     }
+}
 
+impl Heterogeneity {
     /// Draws the factors of `n` agents for the run seeded with `seed`.
     pub fn draw(&self, medium: &Medium, n: usize, seed: u64) -> AgentFactors {
         let mean_angle = medium

@@ -19,6 +19,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
+
 use crate::math::Vec2;
 
 /// The hydrodynamic-interaction term of a preset (Rotne–Prager; no parameter).
@@ -27,6 +29,16 @@ use crate::math::Vec2;
 pub struct Hydrodynamics {
     /// Whether the term acts.
     pub enabled: bool,
+}
+
+impl Term for Hydrodynamics {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
 }
 
 /// Agent radius in BL.

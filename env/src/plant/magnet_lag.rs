@@ -12,6 +12,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
+
 use crate::physics::PhysicalParams;
 
 /// The magnet-rotation-lag term of a preset (its time constant follows from the physical
@@ -21,6 +23,16 @@ use crate::physics::PhysicalParams;
 pub struct MagnetLag {
     /// Whether the term acts.
     pub enabled: bool,
+}
+
+impl Term for MagnetLag {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
 }
 
 /// The rotation time constant `τ = πηd³ f/(m B)` of a nominal agent in the nominal field (s),

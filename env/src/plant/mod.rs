@@ -8,43 +8,66 @@
 //! camera that observes the plant (latency and its jitter, detection noise and its slow bias,
 //! missed and swapped detections). Under [`DisturbancePreset::ideal`] the plant integrates
 //! exactly the planning model's arithmetic, so an open-loop replay reproduces a plan bit for
-//! bit. One term per file; [`dynamics`] puts them together.
+//! bit. One term per file, each a [`Term`] listed once in `plant_terms!`; [`dynamics`] puts
+//! them together.
 
-mod ambient;
-mod brownian;
-mod calibration;
+/// The plant terms, one line each: `table_name: module::Type,` — the preset's `[table_name]`
+/// table, the term's name in [`DisturbancePreset::TERMS`] (in this order) and its Rust type,
+/// a [`Term`] in `plant/module.rs`. The line declares the module and re-exports the type;
+/// the preset's fields, switches, checks and per-run draws are made from this list.
+/// `plant_terms!(then)` calls the macro `then!` with the list.
+macro_rules! plant_terms {
+    ($then:ident) => {
+        $then! {
+            coil_lag: coil_lag::CoilLag,
+            magnet_lag: magnet_lag::MagnetLag,
+            field_error: field_error::FieldError,
+            nonuniform_field: nonuniform::NonuniformField,
+            coil_calibration: calibration::CoilCalibration,
+            ambient_field: ambient::AmbientField,
+            heterogeneity: heterogeneity::Heterogeneity,
+            hydrodynamics: hydrodynamics::Hydrodynamics,
+            capillary: capillary::Capillary,
+            drift: drift::Drift,
+            flow: flow::Flow,
+            brownian: brownian::Brownian,
+        }
+    };
+}
+
+/// Declares each term's module and re-exports its type.
+macro_rules! term_modules {
+    ($($name:ident : $module:ident :: $ty:ident,)*) => {
+        $(
+            mod $module;
+            pub use $module::$ty;
+        )*
+    };
+}
+
+plant_terms!(term_modules);
+
 mod camera;
-mod capillary;
-mod coil_lag;
 pub mod dynamics;
 mod field;
-mod field_error;
 mod fitted;
-mod flow;
-mod heterogeneity;
-mod hydrodynamics;
-mod magnet_lag;
 mod medium;
-mod nonuniform;
 mod preset;
 mod sim;
 mod streams;
+mod term;
 
 pub use crate::check::Rejection;
-pub use ambient::AmbientField;
-pub use brownian::Brownian;
-pub use calibration::CoilCalibration;
 pub use camera::{Camera, CameraParams, DetectionNoise, Latency, Misses, Observation, Swaps};
-pub use capillary::{Capillary, CapillaryLaw};
-pub use coil_lag::{AxisResponse, CoilLag};
+pub use capillary::CapillaryLaw;
+pub use coil_lag::AxisResponse;
 pub use field::{CoilOutput, FieldModel};
-pub use field_error::FieldError;
 pub use fitted::Fitted;
-pub use flow::{Drift, Flow, FlowField};
-pub use heterogeneity::{AgentFactors, Heterogeneity, Spread};
-pub use hydrodynamics::{Hydrodynamics, rotne_prager};
-pub use magnet_lag::{MagnetLag, rotation_time};
+pub use flow::FlowField;
+pub use heterogeneity::{AgentFactors, Spread};
+pub use hydrodynamics::rotne_prager;
+pub use magnet_lag::rotation_time;
 pub use medium::{GRAVITY, Interface, Medium};
-pub use nonuniform::NonuniformField;
 pub use preset::{CoilRange, DisturbancePreset};
 pub use sim::{AGENT_RADIUS_BL, Plant};
+pub use term::{Contribution, RunContext, Term};

@@ -8,6 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::term::Term;
 use crate::check::Rejection;
 use crate::check::bounds::within;
 
@@ -22,11 +23,18 @@ pub struct NonuniformField {
     pub centre_offset_mm: f64,
 }
 
-impl NonuniformField {
-    /// Checks every value; returns (field, reason).
-    pub fn check(&self) -> Result<(), Rejection> {
+impl Term for NonuniformField {
+    fn enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn set_enabled(&mut self, on: bool) {
+        self.enabled = on;
+    }
+
+    fn check(&self) -> Result<(), Rejection> {
         within(
-            "nonuniform_field.centre_offset_mm",
+            "centre_offset_mm",
             self.centre_offset_mm,
             0.0,
             100.0,

@@ -4,77 +4,138 @@
 //! `presets/` and are built in (embedded), so their names work from any directory.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::{
-    AmbientField, Brownian, CameraParams, Capillary, CoilCalibration, CoilLag, Drift, FieldError,
-    Fitted, Flow, Heterogeneity, Hydrodynamics, MagnetLag, Medium, NonuniformField,
-};
+use super::term::{Contribution, RunContext, Term};
+use super::{AgentFactors, CameraParams, Fitted, Medium};
 use crate::check;
 use crate::check::Rejection;
 use crate::check::bounds::within;
 use crate::coil::COIL_ALPHA_MAX_DEG;
 use crate::error::InputError;
+use crate::physics::PhysicalParams;
 
-/// Everything the simulated plant and camera add to the planning model (see docs/plant.md,
-/// "The simulated plant", for each term's physics and the `hardware` values' sources).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DisturbancePreset {
-    /// Preset name.
-    pub name: String,
-    /// One line on what the preset describes.
-    #[serde(default)]
-    pub description: String,
-    /// Where the agents move: `bulk` or `interface`.
-    #[serde(default)]
-    pub medium: Medium,
-    /// The simulated coil's reach: its elevation range.
-    #[serde(default)]
-    pub coil: CoilRange,
-    /// Coil dynamics: first-order lag and slew limit of field and gradient.
-    #[serde(default)]
-    pub coil_lag: CoilLag,
-    /// Magnet rotation lag, τ = πηd³/(mB).
-    #[serde(default)]
-    pub magnet_lag: MagnetLag,
-    /// Field-angle bias and jitter.
-    #[serde(default)]
-    pub field_error: FieldError,
-    /// The gradient's non-uniform field, B(x) = B₀b̂ + ∇B·(x − x_c).
-    #[serde(default)]
-    pub nonuniform_field: NonuniformField,
-    /// Coil axis gain errors, non-orthogonality, gradient gain error and cross-talk.
-    #[serde(default)]
-    pub coil_calibration: CoilCalibration,
-    /// A small ambient field.
-    #[serde(default)]
-    pub ambient_field: AmbientField,
-    /// Per-agent moment and drag spread.
-    #[serde(default)]
-    pub heterogeneity: Heterogeneity,
-    /// Hydrodynamic interaction (Rotne–Prager).
-    #[serde(default)]
-    pub hydrodynamics: Hydrodynamics,
-    /// Capillary attraction at an interface.
-    #[serde(default)]
-    pub capillary: Capillary,
-    /// A uniform, steady drift.
-    #[serde(default)]
-    pub drift: Drift,
-    /// A flow varying in space and time.
-    #[serde(default)]
-    pub flow: Flow,
-    /// Brownian motion.
-    #[serde(default)]
-    pub brownian: Brownian,
-    /// The camera.
-    #[serde(default)]
-    pub camera: CameraParams,
-    /// Values measured on one rig (`magbench calibrate`) in place of per-run draws.
-    #[serde(default, skip_serializing_if = "Fitted::is_off")]
-    pub fitted: Fitted,
+/// The preset struct, its term names, switches, checks and draws, from the term table.
+macro_rules! disturbance_preset {
+    ($($name:ident : $module:ident :: $ty:ident,)*) => {
+        /// Everything the simulated plant and camera add to the planning model (see
+        /// docs/plant.md, "The simulated plant", for each term's physics and the `hardware`
+        /// values' sources).
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct DisturbancePreset {
+            /// Preset name.
+            pub name: String,
+            /// One line on what the preset describes.
+            #[serde(default)]
+            pub description: String,
+            /// Where the agents move: `bulk` or `interface`.
+            #[serde(default)]
+            pub medium: Medium,
+            /// The simulated coil's reach: its elevation range.
+            #[serde(default)]
+            pub coil: CoilRange,
+            $(
+                #[doc = concat!("The `[", stringify!($name), "]` term (a [`super::", stringify!($ty), "`]).")]
+                #[serde(default)]
+                pub $name: super::$ty,
+            )*
+            /// The camera.
+            #[serde(default)]
+            pub camera: CameraParams,
+            /// Values measured on one rig (`magbench calibrate`) in place of per-run draws.
+            #[serde(default, skip_serializing_if = "Fitted::is_off")]
+            pub fitted: Fitted,
+        }
+
+        impl DisturbancePreset {
+            /// Every term that can be switched on and off, by its table name: the plant terms
+            /// in table order, then the camera's.
+            pub const TERMS: [&'static str; [$(stringify!($name),)*].len() + CAMERA_TERMS.len()] =
+                concat_names(&[$(stringify!($name),)*], &CAMERA_TERMS);
+
+            fn check_terms(&self) -> Result<(), Rejection> {
+                $(
+                    Term::check(&self.$name).map_err(|r| r.under(stringify!($name)))?;
+                )*
+                Ok(())
+            }
+
+            fn term_enabled(&self, term: &str) -> Option<bool> {
+                $(
+                    if term == stringify!($name) {
+                        return Some(Term::enabled(&self.$name));
+                    }
+                )*
+                self.camera_switch(term).map(|s| *s)
+            }
+
+            fn set_term(&mut self, term: &str, on: bool) -> Option<()> {
+                $(
+                    if term == stringify!($name) {
+                        Term::set_enabled(&mut self.$name, on);
+                        return Some(());
+                    }
+                )*
+                self.camera_switch_mut(term).map(|s| *s = on)
+            }
+
+            /// The contributions to the equations of motion of the terms that are on and add
+            /// one, drawn for the run seeded with `seed` (in table order).
+            pub fn contributions(
+                &self,
+                params: &PhysicalParams,
+                factors: &AgentFactors,
+                n: usize,
+                seed: u64,
+            ) -> Vec<Arc<dyn Contribution>> {
+                let mut out = Vec::new();
+                $(
+                    if Term::enabled(&self.$name) {
+                        let run = RunContext {
+                            name: stringify!($name),
+                            params,
+                            medium: &self.medium,
+                            factors,
+                            n,
+                            seed,
+                        };
+                        out.extend(Term::draw(&self.$name, &run));
+                    }
+                )*
+                out
+            }
+        }
+    };
+}
+
+plant_terms!(disturbance_preset);
+
+/// The camera's terms, switched in its `[camera]` table.
+const CAMERA_TERMS: [&str; 4] = [
+    "camera.latency",
+    "camera.noise",
+    "camera.misses",
+    "camera.swaps",
+];
+
+/// `a` then `b`, as one array of `N = a.len() + b.len()` names.
+const fn concat_names<const N: usize>(a: &[&'static str], b: &[&'static str]) -> [&'static str; N] {
+    assert!(a.len() + b.len() == N, "N is the total length");
+    let mut out = [""; N];
+    let mut i = 0;
+    while i < a.len() {
+        out[i] = a[i];
+        i += 1;
+    }
+    let mut j = 0;
+    while j < b.len() {
+        out[i + j] = b[j];
+        j += 1;
+    }
+    out
 }
 
 /// The simulated coil's reach (`[coil]`): how far out of the plane it can tilt the field.
@@ -113,26 +174,6 @@ const HARDWARE: &str = include_str!("../../../presets/hardware.toml");
 impl DisturbancePreset {
     /// Names of the built-in presets.
     pub const NAMES: [&'static str; 3] = ["ideal", "realistic", "hardware"];
-
-    /// Every term that can be switched on and off, by its table name.
-    pub const TERMS: [&'static str; 16] = [
-        "coil_lag",
-        "magnet_lag",
-        "field_error",
-        "nonuniform_field",
-        "coil_calibration",
-        "ambient_field",
-        "heterogeneity",
-        "hydrodynamics",
-        "capillary",
-        "drift",
-        "flow",
-        "brownian",
-        "camera.latency",
-        "camera.noise",
-        "camera.misses",
-        "camera.swaps",
-    ];
 
     /// No disturbance and a perfect camera with no latency: the plant is the planning model.
     pub fn ideal() -> Self {
@@ -220,59 +261,47 @@ impl DisturbancePreset {
         }
         self.medium.check()?;
         self.coil.check()?;
-        self.coil_lag.check()?;
-        self.field_error.check()?;
-        self.nonuniform_field.check()?;
-        self.coil_calibration.check()?;
-        self.ambient_field.check()?;
-        self.heterogeneity.check()?;
-        self.drift.check()?;
-        if self.flow.enabled {
-            self.flow.check()?;
-        }
+        self.check_terms()?;
         self.camera.check()?;
         self.fitted.check()
     }
 
-    fn switch(&mut self, term: &str) -> Option<&mut bool> {
+    fn camera_switch(&self, term: &str) -> Option<&bool> {
+        let c = &self.camera;
         Some(match term {
-            "coil_lag" => &mut self.coil_lag.enabled,
-            "magnet_lag" => &mut self.magnet_lag.enabled,
-            "field_error" => &mut self.field_error.enabled,
-            "nonuniform_field" => &mut self.nonuniform_field.enabled,
-            "coil_calibration" => &mut self.coil_calibration.enabled,
-            "ambient_field" => &mut self.ambient_field.enabled,
-            "heterogeneity" => &mut self.heterogeneity.enabled,
-            "hydrodynamics" => &mut self.hydrodynamics.enabled,
-            "capillary" => &mut self.capillary.enabled,
-            "drift" => &mut self.drift.enabled,
-            "flow" => &mut self.flow.enabled,
-            "brownian" => &mut self.brownian.enabled,
-            "camera.latency" => &mut self.camera.latency.enabled,
-            "camera.noise" => &mut self.camera.noise.enabled,
-            "camera.misses" => &mut self.camera.misses.enabled,
-            "camera.swaps" => &mut self.camera.swaps.enabled,
+            "camera.latency" => &c.latency.enabled,
+            "camera.noise" => &c.noise.enabled,
+            "camera.misses" => &c.misses.enabled,
+            "camera.swaps" => &c.swaps.enabled,
             _ => return None,
         })
     }
 
-    /// Switches a term (one of [`DisturbancePreset::TERMS`]) on or off, keeping its values.
-    pub fn set_enabled(&mut self, term: &str, on: bool) -> Result<(), String> {
-        match self.switch(term) {
-            Some(e) => {
-                *e = on;
-                Ok(())
-            }
-            None => Err(format!(
-                "unknown term {term:?}; terms: {}",
-                Self::TERMS.join(", ")
-            )),
-        }
+    fn camera_switch_mut(&mut self, term: &str) -> Option<&mut bool> {
+        let c = &mut self.camera;
+        Some(match term {
+            "camera.latency" => &mut c.latency.enabled,
+            "camera.noise" => &mut c.noise.enabled,
+            "camera.misses" => &mut c.misses.enabled,
+            "camera.swaps" => &mut c.swaps.enabled,
+            _ => return None,
+        })
+    }
+
+    /// Switches a term (one of [`DisturbancePreset::TERMS`]) on or off, keeping its values;
+    /// an unknown name is rejected, naming the known ones.
+    pub fn set_enabled(&mut self, term: &str, on: bool) -> Result<(), Rejection> {
+        self.set_term(term, on).ok_or_else(|| {
+            Rejection::new(
+                "term",
+                format!("unknown term {term:?}; terms: {}", Self::TERMS.join(", ")),
+            )
+        })
     }
 
     /// Whether a term is on (`None` for an unknown name).
     pub fn enabled(&self, term: &str) -> Option<bool> {
-        self.clone().switch(term).map(|e| *e)
+        self.term_enabled(term)
     }
 }
 
