@@ -162,7 +162,7 @@ fn missing_file_is_a_clear_error() {
     );
 }
 
-/// Issue 11's reproducers: inputs that panicked, hung or passed `check` and failed later.
+/// Reproducers: inputs that panicked, hung or passed `check` and failed later.
 #[test]
 fn huge_coordinates_are_rejected_naming_the_vertex() {
     for x in ["1e308", "1e25", "-1e20"] {

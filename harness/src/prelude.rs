@@ -41,7 +41,7 @@ pub use magbench_planners::motion::{
 };
 pub use magbench_planners::progress::Progress;
 pub use magbench_planners::sampler::{StateSampler, valid_sample};
-pub use magbench_planners::sampling::Sampling;
+pub use magbench_planners::search_settings::SearchSettings;
 pub use magbench_planners::{
     Limits, Plan, PlanError, Planner, PlannerResult, Problem, ProgressPoint, Rng, Unusable,
     check_result, plan_cost, validate_plan,

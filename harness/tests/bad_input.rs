@@ -1,4 +1,4 @@
-//! Issue 11's reproducers, each from the outside: an input that panicked, hung, aborted or
+//! Reproducers, each from the outside: an input that panicked, hung, aborted or
 //! failed late now exits 2 at once, naming the file or option, the field and the reason.
 
 use std::io::{BufRead, BufReader};
@@ -563,7 +563,7 @@ fn output_folders_that_cannot_be_written_are_named() {
     }
 }
 
-/// The planning options of the exact flow (issue 10) and the elevation (issue 13): a bad value
+/// The planning options of the exact flow and the elevation: a bad value
 /// names the option or parameter and the reason, before any planning.
 #[test]
 fn planning_options_name_their_bad_values() {
@@ -592,7 +592,7 @@ fn planning_options_name_their_bad_values() {
     refused(&["stlc", "--agents", "7"], &["--agents", "got 7"]);
 }
 
-/// The tracking loop's stall rule (issue 13): a bad `replan_stall` names the option or the
+/// The tracking loop's stall rule: a bad `replan_stall` names the option or the
 /// experiment field, the parameter and the allowed values, before any planning.
 #[test]
 fn the_stall_replan_rule_names_its_bad_values() {

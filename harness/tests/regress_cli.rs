@@ -221,7 +221,7 @@ fn a_baseline_from_before_the_per_agent_columns_compares_cleanly_and_lists_them(
         "{table}"
     );
     assert!(!section(&table, "open-field").contains("agent2"), "{table}");
-    // the columns the baseline has are compared as before
+    // the columns the baseline has are compared
     assert!(
         table
             .lines()

@@ -9,8 +9,8 @@
 //! the proximity range. For a motion the exact flow solves, the separation's whole range over the
 //! try is known at no extra cost, so a try that leaves the range (a pair collapsing into contact,
 //! or flying apart) is no candidate. Without this, a collapsing try would win: the exact flow
-//! ends it at contact, next to many targets, where RK4 used to blow up and land far away. RK4
-//! tries (three or more agents, an elevated field) are compared by their ends only, as before.
+//! ends it at contact, next to many targets, where RK4 would blow up and land far away. RK4
+//! tries (three or more agents, an elevated field) are compared by their ends only.
 //!
 //! With `alpha_max` set, each try also draws the field elevation α (for teams of three or more,
 //! where the in-plane field alone cannot hold a formation); such tries are RK4 motions.

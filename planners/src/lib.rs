@@ -40,7 +40,7 @@ pub mod progress;
 pub mod registry;
 pub mod result;
 pub mod sampler;
-pub mod sampling;
+pub mod search_settings;
 pub mod setup;
 pub mod shortcut;
 pub mod steer;

@@ -22,7 +22,7 @@ pub struct Plan {
     pub flow: Flow,
     /// The largest field elevation |α| the planner could command (rad) when the elevation was
     /// free (a team of three or more at an interface, or `planar = false`); absent when the
-    /// planner kept the field in the plane (and in plan files written before issue 13).
+    /// planner kept the field in the plane (and in plan files that predate the field).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_max: Option<f64>,
     /// Agent positions at each waypoint (BL); one more than there are controls.

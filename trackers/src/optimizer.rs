@@ -38,8 +38,8 @@
 //! `alpha_levels` elevations evenly spread over [0, α_max] (one point at α = 90°, where θ does
 //! not matter), and the winner is refined by alternating golden-section searches, one in θ and
 //! one in α, [`ELEVATED_ROUNDS`] times. The in-plane pull scales with cos α, so the closed-form
-//! gradient takes α's pull axes; the smoothness term adds the change of α. Planar solves are
-//! the same arithmetic as before, bit for bit.
+//! gradient takes α's pull axes; the smoothness term adds the change of α. Planar solves (α = 0)
+//! are the planar arithmetic, bit for bit.
 
 use magbench_env::check::Rejection;
 use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};

@@ -236,7 +236,7 @@ mod tests {
     fn plans_are_validated_like_scenarios() {
         let (plan, s) = valid();
         check_plan(&plan, &s, "p.json", &at(F)).unwrap();
-        // issue 11's reproducers: a 1e10 s duration, a state at x = 1e20, a huge gradient
+        // reproducers: a 1e10 s duration, a state at x = 1e20, a huge gradient
         let mut long = plan.clone();
         long.durations[2] = 1e10;
         let e = check_plan(&long, &s, "p.json", &at(F)).unwrap_err();

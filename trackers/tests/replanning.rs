@@ -326,7 +326,7 @@ fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
     }
 }
 
-/// Issue 13: the evenly spaced row is an invariant set of the nominal model, so goal-zoom-rrt's
+/// The evenly spaced row is an invariant set of the nominal model, so goal-zoom-rrt's
 /// plan from trio-row's start keeps the team a row for its first seconds, while the real,
 /// unequal agents (realistic preset) bend out of it; the OBC then cannot get back onto the plan
 /// and stalls near the start. A replan from the observed (bent) state on the stall — the

@@ -5,7 +5,7 @@
 //! own gains, its own field-angle bias and drift. When `[fitted]` is on, each value it gives
 //! replaces the corresponding draw (per-agent moment and mobility factors of
 //! `heterogeneity`, the gradient gains of `coil_calibration`, the bias of `field_error`, the
-//! uniform `drift`); a value it leaves out is drawn as before. Everything else (axis gains
+//! uniform `drift`); a value it leaves out is drawn from the preset. Everything else (axis gains
 //! and skew, cross-talk, jitter, contact angles, the varying flow) is still drawn.
 
 use serde::{Deserialize, Serialize};

@@ -9,6 +9,7 @@ mod merge;
 mod number;
 pub(crate) mod output;
 mod plan;
+mod plan_and_track;
 mod preset;
 mod progress;
 mod regress;
@@ -19,7 +20,6 @@ mod setup;
 mod stlc;
 mod suite;
 mod track;
-mod tracked;
 
 use clap::{Parser, Subcommand};
 

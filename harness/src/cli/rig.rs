@@ -16,8 +16,8 @@ use magbench_drivers::{HardwareRig, check, interrupt, replay};
 use magbench_env::Scenario;
 
 use super::output::{emit, outln, prepare_dir, prepare_file};
+use super::plan_and_track::{TrackRun, tracker_spec};
 use super::setup::SetupArgs;
-use super::tracked::{TrackRun, tracker_spec};
 use crate::CliError;
 use crate::registry::Registry;
 
@@ -430,7 +430,7 @@ fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), CliError> {
     let scenario = Scenario::load(&a.scenario)?;
     let tracker = tracker_spec(registry, &a.tracker, &a.params)?;
     let setup = a.setup.setup()?;
-    super::tracked::run(TrackRun {
+    super::plan_and_track::run(TrackRun {
         registry,
         scenario: &scenario,
         rig: registry.rigs().load(&a.rig_type, &a.rig, "--rig")?,

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use clap::Args;
 use magbench_env::Scenario;
 
+use super::plan_and_track::{TrackRun, tracker_spec};
 use super::setup::SetupArgs;
-use super::tracked::{TrackRun, tracker_spec};
 use crate::CliError;
 use crate::registry::Registry;
 
@@ -72,7 +72,7 @@ pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
         (None, None) => Some("goal-zoom-rrt".to_string()),
         (None, Some(_)) => None,
     };
-    super::tracked::run(TrackRun {
+    super::plan_and_track::run(TrackRun {
         registry,
         scenario: &scenario,
         rig,

@@ -10,7 +10,7 @@ use magbench_env::declare_params;
 use magbench_env::params::{ParamSet, Reals};
 
 use crate::Problem;
-use crate::sampling::{Sampling, check_durations, to_periods};
+use crate::search_settings::{SearchSettings, check_durations, to_periods};
 
 declare_params! {
     /// What every OMPL planner's controls share: the duration bounds, in seconds, used in whole
@@ -19,10 +19,10 @@ declare_params! {
     pub struct Durations {
         /// Shortest control duration (s), rounded to whole control periods.
         #[param("min_duration", Reals::POSITIVE)]
-        pub min_duration: f64 = Sampling::default().min_duration,
+        pub min_duration: f64 = SearchSettings::default().min_duration,
         /// Longest control duration (s), rounded to whole control periods.
         #[param("max_duration", Reals::POSITIVE)]
-        pub max_duration: f64 = Sampling::default().max_duration,
+        pub max_duration: f64 = SearchSettings::default().max_duration,
         /// Whether the field stays in the plane: `auto` (two agents, or a medium that does not
         /// carry the out-of-plane force, yes; three or more at an interface no), `true` or
         /// `false`. Elevated, the control space gains α ∈ [0, alpha_max].

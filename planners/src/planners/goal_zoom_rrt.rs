@@ -45,7 +45,7 @@ use crate::objective::plan_cost;
 use crate::progress::Progress;
 use crate::result::{Best, finish};
 use crate::sampler::StateSampler;
-use crate::sampling::Sampling;
+use crate::search_settings::SearchSettings;
 use crate::shortcut::Shortcut;
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem, Rng};
@@ -56,7 +56,7 @@ declare_params! {
     pub struct GoalZoomRrt {
         /// EXTEND's tries and durations, the goal-zoom sampler.
         #[params]
-        pub sampling: Sampling,
+        pub search: SearchSettings,
         /// Steer exactly into the goal from the root and from every new node within this
         /// distance of the goal that is closer to it than any before (BL; 0 never; pairs under the exact flow only).
         #[param("steer_radius", Reals::closed(0.0, 1.0e6))]
@@ -78,8 +78,8 @@ impl Planner for GoalZoomRrt {
     fn solve(&mut self, problem: &Problem) -> PlannerResult {
         let n = problem.agents();
         let mut rng = Rng::seed_from_u64(problem.seed);
-        let extend = self.sampling.extend(problem);
-        let zoom = self.sampling.zoom();
+        let extend = self.search.extend(problem);
+        let zoom = self.search.zoom();
         let sampler = StateSampler::new(problem);
         let mut progress = Progress::start(problem);
 

@@ -1,7 +1,7 @@
 //! The planners, one file each, and the list that names them.
 //!
 //! Adding a planner to this crate is its own file here (its parameters declared with
-//! [`magbench_env::declare_params!`], embedding [`crate::sampling::Sampling`]; `impl Planner`)
+//! [`magbench_env::declare_params!`], embedding [`crate::search_settings::SearchSettings`]; `impl Planner`)
 //! plus its `mod` line and one [`Entry`] below. A planner outside the workspace is added at run
 //! time instead ([`crate::registry::Planners::add`]).
 

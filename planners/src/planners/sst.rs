@@ -49,7 +49,7 @@ use crate::objective::Motion;
 use crate::progress::Progress;
 use crate::result::{Best, finish};
 use crate::sampler::StateSampler;
-use crate::sampling::Sampling;
+use crate::search_settings::SearchSettings;
 use crate::tree::{NONE, Tree};
 use crate::{Plan, Planner, PlannerResult, Problem, Rng};
 
@@ -66,7 +66,7 @@ declare_params! {
         /// MONTE_CARLO_PROP's tries (`k`) and durations (T_prop = `max_duration`), the
         /// goal-zoom sampler.
         #[params]
-        pub sampling: Sampling,
+        pub search: SearchSettings,
         /// Stop at the first solution (success-rate runs) instead of improving until the
         /// limits.
         #[param("stop_on_solution")]
@@ -96,8 +96,8 @@ impl Sst {
     pub fn solve_with_stats(&mut self, problem: &Problem) -> (PlannerResult, SstStats) {
         let n = problem.agents();
         let mut rng = Rng::seed_from_u64(problem.seed);
-        let propagate = self.sampling.extend(problem);
-        let zoom = self.sampling.zoom();
+        let propagate = self.search.extend(problem);
+        let zoom = self.search.zoom();
         let sampler = StateSampler::new(problem);
         let mut progress = Progress::start(problem);
 

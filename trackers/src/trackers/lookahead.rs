@@ -25,7 +25,7 @@
 use magbench_env::params::Reals;
 use magbench_env::{Control, Vec2, declare_params};
 
-use super::steering::Steering;
+use super::obc_drive::ObcDrive;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
 declare_params! {
@@ -48,7 +48,7 @@ declare_params! {
         pub stall: f64 = 0.1,
         /// The optimizer that turns the targets into the command, and its weights.
         #[params]
-        pub steering: Steering,
+        pub drive: ObcDrive,
         k: usize = 0,
         stalled: f64 = 0.0,
         holding: bool = false,
@@ -66,7 +66,7 @@ impl Tracker for Lookahead {
     }
 
     fn reset(&mut self, ctx: &TrackerContext) {
-        self.steering.reset(ctx);
+        self.drive.reset(ctx);
         self.k = 0;
         self.stalled = 0.0;
         self.holding = false;
@@ -77,7 +77,7 @@ impl Tracker for Lookahead {
         let x = tick.estimate;
         let n = x.len();
         let dt = ctx.model.dt;
-        let lead = ((self.steering.optimizer().horizon() / dt).round() as usize).max(1);
+        let lead = ((self.drive.optimizer().horizon() / dt).round() as usize).max(1);
         let window = self.k..self.k + ((self.window / dt).round() as usize).max(lead) + 1;
         // project each agent on its own path ahead of k; the team moves on with the slowest
         let proj: Vec<(f64, f64)> = (0..n)
@@ -125,14 +125,14 @@ impl Tracker for Lookahead {
                 .collect()
         };
         let path = if near_end { &target } else { &on_path };
-        self.steering.command(x, &target, path, None)
+        self.drive.command(x, &target, path, None)
     }
 
     fn status(&self) -> TrackerStatus {
         TrackerStatus {
             mode: if self.holding { "hold" } else { "pursue" },
             progress: self.k,
-            targets: Some(self.steering.targets()),
+            targets: Some(self.drive.targets()),
         }
     }
 }

@@ -7,13 +7,13 @@
 
 mod lookahead;
 mod obc;
+mod obc_drive;
 mod open_loop;
-mod steering;
 
 pub use lookahead::Lookahead;
 pub use obc::Obc;
+pub use obc_drive::ObcDrive;
 pub use open_loop::OpenLoop;
-pub use steering::Steering;
 
 use crate::registry::Entry;
 

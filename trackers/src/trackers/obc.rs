@@ -14,7 +14,7 @@
 use magbench_env::params::Reals;
 use magbench_env::{Control, declare_params};
 
-use super::steering::Steering;
+use super::obc_drive::ObcDrive;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
 declare_params! {
@@ -43,7 +43,7 @@ declare_params! {
         pub stall: f64 = 0.25,
         /// The optimizer that turns the target into the command, and its weights.
         #[params]
-        pub steering: Steering,
+        pub drive: ObcDrive,
         progress: usize = 0,
         recovering: bool = false,
         stalled: f64 = 0.0,
@@ -56,7 +56,7 @@ impl Tracker for Obc {
     }
 
     fn reset(&mut self, ctx: &TrackerContext) {
-        self.steering.reset(ctx);
+        self.drive.reset(ctx);
         self.progress = 0;
         self.recovering = false;
         self.stalled = 0.0;
@@ -66,7 +66,7 @@ impl Tracker for Obc {
         let r = ctx.reference;
         let dt = ctx.model.dt;
         let per_s = |s: f64| (s / dt).round().max(0.0) as usize;
-        let lead = per_s(self.steering.optimizer().horizon()).max(1);
+        let lead = per_s(self.drive.optimizer().horizon()).max(1);
         let x = tick.estimate;
         let lo = if self.recovering {
             self.progress.saturating_sub(per_s(self.back))
@@ -107,14 +107,14 @@ impl Tracker for Obc {
             };
             (r.state(j).to_vec(), hint)
         };
-        self.steering.command(x, &target, &target, hint.as_ref())
+        self.drive.command(x, &target, &target, hint.as_ref())
     }
 
     fn status(&self) -> TrackerStatus {
         TrackerStatus {
             mode: if self.recovering { "recover" } else { "follow" },
             progress: self.progress,
-            targets: Some(self.steering.targets()),
+            targets: Some(self.drive.targets()),
         }
     }
 }

@@ -48,7 +48,7 @@ pub use search::RrtStarStats;
 use magbench_env::params::Reals;
 use magbench_env::{Vec2, declare_params};
 
-use crate::sampling::Sampling;
+use crate::search_settings::SearchSettings;
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem};
 
@@ -72,7 +72,7 @@ declare_params! {
         name: &'static str = "rrt-star",
         /// EXTEND's tries (toward a sample) and durations, the goal-zoom sampler.
         #[params]
-        pub sampling: Sampling,
+        pub search: SearchSettings,
         /// CONNECT's random seeding tries (the shooting steer).
         #[param("connect_tries", 1..=100_000)]
         pub connect_tries: usize = 4,

@@ -20,7 +20,7 @@ impl RrtStar {
     /// Runs RRT* and also returns its counts.
     pub fn solve_with_stats(&mut self, problem: &Problem) -> (PlannerResult, RrtStarStats) {
         let n = problem.agents();
-        let extend = self.sampling.extend(problem);
+        let extend = self.search.extend(problem);
         let speed =
             problem.model.kinematics.pull_coeff * problem.model.coil.gradient_limit() * 2f64.sqrt();
         let mut s = Search {
@@ -31,7 +31,7 @@ impl RrtStar {
             nn: NearestNeighbors::new(problem.metric, n),
             extend,
             connect: Connect {
-                seed: self.sampling.extend_with(problem, self.connect_tries),
+                seed: self.search.extend_with(problem, self.connect_tries),
                 iterations: self.connect_iterations,
                 window: 3,
                 tolerance: self.connect_tolerance,
@@ -52,7 +52,7 @@ impl RrtStar {
             stats: RrtStarStats::default(),
         };
         s.nn.add(&problem.start, 0);
-        let zoom = self.sampling.zoom();
+        let zoom = self.search.zoom();
         let sampler = StateSampler::new(problem);
         let informed = InformedSet::new(problem);
         let k_rrt = self.rewire_factor * std::f64::consts::E * (1.0 + 1.0 / (2 * n) as f64);

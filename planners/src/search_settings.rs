@@ -1,4 +1,4 @@
-//! The sampling and extension settings every planner embeds: EXTEND's tries and edge durations
+//! The search settings every planner embeds: EXTEND's tries and edge durations
 //! (the seed's Algorithm 3) and the goal-zoom sampler (Algorithm 2). Declared once, so every
 //! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius`, `timing` and
 //! `planar` alike.
@@ -21,9 +21,9 @@ use crate::extend::{Extend, Timing};
 use crate::sampler::GoalZoom;
 
 declare_params! {
-    /// The sampling and extension settings every planner embeds.
+    /// The search settings every planner embeds (EXTEND's tries and durations, goal zoom).
     #[derive(Debug, Clone, PartialEq)]
-    pub struct Sampling {
+    pub struct SearchSettings {
         /// EXTEND's random (control, duration) tries per call (the seed's k; 1 = SST's
         /// Monte-Carlo propagation).
         #[param("k", 1..=100_000)]
@@ -50,10 +50,10 @@ declare_params! {
         #[param("planar")]
         pub planar: Planar = Planar::Auto,
     }
-    check(Sampling::check_durations);
+    check(SearchSettings::check_durations);
 }
 
-impl Sampling {
+impl SearchSettings {
     /// EXTEND with these settings in the problem's control periods.
     pub fn extend(&self, problem: &Problem) -> Extend {
         self.extend_with(problem, self.tries)

@@ -1,4 +1,4 @@
-//! Steering with the OBC optimizer, as `obc` and `lookahead` both do: its weights (parameters
+//! Driving the team with the OBC optimizer, as `obc` and `lookahead` both do: its weights (parameters
 //! of both trackers), the optimizer of the reference being followed, the last command and the
 //! targets it aimed at.
 
@@ -10,7 +10,7 @@ use crate::tracker::TrackerContext;
 declare_params! {
     /// The OBC optimizer as a tracker drives it.
     #[derive(Debug, Clone)]
-    pub struct Steering {
+    pub struct ObcDrive {
         /// The optimizer's weights and search settings.
         #[params]
         pub weights: ObcWeights,
@@ -20,7 +20,7 @@ declare_params! {
     }
 }
 
-impl Steering {
+impl ObcDrive {
     /// A new reference is followed: the optimizer for its model, checker and control period.
     pub fn reset(&mut self, ctx: &TrackerContext) {
         self.opt = Some(ObcOptimizer::new(
