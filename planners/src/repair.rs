@@ -99,11 +99,17 @@ impl Repair {
         root.flow = plan.flow;
         let near = nearest_waypoint(problem, plan, &problem.start, 0);
         if let Some(p) = self.rejoin(problem, &root, plan, near, &mut out.rejoins) {
-            out.found = Some((self.result(problem, plan, p, &out, 1, started), RepairHow::Rejoin));
+            out.found = Some((
+                self.result(problem, plan, p, &out, 1, started),
+                RepairHow::Rejoin,
+            ));
             return out;
         }
         if let Some((p, nodes)) = self.tree(problem, plan, near, &mut out) {
-            out.found = Some((self.result(problem, plan, p, &out, nodes, started), RepairHow::Tree));
+            out.found = Some((
+                self.result(problem, plan, p, &out, nodes, started),
+                RepairHow::Tree,
+            ));
         }
         out
     }
@@ -197,7 +203,13 @@ impl Repair {
                 .run(problem, &mut rng, tree.state(parent), &q_sample[..n]);
             let d = problem.periods(ext.periods);
             if ext.periods == 0
-                || !propagate_valid(problem, tree.state(parent), &ext.control, d, &mut q_new[..n])
+                || !propagate_valid(
+                    problem,
+                    tree.state(parent),
+                    &ext.control,
+                    d,
+                    &mut q_new[..n],
+                )
             {
                 continue;
             }
