@@ -74,6 +74,8 @@ pub struct Repaired {
     pub rejoins: u64,
     /// Tree iterations run.
     pub iterations: u64,
+    /// Edges propagated and checked: the tree's, the steers' and the replayed ones.
+    pub edges: u64,
 }
 
 impl Repair {
@@ -85,6 +87,7 @@ impl Repair {
             found: None,
             rejoins: 0,
             iterations: 0,
+            edges: 0,
         };
         let n = problem.agents();
         let fits = plan.flow == problem.model.flow
@@ -98,7 +101,7 @@ impl Repair {
         let mut root = Plan::at(&problem.start);
         root.flow = plan.flow;
         let near = nearest_waypoint(problem, plan, &problem.start, 0);
-        if let Some(p) = self.rejoin(problem, &root, plan, near, &mut out.rejoins) {
+        if let Some(p) = self.rejoin(problem, &root, plan, near, &mut out) {
             out.found = Some((
                 self.result(problem, plan, p, &out, 1, started),
                 RepairHow::Rejoin,
@@ -122,10 +125,10 @@ impl Repair {
         head: &Plan,
         plan: &Plan,
         near: usize,
-        rejoins: &mut u64,
+        work: &mut Repaired,
     ) -> Option<Plan> {
-        *rejoins += 1;
-        if let Some(p) = replay_rest(problem, head.clone(), plan, near) {
+        work.rejoins += 1;
+        if let Some(p) = replay_rest(problem, head.clone(), plan, near, &mut work.edges) {
             return Some(p);
         }
         if problem.agents() != 2 {
@@ -140,13 +143,20 @@ impl Repair {
         let from: Vec<Vec2> = head.end().to_vec();
         let last = plan.edges().min(near + self.ahead);
         for j in near + 1..=last {
-            *rejoins += 1;
+            work.rejoins += 1;
             let mut found = None;
+            let mut replayed = false;
             steer_pair(&problem.model, &from, &plan.states[j], &limits, |edges| {
+                if replayed {
+                    // every steer ends within the tolerance of waypoint j: the rest of the
+                    // plan replays alike from each, so one replay decides for all
+                    return true;
+                }
                 let mut p = head.clone();
                 let mut at = [Vec2::zeros(); MAX_AGENTS];
                 at[..2].copy_from_slice(&from);
                 for e in edges {
+                    work.edges += 1;
                     let mut next = [Vec2::zeros(); MAX_AGENTS];
                     let d = problem.periods(e.periods);
                     if !propagate_valid(problem, &at[..2], &e.control, d, &mut next[..2]) {
@@ -155,8 +165,9 @@ impl Repair {
                     p.push(e.control, d, next[..2].to_vec());
                     at = next;
                 }
-                found = replay_rest(problem, p, plan, j);
-                found.is_some()
+                replayed = true;
+                found = replay_rest(problem, p, plan, j, &mut work.edges);
+                true
             });
             if found.is_some() {
                 return found;
@@ -202,6 +213,7 @@ impl Repair {
                 .extend
                 .run(problem, &mut rng, tree.state(parent), &q_sample[..n]);
             let d = problem.periods(ext.periods);
+            out.edges += 1;
             if ext.periods == 0
                 || !propagate_valid(
                     problem,
@@ -220,7 +232,7 @@ impl Repair {
             if dist < closest && dist <= JOIN_RADIUS {
                 closest = dist;
                 let head = tree.plan_to(id, problem);
-                if let Some(p) = self.rejoin(problem, &head, plan, at, &mut out.rejoins) {
+                if let Some(p) = self.rejoin(problem, &head, plan, at, out) {
                     return Some((p, tree.len()));
                 }
             }
@@ -257,12 +269,20 @@ impl Repair {
 }
 
 /// `head` followed by `plan`'s controls from waypoint `j` on, replayed from `head`'s end;
-/// `None` when an edge is invalid or the replay does not end in the goal region.
-fn replay_rest(problem: &Problem, mut head: Plan, plan: &Plan, j: usize) -> Option<Plan> {
+/// `None` when an edge is invalid or the replay does not end in the goal region. Each edge
+/// replayed is counted in `edges`.
+fn replay_rest(
+    problem: &Problem,
+    mut head: Plan,
+    plan: &Plan,
+    j: usize,
+    edges: &mut u64,
+) -> Option<Plan> {
     let n = problem.agents();
     let mut at = [Vec2::zeros(); MAX_AGENTS];
     at[..n].copy_from_slice(head.end());
     for (u, &d) in plan.controls[j..].iter().zip(&plan.durations[j..]) {
+        *edges += 1;
         let mut next = [Vec2::zeros(); MAX_AGENTS];
         if !propagate_valid(problem, &at[..n], u, d, &mut next[..n]) {
             return None;

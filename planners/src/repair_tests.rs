@@ -119,7 +119,10 @@ fn repair_is_deterministic_per_seed() {
         let problem = from(&s, &start, seed);
         let a = repair(&problem, 300).run(&problem, &plan);
         let b = repair(&problem, 300).run(&problem, &plan);
-        assert_eq!((a.rejoins, a.iterations), (b.rejoins, b.iterations));
+        assert_eq!(
+            (a.rejoins, a.iterations, a.edges),
+            (b.rejoins, b.iterations, b.edges)
+        );
         assert_eq!(
             a.found.map(|(r, h)| (r.plan, h)),
             b.found.map(|(r, h)| (r.plan, h))

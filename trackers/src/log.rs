@@ -103,10 +103,15 @@ pub struct ReplanRecord {
     pub how: ReplanHow,
     /// Its whole wall time: repair, the planner, and the validator (s).
     pub wall_s: f64,
+    /// The same span's CPU time on the loop's thread (s), where the platform reports it: the
+    /// time on a core of its own, whatever the load.
+    pub cpu_s: Option<f64>,
     /// Rejoins repair tried (load-independent work).
     pub rejoins: u64,
     /// Iterations of repair's tree.
     pub tree_iterations: u64,
+    /// Edges repair propagated and checked (its tree's, steers' and replayed ones).
+    pub repair_edges: u64,
     /// Iterations of the mission's planner (0 when it was not called).
     pub planner_iterations: u64,
 }

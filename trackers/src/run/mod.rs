@@ -20,6 +20,7 @@
 
 pub mod contact;
 pub mod course;
+pub mod cpu_clock;
 pub mod feedback;
 pub mod recorder;
 pub mod replanner;

@@ -28,6 +28,7 @@ use magbench_planners::{
     Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, check_result,
 };
 
+use super::cpu_clock::thread_cpu_s;
 use super::recorder::Recorder;
 use crate::log::{PlanReason, ReplanHow, ReplanRecord};
 
@@ -273,19 +274,23 @@ impl<'a> Replanner<'a> {
         rec: &mut Recorder,
     ) -> Option<PlannerResult> {
         let started = Instant::now();
+        let cpu_started = thread_cpu_s();
         let mut record = ReplanRecord {
             t_s,
             leg,
             reason,
             how: ReplanHow::Failed,
             wall_s: 0.0,
+            cpu_s: None,
             rejoins: 0,
             tree_iterations: 0,
+            repair_edges: 0,
             planner_iterations: 0,
         };
         let result =
             self.plan_recorded(scenario, (leg, checker), (x, current), k, &mut record, rec);
         record.wall_s = started.elapsed().as_secs_f64();
+        record.cpu_s = cpu_started.zip(thread_cpu_s()).map(|(a, b)| b - a);
         rec.planning(record.wall_s);
         rec.replan(record);
         result
@@ -372,6 +377,7 @@ impl<'a> Replanner<'a> {
         let r = repair.run(problem, plan);
         record.rejoins = r.rejoins;
         record.tree_iterations = r.iterations;
+        record.repair_edges = r.edges;
         let (result, how) = r.found?;
         if let Err(e) = check_result(problem, &result) {
             rec.note(format!("a repaired plan was refused: {e}"));
