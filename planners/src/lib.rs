@@ -38,6 +38,7 @@ pub mod planners;
 pub mod problem;
 pub mod progress;
 pub mod registry;
+pub mod repair;
 pub mod result;
 pub mod sampler;
 pub mod search_settings;

@@ -30,7 +30,7 @@ pub mod sim_rig;
 pub mod tracker;
 pub mod trackers;
 
-pub use log::{PlanReason, PlanRecord, TickRecord, write_ticks_csv};
+pub use log::{PlanReason, PlanRecord, ReplanHow, ReplanRecord, TickRecord, write_ticks_csv};
 pub use metrics::{AgentError, RunStatus, TrackMetrics, worst_agent};
 pub use optimizer::{ObcOptimizer, ObcWeights};
 pub use reference::Reference;

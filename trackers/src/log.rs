@@ -75,6 +75,47 @@ pub struct PlanRecord {
     pub plan: Plan,
 }
 
+/// How a replan found its plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReplanHow {
+    /// Repair rejoined the plan being followed (its rest replayed, after a steer or none).
+    Rejoin,
+    /// Repair's small tree reached the plan being followed.
+    Tree,
+    /// The mission's planner, from scratch.
+    Full,
+    /// No usable plan came back.
+    Failed,
+}
+
+/// One replan of a run: a new leg's plan, or a replan for a persistent error or a stall,
+/// whether a plan came of it or not.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ReplanRecord {
+    /// Rig time since the first tick when it was made (s).
+    pub t_s: f64,
+    /// Leg it was made for (0-based).
+    pub leg: usize,
+    /// Why it was made.
+    pub reason: PlanReason,
+    /// How its plan was found.
+    pub how: ReplanHow,
+    /// Its whole wall time: repair, the planner, and the validator (s).
+    pub wall_s: f64,
+    /// The same span's CPU time on the loop's thread (s), where the platform reports it: the
+    /// time on a core of its own, whatever the load.
+    pub cpu_s: Option<f64>,
+    /// Rejoins repair tried (load-independent work).
+    pub rejoins: u64,
+    /// Iterations of repair's tree.
+    pub tree_iterations: u64,
+    /// Edges repair propagated and checked (its tree's, steers' and replayed ones).
+    pub repair_edges: u64,
+    /// Iterations of the mission's planner (0 when it was not called).
+    pub planner_iterations: u64,
+}
+
 fn opt(v: Option<f64>) -> String {
     v.map_or(String::new(), |x| format!("{x}"))
 }

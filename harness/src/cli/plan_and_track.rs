@@ -307,6 +307,10 @@ fn summary_json(
                 .collect(),
         );
         o.insert("message".into(), json!(out.message));
+        o.insert(
+            "replan_log".into(),
+            serde_json::to_value(&out.replans).expect("serialize"),
+        );
         if let Some(start) = observed {
             o.insert(
                 "observed_start".into(),

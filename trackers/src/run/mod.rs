@@ -13,12 +13,14 @@
 //!
 //! Replanning uses a [`Planner`]: at the start of every leg after the first, from the current
 //! estimate and against that leg's obstacles, and when the tracking error (of the estimate)
-//! stays above `replan_error` for longer than `replan_after`. Every plan is made under the
+//! stays above `replan_error` for longer than `replan_after`; such a replan first repairs the
+//! plan being followed (`replan_mode`, [`replanner`]). Every plan is made under the
 //! mission's [`PlanningSetup`] (`setup.problem(scenario, leg, Some(start), seed)`) in whole
 //! frames of the rig, and followed only if [`magbench_planners::check_result`] accepts it.
 
 pub mod contact;
 pub mod course;
+pub mod cpu_clock;
 pub mod feedback;
 pub mod recorder;
 pub mod replanner;
@@ -37,9 +39,9 @@ use self::contact::ContactDetector;
 use self::course::{Course, GoalHold};
 use self::feedback::Feedback;
 use self::recorder::{Recorder, RunEnd};
-use self::replanner::{Replanner, StallReplan};
+use self::replanner::{ReplanMode, Replanner, StallReplan};
 use self::tick::TickContext;
-use crate::log::{PlanReason, PlanRecord, TickRecord};
+use crate::log::{PlanReason, PlanRecord, ReplanRecord, TickRecord};
 use crate::metrics::{AgentError, RunStatus, TrackMetrics};
 use crate::reference::Reference;
 use crate::rig::{Rig, RigError};
@@ -66,6 +68,14 @@ declare_params! {
         /// `replan_after` s: `auto` (teams of three or more), `true` or `false`.
         #[param("replan_stall")]
         pub replan_stall: StallReplan = StallReplan::Auto,
+        /// How a replan for a persistent error or a stall starts: `repair` (from the plan being
+        /// followed: rejoin it, else a small tree onto its remaining waypoints, else from
+        /// scratch) or `restart` (from scratch with the mission's planner).
+        #[param("replan_mode")]
+        pub replan_mode: ReplanMode = ReplanMode::Repair,
+        /// Iterations of a repair's tree at most (0: rejoin or restart).
+        #[param("repair_iterations", 0..=1_000_000)]
+        pub repair_iterations: usize = 200,
         /// Time limit per plan: time_factor × the plan's duration + time_slack (per leg, from
         /// its first plan, where the stall rule applies).
         #[param("time_factor", Reals::closed(1.0, 1e3))]
@@ -126,6 +136,8 @@ pub struct TrackOutcome {
     pub per_agent: Vec<AgentError>,
     /// The plans tracked, in order.
     pub plans: Vec<PlanRecord>,
+    /// Every replan (new legs, persistent errors, stalls), adopted or not, in order.
+    pub replans: Vec<ReplanRecord>,
     /// The per-tick log (empty unless `record_ticks`).
     pub ticks: Vec<TickRecord>,
     /// A message for an abnormal end (a rig fault, a planning failure).
@@ -188,9 +200,10 @@ pub fn track(
     run.finish()
 }
 
-/// The plan being followed: its reference and the rig time it started; and the time allowance
+/// The plan being followed, its reference and the rig time it started; and the time allowance
 /// in force: the rig time it counts from and its length (s).
 struct Following {
+    plan: Plan,
     reference: Reference,
     start: Since,
     clock: (Since, f64),
@@ -252,8 +265,10 @@ impl<'a> Run<'a> {
                 (opts.replan_error, opts.replan_after, opts.max_replans),
                 opts.replan_stall.applies(s.agents()),
                 opts.goal_margin,
+                (opts.replan_mode, opts.repair_iterations as u64),
             ),
             following: Following {
+                plan: first.plan.clone(),
                 reference,
                 start: Since::FirstTick,
                 clock: (Since::FirstTick, allowance),
@@ -444,6 +459,7 @@ impl<'a> Run<'a> {
             )
         };
         self.following = Following {
+            plan: plan.clone(),
             reference,
             start: Since::At(tick.now),
             clock,
@@ -470,9 +486,9 @@ impl<'a> Run<'a> {
             self.course.scenario(),
             self.course.leg(),
             self.course.checker(),
-            &tick.estimate,
+            (&tick.estimate, Some(&self.following.plan)),
             self.rec.plans(),
-            reason,
+            (reason, tick.elapsed()),
             &mut self.rec,
         );
         match result {

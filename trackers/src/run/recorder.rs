@@ -10,7 +10,7 @@ use magbench_env::{Control, Goal, Vec2};
 
 use super::TrackOutcome;
 use super::tick::TickContext;
-use crate::log::{PlanRecord, TickRecord};
+use crate::log::{PlanRecord, ReplanRecord, TickRecord};
 use crate::metrics::{
     AgentError, ErrorAccumulator, RunStatus, TeamAccumulator, TrackMetrics, worst_agent,
 };
@@ -35,6 +35,7 @@ pub struct Recorder {
     /// Node error of the true positions (when the rig knows them).
     node_true_errors: Option<TeamAccumulator>,
     plans: Vec<PlanRecord>,
+    replans: Vec<ReplanRecord>,
     ticks: Vec<TickRecord>,
     message: Option<String>,
     tick_count: usize,
@@ -86,6 +87,7 @@ impl Recorder {
             node_errors: TeamAccumulator::default(),
             node_true_errors: None,
             plans: vec![],
+            replans: vec![],
             ticks: vec![],
             message: None,
             tick_count: 0,
@@ -144,6 +146,11 @@ impl Recorder {
     /// A plan was adopted.
     pub fn plan(&mut self, p: PlanRecord) {
         self.plans.push(p);
+    }
+
+    /// A replan was made (adopted or not).
+    pub fn replan(&mut self, r: ReplanRecord) {
+        self.replans.push(r);
     }
 
     /// Plans adopted so far.
@@ -304,6 +311,7 @@ impl Recorder {
             metrics,
             per_agent,
             plans: self.plans,
+            replans: self.replans,
             ticks: self.ticks,
             message: self.message,
         }

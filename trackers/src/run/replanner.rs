@@ -10,15 +10,30 @@
 //! nominal model (by symmetry every command keeps it a row), so a plan from a row start stays
 //! on it while the real, unequal agents bend out of it — and a new plan from the observed state
 //! starts where the team is.
+//!
+//! A replan for a persistent error or a stall first repairs the plan being followed
+//! (`replan_mode = repair`, [`magbench_planners::repair`]): it rejoins that plan from the
+//! observed state, else grows a small tree from it onto the plan's remaining waypoints, and
+//! only then plans from scratch with the mission's planner. A new leg is always planned from
+//! scratch (its goal and map are new). Every plan, repaired or not, is followed only when
+//! [`check_result`] accepts it; every replan's wall time and work go to the run's log.
 
 use std::time::Instant;
 
 use magbench_env::params::{ParamType, Value, choose};
 use magbench_env::{Scenario, ValidityChecker, Vec2};
-use magbench_planners::{Planner, PlannerResult, PlanningSetup, Unusable, check_result};
+use magbench_planners::repair::{Repair, RepairHow};
+use magbench_planners::sampling::Sampling;
+use magbench_planners::{
+    Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, check_result,
+};
 
+use super::cpu_clock::thread_cpu_s;
 use super::recorder::Recorder;
-use crate::log::PlanReason;
+use crate::log::{PlanReason, ReplanHow, ReplanRecord};
+
+/// Waypoints ahead of the nearest one that a repair's rejoin steers onto.
+const REPAIR_AHEAD: usize = 8;
 
 /// Seeds of successive plans of a run: the run's seed plus the plan's index times the 64-bit
 /// golden ratio, so that every replan draws a fresh, reproducible random stream.
@@ -74,6 +89,41 @@ impl ParamType for StallReplan {
     }
 }
 
+/// How a replan for a persistent error or a stall starts (loop parameter `replan_mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ReplanMode {
+    /// From the plan being followed: rejoin it, else a small tree onto it, else from scratch.
+    #[default]
+    Repair,
+    /// From scratch with the mission's planner.
+    Restart,
+}
+
+impl ParamType for ReplanMode {
+    type Domain = ();
+
+    fn parse(text: &str, _: &()) -> Result<Self, String> {
+        choose(
+            text,
+            &[
+                ("repair", ReplanMode::Repair),
+                ("restart", ReplanMode::Restart),
+            ],
+        )
+    }
+
+    fn value(&self) -> Value {
+        Value::Name(match self {
+            ReplanMode::Repair => "repair",
+            ReplanMode::Restart => "restart",
+        })
+    }
+
+    fn describe(_: &()) -> String {
+        "repair|restart".into()
+    }
+}
+
 /// Plans the current leg on demand, and watches for a persistent tracking error and a stall.
 pub struct Replanner<'a> {
     planner: Option<&'a mut dyn Planner>,
@@ -90,6 +140,10 @@ pub struct Replanner<'a> {
     goal_margin: f64,
     /// The best progress on the plan followed, and the rig time it was reached.
     best_progress: Option<(usize, f64)>,
+    /// How a replan for an error or a stall starts.
+    mode: ReplanMode,
+    /// Iterations of a repair's tree at most.
+    repair_iterations: u64,
 }
 
 impl<'a> Replanner<'a> {
@@ -98,6 +152,7 @@ impl<'a> Replanner<'a> {
     /// above `replan_error` BL for `replan_after` s (0: never), and, when `stall`, when the
     /// tracker's progress has not passed its best for `replan_after` s; at most `max_replans`
     /// times for both, unless the stall is watched (then the loop's time allowance bounds them).
+    /// Such a replan starts as `mode` says, a repair's tree with at most `repair_iterations`.
     pub fn new(
         planner: Option<&'a mut dyn Planner>,
         setup: PlanningSetup,
@@ -105,6 +160,7 @@ impl<'a> Replanner<'a> {
         (replan_error, replan_after, max_replans): (f64, f64, usize),
         stall: bool,
         goal_margin: f64,
+        (mode, repair_iterations): (ReplanMode, u64),
     ) -> Self {
         Self {
             planner,
@@ -118,6 +174,8 @@ impl<'a> Replanner<'a> {
             stall,
             goal_margin,
             best_progress: None,
+            mode,
+            repair_iterations,
         }
     }
 
@@ -196,30 +254,66 @@ impl<'a> Replanner<'a> {
     }
 
     /// Plans leg `leg` of `scenario` from `x` (agents pushed out of any wall first) as the
-    /// `k`-th plan of the run. The planning time goes to `rec`; a missing planner or an
-    /// unusable result is noted there and gives `None`. The plan is made to the goal shrunk by
-    /// `goal_margin`, where the loop needs the team, when the stall is watched (a plan that
-    /// ends in the margin band leaves a final shape correction a team of three may not manage)
-    /// and when the start is already inside the tolerance but not that far inside (else the
-    /// planner would be done before it starts).
+    /// `k`-th plan of the run, at rig time `t_s`; a replan for an error or a stall first
+    /// repairs `current`, the plan being followed. The whole wall time goes to `rec`, with a
+    /// [`ReplanRecord`]; a missing planner or an unusable result is noted there and gives
+    /// `None`. The plan is made to the goal shrunk by `goal_margin`, where the loop needs the
+    /// team, when the stall is watched (a plan that ends in the margin band leaves a final
+    /// shape correction a team of three may not manage) and when the start is already inside
+    /// the tolerance but not that far inside (else the planner would be done before it
+    /// starts).
     #[allow(clippy::too_many_arguments)]
     pub fn plan(
         &mut self,
         scenario: &Scenario,
         leg: usize,
         checker: &ValidityChecker,
-        x: &[Vec2],
+        (x, current): (&[Vec2], Option<&Plan>),
         k: usize,
-        reason: PlanReason,
+        (reason, t_s): (PlanReason, f64),
         rec: &mut Recorder,
     ) -> Option<PlannerResult> {
-        let Some(planner) = self.planner.as_deref_mut() else {
+        let started = Instant::now();
+        let cpu_started = thread_cpu_s();
+        let mut record = ReplanRecord {
+            t_s,
+            leg,
+            reason,
+            how: ReplanHow::Failed,
+            wall_s: 0.0,
+            cpu_s: None,
+            rejoins: 0,
+            tree_iterations: 0,
+            repair_edges: 0,
+            planner_iterations: 0,
+        };
+        let result =
+            self.plan_recorded(scenario, (leg, checker), (x, current), k, &mut record, rec);
+        record.wall_s = started.elapsed().as_secs_f64();
+        record.cpu_s = cpu_started.zip(thread_cpu_s()).map(|(a, b)| b - a);
+        rec.planning(record.wall_s);
+        rec.replan(record);
+        result
+    }
+
+    /// [`Replanner::plan`], its work counted in `record`.
+    fn plan_recorded(
+        &mut self,
+        scenario: &Scenario,
+        (leg, checker): (usize, &ValidityChecker),
+        (x, current): (&[Vec2], Option<&Plan>),
+        k: usize,
+        record: &mut ReplanRecord,
+        rec: &mut Recorder,
+    ) -> Option<PlannerResult> {
+        let reason = record.reason;
+        if self.planner.is_none() {
             rec.note(format!(
                 "a {} plan was needed but there is no planner",
                 reason_name(reason)
             ));
             return None;
-        };
+        }
         let mut start = x.to_vec();
         for p in &mut start {
             if let Some(q) = checker.collision.push_out(*p) {
@@ -233,11 +327,21 @@ impl<'a> Replanner<'a> {
         if (self.stall || inside) && needed > 0.0 {
             problem.goal.tolerance = needed;
         }
-        let started = Instant::now();
+        let drift = matches!(reason, PlanReason::Error | PlanReason::Stall);
+        if let (ReplanMode::Repair, true, Some(plan)) = (self.mode, drift, current)
+            && let Some((result, how)) = self.repair(&problem, plan, record, rec)
+        {
+            record.how = how;
+            return Some(result);
+        }
+        let planner = self.planner.as_deref_mut()?;
         let result = planner.solve(&problem);
-        rec.planning(started.elapsed().as_secs_f64());
+        record.planner_iterations = result.iterations;
         match check_result(&problem, &result) {
-            Ok(()) => Some(result),
+            Ok(()) => {
+                record.how = ReplanHow::Full;
+                Some(result)
+            }
             Err(e) => {
                 rec.note(match e {
                     Unusable::NoMotion => format!(
@@ -252,6 +356,38 @@ impl<'a> Replanner<'a> {
                 None
             }
         }
+    }
+
+    /// A repair of `plan` for `problem` that passes [`check_result`], and how it was found;
+    /// its work goes to `record`. A repaired plan the validator refuses (a bug) is noted.
+    fn repair(
+        &self,
+        problem: &Problem,
+        plan: &Plan,
+        record: &mut ReplanRecord,
+        rec: &mut Recorder,
+    ) -> Option<(PlannerResult, ReplanHow)> {
+        let mut extend = Sampling::default().extend(problem);
+        extend.alpha_max = plan.alpha_max;
+        let repair = Repair {
+            extend,
+            iterations: self.repair_iterations,
+            ahead: REPAIR_AHEAD,
+        };
+        let r = repair.run(problem, plan);
+        record.rejoins = r.rejoins;
+        record.tree_iterations = r.iterations;
+        record.repair_edges = r.edges;
+        let (result, how) = r.found?;
+        if let Err(e) = check_result(problem, &result) {
+            rec.note(format!("a repaired plan was refused: {e}"));
+            return None;
+        }
+        let how = match how {
+            RepairHow::Rejoin => ReplanHow::Rejoin,
+            RepairHow::Tree => ReplanHow::Tree,
+        };
+        Some((result, how))
     }
 
     /// Replans started so far for a persistent error or a stall.
@@ -286,7 +422,102 @@ mod tests {
             stall,
             goal_margin: 0.05,
             best_progress: None,
+            mode: ReplanMode::Repair,
+            repair_iterations: 200,
         }
+    }
+
+    /// The replan log of `rec`.
+    fn log(rec: Recorder, goal: &magbench_env::Goal) -> Vec<ReplanRecord> {
+        rec.finish(super::super::recorder::RunEnd {
+            status: crate::RunStatus::Timeout,
+            goal,
+            legs: (0, 1),
+            time_to_goal: None,
+            duration: 0.0,
+            agent_contact: false,
+            wall_contacts: 0,
+            error_replans: 0,
+        })
+        .replans
+    }
+
+    /// Near its plan, an error replan is a repair the validator accepts, without the planner;
+    /// far from it, the repair's tree runs its budget and the planner plans from scratch; a new
+    /// leg is always planned from scratch.
+    #[test]
+    fn a_drift_replan_repairs_near_the_plan_and_falls_back_far_from_it() {
+        use magbench_planners::sampler::StateSampler;
+        use rand::SeedableRng;
+        let s = Scenario::load("micro-factory").unwrap();
+        let mut planner = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap();
+        let setup = PlanningSetup::default();
+        let first = planner.solve(&setup.problem(&s, 0, None, 5));
+        assert!(first.solved);
+        let plan = first.plan;
+        let checker = s.checker_for_leg(0);
+        let mut r = replanner(false);
+        r.setup = setup.clone();
+        r.planner = Some(planner.as_mut());
+        r.repair_iterations = 20;
+        let near: Vec<Vec2> = plan.states[plan.edges() / 2]
+            .iter()
+            .map(|p| p + Vec2::new(0.1, -0.1))
+            .collect();
+        let problem = setup.problem(&s, 0, Some(&near), 0);
+        let sampler = StateSampler::new(&problem);
+        let mut rng = magbench_planners::Rng::seed_from_u64(0);
+        let mut far = vec![Vec2::zeros(); 2];
+        loop {
+            sampler.uniform(&mut rng, &mut far);
+            let d = plan
+                .states
+                .iter()
+                .map(|w| problem.metric.distance(&far, w))
+                .fold(f64::INFINITY, f64::min);
+            if d > 25.0 && checker.is_valid(&far) {
+                break;
+            }
+        }
+        let mut rec = Recorder::new(&s.start, 0.0, false);
+        let cases = [
+            (&near, PlanReason::Error),
+            (&far, PlanReason::Error),
+            (&near, PlanReason::Leg),
+        ];
+        let mut results = vec![];
+        for (k, (x, reason)) in cases.into_iter().enumerate() {
+            let got = r.plan(
+                &s,
+                0,
+                &checker,
+                (x, Some(&plan)),
+                k + 1,
+                (reason, 1.0),
+                &mut rec,
+            );
+            results.push(got.expect("a plan"));
+        }
+        let log = log(rec, &s.legs[0].goal);
+        assert_eq!(log.len(), 3);
+        assert!(
+            matches!(log[0].how, ReplanHow::Rejoin | ReplanHow::Tree),
+            "{:?}",
+            log[0]
+        );
+        assert_eq!(log[0].planner_iterations, 0);
+        assert_eq!(log[1].how, ReplanHow::Full);
+        assert_eq!(log[1].tree_iterations, 20, "the tree ran its budget");
+        assert!(log[1].planner_iterations > 0);
+        assert_eq!((log[2].how, log[2].rejoins), (ReplanHow::Full, 0));
+        for ((x, _), result) in cases.iter().zip(&results) {
+            let problem = setup.problem(&s, 0, Some(x), 0);
+            assert_eq!(check_result(&problem, result), Ok(()));
+            assert_eq!(result.plan.start(), &x[..]);
+        }
+        assert!(log.iter().all(|l| l.wall_s > 0.0 && l.t_s == 1.0));
     }
 
     #[test]
@@ -299,6 +530,11 @@ mod tests {
             assert_eq!(StallReplan::parse(&name, &()), Ok(v));
         }
         assert!(StallReplan::parse("maybe", &()).is_err());
+        for v in [ReplanMode::Repair, ReplanMode::Restart] {
+            let name = v.value().to_string();
+            assert_eq!(ReplanMode::parse(&name, &()), Ok(v));
+        }
+        assert!(ReplanMode::parse("scratch", &()).is_err());
     }
 
     /// A planner is needed to watch at all: with one, a stall of `replan_after` calls for a
