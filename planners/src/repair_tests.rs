@@ -1,5 +1,5 @@
 use super::*;
-use crate::sampling::Sampling;
+use crate::search_settings::SearchSettings;
 use crate::{Planners, check_result};
 use magbench_env::Scenario;
 
@@ -15,7 +15,7 @@ fn planned() -> (Scenario, Problem, Plan) {
 
 fn repair(problem: &Problem, iterations: u64) -> Repair {
     Repair {
-        extend: Sampling::default().extend(problem),
+        extend: SearchSettings::default().extend(problem),
         iterations,
         ahead: 8,
     }

@@ -16,6 +16,7 @@
 
 #![warn(missing_docs)]
 
+pub mod closed_loop;
 pub mod estimator;
 pub mod log;
 pub mod metrics;
@@ -24,19 +25,18 @@ pub mod plan_file;
 pub mod reference;
 pub mod registry;
 pub mod rig;
-pub mod run;
 pub mod scoring;
 pub mod sim_rig;
 pub mod tracker;
 pub mod trackers;
 
+pub use closed_loop::{LoopOptions, Mission, TrackOutcome, reference_for, simulate, track};
 pub use log::{PlanReason, PlanRecord, ReplanHow, ReplanRecord, TickRecord, write_ticks_csv};
 pub use metrics::{AgentError, RunStatus, TrackMetrics, worst_agent};
 pub use optimizer::{ObcOptimizer, ObcWeights};
 pub use reference::Reference;
 pub use registry::{TrackerSpec, Trackers};
 pub use rig::{GroundTruth, Rig, RigError};
-pub use run::{LoopOptions, Mission, TrackOutcome, reference_for, simulate, track};
 pub use sim_rig::SimRig;
 pub use tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 pub use trackers::{Lookahead, Obc, OpenLoop};

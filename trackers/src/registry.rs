@@ -14,7 +14,7 @@ use magbench_env::params::{
 };
 use magbench_env::{Control, InputError};
 
-use crate::run::LoopOptions;
+use crate::closed_loop::LoopOptions;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
 /// A registered tracker: its name, a one-line summary and a constructor with defaults.

@@ -5,7 +5,7 @@ use magbench_env::plant::Observation;
 use magbench_env::{Control, Goal, PlanningModel, ValidityChecker, Vec2, World};
 
 use crate::Reference;
-use crate::run::LoopOptions;
+use crate::closed_loop::LoopOptions;
 
 /// What a tracker may use: the reference, the planning model, the leg's validity checker and
 /// the control period.

@@ -3,7 +3,7 @@
 
 use magbench_env::{Control, declare_params};
 
-use crate::run::LoopOptions;
+use crate::closed_loop::LoopOptions;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
 declare_params! {

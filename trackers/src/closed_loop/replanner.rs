@@ -23,7 +23,7 @@ use std::time::Instant;
 use magbench_env::params::{ParamType, Value, choose};
 use magbench_env::{Scenario, ValidityChecker, Vec2};
 use magbench_planners::repair::{Repair, RepairHow};
-use magbench_planners::sampling::Sampling;
+use magbench_planners::search_settings::SearchSettings;
 use magbench_planners::{
     Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, check_result,
 };
@@ -42,7 +42,7 @@ const SEED_STEP: u64 = 0x9E37_79B9_7F4A_7C15;
 /// Whether a stall on the plan calls for a replan (loop parameter `replan_stall`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum StallReplan {
-    /// For teams of three or more agents (two agents: never, as before, bit for bit).
+    /// For teams of three or more agents (two agents: never).
     #[default]
     Auto,
     /// For every team.
@@ -102,7 +102,7 @@ pub enum ReplanMode {
 impl ParamType for ReplanMode {
     type Domain = ();
 
-    fn parse(text: &str, _: &()) -> Result<Self, String> {
+    fn parse(text: &str, _: &()) -> Result<Self, magbench_env::params::BadValue> {
         choose(
             text,
             &[
@@ -367,7 +367,7 @@ impl<'a> Replanner<'a> {
         record: &mut ReplanRecord,
         rec: &mut Recorder,
     ) -> Option<(PlannerResult, ReplanHow)> {
-        let mut extend = Sampling::default().extend(problem);
+        let mut extend = SearchSettings::default().extend(problem);
         extend.alpha_max = plan.alpha_max;
         let repair = Repair {
             extend,
