@@ -42,7 +42,8 @@ impl Table {
     }
 }
 
-/// `x` with 3 significant digits (integers of 3 digits or more in full), "–" if not finite.
+/// `x` with 3 significant digits (integers of 3 digits or more in full, below 0.001 as
+/// `1.23e-5`), "–" if not finite.
 pub fn num(x: f64) -> String {
     if !x.is_finite() {
         return "–".into();
@@ -50,11 +51,23 @@ pub fn num(x: f64) -> String {
     if x == 0.0 {
         return "0".into();
     }
+    if x.abs() < 1e-3 {
+        return format!("{x:.2e}");
+    }
     let digits = 3 - 1 - x.abs().log10().floor() as i32;
     if digits <= 0 {
         format!("{:.0}", x)
     } else {
         format!("{:.*}", digits as usize, x)
+    }
+}
+
+/// A count: `x` rounded to an integer, "–" if not finite.
+pub fn int(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.0}")
+    } else {
+        "–".into()
     }
 }
 
@@ -88,6 +101,8 @@ mod tests {
         assert_eq!(num(342.4), "342");
         assert_eq!(num(251_331.0), "251331");
         assert_eq!(num(0.0), "0");
+        assert_eq!(num(8.67e-15), "8.67e-15");
+        assert_eq!(int(23.0), "23");
         assert_eq!(num(f64::NAN), "–");
         assert_eq!(median_p90(&[]), "–");
         assert_eq!(median_p90(&[1.0, 2.0, 3.0]), "2.00 / 2.80");

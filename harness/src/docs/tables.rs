@@ -1,6 +1,6 @@
 //! How a measurement's runs become its table: one function per kind of table.
 
-use super::table::{Table, median, median_p90, num, quantile};
+use super::table::{Table, int, median, median_p90, quantile};
 use crate::metrics::Metric;
 use crate::results::summary::groups;
 use crate::run::RunRecord;
@@ -8,6 +8,15 @@ use crate::run::RunRecord;
 /// The values of metric `m` over `runs` that have it.
 fn values(runs: &[&RunRecord], m: Metric) -> Vec<f64> {
     runs.iter().filter_map(|r| r.get(m)).collect()
+}
+
+/// A scenario as a reader knows it: a file's stem (`../scenarios/trio-row.toml`: `trio-row`),
+/// or the built-in name.
+fn scenario(label: &str) -> String {
+    match label.strip_suffix(".toml") {
+        Some(path) => path.rsplit('/').next().unwrap_or(path).to_string(),
+        None => label.to_string(),
+    }
 }
 
 /// `k/n`.
@@ -33,9 +42,9 @@ pub fn planning(runs: &[RunRecord]) -> Table {
             .iter()
             .filter_map(|r| Some(r.get(Metric::Iterations)? / r.get(Metric::PlanTime)?))
             .collect();
-        let max = quantile(&it, 1.0).map(num).unwrap_or_else(|| "–".into());
+        let max = quantile(&it, 1.0).map(int).unwrap_or_else(|| "–".into());
         t.row(vec![
-            g[0].scenario.clone(),
+            scenario(&g[0].scenario),
             g[0].planner.clone(),
             count(g.iter().filter(|r| r.solved).count(), g.len()),
             format!("{} / {max}", median(&it)),
@@ -68,7 +77,7 @@ pub fn tracking(runs: &[RunRecord]) -> Table {
     for g in groups(runs).into_iter().filter(|g| !g[0].tracker.is_empty()) {
         let sum = |m| values(&g, m).iter().sum::<f64>();
         t.row(vec![
-            g[0].scenario.clone(),
+            scenario(&g[0].scenario),
             g[0].tracker.clone(),
             g[0].preset.clone(),
             count(
@@ -84,8 +93,8 @@ pub fn tracking(runs: &[RunRecord]) -> Table {
             median_p90(&values(&g, Metric::RmsErrorSync)),
             median_p90(&values(&g, Metric::RmsErrorTime)),
             median_p90(&values(&g, Metric::MaxError)),
-            num(sum(Metric::WallContacts)),
-            num(sum(Metric::Replans)),
+            int(sum(Metric::WallContacts)),
+            int(sum(Metric::Replans)),
             median(&values(&g, Metric::TimeToGoal)),
         ]);
     }
