@@ -66,7 +66,12 @@ pub fn run(c: DocsCmd, registry: &Registry) -> Result<(), CliError> {
 fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
     if a.list {
         for m in MEASURES {
-            outln!("{}\t{}\t--quick: {} seeds", m.name, m.experiment, m.quick_seeds);
+            outln!(
+                "{}\t{}\t--quick: {} seeds",
+                m.name,
+                m.experiment,
+                m.quick_seeds
+            );
         }
         return Ok(());
     }

@@ -170,7 +170,10 @@ mod tests {
 
     #[test]
     fn a_rendered_header_and_table_parse() {
-        let text = format!("{}\n| a | b |\n| --- | --- |\n| 1 | 2 |\n", header().render());
+        let text = format!(
+            "{}\n| a | b |\n| --- | --- |\n| 1 | 2 |\n",
+            header().render()
+        );
         let m = parse(&text).unwrap();
         assert_eq!((m.columns, m.rows), (2, 1));
         assert_eq!(m.field("load"), Some("0.50 0.40 0.30"));

@@ -62,6 +62,12 @@ pub static MEASURES: &[Measure] = &[
         quick_seeds: 2,
         table: planning,
     },
+    Measure {
+        name: "quad-tracking",
+        experiment: "experiments/quad-tracking.toml",
+        quick_seeds: 2,
+        table: tracking,
+    },
 ];
 
 /// The measurement called `name`.

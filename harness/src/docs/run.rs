@@ -74,7 +74,11 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
         true => format!("the first {} of its {all} seeds (`--quick`)", e.seeds.len()),
         false => format!("{all} seeds"),
     };
-    let build = if cfg!(debug_assertions) { "debug" } else { "release" };
+    let build = if cfg!(debug_assertions) {
+        "dev (debug assertions on)"
+    } else {
+        "release"
+    };
     let header = Header {
         command: format!(
             "magbench docs measure --only {}{}",

@@ -74,7 +74,10 @@ pub fn tracking(runs: &[RunRecord]) -> Table {
         "replans (all runs)",
         "time to goal, median (s)",
     ]);
-    for g in groups(runs).into_iter().filter(|g| !g[0].tracker.is_empty()) {
+    for g in groups(runs)
+        .into_iter()
+        .filter(|g| !g[0].tracker.is_empty())
+    {
         let sum = |m| values(&g, m).iter().sum::<f64>();
         t.row(vec![
             scenario(&g[0].scenario),
@@ -112,7 +115,10 @@ pub fn errors(runs: &[RunRecord]) -> Table {
         Metric::RmsError,
         Metric::RmsErrorTrue,
     ];
-    for g in groups(runs).into_iter().filter(|g| !g[0].tracker.is_empty()) {
+    for g in groups(runs)
+        .into_iter()
+        .filter(|g| !g[0].tracker.is_empty())
+    {
         let label = format!("{} + {} ({})", g[0].planner, g[0].tracker, g[0].preset);
         for m in metrics {
             t.row(vec![
