@@ -96,9 +96,10 @@ fn name(p: &Path) -> String {
     p.file_name().unwrap().to_string_lossy().to_string()
 }
 
-/// The path of each `{{#include PATH}}` (or `{{#include PATH:anchor}}`) in `text`.
+/// The path of each `{{#include PATH}}` (or `{{#include PATH:anchor}}`) in `text`; mdBook
+/// leaves an include escaped as `\{{#include …}}` as text.
 fn includes(text: &str) -> Vec<String> {
-    let re = Regex::new(r"\{\{#include\s+([^}:\s]+)[^}]*\}\}").unwrap();
+    let re = Regex::new(r"(?:^|[^\\])\{\{#include\s+([^}:\s]+)[^}]*\}\}").unwrap();
     re.captures_iter(text).map(|c| c[1].to_string()).collect()
 }
 
@@ -245,6 +246,8 @@ fn the_rule_catches_a_planted_hand_typed_figure() {
                  {{#include measured/planners-success.md}}\n\n\
                  Run `magbench bench --threads 2` for 50 seeds.\n\n## Other\n\nTook 12 ms.\n";
     assert_eq!(hand_typed(clean, &[]), vec![]);
+    assert_eq!(includes(clean), vec!["measured/planners-success.md"]);
+    assert_eq!(includes("see `\\{{#include measured/NAME.md}}`"), Vec::<String>::new());
     let planted = [
         "The median is 12.6 ms.",
         "600 runs in 34 s on 2 cores.",
