@@ -247,7 +247,10 @@ fn the_rule_catches_a_planted_hand_typed_figure() {
                  Run `magbench bench --threads 2` for 50 seeds.\n\n## Other\n\nTook 12 ms.\n";
     assert_eq!(hand_typed(clean, &[]), vec![]);
     assert_eq!(includes(clean), vec!["measured/planners-success.md"]);
-    assert_eq!(includes("see `\\{{#include measured/NAME.md}}`"), Vec::<String>::new());
+    assert_eq!(
+        includes("see `\\{{#include measured/NAME.md}}`"),
+        Vec::<String>::new()
+    );
     let planted = [
         "The median is 12.6 ms.",
         "600 runs in 34 s on 2 cores.",
