@@ -15,6 +15,7 @@ pub mod api;
 mod app;
 pub mod cli;
 pub mod compare;
+pub mod docs;
 pub mod error;
 pub mod experiment;
 pub mod figures;

@@ -4,6 +4,7 @@ mod ablate;
 mod bench;
 mod calibrate;
 mod calibrate_plot;
+mod docs;
 mod figures;
 mod merge;
 mod number;
@@ -75,6 +76,9 @@ pub enum Command {
     Rig(rig::RigCmd),
     /// Fit a preset's parameters to logged rig runs (`rig run`, `rig excite`).
     Calibrate(calibrate::CalibrateArgs),
+    /// Regenerate the book's measured figures (`docs measure` writes `docs/measured/*.md`).
+    #[command(subcommand)]
+    Docs(docs::DocsCmd),
 }
 
 /// Runs a parsed command line; planners and trackers are resolved by name in `registry`.
@@ -94,5 +98,6 @@ pub fn run(args: Args, registry: &Registry) -> Result<(), CliError> {
         Command::Plan(a) => plan::run(a, registry),
         Command::Rig(c) => rig::run(c, registry),
         Command::Calibrate(a) => calibrate::run(a),
+        Command::Docs(c) => docs::run(c, registry),
     }
 }

@@ -1,0 +1,124 @@
+//! `magbench docs measure`: regenerate the measured figures of the book in `docs/measured/`.
+
+use std::path::{Path, PathBuf};
+
+use clap::{Args, Subcommand};
+
+use super::output::outln;
+use crate::CliError;
+use crate::docs::measures::{MEASURES, find};
+use crate::docs::run::{RunOptions, measure};
+use crate::registry::Registry;
+use crate::run::real::RealExecutor;
+use crate::sweep::ProgressMode;
+
+/// `magbench docs …`.
+#[derive(Debug, Subcommand)]
+pub enum DocsCmd {
+    /// Run the book's measurements and write each table to `docs/measured/NAME.md`, headed by
+    /// the command, machine, load, date and version.
+    Measure(MeasureArgs),
+}
+
+/// Arguments of `magbench docs measure`.
+#[derive(Debug, Args)]
+pub struct MeasureArgs {
+    /// Keep a few seeds of each experiment (a check that the measurements run, not figures).
+    #[arg(long)]
+    pub quick: bool,
+    /// Run only this measurement (repeatable); `--list` names them.
+    #[arg(long, value_name = "NAME")]
+    pub only: Vec<String>,
+    /// Print the measurements and their experiments, and run nothing.
+    #[arg(long)]
+    pub list: bool,
+    /// Where the files go (default: docs/measured of the repository).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Where the experiments' results go (default: target/docs-measure of the repository).
+    #[arg(long)]
+    pub work: Option<PathBuf>,
+    /// Worker threads (default: all CPUs).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The repository: the working directory if it holds `experiments/` and `docs/`, else the
+/// source tree this binary was built from.
+fn root() -> PathBuf {
+    let here = PathBuf::from(".");
+    if here.join("experiments").is_dir() && here.join("docs").is_dir() {
+        return here;
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// Runs `magbench docs …` with the planners and trackers of `registry`.
+pub fn run(c: DocsCmd, registry: &Registry) -> Result<(), CliError> {
+    match c {
+        DocsCmd::Measure(a) => run_measure(a, registry),
+    }
+}
+
+fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
+    if a.list {
+        for m in MEASURES {
+            outln!(
+                "{}\t{}\t--quick: {} seeds",
+                m.name,
+                m.experiment,
+                m.quick_seeds
+            );
+        }
+        return Ok(());
+    }
+    let chosen = match a.only.is_empty() {
+        true => MEASURES.iter().collect(),
+        false => {
+            let names: Vec<&str> = MEASURES.iter().map(|m| m.name).collect();
+            a.only
+                .iter()
+                .map(|n| {
+                    find(n).ok_or_else(|| {
+                        let known = names.join(", ");
+                        CliError::arg("--only", format!("no measurement {n:?} (known: {known})"))
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?
+        }
+    };
+    let threads = match a.threads {
+        Some(n) => magbench_env::check::bounds::threads("--threads", n)
+            .map_err(|r| CliError::arg("--threads", r.reason))?,
+        None => std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1),
+    };
+    let root = root();
+    let out = a.out.unwrap_or_else(|| root.join("docs/measured"));
+    let work = a.work.unwrap_or_else(|| root.join("target/docs-measure"));
+    super::output::prepare_dir(&out, "--out")?;
+    super::output::prepare_dir(&work, "--work")?;
+    let ex = RealExecutor::new(registry.clone());
+    let opts = RunOptions {
+        root: &root,
+        work: &work,
+        quick: a.quick,
+        threads,
+        progress: if a.quiet {
+            ProgressMode::Quiet
+        } else {
+            ProgressMode::Auto
+        },
+    };
+    for m in chosen {
+        let text = measure(m, &ex, &opts)?;
+        let file = out.join(format!("{}.md", m.name));
+        std::fs::write(&file, text)?;
+        outln!("{}: wrote {}", m.name, file.display());
+    }
+    Ok(())
+}

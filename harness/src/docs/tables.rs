@@ -1,0 +1,132 @@
+//! How a measurement's runs become its table: one function per kind of table.
+
+use super::table::{Table, int, median, median_p90, quantile};
+use crate::metrics::Metric;
+use crate::results::summary::groups;
+use crate::run::RunRecord;
+
+/// The values of metric `m` over `runs` that have it.
+fn values(runs: &[&RunRecord], m: Metric) -> Vec<f64> {
+    runs.iter().filter_map(|r| r.get(m)).collect()
+}
+
+/// A scenario as a reader knows it: a file's stem (`../scenarios/trio-row.toml`: `trio-row`),
+/// or the built-in name.
+fn scenario(label: &str) -> String {
+    match label.strip_suffix(".toml") {
+        Some(path) => path.rsplit('/').next().unwrap_or(path).to_string(),
+        None => label.to_string(),
+    }
+}
+
+/// `k/n`.
+fn count(k: usize, n: usize) -> String {
+    format!("{k}/{n}")
+}
+
+/// Planning to a first solution: per scenario and planner, runs solved, iterations to the first
+/// solution (median / max), its time (median) and iterations per second (median over runs of
+/// iterations ÷ planning time).
+pub fn planning(runs: &[RunRecord]) -> Table {
+    let mut t = Table::new(&[
+        "scenario",
+        "planner",
+        "solved",
+        "iterations to 1st solution, median / max",
+        "time to 1st solution, median (s)",
+        "iterations/s, median",
+    ]);
+    for g in groups(runs) {
+        let it = values(&g, Metric::FirstSolutionIteration);
+        let rate: Vec<f64> = g
+            .iter()
+            .filter_map(|r| Some(r.get(Metric::Iterations)? / r.get(Metric::PlanTime)?))
+            .collect();
+        let max = quantile(&it, 1.0).map(int).unwrap_or_else(|| "–".into());
+        t.row(vec![
+            scenario(&g[0].scenario),
+            g[0].planner.clone(),
+            count(g.iter().filter(|r| r.solved).count(), g.len()),
+            format!("{} / {max}", median(&it)),
+            median(&values(&g, Metric::FirstSolutionTime)),
+            median(&rate),
+        ]);
+    }
+    t
+}
+
+/// Closed-loop tracking: per tracker and preset, goal reached, agent contacts, the path, true,
+/// team-synchronous and time-indexed RMS errors and the max observed error (median / p90, BL),
+/// wall contacts over all runs and the median time to goal.
+pub fn tracking(runs: &[RunRecord]) -> Table {
+    let mut t = Table::new(&[
+        "scenario",
+        "tracker",
+        "preset",
+        "goal reached",
+        "agent contact",
+        "path",
+        "true",
+        "sync",
+        "time",
+        "max (observed)",
+        "wall contacts (all runs)",
+        "replans (all runs)",
+        "time to goal, median (s)",
+    ]);
+    for g in groups(runs)
+        .into_iter()
+        .filter(|g| !g[0].tracker.is_empty())
+    {
+        let sum = |m| values(&g, m).iter().sum::<f64>();
+        t.row(vec![
+            scenario(&g[0].scenario),
+            g[0].tracker.clone(),
+            g[0].preset.clone(),
+            count(
+                g.iter().filter(|r| r.reached_goal == Some(true)).count(),
+                g.len(),
+            ),
+            g.iter()
+                .filter(|r| r.agent_contact == Some(true))
+                .count()
+                .to_string(),
+            median_p90(&values(&g, Metric::RmsError)),
+            median_p90(&values(&g, Metric::RmsErrorTrue)),
+            median_p90(&values(&g, Metric::RmsErrorSync)),
+            median_p90(&values(&g, Metric::RmsErrorTime)),
+            median_p90(&values(&g, Metric::MaxError)),
+            int(sum(Metric::WallContacts)),
+            int(sum(Metric::Replans)),
+            median(&values(&g, Metric::TimeToGoal)),
+        ]);
+    }
+    t
+}
+
+/// Each error metric of the tracked runs, median / p90 (BL), one row per metric and
+/// configuration: the seed's node error beside magbench's path errors.
+pub fn errors(runs: &[RunRecord]) -> Table {
+    let mut t = Table::new(&["configuration", "metric", "median / p90 (BL)"]);
+    let metrics = [
+        Metric::RmsErrorNode,
+        Metric::RmsErrorNodeTrue,
+        Metric::RmsErrorSync,
+        Metric::RmsError,
+        Metric::RmsErrorTrue,
+    ];
+    for g in groups(runs)
+        .into_iter()
+        .filter(|g| !g[0].tracker.is_empty())
+    {
+        let label = format!("{} + {} ({})", g[0].planner, g[0].tracker, g[0].preset);
+        for m in metrics {
+            t.row(vec![
+                label.clone(),
+                format!("`{}`", m.def().column),
+                median_p90(&values(&g, m)),
+            ]);
+        }
+    }
+    t
+}
