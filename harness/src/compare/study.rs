@@ -175,7 +175,14 @@ pub fn plot(
                 .collect(),
         });
         if let Some(f) = p.fit {
-            let (k0, k1) = (p.points[0].0, p.points[p.points.len() - 1].0);
+            // the line spans the sizes fitted (those with a finite median), not beyond
+            let fitted: Vec<f64> = p
+                .points
+                .iter()
+                .filter(|q| q.1.is_finite() && q.1 > 0.0)
+                .map(|q| q.0)
+                .collect();
+            let (k0, k1) = (fitted[0], fitted[fitted.len() - 1]);
             looks.push(Look {
                 dash: Dash::Dashed,
                 ..look
