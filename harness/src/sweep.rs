@@ -2,6 +2,8 @@
 //! pool, each row written as soon as its run finishes.
 
 use crate::metrics::Metric;
+use crate::metrics::difficulty::Measures;
+use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -240,9 +242,25 @@ pub fn run_sweep(
         .num_threads(opts.threads.max(1))
         .build()
         .map_err(|err| CliError::Failed(format!("thread pool: {err}")))?;
+    // each scenario's difficulty measures, once, for the rows of all its runs
+    let mut scenarios: Vec<&RunSpec> = vec![];
+    for s in &todo {
+        if !scenarios
+            .iter()
+            .any(|t| t.scenario_label == s.scenario_label)
+        {
+            scenarios.push(s);
+        }
+    }
+    let difficulty: BTreeMap<&str, Measures> = pool.install(|| {
+        scenarios
+            .par_iter()
+            .map(|s| (s.scenario_label.as_str(), Measures::of(&s.scenario)))
+            .collect()
+    });
     let result: Result<(), CliError> = pool.install(|| {
         todo.par_iter().with_max_len(1).try_for_each(|spec| {
-            let o = if ex.one_at_a_time(spec).is_empty() {
+            let mut o = if ex.one_at_a_time(spec).is_empty() {
                 execute_caught(ex, spec)
             } else {
                 let _turn = turn.lock().unwrap_or_else(|p| p.into_inner());
@@ -253,6 +271,10 @@ pub fn run_sweep(
             } else {
                 failed.load(Ordering::SeqCst)
             };
+            o.record.difficulty = difficulty
+                .get(spec.scenario_label.as_str())
+                .copied()
+                .unwrap_or_default();
             writer.lock().unwrap_or_else(|p| p.into_inner()).write(&o)?;
             reporter.finished(&o, f);
             Ok(())

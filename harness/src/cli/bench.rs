@@ -155,7 +155,6 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     }
     super::output::prepare_dir(&out, "--out")?;
     crate::experiment::generated::keep_files(&e.text, &e.source, &out)?;
-    crate::compare::difficulty::write(&out, &e.scenarios)?;
     let progress = if a.quiet {
         ProgressMode::Quiet
     } else if a.lines {

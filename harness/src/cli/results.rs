@@ -1,6 +1,6 @@
 //! `magbench results verify DIR`: check a results folder; `magbench results plot DIR`: draw
 //! its figures again at a size preset, DPI and axis scale, and as PDF; `magbench results scaling
-//! DIR`: fit how time to a first solution grows with a problem size.
+//! DIR`: fit how time and iterations to a first solution grow with a problem size.
 
 use std::path::PathBuf;
 
@@ -22,9 +22,10 @@ pub enum ResultsCmd {
         /// The results folder.
         dir: PathBuf,
     },
-    /// Fit median time to a first solution against a problem size, per planner: the exponent b
-    /// of time ≈ a·size^b (log–log least squares) with its 95% interval; plot it into
-    /// DIR/plots/scaling-[FAMILY-]BY.svg.
+    /// Fit median time and median iterations to a first solution against a problem size, per
+    /// planner: the exponent b of value ≈ a·size^b (log–log least squares) with its 95%
+    /// interval; plot them into DIR/plots/scaling-[FAMILY-]BY.svg (time) and
+    /// scaling-[FAMILY-]BY-iterations.svg.
     Scaling {
         /// The results folder.
         dir: PathBuf,
@@ -102,30 +103,36 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
 }
 
 fn scaling(dir: &std::path::Path, by: &str, family: Option<&str>) -> Result<(), CliError> {
-    use crate::compare::study::{fit_text, plot, study};
+    use crate::compare::study::{Quantity, fit_text, plot, study};
     let _lock = lock::shared(dir, "DIR")?;
     let runs = crate::results::store::read_runs(dir)?;
-    let s = study(&runs, family, by);
-    if s.is_empty() {
-        return Err(CliError::arg(
-            "--by",
-            format!(
-                "no planning run of {} has a size `{by}` (a label parameter or `agents`)",
-                dir.display()
-            ),
-        ));
-    }
-    for p in &s {
-        outln!(
-            "{}: time to 1st solution ≈ {}",
-            p.planner,
-            fit_text(&p.fit, by)
-        );
-        for (k, t, solved, n) in &p.points {
-            outln!("  {by} = {k}: median {t:.4} s, {solved}/{n} solved");
+    for q in Quantity::ALL {
+        let s = study(&runs, family, by, q);
+        if s.is_empty() {
+            return Err(CliError::arg(
+                "--by",
+                format!(
+                    "no planning run of {} has a size `{by}` (a label parameter or `agents`)",
+                    dir.display()
+                ),
+            ));
         }
+        let unit = match q.unit() {
+            "" => String::new(),
+            u => format!(" {u}"),
+        };
+        for p in &s {
+            outln!("{}: {} ≈ {}", p.planner, q.name(), fit_text(&p.fit, by));
+            for (k, t, solved, n) in &p.points {
+                let v = match q {
+                    Quantity::Time => format!("{t:.4}"),
+                    Quantity::Iterations => format!("{t:.0}"),
+                };
+                outln!("  {by} = {k}: median {v}{unit}, {solved}/{n} solved");
+            }
+        }
+        let stem = plot(dir, &s, family, by, q)?;
+        outln!("plot: {}.svg", stem.display());
     }
-    let stem = plot(dir, &s, family, by)?;
-    outln!("plot: {}.svg", stem.display());
     Ok(())
 }

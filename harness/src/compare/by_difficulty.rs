@@ -132,6 +132,7 @@ mod tests {
             problems: vec!["p0".into(), "p1".into(), "p2".into()],
             time: vec![vec![0.1, 10.0, f64::INFINITY]],
             solved: vec![vec![(2, 2), (1, 2), (0, 2)]],
+            difficulty: vec![],
         };
         let x = [Some(1.0), Some(5.0), Some(5.0)];
         let b = bins(&x);

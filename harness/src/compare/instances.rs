@@ -1,7 +1,9 @@
 //! One value per planner and problem: the median time to a first exact solution over the
-//! planner's seeds (+∞ when half or more of them found none) and how many seeds solved it.
+//! planner's seeds (+∞ when half or more of them found none) and how many seeds solved it;
+//! and one set of difficulty measures per problem, read from its runs' difficulty columns.
 
 use crate::metrics::Metric;
+use crate::metrics::difficulty::Measures;
 use crate::run::RunRecord;
 
 /// Planners × problems of the planning runs (runs without a tracker) of a results folder.
@@ -16,6 +18,9 @@ pub struct Instances {
     pub time: Vec<Vec<f64>>,
     /// `solved[p][i]`: (runs solved, runs) of planner `p` on problem `i`.
     pub solved: Vec<Vec<(u64, u64)>>,
+    /// `difficulty[i]`: the difficulty measures of problem `i` (from its first run that has
+    /// them; empty for runs of a `runs.csv` without the columns).
+    pub difficulty: Vec<Measures>,
 }
 
 /// The median of `v` where +∞ stands for an unsolved run: +∞ when a middle value is; NaN
@@ -51,6 +56,7 @@ impl Instances {
         }
         let mut times = vec![vec![vec![]; problems.len()]; planners.len()];
         let mut solved = vec![vec![(0, 0); problems.len()]; planners.len()];
+        let mut difficulty = vec![Measures::default(); problems.len()];
         for r in &planning {
             let p = planners.iter().position(|x| *x == r.planner).unwrap_or(0);
             let i = problems.iter().position(|x| *x == r.scenario).unwrap_or(0);
@@ -58,6 +64,9 @@ impl Instances {
                 (true, Some(t)) => t,
                 _ => f64::INFINITY,
             };
+            if difficulty[i].is_empty() {
+                difficulty[i] = r.difficulty;
+            }
             times[p][i].push(t);
             solved[p][i].1 += 1;
             if t.is_finite() {
@@ -73,6 +82,7 @@ impl Instances {
             problems,
             time,
             solved,
+            difficulty,
         }
     }
 }
@@ -80,6 +90,7 @@ impl Instances {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::metrics::difficulty::Measure;
 
     #[test]
     fn median_counts_unsolved_as_infinite() {
@@ -94,6 +105,8 @@ mod tests {
     fn table_groups_planning_runs_by_planner_and_problem() {
         let run = |sc: &str, pl: &str, t: Option<f64>, tracker: &str| {
             let mut r = RunRecord::example();
+            r.difficulty
+                .set(Measure::PathTurns, Some(if sc == "a" { 1.0 } else { 4.0 }));
             r.scenario = sc.into();
             r.planner = pl.into();
             r.solved = t.is_some();
@@ -116,5 +129,11 @@ mod tests {
         assert_eq!(t.time[1], [f64::INFINITY, 0.5]);
         assert_eq!(t.solved[0], [(2, 2), (1, 1)]);
         assert_eq!(t.solved[1], [(0, 1), (1, 1)]);
+        let turns: Vec<Option<f64>> = t
+            .difficulty
+            .iter()
+            .map(|d| d.get(Measure::PathTurns))
+            .collect();
+        assert_eq!(turns, [Some(1.0), Some(4.0)]);
     }
 }

@@ -1,11 +1,11 @@
 //! Comparisons of planners across problems, over the plain data of a results folder:
 //!
 //! - [`instances`]: one value per planner and problem (the median time to a first solution
-//!   over seeds, unsolved = +∞, and the success count);
+//!   over seeds, unsolved = +∞, and the success count) and each problem's difficulty measures
+//!   (the difficulty columns of its runs in `runs.csv`);
 //! - [`paired`]: two planners problem by problem: win rate (Wilson interval) and the median
 //!   time ratio (Hodges–Lehmann with the signed-rank interval);
 //! - [`profile`]: Dolan–Moré performance profiles;
-//! - [`difficulty`]: `difficulty.csv`, the difficulty measures of each scenario;
 //! - [`by_difficulty`]: success and time binned by a difficulty measure;
 //! - [`scaling`]: the log–log fit of median time against a problem size;
 //! - [`study`]: a scaling study over a results folder, its fits and plot;
@@ -14,7 +14,6 @@
 //! docs/suites.md, "Comparisons across problems".
 
 pub mod by_difficulty;
-pub mod difficulty;
 pub mod instances;
 pub mod paired;
 pub mod profile;

@@ -5,14 +5,12 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use magbench_env::scenario::difficulty::COLUMNS;
-
 use super::by_difficulty::{bins, success, time};
-use super::difficulty;
 use super::instances::Instances;
 use super::paired::paired;
 use super::profile::{profile, tau_grid};
 use crate::CliError;
+use crate::metrics::difficulty::Measure;
 use crate::plot::charts::{BandPoint, LineBandChart, Series, W};
 use crate::plot::style::{self, Family};
 use crate::plot::{save, with_ext};
@@ -24,10 +22,6 @@ pub const FOLDER: &str = "across-problems";
 
 /// Measures with fewer distinct values than this over the problems are not plotted.
 const MIN_DISTINCT: usize = 3;
-
-/// Columns of `difficulty.csv` that describe the measurement (grid, assumed clearance), not
-/// the problem: not plotted.
-const SETTINGS: [&str; 3] = ["grid_bl", "min_width_bl", "path_clearance_bl"];
 
 fn figure(dir: &Path, name: &str, fig: &LineBandChart, caption: &str) -> Result<String, CliError> {
     let stem = dir.join("plots").join(FOLDER).join(name);
@@ -135,12 +129,9 @@ pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, CliError> {
     };
     o.push_str(&figure(dir, "performance-profile", &fig, &title)?);
 
-    let d = difficulty::read(dir)?;
-    for (c, col) in COLUMNS.iter().enumerate() {
-        if SETTINGS.contains(col) {
-            continue;
-        }
-        let x: Vec<Option<f64>> = t.problems.iter().map(|p| d.value(p, c)).collect();
+    for m in Measure::ALL.iter().filter(|m| m.def().axis) {
+        let (col, axis) = (m.def().name, m.def().axis_label());
+        let x: Vec<Option<f64>> = t.difficulty.iter().map(|d| d.get(*m)).collect();
         let mut distinct: Vec<f64> = x.iter().flatten().copied().collect();
         distinct.sort_by(f64::total_cmp);
         distinct.dedup();
@@ -156,10 +147,10 @@ pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, CliError> {
                 })
                 .collect()
         };
-        let title = format!("success rate vs {col}");
+        let title = format!("success rate vs {}", m.def().label);
         let fig = LineBandChart {
             title: title.clone(),
-            x_label: format!("{col} (bin median; difficulty.csv)"),
+            x_label: format!("{axis}: bin median (runs.csv: {})", m.def().column),
             y_label: "runs solved (fraction)".into(),
             series: per(&|p| success(&t, p, &x, &b)),
             y_range: Some((0.0, 1.0)),
@@ -171,10 +162,10 @@ pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, CliError> {
             width: W,
         };
         o.push_str(&figure(dir, &format!("success-vs-{col}"), &fig, &title)?);
-        let title = format!("time to first solution vs {col}");
+        let title = format!("time to first solution vs {}", m.def().label);
         let fig = LineBandChart {
             title: title.clone(),
-            x_label: format!("{col} (bin median; difficulty.csv)"),
+            x_label: format!("{axis}: bin median (runs.csv: {})", m.def().column),
             y_label: "log₁₀ median time to 1st solution (s)".into(),
             series: per(&|p| time(&t, p, &x, &b)),
             y_range: None,

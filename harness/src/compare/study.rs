@@ -1,6 +1,6 @@
 //! A scaling study over a results folder: per planner, the median time to a first solution
-//! (unsolved runs = +∞) at each problem size, the power law fitted to it ([`super::scaling`]),
-//! and a log–log plot of both.
+//! or the median iterations to it (unsolved runs = +∞) at each problem size, the power law
+//! fitted to it ([`super::scaling`]), and a log–log plot of both.
 
 use crate::metrics::Metric;
 use std::path::{Path, PathBuf};
@@ -13,12 +13,58 @@ use crate::plot::save;
 use crate::plot::style::{self, Dash, Family, Look};
 use crate::run::RunRecord;
 
+/// What grows with the size: a metric of the first solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// Time to the first solution (s; wall-clock).
+    Time,
+    /// Iterations to the first solution (machine-independent).
+    Iterations,
+}
+
+impl Quantity {
+    /// Both, in the order `results scaling` prints them.
+    pub const ALL: [Quantity; 2] = [Quantity::Time, Quantity::Iterations];
+
+    /// The metric of `runs.csv` it reads.
+    pub fn metric(self) -> Metric {
+        match self {
+            Quantity::Time => Metric::FirstSolutionTime,
+            Quantity::Iterations => Metric::FirstSolutionIteration,
+        }
+    }
+
+    /// Its name in text and plot titles.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Time => "time to 1st solution",
+            Quantity::Iterations => "iterations to 1st solution",
+        }
+    }
+
+    /// Its unit (empty for a count).
+    pub fn unit(self) -> &'static str {
+        match self {
+            Quantity::Time => "s",
+            Quantity::Iterations => "",
+        }
+    }
+
+    /// The suffix of its plot's file name (empty for time).
+    fn suffix(self) -> &'static str {
+        match self {
+            Quantity::Time => "",
+            Quantity::Iterations => "-iterations",
+        }
+    }
+}
+
 /// One planner's points and fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlannerScaling {
     /// Planner label.
     pub planner: String,
-    /// `(size, median time (s), runs solved, runs)` in increasing size.
+    /// `(size, median of the quantity, runs solved, runs)` in increasing size.
     pub points: Vec<(f64, f64, u64, u64)>,
     /// The fit over the sizes with a finite median, if two or more have one.
     pub fit: Option<PowerFit>,
@@ -39,13 +85,18 @@ pub fn size_of(r: &RunRecord, family: Option<&str>, by: &str) -> Option<f64> {
     }
 }
 
-/// Per planner of the planning runs, the points and fit of time against size.
-pub fn study(runs: &[RunRecord], family: Option<&str>, by: &str) -> Vec<PlannerScaling> {
+/// Per planner of the planning runs, the points and fit of quantity `q` against size.
+pub fn study(
+    runs: &[RunRecord],
+    family: Option<&str>,
+    by: &str,
+    q: Quantity,
+) -> Vec<PlannerScaling> {
     let mut out: Vec<PlannerScaling> = vec![];
     let mut sizes: Vec<(String, f64, f64)> = vec![];
     for r in runs.iter().filter(|r| r.tracker.is_empty()) {
         if let Some(s) = size_of(r, family, by) {
-            let t = match (r.solved, r.get(Metric::FirstSolutionTime)) {
+            let t = match (r.solved, r.get(q.metric())) {
                 (true, Some(t)) => t,
                 _ => f64::INFINITY,
             };
@@ -96,13 +147,14 @@ pub fn fit_text(f: &Option<PowerFit>, by: &str) -> String {
     }
 }
 
-/// Plots `log₂ median time` against `log₂ size` per planner with its fitted line into
-/// `dir/plots/scaling-<by>`; returns the stem.
+/// Plots `log₂` of the median of `q` against `log₂ size` per planner with its fitted line
+/// into `dir/plots/scaling-[FAMILY-]BY[-iterations]`; returns the stem.
 pub fn plot(
     dir: &Path,
     s: &[PlannerScaling],
     family: Option<&str>,
     by: &str,
+    q: Quantity,
 ) -> Result<PathBuf, CliError> {
     let mut series = vec![];
     let mut looks = vec![];
@@ -123,7 +175,14 @@ pub fn plot(
                 .collect(),
         });
         if let Some(f) = p.fit {
-            let (k0, k1) = (p.points[0].0, p.points[p.points.len() - 1].0);
+            // the line spans the sizes fitted (those with a finite median), not beyond
+            let fitted: Vec<f64> = p
+                .points
+                .iter()
+                .filter(|q| q.1.is_finite() && q.1 > 0.0)
+                .map(|q| q.0)
+                .collect();
+            let (k0, k1) = (fitted[0], fitted[fitted.len() - 1]);
             looks.push(Look {
                 dash: Dash::Dashed,
                 ..look
@@ -143,10 +202,14 @@ pub fn plot(
         }
     }
     let what = family.map(|f| format!("{f}: ")).unwrap_or_default();
+    let unit = match q.unit() {
+        "" => String::new(),
+        u => format!(" ({u})"),
+    };
     let fig = LineBandChart {
-        title: format!("{what}median time to first solution vs {by}"),
+        title: format!("{what}median {} vs {by}", q.name()),
         x_label: format!("log₂ {by}"),
-        y_label: "log₂ median time to 1st solution (s)".into(),
+        y_label: format!("log₂ median {}{unit}", q.name()),
         series,
         y_range: None,
         steps: false,
@@ -157,8 +220,8 @@ pub fn plot(
         width: W,
     };
     let name = match family {
-        Some(f) => format!("scaling-{f}-{by}"),
-        None => format!("scaling-{by}"),
+        Some(f) => format!("scaling-{f}-{by}{}", q.suffix()),
+        None => format!("scaling-{by}{}", q.suffix()),
     };
     let stem = dir.join("plots").join(name);
     save(&fig, &stem)?;
@@ -177,6 +240,11 @@ mod tests {
             r.planner = pl.into();
             r.solved = t.is_some();
             r.set(Metric::FirstSolutionTime, t);
+            // iterations grow as the time's cube root times 1000
+            r.set(
+                Metric::FirstSolutionIteration,
+                t.map(|t| (1000.0 * t.cbrt()).round()),
+            );
             r
         };
         let mut runs = vec![];
@@ -191,12 +259,40 @@ mod tests {
             ));
         }
         runs.push(run("corridor-length=30-s0", "a", Some(5.0)));
-        let s = study(&runs, Some("serpentine"), "walls");
+        let s = study(&runs, Some("serpentine"), "walls", Quantity::Time);
         assert_eq!(s.len(), 2);
         assert_eq!(s[0].points.len(), 4);
         let f = s[0].fit.unwrap();
         assert!((f.exponent - 2.0).abs() < 1e-9);
         assert_eq!(s[1].points[3], (8.0, f64::INFINITY, 0, 1));
         assert!(s[1].fit.unwrap().exponent.abs() < 1e-9);
+        // iterations: 1000·(0.01 k²)^(1/3) ∝ k^(2/3), up to the rounding to whole iterations
+        let it = study(&runs, Some("serpentine"), "walls", Quantity::Iterations);
+        let f = it[0].fit.unwrap();
+        assert!((f.exponent - 2.0 / 3.0).abs() < 0.01, "{f:?}");
+        assert_eq!(it[0].points[0].1, (1000.0f64 * 0.01f64.cbrt()).round());
+        assert_eq!(it[1].points[3], (8.0, f64::INFINITY, 0, 1));
+    }
+
+    #[test]
+    fn plots_time_and_iterations_into_their_own_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let s = vec![PlannerScaling {
+            planner: "a".into(),
+            points: vec![(1.0, 10.0, 1, 1), (4.0, 160.0, 1, 1)],
+            fit: fit(&[(1.0, 10.0), (4.0, 160.0)]),
+        }];
+        for q in Quantity::ALL {
+            let stem = plot(dir.path(), &s, Some("corridor"), "length", q).unwrap();
+            let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
+            assert!(svg.contains(q.name()), "{q:?}");
+        }
+        let plots = dir.path().join("plots");
+        assert!(plots.join("scaling-corridor-length.svg").exists());
+        assert!(
+            plots
+                .join("scaling-corridor-length-iterations.svg")
+                .exists()
+        );
     }
 }

@@ -7,7 +7,10 @@
 //! entry, and the summaries, `regress`, the plots, the report and `ompl.log` take their lists
 //! from the table. Adding a metric is one entry in [`table`] and its computation (see
 //! `docs/results.md`, "The metric table").
+//!
+//! [`difficulty`] is the same kind of table for the difficulty measures of a run's scenario.
 
+pub mod difficulty;
 pub mod path;
 mod table;
 mod values;

@@ -7,6 +7,10 @@
 //! progress rows without their run's row, and runs whose trace is not exactly `progress_rows`
 //! long, so those runs run again and none is doubled or lost.
 //!
+//! Columns: the serde columns of [`RunRecord`], one per metric of the table
+//! ([`crate::metrics`]), one per difficulty measure of the run's scenario
+//! ([`crate::metrics::difficulty`]), then the per-agent columns.
+//!
 //! Per-agent columns: after the fixed columns of [`RunRecord`], `runs.csv` has the columns of
 //! [`agent_columns`] for agents `0..n`, `n` the largest team the experiment tracks (0 for
 //! planning only). A run of a smaller team leaves the columns of the agents it lacks empty, so
@@ -19,6 +23,7 @@ use std::path::{Path, PathBuf};
 
 use crate::CliError;
 use crate::metrics::Metric;
+use crate::metrics::difficulty::Measure;
 use crate::run::record::{AgentErrors, agent_columns};
 use crate::run::{ProgressRow, RunOutput, RunRecord};
 
@@ -42,6 +47,10 @@ fn header_line<T: serde::Serialize>(example: &T) -> String {
 pub fn runs_header(agents: usize) -> String {
     let mut h = header_line(&RunRecord::example());
     for m in Metric::ALL {
+        h.push(',');
+        h.push_str(m.def().column);
+    }
+    for m in Measure::ALL {
         h.push(',');
         h.push_str(m.def().column);
     }
@@ -95,8 +104,8 @@ pub fn file_agents(dir: &Path) -> usize {
         .unwrap_or(0)
 }
 
-/// `runs.csv` rows: the serde columns, the metric columns, then `agents` agents' per-agent
-/// columns.
+/// `runs.csv` rows: the serde columns, the metric columns, the difficulty columns, then
+/// `agents` agents' per-agent columns.
 pub fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
     let mut out = vec![];
     for r in rows {
@@ -104,9 +113,13 @@ pub fn run_bytes(rows: &[RunRecord], agents: usize) -> Vec<u8> {
         // the csv writer ends a record with one '\n'; the extra cells are plain numbers
         debug_assert_eq!(line.last(), Some(&b'\n'));
         line.pop();
-        let cells = Metric::ALL.iter().map(|m| r.get(*m)).chain(
-            (0..agents).flat_map(|i| r.per_agent.get(i).copied().unwrap_or_default().values()),
-        );
+        let cells = Metric::ALL
+            .iter()
+            .map(|m| r.get(*m))
+            .chain(Measure::ALL.iter().map(|m| r.difficulty.get(*m)))
+            .chain(
+                (0..agents).flat_map(|i| r.per_agent.get(i).copied().unwrap_or_default().values()),
+            );
         for v in cells {
             line.push(b',');
             if let Some(v) = v {
@@ -233,7 +246,8 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, CliError> {
 }
 
 /// Reads the complete rows of `runs.csv` (a trailing partial line is ignored), with their
-/// per-agent columns (a file without them, e.g. of an older version, gives none).
+/// difficulty and per-agent columns (a file without them, e.g. of an older version, gives
+/// none).
 pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, CliError> {
     let path = dir.join(RUNS);
     if !path.exists() {
@@ -260,6 +274,11 @@ pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
         .iter()
         .filter_map(|m| Some((*m, col(m.def().column)?)))
         .collect();
+    // the column of each difficulty measure the header has (none in files of older versions)
+    let measures: Vec<(Measure, usize)> = Measure::ALL
+        .iter()
+        .filter_map(|m| Some((*m, col(m.def().column)?)))
+        .collect();
     // the column of each per-agent value, for every agent the header has
     let agents: Vec<[Option<usize>; 4]> = (0..)
         .map(|a| agent_columns(a).map(|c| col(&c)))
@@ -283,6 +302,9 @@ pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
         };
         for &(m, c) in &metrics {
             r.set(m, cell(Some(c))?);
+        }
+        for &(m, c) in &measures {
+            r.difficulty.set(m, cell(Some(c))?);
         }
         for cols in &agents {
             let mut v = [None; 4];
@@ -448,6 +470,12 @@ mod tests {
         o.record.agents = agents;
         o.record.set(Metric::RmsError, Some(0.1 + agents as f64));
         o.record.set(Metric::ClearanceMin, Some(1.0 / 3.0));
+        o.record
+            .difficulty
+            .set(Measure::FreeFraction, Some(0.1 * agents as f64));
+        o.record
+            .difficulty
+            .set(Measure::ShapeChangeBl, Some(1.0 / 7.0));
         o.record.per_agent = (0..agents)
             .map(|a| AgentErrors {
                 rms_bl: Some(0.1 * (a + 1) as f64),
@@ -470,7 +498,7 @@ mod tests {
         drop(w);
         let text = std::fs::read_to_string(dir.path().join(RUNS)).unwrap();
         let header = text.lines().next().unwrap();
-        let last = Metric::ALL.last().unwrap().def().column;
+        let last = Measure::ALL.last().unwrap().def().column;
         assert!(header.ends_with(&format!(",{last},rms_error_agent0_bl,max_error_agent0_bl,rms_error_true_agent0_bl,max_error_true_agent0_bl,rms_error_agent1_bl,max_error_agent1_bl,rms_error_true_agent1_bl,max_error_true_agent1_bl,rms_error_agent2_bl,max_error_agent2_bl,rms_error_true_agent2_bl,max_error_true_agent2_bl,rms_error_agent3_bl,max_error_agent3_bl,rms_error_true_agent3_bl,max_error_true_agent3_bl")), "{header}");
         // one header, every row as wide: absent agents are empty cells
         let mut rd = csv::Reader::from_reader(text.as_bytes());
@@ -511,5 +539,9 @@ mod tests {
             (None, None)
         );
         assert!(r[0].per_agent.is_empty());
+        assert!(
+            r[0].difficulty.is_empty(),
+            "no difficulty columns, no values"
+        );
     }
 }

@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::metrics::difficulty::{Measure, Measures};
 use crate::metrics::{Metric, Values};
 
 /// How a run ended, named after OMPL's `PlannerStatus`.
@@ -104,6 +105,11 @@ pub struct RunRecord {
     #[serde(skip)]
     pub metrics: Values,
 
+    /// The difficulty measures of the run's scenario ([`crate::metrics::difficulty`]). Not a
+    /// serde field: `runs.csv` writes one column per measure after the metric columns.
+    #[serde(skip)]
+    pub difficulty: Measures,
+
     /// Each agent's path error of a tracked run (empty otherwise). Not a serde field: `runs.csv`
     /// writes it after the metric columns as [`agent_columns`] for as many agents as the experiment's
     /// largest team (see `results::store`).
@@ -179,7 +185,8 @@ impl RunRecord {
             .collect()
     }
 
-    /// The CSV header without per-agent columns: the serde columns, then one per metric.
+    /// The CSV header without per-agent columns: the serde columns, one per metric, then one per
+    /// difficulty measure.
     pub fn header() -> Vec<String> {
         let mut w = csv::WriterBuilder::new()
             .has_headers(true)
@@ -192,6 +199,7 @@ impl RunRecord {
             .split(',')
             .map(str::to_string)
             .chain(Metric::ALL.iter().map(|m| m.def().column.to_string()))
+            .chain(Measure::ALL.iter().map(|m| m.def().column.to_string()))
             .collect()
     }
 
@@ -239,6 +247,7 @@ impl RunRecord {
             agent_contact: None,
             error: String::new(),
             metrics: Values::default(),
+            difficulty: Measures::default(),
             per_agent: vec![],
         }
     }
@@ -264,7 +273,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn header_lists_inputs_then_metrics() {
+    fn header_lists_inputs_then_metrics_then_difficulty() {
         let h = RunRecord::header();
         assert_eq!(h[0], "run");
         assert!(h.contains(&"planner".to_string()) && h.contains(&"rms_error_bl".to_string()));
@@ -282,7 +291,9 @@ mod tests {
                 "track_time_s"
             ]
         );
-        assert_eq!(h.last().unwrap(), Metric::ALL.last().unwrap().def().column);
+        assert_eq!(h.last().unwrap(), Measure::ALL.last().unwrap().def().column);
+        let last_metric = h.len() - Measure::ALL.len() - 1;
+        assert_eq!(h[last_metric], Metric::ALL.last().unwrap().def().column);
     }
 
     #[test]
