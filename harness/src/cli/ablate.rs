@@ -72,11 +72,7 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
             format!("{}: no term is on: nothing to ablate", a.preset),
         ));
     }
-    let threads = match a.threads {
-        Some(n) => magbench_env::check::bounds::threads("--threads", n)
-            .map_err(|r| CliError::arg("--threads", r.reason))?,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
+    let threads = super::number::threads(a.threads)?;
     let name = format!(
         "ablate-{}-{}",
         base.name.replace(|c: char| !c.is_ascii_alphanumeric(), "-"),

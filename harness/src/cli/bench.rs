@@ -113,13 +113,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     if let Some((_, n)) = shard {
         count("--shard", &SHARDS, n as u64)?;
     }
-    let threads = match a.threads {
-        Some(n) => magbench_env::check::bounds::threads("--threads", n)
-            .map_err(|r| CliError::arg("--threads", r.reason))?,
-        None => std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1),
-    };
+    let threads = super::number::threads(a.threads)?;
     let out = a.out.clone().unwrap_or_else(|| match shard {
         Some((i, n)) => PathBuf::from("results").join(format!("{}-shard-{i}-of-{n}", e.name)),
         None => PathBuf::from("results").join(&e.name),

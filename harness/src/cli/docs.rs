@@ -90,13 +90,7 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
                 .collect::<Result<Vec<_>, _>>()?
         }
     };
-    let threads = match a.threads {
-        Some(n) => magbench_env::check::bounds::threads("--threads", n)
-            .map_err(|r| CliError::arg("--threads", r.reason))?,
-        None => std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1),
-    };
+    let threads = super::number::threads(a.threads)?;
     let root = root();
     let out = a.out.unwrap_or_else(|| root.join("docs/measured"));
     let work = a.work.unwrap_or_else(|| root.join("target/docs-measure"));

@@ -19,3 +19,13 @@ pub(crate) fn count(name: &str, bound: &Bound, n: u64) -> Result<u64, CliError> 
         .check_count(name, n)
         .map_err(|r| CliError::arg(name, r.reason))
 }
+
+/// The worker threads of `--threads`: the given number within the machine's bound, else one
+/// per core.
+pub(crate) fn threads(given: Option<usize>) -> Result<usize, CliError> {
+    match given {
+        Some(n) => magbench_env::check::bounds::threads("--threads", n)
+            .map_err(|r| CliError::arg("--threads", r.reason)),
+        None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    }
+}
