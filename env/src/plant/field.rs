@@ -67,9 +67,10 @@ impl FieldModel {
                 0.0,
                 gz,
             );
+            let off = cal.gradient_gain_offset;
             gradient_gain = [
-                1.0 + n(cal.gradient_gain_error),
-                1.0 + n(cal.gradient_gain_error),
+                1.0 + off[0] + n(cal.gradient_gain_error),
+                1.0 + off[1] + n(cal.gradient_gain_error),
             ];
             crosstalk = [n(cal.gradient_crosstalk), n(cal.gradient_crosstalk)];
         }
