@@ -9,7 +9,9 @@ use magbench_env::math::Vec2;
 use magbench_env::plant::{Pixels, centroid_rms_px};
 
 fn main() {
-    println!("px_per_bl  blob_rms_px  blob_rms_bl  hough1px_rms_px  hough1px_rms_bl  merge_below_bl");
+    println!(
+        "px_per_bl  blob_rms_px  blob_rms_bl  hough1px_rms_px  hough1px_rms_bl  merge_below_bl"
+    );
     for s in [5.0, 8.0, 10.0, 13.0, 16.0, 21.0, 32.0, 64.0] {
         let blob = centroid_rms_px(s, 64);
         let hough = Pixels {

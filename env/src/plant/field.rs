@@ -155,3 +155,26 @@ impl FieldModel {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plant::CoilCalibration;
+
+    #[test]
+    fn a_fixed_gradient_offset_scales_each_axis() {
+        let preset = DisturbancePreset {
+            coil_calibration: CoilCalibration {
+                enabled: true,
+                gradient_gain_offset: [0.05, -0.1],
+                ..Default::default()
+            },
+            ..DisturbancePreset::ideal()
+        };
+        let f = FieldModel::draw(&preset, &PhysicalParams::default(), 3);
+        let (_, g) = f.realise(&[0.0, 0.0, 0.0, 1.0, 1.0]);
+        assert!((g[(0, 0)] - 1.05).abs() < 1e-12, "{g}");
+        assert!((g[(1, 1)] - 0.9).abs() < 1e-12, "{g}");
+        assert!(!f.is_exact());
+    }
+}
