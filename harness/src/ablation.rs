@@ -172,8 +172,8 @@ mod tests {
         let terms = terms_on(&hw);
         assert_eq!(
             terms.len(),
-            DisturbancePreset::TERMS.len() - 1,
-            "all but drift"
+            DisturbancePreset::TERMS.len() - 2,
+            "all but drift and camera.pixels"
         );
         let v = variants(&hw);
         assert_eq!(v.len(), 2 + 2 * terms.len());

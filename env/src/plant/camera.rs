@@ -8,8 +8,10 @@
 //! true position plus a per-agent bias that wanders slowly (an Ornstein–Uhlenbeck process with
 //! the set standard deviation and correlation time) plus white noise. An agent is missed with
 //! probability `p + p_c·exp(−(r − 1)/ℓ)`, `r` its distance to its nearest neighbour (BL); two
-//! agents' detections swap identities with probability `p_s·exp(−(r − 1)/ℓ_s)`. Every part
-//! draws from its own random stream.
+//! agents' detections swap identities with probability `p_s·exp(−(r − 1)/ℓ_s)`. With
+//! `[camera.pixels]` on, the detections start from what a detector makes of the pixels (the
+//! quantised centroid, close agents merged into one blob: [`Pixels`]) instead of the true
+//! centres. Every part draws from its own random stream.
 
 use std::collections::VecDeque;
 
@@ -17,6 +19,7 @@ use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+use super::pixels::Pixels;
 use super::streams::{Stream, normal, stream};
 use crate::check::Rejection;
 use crate::check::bounds::{non_negative, positive, probability, within};
@@ -40,6 +43,9 @@ pub struct CameraParams {
     /// Swapped detections.
     #[serde(default)]
     pub swaps: Swaps,
+    /// The image's resolution, the detector's quantisation and blob merging.
+    #[serde(default)]
+    pub pixels: Pixels,
 }
 
 /// Latency: nominal (what the estimator is told) and its jitter.
@@ -103,6 +109,7 @@ impl Default for CameraParams {
             noise: DetectionNoise::default(),
             misses: Misses::default(),
             swaps: Swaps::default(),
+            pixels: Pixels::default(),
         }
     }
 }
@@ -136,7 +143,8 @@ impl CameraParams {
         probability("camera.misses.close_prob", self.misses.close_prob)?;
         non_negative("camera.misses.close_range_bl", self.misses.close_range_bl)?;
         probability("camera.swaps.close_prob", self.swaps.close_prob)?;
-        non_negative("camera.swaps.close_range_bl", self.swaps.close_range_bl)
+        non_negative("camera.swaps.close_range_bl", self.swaps.close_range_bl)?;
+        self.pixels.check().map_err(|r| r.under("camera.pixels"))
     }
 
     /// The nominal latency in frames (0 when the term is off).
@@ -227,7 +235,16 @@ impl Camera {
             self.history.pop_front();
         }
         let seen = self.truth_at(t - actual * period);
-        let mut agents: Vec<Option<Vec2>> = seen.iter().map(|p| Some(*p)).collect();
+        let mut agents: Vec<Option<Vec2>> = if self.params.pixels.enabled {
+            self.params
+                .pixels
+                .detect(&seen)
+                .into_iter()
+                .map(Some)
+                .collect()
+        } else {
+            seen.iter().map(|p| Some(*p)).collect()
+        };
         self.add_noise(&mut agents, period);
         self.drop_misses(&seen, &mut agents);
         self.swap(&seen, &mut agents);

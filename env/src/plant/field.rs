@@ -67,9 +67,10 @@ impl FieldModel {
                 0.0,
                 gz,
             );
+            let off = cal.gradient_gain_offset;
             gradient_gain = [
-                1.0 + n(cal.gradient_gain_error),
-                1.0 + n(cal.gradient_gain_error),
+                1.0 + off[0] + n(cal.gradient_gain_error),
+                1.0 + off[1] + n(cal.gradient_gain_error),
             ];
             crosstalk = [n(cal.gradient_crosstalk), n(cal.gradient_crosstalk)];
         }
@@ -152,5 +153,28 @@ impl FieldModel {
         } else {
             0.0
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plant::CoilCalibration;
+
+    #[test]
+    fn a_fixed_gradient_offset_scales_each_axis() {
+        let preset = DisturbancePreset {
+            coil_calibration: CoilCalibration {
+                enabled: true,
+                gradient_gain_offset: [0.05, -0.1],
+                ..Default::default()
+            },
+            ..DisturbancePreset::ideal()
+        };
+        let f = FieldModel::draw(&preset, &PhysicalParams::default(), 3);
+        let (_, g) = f.realise(&[0.0, 0.0, 0.0, 1.0, 1.0]);
+        assert!((g[(0, 0)] - 1.05).abs() < 1e-12, "{g}");
+        assert!((g[(1, 1)] - 0.9).abs() < 1e-12, "{g}");
+        assert!(!f.is_exact());
     }
 }

@@ -6,6 +6,11 @@
 //! and a particle load). At an interface each agent also draws its contact angle, with the
 //! medium's spread; its drag then scales with its drag fraction at that angle relative to the
 //! mean angle's, and its capillary charge follows its own immersion.
+//!
+//! On top of the agent-to-agent factors come common-mode ones, shared by every agent of the
+//! run: a moment factor (the batch's magnetisation off the model's, e.g. 0.9 for moments 10%
+//! weaker than the model thinks) and a drag factor (the liquid's viscosity off the model's),
+//! each a fixed factor times a factor drawn once per run with its own spread.
 
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
@@ -13,8 +18,8 @@ use serde::{Deserialize, Serialize};
 use super::medium::{Interface, Medium};
 use super::streams::{Stream, normal, stream};
 use super::term::Term;
-use crate::check::Rejection;
 use crate::check::bounds::within;
+use crate::check::{Bound, Rejection};
 use crate::math::MAX_AGENTS;
 
 /// How a per-agent factor is drawn.
@@ -29,7 +34,7 @@ pub enum Spread {
 }
 
 /// The heterogeneity term of a preset.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Heterogeneity {
     /// Whether the term acts.
@@ -40,7 +45,47 @@ pub struct Heterogeneity {
     pub moment_spread: f64,
     /// Spread `s` of the drag factor (size and shape; immersion at an interface comes on top).
     pub drag_spread: f64,
+    /// Fixed common-mode moment factor of every agent (1 = the planning model's moment).
+    #[serde(default = "one")]
+    pub common_moment_factor: f64,
+    /// Spread `s` of a common-mode moment factor drawn once per run for all agents.
+    #[serde(default)]
+    pub common_moment_spread: f64,
+    /// Fixed common-mode drag factor of every agent (1 = the planning model's drag).
+    #[serde(default = "one")]
+    pub common_drag_factor: f64,
+    /// Spread `s` of a common-mode drag factor drawn once per run for all agents.
+    #[serde(default)]
+    pub common_drag_spread: f64,
 }
+
+fn one() -> f64 {
+    1.0
+}
+
+impl Default for Heterogeneity {
+    /// Off: identical agents, no common-mode factor.
+    fn default() -> Self {
+        Self {
+            enabled: false,
+            distribution: Spread::default(),
+            moment_spread: 0.0,
+            drag_spread: 0.0,
+            common_moment_factor: 1.0,
+            common_moment_spread: 0.0,
+            common_drag_factor: 1.0,
+            common_drag_spread: 0.0,
+        }
+    }
+}
+
+/// The fixed common-mode factors a preset accepts.
+const COMMON_FACTOR: Bound = Bound::closed(
+    0.1,
+    10.0,
+    "",
+    "a batch or liquid ten times off the model is a different model, not a mismatch",
+);
 
 /// The drawn factors of every agent.
 #[derive(Debug, Clone, PartialEq)]
@@ -74,7 +119,11 @@ impl Term for Heterogeneity {
             hi,
             "",
         )?;
-        within("drag_spread", self.drag_spread, 0.0, hi, "")
+        within("drag_spread", self.drag_spread, 0.0, hi, "")?;
+        COMMON_FACTOR.check("common_moment_factor", self.common_moment_factor)?;
+        within("common_moment_spread", self.common_moment_spread, 0.0, hi, "")?;
+        COMMON_FACTOR.check("common_drag_factor", self.common_drag_factor)?;
+        within("common_drag_spread", self.common_drag_spread, 0.0, hi, "")
     }
 }
 
@@ -103,6 +152,13 @@ impl Heterogeneity {
             f.moment[i] = factor(self.moment_spread);
             f.mobility[i] = 1.0 / factor(self.drag_spread);
         }
+        let (moment, drag) = self.common(seed);
+        if (moment, drag) != (1.0, 1.0) {
+            for i in 0..n {
+                f.moment[i] *= moment;
+                f.mobility[i] /= drag;
+            }
+        }
         if let Some(iface) = medium.interface() {
             let rng = &mut stream(seed, Stream::ContactAngle);
             let sd = iface.contact_angle_spread_deg.to_radians();
@@ -114,6 +170,20 @@ impl Heterogeneity {
             }
         }
         f
+    }
+
+    /// The run's common-mode moment and drag factors: the fixed factors times factors drawn
+    /// from their own stream (so the per-agent draws do not depend on them).
+    fn common(&self, seed: u64) -> (f64, f64) {
+        let rng = &mut stream(seed, Stream::CommonMode);
+        let mut factor = |s: f64| match (s > 0.0, self.distribution) {
+            (false, _) => 1.0,
+            (true, Spread::Uniform) => rng.random_range(1.0 - s..=1.0 + s),
+            (true, Spread::Lognormal) => (s * normal(rng)).exp(),
+        };
+        let moment = self.common_moment_factor * factor(self.common_moment_spread);
+        let drag = self.common_drag_factor * factor(self.common_drag_spread);
+        (moment, drag)
     }
 }
 
@@ -127,6 +197,68 @@ mod tests {
             distribution: Spread::Lognormal,
             moment_spread: s,
             drag_spread: s,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn common_mode_scales_every_agent_alike_and_leaves_the_spread() {
+        let base = lognormal(0.2);
+        let common = Heterogeneity {
+            common_moment_factor: 0.9,
+            common_drag_factor: 1.05,
+            ..base.clone()
+        };
+        for seed in 0..20 {
+            let (a, b) = (
+                base.draw(&Medium::Bulk, 3, seed),
+                common.draw(&Medium::Bulk, 3, seed),
+            );
+            for i in 0..3 {
+                assert!((b.moment[i] / a.moment[i] - 0.9).abs() < 1e-12);
+                assert!((a.mobility[i] / b.mobility[i] - 1.05).abs() < 1e-12);
+            }
+        }
+        let drawn = Heterogeneity {
+            common_moment_spread: 0.1,
+            ..base.clone()
+        };
+        let ratios: Vec<f64> = (0..400)
+            .map(|seed| {
+                let (a, b) = (
+                    base.draw(&Medium::Bulk, 2, seed),
+                    drawn.draw(&Medium::Bulk, 2, seed),
+                );
+                let r = b.moment[0] / a.moment[0];
+                assert!((b.moment[1] / a.moment[1] - r).abs() < 1e-12, "common");
+                r.ln()
+            })
+            .collect();
+        let sd = (ratios.iter().map(|x| x * x).sum::<f64>() / ratios.len() as f64).sqrt();
+        assert!((sd - 0.1).abs() < 0.015, "log-spread {sd}");
+    }
+
+    #[test]
+    fn common_mode_values_are_bounded() {
+        for (field, edit) in [
+            ("common_moment_factor", Heterogeneity {
+                common_moment_factor: 0.0,
+                ..lognormal(0.1)
+            }),
+            ("common_moment_spread", Heterogeneity {
+                common_moment_spread: -0.1,
+                ..lognormal(0.1)
+            }),
+            ("common_drag_factor", Heterogeneity {
+                common_drag_factor: f64::NAN,
+                ..lognormal(0.1)
+            }),
+            ("common_drag_spread", Heterogeneity {
+                common_drag_spread: 2.0,
+                ..lognormal(0.1)
+            }),
+        ] {
+            assert_eq!(Term::check(&edit).unwrap_err().field, field);
         }
     }
 

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::term::{Contribution, RunContext, Term};
-use super::{AgentFactors, CameraParams, Fitted, Medium};
+use super::{AgentFactors, CameraParams, Fitted, Medium, Walls};
 use crate::check;
 use crate::check::Rejection;
 use crate::check::bounds::within;
@@ -31,6 +31,10 @@ macro_rules! disturbance_preset {
             /// One line on what the preset describes.
             #[serde(default)]
             pub description: String,
+            /// Whether the map's walls stop the agents (`physical`, the default) or only
+            /// count as violations (`virtual`).
+            #[serde(default, skip_serializing_if = "Walls::is_physical")]
+            pub walls: Walls,
             /// Where the agents move: `bulk` or `interface`.
             #[serde(default)]
             pub medium: Medium,
@@ -114,11 +118,12 @@ macro_rules! disturbance_preset {
 plant_terms!(disturbance_preset);
 
 /// The camera's terms, switched in its `[camera]` table.
-const CAMERA_TERMS: [&str; 4] = [
+const CAMERA_TERMS: [&str; 5] = [
     "camera.latency",
     "camera.noise",
     "camera.misses",
     "camera.swaps",
+    "camera.pixels",
 ];
 
 /// `a` then `b`, as one array of `N = a.len() + b.len()` names.
@@ -273,6 +278,7 @@ impl DisturbancePreset {
             "camera.noise" => &c.noise.enabled,
             "camera.misses" => &c.misses.enabled,
             "camera.swaps" => &c.swaps.enabled,
+            "camera.pixels" => &c.pixels.enabled,
             _ => return None,
         })
     }
@@ -284,6 +290,7 @@ impl DisturbancePreset {
             "camera.noise" => &mut c.noise.enabled,
             "camera.misses" => &mut c.misses.enabled,
             "camera.swaps" => &mut c.swaps.enabled,
+            "camera.pixels" => &mut c.pixels.enabled,
             _ => return None,
         })
     }
@@ -341,8 +348,10 @@ mod tests {
             assert_eq!(ideal.enabled(t), Some(false), "ideal: {t}");
         }
         for t in DisturbancePreset::TERMS {
-            // the hardware rig has no uniform drift: its flow varies
-            assert_eq!(hw.enabled(t), Some(t != "drift"), "hardware: {t}");
+            // the hardware rig has no uniform drift (its flow varies), and no sourced image
+            // scale for the pixel-level camera
+            let off = ["drift", "camera.pixels"].contains(&t);
+            assert_eq!(hw.enabled(t), Some(!off), "hardware: {t}");
         }
         assert!(hw.medium.interface().is_some());
         assert_eq!(ideal.camera.fps, 60.0);
@@ -453,6 +462,66 @@ mod tests {
             .unwrap_err();
         assert_eq!(e.field, "camera.fps");
         assert!(e.reason.ends_with("(line 3)"), "{e}");
+    }
+
+    #[test]
+    fn walls_are_physical_unless_a_preset_says_virtual() {
+        assert_eq!(DisturbancePreset::hardware().walls, Walls::Physical);
+        assert!(!DisturbancePreset::hardware().to_toml().contains("walls"));
+        let p = DisturbancePreset::parse("name = \"x\"\nwalls = \"virtual\"\n", "f.toml").unwrap();
+        assert_eq!(p.walls, Walls::Virtual);
+        assert_eq!(DisturbancePreset::parse(&p.to_toml(), "back").unwrap(), p);
+        let e =
+            DisturbancePreset::parse("name = \"x\"\nwalls = \"glass\"\n", "bad.toml").unwrap_err();
+        assert_eq!((e.file.as_str(), e.field.as_str()), ("bad.toml", "walls"));
+    }
+
+    #[test]
+    fn new_fields_are_rejected_naming_file_and_field() {
+        for (edit, field) in [
+            (
+                "[camera.pixels]\nenabled = true\npx_per_bl = 0.5\ncentre_step_px = 0.0\nmerge_gap_px = 1.0",
+                "camera.pixels.px_per_bl",
+            ),
+            (
+                "[camera.pixels]\nenabled = true\npx_per_bl = 13.0\ncentre_step_px = 99.0\nmerge_gap_px = 1.0",
+                "camera.pixels.centre_step_px",
+            ),
+            (
+                "[camera.pixels]\nenabled = true\npx_per_bl = 13.0\ncentre_step_px = 1.0\nmerge_gap_px = -1.0",
+                "camera.pixels.merge_gap_px",
+            ),
+        ] {
+            let e = DisturbancePreset::parse(
+                &format!("name = \"x\"\n[camera]\nfps = 60.0\n{edit}\n"),
+                "bad.toml",
+            )
+            .unwrap_err();
+            assert_eq!(
+                (e.file.as_str(), e.field.as_str()),
+                ("bad.toml", field),
+                "{e}"
+            );
+            assert!(e.reason.contains("(line "), "{e}");
+        }
+        for (field, value) in [
+            ("common_moment_factor", "0.0"),
+            ("common_moment_spread", "-0.1"),
+            ("common_drag_factor", "20.0"),
+            ("common_drag_spread", "1.5"),
+        ] {
+            let text = format!(
+                "name = \"x\"\n[heterogeneity]\nenabled = true\ndistribution = \"lognormal\"\nmoment_spread = 0.1\ndrag_spread = 0.1\n{field} = {value}\n"
+            );
+            let e = DisturbancePreset::parse(&text, "bad.toml").unwrap_err();
+            assert_eq!(e.field, format!("heterogeneity.{field}"), "{e}");
+        }
+        let e = DisturbancePreset::parse(
+            "name = \"x\"\n[coil_calibration]\nenabled = true\naxis_gain_error = 0.0\naxis_skew_deg = 0.0\ngradient_gain_error = 0.0\ngradient_crosstalk = 0.0\ngradient_gain_offset = [0.05, 0.9]\n",
+            "bad.toml",
+        )
+        .unwrap_err();
+        assert_eq!(e.field, "coil_calibration.gradient_gain_offset", "{e}");
     }
 
     #[test]

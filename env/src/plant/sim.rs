@@ -4,10 +4,10 @@ use std::sync::Arc;
 
 use rand_chacha::ChaCha8Rng;
 
-use super::DisturbancePreset;
 use super::dynamics::{Dynamics, State};
 use super::field::CoilOutput;
 use super::streams::{Stream, normal, stream};
+use super::{DisturbancePreset, Walls};
 use crate::coil::{Coil, Control};
 use crate::collision::CollisionWorld;
 use crate::math::{MAX_AGENTS, Vec2, Vec3};
@@ -30,7 +30,9 @@ pub const AGENT_RADIUS_BL: f64 = 0.5;
 /// and moments through the [`Dynamics`] of every term (in sub-steps with the magnet-lag
 /// term); then a Brownian increment `√(2D h)·N(0,1)`, then wall handling — an agent that
 /// overlaps a wall or obstacle slides along its surface (it is projected back into contact;
-/// never through) and a new contact counts as one wall contact event. When two agents touch
+/// never through) and a new contact counts as one wall contact event. Under virtual walls
+/// (`walls = "virtual"`) the agents pass through walls and obstacles, and each new overlap
+/// still counts as one wall contact event. When two agents touch
 /// (r ≤ 1 BL) they stick: the run is failed and frozen.
 ///
 /// The run starts with the field switched on: at the first command the coil is settled on it
@@ -55,6 +57,8 @@ pub struct Plant {
     stuck: bool,
     touching_wall: Vec<bool>,
     wall_contacts: usize,
+    /// Whether walls stop the agents or only count their contacts.
+    walls: Walls,
     /// The noiseless pair case: constant commands are followed exactly.
     exact: bool,
     /// The exact constant-command motion in progress.
@@ -122,6 +126,7 @@ impl Plant {
             stuck: false,
             touching_wall: vec![false; n],
             wall_contacts: 0,
+            walls: preset.walls,
             exact,
             segment: None,
         }
@@ -276,15 +281,18 @@ impl Plant {
         true
     }
 
-    /// Projects agents that overlap a wall or obstacle back into contact, counting new
-    /// contacts; true when any agent was moved.
+    /// Projects agents that overlap a wall or obstacle back into contact (physical walls; virtual
+    /// walls leave them where they are), counting new contacts; true when any agent was moved.
     fn slide_along_walls(&mut self) -> bool {
         let mut moved = false;
+        let physical = self.walls == Walls::Physical;
         for (i, p) in self.state.p[..self.n].iter_mut().enumerate() {
             match self.collision.push_out(*p) {
                 Some(q) => {
-                    *p = q;
-                    moved = true;
+                    if physical {
+                        *p = q;
+                        moved = true;
+                    }
                     if !self.touching_wall[i] {
                         self.wall_contacts += 1;
                     }
@@ -492,5 +500,31 @@ mod tests {
             2,
             "each agent touched once and stayed"
         );
+    }
+
+    #[test]
+    fn virtual_walls_let_agents_through_and_count_the_contact() {
+        let p = PhysicalParams::default();
+        let start = LocalView {
+            xc: 2.0,
+            yc: 15.0,
+            r: 2.0,
+            phi: std::f64::consts::FRAC_PI_2,
+        }
+        .to_pair();
+        let coil: Arc<dyn Coil> = Arc::new(crate::coil::TriaxialMaxwell::new(p.gradient_limit()));
+        let preset = DisturbancePreset {
+            walls: Walls::Virtual,
+            ..DisturbancePreset::ideal()
+        };
+        let mut plant = Plant::new(&p, coil, open_world(), &preset, 1, &start);
+        plant.run(
+            &Control::planar(std::f64::consts::PI, p.gradient_limit(), 0.0),
+            8.0,
+        );
+        for q in plant.positions() {
+            assert!(q.x < 0.5, "agent stopped at a virtual wall: {q:?}");
+        }
+        assert_eq!(plant.wall_contacts(), 2, "each agent crossed once");
     }
 }

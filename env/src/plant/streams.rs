@@ -48,6 +48,7 @@ pub enum Stream {
     CameraMisses = 12,
     CameraSwaps = 13,
     ContactAngle = 15,
+    CommonMode = 16,
 }
 
 #[cfg(test)]

@@ -51,7 +51,8 @@ pub fn run(cmd: PresetCmd) -> Result<(), CliError> {
 
 /// The unit of a preset field, from its name (units are spelt in the field names).
 pub fn unit(key: &str) -> &'static str {
-    const SUFFIXES: [(&str, &str); 12] = [
+    const SUFFIXES: [(&str, &str); 14] = [
+        ("px_per_bl", "px per BL"),
         ("_mt_per_m_per_s", "mT/m per s"),
         ("_mn_per_m", "mN/m"),
         ("_kg_per_m3", "kg/m³"),
@@ -61,6 +62,7 @@ pub fn unit(key: &str) -> &'static str {
         ("_deg", "°"),
         ("_mm", "mm"),
         ("_ut", "µT"),
+        ("_px", "px"),
         ("_bl", "BL"),
         ("_s", "s"),
         ("frames", "frames"),
@@ -89,6 +91,8 @@ pub fn show(p: &DisturbancePreset) -> String {
     if !p.description.is_empty() {
         out += &format!("            {}\n", p.description);
     }
+    let walls = toml::Value::try_from(p.walls).expect("walls serialise");
+    out += &format!("walls       {}\n", scalar(&walls));
     if let toml::Value::Table(t) = &value {
         for (key, v) in t {
             if let toml::Value::Table(sub) = v {
@@ -142,6 +146,8 @@ mod tests {
         assert_eq!(unit("close_prob"), "probability");
         assert_eq!(unit("moment_spread"), "fraction");
         assert_eq!(unit("fps"), "frames/s");
+        assert_eq!(unit("px_per_bl"), "px per BL");
+        assert_eq!(unit("merge_gap_px"), "px");
     }
 
     #[test]
