@@ -8,6 +8,8 @@
 //!   (0, 2] s inside the proximity range, in turn (so no branch predictor learns one motion);
 //! - `path_length/exact/1s`: the path length of that 1 s motion (quadrature on the curve);
 //! - `extend/default`: one EXTEND call with goal-zoom-rrt's defaults (5 tries of 0.25–2 s);
+//! - `extend/k12/{batch,scalar}`: one EXTEND call with 12 tries (the search settings' default
+//!   k), through the batch that `Extend::run` takes for a pair and through `Extend::run_scalar`;
 //! - `nearest/10k`: a nearest-neighbour query among 10 000 team states (k-d tree);
 //! - `motion_valid/{rk4,exact}/1s`: checking a 1 s edge (RK4: propagation + capsule sweeps +
 //!   proximity at samples; exact: separation range + conservative advancement);
@@ -134,6 +136,19 @@ fn bench(c: &mut Criterion) {
     let mut rng = Rng::seed_from_u64(1);
     c.bench_function("extend/default", |b| {
         b.iter(|| extend.run(&p, &mut rng, black_box(&x), &target))
+    });
+
+    let k12 = Extend {
+        tries: 12,
+        ..extend
+    };
+    let mut rng = Rng::seed_from_u64(1);
+    c.bench_function("extend/k12/batch", |b| {
+        b.iter(|| k12.run(&p, &mut rng, black_box(&x), &target))
+    });
+    let mut rng = Rng::seed_from_u64(1);
+    c.bench_function("extend/k12/scalar", |b| {
+        b.iter(|| k12.run_scalar(&p, &mut rng, black_box(&x), &target))
     });
 
     let mut nn = NearestNeighbors::new(Metric::Positions, 2);

@@ -114,8 +114,9 @@ impl Extend {
     }
 
     /// EXTEND(q_near, q_sample): the try whose end is closest to `target` (the first on ties).
-    /// The tries are integrated together by `PlanningModel::propagate_many`, whose ends equal
-    /// one-at-a-time propagation bit for bit.
+    /// A pair's planar tries of random duration go through the batch
+    /// ([`crate::extend_batch`]); every other setting through [`Extend::run_scalar`]. Both
+    /// choose the same try bit for bit.
     pub fn run(
         &self,
         problem: &Problem,
@@ -123,7 +124,22 @@ impl Extend {
         near: &[Vec2],
         target: &[Vec2],
     ) -> Extension {
-        let n = near.len();
+        if self.batches(near.len()) {
+            return self.run_batch(problem, rng, near, target);
+        }
+        self.run_scalar(problem, rng, near, target)
+    }
+
+    /// EXTEND(q_near, q_sample) one try at a time, for any setting. The tries are integrated
+    /// together by `PlanningModel::propagate_many`, whose ends equal one-at-a-time propagation
+    /// bit for bit.
+    pub fn run_scalar(
+        &self,
+        problem: &Problem,
+        rng: &mut Rng,
+        near: &[Vec2],
+        target: &[Vec2],
+    ) -> Extension {
         let g = problem.model.coil.gradient_limit();
         let k = self.tries.max(1);
         let mut controls = Vec::with_capacity(k);
@@ -148,6 +164,45 @@ impl Extend {
                 durations.push(problem.periods(p));
             }
         }
+        let integrate = self.timing == Timing::Random;
+        self.choose(
+            problem, near, target, &controls, &periods, &durations, ends, integrate,
+        )
+    }
+
+    /// The closest candidate among tries already drawn, each solved from `near` (the
+    /// scalar evaluation of a batch).
+    pub(crate) fn evaluate(
+        &self,
+        problem: &Problem,
+        near: &[Vec2],
+        target: &[Vec2],
+        controls: &[Control],
+        periods: &[u32],
+        durations: &[f64],
+    ) -> Extension {
+        let ends = vec![[Vec2::zeros(); MAX_AGENTS]; controls.len()];
+        self.choose(
+            problem, near, target, controls, periods, durations, ends, true,
+        )
+    }
+
+    /// The closest candidate: exact tries end and are ranged by their edge, the others are
+    /// integrated when `integrate` holds (else `ends` already holds them).
+    #[allow(clippy::too_many_arguments)]
+    fn choose(
+        &self,
+        problem: &Problem,
+        near: &[Vec2],
+        target: &[Vec2],
+        controls: &[Control],
+        periods: &[u32],
+        durations: &[f64],
+        mut ends: Vec<[Vec2; MAX_AGENTS]>,
+        integrate: bool,
+    ) -> Extension {
+        let n = near.len();
+        let k = controls.len();
         let mut candidate = vec![true; k];
         let (r_min, r_max) = (problem.checker.r_min, problem.checker.r_max);
         let mut exact = 0;
@@ -158,10 +213,10 @@ impl Extend {
                 exact += 1;
             }
         }
-        if exact < k && self.timing == Timing::Random {
+        if exact < k && integrate {
             problem
                 .model
-                .propagate_many(near, &controls, &durations, &mut ends);
+                .propagate_many(near, controls, durations, &mut ends);
         }
         let mut best = Extension {
             control: Control::default(),

@@ -23,6 +23,7 @@
 #![warn(missing_docs)]
 
 pub mod extend;
+pub mod extend_batch;
 pub mod first_plan;
 pub mod goal_connect;
 pub mod informed;

@@ -112,6 +112,12 @@ impl PairEdge {
         out[1] = centre + half;
     }
 
+    /// The centre of mass at time `t` (s): it moves at the constant pull velocity.
+    #[inline]
+    pub fn centre_at(&self, t: f64) -> Vec2 {
+        self.centre + self.velocity * t
+    }
+
     /// The separation at time `t` (BL).
     pub fn separation_at(&self, t: f64) -> f64 {
         if t <= 0.0 {

@@ -1,0 +1,198 @@
+//! EXTEND's tries for a pair under the exact flow, evaluated as one batch.
+//!
+//! The k (control, duration) draws go into fixed-size stack arrays (structure of arrays: the
+//! controls, the periods and the durations apart), and one loop evaluates every try's exact
+//! end and separation range from one shared [`PairStart`], keeping only the running best: no
+//! heap buffer, no per-try copy of the end states and no repeated start preparation. The
+//! arithmetic of each try is that of [`Extend::run_scalar`], in the same order, so the chosen
+//! try equals the scalar path's bit for bit and the random stream is consumed identically.
+//! The continuous validity check stays with the caller, on the chosen try only.
+//!
+//! The centre of mass moves in a straight line, so the centroid part of the distance
+//! (`w_c² N ‖Δc‖²`, a lower bound of the whole squared distance under either metric) is known
+//! before the orbit is solved; a try whose bound already exceeds the best distance so far (by
+//! a margin far above rounding) cannot win and is not solved.
+
+use magbench_env::model::pair_flow::PairStart;
+use magbench_env::{Control, MAX_AGENTS, Vec2};
+
+use crate::extend::{Extend, Extension, Timing};
+use crate::metric::Metric;
+use crate::motion::random_control;
+use crate::{Problem, Rng};
+
+/// The most tries one batch holds; more go through the scalar path.
+pub const BATCH_MAX: usize = 64;
+
+/// The k tries of one EXTEND call, as arrays.
+struct Tries {
+    controls: [Control; BATCH_MAX],
+    periods: [u32; BATCH_MAX],
+    durations: [f64; BATCH_MAX],
+    len: usize,
+}
+
+impl Tries {
+    /// Draws `k` planar tries with random durations, in the scalar path's order.
+    fn draw(extend: &Extend, problem: &Problem, rng: &mut Rng, k: usize) -> Self {
+        let g = problem.model.coil.gradient_limit();
+        let mut tries = Tries {
+            controls: [Control::default(); BATCH_MAX],
+            periods: [0; BATCH_MAX],
+            durations: [0.0; BATCH_MAX],
+            len: k,
+        };
+        for i in 0..k {
+            tries.controls[i] = random_control(rng, g);
+            let p = extend.random_periods(rng);
+            tries.periods[i] = p;
+            tries.durations[i] = problem.periods(p);
+        }
+        tries
+    }
+
+    /// The closest candidate's try under the exact flow, or `None` when some try has no
+    /// closed form (then the scalar evaluation decides).
+    fn best_exact(&self, problem: &Problem, near: &[Vec2], target: &[Vec2]) -> Option<Extension> {
+        let model = &problem.model;
+        if !model.flow.pair_exact() || near.len() != 2 {
+            return None;
+        }
+        let start = PairStart::new(near)?;
+        let (r_min, r_max) = (problem.checker.r_min, problem.checker.r_max);
+        let mut best = Extension {
+            control: Control::default(),
+            periods: 0,
+            end: [Vec2::zeros(); MAX_AGENTS],
+            distance: f64::INFINITY,
+        };
+        let weight = centroid_weight(&problem.metric);
+        let goal_centre = (target[0] + target[1]) * 0.5;
+        let mut end = [Vec2::zeros(); 2];
+        for i in 0..self.len {
+            let u = &self.controls[i];
+            let edge = model
+                .kinematics
+                .pair_edge_from(&start, &model.coil.actuation(u))?;
+            let floor = weight * (edge.centre_at(self.durations[i]) - goal_centre).norm_squared();
+            if floor > best.distance * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN {
+                continue;
+            }
+            let (lo, hi) = edge.end_and_range(self.durations[i], &mut end);
+            if !(lo > r_min && hi < r_max) {
+                continue;
+            }
+            let d2 = problem.metric.distance_squared(&end, target);
+            if d2 < best.distance {
+                best.control = *u;
+                best.periods = self.periods[i];
+                best.end[..2].copy_from_slice(&end);
+                best.distance = d2;
+            }
+        }
+        best.distance = best.distance.sqrt();
+        Some(best)
+    }
+}
+
+/// Relative and absolute margin (BL²) by which a try's centroid bound must exceed the best
+/// squared distance before it is skipped; rounding of either is below 1e-12 for any state the
+/// planners reach.
+const FLOOR_MARGIN: f64 = 1e-9;
+
+/// The factor of `‖Δc‖²` in a pair's squared distance: `N w_c²` (`w_c = 1` for positions).
+fn centroid_weight(metric: &Metric) -> f64 {
+    match *metric {
+        Metric::Positions => 2.0,
+        Metric::CentroidShape { centroid, .. } => 2.0 * centroid * centroid,
+    }
+}
+
+impl Extend {
+    /// Whether [`Extend::run`] takes the batch: planar tries of random duration, at most
+    /// [`BATCH_MAX`] of them, from a pair.
+    pub fn batches(&self, agents: usize) -> bool {
+        agents == 2
+            && self.timing == Timing::Random
+            && self.alpha_max.is_none()
+            && self.tries.max(1) <= BATCH_MAX
+    }
+
+    /// EXTEND(q_near, q_sample) by the batch; equal to [`Extend::run_scalar`] bit for bit.
+    /// Only for settings where [`Extend::batches`] holds.
+    pub(crate) fn run_batch(
+        &self,
+        problem: &Problem,
+        rng: &mut Rng,
+        near: &[Vec2],
+        target: &[Vec2],
+    ) -> Extension {
+        let k = self.tries.max(1);
+        let tries = Tries::draw(self, problem, rng, k);
+        if let Some(best) = tries.best_exact(problem, near, target) {
+            return best;
+        }
+        self.evaluate(
+            problem,
+            near,
+            target,
+            &tries.controls[..k],
+            &tries.periods[..k],
+            &tries.durations[..k],
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampler::{StateSampler, valid_sample};
+    use crate::search_settings::SearchSettings;
+    use rand::{RngExt, SeedableRng};
+
+    /// The batch and the scalar path choose the same try, bit for bit, and leave the random
+    /// stream in the same place.
+    #[test]
+    fn batch_equals_scalar_bit_for_bit() {
+        let weighted = Metric::CentroidShape {
+            centroid: 2.0,
+            shape: 0.5,
+        };
+        for (name, metric) in [
+            ("micro-factory", Metric::Positions),
+            ("narrow-passage", Metric::Positions),
+            ("micro-factory", weighted),
+        ] {
+            let s = magbench_env::Scenario::load(name).unwrap();
+            let mut p = Problem::from_scenario(&s, 0, None, 0);
+            p.metric = metric;
+            let sampler = StateSampler::new(&p);
+            let mut rng = Rng::seed_from_u64(11);
+            let (mut near, mut target) = (vec![Vec2::zeros(); 2], vec![Vec2::zeros(); 2]);
+            let mut found = 0;
+            for k in [1, 5, 12, 40, BATCH_MAX] {
+                let extend = SearchSettings {
+                    tries: k,
+                    ..SearchSettings::default()
+                }
+                .extend(&p);
+                assert!(extend.batches(2));
+                for _ in 0..300 {
+                    assert!(valid_sample(&p, 1000, &mut near, |x| sampler.uniform(&mut rng, x)));
+                    assert!(valid_sample(&p, 1000, &mut target, |x| sampler.uniform(&mut rng, x)));
+                    let seed: u64 = rng.random();
+                    let (mut a, mut b) = (Rng::seed_from_u64(seed), Rng::seed_from_u64(seed));
+                    let x = extend.run_batch(&p, &mut a, &near, &target);
+                    let y = extend.run_scalar(&p, &mut b, &near, &target);
+                    assert_eq!(x.control, y.control, "{name} k {k}");
+                    assert_eq!(x.periods, y.periods);
+                    assert_eq!(x.end, y.end);
+                    assert_eq!(x.distance.to_bits(), y.distance.to_bits());
+                    assert_eq!(a.random::<u64>(), b.random::<u64>());
+                    found += usize::from(x.periods > 0);
+                }
+            }
+            assert!(found > 1000, "{name}: only {found} tries with a candidate");
+        }
+    }
+}
