@@ -15,11 +15,5 @@ pub struct Brownian {
 }
 
 impl Term for Brownian {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 }

@@ -30,13 +30,7 @@ pub struct CoilLag {
 }
 
 impl Term for CoilLag {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 
     fn check(&self) -> Result<(), Rejection> {
         within(

@@ -22,13 +22,7 @@ pub struct FieldError {
 }
 
 impl Term for FieldError {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 
     fn check(&self) -> Result<(), Rejection> {
         non_negative("angle_bias_deg", self.angle_bias_deg)?;

@@ -32,13 +32,7 @@ pub struct Flow {
 }
 
 impl Term for Flow {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 
     fn check(&self) -> Result<(), Rejection> {
         if !self.enabled {

@@ -99,13 +99,7 @@ pub struct AgentFactors {
 }
 
 impl Term for Heterogeneity {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 
     fn check(&self) -> Result<(), Rejection> {
         let hi = match self.distribution {

@@ -32,13 +32,7 @@ pub struct Hydrodynamics {
 }
 
 impl Term for Hydrodynamics {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 }
 
 /// Agent radius in BL.

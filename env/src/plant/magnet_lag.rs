@@ -26,13 +26,7 @@ pub struct MagnetLag {
 }
 
 impl Term for MagnetLag {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 }
 
 /// The rotation time constant `τ = πηd³ f/(m B)` of a nominal agent in the nominal field (s),

@@ -24,13 +24,7 @@ pub struct NonuniformField {
 }
 
 impl Term for NonuniformField {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 
     fn check(&self) -> Result<(), Rejection> {
         within(

@@ -84,3 +84,18 @@ pub trait Contribution: Debug + Send + Sync {
         Vec2::zeros()
     }
 }
+
+/// The [`Term::enabled`] and [`Term::set_enabled`] of a term whose switch is its `enabled`
+/// field: `impl Term for T { switch_is_enabled_field!(); … }`.
+macro_rules! switch_is_enabled_field {
+    () => {
+        fn enabled(&self) -> bool {
+            self.enabled
+        }
+
+        fn set_enabled(&mut self, on: bool) {
+            self.enabled = on;
+        }
+    };
+}
+pub(crate) use switch_is_enabled_field;
