@@ -108,9 +108,8 @@ impl PinningLaw {
             return None;
         }
         let mut holding_field = [0.0; MAX_AGENTS];
-        for i in 0..n {
-            holding_field[i] =
-                pinning_torque(iface, p, f.contact_angle[i]) / (f.moment[i] * p.moment());
+        for (i, h) in holding_field.iter_mut().enumerate().take(n) {
+            *h = pinning_torque(iface, p, f.contact_angle[i]) / (f.moment[i] * p.moment());
         }
         Some(Self { holding_field })
     }

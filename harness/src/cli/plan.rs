@@ -258,13 +258,20 @@ fn tilt_warning<'a>(
     if alpha == 0.0 || achieved >= alpha {
         return None;
     }
+    let holds = if tilt.lag >= std::f64::consts::FRAC_PI_2 {
+        "keeps its moment in the plane".to_string()
+    } else {
+        format!(
+            "holds its moment {:.1}° below the field's elevation",
+            tilt.lag.to_degrees()
+        )
+    };
     Some(format!(
-        "warning: leg {leg} tilts the field to α = {:.1}°, but at this interface a magnet tilts to {:.1}° only: the contact line's pinning torque ({:.2} nN·m, contact-angle hysteresis) against the magnetic torque mB ({:.2} nN·m) holds its moment {:.1}° below the field's elevation; the out-of-plane moves of this plan will not happen as planned",
+        "warning: leg {leg} tilts the field to α = {:.1}°, but at this interface a magnet tilts to {:.1}° only: the contact line's pinning torque ({:.2} nN·m, contact-angle hysteresis) against the magnetic torque mB ({:.2} nN·m) {holds}; the out-of-plane moves of this plan will not happen as planned",
         alpha.to_degrees(),
         achieved.to_degrees(),
         tilt.pinning_torque * 1e9,
         tilt.magnetic_torque * 1e9,
-        tilt.lag.to_degrees(),
     ))
 }
 
@@ -525,9 +532,13 @@ mod tests {
         let interface = DisturbancePreset::hardware().medium;
         let (flat, tilted) = (plan(0.0), plan(-0.6));
         let w = tilt_warning(&interface, &p, [&flat, &tilted].into_iter()).expect("a warning");
-        assert!(w.starts_with("warning: leg 2 tilts the field to α = 34.4°"), "{w}");
+        assert!(
+            w.starts_with("warning: leg 2 tilts the field to α = 34.4°"),
+            "{w}"
+        );
         assert!(w.contains("tilts to 0.0° only"), "{w}");
         assert!(w.contains("(2.22 nN·m") && w.contains("(2.09 nN·m)"), "{w}");
+        assert!(w.contains("keeps its moment in the plane"), "{w}");
         // no tilt asked, or nothing pins the magnets: no warning
         assert!(tilt_warning(&interface, &p, [&flat].into_iter()).is_none());
         assert!(tilt_warning(&Medium::Bulk, &p, [&tilted].into_iter()).is_none());
