@@ -58,8 +58,13 @@ pub struct Interface {
     /// Contact-angle hysteresis θ_a − θ_r about the mean angle (degrees): it pins the contact
     /// line against a field that tilts the agents out of the plane (see
     /// [`super::pinning`]). 0 (the default): no pinning.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_zero")]
     pub contact_angle_hysteresis_deg: f64,
+}
+
+/// Whether `v` is 0 (a medium table leaves a zero hysteresis out).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Medium {
