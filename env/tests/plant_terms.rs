@@ -8,7 +8,9 @@ use magbench_env::collision::CollisionWorld;
 use magbench_env::model::Kinematics;
 use magbench_env::plant::dynamics::{Dynamics, State};
 use magbench_env::plant::{DisturbancePreset, Plant};
-use magbench_env::{Coil, Control, LocalView, PhysicalParams, TriaxialMaxwell, Vec2, Vec3, World};
+use magbench_env::{
+    Coil, Control, LocalView, PhysicalParams, PlanningModel, TriaxialMaxwell, Vec2, Vec3, World,
+};
 
 /// The `hardware` preset with only `term` on (`None`: every term off).
 fn alone(term: Option<&str>) -> DisturbancePreset {
@@ -63,9 +65,14 @@ fn angle(b: Vec3) -> f64 {
 #[test]
 fn with_every_term_off_the_dynamics_are_the_planning_kinematics() {
     let p = PhysicalParams::default();
-    let d = Dynamics::draw(&alone(None), &p, 3, 1);
+    let preset = alone(None);
+    let d = Dynamics::draw(&preset, &p, 3, 1);
     let coil = TriaxialMaxwell::new(p.gradient_limit());
-    let k = Kinematics::nominal(&p);
+    // the planning model in the preset's medium (the interface: half the bulk drag)
+    let k = PlanningModel::new(&p)
+        .in_medium(&p, &preset.medium)
+        .kinematics;
+    assert_eq!(k.force_coeff, 2.0 * Kinematics::nominal(&p).force_coeff);
     let pos = [
         Vec2::new(3.0, 4.0),
         Vec2::new(5.1, 4.6),
@@ -154,7 +161,9 @@ fn capillary_attraction_pulls_agents_together() {
     // and only at an interface
     let mut bulk = alone(Some("capillary"));
     bulk.medium = magbench_env::plant::Medium::Bulk;
-    assert_eq!(end(&bulk), dry);
+    let mut bulk_dry = alone(None);
+    bulk_dry.medium = magbench_env::plant::Medium::Bulk;
+    assert_eq!(end(&bulk), end(&bulk_dry));
 }
 
 #[test]
@@ -410,4 +419,62 @@ fn extreme_but_valid_presets_run_without_panicking() {
         }
         assert!(plant.stuck() || plant.positions().iter().all(|q| q.x.is_finite()));
     }
+}
+
+#[test]
+fn at_an_interface_the_plant_and_the_planning_model_share_the_half_drag() {
+    // the ideal preset's terms in the hardware medium: the plant follows the planning model
+    // of that medium, at twice the bulk speed
+    let p = PhysicalParams::default();
+    let interface = DisturbancePreset::hardware().medium;
+    let mut wet = DisturbancePreset::ideal();
+    wet.medium = interface.clone();
+    // the field across the pair: it pushes the agents apart (they never touch)
+    let start = pair(2.5, 0.4);
+    let u = Control::planar(0.4 + FRAC_PI_2, 0.02, -0.01);
+    let mut plant_wet = plant(&wet, &start, 3);
+    plant_wet.run(&u, 0.5);
+    let model = PlanningModel::new(&p).in_medium(&p, &interface);
+    let mut expect = [Vec2::zeros(); 2];
+    model.propagate(&start, &u, 0.5, &mut expect);
+    for (a, b) in plant_wet.positions().iter().zip(&expect) {
+        assert!((a - b).norm() < 1e-12, "plant {a} vs model {b}");
+    }
+    let mut plant_dry = plant(&DisturbancePreset::ideal(), &start, 3);
+    plant_dry.run(&u, 1.0);
+    for (a, b) in plant_wet.positions().iter().zip(plant_dry.positions()) {
+        assert!(
+            (a - b).norm() < 1e-9,
+            "interface at 0.5 s {a} vs bulk at 1 s {b}"
+        );
+    }
+}
+
+#[test]
+fn the_contact_line_keeps_a_pinned_magnet_in_the_plane() {
+    // hardware: pinning torque 2.2 nN·m > mB = 2.1 nN·m, so a tilted field does not tilt it
+    let start = pair(4.0, 0.0);
+    let tilted = Control {
+        theta: 0.3,
+        alpha: 0.5,
+        grad: [0.0, 0.0],
+    };
+    let elevation = |preset: &DisturbancePreset| {
+        let mut q = plant(preset, &start, 1);
+        q.run(&Control::planar(0.3, 0.0, 0.0), 0.05);
+        q.run(&tilted, 0.2);
+        let m = q.moments().unwrap()[0];
+        m.z.atan2(m.x.hypot(m.y))
+    };
+    let pinned = alone(Some("magnet_lag"));
+    assert!(elevation(&pinned).abs() < 1e-9, "{}", elevation(&pinned));
+    let mut free = pinned.clone();
+    if let magbench_env::plant::Medium::Interface(i) = &mut free.medium {
+        i.contact_angle_hysteresis_deg = 0.0;
+    }
+    assert!(
+        (elevation(&free) - 0.5).abs() < 1e-6,
+        "{}",
+        elevation(&free)
+    );
 }

@@ -111,7 +111,7 @@ impl PlanningSetup {
         let p = &scenario.physics;
         let coil =
             TriaxialMaxwell::new(p.gradient_limit()).with_alpha_max_deg(self.coil_alpha_max_deg);
-        PlanningModel::with_coil(p, Arc::new(coil)).in_medium(self.medium_of(scenario))
+        PlanningModel::with_coil(p, Arc::new(coil)).in_medium(p, self.medium_of(scenario))
     }
 
     /// The medium the agents of `scenario` are in: the scenario's `[medium]`, else the

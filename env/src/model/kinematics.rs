@@ -8,8 +8,8 @@
 use super::pair_flow::{PairEdge, PairStart};
 use crate::coil::Actuation;
 use crate::math::{MAX_AGENTS, Vec2};
-use crate::physics::PhysicalParams;
 use crate::physics::dipole::aligned_pair_force_planar;
+use crate::physics::{DragFactors, PhysicalParams};
 
 /// The velocity field of the team, in BL/s.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,6 +35,16 @@ impl Kinematics {
             moment: [1.0; MAX_AGENTS],
             mobility: [1.0; MAX_AGENTS],
             flow: Vec2::zeros(),
+        }
+    }
+
+    /// The nominal kinematics of a preset in a medium whose drag is `drag` times the bulk's
+    /// ([`crate::plant::Medium::drag`]); [`Kinematics::nominal`] bit for bit in the bulk.
+    pub fn in_medium(p: &PhysicalParams, drag: DragFactors) -> Self {
+        Self {
+            force_coeff: p.force_coeff_in(drag),
+            pull_coeff: p.pull_coeff_in(drag),
+            ..Self::nominal(p)
         }
     }
 

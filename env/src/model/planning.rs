@@ -128,9 +128,17 @@ impl PlanningModel {
         )
     }
 
-    /// The same model for agents in `medium`: whether it carries the out-of-plane force.
-    pub fn in_medium(self, medium: &crate::plant::Medium) -> Self {
+    /// The same model for agents of `p` in `medium`: its drag ([`crate::plant::Medium::drag`],
+    /// so that a plan at an interface has the interface's time scale, as the plant does) and
+    /// whether it carries the out-of-plane force. The coil and flow are kept.
+    pub fn in_medium(self, p: &PhysicalParams, medium: &crate::plant::Medium) -> Self {
         Self {
+            kinematics: Kinematics {
+                moment: self.kinematics.moment,
+                mobility: self.kinematics.mobility,
+                flow: self.kinematics.flow,
+                ..Kinematics::in_medium(p, medium.drag())
+            },
             carries_fz: medium.carries_fz(),
             ..self
         }

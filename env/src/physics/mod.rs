@@ -2,9 +2,11 @@
 //! physical preset that turns SI quantities into the normalised BL-and-seconds model.
 
 pub mod dipole;
+pub mod drag;
 pub mod local;
 pub mod params;
 
 pub use dipole::{aligned_pair_force, dipole_force, field_direction, radial_transverse};
+pub use drag::DragFactors;
 pub use local::LocalView;
 pub use params::{MAX_FIELD_MT, PhysicalOverrides, PhysicalParams};

@@ -13,6 +13,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::DragFactors;
+
 /// Permeability of free space (T·m/A).
 pub const MU0: f64 = 1.256_637_062_12e-6;
 /// Boltzmann constant (J/K).
@@ -110,6 +112,27 @@ impl PhysicalParams {
     /// Single-agent pair-velocity coefficient c_F = Ω/(σ d⁵) (BL⁵/s).
     pub fn force_coeff(&self) -> f64 {
         self.omega() / (self.drag() * self.bl_m().powi(5))
+    }
+
+    /// Translational drag in a medium with drag factors `f`: `f.translation · 3πηd` (N·s/m).
+    pub fn drag_in(&self, f: DragFactors) -> f64 {
+        self.drag() * f.translation
+    }
+
+    /// [`PhysicalParams::force_coeff`] with the drag of a medium with factors `f`; equal bit
+    /// for bit to it in the bulk.
+    pub fn force_coeff_in(&self, f: DragFactors) -> f64 {
+        self.omega() / (self.drag_in(f) * self.bl_m().powi(5))
+    }
+
+    /// [`PhysicalParams::pull_coeff`] with the drag of a medium with factors `f`.
+    pub fn pull_coeff_in(&self, f: DragFactors) -> f64 {
+        self.moment() / (self.drag_in(f) * self.bl_m())
+    }
+
+    /// [`PhysicalParams::diffusion`] with the drag of a medium with factors `f`.
+    pub fn diffusion_in(&self, f: DragFactors) -> f64 {
+        K_B * self.temperature_k / self.drag_in(f) / self.bl_m().powi(2)
     }
 
     /// Relative-motion constant κ = 2 c_F (BL⁵/s): `ṙ = κ(1 − 3cos²ψ)/r⁴`, `φ̇ = κ sin2ψ/r⁵`.

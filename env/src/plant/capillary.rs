@@ -15,8 +15,8 @@
 //! contact. For the default physical preset and the `hardware` interface (γ = 66 mN/m,
 //! ρ_l = 1190 kg/m³, ρ_p = 1210 kg/m³, θ = 90°): F_i = −0.39 µN, `1/q` = 2.4 mm = 4.8 BL and
 //! F = 0.13 nN at 4 BL, 4% of the dipole force scale Ω/r⁴ there (10% at 6 BL, 0.2% at 1.25 BL).
-//! The plant turns it into a velocity with the same drag `σ = 3πηd` as every other force, so
-//! its ratio to the magnetic forces is the physical one.
+//! The plant turns it into a velocity with the same drag as every other force (the medium's,
+//! [`super::Medium::drag`]), so its ratio to the magnetic forces is the physical one.
 
 use serde::{Deserialize, Serialize};
 
@@ -25,7 +25,7 @@ use super::term::Term;
 use super::heterogeneity::AgentFactors;
 use super::medium::Interface;
 use crate::math::{MAX_AGENTS, Vec2};
-use crate::physics::PhysicalParams;
+use crate::physics::{DragFactors, PhysicalParams};
 
 /// The capillary term of a preset: it acts only when the medium is an interface.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -36,13 +36,7 @@ pub struct Capillary {
 }
 
 impl Term for Capillary {
-    fn enabled(&self) -> bool {
-        self.enabled
-    }
-
-    fn set_enabled(&mut self, on: bool) {
-        self.enabled = on;
-    }
+    super::term::switch_is_enabled_field!();
 }
 
 /// The capillary force law of one run, in velocity units of a nominal agent.
@@ -56,11 +50,18 @@ pub struct CapillaryLaw {
 }
 
 impl CapillaryLaw {
-    /// The law for agents with the drawn contact angles of `f` at interface `iface`.
-    pub fn new(iface: &Interface, p: &PhysicalParams, f: &AgentFactors, n: usize) -> Self {
+    /// The law for agents with the drawn contact angles of `f` at interface `iface`, whose
+    /// nominal drag is `drag` times the bulk's.
+    pub fn new(
+        iface: &Interface,
+        p: &PhysicalParams,
+        drag: DragFactors,
+        f: &AgentFactors,
+        n: usize,
+    ) -> Self {
         let q = iface.inverse_capillary_length();
         let gamma = iface.surface_tension_mn_per_m * 1e-3;
-        let scale = (q / (2.0 * std::f64::consts::PI * gamma) / (p.drag() * p.bl_m())).sqrt();
+        let scale = (q / (2.0 * std::f64::consts::PI * gamma) / (p.drag_in(drag) * p.bl_m())).sqrt();
         let mut charge = [0.0; MAX_AGENTS];
         for (c, a) in charge.iter_mut().zip(&f.contact_angle[..n]) {
             *c = iface.net_vertical_force(p, *a) * scale;
@@ -94,6 +95,7 @@ mod tests {
             agent_density_kg_per_m3: 1210.0,
             contact_angle_deg: 90.0,
             contact_angle_spread_deg: 0.0,
+            contact_angle_hysteresis_deg: 0.0,
         }
     }
 
@@ -101,13 +103,16 @@ mod tests {
     fn equal_agents_attract_with_the_chan_force() {
         let p = PhysicalParams::default();
         let iface = glycerol();
-        let f = Heterogeneity::default().draw(&Medium::Interface(iface.clone()), 2, 1);
-        let law = CapillaryLaw::new(&iface, &p, &f, 2);
+        let medium = Medium::Interface(iface.clone());
+        let f = Heterogeneity::default().draw(&medium, 2, 1);
+        let drag = medium.drag();
+        let law = CapillaryLaw::new(&iface, &p, drag, &f, 2);
         let r = Vec2::new(4.0, 0.0);
         let v = law.pair(0, 1, r);
         assert!(v.x < 0.0 && v.y == 0.0, "agent 1 pulled toward agent 0");
-        // back to newtons: F = v σ d
-        let force = -v.x * p.drag() * p.bl_m();
+        // back to newtons: F = v σ d, σ the interface's drag (half the bulk's at 90°)
+        assert!((p.drag_in(drag) - 0.5 * p.drag()).abs() < 1e-15 * p.drag());
+        let force = -v.x * p.drag_in(drag) * p.bl_m();
         let fw = iface.net_vertical_force(&p, std::f64::consts::FRAC_PI_2);
         let q = iface.inverse_capillary_length();
         let l = 4.0 * p.bl_m();

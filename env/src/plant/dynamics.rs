@@ -32,7 +32,7 @@ use super::flow::FlowField;
 use super::heterogeneity::AgentFactors;
 use super::hydrodynamics::rotne_prager;
 use super::magnet_lag::rotation_time;
-use super::medium::Interface;
+use super::pinning::PinningLaw;
 use super::term::Contribution;
 use crate::math::{MAX_AGENTS, Vec2, Vec3};
 use crate::physics::PhysicalParams;
@@ -80,6 +80,8 @@ pub struct Dynamics {
     rotation: Option<[f64; MAX_AGENTS]>,
     hydrodynamics: bool,
     capillary: Option<CapillaryLaw>,
+    /// How far each moment tilts out of the plane at a pinning interface.
+    pinning: Option<PinningLaw>,
     /// The drawn background flow.
     pub flow: FlowField,
     /// The contributions of the terms drawn through [`super::Term::draw`].
@@ -103,13 +105,9 @@ impl Dynamics {
             preset.coil_lag.field_axis(),
             preset.coil_lag.gradient_axis(),
         );
+        let drag = preset.medium.drag();
         let rotation = preset.magnet_lag.enabled.then(|| {
-            let fraction = preset
-                .medium
-                .interface()
-                .map(|i| Interface::drag_fraction(i.contact_angle_deg.to_radians()))
-                .unwrap_or(1.0);
-            let tau0 = rotation_time(p, fraction);
+            let tau0 = rotation_time(p, drag.rotation);
             let mut r = [0.0; MAX_AGENTS];
             for (i, ri) in r.iter_mut().enumerate().take(n) {
                 *ri = factors.moment[i] * factors.mobility[i] / (tau0 * field.b0);
@@ -117,20 +115,22 @@ impl Dynamics {
             r
         });
         let capillary = match (preset.capillary.enabled, preset.medium.interface()) {
-            (true, Some(iface)) => Some(CapillaryLaw::new(iface, p, &factors, n)),
+            (true, Some(iface)) => Some(CapillaryLaw::new(iface, p, drag, &factors, n)),
             _ => None,
         };
+        let pinning = PinningLaw::new(&preset.medium, p, &factors, n);
         let contributions = preset.contributions(p, &factors, n, seed);
         Self {
             n,
-            force_coeff: p.force_coeff(),
-            pull_coeff: p.pull_coeff(),
+            force_coeff: p.force_coeff_in(drag),
+            pull_coeff: p.pull_coeff_in(drag),
             factors,
             field,
             axes: [fa, fa, fa, ga, ga],
             rotation,
             hydrodynamics: preset.hydrodynamics.enabled,
             capillary,
+            pinning,
             flow: FlowField::draw(&preset.drift, &preset.flow, seed)
                 .with_drift(preset.fitted.drift()),
             contributions,
@@ -176,10 +176,28 @@ impl Dynamics {
         (out, g)
     }
 
+    /// The field (T) each agent's moment turns toward: the field it feels, with its elevation
+    /// limited by the contact line's pinning at an interface ([`super::pinning`]); and the
+    /// gradient tensor.
+    pub fn moment_fields(
+        &self,
+        c: &CoilOutput,
+        centre: Vec2,
+        s: &State,
+    ) -> ([Vec3; MAX_AGENTS], Matrix3<f64>) {
+        let (mut b, g) = self.fields(c, centre, s);
+        if let Some(pin) = &self.pinning {
+            for (i, bi) in b[..self.n].iter_mut().enumerate() {
+                *bi = pin.limit(i, *bi, s.m[i]);
+            }
+        }
+        (b, g)
+    }
+
     /// The rates of state `s` at time `t` under coil outputs `c`, coil centred on `centre`.
     pub fn rates(&self, t: f64, c: &CoilOutput, centre: Vec2, s: &State) -> State {
         let n = self.n;
-        let (b, g) = self.fields(c, centre, s);
+        let (b, g) = self.moment_fields(c, centre, s);
         let f = &self.factors;
         let mut d = State::ZERO;
         let mut m = [Vec3::zeros(); MAX_AGENTS];
@@ -279,7 +297,7 @@ impl Dynamics {
 
     /// Sets every moment along the field its agent feels (a settled start).
     pub fn align_moments(&self, s: &mut State, c: &CoilOutput, centre: Vec2) {
-        let (b, _) = self.fields(c, centre, s);
+        let (b, _) = self.moment_fields(c, centre, s);
         for (m, bi) in s.m[..self.n].iter_mut().zip(&b) {
             if let Some(u) = bi.try_normalize(0.0) {
                 *m = u;
@@ -290,7 +308,7 @@ impl Dynamics {
     /// Keeps each moment a unit vector. A moment exactly antiparallel to its field is an
     /// unstable equilibrium that any perturbation leaves; it is turned by 1 µrad about z.
     fn renormalise(&self, s: &mut State, c: &CoilOutput, centre: Vec2) {
-        let (b, _) = self.fields(c, centre, s);
+        let (b, _) = self.moment_fields(c, centre, s);
         for (mi, bi) in s.m[..self.n].iter_mut().zip(&b) {
             let mut m = mi.try_normalize(0.0).unwrap_or(Vec3::x());
             if let Some(bh) = bi.try_normalize(0.0)

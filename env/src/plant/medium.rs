@@ -7,11 +7,16 @@
 //! flat interface. From that position:
 //!
 //! - the immersed fraction of its volume is `(2 + 3 cos θ − cos³θ)/4` (a spherical cap);
-//! - its drag, relative to full immersion, is taken as `(1 + cos θ)/2`: exactly ½ at θ = 90°
-//!   (the flow of a sphere translating in unbounded liquid has no normal velocity and no shear
-//!   stress on its own equatorial plane, so it is also the flow of a half-immersed sphere under a
-//!   clean, flat, shear-free surface, carrying half the force), 1 deep in the liquid and 0 out of
-//!   it, linear in between (an approximation);
+//! - its drag, relative to full immersion, is taken as `(1 + cos θ)/2`, for translation in the
+//!   plane and for rotation about the vertical alike. At θ = 90° this is exact: the flow of a
+//!   sphere translating in unbounded liquid, or turning about an axis through its centre, has
+//!   no normal velocity and no shear stress on its own equatorial plane, so it is also the flow
+//!   of a half-immersed sphere under a clean, flat, shear-free surface, and carries half the
+//!   force or torque (the 90° limit of Dörr, Hardt, Masoud & Stone, *J. Fluid Mech.* 790, 607
+//!   (2016), for a gas of negligible viscosity and no surface viscosity). Away from 90° the line
+//!   through 1 (deep in the liquid) and 0 (out of it) is an approximation; Dörr et al. give the
+//!   perturbation in θ − 90°. [`Medium::drag`] is the one source of these factors for the
+//!   planning model and every plant term;
 //! - the net vertical force that its meniscus carries, `g (ρ_l V_immersed − ρ_p V)`, sets its
 //!   capillary charge (see the capillary term).
 
@@ -19,7 +24,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::check::Rejection;
 use crate::check::bounds::{positive, within};
-use crate::physics::PhysicalParams;
+use crate::physics::{DragFactors, PhysicalParams};
 
 /// Standard gravity (m/s²).
 pub const GRAVITY: f64 = 9.806_65;
@@ -50,6 +55,16 @@ pub struct Interface {
     /// Standard deviation of the contact angle from agent to agent (degrees); acts through
     /// the heterogeneity term.
     pub contact_angle_spread_deg: f64,
+    /// Contact-angle hysteresis θ_a − θ_r about the mean angle (degrees): it pins the contact
+    /// line against a field that tilts the agents out of the plane (see
+    /// [`super::pinning`]). 0 (the default): no pinning.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub contact_angle_hysteresis_deg: f64,
+}
+
+/// Whether `v` is 0 (a medium table leaves a zero hysteresis out).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Medium {
@@ -67,6 +82,23 @@ impl Medium {
     /// the plane lifts or sinks the agents.
     pub fn carries_fz(&self) -> bool {
         self.interface().is_some()
+    }
+
+    /// The drag of a nominal agent in this medium relative to the bulk: 1 in the bulk,
+    /// [`Interface::drag_fraction`] of the mean contact angle (for translation and rotation
+    /// about the vertical) at an interface. The planning model and the plant take every drag
+    /// from here.
+    pub fn drag(&self) -> DragFactors {
+        match self {
+            Medium::Bulk => DragFactors::BULK,
+            Medium::Interface(i) => {
+                let f = Interface::drag_fraction(i.contact_angle_deg.to_radians());
+                DragFactors {
+                    translation: f,
+                    rotation: f,
+                }
+            }
+        }
     }
 
     /// `bulk` or `interface`, as the `kind` field says.
@@ -103,6 +135,13 @@ impl Medium {
             i.contact_angle_spread_deg,
             0.0,
             30.0,
+            "°",
+        )?;
+        within(
+            "medium.contact_angle_hysteresis_deg",
+            i.contact_angle_hysteresis_deg,
+            0.0,
+            90.0,
             "°",
         )
     }
@@ -155,6 +194,22 @@ mod tests {
         assert!(Interface::immersed_fraction(std::f64::consts::PI).abs() < 1e-15);
         // a more wetting agent sinks deeper and drags more
         assert!(Interface::drag_fraction(1.2) > Interface::drag_fraction(1.7));
+    }
+
+    #[test]
+    fn the_medium_gives_bulk_or_half_drag() {
+        assert_eq!(Medium::Bulk.drag(), DragFactors::BULK);
+        let half = Medium::Interface(Interface {
+            surface_tension_mn_per_m: 66.0,
+            liquid_density_kg_per_m3: 1190.0,
+            agent_density_kg_per_m3: 1210.0,
+            contact_angle_deg: 90.0,
+            contact_angle_spread_deg: 6.0,
+            contact_angle_hysteresis_deg: 20.0,
+        })
+        .drag();
+        assert!((half.translation - 0.5).abs() < 1e-15);
+        assert!((half.rotation - 0.5).abs() < 1e-15);
     }
 
     #[test]

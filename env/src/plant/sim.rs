@@ -90,7 +90,7 @@ impl Plant {
         let n = start.len();
         assert!((1..=MAX_AGENTS).contains(&n), "1 to {MAX_AGENTS} agents");
         let dynamics = Dynamics::draw(preset, params, n, seed);
-        let mut kinematics = Kinematics::nominal(params);
+        let mut kinematics = Kinematics::in_medium(params, preset.medium.drag());
         kinematics.moment = dynamics.factors.moment;
         kinematics.mobility = dynamics.factors.mobility;
         kinematics.flow = dynamics.flow.drift;
@@ -114,7 +114,7 @@ impl Plant {
             jitter_rng: stream(seed, Stream::FieldJitter),
             brownian_rng: stream(seed, Stream::Brownian),
             diffusion: if preset.brownian.enabled {
-                params.diffusion()
+                params.diffusion_in(preset.medium.drag())
             } else {
                 0.0
             },

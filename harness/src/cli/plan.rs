@@ -7,13 +7,16 @@
 //! `magbench track`): bulk liquid unless the scenario's `[medium]` says otherwise, and a
 //! tri-axial coil (elevation range 90°). So `planar = auto` frees the elevation only for three
 //! or more agents in a scenario at an interface; the summary says whether it was free and why.
+//! When a plan tilts the field further than the medium lets the magnets tilt (contact-line
+//! pinning at an interface), a warning on stderr names the α asked and the tilt reached.
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 use magbench_env::coil::{Planar, elevation_params};
 use magbench_env::params::split_all;
-use magbench_env::{MAX_AGENTS, Scenario, Vec2};
+use magbench_env::plant::{Medium, Tilt};
+use magbench_env::{MAX_AGENTS, PhysicalParams, Scenario, Vec2};
 use magbench_planners::{
     Plan, Planner, PlannerResult, Planners, PlanningSetup, Problem, Unusable, check_result,
 };
@@ -162,6 +165,10 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     }
 
     progress.clear();
+    let plans = runs.iter().map(|r| &r.result.plan);
+    if let Some(w) = tilt_warning(setup.medium_of(&scenario), &scenario.physics, plans) {
+        eprintln!("{w}");
+    }
     let mut summary = summary_json(&scenario, planner_name, &a, &runs);
     summary["elevation"] = elevation;
     if let Some(dir) = &a.out {
@@ -231,6 +238,41 @@ fn elevation_json(setup: &PlanningSetup, s: &Scenario, planar: &Option<Planar>) 
         "medium": medium,
         "alpha_max_deg": free.then_some(setup.alpha_max_deg),
     })
+}
+
+/// A warning when the plans (one per leg) tilt the field further out of the plane than the
+/// magnets follow in `medium` (contact-line pinning at an interface,
+/// [`magbench_env::plant::pinning`]): the largest |α| they command, its leg, and the tilt the
+/// medium gives for it.
+fn tilt_warning<'a>(
+    medium: &Medium,
+    p: &PhysicalParams,
+    plans: impl Iterator<Item = &'a Plan>,
+) -> Option<String> {
+    let tilt = Tilt::of(medium, p)?;
+    let (leg, alpha) = plans
+        .enumerate()
+        .flat_map(|(k, plan)| plan.controls.iter().map(move |u| (k + 1, u.alpha.abs())))
+        .fold((0, 0.0f64), |best, x| if x.1 > best.1 { x } else { best });
+    let achieved = tilt.achieved(alpha);
+    if alpha == 0.0 || achieved >= alpha {
+        return None;
+    }
+    let holds = if tilt.lag >= std::f64::consts::FRAC_PI_2 {
+        "keeps its moment in the plane".to_string()
+    } else {
+        format!(
+            "holds its moment {:.1}° below the field's elevation",
+            tilt.lag.to_degrees()
+        )
+    };
+    Some(format!(
+        "warning: leg {leg} tilts the field to α = {:.1}°, but at this interface a magnet tilts to {:.1}° only: the contact line's pinning torque ({:.2} nN·m, contact-angle hysteresis) against the magnetic torque mB ({:.2} nN·m) {holds}; the out-of-plane moves of this plan will not happen as planned",
+        alpha.to_degrees(),
+        achieved.to_degrees(),
+        tilt.pinning_torque * 1e9,
+        tilt.magnetic_torque * 1e9,
+    ))
 }
 
 fn summary_json(s: &Scenario, planner: &str, a: &PlanArgs, runs: &[LegRun]) -> Value {
@@ -465,5 +507,40 @@ mod tests {
             "built-ins first"
         );
         assert!(!planner_list(Registry::builtin().planners()).contains("my-rrt"));
+    }
+
+    #[test]
+    fn a_plan_tilting_the_field_at_a_pinning_interface_is_warned_about() {
+        use magbench_env::Control;
+        use magbench_env::plant::DisturbancePreset;
+        let p = PhysicalParams::default();
+        let plan = |alpha: f64| Plan {
+            made_for: None,
+            flow: Default::default(),
+            alpha_max: Some(1.0),
+            states: vec![vec![Vec2::zeros(); 3]; 3],
+            controls: vec![
+                Control::planar(0.1, 0.0, 0.0),
+                Control {
+                    theta: 0.2,
+                    alpha,
+                    grad: [0.0, 0.0],
+                },
+            ],
+            durations: vec![1.0, 1.0],
+        };
+        let interface = DisturbancePreset::hardware().medium;
+        let (flat, tilted) = (plan(0.0), plan(-0.6));
+        let w = tilt_warning(&interface, &p, [&flat, &tilted].into_iter()).expect("a warning");
+        assert!(
+            w.starts_with("warning: leg 2 tilts the field to α = 34.4°"),
+            "{w}"
+        );
+        assert!(w.contains("tilts to 0.0° only"), "{w}");
+        assert!(w.contains("(2.22 nN·m") && w.contains("(2.09 nN·m)"), "{w}");
+        assert!(w.contains("keeps its moment in the plane"), "{w}");
+        // no tilt asked, or nothing pins the magnets: no warning
+        assert!(tilt_warning(&interface, &p, [&flat].into_iter()).is_none());
+        assert!(tilt_warning(&Medium::Bulk, &p, [&tilted].into_iter()).is_none());
     }
 }

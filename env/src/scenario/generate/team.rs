@@ -11,7 +11,7 @@ use crate::declare_params;
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::params::{BadValue, ParamType, Reals, Value, choose};
 use crate::physics::PhysicalParams;
-use crate::plant::DisturbancePreset;
+use crate::plant::{DisturbancePreset, Interface, Medium};
 use crate::scenario::Draft;
 
 /// A formation of `team`.
@@ -232,7 +232,15 @@ impl Family for Team {
             width,
             height,
             obstacles: vec![],
-            medium: Some(DisturbancePreset::hardware().medium),
+            // the hardware interface without contact-angle hysteresis, as the built-in team
+            // scenarios and the frozen team suite have it
+            medium: Some(match DisturbancePreset::hardware().medium {
+                Medium::Interface(i) => Medium::Interface(Interface {
+                    contact_angle_hysteresis_deg: 0.0,
+                    ..i
+                }),
+                m => m,
+            }),
             start,
             goal,
             tolerance: self.tolerance,
