@@ -172,7 +172,14 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     let mut summary = summary_json(&scenario, planner_name, &a, &runs);
     summary["elevation"] = elevation;
     if let Some(dir) = &a.out {
-        write_outputs(dir, &scenario, planner_name, &summary, &runs)?;
+        write_outputs(
+            dir,
+            &scenario,
+            &setup.model(&scenario),
+            planner_name,
+            &summary,
+            &runs,
+        )?;
     }
     if let Some(file) = &a.tree {
         write_tree(file, &scenario, planner_name, &runs)?;
@@ -411,6 +418,7 @@ fn write_tree(file: &Path, s: &Scenario, planner: &str, runs: &[LegRun]) -> Resu
 fn write_outputs(
     dir: &Path,
     s: &Scenario,
+    model: &magbench_env::PlanningModel,
     planner: &str,
     summary: &Value,
     runs: &[LegRun],
@@ -419,7 +427,13 @@ fn write_outputs(
     let trees: Vec<LegTree> = runs.iter().filter_map(|r| r.tree_data.clone()).collect();
     page::write(
         &dir.join("replay.html"),
-        &ReplayData::planned(s, format!("{} · {planner}", s.name), &results, &trees),
+        &ReplayData::planned(
+            s,
+            format!("{} · {planner}", s.name),
+            &results,
+            &trees,
+            model,
+        ),
     )?;
     let fail = |what: &Path, e: &dyn std::fmt::Display| {
         CliError::Failed(format!("{}: {e}", what.display()))

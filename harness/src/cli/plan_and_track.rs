@@ -187,6 +187,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     let (first, tree) = first;
     let trees: Vec<LegTree> = tree.into_iter().collect();
     let solved = first.solved;
+    let model = setup.model(s);
     let mission = Mission {
         scenario: s,
         first,
@@ -220,7 +221,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     if let Some(dir) = &r.out {
         write_outputs(
             dir,
-            s,
+            (s, &model),
             &outcome,
             &summary,
             planner_label,
@@ -434,10 +435,10 @@ fn write(path: &Path, what: impl AsRef<[u8]>) -> Result<(), CliError> {
 }
 
 /// Writes ticks.csv, metrics.json, plans.json, plan.json, replay.html (with `trees`), the
-/// world plot(s) and, if `gif`, the GIF(s).
+/// world plot(s) and, if `gif`, the GIF(s); `model` is the planning model of the plans.
 fn write_outputs(
     dir: &Path,
-    s: &Scenario,
+    (s, model): (&Scenario, &magbench_env::PlanningModel),
     out: &TrackOutcome,
     summary: &Value,
     planner: &str,
@@ -447,7 +448,7 @@ fn write_outputs(
     let title = format!("{} · {planner} + {tracker}", s.name);
     page::write(
         &dir.join("replay.html"),
-        &ReplayData::tracked(s, title, out, trees),
+        &ReplayData::tracked(s, title, out, trees, model),
     )?;
     let ticks = dir.join("ticks.csv");
     let csv_file = std::fs::File::create(&ticks)
@@ -470,7 +471,6 @@ fn write_outputs(
     if let Some(first) = out.plans.first() {
         write(&dir.join("plan.json"), plan_json_for(&first.plan, s, 1))?;
     }
-    let model = magbench_env::PlanningModel::new(&s.physics);
     let legs = s.legs.len();
     for leg in 0..legs {
         let ticks: Vec<_> = out.ticks.iter().filter(|t| t.leg == leg).collect();
@@ -496,7 +496,7 @@ fn write_outputs(
             }
         ));
         plot.goals = vec![s.legs[leg].goal.clone()];
-        plot.planned = planned_paths(out, s, leg, &model);
+        plot.planned = planned_paths(out, s, leg, model);
         plot.starts = ticks[0].estimate.clone();
         plot.tracked = (0..s.agents())
             .map(|i| ticks.iter().map(|t| t.position(i)).collect())

@@ -176,10 +176,17 @@ impl ReplayData {
 
     /// The replay of a tracked run: its ticks, plans and the trees of its plans (`trees`, as
     /// many as were kept).
-    pub fn tracked(s: &Scenario, title: String, out: &TrackOutcome, trees: &[LegTree]) -> Self {
+    /// `model` is the planning model the plans were made with (its medium sets their time
+    /// scale).
+    pub fn tracked(
+        s: &Scenario,
+        title: String,
+        out: &TrackOutcome,
+        trees: &[LegTree],
+        model: &PlanningModel,
+    ) -> Self {
         let mut d = ReplayData::empty(s, title, "tracked");
         let n = s.agents();
-        let model = PlanningModel::new(&s.physics);
         d.truth_known = out.ticks.iter().all(|t| t.truth.is_some());
         d.obs = vec![vec![]; n];
         for k in thinned(out.ticks.len()) {
@@ -206,7 +213,7 @@ impl ReplayData {
                     .and_then(|v| v.as_str().map(String::from))
                     .unwrap_or_default(),
                 solved: p.solved,
-                paths: plan_paths(&p.plan, &model),
+                paths: plan_paths(&p.plan, model),
             })
             .collect();
         d.trees = trees.iter().map(replay_tree).collect();
@@ -269,19 +276,19 @@ impl ReplayData {
     }
 
     /// The replay of a planning run: the team moving along the plans of `legs` (leg after
-    /// leg), with the legs' trees.
+    /// leg), with the legs' trees; `model` is the planning model the plans were made with.
     pub fn planned(
         s: &Scenario,
         title: String,
         legs: &[&PlannerResult],
         trees: &[LegTree],
+        model: &PlanningModel,
     ) -> Self {
         let mut d = ReplayData::empty(s, title, "planned");
         let n = s.agents();
-        let model = PlanningModel::new(&s.physics);
         let refs: Vec<Reference> = legs
             .iter()
-            .map(|r| Reference::from_plan(&r.plan, &model))
+            .map(|r| Reference::from_plan(&r.plan, model))
             .collect();
         let total: usize = refs.iter().map(Reference::len).sum();
         let stride = total.div_ceil(MAX_FRAMES).max(1);
@@ -306,7 +313,7 @@ impl ReplayData {
                 t0: r3(t0),
                 reason: "plan".into(),
                 solved: res.solved,
-                paths: plan_paths(&res.plan, &model),
+                paths: plan_paths(&res.plan, model),
             });
             if leg > 0 {
                 d.events.push(Event {
@@ -369,7 +376,13 @@ mod tests {
             legs.push(r);
         }
         let shown: Vec<&PlannerResult> = legs.iter().collect();
-        let d = ReplayData::planned(&s, "x".into(), &shown, &trees);
+        let d = ReplayData::planned(
+            &s,
+            "x".into(),
+            &shown,
+            &trees,
+            &PlanningModel::new(&s.physics),
+        );
         assert!(d.t.len() <= MAX_FRAMES + s.legs.len());
         assert!(d.t.windows(2).all(|w| w[0] <= w[1]), "time runs forward");
         let total: f64 = legs.iter().map(|r| r.plan.duration()).sum();

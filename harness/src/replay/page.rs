@@ -101,7 +101,13 @@ mod tests {
     #[test]
     fn the_data_cannot_end_its_script_early() {
         let s = Scenario::load("open-field").unwrap();
-        let d = ReplayData::planned(&s, "a </script><b>".into(), &[], &[]);
+        let d = ReplayData::planned(
+            &s,
+            "a </script><b>".into(),
+            &[],
+            &[],
+            &magbench_env::PlanningModel::new(&s.physics),
+        );
         let page = html(&d);
         assert_eq!(
             page.matches("</script>").count(),

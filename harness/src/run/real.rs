@@ -321,7 +321,8 @@ impl Executor for RealExecutor {
             let progress = fill_planning(&legs, n, spec, &mut rec);
             fill_path(&mut rec, &legs[0].plan, &setup, spec);
             let shown: Vec<&PlannerResult> = legs.iter().collect();
-            let replay = ReplayData::planned(&spec.scenario, spec.id(), &shown, &trees);
+            let model = setup.model(&spec.scenario);
+            let replay = ReplayData::planned(&spec.scenario, spec.id(), &shown, &trees, &model);
             return Ok(RunOutput {
                 record: rec,
                 progress,
@@ -329,6 +330,7 @@ impl Executor for RealExecutor {
             });
         };
         let (first, tree) = plan_leg(&self.registry, spec, &setup, 0, &spec.scenario.start)?;
+        let model = setup.model(&spec.scenario);
         let trees: Vec<LegTree> = tree.into_iter().collect();
         let progress = fill_planning(std::slice::from_ref(&first.result), 1, spec, &mut rec);
         fill_path(&mut rec, &first.result.plan, &setup, spec);
@@ -385,7 +387,7 @@ impl Executor for RealExecutor {
         if let Some(msg) = &out.message {
             rec.error = msg.clone();
         }
-        let replay = ReplayData::tracked(&spec.scenario, spec.id(), &out, &trees);
+        let replay = ReplayData::tracked(&spec.scenario, spec.id(), &out, &trees, &model);
         Ok(RunOutput {
             record: rec,
             progress,
