@@ -7,7 +7,7 @@ numpy vectors ``[x0, y0, x1, y1, ...]`` in body lengths (BL), controls are
 
     import magbench as mb
     sc = mb.Scenario.load("micro-factory")
-    p = mb.plan(sc, "goal-zoom-rrt", seed=0, time_limit_s=5.0)
+    p = mb.plan(sc, "goal-zoom-rrt", seed=0, time_limit_s=5.0, preset="hardware")
     t = mb.track(sc, p, tracker="obc", preset="hardware", seed=0)
 
 See docs/python.md.

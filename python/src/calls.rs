@@ -57,10 +57,11 @@ pub fn kv_params(params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, St
 
 /// Plans the scenario's leg with `planner` (a registry name: a built-in or a registered
 /// Python planner) and `params`, under the default setup of `magbench plan` (60 fps frames,
-/// the default plant). Limits: `max_iterations` and/or `time_limit_s` (200000 iterations when
+/// the default plant; with `preset`, that preset's camera frames, medium and coil, as `magbench
+/// track --preset` plans). Limits: `max_iterations` and/or `time_limit_s` (200000 iterations when
 /// neither is given). `start` replaces the scenario's start (for later legs).
 #[pyfunction]
-#[pyo3(signature = (scenario, planner, *, seed = 0, time_limit_s = None, max_iterations = None, params = None, start = None))]
+#[pyo3(signature = (scenario, planner, *, seed = 0, time_limit_s = None, max_iterations = None, params = None, start = None, preset = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn plan(
     py: Python<'_>,
@@ -71,8 +72,16 @@ pub fn plan(
     max_iterations: Option<u64>,
     params: Option<&Bound<'_, PyDict>>,
     start: Option<ArrayIn>,
+    preset: Option<&str>,
 ) -> PyResult<Plan> {
     let mut setup = scenario.setup.clone();
+    if let Some(name) = preset {
+        let p = magbench_env::plant::DisturbancePreset::resolve(name)
+            .map_err(|e| bad_arg(py, "preset", e.to_string()))?;
+        setup = setup
+            .in_frames_of(1.0 / p.camera.fps)
+            .on_plant(&p.medium, p.coil.alpha_max_deg);
+    }
     if max_iterations == Some(0) {
         return Err(bad_arg(py, "max_iterations", "must be at least 1, got 0"));
     }

@@ -89,7 +89,21 @@ def test_track_metrics_and_traces(sc, plan):
     assert again["rms_error_bl"] == m["rms_error_bl"]
 
 
-def test_track_replans_with_a_planner(sc, plan):
+def test_a_plan_made_for_one_medium_is_refused_in_another(sc, plan):
+    # `plan` is made for bulk liquid; `hardware` is an interface, where drag is half and every
+    # motion of the plan goes twice as far
+    with pytest.raises(mb.InputError, match="not a valid motion"):
+        mb.track(sc, plan, tracker="obc", preset="hardware", seed=1)
+
+
+def test_plan_for_a_preset_and_a_bad_preset(sc):
+    with pytest.raises(mb.InputError, match="preset"):
+        mb.plan(sc, "goal-zoom-rrt", max_iterations=10, preset="no-such-preset")
+
+
+def test_track_replans_with_a_planner(sc):
+    plan = mb.plan(sc, "goal-zoom-rrt", seed=0, max_iterations=3000, preset="hardware")
+    assert plan.solved
     t = mb.track(sc, plan, tracker="obc", preset="hardware", seed=1,
                  planner="goal-zoom-rrt", planner_params={"k": 10})
     assert len(t.plans) == 1 + t["replans"]
