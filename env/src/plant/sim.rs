@@ -468,8 +468,9 @@ mod tests {
         assert!(plant.stuck());
     }
 
-    #[test]
-    fn pulling_into_a_wall_slides_and_counts_one_contact() {
+    /// A pair 2 BL from the left wall under `preset`, pulled toward it for 8 s (field along −x:
+    /// θ = π, G_x > 0 gives F_x < 0).
+    fn pulled_into_the_left_wall(preset: &DisturbancePreset) -> Plant {
         let p = PhysicalParams::default();
         let start = LocalView {
             xc: 2.0,
@@ -479,19 +480,17 @@ mod tests {
         }
         .to_pair();
         let coil: Arc<dyn Coil> = Arc::new(crate::coil::TriaxialMaxwell::new(p.gradient_limit()));
-        let mut plant = Plant::new(
-            &p,
-            coil,
-            open_world(),
-            &DisturbancePreset::ideal(),
-            1,
-            &start,
-        );
-        // field along −x pulls toward the left wall (θ = π, G_x > 0 gives F_x < 0)
+        let mut plant = Plant::new(&p, coil, open_world(), preset, 1, &start);
         plant.run(
             &Control::planar(std::f64::consts::PI, p.gradient_limit(), 0.0),
             8.0,
         );
+        plant
+    }
+
+    #[test]
+    fn pulling_into_a_wall_slides_and_counts_one_contact() {
+        let plant = pulled_into_the_left_wall(&DisturbancePreset::ideal());
         for q in plant.positions() {
             assert!(q.x >= 0.5 - 1e-9, "agent passed through the wall: {q:?}");
         }
@@ -504,24 +503,10 @@ mod tests {
 
     #[test]
     fn virtual_walls_let_agents_through_and_count_the_contact() {
-        let p = PhysicalParams::default();
-        let start = LocalView {
-            xc: 2.0,
-            yc: 15.0,
-            r: 2.0,
-            phi: std::f64::consts::FRAC_PI_2,
-        }
-        .to_pair();
-        let coil: Arc<dyn Coil> = Arc::new(crate::coil::TriaxialMaxwell::new(p.gradient_limit()));
-        let preset = DisturbancePreset {
+        let plant = pulled_into_the_left_wall(&DisturbancePreset {
             walls: Walls::Virtual,
             ..DisturbancePreset::ideal()
-        };
-        let mut plant = Plant::new(&p, coil, open_world(), &preset, 1, &start);
-        plant.run(
-            &Control::planar(std::f64::consts::PI, p.gradient_limit(), 0.0),
-            8.0,
-        );
+        });
         for q in plant.positions() {
             assert!(q.x < 0.5, "agent stopped at a virtual wall: {q:?}");
         }
