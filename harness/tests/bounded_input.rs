@@ -778,3 +778,35 @@ fn toml_files_beyond_4_mib_are_refused_before_parsing() {
         refused(&args, &[&f, "larger than 4096 KiB", "memory budget"]);
     }
 }
+
+/// Names refused by this stop's options: `docs measure --only`, and the loop's `replan_mode`
+/// and `repair_iterations` (exit 2 naming the option or parameter and the reason).
+#[test]
+fn unknown_measurements_and_replan_modes_are_refused_by_name() {
+    refused(
+        &["docs", "measure", "--only", "nope"],
+        &[
+            "<command line>",
+            "--only: ",
+            "no measurement \"nope\"",
+            "seed-metric",
+        ],
+    );
+    let track = [
+        "track",
+        "open-field",
+        "--planner",
+        "goal-zoom-rrt",
+        "--tracker",
+        "obc",
+    ];
+    for (param, why) in [
+        ("replan_mode=sometimes", "is not one of repair, restart"),
+        ("repair_iterations=-3", "is not a whole number"),
+    ] {
+        let mut args = track.to_vec();
+        args.extend(["--param", param]);
+        let key = param.split('=').next().unwrap();
+        refused(&args, &["<command line>", &format!("param.{key}: "), why]);
+    }
+}
