@@ -3,8 +3,8 @@
 //! seed. A change that worsens tracking error, success, cost or iterations to a solution
 //! beyond the tolerances fails this test, and so does a change the 8 seeds cannot show to be
 //! within them (inconclusive: the default of `magbench regress`). Wall-clock times are left
-//! out (CI machines differ). To update the baseline after an intended change, see README.md
-//! ("Benchmarks").
+//! out (CI machines differ). To update the baseline after an intended change, see docs/benchmarks.md
+//! ("Regression checks").
 
 use std::path::Path;
 
@@ -24,7 +24,7 @@ fn the_ci_experiment_shows_no_regression_against_the_baseline() {
     assert_eq!(
         m.experiment.sha256,
         e.hash(),
-        "experiments/ci.toml changed since results/baseline was made: regenerate the baseline (README.md, section Benchmarks)"
+        "experiments/ci.toml changed since results/baseline was made: regenerate the baseline (docs/benchmarks.md, section Regression checks)"
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("ci");

@@ -1,5 +1,5 @@
 //! Experiment files: which scenarios, planners (with parameter variants), trackers, presets
-//! and seeds to run, and the planner limits. See README.md ("Benchmarks") for the format.
+//! and seeds to run, and the planner limits. See docs/benchmarks.md ("Experiment files") for the format.
 //!
 //! ```toml
 //! name = "default"                       # optional, defaults to the file name
