@@ -24,6 +24,7 @@ pub mod log;
 pub mod model;
 mod problem;
 pub mod report;
+mod starts;
 
 use magbench_env::plant::DisturbancePreset;
 use magbench_env::{InputError, Scenario};
@@ -44,6 +45,9 @@ pub struct FitOptions {
     pub max_latency: usize,
     /// Names of parameters held at the base value (e.g. `gradient_gain.x`).
     pub hold: Vec<String>,
+    /// Whether each segment's start state is fitted (profiled out, see the `starts` module)
+    /// rather than taken as observed.
+    pub free_starts: bool,
 }
 
 impl Default for FitOptions {
@@ -52,6 +56,7 @@ impl Default for FitOptions {
             segment_frames: 20,
             max_latency: 4,
             hold: vec![],
+            free_starts: true,
         }
     }
 }
@@ -101,7 +106,7 @@ pub fn calibrate(
         if segs.is_empty() {
             continue;
         }
-        let p = Problem::new(&model, segs, l, x0.clone(), free.clone());
+        let p = Problem::new(&model, segs, l, x0.clone(), free.clone(), false);
         let (p, _) = solve(p, 3);
         latency_table.push((l, p.mean_square()));
     }
@@ -112,7 +117,14 @@ pub fn calibrate(
     let segs = model.segments(opts.segment_frames, latency);
     let mut unidentified = vec![];
     let (problem, se) = loop {
-        let p = Problem::new(&model, segs.clone(), latency, x0.clone(), free.clone());
+        let p = Problem::new(
+            &model,
+            segs.clone(),
+            latency,
+            x0.clone(),
+            free.clone(),
+            opts.free_starts,
+        );
         let (p, _) = solve(p, 20);
         let se = p.standard_errors();
         let worst = model
