@@ -48,10 +48,10 @@ fn truth(seed: u64, n: usize) -> Truth {
     }
 }
 
-/// Three draws of 240 s (one with 3 frames of latency): about 100 s, beyond the default
+/// Three draws of 240 s (one with 3 frames of latency): about 110 s, beyond the default
 /// suite; harness/tests/calibrate.rs runs two draws there through the command line.
 #[test]
-#[ignore = "about 100 s; run with --ignored"]
+#[ignore = "about 110 s; run with --ignored"]
 fn calibrate_recovers_a_random_preset_from_an_excitation_run() {
     let scenario = Scenario::load("open-field").unwrap();
     let n = scenario.agents();
