@@ -48,10 +48,10 @@ fn truth(seed: u64, n: usize) -> Truth {
     }
 }
 
-/// Three draws of 240 s (one with 3 frames of latency): about 100 s, beyond the default
+/// Three draws of 240 s (one with 3 frames of latency): about 110 s, beyond the default
 /// suite; harness/tests/calibrate.rs runs two draws there through the command line.
 #[test]
-#[ignore = "about 100 s; run with --ignored"]
+#[ignore = "about 110 s; run with --ignored"]
 fn calibrate_recovers_a_random_preset_from_an_excitation_run() {
     let scenario = Scenario::load("open-field").unwrap();
     let n = scenario.agents();
@@ -89,9 +89,8 @@ fn calibrate_recovers_a_random_preset_from_an_excitation_run() {
         for p in &fit.params {
             let Status::Fitted = p.status else { continue };
             let (truth, tol) = match p.kind {
-                // the goal is 5%; seed 14 (3 frames of latency) misses it on drag[0] (5.5%)
-                Kind::Moment(i) => (f.moment[i], 0.06),
-                Kind::Drag(i) => (f.drag[i], 0.06),
+                Kind::Moment(i) => (f.moment[i], 0.05),
+                Kind::Drag(i) => (f.drag[i], 0.05),
                 Kind::GradientGain(a) => (f.gradient_gain.unwrap()[a], 0.05),
                 Kind::FieldBias => (f.field_bias_deg.unwrap(), 0.5),
                 Kind::Drift(a) => (f.drift_bl_s.unwrap()[a], 0.005),

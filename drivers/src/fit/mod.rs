@@ -1,15 +1,19 @@
 //! `magbench calibrate`: fits a preset's parameters to logged rig runs.
 //!
-//! The logs are cut into segments of a few consecutive frames; each segment is predicted from
-//! its first observation by env's [`magbench_env::plant::Plant`] under the logged commands
-//! (multiple shooting: each segment starts from what was seen), and Levenberg–Marquardt (the
-//! `levenberg-marquardt` crate) minimises the squared differences to what was seen next. The
-//! parameters ([`model::Kind`]): per-agent moment and drag factors, each gradient axis's gain,
-//! the field-angle bias, a uniform drift and, when the base preset has coil dynamics, the field
-//! axes' time constant. The camera latency is a discrete search over whole frames (the fit with
-//! the least mean squared residual wins); the detection noise comes from the residuals: for
-//! one-frame predictions `e_k = n_{k+1} − n_k + w_k`, so white detection noise of σ gives
-//! consecutive residuals the covariance −σ² while the process noise `w` gives none.
+//! The logs are cut into segments of a few consecutive frames; each segment is predicted by
+//! env's [`magbench_env::plant::Plant`] under the logged commands from a start state of its
+//! own (multiple shooting), and Levenberg–Marquardt (the `levenberg-marquardt` crate)
+//! minimises the squared differences to what was seen, the first frame included. The start
+//! states are free parameters profiled out by variable projection (the `starts` module):
+//! predicting from the first observation instead carries its detection noise into every later
+//! frame and biases the moments and drags along their common scale. The parameters
+//! ([`model::Kind`]): per-agent moment and drag factors, each gradient axis's gain, the
+//! field-angle bias, a uniform drift and, when the base preset has coil dynamics, the field
+//! axes' time constant. The camera latency is a discrete search over whole frames (a quick fit
+//! from the observed starts for each; the least mean squared residual wins); the detection
+//! noise comes from the residuals: for one-frame predictions `e_k = n_{k+1} − n_k + w_k`, so
+//! white detection noise of σ gives consecutive residuals the covariance −σ² while the process
+//! noise `w` gives none.
 //!
 //! Standard errors come from the Jacobian at the optimum, `σ_r² (JᵀJ)⁻¹`. A parameter whose
 //! standard error exceeds its threshold ([`model::Kind::identified_below`]) is not fitted to
@@ -24,6 +28,7 @@ pub mod log;
 pub mod model;
 mod problem;
 pub mod report;
+mod starts;
 
 use magbench_env::plant::DisturbancePreset;
 use magbench_env::{InputError, Scenario};
@@ -44,6 +49,9 @@ pub struct FitOptions {
     pub max_latency: usize,
     /// Names of parameters held at the base value (e.g. `gradient_gain.x`).
     pub hold: Vec<String>,
+    /// Whether each segment's start state is fitted (profiled out, see the `starts` module)
+    /// rather than taken as observed.
+    pub free_starts: bool,
 }
 
 impl Default for FitOptions {
@@ -52,6 +60,7 @@ impl Default for FitOptions {
             segment_frames: 20,
             max_latency: 4,
             hold: vec![],
+            free_starts: true,
         }
     }
 }
@@ -101,7 +110,7 @@ pub fn calibrate(
         if segs.is_empty() {
             continue;
         }
-        let p = Problem::new(&model, segs, l, x0.clone(), free.clone());
+        let p = Problem::new(&model, segs, l, x0.clone(), free.clone(), false);
         let (p, _) = solve(p, 3);
         latency_table.push((l, p.mean_square()));
     }
@@ -112,7 +121,14 @@ pub fn calibrate(
     let segs = model.segments(opts.segment_frames, latency);
     let mut unidentified = vec![];
     let (problem, se) = loop {
-        let p = Problem::new(&model, segs.clone(), latency, x0.clone(), free.clone());
+        let p = Problem::new(
+            &model,
+            segs.clone(),
+            latency,
+            x0.clone(),
+            free.clone(),
+            opts.free_starts,
+        );
         let (p, _) = solve(p, 20);
         let se = p.standard_errors();
         let worst = model

@@ -261,9 +261,10 @@ impl Model {
         (r, bad)
     }
 
-    /// Number of residuals of `segs`.
+    /// Number of residuals of `segs` in a fit with free start states: 2 per agent for the first
+    /// frame and for every frame predicted.
     pub fn residual_count(&self, segs: &[Segment]) -> usize {
-        segs.iter().map(|s| s.len * 2 * self.n).sum()
+        segs.iter().map(|s| (s.len + 1) * 2 * self.n).sum()
     }
 
     /// The prediction of segment `s` under `preset`: the times, observations and predicted
@@ -275,8 +276,30 @@ impl Model {
         s: &Segment,
         latency: usize,
     ) -> (SegmentTrace, bool) {
+        self.predict_from(preset, s, latency, &self.observed_start(s))
+    }
+
+    /// Every agent's observed position at the first frame of `s` (segments start where every
+    /// agent was seen).
+    pub fn observed_start(&self, s: &Segment) -> Vec<Vec2> {
+        self.runs[s.run].frames[s.start]
+            .agents
+            .iter()
+            .flatten()
+            .copied()
+            .collect()
+    }
+
+    /// [`Model::predict`] with the agents starting at `start` instead of where they were seen.
+    pub fn predict_from(
+        &self,
+        preset: &DisturbancePreset,
+        s: &Segment,
+        latency: usize,
+        start: &[Vec2],
+    ) -> (SegmentTrace, bool) {
         let f = &self.runs[s.run].frames;
-        let start: Vec<Vec2> = f[s.start].agents.iter().flatten().copied().collect();
+        let start = start.to_vec();
         let mut plant = Plant::new(
             &self.params,
             self.coil.clone(),
@@ -308,9 +331,25 @@ impl Model {
         s: &Segment,
         latency: usize,
     ) -> (Vec<f64>, bool) {
-        let (tr, bad) = self.predict(preset, s, latency);
-        let mut out = Vec::with_capacity(s.len * 2 * self.n);
-        for (obs, pred) in tr.observed.iter().zip(&tr.predicted).skip(1) {
+        let (mut rows, bad) = self.segment_rows(preset, s, latency, &self.observed_start(s));
+        rows.drain(..2 * self.n);
+        (rows, bad)
+    }
+
+    /// Residual rows (observed − predicted, BL; 0 for a missed detection) of segment `s`
+    /// predicted from `start` under `preset`: 2 per agent for its first frame (observed −
+    /// `start`) and for every frame it predicts; all 0 when the prediction touched a wall or
+    /// stuck (the flag).
+    pub fn segment_rows(
+        &self,
+        preset: &DisturbancePreset,
+        s: &Segment,
+        latency: usize,
+        start: &[Vec2],
+    ) -> (Vec<f64>, bool) {
+        let (tr, bad) = self.predict_from(preset, s, latency, start);
+        let mut out = Vec::with_capacity((s.len + 1) * 2 * self.n);
+        for (obs, pred) in tr.observed.iter().zip(&tr.predicted) {
             for (o, p) in obs.iter().zip(pred) {
                 match o {
                     Some(o) if !bad => out.extend([o.x - p.x, o.y - p.y]),

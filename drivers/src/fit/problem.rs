@@ -1,10 +1,14 @@
 //! The least-squares problem of one fit, for the `levenberg-marquardt` crate: free parameters
-//! in, residuals of every segment out, Jacobian by forward differences.
+//! in, residuals of every segment out (with the segments' start states profiled out, see
+//! [`super::starts`], or predicted from the observed starts), Jacobian by forward differences.
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt, MinimizationReport};
+use magbench_env::plant::DisturbancePreset;
 use nalgebra034::{DMatrix, DVector, Dyn, Owned};
+use rayon::prelude::*;
 
 use super::model::{Model, Segment};
+use super::starts::StartBasis;
 
 /// A fit of the free parameters of `model` on `segs`.
 pub struct Problem<'a> {
@@ -14,17 +18,29 @@ pub struct Problem<'a> {
     /// Every parameter (fitted coordinates); the held ones stay at their start.
     x: Vec<f64>,
     free: Vec<usize>,
-    base: magbench_env::plant::DisturbancePreset,
+    base: DisturbancePreset,
+    /// Whether each segment's start state is free (profiled out) or the observed one.
+    free_starts: bool,
+}
+
+/// One segment's residual rows and their derivatives in some parameters.
+struct Block {
+    r: Vec<f64>,
+    cols: Vec<Vec<f64>>,
+    /// Whether the segment took part (its prediction touched no wall).
+    used: bool,
 }
 
 impl<'a> Problem<'a> {
-    /// The problem starting at `x`, fitting the parameters marked in `free`.
+    /// The problem starting at `x`, fitting the parameters marked in `free`; with
+    /// `free_starts`, each segment's start state is free as well.
     pub fn new(
         model: &'a Model,
         segs: Vec<Segment>,
         latency: usize,
         x: Vec<f64>,
         free: Vec<bool>,
+        free_starts: bool,
     ) -> Self {
         let base = model.predict_base().clone();
         Self {
@@ -34,7 +50,97 @@ impl<'a> Problem<'a> {
             free: (0..x.len()).filter(|&i| free[i]).collect(),
             x,
             base,
+            free_starts,
         }
+    }
+
+    /// Residual rows of segment `s` at `x`, and their forward differences towards each of
+    /// `steps` (preset, step), all projected off the start-state directions when those are free.
+    fn block(
+        &self,
+        s: &Segment,
+        at: &DisturbancePreset,
+        steps: &[(DisturbancePreset, f64)],
+    ) -> Block {
+        let (mut r, bad) =
+            self.model
+                .segment_rows(at, s, self.latency, &self.model.observed_start(s));
+        let zero = |r: &[f64]| Block {
+            r: vec![0.0; r.len()],
+            cols: vec![vec![0.0; r.len()]; steps.len()],
+            used: false,
+        };
+        if bad {
+            return zero(&r);
+        }
+        let basis = if self.free_starts {
+            match StartBasis::new(self.model, at, s, self.latency, &r) {
+                Some(b) => Some(b),
+                None => return zero(&r),
+            }
+        } else {
+            None
+        };
+        let cols = steps
+            .iter()
+            .map(|(p, h)| {
+                let (rh, _) =
+                    self.model
+                        .segment_rows(p, s, self.latency, &self.model.observed_start(s));
+                let mut c: Vec<f64> = rh.iter().zip(&r).map(|(a, b)| (a - b) / h).collect();
+                if let Some(b) = &basis {
+                    b.project(&mut c);
+                }
+                c
+            })
+            .collect();
+        if let Some(b) = &basis {
+            b.project(&mut r);
+        }
+        Block {
+            r,
+            cols,
+            used: true,
+        }
+    }
+
+    /// Residuals at `x` and their forward differences in the free parameters (when asked),
+    /// with the number of segments used.
+    fn evaluate(&self, x: &[f64], jacobian: bool) -> (Vec<f64>, Option<DMatrix<f64>>, usize) {
+        let at = self.model.preset_at(&self.base, x);
+        let steps: Vec<(DisturbancePreset, f64)> = if jacobian {
+            self.free
+                .iter()
+                .map(|&i| {
+                    let h = self.model.kinds[i].step();
+                    let mut xh = x.to_vec();
+                    xh[i] += h;
+                    (self.model.preset_at(&self.base, &xh), h)
+                })
+                .collect()
+        } else {
+            vec![]
+        };
+        let blocks: Vec<Block> = self
+            .segs
+            .par_iter()
+            .map(|s| self.block(s, &at, &steps))
+            .collect();
+        let rows: usize = blocks.iter().map(|b| b.r.len()).sum();
+        let used = blocks.iter().filter(|b| b.used).count();
+        let mut r = Vec::with_capacity(rows);
+        let mut j = jacobian.then(|| DMatrix::zeros(rows, steps.len()));
+        for b in blocks {
+            if let Some(j) = j.as_mut() {
+                for (c, col) in b.cols.iter().enumerate() {
+                    for (k, v) in col.iter().enumerate() {
+                        j[(r.len() + k, c)] = *v;
+                    }
+                }
+            }
+            r.extend(b.r);
+        }
+        (r, j, used)
     }
 
     /// Every parameter, in the fitted coordinates.
@@ -48,8 +154,7 @@ impl<'a> Problem<'a> {
     }
 
     fn residuals_at(&self, x: &[f64]) -> Vec<f64> {
-        let preset = self.model.preset_at(&self.base, x);
-        self.model.residuals(&preset, &self.segs, self.latency).0
+        self.evaluate(x, false).0
     }
 
     /// Mean squared residual (BL²) over the observed coordinates.
@@ -77,31 +182,26 @@ impl<'a> Problem<'a> {
 
     /// The Jacobian of the residuals in the free parameters.
     fn jacobian_free(&self) -> DMatrix<f64> {
-        let r0 = self.residuals_at(&self.x);
-        let mut j = DMatrix::zeros(r0.len(), self.free.len());
-        for (c, &i) in self.free.iter().enumerate() {
-            let h = self.model.kinds[i].step();
-            let mut x = self.x.clone();
-            x[i] += h;
-            let r = self.residuals_at(&x);
-            for (row, (a, b)) in r.iter().zip(&r0).enumerate() {
-                j[(row, c)] = (a - b) / h;
-            }
-        }
-        j
+        self.evaluate(&self.x, true).1.expect("asked for")
     }
 
     /// Standard error of every parameter (fitted coordinates): `σ_r² (JᵀJ)⁻¹` over the free
     /// ones; infinite for a free parameter along a singular direction, NaN for a held one.
+    /// The degrees of freedom discount the free start states (2 per agent per segment).
     pub fn standard_errors(&self) -> Vec<f64> {
         let mut se = vec![f64::NAN; self.x.len()];
         if self.free.is_empty() {
             return se;
         }
-        let j = self.jacobian_free();
-        let r = self.residuals_at(&self.x);
+        let (r, j, used) = self.evaluate(&self.x, true);
+        let j = j.expect("asked for");
         let m = r.iter().filter(|v| **v != 0.0).count();
-        let dof = m.saturating_sub(self.free.len()).max(1);
+        let starts = if self.free_starts {
+            used * 2 * self.model.n
+        } else {
+            0
+        };
+        let dof = m.saturating_sub(self.free.len() + starts).max(1);
         let s2 = r.iter().map(|v| v * v).sum::<f64>() / dof as f64;
         // var_i = s² Σ_k V_ik² / λ_k over the eigenpairs of JᵀJ: a direction the data do not
         // see (λ_k ≈ 0) makes the variance of every parameter along it huge

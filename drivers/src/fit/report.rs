@@ -248,11 +248,11 @@ impl FitReport {
         );
         let _ = writeln!(
             s,
-            "# Values with standard errors (from the Jacobian at the optimum; segments share their"
+            "# Values with standard errors (from the Jacobian at the optimum, each segment's start"
         );
         let _ = writeln!(
             s,
-            "# first observation, so the errors are somewhat optimistic). [fitted] replaces the"
+            "# state profiled out; white detection noise assumed). [fitted] replaces the"
         );
         let _ = writeln!(s, "# per-run draws of the values it gives.");
         for l in self.lines() {

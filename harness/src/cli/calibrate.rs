@@ -62,6 +62,7 @@ pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
         segment_frames: a.segment_frames,
         max_latency: a.max_latency,
         hold: a.hold,
+        ..FitOptions::default()
     };
     let mut fit = calibrate(&scenario, &base, runs, &opts).map_err(|e| match e {
         FitError::Input(i) => CliError::Input(i),

