@@ -792,6 +792,12 @@ fn unknown_measurements_and_replan_modes_are_refused_by_name() {
             "seed-metric",
         ],
     );
+    if !cfg!(feature = "ompl") {
+        refused(
+            &["docs", "measure", "--only", "vs-ompl"],
+            &["--only: ", "vs-ompl needs a build with --features ompl"],
+        );
+    }
     let track = [
         "track",
         "open-field",

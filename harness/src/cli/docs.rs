@@ -6,7 +6,7 @@ use clap::{Args, Subcommand};
 
 use super::output::outln;
 use crate::CliError;
-use crate::docs::measures::{MEASURES, find};
+use crate::docs::measures::{MEASURES, Measure, find};
 use crate::docs::run::{RunOptions, measure};
 use crate::registry::Registry;
 use crate::run::real::RealExecutor;
@@ -66,8 +66,12 @@ pub fn run(c: DocsCmd, registry: &Registry) -> Result<(), CliError> {
 fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
     if a.list {
         for m in MEASURES {
+            let needs = match m.feature {
+                Some(f) if !m.available() => format!("\tneeds a build with --features {f}"),
+                _ => String::new(),
+            };
             outln!(
-                "{}\t{}\t--quick: {} seeds",
+                "{}\t{}\t--quick: {} seeds{needs}",
                 m.name,
                 m.experiment,
                 m.quick_seeds
@@ -75,8 +79,17 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
         }
         return Ok(());
     }
-    let chosen = match a.only.is_empty() {
-        true => MEASURES.iter().collect(),
+    let chosen: Vec<&Measure> = match a.only.is_empty() {
+        true => {
+            for m in MEASURES.iter().filter(|m| !m.available()) {
+                eprintln!(
+                    "{}: skipped; its planners need a build with --features {}",
+                    m.name,
+                    m.feature.unwrap_or_default()
+                );
+            }
+            MEASURES.iter().filter(|m| m.available()).collect()
+        }
         false => {
             let names: Vec<&str> = MEASURES.iter().map(|m| m.name).collect();
             a.only
@@ -90,6 +103,18 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
                 .collect::<Result<Vec<_>, _>>()?
         }
     };
+    if let Some(m) = chosen.iter().find(|m| !m.available()) {
+        return Err(CliError::arg(
+            "--only",
+            format!(
+                "{} needs a build with --features {} (`cargo run --release -p magbench --features {} -- docs measure --only {}`)",
+                m.name,
+                m.feature.unwrap_or_default(),
+                m.feature.unwrap_or_default(),
+                m.name
+            ),
+        ));
+    }
     let threads = super::number::threads(a.threads)?;
     let root = root();
     let out = a.out.unwrap_or_else(|| root.join("docs/measured"));

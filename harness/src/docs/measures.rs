@@ -2,7 +2,7 @@
 //! become. Adding one is one entry here and its `{{#include measured/NAME.md}}` in a chapter.
 
 use super::table::Table;
-use super::tables::{errors, planning, tracking};
+use super::tables::{errors, first_solution, planning, tracking};
 use crate::run::RunRecord;
 
 /// One measurement: `magbench docs measure --only NAME` writes `docs/measured/NAME.md`.
@@ -16,6 +16,19 @@ pub struct Measure {
     pub quick_seeds: usize,
     /// How the runs become the file's table.
     pub table: fn(&[RunRecord]) -> Table,
+    /// The cargo feature of `magbench` its planners need (`None`: the default build has them).
+    pub feature: Option<&'static str>,
+}
+
+impl Measure {
+    /// Whether this build can run it: it needs no feature, or the build has that feature.
+    pub fn available(&self) -> bool {
+        match self.feature {
+            None => true,
+            Some("ompl") => cfg!(feature = "ompl"),
+            Some(_) => false,
+        }
+    }
 }
 
 /// Every measurement, in the order `docs measure` runs them.
@@ -25,48 +38,63 @@ pub static MEASURES: &[Measure] = &[
         experiment: "experiments/planners-success.toml",
         quick_seeds: 4,
         table: planning,
+        feature: None,
     },
     Measure {
         name: "trackers-50",
         experiment: "experiments/trackers-50.toml",
         quick_seeds: 3,
         table: tracking,
+        feature: None,
     },
     Measure {
         name: "cargo-delivery",
         experiment: "experiments/cargo-delivery.toml",
         quick_seeds: 2,
         table: tracking,
+        feature: None,
     },
     Measure {
         name: "seed-metric",
         experiment: "experiments/seed-metric.toml",
         quick_seeds: 4,
         table: errors,
+        feature: None,
     },
     Measure {
         name: "fidelity-hardware",
         experiment: "experiments/fidelity-hardware.toml",
         quick_seeds: 3,
         table: tracking,
+        feature: None,
     },
     Measure {
         name: "fidelity-short",
         experiment: "experiments/fidelity-short.toml",
         quick_seeds: 4,
         table: tracking,
+        feature: None,
     },
     Measure {
         name: "trio-planning",
         experiment: "experiments/trio-planning.toml",
         quick_seeds: 2,
         table: planning,
+        feature: None,
     },
     Measure {
         name: "quad-tracking",
         experiment: "experiments/quad-tracking.toml",
         quick_seeds: 2,
         table: tracking,
+        feature: None,
+    },
+    Measure {
+        name: "vs-ompl",
+        experiment: "experiments/vs-ompl.toml",
+        quick_seeds: 2,
+        table: first_solution,
+        feature: Some("ompl"),
     },
 ];
 
@@ -92,5 +120,7 @@ mod tests {
             );
         }
         assert!(find("seed-metric").is_some() && find("nope").is_none());
+        assert!(find("seed-metric").unwrap().available());
+        assert_eq!(find("vs-ompl").unwrap().available(), cfg!(feature = "ompl"));
     }
 }

@@ -81,9 +81,13 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
     };
     let header = Header {
         command: format!(
-            "magbench docs measure --only {}{}",
+            "magbench docs measure --only {}{}{}",
             m.name,
-            if o.quick { " --quick" } else { "" }
+            if o.quick { " --quick" } else { "" },
+            match m.feature {
+                Some(f) => format!(" (a build with --features {f})"),
+                None => String::new(),
+            }
         ),
         runs: format!(
             "`{}`, {seeds}: {} runs in {secs:.0} s on {} threads, {build} build",

@@ -55,6 +55,36 @@ pub fn planning(runs: &[RunRecord]) -> Table {
     t
 }
 
+/// Planners side by side to a first solution: per scenario and planner, runs solved, its time
+/// (median over solved runs, s), the plan's cost (median over solved runs) and iterations per
+/// second (median over runs of iterations ÷ planning time).
+pub fn first_solution(runs: &[RunRecord]) -> Table {
+    let mut t = Table::new(&[
+        "scenario",
+        "planner",
+        "solved",
+        "time to 1st solution, median (s)",
+        "cost, median",
+        "iterations/s, median",
+    ]);
+    for g in groups(runs) {
+        let solved: Vec<&RunRecord> = g.iter().copied().filter(|r| r.solved).collect();
+        let rate: Vec<f64> = g
+            .iter()
+            .filter_map(|r| Some(r.get(Metric::Iterations)? / r.get(Metric::PlanTime)?))
+            .collect();
+        t.row(vec![
+            scenario(&g[0].scenario),
+            g[0].planner.clone(),
+            count(solved.len(), g.len()),
+            median(&values(&solved, Metric::FirstSolutionTime)),
+            median(&values(&solved, Metric::Cost)),
+            median(&rate),
+        ]);
+    }
+    t
+}
+
 /// Closed-loop tracking: per tracker and preset, goal reached, agent contacts, the path, true,
 /// team-synchronous and time-indexed RMS errors and the max observed error (median / p90, BL),
 /// wall contacts over all runs and the median time to goal.
