@@ -88,6 +88,12 @@ pub static MEASURES: &[Measure] = &[
         table: Runs(tracking),
     },
     Measure {
+        name: "planners-convergence",
+        experiment: "experiments/planners-convergence.toml",
+        quick_seeds: 2,
+        table: Folder(convergence),
+    },
+    Measure {
         name: "informed",
         experiment: "experiments/informed.toml",
         quick_seeds: 2,

@@ -52,6 +52,22 @@ fn hows(events: &[&ReplanRecord]) -> String {
     }
 }
 
+/// "rejoins / tree iterations / edges", each the mean per replan; "–" without replans.
+fn repair_work(events: &[&ReplanRecord]) -> String {
+    if events.is_empty() {
+        return "–".into();
+    }
+    let n = events.len() as f64;
+    let mean =
+        |f: fn(&ReplanRecord) -> u64| num(events.iter().map(|e| f(e) as f64).sum::<f64>() / n);
+    format!(
+        "{} / {} / {}",
+        mean(|e| e.rejoins),
+        mean(|e| e.tree_iterations),
+        mean(|e| e.repair_edges)
+    )
+}
+
 /// The mean of the finite values, "–" if there are none.
 fn mean(v: &[f64]) -> String {
     let v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
@@ -87,8 +103,8 @@ fn configurations(outs: &[RunOutput]) -> Vec<Vec<&RunOutput>> {
 
 /// Per tracked configuration, over every replan made for a persistent error in its runs: their
 /// count, wall and CPU time (ms, p50 / p95 / max), how many took at most one 60 Hz frame of
-/// wall time, how they found their plans, the planner iterations per replan, then the runs'
-/// mean tracking errors and goals reached.
+/// wall time, how they found their plans, the planner iterations and repair work per replan
+/// (load-independent), then the runs' mean tracking errors and goals reached.
 pub fn replan_latency(outs: &[RunOutput]) -> Table {
     let mut t = Table::new(&[
         "scenario",
@@ -100,6 +116,7 @@ pub fn replan_latency(outs: &[RunOutput]) -> Table {
         "within one 60 Hz frame (16.7 ms), wall",
         "how",
         "planner iterations per replan, mean / p95 / max",
+        "repair work per replan, mean: rejoins / tree iterations / edges",
         "RMS error, observed, mean of runs (BL)",
         "RMS error, true, mean of runs (BL)",
         "goal reached",
@@ -137,6 +154,7 @@ pub fn replan_latency(outs: &[RunOutput]) -> Table {
             ),
             hows(&events),
             work(&planner),
+            repair_work(&events),
             mean(&of(Metric::RmsError)),
             mean(&of(Metric::RmsErrorTrue)),
             format!(
@@ -216,8 +234,9 @@ mod tests {
         assert_eq!(repair[6], "2/3");
         assert_eq!(repair[7], "1 rejoin, 1 tree, 1 full");
         assert_eq!(repair[8], "33.3 / 90 / 100");
-        assert_eq!(repair[9], "0.0400");
-        assert_eq!(repair[11], "2/2");
+        assert_eq!(repair[9], "1.00 / 0 / 3.00");
+        assert_eq!(repair[10], "0.0400");
+        assert_eq!(repair[12], "2/2");
         assert_eq!(t.rows[1][6], "0/1");
     }
 }
