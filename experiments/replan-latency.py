@@ -12,7 +12,10 @@ iterations) and the tracking error.
     python3 experiments/replan-latency.py [--bin target/release/magbench] [--seeds 40]
                                           [--json OUT.json]
 
-docs/replanning.md gives the figures it produced.
+The book's figures (docs/measured/replan-latency.md) come from the same loop settings run as
+`experiments/replan.toml` by `magbench docs measure --only replan-latency`; this script is for
+a look at single runs (`--json` keeps each run's replan log) and at `magbench track`'s
+defaults.
 """
 
 import argparse

@@ -31,21 +31,6 @@ const EXCEPTIONS: &[(&str, &str, &str)] = &[
         "pair-100's profile and the scaling exponents: no table kind for profiles or fits yet",
     ),
     (
-        "replanning.md",
-        "Measured: micro-factory, hardware plant",
-        "replan latency from experiments/replan-latency.py (the replan log): no table kind yet",
-    ),
-    (
-        "planners.md",
-        "Convergence on micro-factory",
-        "best cost at iteration counts from progress.csv: no table kind yet",
-    ),
-    (
-        "planners.md",
-        "Informed sampling",
-        "best cost at iteration counts from progress.csv: no table kind yet",
-    ),
-    (
         "planners.md",
         "Speed",
         "criterion benches and /usr/bin/time: no measurement runs cargo bench yet",

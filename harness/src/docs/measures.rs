@@ -1,9 +1,28 @@
 //! The measurements of the book: each an experiment in `experiments/` and the table its runs
 //! become. Adding one is one entry here and its `{{#include measured/NAME.md}}` in a chapter.
 
+use std::path::Path;
+
+use super::convergence::convergence;
+use super::replans::replan_latency;
 use super::table::Table;
 use super::tables::{errors, first_solution, planning, tracking};
-use crate::run::RunRecord;
+use crate::CliError;
+use crate::run::{RunOutput, RunRecord};
+use Kind::{Folder, Outputs, Runs};
+
+/// How a measurement's runs become its table.
+#[derive(Debug, Clone, Copy)]
+pub enum Kind {
+    /// A sweep of the experiment; the table comes from its `runs.csv` rows.
+    Runs(fn(&[RunRecord]) -> Table),
+    /// A sweep of the experiment; the table comes from its results folder (`progress.csv` as
+    /// well as the `runs.csv` rows, given).
+    Folder(fn(&Path, &[RunRecord]) -> Result<Table, CliError>),
+    /// The experiment's runs, each run's whole output kept (its replan log too); no results
+    /// folder is written.
+    Outputs(fn(&[RunOutput]) -> Table),
+}
 
 /// One measurement: `magbench docs measure --only NAME` writes `docs/measured/NAME.md`.
 #[derive(Debug, Clone, Copy)]
@@ -15,7 +34,7 @@ pub struct Measure {
     /// Seeds kept under `--quick` (the first ones of the experiment's).
     pub quick_seeds: usize,
     /// How the runs become the file's table.
-    pub table: fn(&[RunRecord]) -> Table,
+    pub table: Kind,
     /// The cargo feature of `magbench` its planners need (`None`: the default build has them).
     pub feature: Option<&'static str>,
 }
@@ -37,63 +56,84 @@ pub static MEASURES: &[Measure] = &[
         name: "planners-success",
         experiment: "experiments/planners-success.toml",
         quick_seeds: 4,
-        table: planning,
+        table: Runs(planning),
         feature: None,
     },
     Measure {
         name: "trackers-50",
         experiment: "experiments/trackers-50.toml",
         quick_seeds: 3,
-        table: tracking,
+        table: Runs(tracking),
         feature: None,
     },
     Measure {
         name: "cargo-delivery",
         experiment: "experiments/cargo-delivery.toml",
         quick_seeds: 2,
-        table: tracking,
+        table: Runs(tracking),
         feature: None,
     },
     Measure {
         name: "seed-metric",
         experiment: "experiments/seed-metric.toml",
         quick_seeds: 4,
-        table: errors,
+        table: Runs(errors),
         feature: None,
     },
     Measure {
         name: "fidelity-hardware",
         experiment: "experiments/fidelity-hardware.toml",
         quick_seeds: 3,
-        table: tracking,
+        table: Runs(tracking),
         feature: None,
     },
     Measure {
         name: "fidelity-short",
         experiment: "experiments/fidelity-short.toml",
         quick_seeds: 4,
-        table: tracking,
+        table: Runs(tracking),
         feature: None,
     },
     Measure {
         name: "trio-planning",
         experiment: "experiments/trio-planning.toml",
         quick_seeds: 2,
-        table: planning,
+        table: Runs(planning),
         feature: None,
     },
     Measure {
         name: "quad-tracking",
         experiment: "experiments/quad-tracking.toml",
         quick_seeds: 2,
-        table: tracking,
+        table: Runs(tracking),
+        feature: None,
+    },
+    Measure {
+        name: "planners-convergence",
+        experiment: "experiments/planners-convergence.toml",
+        quick_seeds: 2,
+        table: Folder(convergence),
+        feature: None,
+    },
+    Measure {
+        name: "informed",
+        experiment: "experiments/informed.toml",
+        quick_seeds: 2,
+        table: Folder(convergence),
+        feature: None,
+    },
+    Measure {
+        name: "replan-latency",
+        experiment: "experiments/replan.toml",
+        quick_seeds: 2,
+        table: Outputs(replan_latency),
         feature: None,
     },
     Measure {
         name: "vs-ompl",
         experiment: "experiments/vs-ompl.toml",
         quick_seeds: 2,
-        table: first_solution,
+        table: Runs(first_solution),
         feature: Some("ompl"),
     },
 ];

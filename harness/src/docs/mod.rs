@@ -3,8 +3,10 @@
 //! with a [`Header`] naming the command, machine, date and magbench version. The chapters
 //! quote these files by `{{#include measured/NAME.md}}`, never by copying their numbers.
 
+pub mod convergence;
 pub mod header;
 pub mod measures;
+pub mod replans;
 pub mod run;
 pub mod table;
 pub mod tables;

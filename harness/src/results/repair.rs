@@ -297,6 +297,7 @@ mod tests {
             record: r,
             progress,
             replay: None,
+            replans: vec![],
         }
     }
 

@@ -461,6 +461,7 @@ mod tests {
             record: r,
             progress,
             replay: None,
+            replans: vec![],
         }
     }
 

@@ -18,6 +18,9 @@ pub struct RunOutput {
     /// What the run's replay page shows (`replays/` of the results folder), if the executor
     /// records it.
     pub replay: Option<Box<crate::replay::ReplayData>>,
+    /// The tracked run's replan log: every replan, its reason, wall and CPU time and work
+    /// (empty for a planning run or an executor that does not track).
+    pub replans: Vec<magbench_trackers::ReplanRecord>,
 }
 
 /// Runs single runs. Implementations must make the output depend only on the spec (apart from
@@ -132,6 +135,7 @@ pub fn execute_caught(ex: &dyn Executor, spec: &RunSpec) -> RunOutput {
         record: r,
         progress: vec![],
         replay: None,
+        replans: vec![],
     }
 }
 

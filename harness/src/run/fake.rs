@@ -266,6 +266,7 @@ impl Executor for FakeExecutor {
             record: r,
             progress,
             replay: None,
+            replans: vec![],
         })
     }
 }

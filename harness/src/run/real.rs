@@ -327,6 +327,7 @@ impl Executor for RealExecutor {
                 record: rec,
                 progress,
                 replay: Some(Box::new(replay)),
+                replans: vec![],
             });
         };
         let (first, tree) = plan_leg(&self.registry, spec, &setup, 0, &spec.scenario.start)?;
@@ -349,6 +350,7 @@ impl Executor for RealExecutor {
                     record: rec,
                     progress,
                     replay: None,
+                    replans: vec![],
                 });
             }
         };
@@ -392,6 +394,7 @@ impl Executor for RealExecutor {
             record: rec,
             progress,
             replay: Some(Box::new(replay)),
+            replans: out.replans,
         })
     }
 }
