@@ -327,6 +327,16 @@ impl<'a> Replanner<'a> {
         }
         let seed = self.seed.wrapping_add((k as u64).wrapping_mul(SEED_STEP));
         let mut problem = self.setup.problem(scenario, leg, Some(&start), seed);
+        if !problem.checker.is_valid(&problem.start) {
+            // the validator (`check_result`) refuses every plan from an invalid start (agents too close or too
+            // far apart): the planner is not called
+            rec.note(format!(
+                "{} planning for leg {}: the observed state is not valid (the validator refuses every plan from it)",
+                reason_name(reason),
+                leg + 1
+            ));
+            return None;
+        }
         let needed = problem.goal.tolerance - self.goal_margin;
         let inside = problem.goal.contains(&start) && problem.goal.distance(&start) > needed;
         if (self.stall || inside) && needed > 0.0 {
@@ -553,17 +563,63 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(k, &reason)| {
-                r.plan(&s, 0, &checker, (&s.start, None), k + 1, (reason, 1.0), &mut rec)
-                    .is_some()
+                r.plan(
+                    &s,
+                    0,
+                    &checker,
+                    (&s.start, None),
+                    k + 1,
+                    (reason, 1.0),
+                    &mut rec,
+                )
+                .is_some()
             })
             .collect();
         let log = log(rec, &s.legs[0].goal);
         for l in &log[..2] {
-            assert_eq!((l.how, l.planner_iterations), (ReplanHow::Failed, 40), "{l:?}");
+            assert_eq!(
+                (l.how, l.planner_iterations),
+                (ReplanHow::Failed, 40),
+                "{l:?}"
+            );
         }
         assert!(!got[0] && !got[1]);
         assert!(got[2], "a new leg plans with the run's limit");
         assert!(log[2].planner_iterations > 40, "{:?}", log[2]);
+    }
+
+    /// From an observed state the validator refuses (two agents closer than the checker's
+    /// `r_min`), a replan fails at once, without the planner's iterations.
+    #[test]
+    fn a_replan_from_an_invalid_state_does_not_call_the_planner() {
+        let s = Scenario::load("quad-square").unwrap();
+        let mut planner = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap();
+        let checker = s.checker_for_leg(0);
+        let mut x = s.start.clone();
+        x[1] = x[0] + Vec2::new(0.5 * checker.r_min, 0.0);
+        assert!(!checker.is_valid(&x));
+        let mut r = replanner(true);
+        r.planner = Some(planner.as_mut());
+        let mut rec = Recorder::new(&s.start, 0.0, false);
+        for (k, reason) in [PlanReason::Stall, PlanReason::Error]
+            .into_iter()
+            .enumerate()
+        {
+            assert!(
+                r.plan(&s, 0, &checker, (&x, None), k + 1, (reason, 1.0), &mut rec)
+                    .is_none()
+            );
+        }
+        let log = log(rec, &s.legs[0].goal);
+        for l in &log {
+            assert_eq!(
+                (l.how, l.planner_iterations),
+                (ReplanHow::Failed, 0),
+                "{l:?}"
+            );
+        }
     }
 
     #[test]
