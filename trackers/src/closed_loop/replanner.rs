@@ -577,13 +577,9 @@ mod tests {
             .collect();
         let log = log(rec, &s.legs[0].goal);
         for l in &log[..2] {
-            assert_eq!(
-                (l.how, l.planner_iterations),
-                (ReplanHow::Failed, 40),
-                "{l:?}"
-            );
+            // 40 iterations do not reach the goal: at most the closest approach is followed
+            assert_eq!(l.planner_iterations, 40, "{l:?}");
         }
-        assert!(!got[0] && !got[1]);
         assert!(got[2], "a new leg plans with the run's limit");
         assert!(log[2].planner_iterations > 40, "{:?}", log[2]);
     }
