@@ -779,8 +779,9 @@ fn toml_files_beyond_4_mib_are_refused_before_parsing() {
     }
 }
 
-/// Names refused by this stop's options: `docs measure --only`, and the loop's `replan_mode`
-/// and `repair_iterations` (exit 2 naming the option or parameter and the reason).
+/// Names refused by this stop's options: `docs measure --only`, and the loop's `replan_mode`,
+/// `repair_iterations` and `replan_iterations` (exit 2 naming the option or parameter and the
+/// reason).
 #[test]
 fn unknown_measurements_and_replan_modes_are_refused_by_name() {
     refused(
@@ -809,6 +810,8 @@ fn unknown_measurements_and_replan_modes_are_refused_by_name() {
     for (param, why) in [
         ("replan_mode=sometimes", "is not one of repair, restart"),
         ("repair_iterations=-3", "is not a whole number"),
+        ("replan_iterations=0", "must be in [1, 1000000], got 0"),
+        ("replan_iterations=2000000", "must be in [1, 1000000]"),
     ] {
         let mut args = track.to_vec();
         args.extend(["--param", param]);

@@ -48,6 +48,10 @@ use crate::rig::{Rig, RigError};
 use crate::sim_rig::SimRig;
 use crate::tracker::{Tick, Tracker, TrackerContext};
 
+/// Default of the loop parameter `replan_iterations`: a tenth of the planners' default
+/// iteration limit, above the p95 of a pair's from-scratch drift replans (docs/replanning.md).
+pub const REPLAN_ITERATIONS: usize = 20_000;
+
 declare_params! {
     /// Settings of the loop (not of a tracker); every tracker takes them as parameters, with
     /// its own defaults ([`Tracker::loop_options`]).
@@ -76,6 +80,12 @@ declare_params! {
         /// Iterations of a repair's tree at most (0: rejoin or restart).
         #[param("repair_iterations", 0..=1_000_000)]
         pub repair_iterations: usize = 200,
+        /// Iterations at most of the mission's planner in a replan for a persistent error or a
+        /// stall (the run's own limit when that is lower); a new leg's plan has the run's
+        /// limit. A replan that finds no plan within it is logged as failed and the team
+        /// follows its plan until the next replan.
+        #[param("replan_iterations", 1..=1_000_000)]
+        pub replan_iterations: usize = REPLAN_ITERATIONS,
         /// Time limit per plan: time_factor × the plan's duration + time_slack (per leg, from
         /// its first plan, where the stall rule applies).
         #[param("time_factor", Reals::closed(1.0, 1e3))]
@@ -265,7 +275,11 @@ impl<'a> Run<'a> {
                 (opts.replan_error, opts.replan_after, opts.max_replans),
                 opts.replan_stall.applies(s.agents()),
                 opts.goal_margin,
-                (opts.replan_mode, opts.repair_iterations as u64),
+                (
+                    opts.replan_mode,
+                    opts.repair_iterations as u64,
+                    opts.replan_iterations as u64,
+                ),
             ),
             following: Following {
                 plan: first.plan.clone(),

@@ -144,6 +144,8 @@ pub struct Replanner<'a> {
     mode: ReplanMode,
     /// Iterations of a repair's tree at most.
     repair_iterations: u64,
+    /// Iterations of the mission's planner at most in a replan for an error or a stall.
+    replan_iterations: u64,
 }
 
 impl<'a> Replanner<'a> {
@@ -152,7 +154,9 @@ impl<'a> Replanner<'a> {
     /// above `replan_error` BL for `replan_after` s (0: never), and, when `stall`, when the
     /// tracker's progress has not passed its best for `replan_after` s; at most `max_replans`
     /// times for both, unless the stall is watched (then the loop's time allowance bounds them).
-    /// Such a replan starts as `mode` says, a repair's tree with at most `repair_iterations`.
+    /// Such a replan starts as `mode` says, a repair's tree with at most `repair_iterations`,
+    /// and plans from scratch with at most `replan_iterations` of the planner (or the setup's
+    /// limit, when lower).
     pub fn new(
         planner: Option<&'a mut dyn Planner>,
         setup: PlanningSetup,
@@ -160,7 +164,7 @@ impl<'a> Replanner<'a> {
         (replan_error, replan_after, max_replans): (f64, f64, usize),
         stall: bool,
         goal_margin: f64,
-        (mode, repair_iterations): (ReplanMode, u64),
+        (mode, repair_iterations, replan_iterations): (ReplanMode, u64, u64),
     ) -> Self {
         Self {
             planner,
@@ -176,6 +180,7 @@ impl<'a> Replanner<'a> {
             best_progress: None,
             mode,
             repair_iterations,
+            replan_iterations,
         }
     }
 
@@ -322,12 +327,26 @@ impl<'a> Replanner<'a> {
         }
         let seed = self.seed.wrapping_add((k as u64).wrapping_mul(SEED_STEP));
         let mut problem = self.setup.problem(scenario, leg, Some(&start), seed);
+        if !problem.checker.is_valid(&problem.start) {
+            // the validator (`check_result`) refuses every plan from an invalid start (agents too close or too
+            // far apart): the planner is not called
+            rec.note(format!(
+                "{} planning for leg {}: the observed state is not valid (the validator refuses every plan from it)",
+                reason_name(reason),
+                leg + 1
+            ));
+            return None;
+        }
         let needed = problem.goal.tolerance - self.goal_margin;
         let inside = problem.goal.contains(&start) && problem.goal.distance(&start) > needed;
         if (self.stall || inside) && needed > 0.0 {
             problem.goal.tolerance = needed;
         }
         let drift = matches!(reason, PlanReason::Error | PlanReason::Stall);
+        if drift {
+            let limit = problem.limits.max_iterations.unwrap_or(u64::MAX);
+            problem.limits.max_iterations = Some(limit.min(self.replan_iterations));
+        }
         if let (ReplanMode::Repair, true, Some(plan)) = (self.mode, drift, current)
             && let Some((result, how)) = self.repair(&problem, plan, record, rec)
         {
@@ -424,6 +443,7 @@ mod tests {
             best_progress: None,
             mode: ReplanMode::Repair,
             repair_iterations: 200,
+            replan_iterations: 20_000,
         }
     }
 
@@ -518,6 +538,84 @@ mod tests {
             assert_eq!(result.plan.start(), &x[..]);
         }
         assert!(log.iter().all(|l| l.wall_s > 0.0 && l.t_s == 1.0));
+    }
+
+    /// A stall or error replan from scratch spends at most `replan_iterations` of the planner
+    /// (the run's limit is 200 000), counted in the replan log; a new leg's plan has the run's
+    /// limit. Four agents of quad-square: goal-zoom-rrt needs hundreds of iterations there.
+    #[test]
+    fn a_drift_replan_spends_at_most_replan_iterations_of_the_planner() {
+        let s = Scenario::load("quad-square").unwrap();
+        let mut planner = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap();
+        let setup = PlanningSetup::default();
+        assert_eq!(setup.limits.max_iterations, Some(200_000));
+        let checker = s.checker_for_leg(0);
+        let mut r = replanner(true);
+        r.setup = setup;
+        r.planner = Some(planner.as_mut());
+        r.mode = ReplanMode::Restart;
+        r.replan_iterations = 40;
+        let mut rec = Recorder::new(&s.start, 0.0, false);
+        let reasons = [PlanReason::Stall, PlanReason::Error, PlanReason::Leg];
+        let got: Vec<bool> = reasons
+            .iter()
+            .enumerate()
+            .map(|(k, &reason)| {
+                r.plan(
+                    &s,
+                    0,
+                    &checker,
+                    (&s.start, None),
+                    k + 1,
+                    (reason, 1.0),
+                    &mut rec,
+                )
+                .is_some()
+            })
+            .collect();
+        let log = log(rec, &s.legs[0].goal);
+        for l in &log[..2] {
+            // 40 iterations do not reach the goal: at most the closest approach is followed
+            assert_eq!(l.planner_iterations, 40, "{l:?}");
+        }
+        assert!(got[2], "a new leg plans with the run's limit");
+        assert!(log[2].planner_iterations > 40, "{:?}", log[2]);
+    }
+
+    /// From an observed state the validator refuses (two agents closer than the checker's
+    /// `r_min`), a replan fails at once, without the planner's iterations.
+    #[test]
+    fn a_replan_from_an_invalid_state_does_not_call_the_planner() {
+        let s = Scenario::load("quad-square").unwrap();
+        let mut planner = magbench_planners::Planners::builtin()
+            .create("goal-zoom-rrt", &[])
+            .unwrap();
+        let checker = s.checker_for_leg(0);
+        let mut x = s.start.clone();
+        x[1] = x[0] + Vec2::new(0.5 * checker.r_min, 0.0);
+        assert!(!checker.is_valid(&x));
+        let mut r = replanner(true);
+        r.planner = Some(planner.as_mut());
+        let mut rec = Recorder::new(&s.start, 0.0, false);
+        for (k, reason) in [PlanReason::Stall, PlanReason::Error]
+            .into_iter()
+            .enumerate()
+        {
+            assert!(
+                r.plan(&s, 0, &checker, (&x, None), k + 1, (reason, 1.0), &mut rec)
+                    .is_none()
+            );
+        }
+        let log = log(rec, &s.legs[0].goal);
+        for l in &log {
+            assert_eq!(
+                (l.how, l.planner_iterations),
+                (ReplanHow::Failed, 0),
+                "{l:?}"
+            );
+        }
     }
 
     #[test]
