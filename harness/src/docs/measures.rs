@@ -1,6 +1,7 @@
 //! The measurements of the book: each an experiment in `experiments/` and the table its runs
 //! become. Adding one is one entry here and its `{{#include measured/NAME.md}}` in a chapter.
 
+use super::ablation::ablation;
 use super::table::Table;
 use super::tables::{errors, planning, tracking};
 use crate::run::RunRecord;
@@ -67,6 +68,24 @@ pub static MEASURES: &[Measure] = &[
         experiment: "experiments/quad-tracking.toml",
         quick_seeds: 2,
         table: tracking,
+    },
+    Measure {
+        name: "ablation-obc",
+        experiment: "experiments/ablation-obc.toml",
+        quick_seeds: 1,
+        table: ablation,
+    },
+    Measure {
+        name: "ablation-lookahead",
+        experiment: "experiments/ablation-lookahead.toml",
+        quick_seeds: 1,
+        table: ablation,
+    },
+    Measure {
+        name: "ablation-open-loop",
+        experiment: "experiments/ablation-open-loop.toml",
+        quick_seeds: 2,
+        table: ablation,
     },
 ];
 
