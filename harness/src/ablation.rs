@@ -212,7 +212,12 @@ mod tests {
             assert_eq!(DisturbancePreset::parse(&text, "x").unwrap(), no.preset);
         }
         for x in &v {
-            assert_eq!(variant(&hw, &x.name).as_ref(), Some(&x.preset), "{}", x.name);
+            assert_eq!(
+                variant(&hw, &x.name).as_ref(),
+                Some(&x.preset),
+                "{}",
+                x.name
+            );
             assert_eq!(variant_of(&format!("hardware:{}", x.name)), x.name);
             assert_eq!(variant_of(&label(&x.name)), x.name);
         }

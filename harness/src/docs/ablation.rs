@@ -27,7 +27,10 @@ fn signed(x: f64) -> String {
 /// Goals reached and agent contacts of one variant's runs: ("k/n", "k").
 fn outcomes(runs: &[&RunRecord]) -> (String, String) {
     let goals = runs.iter().filter(|r| r.reached_goal == Some(true)).count();
-    let contacts = runs.iter().filter(|r| r.agent_contact == Some(true)).count();
+    let contacts = runs
+        .iter()
+        .filter(|r| r.agent_contact == Some(true))
+        .count();
     (format!("{goals}/{}", runs.len()), contacts.to_string())
 }
 
@@ -141,7 +144,10 @@ mod tests {
         let t = ablation(&runs);
         assert_eq!(t.rows.len(), 4, "all, none and two terms");
         assert_eq!(t.rows[0][2], "*every term on*");
-        assert_eq!((t.rows[0][5].as_str(), t.rows[0][6].as_str()), ("0.310", "2/3"));
+        assert_eq!(
+            (t.rows[0][5].as_str(), t.rows[0][6].as_str()),
+            ("0.310", "2/3")
+        );
         assert_eq!(t.rows[0][7], "1");
         assert_eq!(t.rows[1][5], "0.0200");
         let flow = &t.rows[2];

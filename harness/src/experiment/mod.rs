@@ -194,7 +194,10 @@ pub fn resolve_preset(label: &str, base_dir: &Path) -> Result<DisturbancePreset,
     if rel.exists() {
         return DisturbancePreset::load(&rel);
     }
-    if let Some((base, name)) = label.rsplit_once(':').filter(|_| !Path::new(label).exists()) {
+    if let Some((base, name)) = label
+        .rsplit_once(':')
+        .filter(|_| !Path::new(label).exists())
+    {
         let p = resolve_preset(base, base_dir)?;
         return crate::ablation::variant(&p, name).ok_or_else(|| {
             let names: Vec<String> = crate::ablation::variants(&p)
