@@ -121,6 +121,7 @@ mod tests {
 
     fn run(variant: &str, seed: u64, e: f64, goal: bool) -> RunRecord {
         let mut r = RunRecord::example();
+        r.tracker = "obc".into();
         r.preset = format!("hardware:{variant}");
         r.seed = seed;
         r.reached_goal = Some(goal);
