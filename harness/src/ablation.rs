@@ -100,12 +100,28 @@ pub fn label(variant: &str) -> String {
     format!("presets/{variant}.toml")
 }
 
-/// The variant of an experiment label (the inverse of [`label`]).
+/// The variant of an experiment label: of a preset file (`presets/no-flow.toml`, the inverse
+/// of [`label`]) or of a variant label (`hardware:no-flow`, see [`variant`]).
 pub fn variant_of(label: &str) -> String {
-    label
+    let stem = label
         .trim_start_matches("presets/")
-        .trim_end_matches(".toml")
-        .to_string()
+        .trim_end_matches(".toml");
+    stem.rsplit_once(':').map_or(stem, |(_, v)| v).to_string()
+}
+
+/// The variant called `name` (`all`, `none`, `no-TERM`, `only-TERM`) of `base`, as
+/// [`variants`] makes it; `None` if `base` has no such variant. An experiment names it
+/// `BASE:NAME` (`hardware:no-camera-noise`).
+pub fn variant(base: &DisturbancePreset, name: &str) -> Option<DisturbancePreset> {
+    variants(base)
+        .into_iter()
+        .find(|v| v.name == name)
+        .map(|v| v.preset)
+}
+
+/// The term whose [`slug`] is `s` (`camera-noise` → `camera.noise`).
+pub fn term_of(s: &str) -> Option<&'static str> {
+    DisturbancePreset::TERMS.into_iter().find(|t| slug(t) == s)
 }
 
 /// The median over seeds present in both of `a − b`.
@@ -195,6 +211,19 @@ mod tests {
             let text = no.preset.to_toml();
             assert_eq!(DisturbancePreset::parse(&text, "x").unwrap(), no.preset);
         }
+        for x in &v {
+            assert_eq!(
+                variant(&hw, &x.name).as_ref(),
+                Some(&x.preset),
+                "{}",
+                x.name
+            );
+            assert_eq!(variant_of(&format!("hardware:{}", x.name)), x.name);
+            assert_eq!(variant_of(&label(&x.name)), x.name);
+        }
+        assert_eq!(variant(&hw, "no-drift"), None, "drift is off in hardware");
+        assert_eq!(term_of("camera-noise"), Some("camera.noise"));
+        assert_eq!(term_of("camera.noise"), None);
         let none = &v[1].preset;
         assert!(
             DisturbancePreset::TERMS

@@ -51,11 +51,6 @@ const EXCEPTIONS: &[(&str, &str, &str)] = &[
         "criterion bench obc_tick and per-frame times of obc-grid: no measurement kind yet",
     ),
     (
-        "plant.md",
-        "Ablation",
-        "`magbench ablate`: no measurement kind yet",
-    ),
-    (
         "physics.md",
         "Tracking teams",
         "trio-tracking (about 5 min idle): not in MEASURES yet",

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use super::ablation::ablation;
 use super::convergence::convergence;
 use super::replans::replan_latency;
 use super::table::Table;
@@ -135,6 +136,27 @@ pub static MEASURES: &[Measure] = &[
         quick_seeds: 2,
         table: Runs(first_solution),
         feature: Some("ompl"),
+    },
+    Measure {
+        name: "ablation-obc",
+        experiment: "experiments/ablation-obc.toml",
+        quick_seeds: 1,
+        table: Runs(ablation),
+        feature: None,
+    },
+    Measure {
+        name: "ablation-lookahead",
+        experiment: "experiments/ablation-lookahead.toml",
+        quick_seeds: 1,
+        table: Runs(ablation),
+        feature: None,
+    },
+    Measure {
+        name: "ablation-open-loop",
+        experiment: "experiments/ablation-open-loop.toml",
+        quick_seeds: 2,
+        table: Runs(ablation),
+        feature: None,
     },
 ];
 

@@ -3,6 +3,7 @@
 //! with a [`Header`] naming the command, machine, date and magbench version. The chapters
 //! quote these files by `{{#include measured/NAME.md}}`, never by copying their numbers.
 
+pub mod ablation;
 pub mod convergence;
 pub mod header;
 pub mod measures;

@@ -12,7 +12,7 @@ fn values(runs: &[&RunRecord], m: Metric) -> Vec<f64> {
 
 /// A scenario as a reader knows it: a file's stem (`../scenarios/trio-row.toml`: `trio-row`),
 /// or the built-in name.
-pub(crate) fn scenario(label: &str) -> String {
+pub(super) fn scenario(label: &str) -> String {
     match label.strip_suffix(".toml") {
         Some(path) => path.rsplit('/').next().unwrap_or(path).to_string(),
         None => label.to_string(),

@@ -183,8 +183,9 @@ pub fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Resolves a preset label: a built-in name, a file relative to `base_dir`, or a file relative
-/// to the working directory.
+/// Resolves a preset label: a built-in name, a file relative to `base_dir`, a file relative
+/// to the working directory, or `BASE:VARIANT`, an ablation variant of the preset `BASE`
+/// ([`crate::ablation::variant`]: `hardware:no-flow`).
 pub fn resolve_preset(label: &str, base_dir: &Path) -> Result<DisturbancePreset, InputError> {
     if let Some(p) = DisturbancePreset::by_name(label) {
         return Ok(p);
@@ -192,6 +193,26 @@ pub fn resolve_preset(label: &str, base_dir: &Path) -> Result<DisturbancePreset,
     let rel: PathBuf = base_dir.join(label);
     if rel.exists() {
         return DisturbancePreset::load(&rel);
+    }
+    if let Some((base, name)) = label
+        .rsplit_once(':')
+        .filter(|_| !Path::new(label).exists())
+    {
+        let p = resolve_preset(base, base_dir)?;
+        return crate::ablation::variant(&p, name).ok_or_else(|| {
+            let names: Vec<String> = crate::ablation::variants(&p)
+                .into_iter()
+                .map(|v| v.name)
+                .collect();
+            InputError::new(
+                label,
+                "",
+                format!(
+                    "preset {base} has no ablation variant `{name}`; it has {}",
+                    names.join(", ")
+                ),
+            )
+        });
     }
     if !Path::new(label).exists() {
         return Err(InputError::new(
@@ -266,5 +287,17 @@ mod tests {
         assert!(example.contains("[tracking]"), "{example}");
         // 3 planners × 10 planning runs + goal-zoom-rrt × 2 trackers × 2 presets × 10
         assert_eq!(parse(&example).runs().len(), 30 + 40);
+    }
+
+    #[test]
+    fn a_preset_label_can_name_an_ablation_variant() {
+        let here = Path::new(".");
+        let p = resolve_preset("hardware:no-camera-noise", here).unwrap();
+        assert_eq!(p.name, "hardware:no-camera-noise");
+        assert_eq!(p.enabled("camera.noise"), Some(false));
+        assert_eq!(p.enabled("flow"), Some(true));
+        let e = resolve_preset("hardware:no-drift", here).unwrap_err();
+        assert!(e.to_string().contains("only-flow"), "{e}");
+        assert!(resolve_preset("nowhere:all", here).is_err());
     }
 }
