@@ -7,7 +7,7 @@ use magbench_drivers::replay::ReplayError;
 use magbench_drivers::rigs::{OpenError, StartError};
 use magbench_env::InputError;
 use magbench_env::check::Rejection;
-use magbench_env::params::RegistryError;
+use magbench_env::registry::RegistryError;
 
 /// An error that ends a `magbench` command.
 #[derive(Debug, thiserror::Error)]
