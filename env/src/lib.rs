@@ -13,6 +13,8 @@
 //! - [`check`]: the one input checker (regular files, bounded reads, TOML and JSON with field
 //!   path and line, did-you-mean, exact-size arrays, bounds with their reasons);
 //! - [`params`]: parameters declared once ([`declare_params!`]), for planners and trackers;
+//! - [`registry`]: components by name (planners, trackers, rigs, scenario families), one
+//!   [`registry::Registry`] shape for all;
 //! - [`scenario`]: the TOML scenario format, its validation and the built-in scenarios;
 //! - [`controllability`]: the numerical Lie-bracket (LARC) tool.
 //!
@@ -30,6 +32,7 @@ pub mod model;
 pub mod params;
 pub mod physics;
 pub mod plant;
+pub mod registry;
 pub mod scenario;
 pub mod team_controllability;
 pub mod world;

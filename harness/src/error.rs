@@ -6,7 +6,8 @@ use magbench_drivers::hardware::HardwareError;
 use magbench_drivers::replay::ReplayError;
 use magbench_drivers::rigs::{OpenError, StartError};
 use magbench_env::InputError;
-use magbench_env::params::RegistryError;
+use magbench_env::check::Rejection;
+use magbench_env::registry::RegistryError;
 
 /// An error that ends a `magbench` command.
 #[derive(Debug, thiserror::Error)]
@@ -31,6 +32,12 @@ impl CliError {
     /// A bad command-line value.
     pub fn arg(field: impl Into<String>, reason: impl Into<String>) -> Self {
         CliError::Input(InputError::new("<command line>", field, reason))
+    }
+
+    /// A command-line value refused by a check that does not know the option: the
+    /// rejection's field goes under `option` (an empty field becomes `option`).
+    pub fn rejected(option: &str, r: Rejection) -> Self {
+        CliError::Input(r.under(option).in_file("<command line>"))
     }
 }
 

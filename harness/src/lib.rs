@@ -35,5 +35,5 @@ pub mod units;
 
 pub use app::Cli;
 pub use error::CliError;
-pub use magbench_env::params::RegistryError;
+pub use magbench_env::registry::RegistryError;
 pub use registry::Registry;

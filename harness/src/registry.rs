@@ -3,7 +3,7 @@
 //! registry to resolve it in (there is no global one).
 
 use magbench_drivers::rigs::{OpenError, RigDescription, Rigs};
-use magbench_env::params::RegistryError;
+use magbench_env::registry::RegistryError;
 use magbench_planners::{Planner, Planners};
 use magbench_trackers::{Tracker, Trackers};
 
@@ -51,7 +51,7 @@ impl Registry {
         Ok(self)
     }
 
-    /// Adds planner `entry` (with [`magbench_env::params::Entry::serial`] when its runs must
+    /// Adds planner `entry` (with [`magbench_env::registry::Entry::serial`] when its runs must
     /// go one at a time). A duplicate name, or a malformed one, is an error.
     pub fn add_planner_entry(
         &mut self,
@@ -61,7 +61,7 @@ impl Registry {
         Ok(self)
     }
 
-    /// Adds tracker `entry` (with [`magbench_env::params::Entry::serial`] when its runs must
+    /// Adds tracker `entry` (with [`magbench_env::registry::Entry::serial`] when its runs must
     /// go one at a time). A duplicate name, or a malformed one, is an error.
     pub fn add_tracker_entry(
         &mut self,
@@ -72,7 +72,7 @@ impl Registry {
     }
 
     /// Of planner `planner` and tracker `tracker`, the names whose runs go one at a time
-    /// ([`magbench_env::params::Entry::serial`]: a Python plugin holds the GIL).
+    /// ([`magbench_env::registry::Entry::serial`]: a Python plugin holds the GIL).
     pub fn one_at_a_time(&self, planner: &str, tracker: Option<&str>) -> Vec<String> {
         let p = self.planners.get(planner).filter(|e| e.is_serial());
         let t = tracker

@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use magbench_env::check::Rejection;
 use rayon::prelude::*;
 
 use crate::CliError;
@@ -67,21 +68,18 @@ pub fn shard(runs: Vec<RunSpec>, shard: Option<(usize, usize)>) -> Vec<RunSpec> 
     }
 }
 
-/// Parses `I/N` with 1 ≤ I ≤ N.
-pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+/// Parses `I/N` with 1 ≤ I ≤ N; a refusal's field is empty (the caller names the option).
+pub fn parse_shard(s: &str) -> Result<(usize, usize), Rejection> {
+    let refuse = |reason: &str| Rejection::new("", format!("{s:?}: {reason}"));
     let (i, n) = s
         .split_once('/')
-        .ok_or_else(|| format!("{s:?}: expected I/N, e.g. 1/4"))?;
+        .ok_or_else(|| refuse("expected I/N, e.g. 1/4"))?;
     let (i, n): (usize, usize) = (
-        i.trim()
-            .parse()
-            .map_err(|_| format!("{s:?}: I is not a number"))?,
-        n.trim()
-            .parse()
-            .map_err(|_| format!("{s:?}: N is not a number"))?,
+        i.trim().parse().map_err(|_| refuse("I is not a number"))?,
+        n.trim().parse().map_err(|_| refuse("N is not a number"))?,
     );
     if n == 0 || i == 0 || i > n {
-        return Err(format!("{s:?}: need 1 ≤ I ≤ N"));
+        return Err(refuse("need 1 ≤ I ≤ N"));
     }
     Ok((i, n))
 }

@@ -142,7 +142,7 @@ fn child() {
             Err(e) => {
                 refused += 1;
                 // the kind of refusal: the field, without the file and the value
-                let field = e.split(": ").nth(1).unwrap_or("").to_string();
+                let field = e.to_string().split(": ").nth(1).unwrap_or("").to_string();
                 reasons.insert(field);
             }
         }

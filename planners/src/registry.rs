@@ -1,24 +1,40 @@
 //! Planners by name and `key=value` parameters, for the CLI and experiment files.
 //!
 //! [`Planners`] is a value: [`Planners::builtin`] holds the planners of this crate
-//! ([`crate::planners::builtins`]) and [`Planners::add`] takes more at run time (a plugin's).
+//! ([`crate::planners::builtins`]) and [`Registry::add`] takes more at run time (a plugin's).
 //! Each planner's parameters are declared once in its own file. Unknown planners, unknown
 //! parameters and bad values are [`InputError`]s naming the source, the field (`planner`,
 //! `param.KEY`) and the reason.
 
+use std::ops::{Deref, DerefMut};
+
 use magbench_env::InputError;
-use magbench_env::params::{ParamError, ParamInfo, ParamSet, RegistryError, Table, apply};
+use magbench_env::params::{ParamInfo, apply};
+use magbench_env::registry::{Registry, Renamed};
 
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem};
 
 /// A registered planner: its name, a one-line summary and a constructor with defaults.
-pub type Entry = magbench_env::params::Entry<dyn Planner>;
+pub type Entry = magbench_env::registry::Entry<dyn Planner>;
 
-/// The planners known by name: the built-ins and whatever was added at run time.
+/// The planners known by name: the built-ins and whatever was added at run time. The
+/// registry's own operations (`add`, `add_entry`, `get`, `names`, `lookup`, `iter`) are those
+/// of [`Registry`], reached through `Deref`.
 #[derive(Clone, Debug)]
-pub struct Planners {
-    table: Table<dyn Planner>,
+pub struct Planners(Registry<dyn Planner>);
+
+impl Deref for Planners {
+    type Target = Registry<dyn Planner>;
+    fn deref(&self) -> &Self::Target {
+        &self.0
+    }
+}
+
+impl DerefMut for Planners {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        &mut self.0
+    }
 }
 
 impl Default for Planners {
@@ -31,56 +47,20 @@ impl Default for Planners {
 impl Planners {
     /// No planners.
     pub fn empty() -> Self {
-        Planners {
-            table: Table::new("planner"),
-        }
+        Planners(Registry::new("planner"))
     }
 
     /// The planners of this crate (and `ompl:*` with the feature `ompl`).
     pub fn builtin() -> Self {
-        let mut p = Planners::empty();
-        for e in crate::planners::builtins() {
-            p.table
-                .add(e)
-                .expect("the built-in planners have distinct, valid names");
-        }
-        p
-    }
-
-    /// Adds planner `name`, made with its defaults by `make`; refuses a name already taken or
-    /// one an experiment file cannot write. The planners it makes report `name` from
-    /// [`Planner::name`].
-    pub fn add(
-        &mut self,
-        name: &str,
-        summary: &str,
-        make: impl Fn() -> Box<dyn Planner> + Send + Sync + 'static,
-    ) -> Result<&mut Self, RegistryError> {
-        self.table.add(Entry::new(name, summary, make))?;
-        Ok(self)
-    }
-
-    /// Adds `entry` (made with [`Entry::new`], perhaps [`Entry::serial`]); refuses a name
-    /// already taken or one an experiment file cannot write.
-    pub fn add_entry(&mut self, entry: Entry) -> Result<&mut Self, RegistryError> {
-        self.table.add(entry)?;
-        Ok(self)
-    }
-
-    /// The entry called `name`, if any.
-    pub fn get(&self, name: &str) -> Option<&Entry> {
-        self.table.get(name)
-    }
-
-    /// Names of the registered planners, in the order they were added.
-    pub fn names(&self) -> Vec<&str> {
-        self.table.names()
+        Planners(
+            Registry::of("planner", crate::planners::builtins())
+                .expect("the built-in planners have distinct, valid names"),
+        )
     }
 
     /// Every planner's name, summary and parameters with their defaults.
     pub fn list(&self) -> Vec<(&str, &str, Vec<ParamInfo>)> {
-        self.table
-            .iter()
+        self.iter()
             .map(|e| (e.name(), e.summary(), e.make().params()))
             .collect()
     }
@@ -103,7 +83,7 @@ impl Planners {
         name: &str,
         params: &[(String, String)],
     ) -> Result<Box<dyn Planner>, InputError> {
-        let entry = self.table.lookup(source, name)?;
+        let entry = self.lookup(source, name)?;
         let mut planner = named(entry.make(), entry.name());
         apply(source, name, &mut *planner, params)?;
         Ok(planner)
@@ -115,32 +95,14 @@ fn named(planner: Box<dyn Planner>, name: &str) -> Box<dyn Planner> {
     if planner.name() == name {
         planner
     } else {
-        Box::new(Named {
+        Box::new(Renamed {
             name: name.to_string(),
             inner: planner,
         })
     }
 }
 
-/// A planner under its registry name.
-struct Named {
-    name: String,
-    inner: Box<dyn Planner>,
-}
-
-impl ParamSet for Named {
-    fn params(&self) -> Vec<ParamInfo> {
-        self.inner.params()
-    }
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.inner.set_param(key, value)
-    }
-    fn check_params(&self) -> Result<(), magbench_env::check::Rejection> {
-        self.inner.check_params()
-    }
-}
-
-impl Planner for Named {
+impl Planner for Renamed<dyn Planner> {
     fn name(&self) -> &str {
         &self.name
     }
@@ -156,6 +118,7 @@ impl Planner for Named {
 mod tests {
     use super::*;
     use crate::planners::GoalZoomRrt;
+    use magbench_env::registry::RegistryError;
 
     fn create(name: &str, params: &[(String, String)]) -> Result<Box<dyn Planner>, InputError> {
         Planners::builtin().create(name, params)

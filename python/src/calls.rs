@@ -87,7 +87,7 @@ pub fn plan(
     }
     let time_limit = match time_limit_s {
         Some(t) => {
-            Some(magbench::run::spec::time_limit(t).map_err(|r| bad_arg(py, "time_limit_s", r))?)
+            Some(magbench::run::spec::time_limit(t).map_err(|r| bad_arg(py, "time_limit_s", r.reason))?)
         }
         None => None,
     };

@@ -1,29 +1,42 @@
 //! Trackers by name, with `key=value` parameters (from the command line or experiment files).
 //!
 //! [`Trackers`] is a value: [`Trackers::builtin`] holds the trackers of this crate
-//! ([`crate::trackers::builtins`]) and [`Trackers::add`] takes more at run time (a plugin's).
+//! ([`crate::trackers::builtins`]) and [`Registry::add`] takes more at run time (a plugin's).
 //! Each tracker's parameters are declared once in its own file. Every tracker also takes the
 //! loop's parameters ([`LoopOptions`]: replanning, time limit, goal hold, estimator blend), with
 //! its own defaults. Unknown trackers, unknown parameters and bad values are [`InputError`]s
 //! naming the source, the field (`tracker`, `param.KEY`) and the reason.
 
 use std::fmt;
+use std::ops::{Deref, DerefMut};
 
-use magbench_env::params::{
-    Both, ParamError, ParamInfo, ParamSet, RegistryError, Table, apply, changed,
-};
+use magbench_env::params::{Both, ParamInfo, ParamSet, apply, changed};
+use magbench_env::registry::{Registry, Renamed};
 use magbench_env::{Control, InputError};
 
 use crate::closed_loop::LoopOptions;
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
 
 /// A registered tracker: its name, a one-line summary and a constructor with defaults.
-pub type Entry = magbench_env::params::Entry<dyn Tracker>;
+pub type Entry = magbench_env::registry::Entry<dyn Tracker>;
 
-/// The trackers known by name: the built-ins and whatever was added at run time.
+/// The trackers known by name: the built-ins and whatever was added at run time. The
+/// registry's own operations (`add`, `add_entry`, `get`, `names`, `lookup`, `iter`) are those
+/// of [`Registry`], reached through `Deref`.
 #[derive(Clone, Debug)]
-pub struct Trackers {
-    table: Table<dyn Tracker>,
+pub struct Trackers(Registry<dyn Tracker>);
+
+impl Deref for Trackers {
+    type Target = Registry<dyn Tracker>;
+    fn deref(&self) -> &Self::Target {
+        &self.0
+    }
+}
+
+impl DerefMut for Trackers {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        &mut self.0
+    }
 }
 
 impl Default for Trackers {
@@ -36,57 +49,21 @@ impl Default for Trackers {
 impl Trackers {
     /// No trackers.
     pub fn empty() -> Self {
-        Trackers {
-            table: Table::new("tracker"),
-        }
+        Trackers(Registry::new("tracker"))
     }
 
     /// The trackers of this crate.
     pub fn builtin() -> Self {
-        let mut t = Trackers::empty();
-        for e in crate::trackers::builtins() {
-            t.table
-                .add(e)
-                .expect("the built-in trackers have distinct, valid names");
-        }
-        t
-    }
-
-    /// Adds tracker `name`, made with its defaults by `make`; refuses a name already taken or
-    /// one an experiment file cannot write. The trackers it makes report `name` from
-    /// [`Tracker::name`].
-    pub fn add(
-        &mut self,
-        name: &str,
-        summary: &str,
-        make: impl Fn() -> Box<dyn Tracker> + Send + Sync + 'static,
-    ) -> Result<&mut Self, RegistryError> {
-        self.table.add(Entry::new(name, summary, make))?;
-        Ok(self)
-    }
-
-    /// Adds `entry` (made with [`Entry::new`], perhaps [`Entry::serial`]); refuses a name
-    /// already taken or one an experiment file cannot write.
-    pub fn add_entry(&mut self, entry: Entry) -> Result<&mut Self, RegistryError> {
-        self.table.add(entry)?;
-        Ok(self)
-    }
-
-    /// The entry called `name`, if any.
-    pub fn get(&self, name: &str) -> Option<&Entry> {
-        self.table.get(name)
-    }
-
-    /// Names of the registered trackers, in the order they were added.
-    pub fn names(&self) -> Vec<&str> {
-        self.table.names()
+        Trackers(
+            Registry::of("tracker", crate::trackers::builtins())
+                .expect("the built-in trackers have distinct, valid names"),
+        )
     }
 
     /// Every tracker's name, summary and parameters (its own, then the loop's) with their
     /// defaults.
     pub fn list(&self) -> Vec<(&str, &str, Vec<ParamInfo>)> {
-        self.table
-            .iter()
+        self.iter()
             .map(|e| (e.name(), e.summary(), params(e)))
             .collect()
     }
@@ -98,7 +75,7 @@ impl Trackers {
         params: &[(String, String)],
         source: &str,
     ) -> Result<TrackerSpec, InputError> {
-        let entry = self.table.lookup(source, name)?;
+        let entry = self.lookup(source, name)?;
         let (mut t, mut opts) = fresh(entry);
         apply(source, name, &mut Both(&mut *t, &mut opts), params)?;
         Ok(TrackerSpec {
@@ -202,32 +179,14 @@ fn named(tracker: Box<dyn Tracker>, name: &str) -> Box<dyn Tracker> {
     if tracker.name() == name {
         tracker
     } else {
-        Box::new(Named {
+        Box::new(Renamed {
             name: name.to_string(),
             inner: tracker,
         })
     }
 }
 
-/// A tracker under its registry name.
-struct Named {
-    name: String,
-    inner: Box<dyn Tracker>,
-}
-
-impl ParamSet for Named {
-    fn params(&self) -> Vec<ParamInfo> {
-        self.inner.params()
-    }
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.inner.set_param(key, value)
-    }
-    fn check_params(&self) -> Result<(), magbench_env::check::Rejection> {
-        self.inner.check_params()
-    }
-}
-
-impl Tracker for Named {
+impl Tracker for Renamed<dyn Tracker> {
     fn name(&self) -> &str {
         &self.name
     }
@@ -252,6 +211,7 @@ impl Tracker for Named {
 mod tests {
     use super::*;
     use crate::trackers::Obc;
+    use magbench_env::registry::RegistryError;
 
     fn build_tracker(
         name: &str,

@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use magbench_env::params::{Entry, RegistryError, Table};
+use magbench_env::registry::{Registry, RegistryError};
 
 use super::{CoilRig, OpenError, RigDescription, RigKind, SimulatedRig};
 
@@ -12,7 +12,7 @@ pub type LoadRig = dyn Fn(&str, &str) -> Result<Box<dyn RigDescription>, OpenErr
 /// The rig kinds known by name: a name, a one-line summary and a loader each.
 #[derive(Clone, Debug)]
 pub struct Rigs {
-    table: Table<LoadRig>,
+    table: Registry<LoadRig>,
 }
 
 impl Default for Rigs {
@@ -26,7 +26,7 @@ impl Rigs {
     /// No rigs.
     pub fn empty() -> Self {
         Rigs {
-            table: Table::new("rig"),
+            table: Registry::new("rig"),
         }
     }
 
@@ -56,10 +56,10 @@ impl Rigs {
         load: impl Fn(&str, &str) -> Result<Box<dyn RigDescription>, OpenError> + Send + Sync + 'static,
     ) -> Result<&mut Self, RegistryError> {
         let load = Arc::new(load);
-        self.table.add(Entry::new(name, summary, move || {
+        self.table.add(name, summary, move || {
             let load = load.clone();
             Box::new(move |arg: &str, option: &str| load(arg, option)) as Box<LoadRig>
-        }))?;
+        })?;
         Ok(self)
     }
 

@@ -8,14 +8,12 @@
 //!   whole numbers, a flag, a named choice);
 //! - [`apply`] and [`split_assignment`]: the one way `key=value` text reaches a [`ParamSet`],
 //!   with one error convention (`FILE: param.KEY: REASON`);
-//! - [`Table`] and [`Entry`]: the tables that name planners and trackers, values that take
-//!   entries at run time.
+//!
+//! The registries that name planners and trackers are in [`crate::registry`].
 
 mod declare;
-mod registry;
 mod types;
 
-pub use registry::{Entry, Make, NameError, RegistryError, Table, check_name};
 pub use types::{BadValue, ParamType, Reals, Value, choose};
 
 use std::borrow::Cow;

@@ -109,7 +109,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
         .as_deref()
         .map(parse_shard)
         .transpose()
-        .map_err(|r| CliError::arg("--shard", r))?;
+        .map_err(|r| CliError::rejected("--shard", r))?;
     if let Some((_, n)) = shard {
         count("--shard", &SHARDS, n as u64)?;
     }

@@ -108,7 +108,7 @@ impl LimitArgs {
             count("--max-iters", &ITERATIONS, n)?;
         }
         let time_limit = match self.time_limit {
-            Some(t) => Some(time_limit(t).map_err(|r| CliError::arg("--time-limit", r))?),
+            Some(t) => Some(time_limit(t).map_err(|r| CliError::rejected("--time-limit", r))?),
             None => None,
         };
         Ok(

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use magbench_env::InputError;
-use magbench_env::check::{Bound, parse_toml};
+use magbench_env::check::{Bound, Rejection, parse_toml};
 use magbench_env::plant::DisturbancePreset;
 use serde::Deserialize;
 
@@ -58,8 +58,9 @@ struct ComponentTable {
 
 fn component(v: &toml::Value, file: &str, field: &str) -> Result<Variant, InputError> {
     let err = |r: String| InputError::new(file, field, r);
+    let refused = |r: Rejection| r.under(field).in_file(file);
     match v {
-        toml::Value::String(s) => Variant::parse(s).map_err(err),
+        toml::Value::String(s) => Variant::parse(s).map_err(refused),
         toml::Value::Table(t) => {
             let c: ComponentTable =
                 toml::Value::Table(t.clone())
@@ -70,7 +71,7 @@ fn component(v: &toml::Value, file: &str, field: &str) -> Result<Variant, InputE
                             e.message().trim()
                         ))
                     })?;
-            let mut v = Variant::parse(&c.name).map_err(err)?;
+            let mut v = Variant::parse(&c.name).map_err(refused)?;
             if !v.params.is_empty() {
                 return Err(err(
                     "give parameters either in the name or in `params`, not both".into(),
@@ -78,7 +79,7 @@ fn component(v: &toml::Value, file: &str, field: &str) -> Result<Variant, InputE
             }
             for (k, p) in &c.params {
                 let pv = ParamValue::from_toml(p)
-                    .map_err(|e| InputError::new(file, format!("{field}.params.{k}"), e))?;
+                    .map_err(|r| r.under(&format!("{field}.params.{k}")).in_file(file))?;
                 v.params.insert(k.clone(), pv);
             }
             Ok(v)
@@ -169,26 +170,27 @@ fn seeds(v: &toml::Value, file: &str) -> Result<Vec<u64>, InputError> {
 }
 
 /// Checks an experiment name: it names the results folder.
-fn check_name(name: &str) -> Result<(), String> {
+fn check_name(name: &str) -> Result<(), Rejection> {
+    let refuse = |reason: String| Rejection::new("name", format!("{name:?}: {reason}"));
     let chars_ok = !name.is_empty()
         && name
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c));
     if !chars_ok {
-        return Err(format!(
-            "{name:?}: use letters, digits, '-', '_' and '.' (it names the results folder)"
+        return Err(refuse(
+            "use letters, digits, '-', '_' and '.' (it names the results folder)".into(),
         ));
     }
     if name.starts_with('.') {
-        return Err(format!(
-            "{name:?}: must not start with '.' (`.` and `..` would put results in the parent folder; a dot-folder is hidden)"
+        return Err(refuse(
+            "must not start with '.' (`.` and `..` would put results in the parent folder; a dot-folder is hidden)".into(),
         ));
     }
     if name.chars().count() > MAX_NAME_CHARS {
-        return Err(format!(
-            "{name:?}: at most {MAX_NAME_CHARS} characters (it names the results folder), got {}",
+        return Err(refuse(format!(
+            "at most {MAX_NAME_CHARS} characters (it names the results folder), got {}",
             name.chars().count()
-        ));
+        )));
     }
     Ok(())
 }
@@ -252,7 +254,7 @@ fn tracked_plans(
     for (i, text) in plans.iter().enumerate() {
         let field = format!("tracking.plans[{i}]");
         let label = Variant::parse(text)
-            .map_err(|e| InputError::new(file, &field, e))?
+            .map_err(|r| r.under(&field).in_file(file))?
             .label();
         if !labels.contains(&label) {
             return Err(InputError::new(
@@ -286,7 +288,7 @@ pub fn parse(
 ) -> Result<Experiment, InputError> {
     let raw: ExperimentFile = parse_toml(text, file)?;
     let name = raw.name.unwrap_or_else(|| default_name.to_string());
-    check_name(&name).map_err(|r| InputError::new(file, "name", r))?;
+    check_name(&name).map_err(|r| r.in_file(file))?;
     if raw.scenarios.is_empty() && raw.generated.is_empty() {
         return Err(InputError::new(
             file,
@@ -374,7 +376,7 @@ pub fn parse(
     };
     let time_s = match raw.limits.time {
         Some(t) => {
-            time_limit(t).map_err(|r| InputError::new(file, "limits.time", r))?;
+            time_limit(t).map_err(|r| r.under("limits.time").in_file(file))?;
             Some(t)
         }
         None => None,

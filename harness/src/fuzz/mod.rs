@@ -14,7 +14,7 @@ pub mod mutate;
 use std::path::Path;
 use std::sync::OnceLock;
 
-use magbench_env::Scenario;
+use magbench_env::{InputError, Scenario};
 
 use crate::experiment::Experiment;
 use crate::run::real::RealExecutor;
@@ -63,25 +63,25 @@ impl Target {
         Target::ALL.into_iter().find(|t| t.name() == name)
     }
 
-    /// Parses and validates `data`; `Ok` when the input was accepted. Data larger than the
-    /// format's files may be is refused, as reading such a file is.
-    pub fn run(self, data: &[u8]) -> Result<(), String> {
-        let max = magbench_env::check::file::MAX_INPUT_BYTES;
-        if data.len() as u64 > max {
-            return Err(format!(
-                "fuzz: : cannot read: larger than {} KiB",
-                max >> 10
-            ));
-        }
-        let text = String::from_utf8_lossy(data);
+    /// Parses and validates `data`; `Ok` when the input was accepted, else the input error a
+    /// command would report. Data larger than the format's files may be is refused, as reading
+    /// such a file is.
+    pub fn run(self, data: &[u8]) -> Result<(), InputError> {
         let file = format!(
             "fuzz.{}",
             if self == Target::Plan { "json" } else { "toml" }
         );
+        let max = magbench_env::check::file::MAX_INPUT_BYTES;
+        if data.len() as u64 > max {
+            return Err(InputError::new(
+                file,
+                "",
+                format!("cannot read: larger than {} KiB", max >> 10),
+            ));
+        }
+        let text = String::from_utf8_lossy(data);
         match self {
-            Target::Scenario => magbench_env::scenario::parse_scenario(&text, &file)
-                .map(|_| ())
-                .map_err(|e| e.to_string()),
+            Target::Scenario => magbench_env::scenario::parse_scenario(&text, &file).map(|_| ()),
             Target::Experiment => Experiment::parse(
                 &text,
                 &file,
@@ -89,25 +89,20 @@ impl Target {
                 "fuzz",
                 &RealExecutor::default(),
             )
-            .map(|_| ())
-            .map_err(|e| e.to_string()),
-            Target::Rig => magbench_drivers::RigConfig::parse(&text, &file)
-                .map(|_| ())
-                .map_err(|e| e.to_string()),
-            Target::Preset => magbench_env::plant::DisturbancePreset::parse(&text, &file)
-                .map(|_| ())
-                .map_err(|e| e.to_string()),
+            .map(|_| ()),
+            Target::Rig => magbench_drivers::RigConfig::parse(&text, &file).map(|_| ()),
+            Target::Preset => {
+                magbench_env::plant::DisturbancePreset::parse(&text, &file).map(|_| ())
+            }
             Target::Plan => {
                 let s = open_field();
-                let plan = magbench_trackers::plan_file::parse_plan(&text, &file, s.agents())
-                    .map_err(|e| e.to_string())?;
+                let plan = magbench_trackers::plan_file::parse_plan(&text, &file, s.agents())?;
                 magbench_trackers::plan_file::check_plan(
                     &plan,
                     s,
                     &file,
                     &magbench_planners::PlanningSetup::default(),
                 )
-                .map_err(|e| e.to_string())
             }
         }
     }

@@ -53,9 +53,12 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// Hex SHA-256 of files, by path relative to their folder with `/` separators.
+pub type FileHashes = BTreeMap<String, String>;
+
 /// SHA-256 of every file under `dir` (but the manifest, the lock and temporary files), by path
 /// relative to `dir` with `/` separators.
-pub fn file_hashes(dir: &Path) -> Result<BTreeMap<String, String>, CliError> {
+pub fn file_hashes(dir: &Path) -> Result<FileHashes, CliError> {
     let mut out = BTreeMap::new();
     let mut stack = vec![(dir.to_path_buf(), String::new())];
     let io = |p: &Path, e: std::io::Error| CliError::Failed(format!("{}: {e}", p.display()));

@@ -15,6 +15,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
+use magbench_env::check::Rejection;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sha2::{Digest, Sha256};
@@ -53,23 +54,24 @@ fn num(v: &Variant, k: &str, default: f64) -> f64 {
     v.params.get(k).and_then(|p| p.as_f64()).unwrap_or(default)
 }
 
-fn check(v: &Variant, what: &str, known: &[&str]) -> Result<(), String> {
+fn check(v: &Variant, what: &str, known: &[&str]) -> Result<(), Rejection> {
+    let refuse = |reason: String| Rejection::new("", reason);
     if v.name != "fake" {
-        return Err(format!(
+        return Err(refuse(format!(
             "unknown {what} {:?} (the fake executor knows only \"fake\")",
             v.name
-        ));
+        )));
     }
     for (k, p) in &v.params {
         if !known.contains(&k.as_str()) {
-            return Err(format!(
+            return Err(refuse(format!(
                 "{}: unknown parameter {k:?} (known: {})",
                 v.label(),
                 known.join(", ")
-            ));
+            )));
         }
         if k != "panic" && p.as_f64().is_none() {
-            return Err(format!("{}: {k} must be a number", v.label()));
+            return Err(refuse(format!("{}: {k} must be a number", v.label())));
         }
     }
     Ok(())
@@ -93,13 +95,12 @@ impl Executor for FakeExecutor {
         "fake"
     }
 
-    fn check_planner(&self, v: &Variant) -> Result<(), magbench_env::check::Rejection> {
+    fn check_planner(&self, v: &Variant) -> Result<(), Rejection> {
         check(v, "planner", &["p", "cost", "spin", "sleep_ms", "panic"])
-            .map_err(|r| magbench_env::check::Rejection::new("", r))
     }
 
-    fn check_tracker(&self, v: &Variant) -> Result<(), magbench_env::check::Rejection> {
-        check(v, "tracker", &["gain"]).map_err(|r| magbench_env::check::Rejection::new("", r))
+    fn check_tracker(&self, v: &Variant) -> Result<(), Rejection> {
+        check(v, "tracker", &["gain"])
     }
 
     fn execute(&self, spec: &RunSpec) -> Result<RunOutput, RunError> {

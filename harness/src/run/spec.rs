@@ -4,7 +4,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use magbench_env::Scenario;
-use magbench_env::check::{Bound, MEMORY_BUDGET_BYTES};
+use magbench_env::check::{Bound, MEMORY_BUDGET_BYTES, Rejection};
 use magbench_env::plant::DisturbancePreset;
 
 use super::Variant;
@@ -46,15 +46,16 @@ pub const ITERATIONS: Bound = Bound::closed(
     "a planner keeps up to one tree node of about 1 KiB per iteration, within the 2 GiB memory budget",
 );
 
-/// A planning time limit of `t` seconds, or why not.
-pub fn time_limit(t: f64) -> Result<Duration, String> {
-    let t = TIME_LIMIT.check("", t).map_err(|r| r.reason)?;
-    Duration::try_from_secs_f64(t).map_err(|e| format!("{t} s: {e}"))
+/// A planning time limit of `t` seconds, or why not (a rejection with an empty field: the
+/// caller names the option or key).
+pub fn time_limit(t: f64) -> Result<Duration, Rejection> {
+    let t = TIME_LIMIT.check("", t)?;
+    Duration::try_from_secs_f64(t).map_err(|e| Rejection::new("", format!("{t} s: {e}")))
 }
 
-/// An iteration limit of `n`, or why not.
-pub fn iterations(n: u64) -> Result<u64, String> {
-    ITERATIONS.check_count("", n).map_err(|r| r.reason)
+/// An iteration limit of `n`, or why not (a rejection with an empty field).
+pub fn iterations(n: u64) -> Result<u64, Rejection> {
+    ITERATIONS.check_count("", n)
 }
 
 /// One run of the run matrix.

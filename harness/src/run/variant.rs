@@ -8,6 +8,8 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
+use magbench_env::check::Rejection;
+
 /// A parameter value.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParamValue {
@@ -39,18 +41,24 @@ impl fmt::Display for ParamValue {
 }
 
 impl ParamValue {
-    /// From a TOML value; arrays, tables and dates are not parameters.
-    pub fn from_toml(v: &toml::Value) -> Result<Self, String> {
+    /// From a TOML value; arrays, tables and dates are not parameters. A refusal's field is
+    /// empty: the caller knows where the value stands.
+    pub fn from_toml(v: &toml::Value) -> Result<Self, Rejection> {
         Ok(match v {
             toml::Value::Integer(i) => ParamValue::Int(*i),
             toml::Value::Float(x) if x.is_finite() => ParamValue::Float(*x),
-            toml::Value::Float(x) => return Err(format!("{x} is not a finite number")),
+            toml::Value::Float(x) => {
+                return Err(Rejection::new("", format!("{x} is not a finite number")));
+            }
             toml::Value::Boolean(b) => ParamValue::Bool(*b),
             toml::Value::String(s) => ParamValue::Str(s.clone()),
             other => {
-                return Err(format!(
-                    "a parameter must be a number, boolean or string, not {}",
-                    other.type_str()
+                return Err(Rejection::new(
+                    "",
+                    format!(
+                        "a parameter must be a number, boolean or string, not {}",
+                        other.type_str()
+                    ),
                 ));
             }
         })
@@ -122,9 +130,11 @@ impl Variant {
             .collect()
     }
 
-    /// Parses a label such as `goal-zoom-rrt{k=5, goal_bias=0.05}`.
-    pub fn parse(label: &str) -> Result<Self, String> {
+    /// Parses a label such as `goal-zoom-rrt{k=5, goal_bias=0.05}`. A refusal's field is
+    /// empty (the caller knows where the label stands); its reason quotes the label.
+    pub fn parse(label: &str) -> Result<Self, Rejection> {
         let label = label.trim();
+        let refuse = |reason: String| Rejection::new("", format!("{label:?}: {reason}"));
         let (name, rest) = match label.find('{') {
             Some(i) => (&label[..i], Some(&label[i..])),
             None => (label, None),
@@ -135,8 +145,8 @@ impl Variant {
             .split_once(':')
             .map_or(name, |(family, n)| if is_word(family) { n } else { "" });
         if !is_word(plain) {
-            return Err(format!(
-                "{label:?}: a name is letters, digits, '_' and '-' (with a family prefix such as `ompl:`), optionally followed by {{key=value, ...}}"
+            return Err(refuse(
+                "a name is letters, digits, '_' and '-' (with a family prefix such as `ompl:`), optionally followed by {key=value, ...}".into(),
             ));
         }
         let mut params = BTreeMap::new();
@@ -144,9 +154,7 @@ impl Variant {
             let inner = rest
                 .strip_prefix('{')
                 .and_then(|r| r.strip_suffix('}'))
-                .ok_or_else(|| {
-                    format!("{label:?}: parameters must be one {{...}} group at the end")
-                })?;
+                .ok_or_else(|| refuse("parameters must be one {...} group at the end".into()))?;
             for part in split_top_level(inner) {
                 let part = part.trim();
                 if part.is_empty() {
@@ -154,22 +162,22 @@ impl Variant {
                 }
                 let (k, v) = part
                     .split_once('=')
-                    .ok_or_else(|| format!("{label:?}: {part:?} is not key=value"))?;
+                    .ok_or_else(|| refuse(format!("{part:?} is not key=value")))?;
                 let k = k.trim();
                 if !is_word(k) {
-                    return Err(format!("{label:?}: {k:?} is not a parameter name"));
+                    return Err(refuse(format!("{k:?} is not a parameter name")));
                 }
                 let doc: toml::Table =
                     toml::from_str(&format!("v = {}", v.trim())).map_err(|_| {
-                        format!(
-                            "{label:?}: {k} = {} is not a number, boolean or quoted string",
+                        refuse(format!(
+                            "{k} = {} is not a number, boolean or quoted string",
                             v.trim()
-                        )
+                        ))
                     })?;
-                let value =
-                    ParamValue::from_toml(&doc["v"]).map_err(|e| format!("{label:?}: {k}: {e}"))?;
+                let value = ParamValue::from_toml(&doc["v"])
+                    .map_err(|e| refuse(format!("{k}: {}", e.reason)))?;
                 if params.insert(k.to_string(), value).is_some() {
-                    return Err(format!("{label:?}: parameter {k} given twice"));
+                    return Err(refuse(format!("parameter {k} given twice")));
                 }
             }
         }

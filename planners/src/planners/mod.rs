@@ -3,7 +3,7 @@
 //! Adding a planner to this crate is its own file here (its parameters declared with
 //! [`magbench_env::declare_params!`], embedding [`crate::search_settings::SearchSettings`]; `impl Planner`)
 //! plus its `mod` line and one [`Entry`] below. A planner outside the workspace is added at run
-//! time instead ([`crate::registry::Planners::add`]).
+//! time instead ([`magbench_env::registry::Registry::add`] on [`crate::registry::Planners`]).
 
 mod goal_zoom_rrt;
 mod rrt_star;

@@ -3,7 +3,7 @@
 //! Adding a tracker to this crate is its own file here (its parameters declared with
 //! [`magbench_env::declare_params!`]; `impl Tracker`) plus its `mod` line and one [`Entry`]
 //! below. A tracker outside the workspace is added at run time instead
-//! ([`crate::registry::Trackers::add`]).
+//! ([`magbench_env::registry::Registry::add`] on [`crate::registry::Trackers`]).
 
 mod lookahead;
 mod obc;

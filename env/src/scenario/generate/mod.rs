@@ -27,8 +27,9 @@ use super::freespace::FreeGrid;
 use super::{Draft, Scenario, parse_scenario};
 use crate::error::InputError;
 use crate::math::Vec2;
-use crate::params::{Entry, ParamSet, Table, apply};
+use crate::params::{ParamSet, apply};
 use crate::physics::PhysicalParams;
+use crate::registry::{Entry, Registry};
 
 /// The version of the generators: it changes whenever a family draws differently from the
 /// same parameters and seed. Every generated file names it in its header.
@@ -71,8 +72,7 @@ pub trait Family: ParamSet {
 }
 
 /// Every family, in the order `--list` shows them.
-pub fn families() -> Table<dyn Family> {
-    let mut table = Table::new("family");
+pub fn families() -> Registry<dyn Family> {
     type E = Entry<dyn Family>;
     let entries = [
         E::new(
@@ -106,12 +106,7 @@ pub fn families() -> Table<dyn Family> {
             || Box::new(team::Team::default()),
         ),
     ];
-    for e in entries {
-        table
-            .add(e)
-            .expect("the families' names are distinct and well formed");
-    }
-    table
+    Registry::of("family", entries).expect("the families' names are distinct and well formed")
 }
 
 /// One generated problem.

@@ -69,6 +69,57 @@ pub struct PlannerData {
     pub progress: Vec<Vec<Vec<Option<String>>>>,
 }
 
+/// Why a log was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum LogError {
+    /// The text is empty.
+    #[error("empty log")]
+    Empty,
+    /// The last line has no newline.
+    #[error("the log does not end with a newline")]
+    NoFinalNewline,
+    /// Line `line` (1-based) breaks the grammar.
+    #[error("line {line}: {reason}")]
+    Line {
+        /// The line number, from 1.
+        line: usize,
+        /// What is wrong with it.
+        reason: String,
+    },
+}
+
+/// A value that does not fit its property's type.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+enum ValueError {
+    /// `inf` or `nan` for a type other than `REAL`.
+    #[error("{value} is not a {ty}")]
+    NotFinite {
+        /// The value.
+        value: String,
+        /// The property's type.
+        ty: String,
+    },
+    /// Text that is not a value of the type.
+    #[error("{value:?} is not a valid {ty}")]
+    Invalid {
+        /// The value.
+        value: String,
+        /// The property's type.
+        ty: String,
+    },
+}
+
+/// A property declaration that is not `name TYPE`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+enum PropertyError {
+    /// No space between name and type.
+    #[error("{0:?} is not \"name TYPE\"")]
+    NoType(String),
+    /// An unknown type or an empty name.
+    #[error("{0:?}: the type must be BOOLEAN, INTEGER, REAL or ENUM")]
+    BadType(String),
+}
+
 struct Lines<'a> {
     lines: Vec<&'a str>,
     at: usize,
@@ -78,18 +129,23 @@ impl<'a> Lines<'a> {
     fn peek(&self) -> Option<&'a str> {
         self.lines.get(self.at).copied()
     }
-    fn next(&mut self, what: &str) -> Result<&'a str, String> {
-        let l = self
-            .peek()
-            .ok_or_else(|| format!("line {}: end of file, expected {what}", self.at + 1))?;
+    fn next(&mut self, what: &str) -> Result<&'a str, LogError> {
+        let l = self.peek().ok_or_else(|| LogError::Line {
+            line: self.at + 1,
+            reason: format!("end of file, expected {what}"),
+        })?;
         self.at += 1;
         Ok(l)
     }
-    fn err(&self, msg: impl std::fmt::Display) -> String {
-        format!("line {}: {msg}", self.at)
+    /// An error at the line last read.
+    fn err(&self, msg: impl std::fmt::Display) -> LogError {
+        LogError::Line {
+            line: self.at,
+            reason: msg.to_string(),
+        }
     }
     /// A line `<int><suffix>`.
-    fn count(&mut self, suffix: &str) -> Result<usize, String> {
+    fn count(&mut self, suffix: &str) -> Result<usize, LogError> {
         let l = self.next(suffix)?;
         let n = l
             .strip_suffix(suffix)
@@ -97,7 +153,7 @@ impl<'a> Lines<'a> {
         n.parse()
             .map_err(|_| self.err(format!("{n:?} is not a count")))
     }
-    fn multiline(&mut self) -> Result<String, String> {
+    fn multiline(&mut self) -> Result<String, LogError> {
         let open = self.next("<<<|")?;
         if open != "<<<|" {
             return Err(self.err(format!("expected <<<|, got {open:?}")));
@@ -114,10 +170,13 @@ impl<'a> Lines<'a> {
     }
 }
 
-fn check_value(v: &str, ty: &str, enum_size: usize) -> Result<Option<String>, String> {
+fn check_value(v: &str, ty: &str, enum_size: usize) -> Result<Option<String>, ValueError> {
     if v.is_empty() || v == "inf" || v == "nan" {
         if (v == "inf" || v == "nan") && ty != "REAL" {
-            return Err(format!("{v} is not a {ty}"));
+            return Err(ValueError::NotFinite {
+                value: v.to_string(),
+                ty: ty.to_string(),
+            });
         }
         return Ok(None);
     }
@@ -131,33 +190,34 @@ fn check_value(v: &str, ty: &str, enum_size: usize) -> Result<Option<String>, St
     if ok {
         Ok(Some(v.to_string()))
     } else {
-        Err(format!("{v:?} is not a valid {ty}"))
+        Err(ValueError::Invalid {
+            value: v.to_string(),
+            ty: ty.to_string(),
+        })
     }
 }
 
-fn property(l: &str) -> Result<(String, String), String> {
+fn property(l: &str) -> Result<(String, String), PropertyError> {
     let (name, ty) = l
         .rsplit_once(' ')
-        .ok_or_else(|| format!("{l:?} is not \"name TYPE\""))?;
+        .ok_or_else(|| PropertyError::NoType(l.to_string()))?;
     if !["BOOLEAN", "INTEGER", "REAL", "ENUM"].contains(&ty) || name.trim().is_empty() {
-        return Err(format!(
-            "{l:?}: the type must be BOOLEAN, INTEGER, REAL or ENUM"
-        ));
+        return Err(PropertyError::BadType(l.to_string()));
     }
     Ok((name.to_string(), ty.to_string()))
 }
 
 /// Parses a whole log.
-pub fn parse(text: &str) -> Result<Log, String> {
+pub fn parse(text: &str) -> Result<Log, LogError> {
     if !text.ends_with('\n') {
-        return Err("the log does not end with a newline".into());
+        return Err(LogError::NoFinalNewline);
     }
     let mut l = Lines {
         lines: text.lines().collect(),
         at: 0,
     };
     let mut version = None;
-    let first = l.peek().ok_or("empty log")?;
+    let first = l.peek().ok_or(LogError::Empty)?;
     let toks: Vec<&str> = first.split(' ').collect();
     if toks.len() == 3 && toks[1] == "version" {
         version = Some((toks[0].to_string(), toks[2].to_string()));
@@ -206,7 +266,7 @@ pub fn parse(text: &str) -> Result<Log, String> {
         .strip_suffix(" is the random seed")
         .and_then(|s| s.parse().ok())
         .ok_or_else(|| l.err(format!("expected \"INT is the random seed\", got {seed:?}")))?;
-    let float_line = |l: &mut Lines, suffix: &str| -> Result<f64, String> {
+    let float_line = |l: &mut Lines, suffix: &str| -> Result<f64, LogError> {
         let s = l.next(suffix)?;
         s.strip_suffix(suffix)
             .and_then(|x| x.parse().ok())
@@ -281,9 +341,10 @@ pub fn parse(text: &str) -> Result<Log, String> {
             let checked = values
                 .iter()
                 .zip(&props)
-                .map(|(v, (n, t))| check_value(v, t, enum_size).map_err(|e| format!("{n}: {e}")))
-                .collect::<Result<Vec<_>, _>>()
-                .map_err(|e| l.err(e))?;
+                .map(|(v, (n, t))| {
+                    check_value(v, t, enum_size).map_err(|e| l.err(format!("{n}: {e}")))
+                })
+                .collect::<Result<Vec<_>, _>>()?;
             runs.push(checked);
         }
         let mut progress_properties = vec![];
@@ -344,10 +405,10 @@ pub fn parse(text: &str) -> Result<Log, String> {
         });
     }
     if let Some(extra) = l.peek() {
-        return Err(format!(
-            "line {}: unexpected text after the last planner: {extra:?}",
-            l.at + 1
-        ));
+        return Err(LogError::Line {
+            line: l.at + 1,
+            reason: format!("unexpected text after the last planner: {extra:?}"),
+        });
     }
     Ok(Log {
         version,
