@@ -86,9 +86,10 @@ pub fn plan(
         return Err(bad_arg(py, "max_iterations", "must be at least 1, got 0"));
     }
     let time_limit = match time_limit_s {
-        Some(t) => {
-            Some(magbench::run::spec::time_limit(t).map_err(|r| bad_arg(py, "time_limit_s", r.reason))?)
-        }
+        Some(t) => Some(
+            magbench::run::spec::time_limit(t)
+                .map_err(|r| bad_arg(py, "time_limit_s", r.reason))?,
+        ),
         None => None,
     };
     if max_iterations.is_some() || time_limit.is_some() {
