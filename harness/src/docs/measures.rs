@@ -103,6 +103,13 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "trio-tracking",
+        experiment: "experiments/trio-tracking.toml",
+        quick_seeds: 1,
+        table: Runs(tracking),
+        feature: None,
+    },
+    Measure {
         name: "quad-tracking",
         experiment: "experiments/quad-tracking.toml",
         quick_seeds: 2,
