@@ -57,8 +57,8 @@ const EXCEPTIONS: &[(&str, &str, &str)] = &[
     ),
     (
         "physics.md",
-        "Tracking teams",
-        "trio-tracking (about 5 min idle): not in MEASURES yet",
+        "Why teams stall, and the stall rule",
+        "per-tick logs of single runs and a run of an earlier commit: no measurement kind yet",
     ),
     (
         "physics.md",
