@@ -7,6 +7,7 @@ use magbench_trackers::{PlanReason, ReplanHow, ReplanRecord};
 use super::table::{Table, int, num, quantile};
 use super::tables::scenario;
 use crate::metrics::Metric;
+use crate::results::summary::{group_by, key};
 use crate::run::RunOutput;
 
 /// One 60 Hz camera frame (ms).
@@ -80,25 +81,8 @@ fn mean(v: &[f64]) -> String {
 /// The outputs of tracked runs grouped by configuration (scenario, planner, tracker, preset),
 /// in order of first appearance.
 fn configurations(outs: &[RunOutput]) -> Vec<Vec<&RunOutput>> {
-    let mut keys: Vec<(&str, &str, &str, &str)> = vec![];
-    let mut out: Vec<Vec<&RunOutput>> = vec![];
-    for o in outs.iter().filter(|o| !o.record.tracker.is_empty()) {
-        let r = &o.record;
-        let k = (
-            r.scenario.as_str(),
-            r.planner.as_str(),
-            r.tracker.as_str(),
-            r.preset.as_str(),
-        );
-        match keys.iter().position(|x| *x == k) {
-            Some(i) => out[i].push(o),
-            None => {
-                keys.push(k);
-                out.push(vec![o]);
-            }
-        }
-    }
-    out
+    let tracked = outs.iter().filter(|o| !o.record.tracker.is_empty());
+    group_by(tracked, |o| key(&o.record))
 }
 
 /// Per tracked configuration, over every replan made for a persistent error in its runs: their

@@ -19,6 +19,13 @@ pub(super) fn scenario(label: &str) -> String {
     }
 }
 
+/// Iterations per second of each run that has both: iterations ÷ planning time.
+fn rates(runs: &[&RunRecord]) -> Vec<f64> {
+    runs.iter()
+        .filter_map(|r| Some(r.get(Metric::Iterations)? / r.get(Metric::PlanTime)?))
+        .collect()
+}
+
 /// `k/n`.
 fn count(k: usize, n: usize) -> String {
     format!("{k}/{n}")
@@ -38,10 +45,6 @@ pub fn planning(runs: &[RunRecord]) -> Table {
     ]);
     for g in groups(runs) {
         let it = values(&g, Metric::FirstSolutionIteration);
-        let rate: Vec<f64> = g
-            .iter()
-            .filter_map(|r| Some(r.get(Metric::Iterations)? / r.get(Metric::PlanTime)?))
-            .collect();
         let max = quantile(&it, 1.0).map(int).unwrap_or_else(|| "–".into());
         t.row(vec![
             scenario(&g[0].scenario),
@@ -49,7 +52,7 @@ pub fn planning(runs: &[RunRecord]) -> Table {
             count(g.iter().filter(|r| r.solved).count(), g.len()),
             format!("{} / {max}", median(&it)),
             median(&values(&g, Metric::FirstSolutionTime)),
-            median(&rate),
+            median(&rates(&g)),
         ]);
     }
     t
@@ -69,17 +72,13 @@ pub fn first_solution(runs: &[RunRecord]) -> Table {
     ]);
     for g in groups(runs) {
         let solved: Vec<&RunRecord> = g.iter().copied().filter(|r| r.solved).collect();
-        let rate: Vec<f64> = g
-            .iter()
-            .filter_map(|r| Some(r.get(Metric::Iterations)? / r.get(Metric::PlanTime)?))
-            .collect();
         t.row(vec![
             scenario(&g[0].scenario),
             g[0].planner.clone(),
             count(solved.len(), g.len()),
             median(&values(&solved, Metric::FirstSolutionTime)),
             median(&values(&solved, Metric::Cost)),
-            median(&rate),
+            median(&rates(&g)),
         ]);
     }
     t

@@ -82,15 +82,24 @@ pub fn key(r: &RunRecord) -> (String, String, String, String) {
 pub fn groups(runs: &[RunRecord]) -> Vec<Vec<&RunRecord>> {
     let mut sorted: Vec<&RunRecord> = runs.iter().collect();
     sorted.sort_by_key(|r| r.run);
-    let mut keys: Vec<(String, String, String, String)> = vec![];
-    let mut out: Vec<Vec<&RunRecord>> = vec![];
-    for r in sorted {
-        let k = key(r);
+    group_by(sorted, |r| key(r))
+}
+
+/// `items` grouped by `key`, the groups in order of their key's first appearance and each
+/// group's items in their order.
+pub fn group_by<T, K: PartialEq>(
+    items: impl IntoIterator<Item = T>,
+    key: impl Fn(&T) -> K,
+) -> Vec<Vec<T>> {
+    let mut keys: Vec<K> = vec![];
+    let mut out: Vec<Vec<T>> = vec![];
+    for item in items {
+        let k = key(&item);
         match keys.iter().position(|x| *x == k) {
-            Some(i) => out[i].push(r),
+            Some(i) => out[i].push(item),
             None => {
                 keys.push(k);
-                out.push(vec![r]);
+                out.push(vec![item]);
             }
         }
     }
