@@ -5,6 +5,8 @@
 //! preset's camera latency and detection noise, which the emulator's rendered frames do not
 //! carry), stepped frame by frame: no sockets, no sleeps, no wall clock.
 
+mod common;
+
 use magbench_drivers::excite::{ExciteSetup, excite, log_for};
 use magbench_drivers::fit::{FitOptions, Kind, Status, calibrate, read_log};
 use magbench_env::Scenario;
@@ -23,11 +25,8 @@ struct Truth {
 /// bias within ±3°, a drift up to 0.01 BL/s, 0–3 frames of latency, 0.005–0.03 BL of noise.
 fn truth(seed: u64, n: usize) -> Truth {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut p = DisturbancePreset::ideal();
-    p.name = format!("truth-{seed}");
-    p.hydrodynamics.enabled = true;
     let mut u = |a: f64, b: f64| rng.random_range(a..=b);
-    p.fitted = Fitted {
+    let fitted = Fitted {
         enabled: true,
         moment: (0..n).map(|_| u(0.75, 1.25)).collect(),
         drag: (0..n).map(|_| u(0.75, 1.25)).collect(),
@@ -37,12 +36,8 @@ fn truth(seed: u64, n: usize) -> Truth {
     };
     let latency = u(0.0, 3.99).floor() as usize;
     let noise = u(0.005, 0.03);
-    p.camera.latency.enabled = latency > 0;
-    p.camera.latency.frames = latency as f64;
-    p.camera.noise.enabled = true;
-    p.camera.noise.sigma_bl = noise;
     Truth {
-        preset: p,
+        preset: common::emulated(&format!("truth-{seed}"), fitted, latency as f64, noise),
         latency,
         noise,
     }

@@ -8,6 +8,8 @@
 //! in lockstep (a frame goes out once the host has answered the last one): no timer fires, no
 //! sleep, and device time is frame count × period whatever the machine's load.
 
+mod common;
+
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
@@ -30,10 +32,7 @@ const DURATION_S: f64 = 60.0;
 /// The emulated rig's preset: per-agent moments and drags off by up to 14%, gradient gains off
 /// by 6%, two frames of camera latency and 0.01 BL of detection noise.
 fn truth() -> DisturbancePreset {
-    let mut p = DisturbancePreset::ideal();
-    p.name = "emulated".into();
-    p.hydrodynamics.enabled = true;
-    p.fitted = Fitted {
+    let fitted = Fitted {
         enabled: true,
         moment: vec![1.12, 0.88],
         drag: vec![0.90, 1.14],
@@ -41,11 +40,7 @@ fn truth() -> DisturbancePreset {
         field_bias_deg: Some(0.0),
         drift_bl_s: Some([0.0, 0.0]),
     };
-    p.camera.latency.enabled = true;
-    p.camera.latency.frames = 2.0;
-    p.camera.noise.enabled = true;
-    p.camera.noise.sigma_bl = 0.01;
-    p
+    common::emulated("emulated", fitted, 2.0, 0.01)
 }
 
 #[test]

@@ -10,6 +10,8 @@
 //! The rig is env's plant and camera (`SimRig`) stepped frame by frame: no sockets, no sleeps,
 //! no wall clock.
 
+mod common;
+
 use magbench_drivers::excite::{ExciteSetup, excite, log_for};
 use magbench_drivers::fit::{FitOptions, FitReport, Kind, Status, calibrate, read_log};
 use magbench_env::Scenario;
@@ -22,10 +24,7 @@ const EXCITE_S: f64 = 240.0;
 /// Moments and drags off by up to 22%, gradient gains by 7%, 3 frames of latency, 0.03 BL of
 /// detection noise, hydrodynamic interaction on.
 fn truth() -> DisturbancePreset {
-    let mut p = DisturbancePreset::ideal();
-    p.name = "noisy".into();
-    p.hydrodynamics.enabled = true;
-    p.fitted = Fitted {
+    let fitted = Fitted {
         enabled: true,
         moment: vec![1.18, 0.84],
         drag: vec![0.78, 1.22],
@@ -33,11 +32,7 @@ fn truth() -> DisturbancePreset {
         field_bias_deg: Some(1.5),
         drift_bl_s: Some([0.004, -0.006]),
     };
-    p.camera.latency.enabled = true;
-    p.camera.latency.frames = 3.0;
-    p.camera.noise.enabled = true;
-    p.camera.noise.sigma_bl = 0.03;
-    p
+    common::emulated("noisy", fitted, 3.0, 0.03)
 }
 
 /// The largest relative error of the fitted moments, drags and gradient gains.
