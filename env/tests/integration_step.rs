@@ -1,8 +1,11 @@
 //! Halving the RK4 step changes an edge's end state by less than 1e-3 BL (RK4 still solves
-//! teams of three or more, elevated fields and the plant).
+//! teams of three or more, elevated fields and the plant), in the bulk and at the hardware
+//! preset's liquid–air interface, where the agents move twice as fast and the medium's step
+//! ([`magbench_env::plant::Medium::step`]) is half the bulk's.
 
 use magbench_env::math::wrap_angle;
 use magbench_env::model::Flow;
+use magbench_env::plant::{DisturbancePreset, Medium};
 use magbench_env::scenario::builtin_names;
 use magbench_env::{Control, PlanningModel, Scenario, Vec2};
 use rand::{RngExt, SeedableRng};
@@ -10,6 +13,20 @@ use rand_chacha::ChaCha8Rng;
 
 #[test]
 fn halving_the_step_moves_edge_ends_by_less_than_1e_3_bl() {
+    halving_the_step_in(&Medium::Bulk);
+}
+
+#[test]
+fn halving_the_step_at_the_interface_moves_edge_ends_by_less_than_1e_3_bl() {
+    let medium = DisturbancePreset::hardware().medium;
+    assert!(
+        medium.interface().is_some(),
+        "the hardware preset is at an interface"
+    );
+    halving_the_step_in(&medium);
+}
+
+fn halving_the_step_in(medium: &Medium) {
     let mut worst = 0.0f64;
     let mut checked = 0;
     for name in builtin_names() {
@@ -18,8 +35,12 @@ fn halving_the_step_moves_edge_ends_by_less_than_1e_3_bl() {
             dt_s: s.physics.dt_s / 2.0,
             ..s.physics.clone()
         };
-        let coarse = PlanningModel::new(&s.physics).with_flow(Flow::Rk4);
-        let fine = PlanningModel::new(&fine_params).with_flow(Flow::Rk4);
+        let coarse = PlanningModel::new(&s.physics)
+            .in_medium(&s.physics, medium)
+            .with_flow(Flow::Rk4);
+        let fine = PlanningModel::new(&fine_params)
+            .in_medium(&fine_params, medium)
+            .with_flow(Flow::Rk4);
         let checker = s.checker_for_leg(0);
         let g = s.physics.gradient_limit();
         let mut rng = ChaCha8Rng::seed_from_u64(11);

@@ -206,7 +206,7 @@ fn magnet_lag_makes_the_moments_follow_the_field_with_its_time_constant() {
     let turn = 60f64.to_radians();
     let tau = magbench_env::plant::rotation_time(&p0, 0.5);
     p.step(&Control::planar(turn, 0.0, 0.0));
-    let h = p0.dt_s;
+    let h = p.dt();
     let delta = turn - angle(p.moments().unwrap()[0]);
     let expect = 2.0 * ((turn / 2.0).tan() * (-h / tau).exp()).atan();
     assert!(delta > 0.0, "the moment lags the field");

@@ -129,8 +129,9 @@ impl PlanningModel {
     }
 
     /// The same model for agents of `p` in `medium`: its drag ([`crate::plant::Medium::drag`],
-    /// so that a plan at an interface has the interface's time scale, as the plant does) and
-    /// whether it carries the out-of-plane force. The coil and flow are kept.
+    /// so that a plan at an interface has the interface's time scale, as the plant does), its
+    /// integration step ([`crate::plant::Medium::step`], the plant's too) and whether it carries
+    /// the out-of-plane force. The coil and flow are kept.
     pub fn in_medium(self, p: &PhysicalParams, medium: &crate::plant::Medium) -> Self {
         Self {
             kinematics: Kinematics {
@@ -139,6 +140,7 @@ impl PlanningModel {
                 flow: self.kinematics.flow,
                 ..Kinematics::in_medium(p, medium.drag())
             },
+            dt: medium.step(p.dt_s),
             carries_fz: medium.carries_fz(),
             ..self
         }

@@ -40,7 +40,8 @@ pub struct PhysicalParams {
     pub r_min: f64,
     /// Largest separation allowed by the proximity constraint (BL, exclusive).
     pub r_max: f64,
-    /// Fixed integration step (s).
+    /// Fixed integration step in the bulk (s); a medium of lower drag divides it
+    /// ([`crate::plant::Medium::step`]).
     pub dt_s: f64,
 }
 

@@ -110,7 +110,7 @@ impl Plant {
             dynamics,
             coil,
             collision,
-            dt: params.dt_s,
+            dt: preset.medium.step(params.dt_s),
             jitter_rng: stream(seed, Stream::FieldJitter),
             brownian_rng: stream(seed, Stream::Brownian),
             diffusion: if preset.brownian.enabled {
