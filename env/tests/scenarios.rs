@@ -262,6 +262,29 @@ fn a_misspelt_table_is_named() {
 }
 
 #[test]
+fn a_missing_field_is_not_blamed_on_a_field_beside_it() {
+    // preset camera.misses: `close_range_bl` is a field of its own, not a misspelt `close_prob`
+    let text = magbench_env::plant::DisturbancePreset::builtin_text("hardware").unwrap();
+    let mut section = "";
+    let cut: Vec<&str> = text
+        .lines()
+        .filter(|l| {
+            if l.starts_with('[') {
+                section = l.trim();
+            }
+            !(section == "[camera.misses]" && l.starts_with("close_prob"))
+        })
+        .collect();
+    let e = magbench_env::check::parse_toml::<magbench_env::plant::DisturbancePreset>(
+        &cut.join("\n"),
+        "p.toml",
+    )
+    .unwrap_err();
+    assert!(e.reason.contains("missing field `close_prob`"), "{e}");
+    assert!(!e.reason.contains("misspelling"), "{e}");
+}
+
+#[test]
 fn self_touching_polygons_are_refused() {
     // vertex 2 lies on edge 4–5: the polygon pinches to a point
     let text = GOOD.replace(

@@ -133,7 +133,11 @@ pub fn parse_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, Inpu
             ),
         )
     })?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let mut ignored = Vec::new();
+    let mut note = |path: serde_ignored::Path| ignored.push(unindexed(&path.to_string()));
+    let de = serde_ignored::Deserializer::new(de, &mut note);
+    let parsed = serde_path_to_error::deserialize(de);
+    parsed.map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
         let field = if path == "." { String::new() } else { path };
@@ -141,7 +145,7 @@ pub fn parse_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, Inpu
             "{}{}{}",
             super::suggest::explain(inner.message().trim()),
             at_line(text, inner.span()),
-            misspelt(text, &field, inner.message())
+            misspelt::<T>(text, &field, inner.message(), &ignored)
         );
         InputError::new(file, field, reason)
     })
@@ -184,36 +188,77 @@ pub fn field_line(text: &str, field: &str) -> String {
         .unwrap_or_default()
 }
 
+/// A dotted key path without array indices (`legs[0].x` and `legs.0.x` are both `legs.x`).
+fn unindexed(path: &str) -> String {
+    path.split('.')
+        .map(|p| p.split('[').next().unwrap_or(p))
+        .filter(|p| !p.is_empty() && !p.chars().all(|c| c.is_ascii_digit()))
+        .collect::<Vec<_>>()
+        .join(".")
+}
+
+/// The key a probe writes into a table to learn its schema's fields (sorted first, so read
+/// first).
+const PROBE: &str = "__field_probe__";
+
+/// The table of `doc` at a dotted path (`a.b[2].c`: indices step into arrays of tables).
+fn table_at<'a>(doc: &'a mut toml::Table, path: &[&str]) -> Option<&'a mut toml::Table> {
+    let mut t = doc;
+    for part in path {
+        let (key, index) = match part.split_once('[') {
+            Some((k, i)) => (k, i.trim_end_matches(']').parse::<usize>().ok()),
+            None => (*part, None),
+        };
+        let v = t.get_mut(key)?;
+        t = match (v, index) {
+            (toml::Value::Array(a), Some(i)) => a.get_mut(i)?.as_table_mut()?,
+            (v, None) => v.as_table_mut()?,
+            _ => return None,
+        };
+    }
+    Some(t)
+}
+
+/// The fields `T` reads in the table of `doc` at `path`, as its own "unknown field" error
+/// lists them when a probe key is written there; `None` when the table takes any key or the
+/// probe is not what fails.
+fn fields_of<T: DeserializeOwned>(doc: &toml::Table, path: &[&str]) -> Option<Vec<String>> {
+    let mut probed = doc.clone();
+    table_at(&mut probed, path)?.insert(PROBE.into(), toml::Value::Integer(0));
+    let text = toml::to_string(&probed).ok()?;
+    let e = toml::from_str::<T>(&text).err()?;
+    let list = e
+        .message()
+        .strip_prefix(&format!("unknown field `{PROBE}`, "))?
+        .to_string();
+    Some(
+        list.split('`')
+            .skip(1)
+            .step_by(2)
+            .map(String::from)
+            .collect(),
+    )
+}
+
 /// For a `missing field `F`` error at `field`: a key written next to it that looks like a
 /// misspelling of `F` (or of the table at `field` itself), as `; is `wrold` a misspelling of
-/// `world`?`. Tables are read in name order, so a misspelt table can show up as another
-/// table's missing field.
-fn misspelt(text: &str, field: &str, message: &str) -> String {
+/// `world`?`. A key the schema reads there is a field in its own right, not a candidate; where
+/// the schema takes any key, only those it ignored (`ignored`, dotted paths without indices)
+/// are.
+fn misspelt<T: DeserializeOwned>(
+    text: &str,
+    field: &str,
+    message: &str,
+    ignored: &[String],
+) -> String {
     let Some(missing) = message
         .strip_prefix("missing field `")
         .and_then(|r| r.split('`').next())
     else {
         return String::new();
     };
-    let Ok(doc) = text.parse::<toml::Table>() else {
+    let Ok(mut doc) = text.parse::<toml::Table>() else {
         return String::new();
-    };
-    // the table at a dotted path (indices step into arrays of tables)
-    let table_at = |path: &[&str]| -> Option<&toml::Table> {
-        let mut t = &doc;
-        for part in path {
-            let (key, index) = match part.split_once('[') {
-                Some((k, i)) => (k, i.trim_end_matches(']').parse::<usize>().ok()),
-                None => (*part, None),
-            };
-            let v = t.get(key)?;
-            t = match (v, index) {
-                (toml::Value::Array(a), Some(i)) => a.get(i)?.as_table()?,
-                (v, None) => v.as_table()?,
-                _ => return None,
-            };
-        }
-        Some(t)
     };
     let path: Vec<&str> = if field.is_empty() {
         vec![]
@@ -226,8 +271,21 @@ fn misspelt(text: &str, field: &str, message: &str) -> String {
         tries.push((parent.to_vec(), name));
     }
     for (at, wanted) in tries {
-        if let Some(t) = table_at(&at)
-            && let Some(k) = super::suggest::did_you_mean(&wanted, t.keys().map(String::as_str))
+        let prefix = unindexed(&at.join("."));
+        let known = fields_of::<T>(&doc, &at);
+        let candidate = |k: &&String| match &known {
+            Some(fields) => !fields.contains(k),
+            None => ignored.contains(&if prefix.is_empty() {
+                k.to_string()
+            } else {
+                format!("{prefix}.{k}")
+            }),
+        };
+        if let Some(t) = table_at(&mut doc, &at)
+            && let Some(k) = super::suggest::did_you_mean(
+                &wanted,
+                t.keys().filter(candidate).map(String::as_str),
+            )
         {
             return format!("; is `{k}` a misspelling of `{wanted}`?");
         }
