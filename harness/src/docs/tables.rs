@@ -140,6 +140,7 @@ pub fn errors(runs: &[RunRecord]) -> Table {
     let metrics = [
         Metric::RmsErrorNode,
         Metric::RmsErrorNodeTrue,
+        Metric::NodeFloor,
         Metric::RmsErrorSync,
         Metric::RmsError,
         Metric::RmsErrorTrue,

@@ -57,6 +57,27 @@ pub fn length(plan: &Plan) -> f64 {
         .sum()
 }
 
+/// The seed's node error of a team exactly on the plan (BL): moving uniformly along each edge's
+/// chords, the team is `λ h_e` (team RMS) from the node it left at fraction λ of edge `e`, `h_e`
+/// the edge's team RMS length, and `min(λ, 1 − λ)²` averages 1/12 over the edge; so
+/// `sqrt(Σ t_e h_e² / 12 / Σ t_e)`, `t_e` the edge's duration. The part of `rms_error_node_bl`
+/// that is the plan's node spacing rather than the tracking; `None` for a plan without motion.
+pub fn node_floor(plan: &Plan) -> Option<f64> {
+    let n = agents(plan).max(1) as f64;
+    let (mut weighted, mut time) = (0.0, 0.0);
+    for (w, t) in plan.states.windows(2).zip(&plan.durations) {
+        let h2 = w[0]
+            .iter()
+            .zip(&w[1])
+            .map(|(a, b)| (b - a).norm_squared())
+            .sum::<f64>()
+            / n;
+        weighted += t * h2 / 12.0;
+        time += t;
+    }
+    (time > 0.0).then(|| (weighted / time).sqrt())
+}
+
 /// Sum over agents of the turning angles at the interior vertices of each agent's polyline
 /// (rad): Bench-MR's total curvature of a polyline.
 pub fn turning(plan: &Plan) -> f64 {
@@ -216,6 +237,17 @@ mod tests {
 
     fn close(a: f64, b: f64) {
         assert!((a - b).abs() < 1e-9, "{a} != {b}");
+    }
+
+    #[test]
+    fn the_node_floor_weighs_each_edge_by_its_time() {
+        // a pair: edge 1 moves both agents 3 BL in 1 s (team RMS 3), edge 2 one agent 4 BL in
+        // 3 s (team RMS √8): (1·9 + 3·8) / 12 / 4
+        let mut p = Plan::at(&[v(0.0, 0.0), v(0.0, 2.0)]);
+        p.push(Control::default(), 1.0, vec![v(3.0, 0.0), v(3.0, 2.0)]);
+        p.push(Control::default(), 3.0, vec![v(3.0, 4.0), v(3.0, 2.0)]);
+        close(node_floor(&p).unwrap(), (33.0f64 / 48.0).sqrt());
+        assert_eq!(node_floor(&Plan::at(&[v(0.0, 0.0)])), None);
     }
 
     #[test]

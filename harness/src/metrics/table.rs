@@ -205,4 +205,9 @@ metrics! {
     FieldVariation = Def::new("field_variation_rad_s", "field-angle variation", "rad/s", Lower,
         Path(|f| path::field_variation_rate(f.plan)))
         .regress(Shown).report(3).ompl("solution field variation REAL");
+    /// The node error of a team exactly on the plan (BL): the part of `rms_error_node_bl` that
+    /// is the plan's node spacing, not the tracking.
+    NodeFloor = Def::new("node_floor_bl", "node RMS on the plan", "BL", Lower,
+        Path(|f| path::node_floor(f.plan)))
+        .regress(Shown);
 }
