@@ -45,9 +45,10 @@ fn goal_zoom_rrt_solves_every_family_at_several_values_and_seeds() {
         ("team", vec!["agents=2"]),
         ("team", vec![]),
         ("team", vec!["agents=4", "start=grid", "goal=grid"]),
-        // five agents near contact: six at spacing 1.8, at the interface's time scale (half
-        // the bulk drag), need more than 100,000 iterations on seed 0
-        ("team", vec!["agents=5", "spacing=1.8", "distance=5"]),
+        // five agents close together: at spacing 1.8 at the interface's time scale (half the
+        // bulk drag) no edge from the ring's start is valid (one node after
+        // 400,000 iterations, seeds 0 and 1); at 2.2 it solves in hundreds to thousands
+        ("team", vec!["agents=5", "spacing=2.2", "distance=5"]),
     ];
     let mut seen = std::collections::BTreeSet::new();
     let mut planner = Planners::builtin().create("goal-zoom-rrt", &[]).unwrap();
