@@ -23,19 +23,21 @@ pub enum DocsCmd {
 /// Arguments of `magbench docs measure`.
 #[derive(Debug, Args)]
 pub struct MeasureArgs {
-    /// Keep a few seeds of each experiment (a check that the measurements run, not figures).
+    /// Keep a few seeds of each experiment and run benches with criterion's `--quick` (a check
+    /// that the measurements run, not figures).
     #[arg(long)]
     pub quick: bool,
     /// Run only this measurement (repeatable); `--list` names them.
     #[arg(long, value_name = "NAME")]
     pub only: Vec<String>,
-    /// Print the measurements and their experiments, and run nothing.
+    /// Print the measurements and what each runs, and run nothing.
     #[arg(long)]
     pub list: bool,
     /// Where the files go (default: docs/measured of the repository).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Where the experiments' results go (default: target/docs-measure of the repository).
+    /// Where the experiments' results and criterion's output go (default: target/docs-measure
+    /// of the repository).
     #[arg(long)]
     pub work: Option<PathBuf>,
     /// Worker threads (default: all CPUs).
@@ -70,12 +72,7 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
                 Some(f) if !m.available() => format!("\tneeds a build with --features {f}"),
                 _ => String::new(),
             };
-            outln!(
-                "{}\t{}\t--quick: {} seeds{needs}",
-                m.name,
-                m.experiment,
-                m.quick_seeds
-            );
+            outln!("{}\t{}{needs}", m.name, m.describe());
         }
         return Ok(());
     }

@@ -1,10 +1,12 @@
 //! The measured figures of the book: `magbench docs measure` runs each entry of [`MEASURES`]
-//! (an experiment, shortened under `--quick`) and writes its table to `docs/measured/NAME.md`
+//! (an experiment, shortened under `--quick`, or a criterion bench) and writes its table to `docs/measured/NAME.md`
 //! with a [`Header`] naming the command, machine, date and magbench version. The chapters
 //! quote these files by `{{#include measured/NAME.md}}`, never by copying their numbers.
 
 pub mod ablation;
+pub mod bench;
 pub mod convergence;
+pub mod criterion;
 pub mod header;
 pub mod measures;
 pub mod replans;
