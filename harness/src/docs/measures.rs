@@ -1,5 +1,6 @@
 //! The measurements of the book: each an experiment in `experiments/` and the table its runs
-//! become, or a bench of `benches/` and the table of criterion's estimates. Adding one is one
+//! become, a bench of `benches/` and the table of criterion's estimates, or a transcript of
+//! magbench commands. Adding one is one
 //! entry here and its `{{#include measured/NAME.md}}` in a chapter.
 
 use std::path::Path;
@@ -8,11 +9,12 @@ use super::ablation::ablation;
 use super::convergence::convergence;
 use super::replans::replan_latency;
 use super::table::Table;
-use super::tables::{errors, first_solution, planning, tracking};
+use super::tables::{errors, first_solution, loop_cost, planning, tracking};
+use super::transcript::Step;
 use crate::CliError;
 use crate::run::{RunOutput, RunRecord};
 use Kind::{Folder, Outputs, Runs};
-use Source::{Bench, Sweep};
+use Source::{Bench, Sweep, Transcript};
 
 /// How a measurement's runs become its table.
 #[derive(Debug, Clone, Copy)]
@@ -57,6 +59,18 @@ pub enum Source {
         /// Arguments for the bench after `--noplot` under `--quick`.
         quick_args: &'static [&'static str],
     },
+    /// magbench command lines run one after another by this binary in a fresh temporary
+    /// folder; the file is their output (a console block) and their wall times. `--quick`
+    /// runs them in full (they are single runs, with nothing to shorten).
+    Transcript {
+        /// Repository files and folders the commands read, at the same relative paths in the
+        /// temporary folder (a folder is linked, a file copied).
+        files: &'static [&'static str],
+        /// The working folder of the commands, relative to the temporary folder.
+        cwd: &'static str,
+        /// The commands.
+        steps: &'static [Step],
+    },
 }
 
 /// One measurement: `magbench docs measure --only NAME` writes `docs/measured/NAME.md`.
@@ -77,7 +91,7 @@ impl Measure {
     /// sweep if it needs no feature or the build has that feature.
     pub fn available(&self) -> bool {
         match (self.source, self.feature) {
-            (Bench { .. }, _) | (_, None) => true,
+            (Bench { .. } | Transcript { .. }, _) | (_, None) => true,
             (_, Some("ompl")) => cfg!(feature = "ompl"),
             (_, Some(_)) => false,
         }
@@ -87,7 +101,7 @@ impl Measure {
     pub fn experiment(&self) -> Option<&'static str> {
         match self.source {
             Sweep { experiment, .. } => Some(experiment),
-            Bench { .. } => None,
+            Bench { .. } | Transcript { .. } => None,
         }
     }
 
@@ -105,6 +119,9 @@ impl Measure {
                 "cargo bench --bench {bench}\t--quick: bench arguments {:?}",
                 quick_args.join(" ")
             ),
+            Transcript { steps, .. } => {
+                format!("{} magbench commands\t--quick: all of them", steps.len())
+            }
         }
     }
 }
@@ -259,6 +276,53 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "obc-grid",
+        source: Sweep {
+            experiment: "experiments/obc-grid.toml",
+            quick_seeds: 2,
+            table: Runs(loop_cost),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "trio-loop-cost",
+        source: Sweep {
+            experiment: "experiments/trio-tracking.toml",
+            quick_seeds: 1,
+            table: Runs(loop_cost),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "calibration-walkthrough",
+        source: Transcript {
+            files: &[
+                "rigs",
+                "scenarios",
+                "docs/calibration/truth.toml",
+                "docs/calibration/base.toml",
+            ],
+            cwd: "docs/calibration",
+            steps: &[
+                Step::Background {
+                    command: "rig emulate --rig ../../rigs/emulator.toml open-field --lockstep \
+                              --preset truth.toml --preset-camera --write-rig live.toml --log emu.csv",
+                    ready: "live.toml",
+                },
+                Step::Run("rig excite --rig live.toml open-field --out exc --duration 60 --seed 2"),
+                Step::Run("calibrate exc --scenario open-field --base base.toml --out fitted.toml"),
+                Step::Run(
+                    "track ../../scenarios/short-open.toml --tracker obc --preset fitted.toml",
+                ),
+                Step::Run(
+                    "track ../../scenarios/short-open.toml --tracker obc --preset truth.toml",
+                ),
+                Step::Run("track ../../scenarios/short-open.toml --tracker obc --preset base.toml"),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
         name: "bench-planning",
         source: Bench {
             bench: "planning",
@@ -348,6 +412,12 @@ mod tests {
                 Bench { bench, .. } => {
                     let file = root.join(format!("benches/benches/{bench}.rs"));
                     assert!(file.is_file(), "{}", file.display());
+                }
+                Transcript { files, steps, .. } => {
+                    for f in files {
+                        assert!(root.join(f).exists(), "{}: {f}", m.name);
+                    }
+                    assert!(!steps.is_empty(), "{}", m.name);
                 }
             }
             assert!(

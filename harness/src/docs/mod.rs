@@ -1,5 +1,6 @@
 //! The measured figures of the book: `magbench docs measure` runs each entry of [`MEASURES`]
-//! (an experiment, shortened under `--quick`, or a criterion bench) and writes its table to `docs/measured/NAME.md`
+//! (an experiment, shortened under `--quick`, a criterion bench or a transcript of magbench
+//! commands) and writes its table to `docs/measured/NAME.md`
 //! with a [`Header`] naming the command, machine, date and magbench version. The chapters
 //! quote these files by `{{#include measured/NAME.md}}`, never by copying their numbers.
 
@@ -13,6 +14,7 @@ pub mod replans;
 pub mod run;
 pub mod table;
 pub mod tables;
+pub mod transcript;
 
 pub use header::{Header, Measured, ParseError, parse};
 pub use measures::{MEASURES, Measure};

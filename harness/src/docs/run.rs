@@ -1,5 +1,5 @@
-//! Running one measurement: its experiment's sweep or its bench, then its table under a
-//! [`Header`].
+//! Running one measurement: its experiment's sweep, its bench or its transcript, then its
+//! table under a [`Header`].
 
 use std::path::Path;
 use std::time::Instant;
@@ -7,6 +7,7 @@ use std::time::Instant;
 use super::bench::{BenchRun, cargo_args, run_bench};
 use super::header::{Header, parse};
 use super::measures::{Kind, Measure, Source};
+use super::transcript::{format_transcript, run_transcript};
 use crate::CliError;
 use crate::experiment::Experiment;
 use crate::results::manifest::{git_revision, host, now};
@@ -36,6 +37,15 @@ pub fn load_average() -> String {
         .map(|t| t.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .filter(|s| !s.is_empty())
         .unwrap_or_else(|| "unknown".into())
+}
+
+/// This binary's build, as the header names it.
+fn build() -> &'static str {
+    if cfg!(debug_assertions) {
+        "dev (debug assertions on)"
+    } else {
+        "release"
+    }
 }
 
 /// Runs measurement `m` with executor `ex` and returns the text of `docs/measured/NAME.md`.
@@ -75,6 +85,18 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
                 }
             );
             (runs, body)
+        }
+        Source::Transcript { files, cwd, steps } => {
+            let t0 = Instant::now();
+            let entries = run_transcript(o.root, files, cwd, steps)
+                .map_err(|e| CliError::Failed(format!("{}: {e}", m.name)))?;
+            let runs = format!(
+                "{} magbench commands in a temporary folder, in {:.0} s, {} build",
+                steps.len(),
+                t0.elapsed().as_secs_f64(),
+                build()
+            );
+            (runs, format_transcript(&entries))
         }
     };
     let h = host();
@@ -139,14 +161,10 @@ fn run_sweep_measure(
         true => format!("the first {} of its {all} seeds (`--quick`)", e.seeds.len()),
         false => format!("{all} seeds"),
     };
-    let build = if cfg!(debug_assertions) {
-        "dev (debug assertions on)"
-    } else {
-        "release"
-    };
     let runs = format!(
-        "`{experiment}`, {seeds}: {count} runs in {secs:.0} s on {} threads, {build} build",
-        o.threads
+        "`{experiment}`, {seeds}: {count} runs in {secs:.0} s on {} threads, {} build",
+        o.threads,
+        build()
     );
     Ok((runs, table.markdown()))
 }
