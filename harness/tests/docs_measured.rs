@@ -42,9 +42,9 @@ const EXCEPTIONS: &[(&str, &str, &str)] = &[
     (
         "rigs.md",
         "Measured",
-        "detector accuracy from cargo tests and an example (no measurement kind runs cargo test or \
-         examples yet); `rig check` latency (emulator in real time, release build) could be a \
-         transcript run by a release build of magbench, not written yet",
+        "detector accuracy (a cargo test) and detection time (an example): no measurement kind \
+         runs cargo tests or examples yet; the control-loop latency below it is generated \
+         (rig-latency)",
     ),
     (
         "physics.md",

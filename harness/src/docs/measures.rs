@@ -323,6 +323,31 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "rig-latency",
+        source: Transcript {
+            files: &["rigs"],
+            cwd: ".",
+            steps: &[
+                Step::Background {
+                    command: "rig emulate --rig rigs/emulator.toml micro-factory \
+                              --write-rig live.toml",
+                    ready: "live.toml",
+                },
+                Step::Run("rig check --rig live.toml micro-factory --duration 30"),
+                Step::Background {
+                    command: "rig emulate --rig rigs/emulator.toml micro-factory --lockstep \
+                              --write-rig lockstep.toml",
+                    ready: "lockstep.toml",
+                },
+                Step::Run(
+                    "rig run --rig lockstep.toml micro-factory --planner goal-zoom-rrt \
+                     --tracker obc --out run1",
+                ),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
         name: "bench-planning",
         source: Bench {
             bench: "planning",
