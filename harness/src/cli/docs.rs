@@ -69,7 +69,10 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
     if a.list {
         for m in MEASURES {
             let needs = match m.feature {
-                Some(f) if !m.available() => format!("\tneeds a build with --features {f}"),
+                Some(f) if !m.runnable() => format!("\tneeds a build with --features {f}"),
+                Some(f) if !m.available() => {
+                    format!("\truns with --only (cargo bench --features {f}), else skipped")
+                }
                 _ => String::new(),
             };
             outln!("{}\t{}{needs}", m.name, m.describe());
@@ -79,8 +82,12 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
     let chosen: Vec<&Measure> = match a.only.is_empty() {
         true => {
             for m in MEASURES.iter().filter(|m| !m.available()) {
+                let or = match m.runnable() {
+                    true => format!(" or `--only {}`", m.name),
+                    false => String::new(),
+                };
                 eprintln!(
-                    "{}: skipped; its planners need a build with --features {}",
+                    "{}: skipped; it needs a build with --features {}{or}",
                     m.name,
                     m.feature.unwrap_or_default()
                 );
@@ -100,7 +107,7 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
                 .collect::<Result<Vec<_>, _>>()?
         }
     };
-    if let Some(m) = chosen.iter().find(|m| !m.available()) {
+    if let Some(m) = chosen.iter().find(|m| !m.runnable()) {
         return Err(CliError::arg(
             "--only",
             format!(

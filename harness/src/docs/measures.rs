@@ -87,14 +87,21 @@ pub struct Measure {
 }
 
 impl Measure {
-    /// Whether this build can run it: a bench always (cargo builds it with its feature), a
-    /// sweep if it needs no feature or the build has that feature.
+    /// Whether `docs measure` without `--only` runs it: it needs no feature, or this build has
+    /// that feature (for a bench, a build with the feature says its library, such as OMPL, is
+    /// installed).
     pub fn available(&self) -> bool {
-        match (self.source, self.feature) {
-            (Bench { .. } | Transcript { .. }, _) | (_, None) => true,
-            (_, Some("ompl")) => cfg!(feature = "ompl"),
-            (_, Some(_)) => false,
+        match self.feature {
+            None => true,
+            Some("ompl") => cfg!(feature = "ompl"),
+            Some(_) => false,
         }
+    }
+
+    /// Whether `docs measure --only NAME` can run it in this build: a bench always (cargo
+    /// builds the bench with its feature), anything else if [`Measure::available`].
+    pub fn runnable(&self) -> bool {
+        matches!(self.source, Bench { .. }) || self.available()
     }
 
     /// The experiment file of a sweep, relative to the repository root.
@@ -454,7 +461,12 @@ mod tests {
         assert!(find("seed-metric").is_some() && find("nope").is_none());
         assert!(find("seed-metric").unwrap().available());
         assert_eq!(find("vs-ompl").unwrap().available(), cfg!(feature = "ompl"));
-        assert!(find("bench-ompl-abi").unwrap().available());
+        assert_eq!(
+            find("bench-ompl-abi").unwrap().available(),
+            cfg!(feature = "ompl")
+        );
+        assert!(find("bench-ompl-abi").unwrap().runnable());
+        assert!(!find("vs-ompl").unwrap().runnable() || cfg!(feature = "ompl"));
         assert_eq!(find("bench-ompl-abi").unwrap().experiment(), None);
     }
 }
