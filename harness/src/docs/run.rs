@@ -63,28 +63,8 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
             args,
             quick_args,
         } => {
-            let t0 = Instant::now();
-            let r = BenchRun {
-                bench,
-                feature: m.feature,
-                args: if o.quick { quick_args } else { args },
-                ids,
-                root: o.root,
-                criterion_home: o.work.join(m.name).join("criterion"),
-                echo: !matches!(o.progress, ProgressMode::Quiet),
-            };
-            let body = run_bench(&r)?;
-            let runs = format!(
-                "`cargo {}` from the repository root, in {:.0} s (bench profile: release){}",
-                cargo_args(&r).join(" "),
-                t0.elapsed().as_secs_f64(),
-                if o.quick {
-                    "; `--quick`: a check that it runs, not figures"
-                } else {
-                    ""
-                }
-            );
-            (runs, body)
+            let args = if o.quick { quick_args } else { args };
+            run_bench_measure(m, bench, ids, args, o)?
         }
         Source::Transcript { files, cwd, steps } => {
             let t0 = Instant::now();
@@ -119,6 +99,39 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
     let text = format!("{}\n{}", header.render(), body);
     parse(&text).map_err(|err| CliError::Failed(format!("{}: generated file: {err}", m.name)))?;
     Ok(text)
+}
+
+/// Runs the bench of bench measurement `m` with `args`; returns the header's `runs` line and
+/// the file's body.
+fn run_bench_measure(
+    m: &Measure,
+    bench: &str,
+    ids: &[&str],
+    args: &[&str],
+    o: &RunOptions,
+) -> Result<(String, String), CliError> {
+    let t0 = Instant::now();
+    let r = BenchRun {
+        bench,
+        feature: m.feature,
+        args,
+        ids,
+        root: o.root,
+        criterion_home: o.work.join(m.name).join("criterion"),
+        echo: !matches!(o.progress, ProgressMode::Quiet),
+    };
+    let body = run_bench(&r)?;
+    let runs = format!(
+        "`cargo {}` from the repository root, in {:.0} s (bench profile: release){}",
+        cargo_args(&r).join(" "),
+        t0.elapsed().as_secs_f64(),
+        if o.quick {
+            "; `--quick`: a check that it runs, not figures"
+        } else {
+            ""
+        }
+    );
+    Ok((runs, body))
 }
 
 /// Runs the experiment of sweep measurement `m`; returns the header's `runs` line and the
