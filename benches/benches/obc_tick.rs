@@ -2,7 +2,8 @@
 //! brute-force field-angle grid with the closed-form pull, the refinement and the wall check),
 //! on micro-factory, mid-path, with the team 0.05 BL off its reference; the optimizer alone for
 //! the pair and for three agents, planar and elevated. After the criterion
-//! groups, whole simulated runs give the median and 99th percentile of the per-tick time.
+//! groups, whole simulated runs give the median and 99th percentile of the per-tick time,
+//! printed as a Markdown table (`magbench docs measure --only bench-obc-tick` keeps it).
 //!
 //! Run: `cargo bench -p magbench-benches --bench obc_tick`.
 
@@ -169,6 +170,8 @@ fn tick_percentiles() {
     let model = PlanningModel::new(&s.physics);
     let p = plan(&model);
     s.start = p.start().to_vec();
+    println!("| tracker | simulated ticks (5 runs, realistic) | median | p99 |");
+    println!("| --- | --- | --- | --- |");
     for name in ["obc", "lookahead"] {
         let spec = Trackers::builtin()
             .spec(name, &[("time_slack".into(), "8".into())], "bench")
@@ -193,7 +196,7 @@ fn tick_percentiles() {
         us.sort_by(f64::total_cmp);
         let q = |f: f64| us[((us.len() - 1) as f64 * f).round() as usize];
         println!(
-            "{name} tick over {} simulated ticks: median {:.1} µs, p99 {:.1} µs",
+            "| {name} | {} | {:.1} µs | {:.1} µs |",
             us.len(),
             q(0.5),
             q(0.99)

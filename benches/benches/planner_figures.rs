@@ -6,6 +6,9 @@
 //!   growth slack, k-d tree, buffers, the plan; a counting global allocator) divided by the
 //!   tree's nodes.
 //!
+//! The figures are printed as a Markdown table (`magbench docs measure --only planner-figures`
+//! keeps it).
+//!
 //! ```sh
 //! cargo bench -p magbench-benches --bench planner_figures [-- SEEDS]
 //! ```
@@ -91,25 +94,28 @@ fn main() {
     }
     let (t1, t2, t3) = quartiles(&mut times);
     let (b1, b2, b3) = quartiles(&mut per_node);
-    println!("goal-zoom-rrt on micro-factory, {seeds} seeds, one thread");
-    println!("  solved                      {solved}/{seeds}");
+    println!("goal-zoom-rrt on micro-factory, {seeds} seeds, one thread\n");
+    println!("| figure | value |\n| --- | --- |");
+    println!("| runs solved | {solved}/{seeds} |");
     println!(
-        "  time to first solution      median {:.1} ms (quartiles {:.1}–{:.1} ms)",
+        "| time to first solution, median (quartiles) | {:.1} ms ({:.1}–{:.1} ms) |",
         t2 * 1e3,
         t1 * 1e3,
         t3 * 1e3
     );
     println!(
-        "  iterations per second       {:.0}",
+        "| iterations per second (all iterations / all time) | {:.0} |",
         iterations as f64 / seconds
     );
-    println!("  peak heap bytes per node    median {b2:.0} B (quartiles {b1:.0}–{b3:.0} B)");
     println!(
-        "    of which tree arrays      median {:.0} B",
+        "| peak heap bytes per tree node, median (quartiles) | {b2:.0} B ({b1:.0}–{b3:.0} B) |"
+    );
+    println!(
+        "| of which tree arrays, median | {:.0} B |",
         quartiles(&mut tree_bytes).1
     );
     println!(
-        "    of which k-d tree         median {:.0} B",
+        "| of which k-d tree, median | {:.0} B |",
         quartiles(&mut kd_bytes).1
     );
 }

@@ -52,7 +52,13 @@ macro_rules! failed_from {
     )*};
 }
 
-failed_from!(std::io::Error, HardwareError, StartError, RegistryError);
+failed_from!(
+    std::io::Error,
+    HardwareError,
+    StartError,
+    RegistryError,
+    crate::docs::bench::BenchError,
+);
 
 impl From<OpenError> for CliError {
     fn from(e: OpenError) -> Self {

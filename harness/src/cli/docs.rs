@@ -23,19 +23,21 @@ pub enum DocsCmd {
 /// Arguments of `magbench docs measure`.
 #[derive(Debug, Args)]
 pub struct MeasureArgs {
-    /// Keep a few seeds of each experiment (a check that the measurements run, not figures).
+    /// Keep a few seeds of each experiment and run benches with criterion's `--quick` (a check
+    /// that the measurements run, not figures).
     #[arg(long)]
     pub quick: bool,
     /// Run only this measurement (repeatable); `--list` names them.
     #[arg(long, value_name = "NAME")]
     pub only: Vec<String>,
-    /// Print the measurements and their experiments, and run nothing.
+    /// Print the measurements and what each runs, and run nothing.
     #[arg(long)]
     pub list: bool,
     /// Where the files go (default: docs/measured of the repository).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Where the experiments' results go (default: target/docs-measure of the repository).
+    /// Where the experiments' results and criterion's output go (default: target/docs-measure
+    /// of the repository).
     #[arg(long)]
     pub work: Option<PathBuf>,
     /// Worker threads (default: all CPUs).
@@ -67,23 +69,25 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
     if a.list {
         for m in MEASURES {
             let needs = match m.feature {
-                Some(f) if !m.available() => format!("\tneeds a build with --features {f}"),
+                Some(f) if !m.runnable() => format!("\tneeds a build with --features {f}"),
+                Some(f) if !m.available() => {
+                    format!("\truns with --only (cargo bench --features {f}), else skipped")
+                }
                 _ => String::new(),
             };
-            outln!(
-                "{}\t{}\t--quick: {} seeds{needs}",
-                m.name,
-                m.experiment,
-                m.quick_seeds
-            );
+            outln!("{}\t{}{needs}", m.name, m.describe());
         }
         return Ok(());
     }
     let chosen: Vec<&Measure> = match a.only.is_empty() {
         true => {
             for m in MEASURES.iter().filter(|m| !m.available()) {
+                let or = match m.runnable() {
+                    true => format!(" or `--only {}`", m.name),
+                    false => String::new(),
+                };
                 eprintln!(
-                    "{}: skipped; its planners need a build with --features {}",
+                    "{}: skipped; it needs a build with --features {}{or}",
                     m.name,
                     m.feature.unwrap_or_default()
                 );
@@ -103,7 +107,7 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
                 .collect::<Result<Vec<_>, _>>()?
         }
     };
-    if let Some(m) = chosen.iter().find(|m| !m.available()) {
+    if let Some(m) = chosen.iter().find(|m| !m.runnable()) {
         return Err(CliError::arg(
             "--only",
             format!(

@@ -177,7 +177,8 @@ mod tests {
             .collect();
         assert_eq!(ms.len(), 3);
         for m in ms {
-            let text = std::fs::read_to_string(root.join(m.experiment)).unwrap();
+            let e = m.experiment().unwrap();
+            let text = std::fs::read_to_string(root.join(e)).unwrap();
             let v: toml::Value = toml::from_str(&text).unwrap();
             let got: Vec<String> = v["presets"]
                 .as_array()
@@ -185,7 +186,7 @@ mod tests {
                 .iter()
                 .map(|p| p.as_str().unwrap().to_string())
                 .collect();
-            assert_eq!(got, want, "{}", m.experiment);
+            assert_eq!(got, want, "{e}");
         }
     }
 

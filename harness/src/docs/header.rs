@@ -99,7 +99,7 @@ fn cells(line: &str) -> Option<usize> {
 }
 
 /// Checks a generated file: the mark, a header with every key of [`KEYS`] and an RFC 3339 date,
-/// then one table whose rows all have the head's number of cells.
+/// then one table (outside fenced code) whose rows all have the head's number of cells.
 pub fn parse(text: &str) -> Result<Measured, ParseError> {
     let lines: Vec<&str> = text.lines().collect();
     if lines.first().map(|l| l.trim()) != Some(MARK) {
@@ -121,9 +121,20 @@ pub fn parse(text: &str) -> Result<Measured, ParseError> {
     if humantime::parse_rfc3339(&date).is_err() {
         return Err(ParseError::BadDate(date));
     }
+    // lines inside fenced code (a transcript's output) are not table lines
+    let mut fenced = false;
+    let code: Vec<bool> = lines
+        .iter()
+        .map(|l| {
+            let fence = l.trim_start().starts_with("```");
+            fenced ^= fence;
+            fenced || fence
+        })
+        .collect();
     let head = (0..lines.len().saturating_sub(1))
         .find(|&i| {
-            cells(lines[i]).is_some()
+            !code[i]
+                && cells(lines[i]).is_some()
                 && lines[i + 1].trim().starts_with("| ---")
                 && cells(lines[i + 1]) == cells(lines[i])
         })
@@ -192,5 +203,9 @@ mod tests {
         assert!(matches!(parse(&ragged), Err(ParseError::Ragged { .. })));
         let empty = format!("{h}\n| a | b |\n| --- | --- |\n");
         assert_eq!(parse(&empty), Err(ParseError::Empty));
+        let only_code = format!("{h}\n```console\n| a | b |\n| --- | --- |\n| 1 | 2 |\n```\n");
+        assert_eq!(parse(&only_code), Err(ParseError::NoTable));
+        let after_code = format!("{h}\n```console\n| x |\n```\n\n| a |\n| --- |\n| 1 |\n");
+        assert_eq!(parse(&after_code).map(|m| m.columns), Ok(1));
     }
 }

@@ -1,5 +1,7 @@
 //! The measurements of the book: each an experiment in `experiments/` and the table its runs
-//! become. Adding one is one entry here and its `{{#include measured/NAME.md}}` in a chapter.
+//! become, a bench of `benches/` and the table of criterion's estimates, or a transcript of
+//! magbench commands. Adding one is one
+//! entry here and its `{{#include measured/NAME.md}}` in a chapter.
 
 use std::path::Path;
 
@@ -7,10 +9,12 @@ use super::ablation::ablation;
 use super::convergence::convergence;
 use super::replans::replan_latency;
 use super::table::Table;
-use super::tables::{errors, first_solution, planning, tracking};
+use super::tables::{errors, first_solution, loop_cost, planning, tracking};
+use super::transcript::Step;
 use crate::CliError;
 use crate::run::{RunOutput, RunRecord};
 use Kind::{Folder, Outputs, Runs};
+use Source::{Bench, Sweep, Transcript};
 
 /// How a measurement's runs become its table.
 #[derive(Debug, Clone, Copy)]
@@ -25,23 +29,67 @@ pub enum Kind {
     Outputs(fn(&[RunOutput]) -> Table),
 }
 
+/// Where a measurement's figures come from.
+#[derive(Debug, Clone, Copy)]
+pub enum Source {
+    /// An experiment of `experiments/`, run by magbench itself.
+    Sweep {
+        /// The experiment run, relative to the repository root.
+        experiment: &'static str,
+        /// Seeds kept under `--quick` (the first ones of the experiment's).
+        quick_seeds: usize,
+        /// How the runs become the file's table.
+        table: Kind,
+    },
+    /// A bench of crate `magbench-benches`, run from the repository root by
+    /// `cargo bench -p magbench-benches --bench BENCH [--features F] -- --noplot ARGS`
+    /// (release build). The file's first table holds criterion's estimates of `ids`; the lines
+    /// of the bench's stdout that are Markdown table lines (`| … |`: figures a bench computes
+    /// itself, such as percentiles of whole runs) follow as a second table. Under `--quick`
+    /// the bench gets `quick_args` instead of `args` (criterion's `--quick`: a check that it
+    /// runs, not figures).
+    Bench {
+        /// The bench target (a file `benches/benches/BENCH.rs`).
+        bench: &'static str,
+        /// Criterion's full ids of the benchmarks tabled, in table order (`group/function`
+        /// for a benchmark of a group); empty for a bench that prints only its own table.
+        ids: &'static [&'static str],
+        /// Arguments for the bench after `--noplot`.
+        args: &'static [&'static str],
+        /// Arguments for the bench after `--noplot` under `--quick`.
+        quick_args: &'static [&'static str],
+    },
+    /// magbench command lines run one after another by this binary in a fresh temporary
+    /// folder; the file is their output (a console block) and their wall times. `--quick`
+    /// runs them in full (they are single runs, with nothing to shorten).
+    Transcript {
+        /// Repository files and folders the commands read, at the same relative paths in the
+        /// temporary folder (a folder is linked, a file copied).
+        files: &'static [&'static str],
+        /// The working folder of the commands, relative to the temporary folder.
+        cwd: &'static str,
+        /// The commands.
+        steps: &'static [Step],
+    },
+}
+
 /// One measurement: `magbench docs measure --only NAME` writes `docs/measured/NAME.md`.
 #[derive(Debug, Clone, Copy)]
 pub struct Measure {
     /// The file's stem.
     pub name: &'static str,
-    /// The experiment run, relative to the repository root.
-    pub experiment: &'static str,
-    /// Seeds kept under `--quick` (the first ones of the experiment's).
-    pub quick_seeds: usize,
-    /// How the runs become the file's table.
-    pub table: Kind,
-    /// The cargo feature of `magbench` its planners need (`None`: the default build has them).
+    /// What runs.
+    pub source: Source,
+    /// The cargo feature it needs (`None`: the default build has everything): of `magbench`
+    /// for a sweep (this build must have it), of `magbench-benches` for a bench (passed to
+    /// `cargo bench`).
     pub feature: Option<&'static str>,
 }
 
 impl Measure {
-    /// Whether this build can run it: it needs no feature, or the build has that feature.
+    /// Whether `docs measure` without `--only` runs it: it needs no feature, or this build has
+    /// that feature (for a bench, a build with the feature says its library, such as OMPL, is
+    /// installed).
     pub fn available(&self) -> bool {
         match self.feature {
             None => true,
@@ -49,121 +97,325 @@ impl Measure {
             Some(_) => false,
         }
     }
+
+    /// Whether `docs measure --only NAME` can run it in this build: a bench always (cargo
+    /// builds the bench with its feature), anything else if [`Measure::available`].
+    pub fn runnable(&self) -> bool {
+        matches!(self.source, Bench { .. }) || self.available()
+    }
+
+    /// The experiment file of a sweep, relative to the repository root.
+    pub fn experiment(&self) -> Option<&'static str> {
+        match self.source {
+            Sweep { experiment, .. } => Some(experiment),
+            Bench { .. } | Transcript { .. } => None,
+        }
+    }
+
+    /// What runs and what `--quick` keeps, for `docs measure --list`.
+    pub fn describe(&self) -> String {
+        match self.source {
+            Sweep {
+                experiment,
+                quick_seeds,
+                ..
+            } => format!("{experiment}\t--quick: {quick_seeds} seeds"),
+            Bench {
+                bench, quick_args, ..
+            } => format!(
+                "cargo bench --bench {bench}\t--quick: bench arguments {:?}",
+                quick_args.join(" ")
+            ),
+            Transcript { steps, .. } => {
+                format!("{} magbench commands\t--quick: all of them", steps.len())
+            }
+        }
+    }
 }
+
+/// Criterion's `--quick`: the `quick_args` of a criterion bench.
+const QUICK: &[&str] = &["--quick"];
 
 /// Every measurement, in the order `docs measure` runs them.
 pub static MEASURES: &[Measure] = &[
     Measure {
         name: "planners-success",
-        experiment: "experiments/planners-success.toml",
-        quick_seeds: 4,
-        table: Runs(planning),
+        source: Sweep {
+            experiment: "experiments/planners-success.toml",
+            quick_seeds: 4,
+            table: Runs(planning),
+        },
         feature: None,
     },
     Measure {
         name: "trackers-50",
-        experiment: "experiments/trackers-50.toml",
-        quick_seeds: 3,
-        table: Runs(tracking),
+        source: Sweep {
+            experiment: "experiments/trackers-50.toml",
+            quick_seeds: 3,
+            table: Runs(tracking),
+        },
         feature: None,
     },
     Measure {
         name: "cargo-delivery",
-        experiment: "experiments/cargo-delivery.toml",
-        quick_seeds: 2,
-        table: Runs(tracking),
+        source: Sweep {
+            experiment: "experiments/cargo-delivery.toml",
+            quick_seeds: 2,
+            table: Runs(tracking),
+        },
         feature: None,
     },
     Measure {
         name: "seed-metric",
-        experiment: "experiments/seed-metric.toml",
-        quick_seeds: 4,
-        table: Runs(errors),
+        source: Sweep {
+            experiment: "experiments/seed-metric.toml",
+            quick_seeds: 4,
+            table: Runs(errors),
+        },
         feature: None,
     },
     Measure {
         name: "fidelity-hardware",
-        experiment: "experiments/fidelity-hardware.toml",
-        quick_seeds: 3,
-        table: Runs(tracking),
+        source: Sweep {
+            experiment: "experiments/fidelity-hardware.toml",
+            quick_seeds: 3,
+            table: Runs(tracking),
+        },
         feature: None,
     },
     Measure {
         name: "fidelity-short",
-        experiment: "experiments/fidelity-short.toml",
-        quick_seeds: 4,
-        table: Runs(tracking),
+        source: Sweep {
+            experiment: "experiments/fidelity-short.toml",
+            quick_seeds: 4,
+            table: Runs(tracking),
+        },
         feature: None,
     },
     Measure {
         name: "trio-planning",
-        experiment: "experiments/trio-planning.toml",
-        quick_seeds: 2,
-        table: Runs(planning),
+        source: Sweep {
+            experiment: "experiments/trio-planning.toml",
+            quick_seeds: 2,
+            table: Runs(planning),
+        },
         feature: None,
     },
     Measure {
         name: "trio-tracking",
-        experiment: "experiments/trio-tracking.toml",
-        quick_seeds: 1,
-        table: Runs(tracking),
+        source: Sweep {
+            experiment: "experiments/trio-tracking.toml",
+            quick_seeds: 1,
+            table: Runs(tracking),
+        },
         feature: None,
     },
     Measure {
         name: "quad-tracking",
-        experiment: "experiments/quad-tracking.toml",
-        quick_seeds: 2,
-        table: Runs(tracking),
+        source: Sweep {
+            experiment: "experiments/quad-tracking.toml",
+            quick_seeds: 2,
+            table: Runs(tracking),
+        },
         feature: None,
     },
     Measure {
         name: "planners-convergence",
-        experiment: "experiments/planners-convergence.toml",
-        quick_seeds: 2,
-        table: Folder(convergence),
+        source: Sweep {
+            experiment: "experiments/planners-convergence.toml",
+            quick_seeds: 2,
+            table: Folder(convergence),
+        },
         feature: None,
     },
     Measure {
         name: "informed",
-        experiment: "experiments/informed.toml",
-        quick_seeds: 2,
-        table: Folder(convergence),
+        source: Sweep {
+            experiment: "experiments/informed.toml",
+            quick_seeds: 2,
+            table: Folder(convergence),
+        },
         feature: None,
     },
     Measure {
         name: "replan-latency",
-        experiment: "experiments/replan.toml",
-        quick_seeds: 2,
-        table: Outputs(replan_latency),
+        source: Sweep {
+            experiment: "experiments/replan.toml",
+            quick_seeds: 2,
+            table: Outputs(replan_latency),
+        },
         feature: None,
     },
     Measure {
         name: "vs-ompl",
-        experiment: "experiments/vs-ompl.toml",
-        quick_seeds: 2,
-        table: Runs(first_solution),
+        source: Sweep {
+            experiment: "experiments/vs-ompl.toml",
+            quick_seeds: 2,
+            table: Runs(first_solution),
+        },
         feature: Some("ompl"),
     },
     Measure {
         name: "ablation-obc",
-        experiment: "experiments/ablation-obc.toml",
-        quick_seeds: 1,
-        table: Runs(ablation),
+        source: Sweep {
+            experiment: "experiments/ablation-obc.toml",
+            quick_seeds: 1,
+            table: Runs(ablation),
+        },
         feature: None,
     },
     Measure {
         name: "ablation-lookahead",
-        experiment: "experiments/ablation-lookahead.toml",
-        quick_seeds: 1,
-        table: Runs(ablation),
+        source: Sweep {
+            experiment: "experiments/ablation-lookahead.toml",
+            quick_seeds: 1,
+            table: Runs(ablation),
+        },
         feature: None,
     },
     Measure {
         name: "ablation-open-loop",
-        experiment: "experiments/ablation-open-loop.toml",
-        quick_seeds: 2,
-        table: Runs(ablation),
+        source: Sweep {
+            experiment: "experiments/ablation-open-loop.toml",
+            quick_seeds: 2,
+            table: Runs(ablation),
+        },
         feature: None,
+    },
+    Measure {
+        name: "obc-grid",
+        source: Sweep {
+            experiment: "experiments/obc-grid.toml",
+            quick_seeds: 2,
+            table: Runs(loop_cost),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "trio-loop-cost",
+        source: Sweep {
+            experiment: "experiments/trio-tracking.toml",
+            quick_seeds: 1,
+            table: Runs(loop_cost),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "calibration-walkthrough",
+        source: Transcript {
+            files: &[
+                "rigs",
+                "scenarios",
+                "docs/calibration/truth.toml",
+                "docs/calibration/base.toml",
+            ],
+            cwd: "docs/calibration",
+            steps: &[
+                Step::Background {
+                    command: "rig emulate --rig ../../rigs/emulator.toml open-field --lockstep \
+                              --preset truth.toml --preset-camera --write-rig live.toml --log emu.csv",
+                    ready: "live.toml",
+                },
+                Step::Run("rig excite --rig live.toml open-field --out exc --duration 60 --seed 2"),
+                Step::Run("calibrate exc --scenario open-field --base base.toml --out fitted.toml"),
+                Step::Run(
+                    "track ../../scenarios/short-open.toml --tracker obc --preset fitted.toml",
+                ),
+                Step::Run(
+                    "track ../../scenarios/short-open.toml --tracker obc --preset truth.toml",
+                ),
+                Step::Run("track ../../scenarios/short-open.toml --tracker obc --preset base.toml"),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "rig-latency",
+        source: Transcript {
+            files: &["rigs"],
+            cwd: ".",
+            steps: &[
+                Step::Background {
+                    command: "rig emulate --rig rigs/emulator.toml micro-factory \
+                              --write-rig live.toml",
+                    ready: "live.toml",
+                },
+                Step::Run("rig check --rig live.toml micro-factory --duration 30"),
+                Step::Background {
+                    command: "rig emulate --rig rigs/emulator.toml micro-factory --lockstep \
+                              --write-rig lockstep.toml",
+                    ready: "lockstep.toml",
+                },
+                Step::Run(
+                    "rig run --rig lockstep.toml micro-factory --planner goal-zoom-rrt \
+                     --tracker obc --out run1",
+                ),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "bench-planning",
+        source: Bench {
+            bench: "planning",
+            ids: &[
+                "propagate/rk4/step",
+                "propagate/rk4/period",
+                "propagate/rk4/1s",
+                "propagate/exact/period",
+                "propagate/exact/1s",
+                "propagate/exact/any",
+                "path_length/exact/1s",
+                "extend/default",
+                "extend/k12/batch",
+                "extend/k12/scalar",
+                "nearest/10k",
+                "motion_valid/rk4/1s",
+                "motion_valid/exact/1s",
+                "goal_zoom_rrt/micro_factory",
+            ],
+            args: &[],
+            quick_args: QUICK,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "planner-figures",
+        source: Bench {
+            bench: "planner_figures",
+            ids: &[],
+            args: &[],
+            quick_args: &["5"],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "bench-obc-tick",
+        source: Bench {
+            bench: "obc_tick",
+            ids: &[
+                "obc tick (micro-factory)",
+                "lookahead tick (micro-factory)",
+                "obc optimizer solve",
+                "obc optimizer solve (three agents, planar)",
+                "obc optimizer solve (three agents, elevated)",
+                "planning-model prediction (one frame)",
+                "wall clearance (one agent)",
+            ],
+            args: &[],
+            quick_args: QUICK,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "bench-ompl-abi",
+        source: Bench {
+            bench: "ompl_abi",
+            ids: &["ompl_abi/direct", "ompl_abi/through_ompl"],
+            args: &[],
+            quick_args: QUICK,
+        },
+        feature: Some("ompl"),
     },
 ];
 
@@ -177,11 +429,29 @@ mod tests {
     use super::*;
 
     #[test]
-    fn names_are_unique_and_experiments_exist() {
+    fn names_are_unique_and_sources_exist() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         for (i, m) in MEASURES.iter().enumerate() {
-            assert!(root.join(m.experiment).is_file(), "{}", m.experiment);
-            assert!(m.quick_seeds > 0, "{}", m.name);
+            match m.source {
+                Sweep {
+                    experiment,
+                    quick_seeds,
+                    ..
+                } => {
+                    assert!(root.join(experiment).is_file(), "{experiment}");
+                    assert!(quick_seeds > 0, "{}", m.name);
+                }
+                Bench { bench, .. } => {
+                    let file = root.join(format!("benches/benches/{bench}.rs"));
+                    assert!(file.is_file(), "{}", file.display());
+                }
+                Transcript { files, steps, .. } => {
+                    for f in files {
+                        assert!(root.join(f).exists(), "{}: {f}", m.name);
+                    }
+                    assert!(!steps.is_empty(), "{}", m.name);
+                }
+            }
             assert!(
                 MEASURES[..i].iter().all(|o| o.name != m.name),
                 "{} twice",
@@ -191,5 +461,12 @@ mod tests {
         assert!(find("seed-metric").is_some() && find("nope").is_none());
         assert!(find("seed-metric").unwrap().available());
         assert_eq!(find("vs-ompl").unwrap().available(), cfg!(feature = "ompl"));
+        assert_eq!(
+            find("bench-ompl-abi").unwrap().available(),
+            cfg!(feature = "ompl")
+        );
+        assert!(find("bench-ompl-abi").unwrap().runnable());
+        assert!(!find("vs-ompl").unwrap().runnable() || cfg!(feature = "ompl"));
+        assert_eq!(find("bench-ompl-abi").unwrap().experiment(), None);
     }
 }

@@ -1,10 +1,13 @@
-//! Running one measurement: its experiment's sweep, then its table under a [`Header`].
+//! Running one measurement: its experiment's sweep, its bench or its transcript, then its
+//! table under a [`Header`].
 
 use std::path::Path;
 use std::time::Instant;
 
+use super::bench::{BenchRun, cargo_args, run_bench};
 use super::header::{Header, parse};
-use super::measures::{Kind, Measure};
+use super::measures::{Kind, Measure, Source};
+use super::transcript::{format_transcript, run_transcript};
 use crate::CliError;
 use crate::experiment::Experiment;
 use crate::results::manifest::{git_revision, host, now};
@@ -36,13 +39,115 @@ pub fn load_average() -> String {
         .unwrap_or_else(|| "unknown".into())
 }
 
+/// This binary's build, as the header names it.
+fn build() -> &'static str {
+    if cfg!(debug_assertions) {
+        "dev (debug assertions on)"
+    } else {
+        "release"
+    }
+}
+
 /// Runs measurement `m` with executor `ex` and returns the text of `docs/measured/NAME.md`.
 pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String, CliError> {
     let load = load_average();
-    let mut e = Experiment::load(&o.root.join(m.experiment), ex)?;
+    let (runs, body) = match m.source {
+        Source::Sweep {
+            experiment,
+            quick_seeds,
+            table,
+        } => run_sweep_measure(m, experiment, quick_seeds, table, ex, o)?,
+        Source::Bench {
+            bench,
+            ids,
+            args,
+            quick_args,
+        } => {
+            let args = if o.quick { quick_args } else { args };
+            run_bench_measure(m, bench, ids, args, o)?
+        }
+        Source::Transcript { files, cwd, steps } => {
+            let t0 = Instant::now();
+            let entries = run_transcript(o.root, files, cwd, steps)
+                .map_err(|e| CliError::Failed(format!("{}: {e}", m.name)))?;
+            let runs = format!(
+                "{} magbench commands in a temporary folder, in {:.0} s, {} build",
+                steps.len(),
+                t0.elapsed().as_secs_f64(),
+                build()
+            );
+            (runs, format_transcript(&entries))
+        }
+    };
+    let h = host();
+    let header = Header {
+        command: format!(
+            "magbench docs measure --only {}{}{}",
+            m.name,
+            if o.quick { " --quick" } else { "" },
+            match (m.source, m.feature) {
+                (Source::Sweep { .. }, Some(f)) => format!(" (a build with --features {f})"),
+                _ => String::new(),
+            }
+        ),
+        runs,
+        machine: format!("{}, {} logical cores", h.cpu_model, h.cpus),
+        load: format!("{load} (1, 5, 15 min) at the start; the machine may be shared"),
+        date: now(),
+        version: format!("{} (git {})", env!("CARGO_PKG_VERSION"), git_revision()),
+    };
+    let text = format!("{}\n{}", header.render(), body);
+    parse(&text).map_err(|err| CliError::Failed(format!("{}: generated file: {err}", m.name)))?;
+    Ok(text)
+}
+
+/// Runs the bench of bench measurement `m` with `args`; returns the header's `runs` line and
+/// the file's body.
+fn run_bench_measure(
+    m: &Measure,
+    bench: &str,
+    ids: &[&str],
+    args: &[&str],
+    o: &RunOptions,
+) -> Result<(String, String), CliError> {
+    let t0 = Instant::now();
+    let r = BenchRun {
+        bench,
+        feature: m.feature,
+        args,
+        ids,
+        root: o.root,
+        criterion_home: o.work.join(m.name).join("criterion"),
+        echo: !matches!(o.progress, ProgressMode::Quiet),
+    };
+    let body = run_bench(&r)?;
+    let runs = format!(
+        "`cargo {}` from the repository root, in {:.0} s (bench profile: release){}",
+        cargo_args(&r).join(" "),
+        t0.elapsed().as_secs_f64(),
+        if o.quick {
+            "; `--quick`: a check that it runs, not figures"
+        } else {
+            ""
+        }
+    );
+    Ok((runs, body))
+}
+
+/// Runs the experiment of sweep measurement `m`; returns the header's `runs` line and the
+/// table.
+fn run_sweep_measure(
+    m: &Measure,
+    experiment: &str,
+    quick_seeds: usize,
+    kind: Kind,
+    ex: &dyn Executor,
+    o: &RunOptions,
+) -> Result<(String, String), CliError> {
+    let mut e = Experiment::load(&o.root.join(experiment), ex)?;
     let all = e.seeds.len();
     if o.quick {
-        e.seeds.truncate(m.quick_seeds);
+        e.seeds.truncate(quick_seeds);
     }
     let dir = o.work.join(m.name);
     if dir.exists() {
@@ -50,7 +155,7 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
     }
     crate::cli::output::prepare_dir(&dir, "--work")?;
     let t0 = Instant::now();
-    let (count, table) = match m.table {
+    let (count, table) = match kind {
         Kind::Runs(f) => {
             let runs = sweep(m, &e, ex, o, &dir)?;
             (runs.len(), f(&runs))
@@ -65,38 +170,16 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
         }
     };
     let secs = t0.elapsed().as_secs_f64();
-    let h = host();
     let seeds = match o.quick {
         true => format!("the first {} of its {all} seeds (`--quick`)", e.seeds.len()),
         false => format!("{all} seeds"),
     };
-    let build = if cfg!(debug_assertions) {
-        "dev (debug assertions on)"
-    } else {
-        "release"
-    };
-    let header = Header {
-        command: format!(
-            "magbench docs measure --only {}{}{}",
-            m.name,
-            if o.quick { " --quick" } else { "" },
-            match m.feature {
-                Some(f) => format!(" (a build with --features {f})"),
-                None => String::new(),
-            }
-        ),
-        runs: format!(
-            "`{}`, {seeds}: {} runs in {secs:.0} s on {} threads, {build} build",
-            m.experiment, count, o.threads
-        ),
-        machine: format!("{}, {} logical cores", h.cpu_model, h.cpus),
-        load: format!("{load} (1, 5, 15 min) at the start; the machine may be shared"),
-        date: now(),
-        version: format!("{} (git {})", env!("CARGO_PKG_VERSION"), git_revision()),
-    };
-    let text = format!("{}\n{}", header.render(), table.markdown());
-    parse(&text).map_err(|err| CliError::Failed(format!("{}: generated file: {err}", m.name)))?;
-    Ok(text)
+    let runs = format!(
+        "`{experiment}`, {seeds}: {count} runs in {secs:.0} s on {} threads, {} build",
+        o.threads,
+        build()
+    );
+    Ok((runs, table.markdown()))
 }
 
 /// Sweeps experiment `e` of `m` into `dir` and returns its runs; a crashed run is an error.

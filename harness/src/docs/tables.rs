@@ -133,6 +133,44 @@ pub fn tracking(runs: &[RunRecord]) -> Table {
     t
 }
 
+/// What a tracker setting costs against how it tracks: per scenario, tracker and preset, runs
+/// that reached the goal, the observed and true RMS errors (median / p90, BL) and the whole
+/// simulated loop's wall time per simulated second (median over runs of tracking wall time ÷
+/// tracking duration; plant, camera, estimator, tracker and metrics together).
+pub fn loop_cost(runs: &[RunRecord]) -> Table {
+    let mut t = Table::new(&[
+        "scenario",
+        "tracker",
+        "preset",
+        "goal reached",
+        "path",
+        "true",
+        "loop wall time per simulated s, median (ms)",
+    ]);
+    for g in groups(runs)
+        .into_iter()
+        .filter(|g| !g[0].tracker.is_empty())
+    {
+        let per_s: Vec<f64> = g
+            .iter()
+            .filter_map(|r| Some(1e3 * r.get(Metric::TrackTime)? / r.get(Metric::TrackDuration)?))
+            .collect();
+        t.row(vec![
+            scenario(&g[0].scenario),
+            g[0].tracker.clone(),
+            g[0].preset.clone(),
+            count(
+                g.iter().filter(|r| r.reached_goal == Some(true)).count(),
+                g.len(),
+            ),
+            median_p90(&values(&g, Metric::RmsError)),
+            median_p90(&values(&g, Metric::RmsErrorTrue)),
+            median(&per_s),
+        ]);
+    }
+    t
+}
+
 /// Each error metric of the tracked runs, median / p90 (BL), one row per metric and
 /// configuration: the seed's node error beside magbench's path errors.
 pub fn errors(runs: &[RunRecord]) -> Table {
