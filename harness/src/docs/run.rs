@@ -10,7 +10,7 @@ use super::measures::{Kind, Measure, Source};
 use super::transcript::{format_transcript, run_transcript};
 use crate::CliError;
 use crate::experiment::Experiment;
-use crate::results::manifest::{git_revision, host, now};
+use crate::results::manifest::{git_revision_outside, host, now};
 use crate::results::store::read_runs;
 use crate::run::{Executor, RunOutput, Status, execute_caught};
 use crate::sweep::{ProgressMode, SweepOptions, run_sweep};
@@ -94,7 +94,11 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
         machine: format!("{}, {} logical cores", h.cpu_model, h.cpus),
         load: format!("{load} (1, 5, 15 min) at the start; the machine may be shared"),
         date: now(),
-        version: format!("{} (git {})", env!("CARGO_PKG_VERSION"), git_revision()),
+        version: format!(
+            "{} (git {})",
+            env!("CARGO_PKG_VERSION"),
+            git_revision_outside(&["docs/measured"])
+        ),
     };
     let text = format!("{}\n{}", header.render(), body);
     parse(&text).map_err(|err| CliError::Failed(format!("{}: generated file: {err}", m.name)))?;

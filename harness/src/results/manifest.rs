@@ -146,8 +146,15 @@ pub fn host() -> HostInfo {
     }
 }
 
-/// The git revision of the source tree this binary was built from.
+/// The git revision of the source tree this binary was built from (`+dirty` when a tracked
+/// file differs from it).
 pub fn git_revision() -> String {
+    git_revision_outside(&[])
+}
+
+/// The git revision, `+dirty` only when a tracked file outside the `excluded` folders (relative
+/// to the repository root) differs from it: `docs measure` excludes the files it writes.
+pub fn git_revision_outside(excluded: &[&str]) -> String {
     let dir = env!("CARGO_MANIFEST_DIR");
     let run = |args: &[&str]| {
         std::process::Command::new("git")
@@ -161,8 +168,16 @@ pub fn git_revision() -> String {
     };
     match run(&["rev-parse", "HEAD"]) {
         Some(rev) if !rev.is_empty() => {
-            let dirty = run(&["status", "--porcelain", "--untracked-files=no"])
-                .is_some_and(|s| !s.is_empty());
+            let mut status = vec![
+                "status".to_string(),
+                "--porcelain".into(),
+                "--untracked-files=no".into(),
+                "--".into(),
+                ":(top)".into(),
+            ];
+            status.extend(excluded.iter().map(|e| format!(":(top,exclude){e}")));
+            let args: Vec<&str> = status.iter().map(String::as_str).collect();
+            let dirty = run(&args).is_some_and(|s| !s.is_empty());
             if dirty { format!("{rev}+dirty") } else { rev }
         }
         _ => "unknown".into(),
