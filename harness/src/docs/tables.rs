@@ -26,6 +26,28 @@ fn rates(runs: &[&RunRecord]) -> Vec<f64> {
         .collect()
 }
 
+/// The configurations of `runs` that tracked, each its runs.
+fn tracked(runs: &[RunRecord]) -> Vec<Vec<&RunRecord>> {
+    groups(runs)
+        .into_iter()
+        .filter(|g| !g[0].tracker.is_empty())
+        .collect()
+}
+
+/// A tracked configuration's first cells: scenario, tracker, preset, and the runs that reached
+/// the goal of all.
+fn tracked_cells(g: &[&RunRecord]) -> Vec<String> {
+    vec![
+        scenario(&g[0].scenario),
+        g[0].tracker.clone(),
+        g[0].preset.clone(),
+        count(
+            g.iter().filter(|r| r.reached_goal == Some(true)).count(),
+            g.len(),
+        ),
+    ]
+}
+
 /// `k/n`.
 fn count(k: usize, n: usize) -> String {
     format!("{k}/{n}")
@@ -103,19 +125,10 @@ pub fn tracking(runs: &[RunRecord]) -> Table {
         "replans (all runs)",
         "time to goal, median (s)",
     ]);
-    for g in groups(runs)
-        .into_iter()
-        .filter(|g| !g[0].tracker.is_empty())
-    {
+    for g in tracked(runs) {
         let sum = |m| values(&g, m).iter().sum::<f64>();
-        t.row(vec![
-            scenario(&g[0].scenario),
-            g[0].tracker.clone(),
-            g[0].preset.clone(),
-            count(
-                g.iter().filter(|r| r.reached_goal == Some(true)).count(),
-                g.len(),
-            ),
+        let mut row = tracked_cells(&g);
+        row.extend([
             g.iter()
                 .filter(|r| r.agent_contact == Some(true))
                 .count()
@@ -129,6 +142,7 @@ pub fn tracking(runs: &[RunRecord]) -> Table {
             int(sum(Metric::Replans)),
             median(&values(&g, Metric::TimeToGoal)),
         ]);
+        t.row(row);
     }
     t
 }
@@ -147,26 +161,18 @@ pub fn loop_cost(runs: &[RunRecord]) -> Table {
         "true",
         "loop wall time per simulated s, median (ms)",
     ]);
-    for g in groups(runs)
-        .into_iter()
-        .filter(|g| !g[0].tracker.is_empty())
-    {
+    for g in tracked(runs) {
         let per_s: Vec<f64> = g
             .iter()
             .filter_map(|r| Some(1e3 * r.get(Metric::TrackTime)? / r.get(Metric::TrackDuration)?))
             .collect();
-        t.row(vec![
-            scenario(&g[0].scenario),
-            g[0].tracker.clone(),
-            g[0].preset.clone(),
-            count(
-                g.iter().filter(|r| r.reached_goal == Some(true)).count(),
-                g.len(),
-            ),
+        let mut row = tracked_cells(&g);
+        row.extend([
             median_p90(&values(&g, Metric::RmsError)),
             median_p90(&values(&g, Metric::RmsErrorTrue)),
             median(&per_s),
         ]);
+        t.row(row);
     }
     t
 }
@@ -183,10 +189,7 @@ pub fn errors(runs: &[RunRecord]) -> Table {
         Metric::RmsError,
         Metric::RmsErrorTrue,
     ];
-    for g in groups(runs)
-        .into_iter()
-        .filter(|g| !g[0].tracker.is_empty())
-    {
+    for g in tracked(runs) {
         let label = format!("{} + {} ({})", g[0].planner, g[0].tracker, g[0].preset);
         for m in metrics {
             t.row(vec![
