@@ -330,6 +330,20 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "scaling",
+        source: Transcript {
+            files: &["experiments"],
+            cwd: ".",
+            steps: &[
+                Step::Run("bench experiments/scaling.toml --out scaling --threads 2 --quiet"),
+                Step::Run("results scaling scaling --family serpentine --by walls"),
+                Step::Run("results scaling scaling --family corridor --by length"),
+                Step::Run("results scaling scaling --family team --by agents"),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
         name: "rig-latency",
         source: Transcript {
             files: &["rigs"],
