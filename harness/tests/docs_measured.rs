@@ -35,11 +35,6 @@ const EXCEPTIONS: &[(&str, &str, &str)] = &[
          could generate them, but each needs a long release run on an idle machine; not converted",
     ),
     (
-        "ompl-planners.md",
-        "SST's pruning",
-        "node counts from an ignored test of the `ompl` feature: no measurement kind yet",
-    ),
-    (
         "rigs.md",
         "Measured",
         "detector accuracy (a cargo test) and detection time (an example): no measurement kind \
