@@ -462,6 +462,17 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: Some("ompl"),
     },
+    Measure {
+        name: "calibration-noise-bias",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Test("calibrate_noise_bias"),
+            test: "free_start_states_remove_the_detection_noise_bias",
+            ignored: true,
+            release: false,
+        },
+        feature: None,
+    },
 ];
 
 /// The measurement called `name`.
