@@ -38,10 +38,10 @@ const EXCEPTIONS: &[(&str, &str, &str)] = &[
     ),
     (
         "rigs.md",
-        "Measured",
-        "detector accuracy (a cargo test) and detection time (an example): no measurement kind \
-         runs cargo tests or examples yet; the control-loop latency below it is generated \
-         (rig-latency)",
+        "Replayed recording",
+        "the replay accuracy of a 40 s recording: the recording is not in the repository, so no \
+         transcript can replay it; the detector's accuracy and time above it are generated \
+         (detector-accuracy, detect-timing)",
     ),
     (
         "physics.md",

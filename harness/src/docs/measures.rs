@@ -473,6 +473,28 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
     },
+    Measure {
+        name: "detector-accuracy",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Test("detector_accuracy"),
+            test: "apart_nearly_touching_and_touching_within_a_quarter_pixel",
+            ignored: false,
+            release: false,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "detect-timing",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Example("detect_timing"),
+            test: "",
+            ignored: false,
+            release: true,
+        },
+        feature: None,
+    },
 ];
 
 /// The measurement called `name`.
