@@ -23,11 +23,12 @@ const EXCEPTIONS: &[(&str, &str, &str)] = &[
     (
         "calibration.md",
         "Why the start states are free",
-        "the emulator and draw-14 rows of the fit's table and the validation paragraph: their \
-         tests (drivers' calibrate_emulator and calibrate, magbench's calibrate) fit with the \
-         start states free only and print no table, and the observed-start figures came from \
-         edited copies of them; the noise row is generated (calibration-noise-bias), the \
-         walkthrough too (calibration-walkthrough)",
+        "the emulator row of the fit's table and the validation paragraph: their tests \
+         (drivers' calibrate_emulator, magbench's calibrate) run in the default suite, fit with \
+         the start states free only and print no table, and their observed-start figures came \
+         from edited copies of them; the random draws and the noise are generated \
+         (calibration-draws, calibration-noise-bias), the walkthrough too \
+         (calibration-walkthrough)",
     ),
     (
         "suites.md",

@@ -474,6 +474,17 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "calibration-draws",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Test("calibrate"),
+            test: "calibrate_recovers_a_random_preset_from_an_excitation_run",
+            ignored: true,
+            release: false,
+        },
+        feature: None,
+    },
+    Measure {
         name: "detector-accuracy",
         source: Test {
             package: "magbench-drivers",
