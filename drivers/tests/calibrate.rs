@@ -44,12 +44,12 @@ fn truth(seed: u64, n: usize) -> Truth {
 }
 
 /// Three draws of 240 s (one with 3 frames of latency), each fitted with the start states free
-/// (checked) and from the observed starts (for comparison): about 200 s, beyond the default
+/// (checked) and from the observed starts (for comparison): about 70 s, beyond the default
 /// suite; harness/tests/calibrate.rs runs two draws there through the command line. It prints
 /// both fits' errors as a Markdown table, which `magbench docs measure --only
 /// calibration-draws` keeps for docs/calibration.md.
 #[test]
-#[ignore = "about 200 s; run with --ignored"]
+#[ignore = "about 70 s; run with --ignored"]
 fn calibrate_recovers_a_random_preset_from_an_excitation_run() {
     let scenario = Scenario::load("open-field").unwrap();
     let n = scenario.agents();
