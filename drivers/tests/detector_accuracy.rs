@@ -100,12 +100,12 @@ fn apart_nearly_touching_and_touching_within_a_quarter_pixel() {
         ("nearly touching (gap 0.01-0.1 BL)", (1.01, 1.1)),
         ("touching (r = 1 BL)", (1.0, 1.0)),
     ];
+    println!("| prior | case | RMS (px) | centres | missed |");
+    println!("| --- | --- | --- | --- | --- |");
     for prior in [Prior::Truth, Prior::Offset(0.45), Prior::Unrelated] {
         for (k, (name, sep)) in cases.iter().enumerate() {
             let (rms, missed) = rms_px(*sep, 150, 11 + k as u64, prior);
-            println!(
-                "detector ({prior:?} prior): {name}: RMS {rms:.4} px over 300 centres, {missed} missed"
-            );
+            println!("| {prior:?} | {name} | {rms:.4} | 300 | {missed} |");
             assert_eq!(missed, 0, "{name}, {prior:?} prior: missed detections");
             assert!(rms <= 0.25, "{name}, {prior:?} prior: RMS {rms} px");
         }

@@ -58,6 +58,7 @@ failed_from!(
     StartError,
     RegistryError,
     crate::docs::bench::BenchError,
+    crate::docs::cargo_test::TestError,
 );
 
 impl From<OpenError> for CliError {

@@ -71,7 +71,9 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
             let needs = match m.feature {
                 Some(f) if !m.runnable() => format!("\tneeds a build with --features {f}"),
                 Some(f) if !m.available() => {
-                    format!("\truns with --only (cargo bench --features {f}), else skipped")
+                    format!(
+                        "\truns with --only (cargo builds it with --features {f}), else skipped"
+                    )
                 }
                 _ => String::new(),
             };

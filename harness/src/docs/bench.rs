@@ -2,36 +2,24 @@
 //! subprocess from the repository root, with criterion's output folder set by
 //! `CRITERION_HOME`, then criterion's estimates read back into a table.
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
 use thiserror::Error;
 
+use super::cargo::{CargoError, own_table, run_cargo};
 use super::criterion::{EstimatesError, estimates_table, read_estimates};
 
 /// Why a bench measurement failed.
 #[derive(Debug, Error)]
 pub enum BenchError {
-    /// `cargo` could not be started.
-    #[error("bench {bench}: could not run {cargo:?}: {source}")]
-    Spawn {
+    /// `cargo bench` could not run or failed (build error, panic in the bench, missing
+    /// feature dependency).
+    #[error("bench {bench}: {source}")]
+    Cargo {
         /// The bench.
         bench: String,
-        /// The cargo program.
-        cargo: String,
-        /// The I/O error.
-        source: std::io::Error,
-    },
-    /// `cargo bench` failed (build error, panic in the bench, missing feature dependency).
-    #[error("bench {bench}: `{command}` failed ({status}); its output is above")]
-    Exit {
-        /// The bench.
-        bench: String,
-        /// The command line.
-        command: String,
-        /// Its exit status.
-        status: std::process::ExitStatus,
+        /// Why.
+        source: CargoError,
     },
     /// Criterion's results could not be read.
     #[error("bench {bench}: {source}")]
@@ -76,21 +64,10 @@ pub fn cargo_args(r: &BenchRun) -> Vec<String> {
     a
 }
 
-/// The lines of a bench's stdout that are Markdown table lines (`| … |`), trimmed.
-pub fn own_table(stdout: &str) -> Vec<&str> {
-    stdout
-        .lines()
-        .map(str::trim)
-        .filter(|l| l.len() >= 2 && l.starts_with('|') && l.ends_with('|'))
-        .collect()
-}
-
 /// Runs the bench and returns the Markdown body of its file: criterion's estimates of the
 /// ids as a table, then the bench's own table lines, if any.
 pub fn run_bench(r: &BenchRun) -> Result<String, BenchError> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let args = cargo_args(r);
-    let command = format!("cargo {}", args.join(" "));
     let estimates = |source| BenchError::Estimates {
         bench: r.bench.to_string(),
         source,
@@ -105,38 +82,12 @@ pub fn run_bench(r: &BenchRun) -> Result<String, BenchError> {
     std::fs::create_dir_all(&r.criterion_home).map_err(io(&r.criterion_home))?;
     // the bench runs in benches/: criterion needs an absolute folder
     let home = std::fs::canonicalize(&r.criterion_home).map_err(io(&r.criterion_home))?;
-    let spawn = |source| BenchError::Spawn {
-        bench: r.bench.to_string(),
-        cargo: cargo.clone(),
-        source,
-    };
-    let mut child = Command::new(&cargo)
-        .args(&args)
-        .current_dir(r.root)
-        .env("CRITERION_HOME", &home)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .map_err(spawn)?;
-    let mut stdout = String::new();
-    if let Some(out) = child.stdout.take() {
-        for line in BufReader::new(out).lines() {
-            let line = line.map_err(spawn)?;
-            if r.echo {
-                eprintln!("{line}");
-            }
-            stdout.push_str(&line);
-            stdout.push('\n');
-        }
-    }
-    let status = child.wait().map_err(spawn)?;
-    if !status.success() {
-        return Err(BenchError::Exit {
+    let stdout = run_cargo(r.root, &args, &[("CRITERION_HOME", home.as_path())], r.echo).map_err(
+        |source| BenchError::Cargo {
             bench: r.bench.to_string(),
-            command,
-            status,
-        });
-    }
+            source,
+        },
+    )?;
     let mut body = String::new();
     if !r.ids.is_empty() {
         let e = read_estimates(&home, r.ids).map_err(estimates)?;
@@ -173,16 +124,6 @@ mod tests {
         assert_eq!(
             cargo_args(&r).join(" "),
             "bench -p magbench-benches --bench ompl_abi --features ompl -- --noplot --quick"
-        );
-    }
-
-    #[test]
-    fn only_table_lines_of_the_stdout_are_kept() {
-        let out = "obc tick (micro-factory)\n                        time:   [8.7 µs 8.8 µs 8.9 µs]\n\
-                   | tracker | median |\n| --- | --- |\n  | obc | 13.4 µs |\nFound 3 outliers\n";
-        assert_eq!(
-            own_table(out),
-            vec!["| tracker | median |", "| --- | --- |", "| obc | 13.4 µs |"]
         );
     }
 }

@@ -1,11 +1,12 @@
 //! The measurements of the book: each an experiment in `experiments/` and the table its runs
-//! become, a bench of `benches/` and the table of criterion's estimates, or a transcript of
-//! magbench commands. Adding one is one
+//! become, a bench of `benches/` and the table of criterion's estimates, a cargo test or
+//! example and the table it prints, or a transcript of magbench commands. Adding one is one
 //! entry here and its `{{#include measured/NAME.md}}` in a chapter.
 
 use std::path::Path;
 
 use super::ablation::ablation;
+pub use super::cargo_test::Target;
 use super::convergence::convergence;
 use super::replans::replan_latency;
 use super::table::Table;
@@ -14,7 +15,7 @@ use super::transcript::Step;
 use crate::CliError;
 use crate::run::{RunOutput, RunRecord};
 use Kind::{Folder, Outputs, Runs};
-use Source::{Bench, Sweep, Transcript};
+use Source::{Bench, Sweep, Test, Transcript};
 
 /// How a measurement's runs become its table.
 #[derive(Debug, Clone, Copy)]
@@ -59,6 +60,24 @@ pub enum Source {
         /// Arguments for the bench after `--noplot` under `--quick`.
         quick_args: &'static [&'static str],
     },
+    /// A cargo test or example, run from the repository root by `cargo test -p PACKAGE
+    /// [--release] [--features F] (--lib | --test FILE) -- [--ignored] --exact TEST
+    /// --nocapture` or `cargo run -p PACKAGE [--release] [--features F] --example E`. The
+    /// file is the Markdown table lines (`| … |`) it prints on stdout; printing none is an
+    /// error. `--quick` runs it in full.
+    Test {
+        /// The crate.
+        package: &'static str,
+        /// Its library, a test file or an example.
+        target: Target,
+        /// The test's exact name within the target (empty for an example).
+        test: &'static str,
+        /// The test is `#[ignore]`d (kept out of `cargo test --workspace`): run it anyway.
+        ignored: bool,
+        /// A release build, for figures of time; a debug build for figures that do not
+        /// depend on speed (accuracy, counts), which builds faster.
+        release: bool,
+    },
     /// magbench command lines run one after another by this binary in a fresh temporary
     /// folder; the file is their output (a console block) and their wall times. `--quick`
     /// runs them in full (they are single runs, with nothing to shorten).
@@ -82,7 +101,7 @@ pub struct Measure {
     pub source: Source,
     /// The cargo feature it needs (`None`: the default build has everything): of `magbench`
     /// for a sweep (this build must have it), of `magbench-benches` for a bench (passed to
-    /// `cargo bench`).
+    /// `cargo bench`), of the test's crate for a test (passed to cargo).
     pub feature: Option<&'static str>,
 }
 
@@ -98,17 +117,17 @@ impl Measure {
         }
     }
 
-    /// Whether `docs measure --only NAME` can run it in this build: a bench always (cargo
-    /// builds the bench with its feature), anything else if [`Measure::available`].
+    /// Whether `docs measure --only NAME` can run it in this build: a bench or a test always
+    /// (cargo builds it with its feature), anything else if [`Measure::available`].
     pub fn runnable(&self) -> bool {
-        matches!(self.source, Bench { .. }) || self.available()
+        matches!(self.source, Bench { .. } | Test { .. }) || self.available()
     }
 
     /// The experiment file of a sweep, relative to the repository root.
     pub fn experiment(&self) -> Option<&'static str> {
         match self.source {
             Sweep { experiment, .. } => Some(experiment),
-            Bench { .. } | Transcript { .. } => None,
+            Bench { .. } | Test { .. } | Transcript { .. } => None,
         }
     }
 
@@ -126,6 +145,21 @@ impl Measure {
                 "cargo bench --bench {bench}\t--quick: bench arguments {:?}",
                 quick_args.join(" ")
             ),
+            Test {
+                package,
+                target,
+                test,
+                release,
+                ..
+            } => {
+                let what = match target {
+                    Target::Example(e) => format!("cargo run -p {package} --example {e}"),
+                    Target::Lib => format!("cargo test -p {package} --lib {test}"),
+                    Target::Test(f) => format!("cargo test -p {package} --test {f} {test}"),
+                };
+                let build = if release { "release" } else { "debug" };
+                format!("{what} ({build} build)\t--quick: all of it")
+            }
             Transcript { steps, .. } => {
                 format!("{} magbench commands\t--quick: all of them", steps.len())
             }
@@ -431,6 +465,61 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: Some("ompl"),
     },
+    Measure {
+        name: "sst-pruning",
+        source: Test {
+            package: "magbench-planners",
+            target: Target::Lib,
+            test: "ompl::tests::sst_node_counts",
+            ignored: true,
+            release: false,
+        },
+        feature: Some("ompl"),
+    },
+    Measure {
+        name: "calibration-noise-bias",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Test("calibrate_noise_bias"),
+            test: "free_start_states_remove_the_detection_noise_bias",
+            ignored: true,
+            release: false,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "calibration-draws",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Test("calibrate"),
+            test: "calibrate_recovers_a_random_preset_from_an_excitation_run",
+            ignored: true,
+            release: false,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "detector-accuracy",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Test("detector_accuracy"),
+            test: "apart_nearly_touching_and_touching_within_a_quarter_pixel",
+            ignored: false,
+            release: false,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "detect-timing",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Example("detect_timing"),
+            test: "",
+            ignored: false,
+            release: true,
+        },
+        feature: None,
+    },
 ];
 
 /// The measurement called `name`.
@@ -458,6 +547,24 @@ mod tests {
                 Bench { bench, .. } => {
                     let file = root.join(format!("benches/benches/{bench}.rs"));
                     assert!(file.is_file(), "{}", file.display());
+                }
+                Test {
+                    package,
+                    target,
+                    test,
+                    ..
+                } => {
+                    let dir = match package {
+                        "magbench" => "harness".to_string(),
+                        p => p.trim_start_matches("magbench-").to_string(),
+                    };
+                    let file = match target {
+                        Target::Lib => format!("{dir}/src/lib.rs"),
+                        Target::Test(f) => format!("{dir}/tests/{f}.rs"),
+                        Target::Example(e) => format!("{dir}/examples/{e}.rs"),
+                    };
+                    assert!(root.join(&file).is_file(), "{}: {file}", m.name);
+                    assert_eq!(test.is_empty(), matches!(target, Target::Example(_)));
                 }
                 Transcript { files, steps, .. } => {
                     for f in files {

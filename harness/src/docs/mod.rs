@@ -1,11 +1,13 @@
 //! The measured figures of the book: `magbench docs measure` runs each entry of [`MEASURES`]
-//! (an experiment, shortened under `--quick`, a criterion bench or a transcript of magbench
-//! commands) and writes its table to `docs/measured/NAME.md`
+//! (an experiment, shortened under `--quick`, a criterion bench, a cargo test or example, or a
+//! transcript of magbench commands) and writes its table to `docs/measured/NAME.md`
 //! with a [`Header`] naming the command, machine, date and magbench version. The chapters
 //! quote these files by `{{#include measured/NAME.md}}`, never by copying their numbers.
 
 pub mod ablation;
 pub mod bench;
+pub mod cargo;
+pub mod cargo_test;
 pub mod convergence;
 pub mod criterion;
 pub mod header;

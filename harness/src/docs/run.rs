@@ -1,10 +1,11 @@
-//! Running one measurement: its experiment's sweep, its bench or its transcript, then its
-//! table under a [`Header`].
+//! Running one measurement: its experiment's sweep, its bench, its cargo test or its
+//! transcript, then its table under a [`Header`].
 
 use std::path::Path;
 use std::time::Instant;
 
 use super::bench::{BenchRun, cargo_args, run_bench};
+use super::cargo_test::{TestRun, run_test};
 use super::header::{Header, parse};
 use super::measures::{Kind, Measure, Source};
 use super::transcript::{format_transcript, run_transcript};
@@ -65,6 +66,25 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
         } => {
             let args = if o.quick { quick_args } else { args };
             run_bench_measure(m, bench, ids, args, o)?
+        }
+        Source::Test {
+            package,
+            target,
+            test,
+            ignored,
+            release,
+        } => {
+            let r = TestRun {
+                package,
+                target,
+                test,
+                ignored,
+                release,
+                feature: m.feature,
+                root: o.root,
+                echo: !matches!(o.progress, ProgressMode::Quiet),
+            };
+            run_test_measure(&r)?
         }
         Source::Transcript { files, cwd, steps } => {
             let t0 = Instant::now();
@@ -134,6 +154,22 @@ fn run_bench_measure(
         } else {
             ""
         }
+    );
+    Ok((runs, body))
+}
+
+/// Runs the cargo test or example `r`; returns the header's `runs` line and the file's body.
+fn run_test_measure(r: &TestRun) -> Result<(String, String), CliError> {
+    let t0 = Instant::now();
+    let body = run_test(r)?;
+    let build = match r.release {
+        true => "release build: figures of time",
+        false => "debug build (the dev profile): its figures do not depend on speed",
+    };
+    let runs = format!(
+        "`cargo {}` from the repository root, in {:.0} s ({build}); `--quick` runs it in full",
+        super::cargo_test::cargo_args(r).join(" "),
+        t0.elapsed().as_secs_f64(),
     );
     Ok((runs, body))
 }

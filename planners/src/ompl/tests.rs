@@ -210,20 +210,24 @@ fn a_time_limit_stops_ompl() {
     assert!(r.time_s >= 0.3 && r.iterations > 0, "{} s", r.time_s);
 }
 
-/// The figures of the SST defect for docs/ompl-planners.md (not part of the suite):
-/// `cargo test -p magbench-planners --features ompl --lib -- --ignored sst_node_counts --nocapture`
+/// The figures of the SST defect for docs/ompl-planners.md (not part of the suite), printed as
+/// a Markdown table: `magbench docs measure --only sst-pruning` runs
+/// `cargo test -p magbench-planners --features ompl --lib -- --ignored --exact
+/// ompl::tests::sst_node_counts --nocapture`.
 #[test]
 #[ignore]
 fn sst_node_counts() {
-    eprintln!(
-        "iterations | OMPL SST motions, witnesses, dominated leaves | magbench SST nodes, witnesses, added, pruned"
+    println!(
+        "| iterations | OMPL SST: motions / witnesses / dominated leaves kept | magbench SST: nodes / witnesses / added / pruned |"
     );
+    println!("| --- | --- | --- |");
     for n in [5_000, 20_000, 50_000] {
         let p = problem("micro-factory", 1, n);
         let (_, o) = Ompl::<Sst>::new("ompl:sst", "sst").solve_with_stats(&p);
         let (_, m) = MagbenchSst::default().solve_with_stats(&p);
-        eprintln!(
-            "{n} | {} {} {} | {} {} {} {}",
+        assert_eq!(m.nodes as u64, m.added + 1 - m.pruned, "{m:?}");
+        println!(
+            "| {n} | {} / {} / {} | {} / {} / {} / {} |",
             o.vertices, o.witnesses, o.dominated, m.nodes, m.witnesses, m.added, m.pruned
         );
     }
