@@ -11,6 +11,7 @@ use super::table::{Table, median, num};
 use super::tables::scenario;
 use crate::ablation::{contributions, slug, term_of, variant_of};
 use crate::metrics::Metric;
+use crate::results::summary::group_by;
 use crate::run::RunRecord;
 
 /// The error the ablation compares (the one [`contributions`] pairs).
@@ -59,15 +60,9 @@ pub fn ablation(runs: &[RunRecord]) -> Table {
         "goal reached: all but / alone",
         "agent contact: all but / alone",
     ]);
-    let mut groups: Vec<((String, String), Vec<&RunRecord>)> = vec![];
-    for r in runs.iter().filter(|r| !r.tracker.is_empty()) {
-        let key = (scenario(&r.scenario), r.tracker.clone());
-        match groups.iter_mut().find(|(k, _)| *k == key) {
-            Some((_, g)) => g.push(r),
-            None => groups.push((key, vec![r])),
-        }
-    }
-    for ((sc, tracker), g) in groups {
+    let tracked = runs.iter().filter(|r| !r.tracker.is_empty());
+    for g in group_by(tracked, |r| (r.scenario.clone(), r.tracker.clone())) {
+        let (sc, tracker) = (scenario(&g[0].scenario), g[0].tracker.clone());
         let v = by_variant(&g);
         let median_e = |name: &str| {
             let e: Vec<f64> = v
@@ -105,7 +100,11 @@ pub fn ablation(runs: &[RunRecord]) -> Table {
                 row.term.clone(),
                 signed(row.off_in_turn_bl),
                 signed(row.alone_bl),
-                format!("{} / {}", median_e(&no), median_e(&only)),
+                format!(
+                    "{} / {}",
+                    num(row.without_median_bl),
+                    num(row.only_median_bl)
+                ),
                 format!("{g_no} / {g_only}"),
                 format!("{c_no} / {c_only}"),
             ]);
