@@ -281,6 +281,15 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "replan-latency-team",
+        source: Sweep {
+            experiment: "experiments/replan-team.toml",
+            quick_seeds: 1,
+            table: Outputs(replan_latency),
+        },
+        feature: None,
+    },
+    Measure {
         name: "vs-ompl",
         source: Sweep {
             experiment: "experiments/vs-ompl.toml",

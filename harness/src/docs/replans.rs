@@ -1,5 +1,5 @@
 //! The replan-latency table: from the replan logs of tracked runs, how long each replan made
-//! for a persistent tracking error took (wall and CPU time of the loop's thread), how it found
+//! while tracking (for a persistent error, or a team's stall) took (wall and CPU time of the loop's thread), how it found
 //! its plan and how much planner work it did.
 
 use magbench_trackers::{PlanReason, ReplanHow, ReplanRecord};
@@ -85,7 +85,8 @@ fn configurations(outs: &[RunOutput]) -> Vec<Vec<&RunOutput>> {
     group_by(tracked, |o| key(&o.record))
 }
 
-/// Per tracked configuration, over every replan made for a persistent error in its runs: their
+/// Per tracked configuration, over every drift replan of its runs (made for a persistent error
+/// or, for teams of three or more, a stall; not a run's first plan or a leg's): their
 /// count, wall and CPU time (ms, p50 / p95 / max), how many took at most one 60 Hz frame of
 /// wall time, how they found their plans, the planner iterations and repair work per replan
 /// (load-independent), then the runs' mean tracking errors and goals reached.
@@ -109,7 +110,7 @@ pub fn replan_latency(outs: &[RunOutput]) -> Table {
         let events: Vec<&ReplanRecord> = g
             .iter()
             .flat_map(|o| &o.replans)
-            .filter(|e| e.reason == PlanReason::Error)
+            .filter(|e| matches!(e.reason, PlanReason::Error | PlanReason::Stall))
             .collect();
         let wall: Vec<f64> = events.iter().map(|e| 1e3 * e.wall_s).collect();
         let cpu: Vec<f64> = events
@@ -189,12 +190,13 @@ mod tests {
     }
 
     #[test]
-    fn only_replans_for_an_error_count_per_configuration() {
+    fn only_drift_replans_count_per_configuration() {
         let outs = [
             output(
                 "repair",
                 vec![
                     event(PlanReason::Initial, ReplanHow::Full, 500.0),
+                    event(PlanReason::Leg, ReplanHow::Full, 400.0),
                     event(PlanReason::Error, ReplanHow::Rejoin, 1.0),
                     event(PlanReason::Error, ReplanHow::Full, 30.0),
                 ],
@@ -205,7 +207,7 @@ mod tests {
             ),
             output(
                 "repair",
-                vec![event(PlanReason::Error, ReplanHow::Tree, 2.0)],
+                vec![event(PlanReason::Stall, ReplanHow::Tree, 2.0)],
             ),
         ];
         let t = replan_latency(&outs);
