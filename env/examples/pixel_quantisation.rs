@@ -41,9 +41,7 @@ fn hough_rms_px(px_per_bl: f64, centre_step_px: f64) -> f64 {
 }
 
 fn main() {
-    println!(
-        "| px per BL | thresholded centroid | Hough, dp = 1 px | merge below (gap 1 px) |"
-    );
+    println!("| px per BL | thresholded centroid | Hough, dp = 1 px | merge below (gap 1 px) |");
     println!("| --- | --- | --- | --- |");
     for s in SCALES {
         let blob = centroid_rms_px(s, SPREAD);
