@@ -529,6 +529,48 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
     },
+    Measure {
+        name: "rig-replay",
+        source: Transcript {
+            files: &["rigs"],
+            cwd: ".",
+            steps: &[
+                Step::Background {
+                    command: "rig emulate --rig rigs/emulator.toml micro-factory --lockstep \
+                              --duration 10.1 --record rec --write-rig lockstep.toml",
+                    ready: "lockstep.toml",
+                },
+                Step::Run("rig check --rig lockstep.toml micro-factory --duration 10"),
+                Step::Run("rig replay --rig rigs/emulator.toml rec --out detections.csv"),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "bench-plant-frame",
+        source: Bench {
+            bench: "plant_frame",
+            ids: &[
+                "plant frame/ideal",
+                "plant frame/realistic",
+                "plant frame/hardware",
+            ],
+            args: &[],
+            quick_args: QUICK,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "pixel-quantisation",
+        source: Test {
+            package: "magbench-env",
+            target: Target::Example("pixel_quantisation"),
+            test: "",
+            ignored: false,
+            release: false,
+        },
+        feature: None,
+    },
 ];
 
 /// The measurement called `name`.
