@@ -10,6 +10,7 @@
 
 mod common;
 
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
@@ -21,7 +22,7 @@ use magbench_drivers::emulator::faults::FaultPlan;
 use magbench_drivers::emulator::render::RenderParams;
 use magbench_drivers::emulator::{self, DeviceEndpoint, EmulatorConfig};
 use magbench_drivers::excite::{ExciteSetup, excite};
-use magbench_drivers::fit::{FitOptions, Kind, Status, calibrate, read_log};
+use magbench_drivers::fit::{FitOptions, FitReport, Kind, Status, calibrate, read_log};
 use magbench_drivers::rigfile::{CoilEndpoint, RigConfig};
 use magbench_env::Scenario;
 use magbench_env::plant::{DisturbancePreset, Fitted};
@@ -43,12 +44,11 @@ fn truth() -> DisturbancePreset {
     common::emulated("emulated", fitted, 2.0, 0.01)
 }
 
-#[test]
-fn excite_on_the_emulator_then_calibrate_recovers_its_preset() {
+/// An excitation run of [`DURATION_S`] through the lockstep emulator of [`truth`]: the folder
+/// that holds its log, and the log's path.
+fn excite_on_the_emulator(scenario: &Scenario) -> (tempfile::TempDir, PathBuf) {
     let text = include_str!("../../rigs/emulator.toml");
     let rig = RigConfig::parse(text, "emulator.toml").unwrap();
-    let scenario = Scenario::load("open-field").unwrap();
-    let n = scenario.agents();
     let dir = tempfile::tempdir().unwrap();
     let (tx, rx) = mpsc::channel();
     let stop = Arc::new(AtomicBool::new(false));
@@ -103,33 +103,58 @@ fn excite_on_the_emulator_then_calibrate_recovers_its_preset() {
     emu.join().unwrap().unwrap();
     eprintln!("{rep:?}");
     assert!(rep.frames as f64 >= 0.99 * DURATION_S * 60.0, "{rep:?}");
+    (dir, log)
+}
 
+/// Fits the hydrodynamic-only base to the log at `log`, with the start states free or from
+/// the observed starts.
+fn fit(scenario: &Scenario, log: &Path, free_starts: bool) -> FitReport {
     let mut base = DisturbancePreset::ideal();
     base.hydrodynamics.enabled = true;
-    let run = read_log(&log, n).unwrap();
-    let fit = calibrate(&scenario, &base, vec![run], &FitOptions::default()).unwrap();
-    for l in fit.lines() {
-        eprintln!("  {l}");
+    let run = read_log(log, scenario.agents()).unwrap();
+    let opts = FitOptions {
+        free_starts,
+        ..FitOptions::default()
+    };
+    calibrate(scenario, &base, vec![run], &opts).unwrap()
+}
+
+/// The true value of a fitted parameter, and whether its error is relative (a factor) rather
+/// than absolute; `None` for the coils' τ, which the emulated preset does not have.
+fn true_value(kind: Kind, f: &Fitted) -> Option<(f64, bool)> {
+    Some(match kind {
+        Kind::Moment(i) => (f.moment[i], true),
+        Kind::Drag(i) => (f.drag[i], true),
+        Kind::GradientGain(a) => (f.gradient_gain?[a], true),
+        Kind::FieldBias => (f.field_bias_deg?, false),
+        Kind::Drift(a) => (f.drift_bl_s?[a], false),
+        Kind::FieldTau => return None,
+    })
+}
+
+/// A fitted value and its error against `truth`: relative (%) or absolute.
+fn shown(value: Option<f64>, truth: f64, relative: bool) -> String {
+    match value {
+        None => "not fitted | –".into(),
+        Some(v) if relative => format!("{v:.4} | {:+.1}%", 100.0 * (v / truth - 1.0)),
+        Some(v) => format!("{v:.4} | {:+.4}", v - truth),
     }
+}
+
+/// Checks `fit` against the truth within the tolerances of the module doc; the largest
+/// relative error of the moments, drags and gradient gains.
+fn check(fit: &FitReport) -> f64 {
     let t = truth();
-    let f = &t.fitted;
     let mut checked = 0;
+    let mut worst: f64 = 0.0;
     for p in &fit.params {
         let Status::Fitted = p.status else { continue };
-        let (truth, tol) = match p.kind {
-            Kind::Moment(i) => (f.moment[i], 0.05),
-            Kind::Drag(i) => (f.drag[i], 0.05),
-            Kind::GradientGain(a) => (f.gradient_gain.unwrap()[a], 0.05),
-            _ => continue,
+        let Some((truth, true)) = true_value(p.kind, &t.fitted) else {
+            continue;
         };
         let err = (p.value / truth - 1.0).abs();
-        eprintln!(
-            "  {:<18} true {truth:.4} fitted {:.4} error {:.1}%",
-            p.name,
-            p.value,
-            100.0 * err
-        );
-        assert!(err <= tol, "{} = {} against {truth}", p.name, p.value);
+        assert!(err <= 0.05, "{} = {} against {truth}", p.name, p.value);
+        worst = worst.max(err);
         checked += 1;
     }
     assert!(
@@ -143,5 +168,77 @@ fn excite_on_the_emulator_then_calibrate_recovers_its_preset() {
     assert!(
         !fit.traces.is_empty(),
         "the report has predicted against observed motion"
+    );
+    worst
+}
+
+#[test]
+fn excite_on_the_emulator_then_calibrate_recovers_its_preset() {
+    let scenario = Scenario::load("open-field").unwrap();
+    let (_dir, log) = excite_on_the_emulator(&scenario);
+    let fit = fit(&scenario, &log, true);
+    for l in fit.lines() {
+        eprintln!("  {l}");
+    }
+    check(&fit);
+}
+
+/// The same run fitted from the observed starts and with the start states free, both fits'
+/// values and errors printed as a Markdown table, which `magbench docs measure --only
+/// calibration-emulator` keeps for docs/calibration.md; the free-start fit is held to the
+/// tolerances of the module doc. A second fit on top of the default test's run.
+#[test]
+#[ignore = "the default test plus a fit from the observed starts; run with --ignored"]
+fn free_start_states_against_the_observed_starts_on_the_emulator() {
+    let scenario = Scenario::load("open-field").unwrap();
+    let (_dir, log) = excite_on_the_emulator(&scenario);
+    let observed = fit(&scenario, &log, false);
+    let free = fit(&scenario, &log, true);
+    let t = truth();
+    println!(
+        "| parameter | true | fitted from the observed starts | error | fitted with the start states free | error |"
+    );
+    println!("| --- | --- | --- | --- | --- | --- |");
+    let value = |f: &FitReport, name: &str| {
+        f.params
+            .iter()
+            .find(|p| p.name == name && p.status == Status::Fitted)
+            .map(|p| p.value)
+    };
+    let mut worst_observed: f64 = 0.0;
+    for p in &free.params {
+        let Some((truth, relative)) = true_value(p.kind, &t.fitted) else {
+            continue;
+        };
+        let o = value(&observed, &p.name);
+        if let (Some(o), true) = (o, relative) {
+            worst_observed = worst_observed.max((o / truth - 1.0).abs());
+        }
+        println!(
+            "| {} | {truth:.4} | {} | {} |",
+            p.name,
+            shown(o, truth, relative),
+            shown(value(&free, &p.name), truth, relative)
+        );
+    }
+    let latency = t.camera.nominal_latency_frames();
+    println!(
+        "| camera.latency.frames | {latency} | {} | {:+} | {} | {:+} |",
+        observed.latency,
+        observed.latency as f64 - latency,
+        free.latency,
+        free.latency as f64 - latency
+    );
+    let sigma = t.camera.noise.sigma_bl;
+    println!(
+        "| camera.noise.sigma_bl | {sigma:.4} | {} | {} |",
+        shown(observed.noise, sigma, true),
+        shown(free.noise, sigma, true)
+    );
+    let worst_free = check(&free);
+    println!(
+        "| worst of moments, drags and gains | | | {:.1}% | | {:.1}% |",
+        100.0 * worst_observed,
+        100.0 * worst_free
     );
 }

@@ -508,6 +508,39 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "calibration-emulator",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Test("calibrate_emulator"),
+            test: "free_start_states_against_the_observed_starts_on_the_emulator",
+            ignored: true,
+            release: false,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "calibration-validation",
+        source: Test {
+            package: "magbench",
+            target: Target::Test("calibrate"),
+            test: "calibrate_recovers_presets_drawn_at_random_and_predicts_their_tracking_error",
+            ignored: false,
+            release: false,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "calibration-segments",
+        source: Test {
+            package: "magbench-drivers",
+            target: Target::Test("calibrate_segments"),
+            test: "segment_length_from_the_observed_starts_and_with_free_starts",
+            ignored: true,
+            release: false,
+        },
+        feature: None,
+    },
+    Measure {
         name: "detector-accuracy",
         source: Test {
             package: "magbench-drivers",

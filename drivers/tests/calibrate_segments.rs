@@ -1,0 +1,125 @@
+//! How the segment length weighs on the fit at strong detection noise: one excitation run
+//! under a preset with 0.03 BL of detection noise and 3 frames of latency, fitted with
+//! segments of 20 and of 60 frames, each from the observed starts and with the start states
+//! free. Predicting from a noisy first observation biases the fit by an amount that grows with
+//! the segment's length; the free start states remove that first-order bias.
+//!
+//! The rig is env's plant and camera (`SimRig`) stepped frame by frame: no sockets, no sleeps,
+//! no wall clock. It prints each fit's latency and errors as a Markdown table, which `magbench
+//! docs measure --only calibration-segments` keeps for docs/calibration.md.
+
+mod common;
+
+use magbench_drivers::excite::{ExciteSetup, excite, log_for};
+use magbench_drivers::fit::{FitOptions, Kind, Status, calibrate, read_log};
+use magbench_env::Scenario;
+use magbench_env::plant::{DisturbancePreset, Fitted};
+use magbench_trackers::SimRig;
+
+/// Seconds of excitation.
+const EXCITE_S: f64 = 240.0;
+
+/// The true latency (frames).
+const LATENCY: usize = 3;
+
+/// Moments and drags off by up to 22%, gradient gains by 7%, [`LATENCY`] frames of latency,
+/// 0.03 BL of detection noise (the top of the physical range), hydrodynamic interaction on.
+fn truth() -> DisturbancePreset {
+    let fitted = Fitted {
+        enabled: true,
+        moment: vec![1.18, 0.84],
+        drag: vec![0.78, 1.22],
+        gradient_gain: Some([1.07, 0.94]),
+        field_bias_deg: Some(1.5),
+        drift_bl_s: Some([0.004, -0.006]),
+    };
+    common::emulated("noisy", fitted, LATENCY as f64, 0.03)
+}
+
+/// One run, four fits (segments of 20 and 60 frames, observed and free starts).
+#[test]
+#[ignore = "several minutes in a debug build; run with --ignored"]
+fn segment_length_from_the_observed_starts_and_with_free_starts() {
+    let scenario = Scenario::load("open-field").unwrap();
+    let n = scenario.agents();
+    let t = truth();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rig-log.csv");
+    let mut rig = SimRig::new(&scenario, &t, 14);
+    let mut log = log_for(&path, n).unwrap();
+    let setup = ExciteSetup {
+        duration: EXCITE_S,
+        seed: 14,
+        gradient_limit: scenario.physics.gradient_limit(),
+        alpha_max: std::f64::consts::FRAC_PI_2,
+        world: scenario.world.clone(),
+    };
+    excite(&mut rig, &setup, Some(&mut log)).unwrap();
+    drop(log);
+    let mut base = DisturbancePreset::ideal();
+    base.hydrodynamics.enabled = true;
+    let f = &t.fitted;
+    let mut header = false;
+    let mut worst_free_20 = f64::INFINITY;
+    for segment_frames in [20, 60] {
+        for free_starts in [false, true] {
+            let run = read_log(&path, n).unwrap();
+            let opts = FitOptions {
+                segment_frames,
+                free_starts,
+                ..FitOptions::default()
+            };
+            let fit = calibrate(&scenario, &base, vec![run], &opts).unwrap();
+            let mut cells = vec![];
+            let mut worst: f64 = 0.0;
+            for p in &fit.params {
+                let truth = match p.kind {
+                    Kind::Moment(i) => f.moment[i],
+                    Kind::Drag(i) => f.drag[i],
+                    Kind::GradientGain(a) => f.gradient_gain.unwrap()[a],
+                    _ => continue,
+                };
+                let cell = match p.status {
+                    Status::Fitted => {
+                        let e = p.value / truth - 1.0;
+                        worst = worst.max(e.abs());
+                        format!("{:+.1}%", 100.0 * e)
+                    }
+                    _ => "not fitted".into(),
+                };
+                cells.push((p.name.clone(), cell));
+            }
+            if !header {
+                let names: Vec<&str> = cells.iter().map(|(n, _)| n.as_str()).collect();
+                println!(
+                    "| segment (frames) | start states | latency chosen (true {LATENCY}) | {} | worst |",
+                    names.join(" | ")
+                );
+                println!("|{}", " --- |".repeat(names.len() + 4));
+                header = true;
+            }
+            let starts = if free_starts { "free" } else { "observed" };
+            let errors: Vec<&str> = cells.iter().map(|(_, c)| c.as_str()).collect();
+            println!(
+                "| {segment_frames} | {starts} | {} | {} | {:.1}% |",
+                fit.latency,
+                errors.join(" | "),
+                100.0 * worst
+            );
+            assert!(
+                fit.latency.abs_diff(LATENCY) <= 1,
+                "{segment_frames} frames, {starts} starts: latency {}",
+                fit.latency
+            );
+            if segment_frames == 20 && free_starts {
+                worst_free_20 = worst;
+            }
+        }
+    }
+    // the default fit (20 frames, free starts) at the top of the noise range: the tolerance of
+    // tests/calibrate_noise_bias.rs
+    assert!(
+        worst_free_20 <= 0.10,
+        "20 frames, free starts: worst error {worst_free_20}"
+    );
+}
