@@ -113,7 +113,7 @@ def rrt_table(quick):
         sums[planner] = (its, secs)
         lines.append(
             f"| {planner} | {solved}/{len(seeds)} | {its} | {secs:.3f} s | {its / secs:.0f} "
-            f"| {us(secs / its)} |"
+            f"| {secs / its * 1e6:.1f} µs |"
         )
     (gi, gs), (pi, ps) = sums["goal-zoom-rrt"], sums["py-rrt"]
     lines.append(

@@ -236,7 +236,10 @@ mod tests {
         let e = CliError::from(probe(&lacking, dir.path()).unwrap_err());
         assert_eq!(e.exit_code(), 2);
         let text = e.to_string();
-        assert!(text.starts_with("<environment>: MAGBENCH_PYTHON: "), "{text}");
+        assert!(
+            text.starts_with("<environment>: MAGBENCH_PYTHON: "),
+            "{text}"
+        );
         assert!(text.contains("cannot import magbench"), "{text}");
         assert!(text.contains("No module named 'magbench'"), "{text}");
         assert!(text.contains("pip install ./python"), "{text}");
@@ -296,7 +299,10 @@ mod tests {
             run_python(&sh, &run("table.sh")).unwrap(),
             "| a | b |\n| --- | --- |\n| 1 | 2 |\n"
         );
-        assert_eq!(run("table.sh").command_line(), "$MAGBENCH_PYTHON table.sh x");
+        assert_eq!(
+            run("table.sh").command_line(),
+            "$MAGBENCH_PYTHON table.sh x"
+        );
         let none = run_python(&sh, &run("none.sh")).unwrap_err();
         assert!(matches!(none, PythonError::NoTable { .. }), "{none}");
         let fails = CliError::from(run_python(&sh, &run("fails.sh")).unwrap_err());

@@ -198,7 +198,11 @@ fn run_python_measure(
         }
         crate::cli::output::prepare_dir(&dir, "--work")?;
     }
-    let shown = dir.strip_prefix(o.root).unwrap_or(&dir).display().to_string();
+    let shown = dir
+        .strip_prefix(o.root)
+        .unwrap_or(&dir)
+        .display()
+        .to_string();
     let extra = if o.quick { quick_args } else { &[] };
     let with = |work: &str| -> Vec<String> {
         args.iter()
