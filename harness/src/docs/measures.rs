@@ -1,6 +1,7 @@
 //! The measurements of the book: each an experiment in `experiments/` and the table its runs
 //! become, a bench of `benches/` and the table of criterion's estimates, a cargo test or
-//! example and the table it prints, or a transcript of magbench commands. Adding one is one
+//! example and the table it prints, a Python script and the table it prints, or a transcript
+//! of magbench commands. Adding one is one
 //! entry here and its `{{#include measured/NAME.md}}` in a chapter.
 
 use std::path::Path;
@@ -15,7 +16,7 @@ use super::transcript::Step;
 use crate::CliError;
 use crate::run::{RunOutput, RunRecord};
 use Kind::{Folder, Outputs, Runs};
-use Source::{Bench, Sweep, Test, Transcript};
+use Source::{Bench, Python, Sweep, Test, Transcript};
 
 /// How a measurement's runs become its table.
 #[derive(Debug, Clone, Copy)]
@@ -78,6 +79,20 @@ pub enum Source {
         /// depend on speed (accuracy, counts), which builds faster.
         release: bool,
     },
+    /// A Python script of the repository, run from the repository root as `PYTHON SCRIPT ARGS`
+    /// by the interpreter that `$MAGBENCH_PYTHON` names (default `python3`), which must import
+    /// magbench (`pip install ./python`; else exit code 2 naming the variable). The file is
+    /// the Markdown table lines (`| … |`) it prints on stdout; printing none is an error. The
+    /// header names the interpreter and the magbench module it imported.
+    Python {
+        /// The script, relative to the repository root.
+        script: &'static str,
+        /// Its arguments; `{work}` stands for the measurement's folder in `--work` (emptied
+        /// first).
+        args: &'static [&'static str],
+        /// Arguments added under `--quick` (empty: `--quick` runs it in full).
+        quick_args: &'static [&'static str],
+    },
     /// magbench command lines run one after another by this binary in a fresh temporary
     /// folder; the file is their output (a console block) and their wall times. `--quick`
     /// runs them in full (they are single runs, with nothing to shorten).
@@ -127,7 +142,7 @@ impl Measure {
     pub fn experiment(&self) -> Option<&'static str> {
         match self.source {
             Sweep { experiment, .. } => Some(experiment),
-            Bench { .. } | Test { .. } | Transcript { .. } => None,
+            Bench { .. } | Test { .. } | Python { .. } | Transcript { .. } => None,
         }
     }
 
@@ -159,6 +174,21 @@ impl Measure {
                 };
                 let build = if release { "release" } else { "debug" };
                 format!("{what} ({build} build)\t--quick: all of it")
+            }
+            Python {
+                script,
+                args,
+                quick_args,
+            } => {
+                let quick = match quick_args {
+                    [] => "all of it".to_string(),
+                    q => format!("adds {:?}", q.join(" ")),
+                };
+                format!(
+                    "${} {script} {}\t--quick: {quick}",
+                    super::python::PYTHON_VAR,
+                    args.join(" ")
+                )
             }
             Transcript { steps, .. } => {
                 format!("{} magbench commands\t--quick: all of them", steps.len())
@@ -475,6 +505,33 @@ pub static MEASURES: &[Measure] = &[
         feature: Some("ompl"),
     },
     Measure {
+        name: "python-plugins",
+        source: Python {
+            script: "python/examples/run_bench.py",
+            args: &["{work}"],
+            quick_args: &[],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "python-overhead",
+        source: Python {
+            script: "python/bench/overhead.py",
+            args: &["--only", "calls"],
+            quick_args: &["--quick"],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "python-rrt",
+        source: Python {
+            script: "python/bench/overhead.py",
+            args: &["--only", "rrt"],
+            quick_args: &["--quick"],
+        },
+        feature: None,
+    },
+    Measure {
         name: "sst-pruning",
         source: Test {
             package: "magbench-planners",
@@ -649,6 +706,9 @@ mod tests {
                     };
                     assert!(root.join(&file).is_file(), "{}: {file}", m.name);
                     assert_eq!(test.is_empty(), matches!(target, Target::Example(_)));
+                }
+                Python { script, .. } => {
+                    assert!(root.join(script).is_file(), "{}: {script}", m.name);
                 }
                 Transcript { files, steps, .. } => {
                     for f in files {

@@ -1,6 +1,6 @@
 //! The measured figures of the book: `magbench docs measure` runs each entry of [`MEASURES`]
-//! (an experiment, shortened under `--quick`, a criterion bench, a cargo test or example, or a
-//! transcript of magbench commands) and writes its table to `docs/measured/NAME.md`
+//! (an experiment, shortened under `--quick`, a criterion bench, a cargo test or example, a
+//! Python script, or a transcript of magbench commands) and writes its table to `docs/measured/NAME.md`
 //! with a [`Header`] naming the command, machine, date and magbench version. The chapters
 //! quote these files by `{{#include measured/NAME.md}}`, never by copying their numbers.
 
@@ -12,6 +12,7 @@ pub mod convergence;
 pub mod criterion;
 pub mod header;
 pub mod measures;
+pub mod python;
 pub mod replans;
 pub mod run;
 pub mod table;

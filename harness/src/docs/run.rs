@@ -1,5 +1,5 @@
-//! Running one measurement: its experiment's sweep, its bench, its cargo test or its
-//! transcript, then its table under a [`Header`].
+//! Running one measurement: its experiment's sweep, its bench, its cargo test, its Python
+//! script or its transcript, then its table under a [`Header`].
 
 use std::path::Path;
 use std::time::Instant;
@@ -8,6 +8,7 @@ use super::bench::{BenchRun, cargo_args, run_bench};
 use super::cargo_test::{TestRun, run_test};
 use super::header::{Header, parse};
 use super::measures::{Kind, Measure, Source};
+use super::python::{PythonRun, interpreter_program, probe, run_python};
 use super::transcript::{format_transcript, run_transcript};
 use crate::CliError;
 use crate::experiment::Experiment;
@@ -86,6 +87,11 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
             };
             run_test_measure(&r)?
         }
+        Source::Python {
+            script,
+            args,
+            quick_args,
+        } => run_python_measure(m, script, args, quick_args, o)?,
         Source::Transcript { files, cwd, steps } => {
             let t0 = Instant::now();
             let entries = run_transcript(o.root, files, cwd, steps)
@@ -170,6 +176,59 @@ fn run_test_measure(r: &TestRun) -> Result<(String, String), CliError> {
         "`cargo {}` from the repository root, in {:.0} s ({build}); `--quick` runs it in full",
         super::cargo_test::cargo_args(r).join(" "),
         t0.elapsed().as_secs_f64(),
+    );
+    Ok((runs, body))
+}
+
+/// Runs the Python script of measurement `m` with `args` (and `quick_args` under `--quick`),
+/// `{work}` in them replaced by its emptied folder in `--work`; returns the header's `runs`
+/// line and the file's body.
+fn run_python_measure(
+    m: &Measure,
+    script: &str,
+    args: &[&str],
+    quick_args: &[&str],
+    o: &RunOptions,
+) -> Result<(String, String), CliError> {
+    let interpreter = probe(&interpreter_program(), o.root)?;
+    let dir = o.work.join(m.name);
+    if args.iter().any(|a| a.contains("{work}")) {
+        if dir.exists() {
+            std::fs::remove_dir_all(&dir)?;
+        }
+        crate::cli::output::prepare_dir(&dir, "--work")?;
+    }
+    let shown = dir
+        .strip_prefix(o.root)
+        .unwrap_or(&dir)
+        .display()
+        .to_string();
+    let extra = if o.quick { quick_args } else { &[] };
+    let with = |work: &str| -> Vec<String> {
+        args.iter()
+            .chain(extra)
+            .map(|a| a.replace("{work}", work))
+            .collect()
+    };
+    let mut r = PythonRun {
+        script,
+        args: with(&dir.display().to_string()),
+        root: o.root,
+        echo: !matches!(o.progress, ProgressMode::Quiet),
+    };
+    let t0 = Instant::now();
+    let body = run_python(&interpreter, &r)?;
+    let secs = t0.elapsed().as_secs_f64();
+    r.args = with(&shown);
+    let quick = match (o.quick, quick_args) {
+        (false, _) => String::new(),
+        (true, []) => "; `--quick` runs it in full".into(),
+        (true, _) => "; `--quick`: a check that it runs, not figures".into(),
+    };
+    let runs = format!(
+        "`{}` from the repository root, in {secs:.0} s; {}{quick}",
+        r.command_line(),
+        interpreter.describe()
     );
     Ok((runs, body))
 }
