@@ -118,11 +118,7 @@ fn run(name: &str, tracker: &str, seed: u64) -> Figures {
         .take_while(|&k| reference.time(k) <= BEND_AT_S)
         .map(|k| bend(reference.state(k)))
         .fold(0.0, f64::max);
-    let at = out
-        .ticks
-        .iter()
-        .find(|t| t.t >= BEND_AT_S)
-        .unwrap_or(last);
+    let at = out.ticks.iter().find(|t| t.t >= BEND_AT_S).unwrap_or(last);
     let now: Vec<Vec2> = (0..scenario.agents()).map(|i| at.position(i)).collect();
     Figures {
         plan_s: plan.duration(),
@@ -168,7 +164,9 @@ fn main() {
     let jobs: Vec<(usize, u64)> = (0..cases.len())
         .flat_map(|c| (0..SEEDS).map(move |s| (c, s)))
         .collect();
-    let threads = thread::available_parallelism().map_or(1, |n| n.get()).min(2);
+    let threads = thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(2);
     let mut results: Vec<(usize, Figures)> = thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)
             .map(|w| {
