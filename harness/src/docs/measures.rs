@@ -12,6 +12,7 @@ use super::convergence::convergence;
 use super::replans::replan_latency;
 use super::table::Table;
 use super::tables::{errors, first_solution, loop_cost, planning, tracking};
+use super::teams::{first_solution_work, team_runs};
 use super::transcript::Step;
 use crate::CliError;
 use crate::run::{RunOutput, RunRecord};
@@ -280,6 +281,76 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/quad-tracking.toml",
             quick_seeds: 2,
             table: Runs(tracking),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "trio-stall",
+        source: Sweep {
+            experiment: "experiments/trio-stall.toml",
+            quick_seeds: 1,
+            table: Runs(team_runs),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "trio-open-loop",
+        source: Sweep {
+            experiment: "experiments/trio-open-loop.toml",
+            quick_seeds: 2,
+            table: Runs(team_runs),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "team-stall",
+        source: Test {
+            package: "magbench",
+            target: Target::Example("team_stall"),
+            test: "",
+            ignored: false,
+            release: true,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "extend",
+        source: Sweep {
+            experiment: "experiments/extend.toml",
+            quick_seeds: 2,
+            table: Runs(first_solution_work),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "trio-alpha-max",
+        source: Sweep {
+            experiment: "experiments/trio-alpha-max.toml",
+            quick_seeds: 1,
+            table: Runs(team_runs),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "team-elevation",
+        source: Sweep {
+            experiment: "experiments/team-elevation.toml",
+            quick_seeds: 1,
+            table: Runs(first_solution_work),
+        },
+        feature: Some("ompl"),
+    },
+    Measure {
+        name: "stlc-teams",
+        source: Transcript {
+            files: &[],
+            cwd: ".",
+            steps: &[
+                Step::Run("stlc --agents 3"),
+                Step::Run("stlc --agents 3 --r 2.5"),
+                Step::Run("stlc --agents 4"),
+                Step::Run("stlc --agents 4 --alpha-max 45"),
+            ],
         },
         feature: None,
     },

@@ -17,6 +17,7 @@ pub mod replans;
 pub mod run;
 pub mod table;
 pub mod tables;
+pub mod teams;
 pub mod transcript;
 
 pub use header::{Header, Measured, ParseError, parse};
