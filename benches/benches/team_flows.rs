@@ -79,7 +79,9 @@ fn bench(c: &mut Criterion) {
         rates.push((flow, seed, iterations as f64 / seconds));
     }
     group.finish();
-    println!("| trio_plan flow | plans run (warm-up included) | iterations/s (Σ iterations ÷ Σ time) |");
+    println!(
+        "| trio_plan flow | plans run (warm-up included) | iterations/s (Σ iterations ÷ Σ time) |"
+    );
     println!("| --- | --- | --- |");
     for (flow, plans, rate) in rates {
         println!("| {} | {plans} | {rate:.0} |", flow.name());

@@ -53,9 +53,7 @@ pub fn improvement(runs: &[RunRecord]) -> Table {
                 .collect();
             let after: Vec<f64> = ok
                 .iter()
-                .filter_map(|r| {
-                    Some(r.get(Metric::PlanTime)? - r.get(Metric::FirstSolutionTime)?)
-                })
+                .filter_map(|r| Some(r.get(Metric::PlanTime)? - r.get(Metric::FirstSolutionTime)?))
                 .collect();
             t.row(vec![
                 scenario(&g[0].scenario),
@@ -128,7 +126,10 @@ mod tests {
         r.solved = fig[0].is_finite();
         let [cost, first, total, iterations] = fig;
         r.set(Metric::Cost, cost.is_finite().then_some(cost));
-        r.set(Metric::FirstSolutionTime, first.is_finite().then_some(first));
+        r.set(
+            Metric::FirstSolutionTime,
+            first.is_finite().then_some(first),
+        );
         r.set(Metric::FirstSolutionIteration, Some(iterations));
         r.set(Metric::PlanTime, Some(total));
         r.set(Metric::Iterations, Some(iterations));
@@ -149,7 +150,10 @@ mod tests {
         assert_eq!(t.rows.len(), 3);
         assert_eq!(t.rows[0][..5], ["a", "p", "2/2", "15.0", "1.00"]);
         assert_eq!(t.rows[1][..5], ["a", "p{s=1}", "1/2", "5.00", "0.500"]);
-        assert_eq!(t.rows[1][7], "3.00", "planning time − time to the 1st solution");
+        assert_eq!(
+            t.rows[1][7], "3.00",
+            "planning time − time to the 1st solution"
+        );
         assert_eq!(t.rows[2][0], "b");
     }
 
