@@ -5,7 +5,7 @@
 //!   Dormand–Prince 5(4);
 //! - `trio_plan/{pair-exact,pair-adaptive}`: goal-zoom-rrt to its first solution, seeds 0, 1,
 //!   2, … in turn (iterations/s: the plans' summed iterations over their summed time, printed
-//!   after the group).
+//!   as a Markdown table after the group).
 //!
 //! ```sh
 //! cargo bench -p magbench-benches --bench team_flows
@@ -54,6 +54,7 @@ fn bench(c: &mut Criterion) {
 
     let mut group = c.benchmark_group("trio_plan");
     group.sample_size(20);
+    let mut rates = Vec::new();
     for flow in FLOWS {
         let (mut seed, mut iterations, mut seconds) = (0, 0u64, 0.0);
         group.bench_function(flow.name(), |b| {
@@ -75,13 +76,16 @@ fn bench(c: &mut Criterion) {
                 r.solved
             })
         });
-        eprintln!(
-            "trio_plan/{}: {seed} plans, {:.0} iterations/s",
-            flow.name(),
-            iterations as f64 / seconds
-        );
+        rates.push((flow, seed, iterations as f64 / seconds));
     }
     group.finish();
+    println!(
+        "| trio_plan flow | plans run (warm-up included) | iterations/s (Σ iterations ÷ Σ time) |"
+    );
+    println!("| --- | --- | --- |");
+    for (flow, plans, rate) in rates {
+        println!("| {} | {plans} | {rate:.0} |", flow.name());
+    }
 }
 
 criterion_group!(benches, bench);

@@ -99,8 +99,9 @@ fn adaptive_samples_match_a_fine_reference_within_the_tolerance() {
     let rk4 = m.with_flow(Flow::Rk4);
     let g = m.coil.gradient_limit();
     let mut rng = ChaCha8Rng::seed_from_u64(23);
-    let (mut worst, mut worst_rk4, mut whole, mut compared) = (0.0f64, 0.0f64, 0, 0);
+    let mut rows = Vec::new();
     for n in 3..=6 {
+        let mut w = Work::default();
         for k in 0..60 {
             let start = team(&mut rng, n, &p);
             let u = command(&mut rng, g, k);
@@ -118,8 +119,8 @@ fn adaptive_samples_match_a_fine_reference_within_the_tolerance() {
                     continue;
                 }
                 let d = deviation(a, b);
-                worst = worst.max(d);
-                compared += 1;
+                w.worst = w.worst.max(d);
+                w.compared += 1;
                 assert!(
                     d <= TOLERANCE_BL,
                     "n = {n}, motion {k}, sample {i}: {d:e} BL from the reference"
@@ -129,19 +130,87 @@ fn adaptive_samples_match_a_fine_reference_within_the_tolerance() {
             let mut i = 0;
             rk4.propagate_with(&start, &u, duration, &mut out, |s| {
                 if closest(&reference[i]) >= p.r_min {
-                    worst_rk4 = worst_rk4.max(deviation(s, &reference[i]));
+                    w.worst_rk4 = w.worst_rk4.max(deviation(s, &reference[i]));
                 }
                 i += 1;
                 i < reference.len()
             });
-            whole += usize::from(closest(reference.last().unwrap()) >= p.r_min);
+            w.whole += usize::from(closest(reference.last().unwrap()) >= p.r_min);
+            w.count(&m, &start, &u, duration, reference.len());
         }
+        rows.push((n, w));
     }
+    let compared: usize = rows.iter().map(|(_, w)| w.compared).sum();
     assert!(compared >= 10_000, "only {compared} samples were compared");
-    eprintln!(
-        "240 motions (N = 3..6, {whole} whole, {compared} valid samples): adaptive samples within \
-         {worst:e} BL of the fine reference, fixed-step RK4 samples within {worst_rk4:e} BL"
+    print_table(&rows);
+}
+
+/// What one team size's motions of the accuracy test gave: the largest deviations from the
+/// fine reference, and the work of the adaptive solver against fixed-step RK4.
+#[derive(Default)]
+struct Work {
+    /// Motions followed.
+    motions: usize,
+    /// Motions that end with every separation at least `r_min`.
+    whole: usize,
+    /// Samples of valid teams compared with the reference.
+    compared: usize,
+    /// Largest deviation of an adaptive sample (BL).
+    worst: f64,
+    /// Largest deviation of a fixed-step RK4 sample (BL).
+    worst_rk4: f64,
+    /// Attempted adaptive steps (accepted and rejected), over all motions.
+    steps: usize,
+    /// Fixed-step RK4 steps over the same samples, over all motions.
+    steps_rk4: usize,
+}
+
+impl Work {
+    /// Counts the steps of one motion followed over its first `samples` samples, solved again
+    /// by [`dp5_solve`] with the model's velocities and error budget.
+    fn count(&mut self, m: &PlanningModel, start: &[Vec2], u: &Control, d: f64, samples: usize) {
+        let act = m.coil.actuation(u);
+        let f = |p: &[Vec2], v: &mut [Vec2]| m.kinematics.velocities(p, &act, v);
+        let grid = Dp5Grid {
+            dt: m.dt,
+            budget: m.error_budget(start.len()),
+        };
+        let mut out = vec![Vec2::zeros(); start.len()];
+        let mut seen = 0;
+        let (_, stats) = dp5_solve(&f, start, d, grid, &mut out, true, |_| {
+            seen += 1;
+            seen < samples
+        });
+        assert_eq!(seen, samples, "the solver visits the model's samples");
+        self.motions += 1;
+        self.steps += stats.accepted + stats.rejected;
+        self.steps_rk4 += samples;
+    }
+}
+
+/// The accuracy test's figures as a Markdown table on stdout, one row per team size.
+fn print_table(rows: &[(usize, Work)]) {
+    println!(
+        "| N | motions | whole motions | valid samples compared | adaptive: largest deviation \
+         (BL) | fixed-step RK4: largest deviation (BL) | adaptive steps per motion (accepted + \
+         rejected), mean | force evaluations per motion, mean: adaptive (1 + 6 per step) / \
+         RK4 at `dt` (4 per step) |"
     );
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
+    for (n, w) in rows {
+        let per = |x: usize| x as f64 / w.motions as f64;
+        println!(
+            "| {n} | {} | {} | {} | {:.2e} | {:.2e} | {:.1} | {:.0} / {:.0} |",
+            w.motions,
+            w.whole,
+            w.compared,
+            w.worst,
+            w.worst_rk4,
+            per(w.steps),
+            1.0 + 6.0 * per(w.steps),
+            4.0 * per(w.steps_rk4),
+        );
+    }
 }
 
 /// The same start, command and duration give the same bits; the end without visits is the last

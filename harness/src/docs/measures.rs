@@ -9,6 +9,7 @@ use std::path::Path;
 use super::ablation::ablation;
 pub use super::cargo_test::Target;
 use super::convergence::convergence;
+use super::planner_tables::{improvement, team_scaling};
 use super::replans::replan_latency;
 use super::table::Table;
 use super::tables::{errors, first_solution, loop_cost, planning, tracking};
@@ -534,6 +535,59 @@ pub static MEASURES: &[Measure] = &[
             ],
             args: &[],
             quick_args: QUICK,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "steering",
+        source: Sweep {
+            experiment: "experiments/steering.toml",
+            quick_seeds: 2,
+            table: Runs(first_solution),
+        },
+        feature: Some("ompl"),
+    },
+    Measure {
+        name: "shortcut",
+        source: Sweep {
+            experiment: "experiments/shortcut.toml",
+            quick_seeds: 2,
+            table: Runs(improvement),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "team-scaling",
+        source: Sweep {
+            experiment: "experiments/team-scaling.toml",
+            quick_seeds: 2,
+            table: Runs(team_scaling),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "bench-team-flows",
+        source: Bench {
+            bench: "team_flows",
+            ids: &[
+                "trio_motion/pair-exact",
+                "trio_motion/pair-adaptive",
+                "trio_plan/pair-exact",
+                "trio_plan/pair-adaptive",
+            ],
+            args: &[],
+            quick_args: QUICK,
+        },
+        feature: None,
+    },
+    Measure {
+        name: "adaptive-accuracy",
+        source: Test {
+            package: "magbench-env",
+            target: Target::Test("adaptive_flow"),
+            test: "adaptive_samples_match_a_fine_reference_within_the_tolerance",
+            ignored: false,
+            release: false,
         },
         feature: None,
     },

@@ -12,6 +12,7 @@ pub mod convergence;
 pub mod criterion;
 pub mod header;
 pub mod measures;
+pub mod planner_tables;
 pub mod python;
 pub mod replans;
 pub mod run;
