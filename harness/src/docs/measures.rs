@@ -383,7 +383,7 @@ pub static MEASURES: &[Measure] = &[
             files: &["suites"],
             cwd: ".",
             steps: &[
-                Step::Run("bench --suite pair-100 --out pair-100 --threads 2 --quiet --shard 1/2"),
+                Step::Run("bench --suite pair-100 --out pair-100 --threads 2 --quiet --shard 1/4"),
                 Step::Run("results profile pair-100"),
             ],
         },
@@ -395,9 +395,8 @@ pub static MEASURES: &[Measure] = &[
             files: &["experiments"],
             cwd: ".",
             steps: &[
-                Step::Run("bench experiments/default.toml --out t1 --threads 1 --quiet"),
-                Step::Run("bench experiments/default.toml --out t2 --threads 2 --quiet"),
-                Step::Run("bench experiments/ci.toml --out ci --threads 2 --quiet"),
+                Step::Run("bench experiments/ci.toml --out t1 --threads 1 --quiet"),
+                Step::Run("bench experiments/ci.toml --out t2 --threads 2 --quiet"),
             ],
         },
         feature: None,
@@ -405,7 +404,7 @@ pub static MEASURES: &[Measure] = &[
     Measure {
         name: "replay-gif",
         source: Transcript {
-            files: &["scenarios"],
+            files: &[],
             cwd: ".",
             steps: &[
                 Step::Run("track open-field --tracker obc --out plain"),
