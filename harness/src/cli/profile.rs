@@ -161,7 +161,10 @@ mod tests {
             md.starts_with("4 problems, 2 planners; 1 unsolved by every planner."),
             "{md}"
         );
-        assert!(md.contains("| planner | ρ(1) | ρ(2) | ρ(10) | solved |"), "{md}");
+        assert!(
+            md.contains("| planner | ρ(1) | ρ(2) | ρ(10) | solved |"),
+            "{md}"
+        );
         // p0: ratios 1, 1, 4, ∞; p1: 3, 1.25, 1, ∞
         assert!(md.contains("| `p0` | 0.50 | 0.50 | 0.75 | 0.75 |"), "{md}");
         assert!(md.contains("| `p1` | 0.25 | 0.50 | 0.75 | 0.75 |"), "{md}");
@@ -175,7 +178,10 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let e = run(dir.path(), &[0.5]).unwrap_err();
         assert_eq!(e.exit_code(), 2);
-        assert!(e.to_string().contains("--tau") && e.to_string().contains("0.5"), "{e}");
+        assert!(
+            e.to_string().contains("--tau") && e.to_string().contains("0.5"),
+            "{e}"
+        );
         let e = run(dir.path(), &[f64::NAN]).unwrap_err();
         assert_eq!(e.exit_code(), 2);
         let e = run(dir.path(), DEFAULT_TAUS).unwrap_err();
