@@ -12,6 +12,7 @@ pub(crate) mod output;
 mod plan;
 mod plan_and_track;
 mod preset;
+mod profile;
 mod progress;
 mod regress;
 mod results;
@@ -61,7 +62,8 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Compare a results folder against a baseline: regression, ok or inconclusive per metric.
     Regress(regress::RegressArgs),
-    /// Check results folders (`results verify DIR`); fit scaling exponents (`results scaling`).
+    /// Check results folders (`results verify DIR`); fit scaling exponents (`results scaling`);
+    /// print the comparison across problems (`results profile`).
     #[command(subcommand)]
     Results(results::ResultsCmd),
     /// Check or freeze the problem suites in suites/ (`bench --suite NAME` runs one).

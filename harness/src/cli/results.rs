@@ -1,13 +1,14 @@
 //! `magbench results verify DIR`: check a results folder; `magbench results plot DIR`: draw
 //! its figures again at a size preset, DPI and axis scale, and as PDF; `magbench results scaling
-//! DIR`: fit how time and iterations to a first solution grow with a problem size.
+//! DIR`: fit how time and iterations to a first solution grow with a problem size; `magbench
+//! results profile DIR`: the performance profile and paired comparisons as Markdown.
 
 use std::path::PathBuf;
 
 use clap::Subcommand;
 
 use super::number::count;
-use super::output::outln;
+use super::output::{out, outln};
 use crate::CliError;
 use crate::plot::export::{DPI, FigureOptions};
 use crate::results::{lock, verify};
@@ -37,6 +38,17 @@ pub enum ResultsCmd {
         #[arg(long)]
         family: Option<String>,
     },
+    /// Print the comparison across problems of the report's "Across problems" section as
+    /// Markdown: each planner's performance profile ρ(τ) at the given τ and the fraction of
+    /// problems it solves, and the paired comparison (win rate, time ratio) of every pair of
+    /// planners.
+    Profile {
+        /// The results folder.
+        dir: PathBuf,
+        /// The τ at which ρ(τ) is printed (comma-separated, each ≥ 1).
+        #[arg(long, value_delimiter = ',', default_values_t = super::profile::DEFAULT_TAUS.to_vec())]
+        tau: Vec<f64>,
+    },
     /// Draw a finished results folder's figures and report again with figure options (for a
     /// paper: `--figure-size one-column --pdf`); docs/figures.md.
     Plot {
@@ -52,6 +64,11 @@ pub enum ResultsCmd {
 pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
     match cmd {
         ResultsCmd::Scaling { dir, by, family } => scaling(&dir, &by, family.as_deref()),
+        ResultsCmd::Profile { dir, tau } => {
+            let md = super::profile::run(&dir, &tau)?;
+            out!("{md}");
+            Ok(())
+        }
         ResultsCmd::Plot { dir, figures } => {
             count("--dpi", &DPI, u64::from(figures.dpi))?;
             if !dir.is_dir() {

@@ -489,6 +489,42 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "pair-100-profile",
+        source: Transcript {
+            files: &["suites"],
+            cwd: ".",
+            steps: &[
+                Step::Run("bench --suite pair-100 --out pair-100 --threads 2 --quiet --shard 1/4"),
+                Step::Run("results profile pair-100"),
+            ],
+        },
+        feature: Some("ompl"),
+    },
+    Measure {
+        name: "bench-threads",
+        source: Transcript {
+            files: &["experiments"],
+            cwd: ".",
+            steps: &[
+                Step::Run("bench experiments/ci.toml --out t1 --threads 1 --quiet"),
+                Step::Run("bench experiments/ci.toml --out t2 --threads 2 --quiet"),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "replay-gif",
+        source: Transcript {
+            files: &[],
+            cwd: ".",
+            steps: &[
+                Step::Run("track open-field --tracker obc --out plain"),
+                Step::Run("track open-field --tracker obc --out gif --gif"),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
         name: "rig-latency",
         source: Transcript {
             files: &["rigs"],
