@@ -138,11 +138,12 @@ pub fn velocity_ellipse(psi: f64) -> (f64, f64) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::physics::PhysicalParams;
 
-    fn kin() -> (Kinematics, f64) {
+    /// The nominal kinematics and κ of the default parameters.
+    pub(crate) fn kin() -> (Kinematics, f64) {
         let p = PhysicalParams::default();
         (Kinematics::nominal(&p), p.kappa())
     }
