@@ -748,13 +748,7 @@ mod tests {
 
     /// Two agents centred at (20, 15), `r` apart, at angle `phi`.
     fn pair_at(r: f64, phi: f64) -> [Vec2; 2] {
-        LocalView {
-            xc: 20.0,
-            yc: 15.0,
-            r,
-            phi,
-        }
-        .to_pair()
+        LocalView::new(20.0, 15.0, r, phi).to_pair()
     }
 
     /// Holding an equilateral triangle: in the plane it always contracts, so the elevated
@@ -867,13 +861,7 @@ mod tests {
         let checker = s.checker_for_leg(0);
         let opt = ObcOptimizer::new(model, checker.clone(), 1.0 / 60.0, ObcWeights::default());
         // the pair sits just clear of the bottom wall; the target is beyond it
-        let x = LocalView {
-            xc: 10.0,
-            yc: 0.53,
-            r: 2.0,
-            phi: 0.0,
-        }
-        .to_pair();
+        let x = LocalView::new(10.0, 0.53, 2.0, 0.0).to_pair();
         let target = [x[0] - Vec2::new(0.0, 1.0), x[1] - Vec2::new(0.0, 1.0)];
         let sol = opt.solve(&x, &target, None, None);
         for p in &sol.predicted {

@@ -111,13 +111,7 @@ mod tests {
 
     /// Two agents centred at (5, 4), `r` apart, at angle `phi`.
     fn pair_at(r: f64, phi: f64) -> [Vec2; 2] {
-        LocalView {
-            xc: 5.0,
-            yc: 4.0,
-            r,
-            phi,
-        }
-        .to_pair()
+        LocalView::new(5.0, 4.0, r, phi).to_pair()
     }
 
     #[test]

@@ -464,12 +464,7 @@ mod tests {
 
     /// A pair centred at (10, 8), 2 apart, at angle `phi`.
     fn pair_view(phi: f64) -> LocalView {
-        LocalView {
-            xc: 10.0,
-            yc: 8.0,
-            r: 2.0,
-            phi,
-        }
+        LocalView::new(10.0, 8.0, 2.0, phi)
     }
 
     #[test]
