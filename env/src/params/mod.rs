@@ -123,6 +123,14 @@ pub fn apply<P: ParamSet + ?Sized>(
     })
 }
 
+/// Key-value pairs as the owned strings [`apply`] and the registries take.
+pub fn owned(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
+    pairs
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect()
+}
+
 /// Splits `key=value` text (a `--param` option); an error names `source`, the field `param`
 /// and the text.
 pub fn split_assignment(source: &str, text: &str) -> Result<(String, String), InputError> {
