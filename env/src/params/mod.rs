@@ -34,6 +34,21 @@ pub struct ParamInfo {
     pub value: Value,
 }
 
+impl ParamInfo {
+    /// The parameter as one indented line of a listing: key, value and range left-aligned in
+    /// columns of `widths`, then its help.
+    pub fn listing_line(&self, widths: [usize; 3]) -> String {
+        let [name, value, range] = widths;
+        format!(
+            "    {:<name$} {:<value$} {:<range$} {}\n",
+            self.name,
+            self.value.to_string(),
+            self.range,
+            self.help
+        )
+    }
+}
+
 /// Why a parameter was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
