@@ -63,10 +63,14 @@ const FIELDS: [Field; 10] = [
     ("presets", |m| format!("{:?}", m.experiment.presets)),
     ("seeds", |m| seeds(&m.experiment.seeds)),
     ("limits.iterations", |m| {
-        (m.experiment.max_iterations).map_or("none".into(), |v| v.to_string())
+        m.experiment
+            .max_iterations
+            .map_or("none".into(), |v| v.to_string())
     }),
     ("limits.time_s", |m| {
-        (m.experiment.time_limit_s).map_or("none".into(), |v| format!("{v} s"))
+        m.experiment
+            .time_limit_s
+            .map_or("none".into(), |v| format!("{v} s"))
     }),
     ("executor", |m| m.executor.clone()),
     ("magbench version", |m| m.magbench_version.clone()),
