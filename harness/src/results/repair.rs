@@ -275,7 +275,7 @@ mod tests {
     use std::io::Write;
 
     use super::*;
-    use crate::run::{RunOutput, Status};
+    use crate::run::RunOutput;
     use store::{RunWriter, read_progress, read_runs, runs_header};
 
     /// Run `i` of [`store::tests::out`] with an error text that needs quoting.
