@@ -143,7 +143,7 @@ fn optimizing_planners_keep_improving_after_the_first_solution() {
 
 #[test]
 fn a_three_agent_team_is_planned() {
-    let (p, r) = solved_trio();
+    let (_, r) = solved_trio();
     assert_eq!(r.plan.start().len(), 3);
 }
 
