@@ -150,7 +150,7 @@ type Case = (
 
 /// The error of `family` with `params`, as text; panics if it is accepted.
 fn refused(family: &str, params: &[(&str, &str)]) -> InputError {
-    match generate("<command line>", family, &p(params), 0, 0) {
+    match generate("<command line>", family, &owned(params), 0, 0) {
         Ok(_) => panic!("{family} {params:?} was accepted"),
         Err(e) => e,
     }
