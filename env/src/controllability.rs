@@ -43,13 +43,7 @@ pub struct LarcReport {
 /// The drift `f(r, φ, ψ) = (ṙ, φ̇, 0)` from the vector physics of two agents (no pull).
 pub fn drift(kin: &Kinematics, x: Vector3<f64>) -> Vector3<f64> {
     let (r, phi, psi) = (x[0], x[1], x[2]);
-    let p = LocalView {
-        xc: 0.0,
-        yc: 0.0,
-        r,
-        phi,
-    }
-    .to_pair();
+    let p = LocalView::new(0.0, 0.0, r, phi).to_pair();
     let act = Actuation {
         b_hat: field_direction(phi + psi, 0.0),
         pull: nalgebra::Vector3::zeros(),
@@ -138,11 +132,12 @@ pub fn velocity_ellipse(psi: f64) -> (f64, f64) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::physics::PhysicalParams;
 
-    fn kin() -> (Kinematics, f64) {
+    /// The nominal kinematics and κ of the default parameters.
+    pub(crate) fn kin() -> (Kinematics, f64) {
         let p = PhysicalParams::default();
         (Kinematics::nominal(&p), p.kappa())
     }

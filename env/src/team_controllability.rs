@@ -457,13 +457,8 @@ pub fn formations(n: usize, d: f64) -> Vec<Formation> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::controllability::tests::kin;
     use crate::controllability::velocity_ellipse;
-    use crate::physics::PhysicalParams;
-
-    fn kin() -> (Kinematics, f64) {
-        let p = PhysicalParams::default();
-        (Kinematics::nominal(&p), p.kappa())
-    }
 
     /// Four agents: a square drifts (it contracts) in the plane and is held with the elevation;
     /// a kite has the full accessibility rank 6 either way.

@@ -13,13 +13,7 @@ fn model() -> PlanningModel {
 }
 
 fn pair(r: f64, phi: f64) -> [Vec2; 2] {
-    LocalView {
-        xc: 20.0,
-        yc: 15.0,
-        r,
-        phi,
-    }
-    .to_pair()
+    LocalView::new(20.0, 15.0, r, phi).to_pair()
 }
 
 fn end(m: &PlanningModel, s: &[Vec2], u: &Control, t: f64) -> Vec<Vec2> {

@@ -45,13 +45,7 @@ fn plant(preset: &DisturbancePreset, start: &[Vec2], seed: u64) -> Plant {
 }
 
 fn pair(r: f64, phi: f64) -> [Vec2; 2] {
-    LocalView {
-        xc: 20.0,
-        yc: 15.0,
-        r,
-        phi,
-    }
-    .to_pair()
+    LocalView::new(20.0, 15.0, r, phi).to_pair()
 }
 
 fn separation(p: &Plant) -> f64 {

@@ -1,37 +1,15 @@
 //! Reproducers, each from the outside: an input that panicked, hung, aborted or
 //! failed late now exits 2 at once, naming the file or option, the field and the reason.
 
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+use common::{magbench, plan_json, refused, write};
+
 const BIN: &str = env!("CARGO_BIN_EXE_magbench");
-
-/// Runs magbench; (exit code, stdout, stderr).
-fn magbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(BIN).args(args).output().expect("run magbench");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-/// Exit 2 with every part in the message, and no panic.
-fn refused(args: &[&str], parts: &[&str]) {
-    let (code, _, stderr) = magbench(args);
-    assert_eq!(code, 2, "{args:?}: exit {code}, stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    for p in parts {
-        assert!(stderr.contains(p), "{args:?}: {p:?} missing from: {stderr}");
-    }
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
 
 /// env's small valid scenario, mutated one field at a time.
 const SCENARIO: &str = include_str!("../../env/tests/data/good.toml");
@@ -430,27 +408,10 @@ fn experiment_values_that_crashed_are_refused_even_in_a_dry_run() {
     );
 }
 
-/// A valid plan for open-field from `magbench plan --out`.
-fn plan_file(dir: &Path) -> serde_json::Value {
-    let out = dir.join("p");
-    let (code, _, stderr) = magbench(&[
-        "plan",
-        "open-field",
-        "--planner",
-        "goal-zoom-rrt",
-        "--max-iters",
-        "3000",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    serde_json::from_str(&std::fs::read_to_string(out.join("plan.json")).unwrap()).unwrap()
-}
-
 #[test]
 fn plan_files_are_validated_before_tracking() {
     let d = tempfile::tempdir().unwrap();
-    let plan = plan_file(d.path());
+    let (_, plan) = plan_json(d.path());
     let track = |p: &serde_json::Value, parts: &[&str]| {
         let f = write(d.path(), "bad.json", &p.to_string());
         let f = f.to_str().unwrap();

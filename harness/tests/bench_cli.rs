@@ -5,19 +5,7 @@ mod common;
 
 use std::process::Command;
 
-use common::write;
-
-fn magbench(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into(),
-        String::from_utf8_lossy(&o.stderr).into(),
-    )
-}
+use common::{magbench, write};
 
 const GOOD: &str =
     "scenarios = [\"open-field\"]\nplanners = [\"fake\"]\nseeds = 2\n[limits]\niterations = 100\n";

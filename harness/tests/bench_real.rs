@@ -3,11 +3,13 @@
 
 mod common;
 
+use std::path::{Path, PathBuf};
+
 use common::{deterministic_progress, deterministic_runs, opts, write};
 use magbench::experiment::Experiment;
 use magbench::metrics::Metric;
 use magbench::run::real::RealExecutor;
-use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
+use magbench::sweep::run_sweep;
 
 const EXP: &str = r#"
 name = "real-small"
@@ -18,32 +20,30 @@ seeds = 2
 iterations = 600
 "#;
 
+/// The experiment `text` written to `dir/name` and loaded for the real executor.
+fn load(dir: &Path, name: &str, text: &str) -> Result<Experiment, magbench_env::InputError> {
+    Experiment::load(&write(dir, name, text), &RealExecutor::default())
+}
+
+/// Sweeps `e` with the real executor into `dir/t1` at 1 thread and `dir/t2` at 2, each
+/// executing `runs` runs without a failure; the two folders.
+fn sweep_at_one_and_two_threads(dir: &Path, e: &Experiment, runs: usize) -> Vec<PathBuf> {
+    [1, 2]
+        .into_iter()
+        .map(|threads| {
+            let out = dir.join(format!("t{threads}"));
+            let s = run_sweep(e, &RealExecutor::default(), &opts(&out, threads)).unwrap();
+            assert_eq!((s.executed, s.failed), (runs, 0));
+            out
+        })
+        .collect()
+}
+
 #[test]
 fn real_planner_runs_are_identical_at_one_and_two_threads() {
     let dir = tempfile::tempdir().unwrap();
-    let e = Experiment::load(
-        &write(dir.path(), "exp.toml", EXP),
-        &RealExecutor::default(),
-    )
-    .unwrap();
-    let mut outs = vec![];
-    for threads in [1, 2] {
-        let out = dir.path().join(format!("t{threads}"));
-        let s = run_sweep(
-            &e,
-            &RealExecutor::default(),
-            &SweepOptions {
-                out: out.clone(),
-                threads,
-                shard: None,
-                resume: false,
-                progress: ProgressMode::Quiet,
-            },
-        )
-        .unwrap();
-        assert_eq!((s.executed, s.failed), (8, 0));
-        outs.push(out);
-    }
+    let e = load(dir.path(), "exp.toml", EXP).unwrap();
+    let outs = sweep_at_one_and_two_threads(dir.path(), &e, 8);
     let runs = deterministic_runs(&outs[0]);
     assert_eq!(runs, deterministic_runs(&outs[1]));
     assert_eq!(
@@ -66,11 +66,7 @@ fn unknown_planners_and_parameters_are_input_errors() {
             "\"goal-zoom-rrt\", \"goal-zoom-rrt{k=5, goal_bias=0.2}\"",
             bad,
         );
-        let err = Experiment::load(
-            &write(dir.path(), "bad.toml", &text),
-            &RealExecutor::default(),
-        )
-        .unwrap_err();
+        let err = load(dir.path(), "bad.toml", &text).unwrap_err();
         assert_eq!(err.field, field, "{err}");
     }
 }
@@ -79,29 +75,8 @@ fn unknown_planners_and_parameters_are_input_errors() {
 fn tracked_runs_fill_the_tracking_columns_deterministically() {
     let dir = tempfile::tempdir().unwrap();
     let text = "name = \"real-track\"\nscenarios = [\"open-field\"]\nplanners = [\"goal-zoom-rrt\"]\ntrackers = [\"open-loop\"]\npresets = [\"ideal\", \"realistic\"]\nseeds = 2\n[limits]\niterations = 400\n";
-    let e = Experiment::load(
-        &write(dir.path(), "exp.toml", text),
-        &RealExecutor::default(),
-    )
-    .unwrap();
-    let mut outs = vec![];
-    for threads in [1, 2] {
-        let out = dir.path().join(format!("t{threads}"));
-        let s = run_sweep(
-            &e,
-            &RealExecutor::default(),
-            &SweepOptions {
-                out: out.clone(),
-                threads,
-                shard: None,
-                resume: false,
-                progress: ProgressMode::Quiet,
-            },
-        )
-        .unwrap();
-        assert_eq!((s.executed, s.failed), (4, 0));
-        outs.push(out);
-    }
+    let e = load(dir.path(), "exp.toml", text).unwrap();
+    let outs = sweep_at_one_and_two_threads(dir.path(), &e, 4);
     assert_eq!(deterministic_runs(&outs[0]), deterministic_runs(&outs[1]));
     let runs = magbench::results::store::read_runs(&outs[0]).unwrap();
     assert!(runs.iter().all(|r| r.get(Metric::RmsError).is_some()
@@ -127,11 +102,7 @@ fn tracked_runs_fill_the_tracking_columns_deterministically() {
         ("\"nope\"", "trackers[0]"),
         ("\"obc{zz=1}\"", "trackers[0].zz"),
     ] {
-        let err = Experiment::load(
-            &write(dir.path(), "bad.toml", &text.replace("\"open-loop\"", bad)),
-            &RealExecutor::default(),
-        )
-        .unwrap_err();
+        let err = load(dir.path(), "bad.toml", &text.replace("\"open-loop\"", bad)).unwrap_err();
         assert_eq!(err.field, field, "{err}");
     }
 }
@@ -153,11 +124,7 @@ plans = ["goal-zoom-rrt"]
 trackers = ["open-loop"]
 presets = ["ideal"]
 "#;
-    let e = Experiment::load(
-        &write(dir.path(), "exp.toml", text),
-        &RealExecutor::default(),
-    )
-    .unwrap();
+    let e = load(dir.path(), "exp.toml", text).unwrap();
     let out = dir.path().join("r");
     let s = run_sweep(&e, &RealExecutor::default(), &opts(&out, 2)).unwrap();
     assert_eq!((s.executed, s.failed), (3 * 2 + 2, 0));

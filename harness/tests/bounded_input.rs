@@ -3,59 +3,15 @@
 //! bound and why, where the bound is a choice). Each command runs under a deadline; one that
 //! outlives it is killed and fails the test as a hang.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::sync::mpsc;
-use std::time::Duration;
+mod common;
 
-const BIN: &str = env!("CARGO_BIN_EXE_magbench");
+use std::path::Path;
+use std::process::Command;
 
-/// Longer than any refusal takes (they take milliseconds); a command still running then hangs.
-const DEADLINE: Duration = Duration::from_secs(30);
-
-/// Runs magbench with a deadline; (exit code, stderr).
-fn magbench(args: &[&str]) -> (i32, String) {
-    let child = Command::new(BIN)
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run magbench");
-    let pid = child.id();
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let _ = tx.send(child.wait_with_output());
-    });
-    match rx.recv_timeout(DEADLINE) {
-        Ok(out) => {
-            let out = out.expect("wait for magbench");
-            (
-                out.status.code().unwrap_or(-1),
-                String::from_utf8_lossy(&out.stderr).into_owned(),
-            )
-        }
-        Err(_) => {
-            let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
-            panic!("{args:?} hung (still running after {DEADLINE:?})");
-        }
-    }
-}
-
-/// Exit 2 with every part in the message, and no panic.
-fn refused(args: &[&str], parts: &[&str]) {
-    let (code, stderr) = magbench(args);
-    assert_eq!(code, 2, "{args:?}: exit {code}, stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    for p in parts {
-        assert!(stderr.contains(p), "{args:?}: {p:?} missing from: {stderr}");
-    }
-}
+use common::{magbench_in_time, plan_json, refused};
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p.display().to_string()
+    common::write(dir, name, text).display().to_string()
 }
 
 const RIG: &str = include_str!("../../rigs/emulator.toml");
@@ -181,43 +137,34 @@ fn nan_truth_in_a_recording_is_refused() {
 #[test]
 fn strong_fields_under_the_hardware_preset_are_refused() {
     let d = tempfile::tempdir().unwrap();
-    let s = write(
-        d.path(),
-        "s.toml",
-        &format!("{SCENARIO}[physics]\nfield_mt = 1e9\n"),
-    );
-    refused(
-        &[
-            "track",
-            &s,
-            "--tracker",
-            "obc",
-            "--preset",
-            "hardware",
-            "--max-iters",
-            "100",
-        ],
-        &[&s, "physics.field_mt", "at most 1000 mT"],
-    );
-    // within 1 T, but a moment that turns faster than the plant can integrate
-    let s = write(
-        d.path(),
-        "s.toml",
-        &format!("{SCENARIO}[physics]\nfield_mt = 900.0\nviscosity_mpa_s = 0.01\n"),
-    );
-    refused(
-        &[
-            "track",
-            &s,
-            "--tracker",
-            "obc",
-            "--preset",
-            "hardware",
-            "--max-iters",
-            "100",
-        ],
-        &[&s, "physics.field_mt", "sub-steps per step"],
-    );
+    // (the scenario's physics, what the refusal names): beyond 1 T; within 1 T, but a moment
+    // that turns faster than the plant can integrate
+    for (physics, why) in [
+        ("field_mt = 1e9\n", "at most 1000 mT"),
+        (
+            "field_mt = 900.0\nviscosity_mpa_s = 0.01\n",
+            "sub-steps per step",
+        ),
+    ] {
+        let s = write(
+            d.path(),
+            "s.toml",
+            &format!("{SCENARIO}[physics]\n{physics}"),
+        );
+        refused(
+            &[
+                "track",
+                &s,
+                "--tracker",
+                "obc",
+                "--preset",
+                "hardware",
+                "--max-iters",
+                "100",
+            ],
+            &[&s, "physics.field_mt", why],
+        );
+    }
 }
 
 #[test]
@@ -316,53 +263,45 @@ fn special_files_are_refused() {
 #[test]
 fn garbage_scenarios_are_refused() {
     let d = tempfile::tempdir().unwrap();
-    // an obstacle of leg 1's map covers the start
-    let s = scenario(
-        d.path(),
-        "[goal]\nagents = [[25.0, 15.0], [27.5, 15.0]]\ntolerance = 0.5\n",
-        "[[legs]]\ngoal = { agents = [[25.0, 15.0], [27.5, 15.0]], tolerance = 0.5 }\nobstacles = [{ circle = { center = [4.0, 5.0], radius = 2.0 } }]\n",
-    );
-    refused(
-        &["scenario", "check", &s],
-        &[
-            &s,
-            "legs[0].obstacles",
-            "leg 1 starts at the start",
-            "collision",
-        ],
-    );
-    let s = scenario(
-        d.path(),
-        "[[3.0, 5.0], [5.0, 5.0]]",
-        "[[4, 4, 999], [5.0, 5.0]]",
-    );
-    refused(
-        &["scenario", "check", &s],
-        &[&s, "start.agents[0]", "invalid length 3"],
-    );
-    let s = scenario(
-        d.path(),
-        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
-        "circle = { center = [11.0, 4.0, 1.0], radius = 1.0 }",
-    );
-    refused(
-        &["scenario", "check", &s],
-        &[&s, "world.obstacles[0].circle.center", "invalid length 3"],
-    );
-    let s = scenario(
-        d.path(),
-        "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
-        "polygon = [[10.0, 0.5], [14.0, 0.5], [14.0, 8.0], [12.0, 0.5], [10.0, 8.0]]",
-    );
-    refused(
-        &["scenario", "check", &s],
-        &[&s, "world.obstacles[0].polygon"],
-    );
-    let s = scenario(d.path(), "[world]", "[wrold]");
-    refused(
-        &["scenario", "check", &s],
-        &[&s, "is `wrold` a misspelling of `world`?"],
-    );
+    // (text replaced, its replacement, what the refusal names besides the file)
+    let cases: [(&str, &str, &[&str]); 5] = [
+        // an obstacle of leg 1's map covers the start
+        (
+            "[goal]\nagents = [[25.0, 15.0], [27.5, 15.0]]\ntolerance = 0.5\n",
+            "[[legs]]\ngoal = { agents = [[25.0, 15.0], [27.5, 15.0]], tolerance = 0.5 }\nobstacles = [{ circle = { center = [4.0, 5.0], radius = 2.0 } }]\n",
+            &[
+                "legs[0].obstacles",
+                "leg 1 starts at the start",
+                "collision",
+            ],
+        ),
+        (
+            "[[3.0, 5.0], [5.0, 5.0]]",
+            "[[4, 4, 999], [5.0, 5.0]]",
+            &["start.agents[0]", "invalid length 3"],
+        ),
+        (
+            "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+            "circle = { center = [11.0, 4.0, 1.0], radius = 1.0 }",
+            &["world.obstacles[0].circle.center", "invalid length 3"],
+        ),
+        (
+            "polygon = [[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+            "polygon = [[10.0, 0.5], [14.0, 0.5], [14.0, 8.0], [12.0, 0.5], [10.0, 8.0]]",
+            &["world.obstacles[0].polygon"],
+        ),
+        (
+            "[world]",
+            "[wrold]",
+            &["is `wrold` a misspelling of `world`?"],
+        ),
+    ];
+    for (from, to, parts) in cases {
+        let s = scenario(d.path(), from, to);
+        let mut want = vec![s.as_str()];
+        want.extend(parts);
+        refused(&["scenario", "check", &s], &want);
+    }
 }
 
 #[test]
@@ -394,25 +333,6 @@ fn experiment_parameter_errors_name_the_key() {
         );
         refused(&["bench", &e, "--dry-run"], &[&e, parts[0], parts[1]]);
     }
-}
-
-/// A plan of open-field from `magbench plan --out`, as JSON.
-fn plan_json(dir: &Path) -> (PathBuf, serde_json::Value) {
-    let out = dir.join("p");
-    let (code, stderr) = magbench(&[
-        "plan",
-        "open-field",
-        "--planner",
-        "goal-zoom-rrt",
-        "--max-iters",
-        "3000",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let p = out.join("plan.json");
-    let v = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
-    (p, v)
 }
 
 #[test]
@@ -480,7 +400,7 @@ fn plans_of_other_scenarios_teams_or_starts_are_refused() {
     track("open-field", &f, &[], &[&f, "colour", "unknown field"]);
     // --force tracks it with a warning
     let f = write(d.path(), "swapped.json", &swapped.to_string());
-    let (code, stderr) = magbench(&[
+    let (code, stderr) = magbench_in_time(&[
         "track",
         "open-field",
         "--tracker",
@@ -589,171 +509,151 @@ fn every_command_line_number_names_its_bound_and_why() {
     let iterations = "must be in [1, 2097152] iterations";
     let memory = "within the 2 GiB memory budget";
     let plan = ["plan", "open-field", "--planner", "sst"];
-    let cases: Vec<(Vec<&str>, &str, &str, &str)> = vec![
+    let regress = |more: &[&'static str]| [&["regress", dir, dir][..], more].concat();
+    let stlc = |more: &[&'static str]| [&["stlc"][..], more].concat();
+    let plan_with = |more: &[&'static str]| [&plan[..], more].concat();
+    // (command lines, the option they name, its bound, why that bound)
+    let cases: Vec<(Vec<Vec<&str>>, &str, &str, &str)> = vec![
         (
-            vec!["ablate", "--seeds", "0"],
+            vec![
+                vec!["ablate", "--seeds", "0"],
+                vec!["ablate", "--seeds", "18446744073709551615"],
+            ],
             "--seeds",
             "must be in [1, 100000] seeds",
             "run matrix",
         ),
         (
-            vec!["ablate", "--seeds", "18446744073709551615"],
-            "--seeds",
-            "must be in [1, 100000] seeds",
-            "run matrix",
-        ),
-        (
-            vec!["ablate", "--max-iters", "0"],
+            vec![
+                vec!["ablate", "--max-iters", "0"],
+                vec!["ablate", "--max-iters", "2097153"],
+                plan_with(&["--max-iters", "18446744073709551615"]),
+            ],
             "--max-iters",
             iterations,
             memory,
         ),
         (
-            vec!["ablate", "--max-iters", "2097153"],
-            "--max-iters",
-            iterations,
-            memory,
-        ),
-        (
-            vec!["figures", "--maze-iterations", "100000000", "--out", dir],
+            vec![vec![
+                "figures",
+                "--maze-iterations",
+                "100000000",
+                "--out",
+                dir,
+            ]],
             "--maze-iterations",
             iterations,
             memory,
         ),
         (
-            [&plan[..], &["--max-iters", "18446744073709551615"]].concat(),
-            "--max-iters",
-            iterations,
-            memory,
-        ),
-        (
-            [&plan[..], &["--time-limit", "1e9"]].concat(),
+            vec![plan_with(&["--time-limit", "1e9"])],
             "--time-limit",
             "must be in (0, 604800] s",
             "a week",
         ),
         (
-            [&plan[..], &["--fps", "1e9"]].concat(),
+            vec![plan_with(&["--fps", "1e9"]), plan_with(&["--fps", "NaN"])],
             "--fps",
             "must be in [0.1, 10000] fps",
             "high-speed camera",
         ),
         (
-            [&plan[..], &["--fps", "NaN"]].concat(),
-            "--fps",
-            "must be in [0.1, 10000] fps",
-            "high-speed camera",
-        ),
-        (
-            vec!["regress", dir, dir, "--alpha", "0.5"],
+            vec![regress(&["--alpha", "0.5"]), regress(&["--alpha", "0"])],
             "--alpha",
             "must be in (0, 0.25]",
             "cover less than half",
         ),
         (
-            vec!["regress", dir, dir, "--alpha", "0"],
-            "--alpha",
-            "must be in (0, 0.25]",
-            "cover less than half",
-        ),
-        (
-            vec!["regress", dir, dir, "--success-tolerance", "1.5"],
+            vec![regress(&["--success-tolerance", "1.5"])],
             "--success-tolerance",
             "must be in [0, 1] (fraction of the runs)",
             "drops by at most 1",
         ),
         (
-            vec!["regress", dir, dir, "--tolerance", "inf"],
+            vec![regress(&["--tolerance", "inf"])],
             "--tolerance",
             "must be in [0, 1000000] (relative growth)",
             "lets every change pass",
         ),
         (
-            vec!["regress", dir, dir, "--time-tolerance=-1"],
+            vec![regress(&["--time-tolerance=-1"])],
             "--time-tolerance",
             "must be in [0, 1000000] (relative growth)",
             "lets every change pass",
         ),
         (
-            vec![
+            vec![vec![
                 "scenario", "generate", "corridor", "--count", "100001", "--out", gen_out,
-            ],
+            ]],
             "--count",
             "must be in [1, 100000] files",
             "as many as an experiment has seeds",
         ),
         (
-            vec!["stlc", "--r", "1e308"],
+            vec![stlc(&["--r", "1e308"])],
             "--r",
             "must be in (1, 30] BL",
             "too weak for the finite-difference rank test",
         ),
         (
-            vec!["stlc", "--step", "0"],
+            vec![stlc(&["--step", "0"])],
             "--step",
             "must be in [0.001, 90] degrees",
             "finer than the rank test resolves",
         ),
         (
-            vec!["stlc", "--agents", "18446744073709551615"],
+            vec![
+                stlc(&["--agents", "18446744073709551615"]),
+                stlc(&["--agents", "1"]),
+            ],
             "--agents",
             "must be in [2, 4] agents",
             "takes minutes",
         ),
         (
-            vec!["stlc", "--agents", "1"],
-            "--agents",
-            "must be in [2, 4] agents",
-            "takes minutes",
-        ),
-        (
-            vec!["stlc", "--agents", "3", "--alpha-max", "91"],
+            vec![
+                stlc(&["--agents", "3", "--alpha-max", "91"]),
+                stlc(&["--alpha-max", "0"]),
+            ],
             "--alpha-max",
             "must be in (0, 90] degrees",
             "straight up",
         ),
         (
-            vec!["stlc", "--alpha-max", "0"],
-            "--alpha-max",
-            "must be in (0, 90] degrees",
-            "straight up",
-        ),
-        (
-            vec!["bench", ci, "--dry-run", "--threads", "0"],
+            vec![
+                vec!["bench", ci, "--dry-run", "--threads", "0"],
+                vec!["ablate", "--threads", "100000"],
+            ],
             "--threads",
             "threads",
             "per core of this machine",
         ),
         (
-            vec!["bench", ci, "--dry-run", "--shard", "1/2000000"],
+            vec![vec!["bench", ci, "--dry-run", "--shard", "1/2000000"]],
             "--shard",
             "must be in [1, 1000000] shards",
             "would be empty",
         ),
         (
-            vec!["ablate", "--threads", "100000"],
-            "--threads",
-            "threads",
-            "per core of this machine",
-        ),
-        (
-            vec!["results", "plot", dir, "--dpi", "5000"],
+            vec![vec!["results", "plot", dir, "--dpi", "5000"]],
             "--dpi",
             "must be in [50, 1200] dpi",
             "8592 px wide",
         ),
         (
-            vec!["results", "plot", dir, "--dpi", "10"],
+            vec![vec!["results", "plot", dir, "--dpi", "10"]],
             "--dpi",
             "must be in [50, 1200] dpi",
             "unreadable",
         ),
     ];
-    for (args, option, bound, why) in &cases {
-        refused(
-            args,
-            &["<command line>", &format!("{option}: "), bound, why],
-        );
+    for (lines, option, bound, why) in &cases {
+        for args in lines {
+            refused(
+                args,
+                &["<command line>", &format!("{option}: "), bound, why],
+            );
+        }
     }
     assert!(
         !Path::new(gen_out).exists(),

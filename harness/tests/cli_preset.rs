@@ -1,19 +1,9 @@
 //! Presets as files from the outside: `preset show|check`, `track --preset FILE`, a preset file
 //! in an experiment, a scenario's medium, and bad files (exit 2 naming file, field and line).
 
-use std::process::Command;
+mod common;
 
-fn magbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args(args)
-        .output()
-        .expect("run magbench");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::magbench;
 
 fn shipped(name: &str) -> String {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

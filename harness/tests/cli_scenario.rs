@@ -1,18 +1,8 @@
 //! `magbench scenario` and `magbench stlc` from the outside: output and exit codes.
 
-use std::process::Command;
+mod common;
 
-fn magbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args(args)
-        .output()
-        .expect("run magbench");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::magbench;
 
 #[test]
 fn scenario_list_names_every_builtin() {

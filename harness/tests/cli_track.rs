@@ -1,18 +1,8 @@
 //! `magbench track` from the outside: the JSON object, the output folder, exit codes.
 
-use std::process::Command;
+mod common;
 
-fn magbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args(args)
-        .output()
-        .expect("run magbench");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::magbench;
 
 #[test]
 fn json_has_the_required_fields_and_out_writes_every_file() {

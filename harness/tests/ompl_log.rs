@@ -7,13 +7,13 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::write;
+use common::{opts, write};
 use magbench::experiment::Experiment;
 use magbench::metrics::Metric;
 use magbench::results::ompl::parse::parse;
 use magbench::results::store::{read_progress, read_runs};
 use magbench::run::fake::FakeExecutor;
-use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
+use magbench::sweep::run_sweep;
 
 const EXP: &str = r#"
 name = "ompl-test"
@@ -66,18 +66,7 @@ fn logged_progress(out: &Path) -> usize {
 fn results(dir: &Path) -> PathBuf {
     let e = Experiment::load(&write(dir, "exp.toml", EXP), &FakeExecutor).unwrap();
     let out = dir.join("r");
-    run_sweep(
-        &e,
-        &FakeExecutor,
-        &SweepOptions {
-            out: out.clone(),
-            threads: 2,
-            shard: None,
-            resume: false,
-            progress: ProgressMode::Quiet,
-        },
-    )
-    .unwrap();
+    run_sweep(&e, &FakeExecutor, &opts(&out, 2)).unwrap();
     out
 }
 

@@ -1,18 +1,8 @@
 //! `magbench plan`: JSON on stdout, exit codes, and the files `--out` writes.
 
-use std::process::Command;
+mod common;
 
-fn magbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args(args)
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+use common::magbench;
 
 #[test]
 fn json_is_one_object_with_the_documented_keys() {

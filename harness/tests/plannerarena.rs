@@ -12,10 +12,10 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::write;
+use common::{opts, write};
 use magbench::experiment::Experiment;
 use magbench::run::real::RealExecutor;
-use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
+use magbench::sweep::run_sweep;
 
 const EXP: &str = r#"
 name = "arena"
@@ -40,18 +40,7 @@ fn python() -> String {
 fn results(dir: &Path) -> PathBuf {
     let e = Experiment::load(&write(dir, "exp.toml", EXP), &RealExecutor::default()).unwrap();
     let out = dir.join("r");
-    let s = run_sweep(
-        &e,
-        &RealExecutor::default(),
-        &SweepOptions {
-            out: out.clone(),
-            threads: 2,
-            shard: None,
-            resume: false,
-            progress: ProgressMode::Quiet,
-        },
-    )
-    .unwrap();
+    let s = run_sweep(&e, &RealExecutor::default(), &opts(&out, 2)).unwrap();
     assert_eq!(s.failed, 0);
     out
 }

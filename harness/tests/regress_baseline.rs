@@ -6,14 +6,17 @@
 //! out (CI machines differ). To update the baseline after an intended change, see docs/benchmarks.md
 //! ("Regression checks").
 
+mod common;
+
 use std::path::Path;
 
+use common::opts;
 use magbench::experiment::Experiment;
 use magbench::regress::{Design, OnInconclusive, Tolerances, compare, failures, footer, table};
 use magbench::results::Manifest;
 use magbench::results::store::read_runs;
 use magbench::run::real::RealExecutor;
-use magbench::sweep::{ProgressMode, SweepOptions, run_sweep};
+use magbench::sweep::run_sweep;
 
 #[test]
 fn the_ci_experiment_shows_no_regression_against_the_baseline() {
@@ -28,18 +31,7 @@ fn the_ci_experiment_shows_no_regression_against_the_baseline() {
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("ci");
-    let s = run_sweep(
-        &e,
-        &RealExecutor::default(),
-        &SweepOptions {
-            out: out.clone(),
-            threads: 2,
-            shard: None,
-            resume: false,
-            progress: ProgressMode::Quiet,
-        },
-    )
-    .unwrap();
+    let s = run_sweep(&e, &RealExecutor::default(), &opts(&out, 2)).unwrap();
     assert_eq!(s.failed, 0);
     let tol = Tolerances {
         wall_clock: false,

@@ -7,22 +7,14 @@
 //! Without chromium on PATH (or at `MAGBENCH_CHROMIUM`) the browser checks are skipped with a
 //! message, unless `MAGBENCH_REQUIRE_CHROMIUM=1`, which makes them fail instead.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-fn magbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args(args)
-        .output()
-        .expect("run magbench");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::magbench;
 
 /// The chromium binary, or `None` (after saying so) when the browser checks are skipped.
 fn chromium() -> Option<PathBuf> {

@@ -2,22 +2,12 @@
 //! values and seeds is solved by goal-zoom-rrt with a plan the validator accepts; the command
 //! writes the same bytes for the same seed, lists the families, and exits 2 on bad input.
 
-use std::process::Command;
+mod common;
 
 use magbench_env::scenario::generate::{families, generate};
 use magbench_planners::{Limits, Problem, registry::Planners, validate_plan};
 
-fn magbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args(args)
-        .output()
-        .expect("run magbench");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::magbench;
 
 fn p(list: &[&str]) -> Vec<(String, String)> {
     list.iter()

@@ -38,32 +38,11 @@ enum Index {
     K16(Kd<16>),
 }
 
-/// Runs `$body` with `$t` bound to the inner tree and `$k` to its dimension.
+/// Runs `$body` with `$t` bound to the tree inside `$index` (`&self.index` or
+/// `&mut self.index`) and `$k` to its dimension.
 macro_rules! with_index {
-    ($self:expr, $t:ident, $k:ident, $body:expr) => {
-        match &$self.index {
-            Index::K4($t) => {
-                #[allow(dead_code)]
-                const $k: usize = 4;
-                $body
-            }
-            Index::K8($t) => {
-                #[allow(dead_code)]
-                const $k: usize = 8;
-                $body
-            }
-            Index::K16($t) => {
-                #[allow(dead_code)]
-                const $k: usize = 16;
-                $body
-            }
-        }
-    };
-}
-
-macro_rules! with_index_mut {
-    ($self:expr, $t:ident, $k:ident, $body:expr) => {
-        match &mut $self.index {
+    ($index:expr, $t:ident, $k:ident, $body:expr) => {
+        match $index {
             Index::K4($t) => {
                 #[allow(dead_code)]
                 const $k: usize = 4;
@@ -114,7 +93,7 @@ impl NearestNeighbors {
 
     /// Number of indexed states.
     pub fn len(&self) -> usize {
-        with_index!(self, t, K, t.size())
+        with_index!(&self.index, t, K, t.size())
     }
 
     /// True when nothing is indexed.
@@ -131,7 +110,7 @@ impl NearestNeighbors {
     /// identical coordinates); the node then cannot be found by queries.
     pub fn add(&mut self, s: &[Vec2], id: u32) -> bool {
         let (metric, dims, weights) = (self.metric, self.dims, self.weights);
-        with_index_mut!(self, t, K, {
+        with_index!(&mut self.index, t, K, {
             let p = point_of::<K>(metric, dims, &weights, s);
             t.add(&p, id).is_ok()
         })
@@ -140,7 +119,7 @@ impl NearestNeighbors {
     /// Removes node `id`, indexed at state `s` (the state it was added with).
     pub fn remove(&mut self, s: &[Vec2], id: u32) {
         let (metric, dims, weights) = (self.metric, self.dims, self.weights);
-        with_index_mut!(self, t, K, {
+        with_index!(&mut self.index, t, K, {
             let p = point_of::<K>(metric, dims, &weights, s);
             t.remove(&p, id)
         })
@@ -151,7 +130,7 @@ impl NearestNeighbors {
         if self.is_empty() {
             return None;
         }
-        with_index!(self, t, K, {
+        with_index!(&self.index, t, K, {
             let p = self.point::<K>(s);
             let r = t.query(&p).nearest_one::<SquaredEuclidean<f64>>().execute();
             Some((r.item, r.distance.sqrt()))
@@ -164,7 +143,7 @@ impl NearestNeighbors {
         if self.is_empty() {
             return;
         }
-        with_index!(self, t, K, {
+        with_index!(&self.index, t, K, {
             let p = self.point::<K>(s);
             let r = t
                 .query(&p)
@@ -181,7 +160,7 @@ impl NearestNeighbors {
         if self.is_empty() {
             return;
         }
-        with_index!(self, t, K, {
+        with_index!(&self.index, t, K, {
             let p = self.point::<K>(s);
             let r = t.query(&p).nearest_n::<SquaredEuclidean<f64>>(k).execute();
             out.extend(r.into_iter().map(|q| (q.item, q.distance.sqrt())));

@@ -118,6 +118,7 @@ impl Planner for Renamed<dyn Planner> {
 mod tests {
     use super::*;
     use crate::planners::GoalZoomRrt;
+    use magbench_env::params::owned;
     use magbench_env::registry::RegistryError;
 
     fn create(name: &str, params: &[(String, String)]) -> Result<Box<dyn Planner>, InputError> {
@@ -130,13 +131,6 @@ mod tests {
         params: &[(String, String)],
     ) -> Result<Box<dyn Planner>, InputError> {
         Planners::builtin().create_in(source, name, params)
-    }
-
-    fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
-        pairs
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect()
     }
 
     fn value(p: &dyn Planner, key: &str) -> String {
@@ -179,25 +173,25 @@ mod tests {
             let again = create(name, &defaults).unwrap();
             assert_eq!(again.params(), params, "{name}");
         }
-        let p = create("goal-zoom-rrt", &kv(&[("k", "7"), ("goal_bias", "0.3")])).unwrap();
+        let p = create("goal-zoom-rrt", &owned(&[("k", "7"), ("goal_bias", "0.3")])).unwrap();
         assert_eq!(value(&*p, "k"), "7");
         assert_eq!(value(&*p, "goal_bias"), "0.3");
         assert_eq!(
             value(&*create("informed-rrt-star", &[]).unwrap(), "informed"),
             "true"
         );
-        let p = create("sst", &kv(&[("timing", "closest")])).unwrap();
+        let p = create("sst", &owned(&[("timing", "closest")])).unwrap();
         assert_eq!(value(&*p, "timing"), "closest");
     }
 
     #[test]
     fn parameters_never_rename_a_planner() {
-        let p = create("rrt-star", &kv(&[("informed", "true")])).unwrap();
+        let p = create("rrt-star", &owned(&[("informed", "true")])).unwrap();
         assert_eq!(
             (p.name(), value(&*p, "informed").as_str()),
             ("rrt-star", "true")
         );
-        let p = create("informed-rrt-star", &kv(&[("informed", "false")])).unwrap();
+        let p = create("informed-rrt-star", &owned(&[("informed", "false")])).unwrap();
         assert_eq!(p.name(), "informed-rrt-star");
     }
 
@@ -213,11 +207,11 @@ mod tests {
             "{e}"
         );
 
-        let e = create("sst", &kv(&[("radius", "1")])).err().unwrap();
+        let e = create("sst", &owned(&[("radius", "1")])).err().unwrap();
         assert_eq!(e.field, "param.radius");
         assert!(e.reason.contains("pruning_radius"), "{e}");
 
-        let e = create_in("exp.toml", "sst", &kv(&[("pruning_radius", "-1")]))
+        let e = create_in("exp.toml", "sst", &owned(&[("pruning_radius", "-1")]))
             .err()
             .unwrap();
         assert_eq!(
@@ -234,13 +228,13 @@ mod tests {
             ("timing", "soon"),
         ] {
             assert!(
-                create("goal-zoom-rrt", &kv(&[(k, v)])).is_err(),
+                create("goal-zoom-rrt", &owned(&[(k, v)])).is_err(),
                 "{k}={v} accepted"
             );
         }
         let e = create(
             "rrt-star",
-            &kv(&[("min_duration", "3"), ("max_duration", "2")]),
+            &owned(&[("min_duration", "3"), ("max_duration", "2")]),
         )
         .err()
         .unwrap();
@@ -249,7 +243,7 @@ mod tests {
         assert!(
             create(
                 "rrt-star",
-                &kv(&[("min_duration", "3"), ("max_duration", "4")])
+                &owned(&[("min_duration", "3"), ("max_duration", "4")])
             )
             .is_ok()
         );
@@ -268,7 +262,7 @@ mod tests {
         assert_eq!(reg.names().len(), before + 2);
         assert_eq!(reg.names()[before], "my-rrt");
         // the planner made reports the registry name and keeps its parameters
-        let p = reg.create("my-rrt", &kv(&[("k", "7")])).unwrap();
+        let p = reg.create("my-rrt", &owned(&[("k", "7")])).unwrap();
         assert_eq!(p.name(), "my-rrt");
         assert_eq!(value(&*p, "k"), "7");
         assert!(

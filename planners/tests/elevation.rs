@@ -13,13 +13,7 @@ fn param(k: &str, v: &str) -> (String, String) {
 
 #[test]
 fn three_agents_plan_with_the_elevation_unless_told_planar() {
-    let s = scenario(TRIO);
-    let p = problem(&s, 1, 30_000);
-    let r = Planners::builtin()
-        .create("goal-zoom-rrt", &[])
-        .unwrap()
-        .solve(&p);
-    assert_solution(&p, &r);
+    let (p, r) = solved_trio();
     assert!(r.plan.controls.iter().any(|u| u.alpha > 0.0));
     assert!(
         r.plan
@@ -67,13 +61,8 @@ fn three_agents_plan_with_the_elevation_unless_told_planar() {
 
 #[test]
 fn the_validator_holds_plans_to_the_coils_range() {
+    let (_, r) = solved_trio();
     let s = scenario(TRIO);
-    let p = problem(&s, 1, 30_000);
-    let r = Planners::builtin()
-        .create("goal-zoom-rrt", &[])
-        .unwrap()
-        .solve(&p);
-    assert_solution(&p, &r);
     // the same problem on a planar coil set (range 0°) refuses every elevated control
     let planar_coil = magbench_planners::PlanningSetup {
         limits: magbench_planners::Limits {

@@ -143,13 +143,7 @@ fn optimizing_planners_keep_improving_after_the_first_solution() {
 
 #[test]
 fn a_three_agent_team_is_planned() {
-    let s = scenario(TRIO);
-    let p = problem(&s, 1, 30_000);
-    let r = Planners::builtin()
-        .create("goal-zoom-rrt", &[])
-        .unwrap()
-        .solve(&p);
-    assert_solution(&p, &r);
+    let (_, r) = solved_trio();
     assert_eq!(r.plan.start().len(), 3);
 }
 

@@ -272,17 +272,24 @@ impl PyPlanner {
     }
 }
 
-impl ParamSet for PyPlanner {
-    fn params(&self) -> Vec<ParamInfo> {
-        self.values.params()
-    }
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.values.set(key, value)
-    }
-    fn check_params(&self) -> Result<(), Rejection> {
-        self.values.check()
-    }
+/// Implements [`ParamSet`] for plugin types by their `values` field.
+macro_rules! param_set_by_values {
+    ($($t:ty),+) => {$(
+        impl ParamSet for $t {
+            fn params(&self) -> Vec<ParamInfo> {
+                self.values.params()
+            }
+            fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+                self.values.set(key, value)
+            }
+            fn check_params(&self) -> Result<(), Rejection> {
+                self.values.check()
+            }
+        }
+    )+};
 }
+
+param_set_by_values!(PyPlanner, PyTracker);
 
 /// Whether a team on `model` may tilt the field (`planar = auto`).
 fn elevation_free(agents: usize, model: &magbench_env::PlanningModel) -> bool {
@@ -485,18 +492,6 @@ impl PyTracker {
 
     fn fail(&self, what: &str, msg: String) -> ! {
         panic!("Python tracker {} ({what}): {msg}", self.values.class.name)
-    }
-}
-
-impl ParamSet for PyTracker {
-    fn params(&self) -> Vec<ParamInfo> {
-        self.values.params()
-    }
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.values.set(key, value)
-    }
-    fn check_params(&self) -> Result<(), Rejection> {
-        self.values.check()
     }
 }
 

@@ -746,6 +746,11 @@ mod tests {
         )
     }
 
+    /// Two agents centred at (20, 15), `r` apart, at angle `phi`.
+    fn pair_at(r: f64, phi: f64) -> [Vec2; 2] {
+        LocalView::new(20.0, 15.0, r, phi).to_pair()
+    }
+
     /// Holding an equilateral triangle: in the plane it always contracts, so the elevated
     /// search tilts the field and does much better.
     #[test]
@@ -787,13 +792,7 @@ mod tests {
                 ..Default::default()
             },
         );
-        let x = LocalView {
-            xc: 20.0,
-            yc: 15.0,
-            r: 2.2,
-            phi: 0.4,
-        }
-        .to_pair();
+        let x = pair_at(2.2, 0.4);
         for u in [
             Control::planar(1.0, 0.03, -0.05),
             Control::planar(-2.0, 0.06, 0.01),
@@ -824,13 +823,7 @@ mod tests {
     fn polarity_follows_the_last_command_and_flips_the_pull() {
         let (model, checker) = setup();
         let opt = ObcOptimizer::new(model.clone(), checker, 1.0 / 60.0, ObcWeights::default());
-        let x = LocalView {
-            xc: 20.0,
-            yc: 15.0,
-            r: 2.2,
-            phi: 0.4,
-        }
-        .to_pair();
+        let x = pair_at(2.2, 0.4);
         let target = [x[0] + Vec2::new(0.005, 0.0), x[1] + Vec2::new(0.005, 0.0)];
         let a = opt.solve(&x, &target, Some(&Control::planar(0.5, 0.0, 0.0)), None);
         let b = opt.solve(
@@ -854,20 +847,8 @@ mod tests {
     fn keeps_the_pair_apart_when_the_target_is_too_close() {
         let (model, checker) = setup();
         let opt = ObcOptimizer::new(model, checker.clone(), 1.0 / 60.0, ObcWeights::default());
-        let x = LocalView {
-            xc: 20.0,
-            yc: 15.0,
-            r: 1.5,
-            phi: 0.0,
-        }
-        .to_pair();
-        let target = LocalView {
-            xc: 20.0,
-            yc: 15.0,
-            r: 1.0,
-            phi: 0.0,
-        }
-        .to_pair();
+        let x = pair_at(1.5, 0.0);
+        let target = pair_at(1.0, 0.0);
         let s = opt.solve(&x, &target, None, None);
         let r = (s.predicted[1] - s.predicted[0]).norm();
         assert!(r > checker.r_min + 0.1, "predicted r = {r}");
@@ -880,13 +861,7 @@ mod tests {
         let checker = s.checker_for_leg(0);
         let opt = ObcOptimizer::new(model, checker.clone(), 1.0 / 60.0, ObcWeights::default());
         // the pair sits just clear of the bottom wall; the target is beyond it
-        let x = LocalView {
-            xc: 10.0,
-            yc: 0.53,
-            r: 2.0,
-            phi: 0.0,
-        }
-        .to_pair();
+        let x = LocalView::new(10.0, 0.53, 2.0, 0.0).to_pair();
         let target = [x[0] - Vec2::new(0.0, 1.0), x[1] - Vec2::new(0.0, 1.0)];
         let sol = opt.solve(&x, &target, None, None);
         for p in &sol.predicted {

@@ -408,14 +408,7 @@ mod tests {
 
     fn plan() -> (Plan, PlanningModel) {
         let model = PlanningModel::new(&PhysicalParams::default());
-        let start = LocalView {
-            xc: 10.0,
-            yc: 8.0,
-            r: 2.5,
-            phi: 0.2,
-        }
-        .to_pair()
-        .to_vec();
+        let start = LocalView::new(10.0, 8.0, 2.5, 0.2).to_pair().to_vec();
         let mut plan = Plan::at(&start);
         let mut s = start;
         for (u, d) in [

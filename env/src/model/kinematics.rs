@@ -109,18 +109,17 @@ mod tests {
         )
     }
 
+    /// Two agents centred at (5, 4), `r` apart, at angle `phi`.
+    fn pair_at(r: f64, phi: f64) -> [Vec2; 2] {
+        LocalView::new(5.0, 4.0, r, phi).to_pair()
+    }
+
     #[test]
     fn two_agent_rates_match_closed_form_with_factor_two() {
         let (k, coil, p) = setup();
         let kappa = p.kappa();
         for &(r, phi, psi) in &[(2.0, 0.3, 0.2), (1.6, -1.2, 1.0), (3.3, 2.5, -0.7)] {
-            let v = LocalView {
-                xc: 5.0,
-                yc: 4.0,
-                r,
-                phi,
-            };
-            let pos = v.to_pair();
+            let pos = pair_at(r, phi);
             let act = coil.actuation(&Control::planar(phi + psi, 0.0, 0.0));
             let mut vel = [Vec2::zeros(); 2];
             k.velocities(&pos, &act, &mut vel);
@@ -140,13 +139,7 @@ mod tests {
     #[test]
     fn gradient_pull_moves_only_the_centre_of_mass() {
         let (k, coil, p) = setup();
-        let pos = LocalView {
-            xc: 5.0,
-            yc: 4.0,
-            r: 2.2,
-            phi: 0.4,
-        }
-        .to_pair();
+        let pos = pair_at(2.2, 0.4);
         let g = p.gradient_limit();
         let u0 = Control::planar(0.9, 0.0, 0.0);
         let u1 = Control::planar(0.9, g, -0.5 * g);
@@ -165,13 +158,7 @@ mod tests {
     #[test]
     fn flipping_field_keeps_pair_force_and_reverses_pull() {
         let (k, coil, p) = setup();
-        let pos = LocalView {
-            xc: 5.0,
-            yc: 4.0,
-            r: 2.2,
-            phi: 0.4,
-        }
-        .to_pair();
+        let pos = pair_at(2.2, 0.4);
         let g = p.gradient_limit();
         let u = Control::planar(0.9, g, g);
         let (mut va, mut vb) = ([Vec2::zeros(); 2], [Vec2::zeros(); 2]);

@@ -462,16 +462,15 @@ mod tests {
     use super::*;
     use crate::physics::LocalView;
 
+    /// A pair centred at (10, 8), 2 apart, at angle `phi`.
+    fn pair_view(phi: f64) -> LocalView {
+        LocalView::new(10.0, 8.0, 2.0, phi)
+    }
+
     #[test]
     fn replay_is_bit_exact() {
         let m = PlanningModel::new(&PhysicalParams::default());
-        let start = LocalView {
-            xc: 10.0,
-            yc: 8.0,
-            r: 2.0,
-            phi: 0.3,
-        }
-        .to_pair();
+        let start = pair_view(0.3).to_pair();
         let u = Control::planar(1.2, 0.05, -0.02);
         let (mut a, mut b) = ([Vec2::zeros(); 2], [Vec2::zeros(); 2]);
         m.propagate(&start, &u, 0.5, &mut a);
@@ -482,13 +481,7 @@ mod tests {
     #[test]
     fn propagate_many_matches_one_at_a_time_bit_for_bit() {
         let m = PlanningModel::new(&PhysicalParams::default());
-        let start = LocalView {
-            xc: 10.0,
-            yc: 8.0,
-            r: 2.0,
-            phi: 0.3,
-        }
-        .to_pair();
+        let start = pair_view(0.3).to_pair();
         let controls: Vec<_> = (0..7)
             .map(|i| Control::planar(0.9 * i as f64 - 3.0, 0.01 * i as f64, -0.02))
             .collect();
@@ -505,12 +498,7 @@ mod tests {
     #[test]
     fn magic_angle_holds_separation() {
         let m = PlanningModel::new(&PhysicalParams::default());
-        let v = LocalView {
-            xc: 10.0,
-            yc: 8.0,
-            r: 2.0,
-            phi: 0.0,
-        };
+        let v = pair_view(0.0);
         let magic = (1.0f64 / 3.0).sqrt().acos();
         let mut out = [Vec2::zeros(); 2];
         // over a short time the separation barely changes while the pair rotates

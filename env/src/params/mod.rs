@@ -34,6 +34,21 @@ pub struct ParamInfo {
     pub value: Value,
 }
 
+impl ParamInfo {
+    /// The parameter as one indented line of a listing: key, value and range left-aligned in
+    /// columns of `widths`, then its help.
+    pub fn listing_line(&self, widths: [usize; 3]) -> String {
+        let [name, value, range] = widths;
+        format!(
+            "    {:<name$} {:<value$} {:<range$} {}\n",
+            self.name,
+            self.value.to_string(),
+            self.range,
+            self.help
+        )
+    }
+}
+
 /// Why a parameter was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
@@ -121,6 +136,14 @@ pub fn apply<P: ParamSet + ?Sized>(
         let r = r.under("param");
         InputError::new(source, r.field, format!("{owner}: {}", r.reason))
     })
+}
+
+/// Key-value pairs as the owned strings [`apply`] and the registries take.
+pub fn owned(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
+    pairs
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect()
 }
 
 /// Splits `key=value` text (a `--param` option); an error names `source`, the field `param`

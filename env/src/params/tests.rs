@@ -65,13 +65,6 @@ crate::declare_params! {
     }
 }
 
-fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
-    pairs
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect()
-}
-
 #[test]
 fn defaults_listing_and_order_come_from_the_declaration() {
     let o = Outer::default();
@@ -145,22 +138,28 @@ fn typed_setters_parse_and_validate() {
 #[test]
 fn apply_names_the_source_the_field_and_the_reason() {
     let mut o = Outer::default();
-    apply("x.toml", "thing", &mut o, &kv(&[("k", "3"), ("hi", "4")])).unwrap();
+    apply(
+        "x.toml",
+        "thing",
+        &mut o,
+        &owned(&[("k", "3"), ("hi", "4")]),
+    )
+    .unwrap();
     assert_eq!((o.tries, o.inner.hi), (3, 4.0));
-    let e = apply("x.toml", "thing", &mut o, &kv(&[("kk", "3")])).unwrap_err();
+    let e = apply("x.toml", "thing", &mut o, &owned(&[("kk", "3")])).unwrap_err();
     assert_eq!((e.file.as_str(), e.field.as_str()), ("x.toml", "param.kk"));
     assert!(
         e.reason
             .contains("thing has no parameter \"kk\" (known: k, lo, hi, on, mode, w)"),
         "{e}"
     );
-    let e = apply("<command line>", "thing", &mut o, &kv(&[("w", "2")])).unwrap_err();
+    let e = apply("<command line>", "thing", &mut o, &owned(&[("w", "2")])).unwrap_err();
     assert_eq!(e.field, "param.w");
     let e = apply(
         "<command line>",
         "thing",
         &mut Outer::default(),
-        &kv(&[("lo", "3")]),
+        &owned(&[("lo", "3")]),
     )
     .unwrap_err();
     assert_eq!(e.field, "param");
@@ -174,7 +173,7 @@ fn two_sets_act_as_one() {
         "s",
         "t",
         &mut Both(&mut a, &mut b),
-        &kv(&[("lo", "1"), ("k", "2")]),
+        &owned(&[("lo", "1"), ("k", "2")]),
     )
     .unwrap();
     assert_eq!(
@@ -182,7 +181,7 @@ fn two_sets_act_as_one() {
         (1.0, 0.25, 2),
         "a key goes to the first set that has it"
     );
-    let e = apply("s", "t", &mut Both(&mut a, &mut b), &kv(&[("z", "1")])).unwrap_err();
+    let e = apply("s", "t", &mut Both(&mut a, &mut b), &owned(&[("z", "1")])).unwrap_err();
     assert!(e.reason.contains("(known: lo, hi, k, lo, hi"), "{e}");
     let fresh = Outer::default().params();
     assert_eq!(changed(&b.params(), &fresh), ["k=2"]);

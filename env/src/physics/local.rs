@@ -19,6 +19,11 @@ pub struct LocalView {
 }
 
 impl LocalView {
+    /// The view of a pair centred at (`xc`, `yc`), `r` apart, heading `phi`.
+    pub const fn new(xc: f64, yc: f64, r: f64, phi: f64) -> Self {
+        Self { xc, yc, r, phi }
+    }
+
     /// The local view of agents `p1` and `p2`.
     pub fn from_pair(p1: Vec2, p2: Vec2) -> Self {
         let c = (p1 + p2) * 0.5;

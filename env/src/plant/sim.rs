@@ -408,13 +408,7 @@ mod tests {
     fn ideal_plant_is_the_planning_model_bit_for_bit() {
         let p = PhysicalParams::default();
         let model = PlanningModel::new(&p);
-        let start = LocalView {
-            xc: 20.0,
-            yc: 15.0,
-            r: 2.5,
-            phi: 0.2,
-        }
-        .to_pair();
+        let start = LocalView::new(20.0, 15.0, 2.5, 0.2).to_pair();
         let mut plant = Plant::new(
             &p,
             model.coil.clone(),
@@ -448,13 +442,7 @@ mod tests {
     #[test]
     fn attraction_makes_agents_stick() {
         let p = PhysicalParams::default();
-        let start = LocalView {
-            xc: 20.0,
-            yc: 15.0,
-            r: 1.4,
-            phi: 0.0,
-        }
-        .to_pair();
+        let start = LocalView::new(20.0, 15.0, 1.4, 0.0).to_pair();
         let coil: Arc<dyn Coil> = Arc::new(crate::coil::TriaxialMaxwell::new(p.gradient_limit()));
         let mut plant = Plant::new(
             &p,
@@ -472,13 +460,7 @@ mod tests {
     /// θ = π, G_x > 0 gives F_x < 0).
     fn pulled_into_the_left_wall(preset: &DisturbancePreset) -> Plant {
         let p = PhysicalParams::default();
-        let start = LocalView {
-            xc: 2.0,
-            yc: 15.0,
-            r: 2.0,
-            phi: std::f64::consts::FRAC_PI_2,
-        }
-        .to_pair();
+        let start = LocalView::new(2.0, 15.0, 2.0, std::f64::consts::FRAC_PI_2).to_pair();
         let coil: Arc<dyn Coil> = Arc::new(crate::coil::TriaxialMaxwell::new(p.gradient_limit()));
         let mut plant = Plant::new(&p, coil, open_world(), preset, 1, &start);
         plant.run(

@@ -201,13 +201,7 @@ pub fn planner_list(planners: &Planners) -> String {
     for (name, summary, params) in planners.list() {
         s += &format!("{name}\n    {summary}\n");
         for p in params {
-            s += &format!(
-                "    {:<20} {:<10} {:<16} {}\n",
-                p.name,
-                p.value.to_string(),
-                p.range,
-                p.help
-            );
+            s += &p.listing_line([20, 10, 16]);
         }
     }
     s += "objectives: path-length (default), duration, control-effort (--objective)\n";

@@ -45,12 +45,7 @@ pub struct RunSpec<'a> {
 /// Plans and tracks, with the planner, tracker and `simulated` rig of `registry`.
 pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, CliError> {
     let scenario = Scenario::load(s.scenario)?;
-    let params: Vec<(String, String)> = s
-        .planner
-        .1
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
+    let params = magbench_env::params::owned(s.planner.1);
     let mut planner = registry.planners().create(s.planner.0, &params)?;
     let rig = registry.rigs().load("simulated", s.preset, "preset")?;
     let period = rig.frame_period();

@@ -48,56 +48,43 @@ fn revision(r: &str) -> String {
     }
 }
 
+/// Each compared field of a manifest: its name and its value as text.
+type Field = (&'static str, fn(&Manifest) -> String);
+
+/// The fields [`differences`] compares, in the order they are listed.
+const FIELDS: [Field; 10] = [
+    ("experiment file (sha256)", |m| {
+        let e = &m.experiment;
+        format!("{} ({})", short(&e.sha256), e.source)
+    }),
+    ("scenarios", |m| format!("{:?}", m.experiment.scenarios)),
+    ("planners", |m| format!("{:?}", m.experiment.planners)),
+    ("trackers", |m| format!("{:?}", m.experiment.trackers)),
+    ("presets", |m| format!("{:?}", m.experiment.presets)),
+    ("seeds", |m| seeds(&m.experiment.seeds)),
+    ("limits.iterations", |m| {
+        m.experiment
+            .max_iterations
+            .map_or("none".into(), |v| v.to_string())
+    }),
+    ("limits.time_s", |m| {
+        m.experiment
+            .time_limit_s
+            .map_or("none".into(), |v| format!("{v} s"))
+    }),
+    ("executor", |m| m.executor.clone()),
+    ("magbench version", |m| m.magbench_version.clone()),
+];
+
 /// The differences between two manifests.
 pub fn differences(b: &Manifest, c: &Manifest) -> Vec<String> {
-    let (eb, ec) = (&b.experiment, &c.experiment);
-    let mut out = vec![];
-    let mut diff = |what: &str, x: String, y: String| {
-        if x != y {
-            out.push(format!("{what}: baseline {x}, candidate {y}"));
-        }
-    };
-    diff(
-        "experiment file (sha256)",
-        format!("{} ({})", short(&eb.sha256), eb.source),
-        format!("{} ({})", short(&ec.sha256), ec.source),
-    );
-    diff(
-        "scenarios",
-        format!("{:?}", eb.scenarios),
-        format!("{:?}", ec.scenarios),
-    );
-    diff(
-        "planners",
-        format!("{:?}", eb.planners),
-        format!("{:?}", ec.planners),
-    );
-    diff(
-        "trackers",
-        format!("{:?}", eb.trackers),
-        format!("{:?}", ec.trackers),
-    );
-    diff(
-        "presets",
-        format!("{:?}", eb.presets),
-        format!("{:?}", ec.presets),
-    );
-    diff("seeds", seeds(&eb.seeds), seeds(&ec.seeds));
-    let it = |v: Option<u64>| v.map_or("none".into(), |v| v.to_string());
-    diff(
-        "limits.iterations",
-        it(eb.max_iterations),
-        it(ec.max_iterations),
-    );
-    let ts = |v: Option<f64>| v.map_or("none".into(), |v| format!("{v} s"));
-    diff("limits.time_s", ts(eb.time_limit_s), ts(ec.time_limit_s));
-    diff("executor", b.executor.clone(), c.executor.clone());
-    diff(
-        "magbench version",
-        b.magbench_version.clone(),
-        c.magbench_version.clone(),
-    );
-    out
+    FIELDS
+        .iter()
+        .filter_map(|(what, show)| {
+            let (x, y) = (show(b), show(c));
+            (x != y).then(|| format!("{what}: baseline {x}, candidate {y}"))
+        })
+        .collect()
 }
 
 /// Reads and compares the manifests of the `baseline` and `candidate` folders. A missing

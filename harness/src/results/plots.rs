@@ -129,6 +129,38 @@ fn success_curve(runs: &[&RunRecord], xs: &[f64], at: Metric) -> Vec<BandPoint> 
         .collect()
 }
 
+/// The share of each planning group's runs solved by each point of `xs` of `at`, as a step
+/// chart with 95% Wilson bands; `x_axis` is the x label and whether that axis is logarithmic.
+fn success_chart(
+    planning: &[&Vec<&RunRecord>],
+    at: Metric,
+    xs: &[f64],
+    x_axis: (&str, bool),
+    title: &str,
+    looks: &[Look],
+    width: u32,
+) -> LineBandChart {
+    LineBandChart {
+        title: title.into(),
+        x_label: x_axis.0.into(),
+        y_label: "runs solved (fraction)".into(),
+        series: planning
+            .iter()
+            .map(|g| Series {
+                label: g[0].planner.clone(),
+                data: success_curve(g, xs, at),
+            })
+            .collect(),
+        y_range: Some((0.0, 1.0)),
+        steps: true,
+        band_label: "95% Wilson interval".into(),
+        empty_note: String::new(),
+        looks: looks.to_vec(),
+        x_log: x_axis.1,
+        width,
+    }
+}
+
 fn cost_curve(
     runs: &[&RunRecord],
     progress: &BTreeMap<usize, Vec<&ProgressRow>>,
@@ -343,32 +375,21 @@ pub fn write_all_with(
             max_it,
             it_log.then(|| decade_below(first_its()).unwrap_or(1.0).max(1.0)),
         );
-        let series: Vec<Series<Vec<BandPoint>>> = planning
-            .iter()
-            .map(|g| Series {
-                label: g[0].planner.clone(),
-                data: success_curve(g, &xs, Metric::FirstSolutionIteration),
-            })
-            .collect();
         let it_label = if multi_leg {
             "iterations (all legs)"
         } else {
             "iterations"
         };
         let title = format!("{sc}: success rate vs iterations");
-        let fig = LineBandChart {
-            title: title.clone(),
-            x_label: it_label.into(),
-            y_label: "runs solved (fraction)".into(),
-            series,
-            y_range: Some((0.0, 1.0)),
-            steps: true,
-            band_label: "95% Wilson interval".into(),
-            empty_note: String::new(),
-            looks: looks.clone(),
-            x_log: it_log,
+        let fig = success_chart(
+            &planning,
+            Metric::FirstSolutionIteration,
+            &xs,
+            (it_label, it_log),
+            &title,
+            &looks,
             width,
-        };
+        );
         w.save(sc, "success-vs-iterations", &fig, &title)?;
 
         let max_t = gs
@@ -391,27 +412,16 @@ pub fn write_all_with(
             max_t,
             t_log.then(|| decade_below(first_ts()).unwrap_or(1e-3)),
         );
-        let series = planning
-            .iter()
-            .map(|g| Series {
-                label: g[0].planner.clone(),
-                data: success_curve(g, &ts, Metric::FirstSolutionTime),
-            })
-            .collect();
         let title = format!("{sc}: success rate vs planning time");
-        let fig = LineBandChart {
-            title: title.clone(),
-            x_label: "planning time (s)".into(),
-            y_label: "runs solved (fraction)".into(),
-            series,
-            y_range: Some((0.0, 1.0)),
-            steps: true,
-            band_label: "95% Wilson interval".into(),
-            empty_note: String::new(),
-            looks: looks.clone(),
-            x_log: t_log,
+        let fig = success_chart(
+            &planning,
+            Metric::FirstSolutionTime,
+            &ts,
+            ("planning time (s)", t_log),
+            &title,
+            &looks,
             width,
-        };
+        );
         w.save(sc, "success-vs-time", &fig, &title)?;
 
         let series: Vec<Series<Vec<BandPoint>>> = planning

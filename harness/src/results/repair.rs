@@ -275,30 +275,14 @@ mod tests {
     use std::io::Write;
 
     use super::*;
-    use crate::run::{RunOutput, Status};
+    use crate::run::RunOutput;
     use store::{RunWriter, read_progress, read_runs, runs_header};
 
+    /// Run `i` of [`store::tests::out`] with an error text that needs quoting.
     fn out(i: usize) -> RunOutput {
-        let mut r = RunRecord::example();
-        r.run = i;
-        r.run_id = format!("s|p|-|-|{i}");
-        r.status = Status::Exact;
-        r.error = "a \"quoted\"\nerror".into();
-        let progress = (0..3)
-            .map(|k| ProgressRow {
-                run: i,
-                run_id: r.run_id.clone(),
-                iteration: k * 10,
-                time_s: k as f64,
-                best_cost: Some(5.0),
-            })
-            .collect();
-        RunOutput {
-            record: r,
-            progress,
-            replay: None,
-            replans: vec![],
-        }
+        let mut o = store::tests::out(i);
+        o.record.error = "a \"quoted\"\nerror".into();
+        o
     }
 
     fn append(dir: &Path, name: &str, bytes: &[u8]) {

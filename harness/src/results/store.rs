@@ -439,11 +439,12 @@ pub fn write_sorted(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::run::Status;
 
-    fn out(i: usize) -> RunOutput {
+    /// Run `i` of a small exact result with three progress rows.
+    pub(crate) fn out(i: usize) -> RunOutput {
         let mut r = RunRecord::example();
         r.run = i;
         r.run_id = format!("s|p|-|-|{i}");

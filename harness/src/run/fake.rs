@@ -209,25 +209,18 @@ impl Executor for FakeExecutor {
                     }
                 })
                 .collect();
-            r.set(
-                Metric::RmsErrorWorstAgent,
-                r.per_agent.iter().filter_map(|a| a.rms_bl).reduce(f64::max),
+            let worst = |of: fn(&AgentErrors) -> Option<f64>| {
+                r.per_agent.iter().filter_map(of).reduce(f64::max)
+            };
+            let (rms_worst, rms_true_worst, max_true) = (
+                worst(|a| a.rms_bl),
+                worst(|a| a.rms_true_bl),
+                worst(|a| a.max_true_bl),
             );
+            r.set(Metric::RmsErrorWorstAgent, rms_worst);
             r.worst_agent = Some(agents.saturating_sub(1) as u64);
-            r.set(
-                Metric::RmsErrorTrueWorstAgent,
-                r.per_agent
-                    .iter()
-                    .filter_map(|a| a.rms_true_bl)
-                    .reduce(f64::max),
-            );
-            r.set(
-                Metric::MaxErrorTrue,
-                r.per_agent
-                    .iter()
-                    .filter_map(|a| a.max_true_bl)
-                    .reduce(f64::max),
-            );
+            r.set(Metric::RmsErrorTrueWorstAgent, rms_true_worst);
+            r.set(Metric::MaxErrorTrue, max_true);
             let reached = solved && rms < 0.3 && trng.random::<f64>() < 0.97;
             r.reached_goal = Some(reached);
             r.track_status = if reached { "reached-goal" } else { "timeout" }.into();

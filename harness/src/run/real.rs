@@ -25,7 +25,9 @@ use magbench_env::check::Rejection;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::ElevationRefused;
 use magbench_planners::setup::SETUP_KEYS;
-use magbench_planners::{Checked, Limits, Plan, PlannerResult, PlanningSetup, solve_checked};
+use magbench_planners::{
+    Checked, Limits, Plan, Planner, PlannerResult, PlanningSetup, solve_checked,
+};
 use magbench_trackers::{Mission, RunStatus, simulate};
 
 use super::executor::base_record;
@@ -57,6 +59,18 @@ fn planner_params(v: &Variant) -> Vec<(String, String)> {
         .into_iter()
         .filter(|(k, _)| !SETUP_KEYS.contains(&k.as_str()))
         .collect()
+}
+
+/// A fresh planner of the run's variant from `registry`, its setup keys left out.
+fn new_planner(registry: &Registry, spec: &RunSpec) -> Result<Box<dyn Planner>, RunError> {
+    registry
+        .planners()
+        .create_in(
+            &spec.experiment,
+            &spec.planner.name,
+            &planner_params(&spec.planner),
+        )
+        .map_err(RunError::Component)
 }
 
 /// The setup keys of `v` set on `setup`; errors name `source` and the key.
@@ -112,14 +126,7 @@ fn plan_leg(
     leg: usize,
     start: &[magbench_env::Vec2],
 ) -> Result<(Checked, Option<LegTree>), RunError> {
-    let mut planner = registry
-        .planners()
-        .create_in(
-            &spec.experiment,
-            &spec.planner.name,
-            &planner_params(&spec.planner),
-        )
-        .map_err(RunError::Component)?;
+    let mut planner = new_planner(registry, spec)?;
     let p = setup.problem(&spec.scenario, leg, Some(start), leg_seed(spec, leg));
     let checked = solve_checked(planner.as_mut(), &p);
     if let Some(e) = checked.invalid() {
@@ -355,15 +362,7 @@ impl Executor for RealExecutor {
             }
         };
         let preset = plant(spec);
-        let mut planner = self
-            .registry
-            .planners()
-            .create_in(
-                &spec.experiment,
-                &spec.planner.name,
-                &planner_params(&spec.planner),
-            )
-            .map_err(RunError::Component)?;
+        let mut planner = new_planner(&self.registry, spec)?;
         let mission = Mission {
             scenario: &spec.scenario,
             first,

@@ -1,6 +1,7 @@
 //! Tests of the OMPL planners (feature `ompl`): real OMPL 1.5, magbench's model.
 
 use magbench_env::Scenario;
+use magbench_env::params::owned;
 
 use super::*;
 use crate::planners::Sst as MagbenchSst;
@@ -32,13 +33,6 @@ fn create(
     Planners::builtin().create(name, params)
 }
 
-fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
-    pairs
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect()
-}
-
 #[test]
 fn every_ompl_planner_is_registered_with_ompls_parameter_names() {
     for name in OMPL {
@@ -52,7 +46,7 @@ fn every_ompl_planner_is_registered_with_ompls_parameter_names() {
     }
     let sst = create(
         "ompl:sst",
-        &kv(&[("selection_radius", "0.7"), ("pruning_radius", "0.3")]),
+        &owned(&[("selection_radius", "0.7"), ("pruning_radius", "0.3")]),
     )
     .unwrap();
     assert!(
@@ -60,17 +54,17 @@ fn every_ompl_planner_is_registered_with_ompls_parameter_names() {
             .iter()
             .any(|p| p.name == "pruning_radius" && p.value.to_string() == "0.3")
     );
-    let e = create("ompl:kpiece", &kv(&[("border_fraction", "1.5")]))
+    let e = create("ompl:kpiece", &owned(&[("border_fraction", "1.5")]))
         .err()
         .unwrap();
     assert_eq!(e.field, "param.border_fraction");
-    let e = create("ompl:rrt", &kv(&[("pruning_radius", "1")]))
+    let e = create("ompl:rrt", &owned(&[("pruning_radius", "1")]))
         .err()
         .unwrap();
     assert_eq!(e.field, "param.pruning_radius");
     let e = create(
         "ompl:est",
-        &kv(&[("min_duration", "3"), ("max_duration", "2")]),
+        &owned(&[("min_duration", "3"), ("max_duration", "2")]),
     )
     .err()
     .unwrap();
@@ -143,7 +137,7 @@ fn same_seed_same_plan_in_one_process_and_in_threads() {
 fn parameters_reach_ompl() {
     let p = problem("micro-factory", 3, 2_000);
     let a = create("ompl:rrt", &[]).unwrap().solve(&p).plan;
-    let b = create("ompl:rrt", &kv(&[("goal_bias", "1")]))
+    let b = create("ompl:rrt", &owned(&[("goal_bias", "1")]))
         .unwrap()
         .solve(&p)
         .plan;
@@ -151,7 +145,7 @@ fn parameters_reach_ompl() {
     // durations are OMPL's control-duration bounds, in control periods
     let r = create(
         "ompl:rrt",
-        &kv(&[("min_duration", "0.5"), ("max_duration", "0.5")]),
+        &owned(&[("min_duration", "0.5"), ("max_duration", "0.5")]),
     )
     .unwrap()
     .solve(&p);
@@ -243,7 +237,7 @@ fn ompl_plans_with_the_elevation_on_trio_triangle() {
         for seed in [0, 1] {
             let p = problem("trio-triangle", seed, 20_000);
             assert!(p.model.carries_fz);
-            let r = create(name, &kv(&[("stop_on_solution", "true")]))
+            let r = create(name, &owned(&[("stop_on_solution", "true")]))
                 .or_else(|_| create(name, &[]))
                 .unwrap()
                 .solve(&p);
@@ -266,7 +260,7 @@ fn ompl_plans_with_the_elevation_on_trio_triangle() {
     }
     assert!(solved >= 1, "no OMPL planner solved trio-triangle");
     let p = problem("trio-triangle", 0, 2_000);
-    let flat = create("ompl:rrt", &kv(&[("planar", "true")]))
+    let flat = create("ompl:rrt", &owned(&[("planar", "true")]))
         .unwrap()
         .solve(&p);
     assert!(flat.plan.controls.iter().all(|u| u.alpha == 0.0));

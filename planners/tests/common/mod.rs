@@ -91,6 +91,18 @@ pub fn problem(s: &Scenario, seed: u64, iterations: u64) -> Problem {
     problem_with(s, seed, iterations, &[])
 }
 
+/// [`TRIO`] planned by goal-zoom-rrt (seed 1, 30 000 iterations): the problem and its result,
+/// a solution that passes [`assert_solution`].
+pub fn solved_trio() -> (Problem, PlannerResult) {
+    let p = problem(&scenario(TRIO), 1, 30_000);
+    let r = magbench_planners::registry::Planners::builtin()
+        .create("goal-zoom-rrt", &[])
+        .unwrap()
+        .solve(&p);
+    assert_solution(&p, &r);
+    (p, r)
+}
+
 /// The problem of leg 0 with an iteration limit, under a setup with `keys` (objective, metric,
 /// flow) set.
 pub fn problem_with(s: &Scenario, seed: u64, iterations: u64, keys: &[(&str, &str)]) -> Problem {

@@ -139,14 +139,9 @@ pub fn steer_plan(
 
 /// A team state: the pair centred at `c`, separation `r`, heading `phi_deg`.
 pub fn pair(c: [f64; 2], r: f64, phi_deg: f64) -> Vec<Vec2> {
-    magbench_env::LocalView {
-        xc: c[0],
-        yc: c[1],
-        r,
-        phi: phi_deg.to_radians(),
-    }
-    .to_pair()
-    .to_vec()
+    magbench_env::LocalView::new(c[0], c[1], r, phi_deg.to_radians())
+        .to_pair()
+        .to_vec()
 }
 
 /// A "planner" for tests: steers through fixed waypoints per leg (from the first waypoint

@@ -260,13 +260,7 @@ pub fn list() -> String {
     for e in families().iter() {
         s += &format!("{}\n    {}\n", e.name(), e.summary());
         for p in e.make().params() {
-            s += &format!(
-                "    {:<12} {:<8} {:<22} {}\n",
-                p.name,
-                p.value.to_string(),
-                p.range,
-                p.help
-            );
+            s += &p.listing_line([12, 8, 22]);
         }
     }
     s

@@ -2,64 +2,65 @@
 //! same for the same seed; impossible parameters are refused with the parameter and reason.
 
 use super::*;
+use crate::params::owned;
 use crate::scenario::difficulty::measure;
-
-fn p(list: &[(&str, &str)]) -> Vec<(String, String)> {
-    list.iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect()
-}
 
 /// (family, parameters) cases spanning each family's range.
 pub(crate) fn cases() -> Vec<(&'static str, Vec<(String, String)>)> {
     vec![
-        ("serpentine", p(&[])),
+        ("serpentine", owned(&[])),
         (
             "serpentine",
-            p(&[("walls", "1"), ("gap", "2.5"), ("thickness", "0.3")]),
+            owned(&[("walls", "1"), ("gap", "2.5"), ("thickness", "0.3")]),
         ),
         (
             "serpentine",
-            p(&[
+            owned(&[
                 ("walls", "5"),
                 ("gap", "3"),
                 ("spacing", "3"),
                 ("height", "10"),
             ]),
         ),
-        ("corridor", p(&[])),
+        ("corridor", owned(&[])),
         (
             "corridor",
-            p(&[("bends", "0"), ("length", "12"), ("width", "2.5")]),
+            owned(&[("bends", "0"), ("length", "12"), ("width", "2.5")]),
         ),
         (
             "corridor",
-            p(&[("bends", "6"), ("length", "60"), ("width", "3")]),
+            owned(&[("bends", "6"), ("length", "60"), ("width", "3")]),
         ),
-        ("clutter", p(&[])),
-        ("clutter", p(&[("density", "0")])),
+        ("clutter", owned(&[])),
+        ("clutter", owned(&[("density", "0")])),
         (
             "clutter",
-            p(&[("density", "0.25"), ("size_min", "1"), ("size_max", "3")]),
+            owned(&[("density", "0.25"), ("size_min", "1"), ("size_max", "3")]),
         ),
-        ("rooms", p(&[])),
-        ("rooms", p(&[("rooms", "2"), ("door", "2.5")])),
+        ("rooms", owned(&[])),
+        ("rooms", owned(&[("rooms", "2"), ("door", "2.5")])),
         (
             "rooms",
-            p(&[("rooms", "12"), ("width", "40"), ("height", "30")]),
+            owned(&[("rooms", "12"), ("width", "40"), ("height", "30")]),
         ),
-        ("short-moves", p(&[])),
-        ("short-moves", p(&[("move", "swap"), ("separation", "1.5")])),
+        ("short-moves", owned(&[])),
         (
             "short-moves",
-            p(&[("move", "shift"), ("angle", "90"), ("distance", "1")]),
+            owned(&[("move", "swap"), ("separation", "1.5")]),
         ),
-        ("short-moves", p(&[("angle", "30"), ("separation", "3")])),
-        ("team", p(&[("agents", "2")])),
-        ("team", p(&[])),
+        (
+            "short-moves",
+            owned(&[("move", "shift"), ("angle", "90"), ("distance", "1")]),
+        ),
+        (
+            "short-moves",
+            owned(&[("angle", "30"), ("separation", "3")]),
+        ),
+        ("team", owned(&[("agents", "2")])),
+        ("team", owned(&[])),
         (
             "team",
-            p(&[
+            owned(&[
                 ("agents", "4"),
                 ("start", "grid"),
                 ("goal", "ring"),
@@ -68,7 +69,7 @@ pub(crate) fn cases() -> Vec<(&'static str, Vec<(String, String)>)> {
         ),
         (
             "team",
-            p(&[
+            owned(&[
                 ("agents", "5"),
                 ("start", "random"),
                 ("goal", "random"),
@@ -77,7 +78,7 @@ pub(crate) fn cases() -> Vec<(&'static str, Vec<(String, String)>)> {
         ),
         (
             "team",
-            p(&[("agents", "8"), ("spacing", "1.4"), ("distance", "4")]),
+            owned(&[("agents", "8"), ("spacing", "1.4"), ("distance", "4")]),
         ),
     ]
 }
@@ -149,7 +150,7 @@ type Case = (
 
 /// The error of `family` with `params`, as text; panics if it is accepted.
 fn refused(family: &str, params: &[(&str, &str)]) -> InputError {
-    match generate("<command line>", family, &p(params), 0, 0) {
+    match generate("<command line>", family, &owned(params), 0, 0) {
         Ok(_) => panic!("{family} {params:?} was accepted"),
         Err(e) => e,
     }
