@@ -1,13 +1,16 @@
 //! The book's measured figures come from `docs/measured/`, which `magbench docs measure`
 //! regenerates: every file there parses and belongs to a measurement, every include in the book
-//! names one, and no "Measured" section types a measured figure by hand.
+//! names one, and no chapter types a measured figure by hand.
 //!
-//! The rule for hand-typed figures: inside a section whose heading contains "measured" (with its
-//! subsections, up to the next heading of the same or a higher level), outside fenced code,
-//! inline code and include lines, a line fails if it holds
-//! - a number followed by a unit of time, rate or ratio (`12.6 ms`, `0.5 µs`, `34 s`, `3 min`,
-//!   `2 300 it/s`, `205×`), or
-//! - a table row (`| … |`) with a decimal number (`| obc | 0.0258 / 0.0274 |`).
+//! The rule for hand-typed figures, outside fenced code, inline code and include lines:
+//! - inside a section about measurements, one whose heading (or a parent's) names one of
+//!   [`MEASURED_HEADINGS`] ("Measured", "Speed", "Overheads", …), a line fails if it holds
+//!   - a number followed by a unit of time, rate or ratio (`12.6 ms`, `0.5 µs`, `34 s`,
+//!     `3 min`, `2 300 it/s`, `205×`), or
+//!   - a table row (`| … |`) with a decimal number (`| obc | 0.0258 / 0.0274 |`);
+//! - anywhere, a line fails if it states the conditions of a measurement by hand (a load
+//!   average with its figure, "development VM", "2-core machine"): those are a generated
+//!   file's header.
 //!
 //! Such figures belong in a measurement's table, quoted by `{{#include measured/NAME.md}}`.
 //! Sections not yet generated are listed once, in [`EXCEPTIONS`].
@@ -19,36 +22,7 @@ use regex::Regex;
 
 /// Chapters or sections whose hand-typed figures are not generated yet: (file in `docs/`,
 /// heading of the section, or "*" for the whole file; what is missing).
-const EXCEPTIONS: &[(&str, &str, &str)] = &[
-    (
-        "calibration.md",
-        "Why the start states are free",
-        "the emulator row of the fit's table and the validation paragraph: their tests \
-         (drivers' calibrate_emulator, magbench's calibrate) run in the default suite, fit with \
-         the start states free only and print no table, and their observed-start figures came \
-         from edited copies of them; the random draws and the noise are generated \
-         (calibration-draws, calibration-noise-bias), the walkthrough too \
-         (calibration-walkthrough)",
-    ),
-    (
-        "suites.md",
-        "pair-100's profile",
-        "a 25-minute suite run with `--features ompl` whose performance profile and paired ratios \
-         are in its report, not printed by a command a transcript could keep",
-    ),
-    (
-        "rigs.md",
-        "Replayed recording",
-        "the replay accuracy of a 40 s recording: the recording is not in the repository, so no \
-         transcript can replay it; the detector's accuracy and time above it are generated \
-         (detector-accuracy, detect-timing)",
-    ),
-    (
-        "physics.md",
-        "Why teams stall, and the stall rule",
-        "per-tick logs of single runs and a run of an earlier commit: no measurement kind yet",
-    ),
-];
+const EXCEPTIONS: &[(&str, &str, &str)] = &[];
 
 fn docs() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs")
@@ -76,6 +50,18 @@ fn includes(text: &str) -> Vec<String> {
     re.captures_iter(text).map(|c| c[1].to_string()).collect()
 }
 
+/// Words that make a heading's section one about measurements (compared in lower case).
+const MEASURED_HEADINGS: &[&str] = &[
+    "measure",
+    "speed",
+    "overhead",
+    "accuracy",
+    "latency",
+    "timing",
+    "profile",
+    "performance",
+];
+
 /// `(level, title)` if `line` is an ATX heading.
 fn heading(line: &str) -> Option<(usize, &str)> {
     let level = line.chars().take_while(|&c| c == '#').count();
@@ -93,6 +79,8 @@ fn hand_typed(text: &str, exempt: &[&str]) -> Vec<(usize, String)> {
         Regex::new(r"\d(?:[\d.,\u{202f} ]*\d)?\s?(?:ms|µs|us|ns|s|min|it/s|×)(?:[^\w]|$)").unwrap();
     let decimal = Regex::new(r"\d\.\d").unwrap();
     let code = Regex::new(r"`[^`]*`").unwrap();
+    let conditions =
+        Regex::new(r"(?i)load average[^.;]{0,12}\d|development VM|2-core (?:VM|machine)").unwrap();
     let mut stack: Vec<(usize, String)> = vec![];
     let mut fenced = false;
     let mut found = vec![];
@@ -109,16 +97,18 @@ fn hand_typed(text: &str, exempt: &[&str]) -> Vec<(usize, String)> {
             stack.push((level, title.to_string()));
             continue;
         }
-        let measured = stack
-            .iter()
-            .any(|(_, t)| t.to_lowercase().contains("measured"));
+        let measured = stack.iter().any(|(_, t)| {
+            let t = t.to_lowercase();
+            MEASURED_HEADINGS.iter().any(|w| t.contains(w))
+        });
         let nearest = stack.last().map(|(_, t)| t.as_str()).unwrap_or("");
-        if !measured || exempt.contains(&nearest) || !includes(line).is_empty() {
+        if exempt.contains(&nearest) || !includes(line).is_empty() {
             continue;
         }
         let prose = code.replace_all(line, "");
         let row = prose.trim_start().starts_with('|');
-        if unit.is_match(&prose) || (row && decimal.is_match(&prose)) {
+        let figure = unit.is_match(&prose) || (row && decimal.is_match(&prose));
+        if (measured && figure) || conditions.is_match(&prose) {
             found.push((i + 1, line.to_string()));
         }
     }
@@ -215,7 +205,7 @@ fn every_exception_names_a_chapter_and_a_heading_in_it() {
 
 #[test]
 fn the_rule_catches_a_planted_hand_typed_figure() {
-    let clean = "# Speed\n\n## Measured\n\nThe success of every planner:\n\n\
+    let clean = "# Planners\n\n## Measured\n\nThe success of every planner:\n\n\
                  {{#include measured/planners-success.md}}\n\n\
                  Run `magbench bench --threads 2` for 50 seeds.\n\n## Other\n\nTook 12 ms.\n";
     assert_eq!(hand_typed(clean, &[]), vec![]);
@@ -243,4 +233,12 @@ fn the_rule_catches_a_planted_hand_typed_figure() {
     );
     assert_eq!(hand_typed(&sub, &[]).len(), 1, "a subsection of Measured");
     assert_eq!(hand_typed(&sub, &["Speed"]), vec![]);
+    let overheads = clean.replace("## Measured", "## Overheads");
+    assert_eq!(
+        hand_typed(&overheads.replace("The success", "It takes 0.5 µs. The"), &[]).len(),
+        1,
+        "a heading of MEASURED_HEADINGS"
+    );
+    let other = clean.replace("Took 12 ms.", "On the 2-core development VM (load average 8).");
+    assert_eq!(hand_typed(&other, &[]).len(), 1, "conditions outside a measured section");
 }
