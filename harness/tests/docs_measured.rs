@@ -235,10 +235,21 @@ fn the_rule_catches_a_planted_hand_typed_figure() {
     assert_eq!(hand_typed(&sub, &["Speed"]), vec![]);
     let overheads = clean.replace("## Measured", "## Overheads");
     assert_eq!(
-        hand_typed(&overheads.replace("The success", "It takes 0.5 µs. The"), &[]).len(),
+        hand_typed(
+            &overheads.replace("The success", "It takes 0.5 µs. The"),
+            &[]
+        )
+        .len(),
         1,
         "a heading of MEASURED_HEADINGS"
     );
-    let other = clean.replace("Took 12 ms.", "On the 2-core development VM (load average 8).");
-    assert_eq!(hand_typed(&other, &[]).len(), 1, "conditions outside a measured section");
+    let other = clean.replace(
+        "Took 12 ms.",
+        "On the 2-core development VM (load average 8).",
+    );
+    assert_eq!(
+        hand_typed(&other, &[]).len(),
+        1,
+        "conditions outside a measured section"
+    );
 }
