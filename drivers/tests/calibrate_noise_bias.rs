@@ -13,28 +13,11 @@
 
 mod common;
 
-use magbench_drivers::excite::{ExciteSetup, excite, log_for};
 use magbench_drivers::fit::{FitOptions, FitReport, Kind, Status, calibrate, read_log};
-use magbench_env::Scenario;
 use magbench_env::plant::{DisturbancePreset, Fitted};
-use magbench_trackers::SimRig;
 
 /// Seconds of excitation.
 const EXCITE_S: f64 = 240.0;
-
-/// Moments and drags off by up to 22%, gradient gains by 7%, 3 frames of latency, 0.03 BL of
-/// detection noise, hydrodynamic interaction on.
-fn truth() -> DisturbancePreset {
-    let fitted = Fitted {
-        enabled: true,
-        moment: vec![1.18, 0.84],
-        drag: vec![0.78, 1.22],
-        gradient_gain: Some([1.07, 0.94]),
-        field_bias_deg: Some(1.5),
-        drift_bl_s: Some([0.004, -0.006]),
-    };
-    common::emulated("noisy", fitted, 3.0, 0.03)
-}
 
 /// The relative error of each fitted moment, drag and gradient gain: (name, error).
 fn errors(fit: &FitReport, t: &Fitted, label: &str) -> Vec<(String, f64)> {
@@ -61,22 +44,10 @@ fn worst(errors: &[(String, f64)]) -> f64 {
 #[test]
 #[ignore = "about 130 s; run with --ignored"]
 fn free_start_states_remove_the_detection_noise_bias() {
-    let scenario = Scenario::load("open-field").unwrap();
-    let n = scenario.agents();
-    let t = truth();
+    let t = common::noisy();
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("rig-log.csv");
-    let mut rig = SimRig::new(&scenario, &t, 14);
-    let mut log = log_for(&path, n).unwrap();
-    let setup = ExciteSetup {
-        duration: EXCITE_S,
-        seed: 14,
-        gradient_limit: scenario.physics.gradient_limit(),
-        alpha_max: std::f64::consts::FRAC_PI_2,
-        world: scenario.world.clone(),
-    };
-    excite(&mut rig, &setup, Some(&mut log)).unwrap();
-    drop(log);
+    let (scenario, path) = common::excite_open_field(&t, EXCITE_S, dir.path());
+    let n = scenario.agents();
     let mut base = DisturbancePreset::ideal();
     base.hydrodynamics.enabled = true;
     let fit = |free_starts: bool| {

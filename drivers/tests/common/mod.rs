@@ -1,6 +1,13 @@
-//! What the calibration tests share: the preset of an emulated rig.
+//! What the calibration tests share: the preset of an emulated rig, the strongly noisy one,
+//! and an excitation run on env's plant.
+#![allow(dead_code)]
 
+use std::path::{Path, PathBuf};
+
+use magbench_drivers::excite::{ExciteSetup, excite, log_for};
+use magbench_env::Scenario;
 use magbench_env::plant::{DisturbancePreset, Fitted};
+use magbench_trackers::SimRig;
 
 /// The preset of a rig the fit should recover: the `ideal` plant with hydrodynamic interaction,
 /// the per-agent factors and coil errors of `fitted`, a camera `latency` frames late (off at 0)
@@ -15,4 +22,45 @@ pub fn emulated(name: &str, fitted: Fitted, latency: f64, noise: f64) -> Disturb
     p.camera.noise.enabled = true;
     p.camera.noise.sigma_bl = noise;
     p
+}
+
+/// The true latency of [`noisy`] (frames).
+pub const NOISY_LATENCY: usize = 3;
+
+/// Moments and drags off by up to 22%, gradient gains by 7%, [`NOISY_LATENCY`] frames of
+/// latency, 0.03 BL of detection noise (the top of the physical range), hydrodynamic
+/// interaction on.
+pub fn noisy() -> DisturbancePreset {
+    let fitted = Fitted {
+        enabled: true,
+        moment: vec![1.18, 0.84],
+        drag: vec![0.78, 1.22],
+        gradient_gain: Some([1.07, 0.94]),
+        field_bias_deg: Some(1.5),
+        drift_bl_s: Some([0.004, -0.006]),
+    };
+    emulated("noisy", fitted, NOISY_LATENCY as f64, 0.03)
+}
+
+/// `seconds` of excitation on open-field under `truth` (rig and excitation seed 14), stepped
+/// frame by frame on env's plant and camera (`SimRig`: no sockets, no wall clock); the
+/// scenario and the rig log written in `dir`.
+pub fn excite_open_field(
+    truth: &DisturbancePreset,
+    seconds: f64,
+    dir: &Path,
+) -> (Scenario, PathBuf) {
+    let scenario = Scenario::load("open-field").unwrap();
+    let path = dir.join("rig-log.csv");
+    let mut rig = SimRig::new(&scenario, truth, 14);
+    let mut log = log_for(&path, scenario.agents()).unwrap();
+    let setup = ExciteSetup {
+        duration: seconds,
+        seed: 14,
+        gradient_limit: scenario.physics.gradient_limit(),
+        alpha_max: std::f64::consts::FRAC_PI_2,
+        world: scenario.world.clone(),
+    };
+    excite(&mut rig, &setup, Some(&mut log)).unwrap();
+    (scenario, path)
 }
