@@ -494,7 +494,7 @@ pub static MEASURES: &[Measure] = &[
             files: &["suites"],
             cwd: ".",
             steps: &[
-                Step::Run("bench --suite pair-100 --out pair-100 --threads 2 --quiet --shard 1/4"),
+                Step::Run("bench --suite pair-100 --out pair-100 --threads 2 --quiet --shard 1/2"),
                 Step::Run("results profile pair-100"),
             ],
         },
@@ -509,6 +509,15 @@ pub static MEASURES: &[Measure] = &[
                 Step::Run("bench experiments/ci.toml --out t1 --threads 1 --quiet"),
                 Step::Run("bench experiments/ci.toml --out t2 --threads 2 --quiet"),
             ],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "main-job",
+        source: Transcript {
+            files: &[],
+            cwd: ".",
+            steps: &[Step::Run("bench --out default --threads 2 --quiet")],
         },
         feature: None,
     },
