@@ -86,6 +86,13 @@ pub fn own_table(stdout: &str) -> Vec<&str> {
         .collect()
 }
 
+/// The Markdown table lines of `stdout`, each ending in a newline: the file a test, example or
+/// script measurement keeps; `None` when it printed none.
+pub fn table_text(stdout: &str) -> Option<String> {
+    let lines = own_table(stdout);
+    (!lines.is_empty()).then(|| lines.iter().map(|l| format!("{l}\n")).collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use thiserror::Error;
 
-use super::cargo::{CargoError, command_line, own_table, run_cargo};
+use super::cargo::{CargoError, command_line, run_cargo, table_text};
 
 /// Why a test measurement failed.
 #[derive(Debug, Error)]
@@ -111,14 +111,10 @@ pub fn run_test(r: &TestRun) -> Result<String, TestError> {
         name: r.name().to_string(),
         source,
     })?;
-    let lines = own_table(&stdout);
-    if lines.is_empty() {
-        return Err(TestError::NoTable {
-            name: r.name().to_string(),
-            command: command_line(&args),
-        });
-    }
-    Ok(lines.iter().map(|l| format!("{l}\n")).collect())
+    table_text(&stdout).ok_or_else(|| TestError::NoTable {
+        name: r.name().to_string(),
+        command: command_line(&args),
+    })
 }
 
 #[cfg(test)]

@@ -3,24 +3,14 @@
 //! ([`team_scaling`]).
 
 use super::table::{Table, median, num};
-use super::tables::scenario;
+use super::tables::{scenario, share, values};
 use crate::metrics::Metric;
 use crate::results::summary::{group_by, groups};
 use crate::run::RunRecord;
 
-/// The values of metric `m` over `runs` that have it.
-fn values(runs: &[&RunRecord], m: Metric) -> Vec<f64> {
-    runs.iter().filter_map(|r| r.get(m)).collect()
-}
-
 /// The solved runs of a configuration.
 fn solved<'a>(g: &[&'a RunRecord]) -> Vec<&'a RunRecord> {
     g.iter().copied().filter(|r| r.solved).collect()
-}
-
-/// `k/n` runs solved.
-fn solved_count(g: &[&RunRecord]) -> String {
-    format!("{}/{}", solved(g).len(), g.len())
 }
 
 /// A planner variant against the first variant of its scenario: per scenario and planner, runs
@@ -58,7 +48,7 @@ pub fn improvement(runs: &[RunRecord]) -> Table {
             t.row(vec![
                 scenario(&g[0].scenario),
                 g[0].planner.clone(),
-                solved_count(g),
+                share(g, |r| r.solved),
                 median(&values(&ok, Metric::Cost)),
                 median(&ratios),
                 median(&values(&ok, Metric::FirstSolutionTime)),
@@ -102,7 +92,7 @@ pub fn team_scaling(runs: &[RunRecord]) -> Table {
             g[0].agents.to_string(),
             scenario(&g[0].scenario),
             param(g[0], "flow"),
-            solved_count(&g),
+            share(&g, |r| r.solved),
             median(&values(&ok, Metric::FirstSolutionTime)),
             median(&values(&ok, Metric::FirstSolutionIteration)),
             num(sum(Metric::Iterations) / sum(Metric::PlanTime)),

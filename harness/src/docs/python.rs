@@ -9,7 +9,7 @@ use std::process::{Command, Output, Stdio};
 use magbench_env::InputError;
 use thiserror::Error;
 
-use super::cargo::own_table;
+use super::cargo::table_text;
 use crate::CliError;
 
 /// The environment variable naming the Python interpreter.
@@ -201,14 +201,10 @@ pub fn run_python(i: &Interpreter, r: &PythonRun) -> Result<String, PythonError>
             status: out.status,
         });
     }
-    let lines = own_table(&stdout);
-    if lines.is_empty() {
-        return Err(PythonError::NoTable {
-            script: r.script.into(),
-            command,
-        });
-    }
-    Ok(lines.iter().map(|l| format!("{l}\n")).collect())
+    table_text(&stdout).ok_or_else(|| PythonError::NoTable {
+        script: r.script.into(),
+        command,
+    })
 }
 
 #[cfg(test)]

@@ -112,7 +112,10 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
             m.name,
             if o.quick { " --quick" } else { "" },
             match (m.source, m.feature) {
-                (Source::Sweep { .. }, Some(f)) => format!(" (a build with --features {f})"),
+                // the sources this binary runs itself; cargo is given the feature
+                (Source::Sweep { .. } | Source::Transcript { .. }, Some(f)) => {
+                    format!(" (a build with --features {f})")
+                }
                 _ => String::new(),
             }
         ),

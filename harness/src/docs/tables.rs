@@ -6,7 +6,7 @@ use crate::results::summary::groups;
 use crate::run::RunRecord;
 
 /// The values of metric `m` over `runs` that have it.
-fn values(runs: &[&RunRecord], m: Metric) -> Vec<f64> {
+pub(super) fn values(runs: &[&RunRecord], m: Metric) -> Vec<f64> {
     runs.iter().filter_map(|r| r.get(m)).collect()
 }
 
@@ -41,16 +41,13 @@ fn tracked_cells(g: &[&RunRecord]) -> Vec<String> {
         scenario(&g[0].scenario),
         g[0].tracker.clone(),
         g[0].preset.clone(),
-        count(
-            g.iter().filter(|r| r.reached_goal == Some(true)).count(),
-            g.len(),
-        ),
+        share(g, |r| r.reached_goal == Some(true)),
     ]
 }
 
-/// `k/n`.
-fn count(k: usize, n: usize) -> String {
-    format!("{k}/{n}")
+/// The runs of `g` for which `f` holds, out of all: `k/n`.
+pub(super) fn share(g: &[&RunRecord], f: impl Fn(&RunRecord) -> bool) -> String {
+    format!("{}/{}", g.iter().filter(|r| f(r)).count(), g.len())
 }
 
 /// Planning to a first solution: per scenario and planner, runs solved, iterations to the first
@@ -71,7 +68,7 @@ pub fn planning(runs: &[RunRecord]) -> Table {
         t.row(vec![
             scenario(&g[0].scenario),
             g[0].planner.clone(),
-            count(g.iter().filter(|r| r.solved).count(), g.len()),
+            share(&g, |r| r.solved),
             format!("{} / {max}", median(&it)),
             median(&values(&g, Metric::FirstSolutionTime)),
             median(&rates(&g)),
@@ -97,7 +94,7 @@ pub fn first_solution(runs: &[RunRecord]) -> Table {
         t.row(vec![
             scenario(&g[0].scenario),
             g[0].planner.clone(),
-            count(solved.len(), g.len()),
+            share(&g, |r| r.solved),
             median(&values(&solved, Metric::FirstSolutionTime)),
             median(&values(&solved, Metric::Cost)),
             median(&rates(&g)),

@@ -2,20 +2,10 @@
 //! plans end from the goal, and tracked runs of teams.
 
 use super::table::{Table, int, median, median_p90};
-use super::tables::scenario;
+use super::tables::{scenario, share, values};
 use crate::metrics::Metric;
 use crate::results::summary::groups;
 use crate::run::RunRecord;
-
-/// The values of metric `m` over `runs` that have it.
-fn values(runs: &[&RunRecord], m: Metric) -> Vec<f64> {
-    runs.iter().filter_map(|r| r.get(m)).collect()
-}
-
-/// Runs of `g` for which `f` holds, out of all: `k/n`.
-fn share(g: &[&RunRecord], f: impl Fn(&RunRecord) -> bool) -> String {
-    format!("{}/{}", g.iter().filter(|r| f(r)).count(), g.len())
-}
 
 /// Planning to a first solution: per scenario and planner, runs solved, iterations to the first
 /// solution, its time (s) and the plan's cost (medians over solved runs), and how far the plan
