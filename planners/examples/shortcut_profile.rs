@@ -1,47 +1,85 @@
-//! Where a shortcut pass's work goes on the built-in pair mazes:
-//! `cargo run -p magbench-planners --example shortcut_profile [rounds] [seeds]`.
+//! Where a shortcut pass's work goes on the built-in pair mazes, summed over seeds:
+//! `cargo run -p magbench-planners --example shortcut_profile [rounds] [seeds] [spans, e.g. 12,6,3]`.
+
+use std::time::Instant;
 
 use magbench_env::Scenario;
 use magbench_planners::registry::Planners;
-use magbench_planners::shortcut::Shortcut;
-use magbench_planners::{Limits, Problem, Rng, plan_cost};
-use rand::SeedableRng;
+use magbench_planners::search_settings::to_periods;
+use magbench_planners::shortcut::{SPANS, Shortcut, Stats};
+use magbench_planners::{Limits, Problem, plan_cost};
 
 fn main() {
-    let args: Vec<usize> = std::env::args().skip(1).map(|a| a.parse().unwrap()).collect();
-    let rounds = args.first().copied().unwrap_or(200);
-    let seeds = args.get(1).copied().unwrap_or(10) as u64;
-    println!("| maze | edges | rounds | candidates | steer props | tail props | no steer | steer collides | not cheaper | tail invalid | misses goal | accepted | steer s | no-steer s | check s | search s | cost ratio |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for name in ["open-field", "micro-factory", "narrow-passage", "cargo-delivery"] {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let rounds = args.first().map_or(200, |a| a.parse().unwrap());
+    let seeds: u64 = args.get(1).map_or(10, |a| a.parse().unwrap());
+    let spans: Vec<usize> = args.get(2).map_or(SPANS.to_vec(), |a| {
+        a.split(',').map(|x| x.parse().unwrap()).collect()
+    });
+    println!("rounds {rounds}, seeds {seeds}, spans {spans:?}");
+    println!(
+        "| maze | edges | sweeps | rounds | no steer | invalid | not cheaper | accepted | steer props | replay props | replay invalid | dropped | search s | pass s | cost ratio |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for name in [
+        "open-field",
+        "micro-factory",
+        "narrow-passage",
+        "cargo-delivery",
+    ] {
         let s = Scenario::load(name).unwrap();
-        let mut tot = magbench_planners::shortcut::Stats::default();
-        let (mut edges, mut ratio, mut search) = (0, 0.0, 0.0);
+        let mut t = Stats::default();
+        let (mut edges, mut ratio, mut search, mut pass_s) = (0, 0.0, 0.0, 0.0);
         for seed in 0..seeds {
             let mut p = Problem::from_scenario(&s, 0, None, seed);
-            p.limits = Limits { max_iterations: Some(50_000), time_limit: None };
-            let r = Planners::builtin().create("goal-zoom-rrt", &[]).unwrap().solve(&p);
+            p.limits = Limits {
+                max_iterations: Some(50_000),
+                time_limit: None,
+            };
+            let r = Planners::builtin()
+                .create("goal-zoom-rrt", &[])
+                .unwrap()
+                .solve(&p);
             assert!(r.solved);
             search += r.time_s;
             edges += r.plan.edges();
-            let max_periods = magbench_planners::search_settings::to_periods(2.0, p.control_period);
-            let pass = Shortcut { rounds, max_periods };
-            let mut rng = Rng::seed_from_u64(seed);
-            let (out, st) = pass.run_with_stats(&p, &r.plan, &mut rng);
+            let pass = Shortcut {
+                rounds,
+                max_periods: to_periods(2.0, p.control_period),
+                spans: spans.clone(),
+            };
+            let t0 = Instant::now();
+            let (out, st) = pass.run_with_stats(&p, &r.plan);
+            pass_s += t0.elapsed().as_secs_f64();
             ratio += plan_cost(&p, &out) / plan_cost(&p, &r.plan);
-            tot.rounds += st.rounds;
-            tot.candidates += st.candidates;
-            tot.steer_props += st.steer_props;
-            tot.tail_props += st.tail_props;
-            for k in 0..6 { tot.outcome[k] += st.outcome[k]; }
-            tot.steer_time += st.steer_time;
-            tot.check_time += st.check_time;
-            tot.no_steer_time += st.no_steer_time;
+            t.sweeps += st.sweeps;
+            t.rounds += st.rounds;
+            t.no_steer += st.no_steer;
+            t.invalid += st.invalid;
+            t.not_cheaper += st.not_cheaper;
+            t.accepted += st.accepted;
+            t.steer_propagations += st.steer_propagations;
+            t.replay_propagations += st.replay_propagations;
+            t.replay_invalid += st.replay_invalid;
+            t.dropped += st.dropped;
         }
-        let o = tot.outcome;
-        println!("| {name} | {:.0} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} |",
-            edges as f64 / seeds as f64, tot.rounds, tot.candidates, tot.steer_props, tot.tail_props,
-            o[0], o[1], o[2], o[3], o[4], o[5], tot.steer_time.as_secs_f64() / seeds as f64, tot.no_steer_time.as_secs_f64() / seeds as f64,
-            tot.check_time.as_secs_f64() / seeds as f64, search / seeds as f64, ratio / seeds as f64);
+        let n = seeds as f64;
+        println!(
+            "| {name} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.3} |",
+            edges,
+            t.sweeps,
+            t.rounds,
+            t.no_steer,
+            t.invalid,
+            t.not_cheaper,
+            t.accepted,
+            t.steer_propagations,
+            t.replay_propagations,
+            t.replay_invalid,
+            t.dropped,
+            search / n,
+            pass_s / n,
+            ratio / n
+        );
     }
 }

@@ -1,51 +1,96 @@
 //! Shortcutting by exact steering: a post-processing pass any planner's solution can go
 //! through (docs/steering.md).
 //!
-//! Each round picks two waypoints `i < j − 1` of the plan at random, at most [`MAX_SPAN`]
-//! edges apart, and asks env's
-//! `steer_pair` for commands from waypoint `i` onto waypoint `j`. The steer replaces edges
-//! `i..j` when every one of its edges passes the same checked propagation as EXTEND's, the
-//! rest of the plan, replayed from where the steer ends (within 1e-6 BL of waypoint `j`), stays
-//! valid and ends in the goal, and the new edges cost less than the old ones under the
-//! problem's objective. The result replays bit for bit like any plan. Pairs under the exact flow
-//! only; other plans come back unchanged.
+//! The pass sweeps the plan from start to goal, rebuilding it as it goes. At old waypoint `k`,
+//! reached at state `at` (within a few 1e-6 BL of it), it asks env's `steer_pair` for commands
+//! from `at` onto old waypoint `k + s` for each span `s` of a descending ladder; the first steer
+//! whose edges all pass the same checked propagation as EXTEND's and cost less under the
+//! problem's objective than old edges `k..k + s` is appended, and the sweep goes on from
+//! waypoint `k + s`. When no span steers, old edge `k` is replayed from `at`. Each steer lands
+//! within 1e-6 BL of an old waypoint, so the replayed edges drift only between steers and the
+//! rest of the plan is replayed once per sweep, not once per steer. If a replayed edge turns
+//! invalid, a steer onto one of the next old waypoints, at any cost, takes its place; if none
+//! does, or the sweep's plan misses the goal, the sweep is dropped.
+//!
+//! Sweeps repeat on the shorter plan until one finds nothing or `rounds` steer solves have been
+//! spent: the work is a count, so the result depends only on the plan and the problem. The
+//! result replays bit for bit like any plan and never costs more than the input. Pairs under
+//! the exact flow only; other plans come back unchanged.
 
-use magbench_env::model::{SteerLimits, steer_pair};
-use magbench_env::{MAX_AGENTS, Vec2};
-use rand::RngExt;
+use magbench_env::model::{SteerEdge, SteerLimits, steer_pair};
+use magbench_env::{Control, MAX_AGENTS, Vec2};
 
 use crate::motion::propagate_valid;
-use crate::objective::Motion;
-use crate::{Plan, Problem, Rng};
+use crate::objective::{Motion, plan_cost};
+use crate::{Plan, Problem};
 
 /// Largest miss of a steer (BL, any agent) onto a waypoint.
 const STEER_TOLERANCE: f64 = 1e-6;
 
-/// The most edges one shortcut replaces: a steer covers a few body lengths of the centre's
-/// travel (the pull is slow), so longer spans almost never connect.
-const MAX_SPAN: usize = 12;
+/// Spans (edges replaced) tried at each waypoint, longest first.
+pub const SPANS: [usize; 3] = [12, 6, 3];
+
+/// Old waypoints ahead (2 up to this many edges) a steer may aim at when a replayed edge is
+/// invalid.
+const REANCHOR_SPAN: usize = 6;
 
 /// Shortcut settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Shortcut {
-    /// Rounds (random waypoint pairs tried).
+    /// The most steer solves (rounds) the pass spends.
     pub rounds: usize,
     /// The longest steered edge, in control periods.
     pub max_periods: u32,
+    /// Spans tried at each waypoint, longest first ([`SPANS`]).
+    pub spans: Vec<usize>,
+}
+
+/// Work counts of a pass.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Stats {
+    /// Sweeps run (the last may be dropped).
+    pub sweeps: usize,
+    /// Steer solves (rounds) spent.
+    pub rounds: usize,
+    /// Solves without a steer within the limits.
+    pub no_steer: usize,
+    /// Steers refused: an edge is invalid.
+    pub invalid: usize,
+    /// Steers refused: they cost no less than the edges they replace.
+    pub not_cheaper: usize,
+    /// Steers appended.
+    pub accepted: usize,
+    /// Propagations of steered edges.
+    pub steer_propagations: usize,
+    /// Propagations of replayed old edges.
+    pub replay_propagations: usize,
+    /// Replayed edges that turned invalid.
+    pub replay_invalid: usize,
+    /// Sweeps dropped (an edge could not be replaced, or the goal was missed).
+    pub dropped: usize,
 }
 
 impl Shortcut {
+    /// The pass with [`SPANS`].
+    pub fn new(rounds: usize, max_periods: u32) -> Self {
+        Shortcut {
+            rounds,
+            max_periods,
+            spans: SPANS.to_vec(),
+        }
+    }
+
     /// The plan shortened; `plan` itself when nothing shorter was found or it is not a pair's
     /// plan under the problem's exact flow. `plan` must be valid for `problem`.
-    pub fn run(&self, problem: &Problem, plan: &Plan, rng: &mut Rng) -> Plan {
-        self.run_with_stats(problem, plan, rng).0
+    pub fn run(&self, problem: &Problem, plan: &Plan) -> Plan {
+        self.run_with_stats(problem, plan).0
     }
 
     /// [`Shortcut::run`] with its work counts.
-    pub fn run_with_stats(&self, problem: &Problem, plan: &Plan, rng: &mut Rng) -> (Plan, Stats) {
-        let mut st = Stats::default();
+    pub fn run_with_stats(&self, problem: &Problem, plan: &Plan) -> (Plan, Stats) {
+        let mut stats = Stats::default();
         if problem.agents() != 2 || plan.flow != problem.model.flow || plan.elevation_free() {
-            return (plan.clone(), st);
+            return (plan.clone(), stats);
         }
         let limits = SteerLimits {
             period: problem.control_period,
@@ -54,125 +99,126 @@ impl Shortcut {
             tolerance: STEER_TOLERANCE,
         };
         let mut best = plan.clone();
-        let mut costs: Vec<f64> = (0..best.edges())
-            .map(|k| edge_cost(problem, &best, k))
-            .collect();
-        for _ in 0..self.rounds {
-            let m = best.edges();
-            if m < 2 {
+        let mut best_cost = plan_cost(problem, plan);
+        while stats.rounds < self.rounds {
+            stats.sweeps += 1;
+            let Some(next) = self.sweep(problem, &best, &limits, &mut stats) else {
+                stats.dropped += 1;
+                break;
+            };
+            let cost = plan_cost(problem, &next);
+            if cost >= best_cost {
                 break;
             }
-            let i = rng.random_range(0..m - 1);
-            let j = rng.random_range(i + 2..=(i + MAX_SPAN).min(m));
-            let old: f64 = costs[i..j].iter().sum();
-            let mut candidate = None;
-            st.rounds += 1;
-            let mut why = Why::NoSteer;
-            let t0 = std::time::Instant::now();
-            let mut in_accept = std::time::Duration::ZERO;
-            steer_pair(
-                &problem.model,
-                &best.states[i],
-                &best.states[j],
-                &limits,
-                |edges| {
-                    let ta = std::time::Instant::now();
-                    st.candidates += 1;
-                    let r = (|| {
-                    let mut next = Plan::at(&best.states[0]);
-                    next.flow = best.flow;
-                    for k in 0..i {
-                        next.push(
-                            best.controls[k],
-                            best.durations[k],
-                            best.states[k + 1].clone(),
-                        );
-                    }
-                    let mut new_costs = costs[..i].to_vec();
-                    let mut at = best.states[i].clone();
-                    let mut out = [Vec2::zeros(); MAX_AGENTS];
-                    let tail = best.controls[j..].iter().zip(&best.durations[j..]);
-                    let steered = edges
-                        .iter()
-                        .map(|e| (e.control, problem.periods(e.periods)));
-                    for (step, (u, d)) in steered.chain(tail.map(|(u, d)| (*u, *d))).enumerate() {
-                        if step < edges.len() { st.steer_props += 1; } else { st.tail_props += 1; }
-                        if !propagate_valid(problem, &at, &u, d, &mut out[..2]) {
-                            why = if step < edges.len() { Why::SteerCollides } else { Why::TailInvalid };
-                            return false;
-                        }
-                        next.push(u, d, out[..2].to_vec());
-                        new_costs.push(motion_cost(problem, &at, &u, d));
-                        at.copy_from_slice(&out[..2]);
-                        if step + 1 == edges.len() && new_costs[i..].iter().sum::<f64>() >= old {
-                            why = Why::NotCheaper;
-                            return false;
-                        }
-                    }
-                    if !problem.goal.contains(&at) {
-                        why = Why::MissesGoal;
-                        return false;
-                    }
-                    why = Why::Accepted;
-                    candidate = Some((next, new_costs));
-                    true
-                    })();
-                    in_accept += ta.elapsed();
-                    r
-                },
-            );
-            st.steer_time += t0.elapsed() - in_accept;
-            st.check_time += in_accept;
-            st.outcome[why as usize] += 1;
-            if matches!(why, Why::NoSteer) {
-                st.no_steer_time += t0.elapsed();
-            }
-            if let Some((next, new_costs)) = candidate {
-                best = next;
-                costs = new_costs;
-            }
+            best = next;
+            best_cost = cost;
         }
         best.alpha_max = plan.alpha_max;
-        (best, st)
+        (best, stats)
     }
-}
 
-/// How a round ended (the last candidate's verdict).
-#[derive(Debug, Clone, Copy)]
-pub enum Why {
-    /// No steer found.
-    NoSteer,
-    /// A steered edge is invalid.
-    SteerCollides,
-    /// The steer costs no less.
-    NotCheaper,
-    /// The replayed tail is invalid.
-    TailInvalid,
-    /// The replayed tail misses the goal.
-    MissesGoal,
-    /// Accepted.
-    Accepted,
-}
+    /// One sweep over `plan`: its rebuilt plan if that ends in the goal.
+    fn sweep(
+        &self,
+        problem: &Problem,
+        plan: &Plan,
+        limits: &SteerLimits,
+        stats: &mut Stats,
+    ) -> Option<Plan> {
+        let m = plan.edges();
+        let costs: Vec<f64> = (0..m).map(|k| edge_cost(problem, plan, k)).collect();
+        let mut next = Plan::at(&plan.states[0]);
+        next.flow = plan.flow;
+        let mut at = plan.states[0].clone();
+        let mut out = [Vec2::zeros(); MAX_AGENTS];
+        let mut k = 0;
+        while k < m {
+            let mut stepped = None;
+            for &span in &self.spans {
+                if stats.rounds >= self.rounds {
+                    break;
+                }
+                if span < 2 || k + span > m {
+                    continue;
+                }
+                let old: f64 = costs[k..k + span].iter().sum();
+                let target = &plan.states[k + span];
+                if let Some(steer) = self.steer(problem, &at, target, limits, Some(old), stats) {
+                    stepped = Some((span, steer));
+                    break;
+                }
+            }
+            if stepped.is_none() {
+                stats.replay_propagations += 1;
+                let (u, d) = (plan.controls[k], plan.durations[k]);
+                if propagate_valid(problem, &at, &u, d, &mut out[..2]) {
+                    next.push(u, d, out[..2].to_vec());
+                    at.copy_from_slice(&out[..2]);
+                    k += 1;
+                    continue;
+                }
+                stats.replay_invalid += 1;
+                stepped = (2..=REANCHOR_SPAN.min(m - k)).find_map(|span| {
+                    let target = &plan.states[k + span];
+                    let steer = self.steer(problem, &at, target, limits, None, stats)?;
+                    Some((span, steer))
+                });
+            }
+            let (span, steer) = stepped?;
+            for (u, d, end) in steer {
+                next.push(u, d, end);
+            }
+            at.copy_from_slice(next.end());
+            k += span;
+        }
+        problem.goal.contains(&at).then_some(next)
+    }
 
-/// Work counts of a pass.
-#[derive(Debug, Clone, Default)]
-pub struct Stats {
-    /// Rounds run.
-    pub rounds: usize,
-    /// Steers offered to the check.
-    pub candidates: usize,
-    /// Propagations of steered edges.
-    pub steer_props: usize,
-    /// Propagations of replayed tail edges.
-    pub tail_props: usize,
-    /// Rounds by outcome, indexed by [`Why`].
-    pub outcome: [usize; 6],
-    /// Time in the steer solver.
-    pub steer_time: std::time::Duration,
-    /// Time of rounds without a steer.
-    pub no_steer_time: std::time::Duration,
-    /// Time in the checks.
-    pub check_time: std::time::Duration,
+    /// A steer from `from` onto `to` whose edges are valid and, when `old` is given, cost
+    /// less than `old`: its (command, duration, end) edges. Spends one round.
+    #[allow(clippy::type_complexity)]
+    fn steer(
+        &self,
+        problem: &Problem,
+        from: &[Vec2],
+        to: &[Vec2],
+        limits: &SteerLimits,
+        old: Option<f64>,
+        stats: &mut Stats,
+    ) -> Option<Vec<(Control, f64, Vec<Vec2>)>> {
+        stats.rounds += 1;
+        let mut offered = false;
+        let mut found = None;
+        steer_pair(&problem.model, from, to, limits, |edges: &[SteerEdge]| {
+            offered = true;
+            let mut at = from.to_vec();
+            let mut out = [Vec2::zeros(); MAX_AGENTS];
+            let mut cost = 0.0;
+            let mut steered = Vec::with_capacity(edges.len());
+            for e in edges {
+                let d = problem.periods(e.periods);
+                stats.steer_propagations += 1;
+                if !propagate_valid(problem, &at, &e.control, d, &mut out[..2]) {
+                    stats.invalid += 1;
+                    return false;
+                }
+                cost += motion_cost(problem, &at, &e.control, d);
+                if old.is_some_and(|old| cost >= old) {
+                    stats.not_cheaper += 1;
+                    return false;
+                }
+                steered.push((e.control, d, out[..2].to_vec()));
+                at.copy_from_slice(&out[..2]);
+            }
+            stats.accepted += 1;
+            found = Some(steered);
+            true
+        });
+        if !offered {
+            stats.no_steer += 1;
+        }
+        found
+    }
 }
 
 /// The objective's cost of edge `k` of `plan`.
@@ -186,7 +232,7 @@ fn edge_cost(problem: &Problem, plan: &Plan, k: usize) -> f64 {
 }
 
 /// The objective's cost of one motion.
-fn motion_cost(problem: &Problem, from: &[Vec2], u: &magbench_env::Control, d: f64) -> f64 {
+fn motion_cost(problem: &Problem, from: &[Vec2], u: &Control, d: f64) -> f64 {
     problem.objective.motion_cost(&Motion {
         control: *u,
         duration: d,

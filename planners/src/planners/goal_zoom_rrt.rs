@@ -135,11 +135,7 @@ impl Planner for GoalZoomRrt {
         let node = reached.unwrap_or(closest.0);
         let mut plan = tree.plan_to(node, problem);
         if reached.is_some() && self.shortcut > 0 {
-            let pass = Shortcut {
-                rounds: self.shortcut,
-                max_periods: extend.max_periods,
-            };
-            plan = pass.run(problem, &plan, &mut rng);
+            plan = Shortcut::new(self.shortcut, extend.max_periods).run(problem, &plan);
         }
         let cost = plan_cost(problem, &plan);
         if reached.is_some() {
