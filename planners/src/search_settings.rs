@@ -1,7 +1,7 @@
 //! The search settings every planner embeds: EXTEND's tries and edge durations
 //! (the seed's Algorithm 3) and the goal-zoom sampler (Algorithm 2). Declared once, so every
 //! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius`, `timing` and
-//! `planar` alike.
+//! `planar` and `shortcut` alike.
 //!
 //! `planar` says whether EXTEND draws the field elevation too: `auto` (the default) keeps two
 //! agents in the plane — the random stream is then exactly the planar one — and draws
@@ -18,7 +18,10 @@ use magbench_env::params::Reals;
 
 use crate::Problem;
 use crate::extend::{Extend, Timing};
+use crate::objective::plan_cost;
+use crate::result::Best;
 use crate::sampler::GoalZoom;
+use crate::shortcut::Shortcut;
 
 declare_params! {
     /// The search settings every planner embeds (EXTEND's tries and durations, goal zoom).
@@ -49,6 +52,10 @@ declare_params! {
         /// `false` (refused in bulk).
         #[param("planar")]
         pub planar: Planar = Planar::Auto,
+        /// Steer solves (rounds) of shortcutting spent on a solution before it is returned
+        /// (crate::shortcut; 0 none; pairs under the exact flow only).
+        #[param("shortcut", 0..=1_000_000)]
+        pub shortcut: usize = 0,
     }
     check(SearchSettings::check_durations);
 }
@@ -83,6 +90,24 @@ impl SearchSettings {
         GoalZoom {
             bias: self.goal_bias,
             radius: self.zoom_radius,
+        }
+    }
+
+    /// `best` after `shortcut` rounds of shortcutting when it is a solution; `alpha_max` is
+    /// the largest elevation the planner could draw (`None` in the plane), recorded on the
+    /// plan. Every planner passes its solution through here before `finish`.
+    pub fn polish(&self, problem: &Problem, mut best: Best, alpha_max: Option<f64>) -> Best {
+        if !best.solved || self.shortcut == 0 {
+            return best;
+        }
+        best.plan.alpha_max = alpha_max;
+        let max_periods = to_periods(self.max_duration, problem.control_period);
+        let plan = Shortcut::new(self.shortcut, max_periods).run(problem, &best.plan);
+        let cost = plan_cost(problem, &plan);
+        Best {
+            plan,
+            solved: true,
+            cost,
         }
     }
 

@@ -46,7 +46,6 @@ use crate::progress::Progress;
 use crate::result::{Best, finish};
 use crate::sampler::StateSampler;
 use crate::search_settings::SearchSettings;
-use crate::shortcut::Shortcut;
 use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem, Rng};
 
@@ -61,10 +60,6 @@ declare_params! {
         /// distance of the goal that is closer to it than any before (BL; 0 never; pairs under the exact flow only).
         #[param("steer_radius", Reals::closed(0.0, 1.0e6))]
         pub steer_radius: f64 = 3.0,
-        /// Rounds of shortcutting by exact steering applied to the solution
-        /// (crate::shortcut; 0 none; pairs under the exact flow only).
-        #[param("shortcut", 0..=1_000_000)]
-        pub shortcut: usize = 0,
         /// The tree of the last solve.
         pub last_tree: Option<Tree> = None,
     }
@@ -133,10 +128,7 @@ impl Planner for GoalZoomRrt {
 
         // τ ← computePlan(T) by backtracking
         let node = reached.unwrap_or(closest.0);
-        let mut plan = tree.plan_to(node, problem);
-        if reached.is_some() && self.shortcut > 0 {
-            plan = Shortcut::new(self.shortcut, extend.max_periods).run(problem, &plan);
-        }
+        let plan = tree.plan_to(node, problem);
         let cost = plan_cost(problem, &plan);
         if reached.is_some() {
             progress.record(i, Some(cost));
@@ -146,6 +138,7 @@ impl Planner for GoalZoomRrt {
             solved: reached.is_some(),
             cost,
         };
+        let best = self.search.polish(problem, best, extend.alpha_max);
         let nodes = tree.len();
         self.last_tree = Some(tree);
         finish(problem, best, i, nodes, progress, first, extend.alpha_max)
