@@ -45,7 +45,10 @@ fn every_planners_shortcut_plans_validate_and_cost_no_more() {
             assert_eq!(after.progress.last().unwrap().best_cost, Some(b));
             shorter += usize::from(b < 0.95 * a);
         }
-        assert_eq!(shorter, 2, "{planner}: {shorter} of 2 plans shortened by 5%");
+        assert_eq!(
+            shorter, 2,
+            "{planner}: {shorter} of 2 plans shortened by 5%"
+        );
     }
 }
 

@@ -602,6 +602,15 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "shortcut-tracking",
+        source: Sweep {
+            experiment: "experiments/shortcut-tracking.toml",
+            quick_seeds: 2,
+            table: Runs(team_runs),
+        },
+        feature: None,
+    },
+    Measure {
         name: "team-scaling",
         source: Sweep {
             experiment: "experiments/team-scaling.toml",
