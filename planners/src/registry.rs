@@ -159,6 +159,7 @@ mod tests {
                 "goal_bias",
                 "zoom_radius",
                 "timing",
+                "shortcut",
             ] {
                 if name.starts_with("ompl:") {
                     break;
@@ -226,6 +227,7 @@ mod tests {
             ("max_duration", "nan"),
             ("zoom_radius", "inf"),
             ("timing", "soon"),
+            ("shortcut", "-1"),
         ] {
             assert!(
                 create("goal-zoom-rrt", &owned(&[(k, v)])).is_err(),
