@@ -65,8 +65,10 @@ pub fn clear_along<M: Motion>(world: &CollisionWorld, motion: &M, duration: f64)
     };
     // each agent is known clear until `safe[i]`
     let mut safe = [0.0f64; MAX_AGENTS];
+    // the bound is exact below `NEAR` and at least `NEAR` (above `CONTACT`) otherwise, so it
+    // decides touching exactly as the exact clearance would
     let touches = |s: &Sample<M::Summary>, i: usize| {
-        let d = world.clearance(s.pos[i]);
+        let d = world.clearance_bound(s.pos[i]);
         d.is_nan() || d <= CONTACT
     };
     let last = eval(duration);
