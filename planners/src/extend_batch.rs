@@ -11,7 +11,7 @@
 //! The centre of mass moves in a straight line, so the centroid part of the distance
 //! (`w_c² N ‖Δc‖²`, a lower bound of the whole squared distance under either metric) is known
 //! before the orbit is solved; a try whose bound already exceeds the best distance so far (by
-//! a margin far above rounding) cannot win and is not solved.
+//! a margin far above rounding) cannot win: its orbit is neither built nor solved.
 
 use magbench_env::model::pair_flow::PairStart;
 use magbench_env::{Control, MAX_AGENTS, Vec2};
@@ -71,13 +71,14 @@ impl Tries {
         let mut end = [Vec2::zeros(); 2];
         for i in 0..self.len {
             let u = &self.controls[i];
-            let edge = model
-                .kinematics
-                .pair_edge_from(&start, &model.coil.actuation(u))?;
-            let floor = weight * (edge.centre_at(self.durations[i]) - goal_centre).norm_squared();
+            let act = model.coil.actuation(u);
+            let velocity = model.kinematics.pair_velocity(&act)?;
+            let centre = start.centre() + velocity * self.durations[i];
+            let floor = weight * (centre - goal_centre).norm_squared();
             if floor > best.distance * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN {
                 continue;
             }
+            let edge = model.kinematics.pair_edge_from(&start, &act)?;
             let (lo, hi) = edge.end_and_range(self.durations[i], &mut end);
             if !(lo > r_min && hi < r_max) {
                 continue;

@@ -40,6 +40,12 @@ impl PairStart {
         })
     }
 
+    /// The centre of mass of the start.
+    #[inline]
+    pub fn centre(&self) -> Vec2 {
+        self.centre
+    }
+
     /// The edge from this start under in-plane unit field direction `field`, with
     /// relative-motion constant `kappa` and centre-of-mass velocity `velocity`; `None` when a
     /// number is not finite or `kappa` not positive.
