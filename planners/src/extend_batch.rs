@@ -11,10 +11,11 @@
 //! The centre of mass moves in a straight line, so the centroid part of the distance
 //! (`w_c² N ‖Δc‖²`, a lower bound of the whole squared distance under either metric) is known
 //! before the orbit is solved; a try whose bound already exceeds the best distance so far (by
-//! a margin far above rounding) cannot win: its orbit is neither built nor solved.
+//! a margin far above rounding) cannot win: its orbit is neither built nor solved. The tries are
+//! solved in order of their bounds, so the first bound above the best distance ends the batch.
 
 use magbench_env::model::pair_flow::PairStart;
-use magbench_env::{Control, MAX_AGENTS, Vec2};
+use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2, Vec3};
 
 use crate::extend::{Extend, Extension, Timing};
 use crate::metric::Metric;
@@ -68,24 +69,40 @@ impl Tries {
         };
         let weight = centroid_weight(&problem.metric);
         let goal_centre = (target[0] + target[1]) * 0.5;
-        let mut end = [Vec2::zeros(); 2];
+        // every try's actuation and centroid floor first, then the tries in order of their
+        // floors: once a floor exceeds the best distance, so do all later ones
+        let mut acts = [EMPTY_ACTUATION; BATCH_MAX];
+        let mut floors = [0.0f64; BATCH_MAX];
+        let mut order = [0u8; BATCH_MAX];
         for i in 0..self.len {
-            let u = &self.controls[i];
-            let act = model.coil.actuation(u);
-            let velocity = model.kinematics.pair_velocity(&act)?;
+            acts[i] = model.coil.actuation(&self.controls[i]);
+            let velocity = model.kinematics.pair_velocity(&acts[i])?;
             let centre = start.centre() + velocity * self.durations[i];
-            let floor = weight * (centre - goal_centre).norm_squared();
-            if floor > best.distance * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN {
-                continue;
+            floors[i] = weight * (centre - goal_centre).norm_squared();
+            if floors[i].is_nan() {
+                return None;
             }
-            let edge = model.kinematics.pair_edge_from(&start, &act)?;
+            order[i] = i as u8;
+        }
+        let order = &mut order[..self.len];
+        order.sort_unstable_by(|&a, &b| floors[a as usize].total_cmp(&floors[b as usize]));
+        let mut chosen = usize::MAX;
+        let mut end = [Vec2::zeros(); 2];
+        for &i in order.iter() {
+            let i = i as usize;
+            if floors[i] > best.distance * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN {
+                break;
+            }
+            let edge = model.kinematics.pair_edge_from(&start, &acts[i])?;
             let (lo, hi) = edge.end_and_range(self.durations[i], &mut end);
             if !(lo > r_min && hi < r_max) {
                 continue;
             }
             let d2 = problem.metric.distance_squared(&end, target);
-            if d2 < best.distance {
-                best.control = *u;
+            // the first try on ties, as the scalar path's scan in index order
+            if d2 < best.distance || (d2 == best.distance && chosen < usize::MAX && i < chosen) {
+                chosen = i;
+                best.control = self.controls[i];
                 best.periods = self.periods[i];
                 best.end[..2].copy_from_slice(&end);
                 best.distance = d2;
@@ -100,6 +117,12 @@ impl Tries {
 /// squared distance before it is skipped; rounding of either is below 1e-12 for any state the
 /// planners reach.
 const FLOOR_MARGIN: f64 = 1e-9;
+
+/// A placeholder for the unused slots of the actuation array.
+const EMPTY_ACTUATION: Actuation = Actuation {
+    b_hat: Vec3::new(0.0, 0.0, 0.0),
+    pull: Vec3::new(0.0, 0.0, 0.0),
+};
 
 /// The factor of `‖Δc‖²` in a pair's squared distance: `N w_c²` (`w_c = 1` for positions).
 fn centroid_weight(metric: &Metric) -> f64 {
