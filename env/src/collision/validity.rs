@@ -76,8 +76,19 @@ impl ValidityChecker {
         out: &mut [Vec2],
     ) -> bool {
         if let Some(edge) = model.closed_form(start, u) {
-            edge.at(duration, out);
-            return self.edge_valid(&edge, duration);
+            // the end, the separation range and the end's speed summary from one evaluation
+            let ((lo, hi), summary) = edge.end_range_and_speed(duration, out);
+            if !(lo > self.r_min && hi < self.r_max) {
+                return false;
+            }
+            let motion = PairMotion(&edge);
+            return advance::clear_along_from(
+                &self.collision,
+                &motion,
+                duration,
+                &out[..2],
+                summary,
+            );
         }
         let mut prev = [Vec2::zeros(); crate::MAX_AGENTS];
         let n = start.len();
