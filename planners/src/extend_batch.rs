@@ -14,8 +14,9 @@
 //! a margin far above rounding) cannot win: its orbit is neither built nor solved. The tries are
 //! solved in order of their bounds, so the first bound above the best distance ends the batch.
 
+use arrayvec::ArrayVec;
 use magbench_env::model::pair_flow::PairStart;
-use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2, Vec3};
+use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2};
 
 use crate::extend::{Extend, Extension, Timing};
 use crate::metric::Metric;
@@ -25,31 +26,24 @@ use crate::{Problem, Rng};
 /// The most tries one batch holds; more go through the scalar path.
 pub const BATCH_MAX: usize = 64;
 
-/// The k tries of one EXTEND call, as arrays.
+/// The k tries of one EXTEND call, as arrays (on the stack, unused slots never written).
+#[derive(Default)]
 struct Tries {
-    controls: [Control; BATCH_MAX],
-    periods: [u32; BATCH_MAX],
-    durations: [f64; BATCH_MAX],
-    len: usize,
+    controls: ArrayVec<Control, BATCH_MAX>,
+    periods: ArrayVec<u32, BATCH_MAX>,
+    durations: ArrayVec<f64, BATCH_MAX>,
 }
 
 impl Tries {
-    /// Draws `k` planar tries with random durations, in the scalar path's order.
-    fn draw(extend: &Extend, problem: &Problem, rng: &mut Rng, k: usize) -> Self {
+    /// Draws `k ≤ BATCH_MAX` planar tries with random durations, in the scalar path's order.
+    fn draw(&mut self, extend: &Extend, problem: &Problem, rng: &mut Rng, k: usize) {
         let g = problem.model.coil.gradient_limit();
-        let mut tries = Tries {
-            controls: [Control::default(); BATCH_MAX],
-            periods: [0; BATCH_MAX],
-            durations: [0.0; BATCH_MAX],
-            len: k,
-        };
-        for i in 0..k {
-            tries.controls[i] = random_control(rng, g);
+        for _ in 0..k {
+            self.controls.push(random_control(rng, g));
             let p = extend.random_periods(rng);
-            tries.periods[i] = p;
-            tries.durations[i] = problem.periods(p);
+            self.periods.push(p);
+            self.durations.push(problem.periods(p));
         }
-        tries
     }
 
     /// The closest candidate's try under the exact flow, or `None` when some try has no
@@ -71,20 +65,21 @@ impl Tries {
         let goal_centre = (target[0] + target[1]) * 0.5;
         // every try's actuation and centroid floor first, then the tries in order of their
         // floors: once a floor exceeds the best distance, so do all later ones
-        let mut acts = [EMPTY_ACTUATION; BATCH_MAX];
-        let mut floors = [0.0f64; BATCH_MAX];
-        let mut order = [0u8; BATCH_MAX];
-        for i in 0..self.len {
-            acts[i] = model.coil.actuation(&self.controls[i]);
-            let velocity = model.kinematics.pair_velocity(&acts[i])?;
+        let mut acts = ArrayVec::<Actuation, BATCH_MAX>::new();
+        let mut floors = ArrayVec::<f64, BATCH_MAX>::new();
+        let mut order = ArrayVec::<u8, BATCH_MAX>::new();
+        for (i, u) in self.controls.iter().enumerate() {
+            let act = model.coil.actuation(u);
+            let velocity = model.kinematics.pair_velocity(&act)?;
             let centre = start.centre() + velocity * self.durations[i];
-            floors[i] = weight * (centre - goal_centre).norm_squared();
-            if floors[i].is_nan() {
+            let floor = weight * (centre - goal_centre).norm_squared();
+            if floor.is_nan() {
                 return None;
             }
-            order[i] = i as u8;
+            acts.push(act);
+            floors.push(floor);
+            order.push(i as u8);
         }
-        let order = &mut order[..self.len];
         order.sort_unstable_by(|&a, &b| floors[a as usize].total_cmp(&floors[b as usize]));
         let mut chosen = usize::MAX;
         let mut end = [Vec2::zeros(); 2];
@@ -118,12 +113,6 @@ impl Tries {
 /// planners reach.
 const FLOOR_MARGIN: f64 = 1e-9;
 
-/// A placeholder for the unused slots of the actuation array.
-const EMPTY_ACTUATION: Actuation = Actuation {
-    b_hat: Vec3::new(0.0, 0.0, 0.0),
-    pull: Vec3::new(0.0, 0.0, 0.0),
-};
-
 /// The factor of `‖Δc‖²` in a pair's squared distance: `N w_c²` (`w_c = 1` for positions).
 fn centroid_weight(metric: &Metric) -> f64 {
     match *metric {
@@ -152,7 +141,8 @@ impl Extend {
         target: &[Vec2],
     ) -> Extension {
         let k = self.tries.max(1);
-        let tries = Tries::draw(self, problem, rng, k);
+        let mut tries = Tries::default();
+        tries.draw(self, problem, rng, k);
         if let Some(best) = tries.best_exact(problem, near, target) {
             return best;
         }
@@ -160,9 +150,9 @@ impl Extend {
             problem,
             near,
             target,
-            &tries.controls[..k],
-            &tries.periods[..k],
-            &tries.durations[..k],
+            &tries.controls,
+            &tries.periods,
+            &tries.durations,
         )
     }
 }
