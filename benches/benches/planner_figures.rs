@@ -1,6 +1,7 @@
 //! The planners' headline figures on micro-factory, over 50 seeds (one thread):
 //!
 //! - goal-zoom-rrt's median time to first solution (and its quartiles);
+//! - its median iterations to first solution (and their quartiles);
 //! - iterations per second (all iterations / all time);
 //! - bytes per tree node: the peak of the heap bytes a `solve` holds (tree arrays with their
 //!   growth slack, k-d tree, buffers, the plan; a counting global allocator) divided by the
@@ -62,6 +63,7 @@ fn main() {
         .find_map(|a| a.parse().ok())
         .unwrap_or(50);
     let s = Scenario::load("micro-factory").unwrap();
+    let mut first_iterations = vec![];
     let (mut times, mut per_node, mut tree_bytes, mut kd_bytes) = (vec![], vec![], vec![], vec![]);
     let (mut iterations, mut seconds, mut solved) = (0u64, 0.0, 0);
     for seed in 0..seeds {
@@ -87,8 +89,9 @@ fn main() {
         }
         iterations += r.iterations;
         seconds += r.time_s;
-        if let Some((_, t)) = r.first_solution {
+        if let Some((i, t)) = r.first_solution {
             times.push(t);
+            first_iterations.push(i as f64);
             solved += 1;
         }
     }
@@ -103,6 +106,8 @@ fn main() {
         t1 * 1e3,
         t3 * 1e3
     );
+    let (i1, i2, i3) = quartiles(&mut first_iterations);
+    println!("| iterations to first solution, median (quartiles) | {i2:.0} ({i1:.0}–{i3:.0}) |");
     println!(
         "| iterations per second (all iterations / all time) | {:.0} |",
         iterations as f64 / seconds

@@ -11,10 +11,12 @@
 //! The centre of mass moves in a straight line, so the centroid part of the distance
 //! (`w_c² N ‖Δc‖²`, a lower bound of the whole squared distance under either metric) is known
 //! before the orbit is solved; a try whose bound already exceeds the best distance so far (by
-//! a margin far above rounding) cannot win and is not solved.
+//! a margin far above rounding) cannot win: its orbit is neither built nor solved. The tries are
+//! solved in order of their bounds, so the first bound above the best distance ends the batch.
 
+use arrayvec::ArrayVec;
 use magbench_env::model::pair_flow::PairStart;
-use magbench_env::{Control, MAX_AGENTS, Vec2};
+use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2};
 
 use crate::extend::{Extend, Extension, Timing};
 use crate::metric::Metric;
@@ -24,31 +26,24 @@ use crate::{Problem, Rng};
 /// The most tries one batch holds; more go through the scalar path.
 pub const BATCH_MAX: usize = 64;
 
-/// The k tries of one EXTEND call, as arrays.
+/// The k tries of one EXTEND call, as arrays (on the stack, unused slots never written).
+#[derive(Default)]
 struct Tries {
-    controls: [Control; BATCH_MAX],
-    periods: [u32; BATCH_MAX],
-    durations: [f64; BATCH_MAX],
-    len: usize,
+    controls: ArrayVec<Control, BATCH_MAX>,
+    periods: ArrayVec<u32, BATCH_MAX>,
+    durations: ArrayVec<f64, BATCH_MAX>,
 }
 
 impl Tries {
-    /// Draws `k` planar tries with random durations, in the scalar path's order.
-    fn draw(extend: &Extend, problem: &Problem, rng: &mut Rng, k: usize) -> Self {
+    /// Draws `k ≤ BATCH_MAX` planar tries with random durations, in the scalar path's order.
+    fn draw(&mut self, extend: &Extend, problem: &Problem, rng: &mut Rng, k: usize) {
         let g = problem.model.coil.gradient_limit();
-        let mut tries = Tries {
-            controls: [Control::default(); BATCH_MAX],
-            periods: [0; BATCH_MAX],
-            durations: [0.0; BATCH_MAX],
-            len: k,
-        };
-        for i in 0..k {
-            tries.controls[i] = random_control(rng, g);
+        for _ in 0..k {
+            self.controls.push(random_control(rng, g));
             let p = extend.random_periods(rng);
-            tries.periods[i] = p;
-            tries.durations[i] = problem.periods(p);
+            self.periods.push(p);
+            self.durations.push(problem.periods(p));
         }
-        tries
     }
 
     /// The closest candidate's try under the exact flow, or `None` when some try has no
@@ -68,23 +63,41 @@ impl Tries {
         };
         let weight = centroid_weight(&problem.metric);
         let goal_centre = (target[0] + target[1]) * 0.5;
-        let mut end = [Vec2::zeros(); 2];
-        for i in 0..self.len {
-            let u = &self.controls[i];
-            let edge = model
-                .kinematics
-                .pair_edge_from(&start, &model.coil.actuation(u))?;
-            let floor = weight * (edge.centre_at(self.durations[i]) - goal_centre).norm_squared();
-            if floor > best.distance * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN {
-                continue;
+        // every try's actuation and centroid floor first, then the tries in order of their
+        // floors: once a floor exceeds the best distance, so do all later ones
+        let mut acts = ArrayVec::<Actuation, BATCH_MAX>::new();
+        let mut floors = ArrayVec::<f64, BATCH_MAX>::new();
+        let mut order = ArrayVec::<u8, BATCH_MAX>::new();
+        for (i, u) in self.controls.iter().enumerate() {
+            let act = model.coil.actuation(u);
+            let velocity = model.kinematics.pair_velocity(&act)?;
+            let centre = start.centre() + velocity * self.durations[i];
+            let floor = weight * (centre - goal_centre).norm_squared();
+            if floor.is_nan() {
+                return None;
             }
+            acts.push(act);
+            floors.push(floor);
+            order.push(i as u8);
+        }
+        order.sort_unstable_by(|&a, &b| floors[a as usize].total_cmp(&floors[b as usize]));
+        let mut chosen = usize::MAX;
+        let mut end = [Vec2::zeros(); 2];
+        for &i in order.iter() {
+            let i = i as usize;
+            if floors[i] > best.distance * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN {
+                break;
+            }
+            let edge = model.kinematics.pair_edge_from(&start, &acts[i])?;
             let (lo, hi) = edge.end_and_range(self.durations[i], &mut end);
             if !(lo > r_min && hi < r_max) {
                 continue;
             }
             let d2 = problem.metric.distance_squared(&end, target);
-            if d2 < best.distance {
-                best.control = *u;
+            // the first try on ties, as the scalar path's scan in index order
+            if d2 < best.distance || (d2 == best.distance && chosen < usize::MAX && i < chosen) {
+                chosen = i;
+                best.control = self.controls[i];
                 best.periods = self.periods[i];
                 best.end[..2].copy_from_slice(&end);
                 best.distance = d2;
@@ -128,7 +141,8 @@ impl Extend {
         target: &[Vec2],
     ) -> Extension {
         let k = self.tries.max(1);
-        let tries = Tries::draw(self, problem, rng, k);
+        let mut tries = Tries::default();
+        tries.draw(self, problem, rng, k);
         if let Some(best) = tries.best_exact(problem, near, target) {
             return best;
         }
@@ -136,9 +150,9 @@ impl Extend {
             problem,
             near,
             target,
-            &tries.controls[..k],
-            &tries.periods[..k],
-            &tries.durations[..k],
+            &tries.controls,
+            &tries.periods,
+            &tries.durations,
         )
     }
 }

@@ -60,10 +60,7 @@ pub fn propagate_valid(
     out: &mut [Vec2],
 ) -> bool {
     match problem.model.pair_edge(start, u) {
-        Some(edge) => {
-            edge.at(duration, out);
-            problem.checker.edge_valid(&edge, duration)
-        }
+        Some(edge) => problem.checker.edge_end_valid(&edge, duration, out),
         None => propagate_checked(problem, start, u, duration, out).is_some(),
     }
 }
@@ -94,9 +91,8 @@ pub fn propagate_checked(
 ) -> Option<f64> {
     let checker = &problem.checker;
     if let Some(edge) = problem.model.pair_edge(start, u) {
-        edge.at(duration, out);
         return checker
-            .edge_valid(&edge, duration)
+            .edge_end_valid(&edge, duration, out)
             .then(|| edge.path_length(duration));
     }
     let n = start.len();

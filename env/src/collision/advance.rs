@@ -58,6 +58,25 @@ pub fn clear_along<M: Motion>(world: &CollisionWorld, motion: &M, duration: f64)
     if !duration.is_finite() {
         return false;
     }
+    let mut end = [Vec2::zeros(); MAX_AGENTS];
+    let summary = motion.at(duration, &mut end[..n]);
+    clear_along_from(world, motion, duration, &end[..n], summary)
+}
+
+/// [`clear_along`] given the motion's end: `end` and `summary` are what [`Motion::at`] gives at
+/// `duration` (for a caller that has evaluated the end already).
+pub fn clear_along_from<M: Motion>(
+    world: &CollisionWorld,
+    motion: &M,
+    duration: f64,
+    end: &[Vec2],
+    summary: M::Summary,
+) -> bool {
+    let n = motion.agents();
+    assert!(n <= MAX_AGENTS && end.len() == n);
+    if !duration.is_finite() {
+        return false;
+    }
     let eval = |t: f64| {
         let mut pos = [Vec2::zeros(); MAX_AGENTS];
         let summary = motion.at(t, &mut pos[..n]);
@@ -65,11 +84,18 @@ pub fn clear_along<M: Motion>(world: &CollisionWorld, motion: &M, duration: f64)
     };
     // each agent is known clear until `safe[i]`
     let mut safe = [0.0f64; MAX_AGENTS];
+    // the bound is exact below `NEAR` and at least `NEAR` (above `CONTACT`) otherwise, so it
+    // decides touching exactly as the exact clearance would
     let touches = |s: &Sample<M::Summary>, i: usize| {
-        let d = world.clearance(s.pos[i]);
+        let d = world.clearance_bound(s.pos[i]);
         d.is_nan() || d <= CONTACT
     };
-    let last = eval(duration);
+    let mut last = Sample {
+        t: duration,
+        pos: [Vec2::zeros(); MAX_AGENTS],
+        summary,
+    };
+    last.pos[..n].copy_from_slice(end);
     if (0..n).any(|i| touches(&last, i)) {
         return false;
     }

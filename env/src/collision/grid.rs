@@ -4,9 +4,12 @@
 //! distance to it bounds the clearance at any point from below. Nodes are computed (by the
 //! exact query) the first time a point near them is asked about, and kept; a node's value
 //! depends only on the geometry, so the order in which threads fill the grid never changes an
-//! answer.
+//! answer. For the same reason every collision world of one geometry shares one grid
+//! ([`ClearanceGrid::shared`]): problems built from one map (many seeds, many planners) fill
+//! it together, as if the map's clearance field were computed once.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 
 use crate::math::Vec2;
 
@@ -15,6 +18,12 @@ pub const SPACING: f64 = 0.25;
 
 /// Largest number of grid nodes of one world.
 pub const MAX_NODES: usize = 1 << 20;
+
+/// Geometries whose grids [`ClearanceGrid::shared`] keeps.
+pub const SHARED_MAPS: usize = 8;
+
+/// The kept grids, with the geometry each belongs to; the latest used last.
+static SHARED: Mutex<Vec<(Vec<u64>, Arc<ClearanceGrid>)>> = Mutex::new(Vec::new());
 
 /// A node not yet computed (a NaN no query returns).
 const UNSET: u64 = u64::MAX;
@@ -65,6 +74,26 @@ impl ClearanceGrid {
             rows,
             nodes: (0..total).map(|_| AtomicU64::new(UNSET)).collect(),
         }
+    }
+
+    /// The grid over `[0, width] × [0, height]` of the geometry `key` (every number that
+    /// defines the clearance, as bits): the one kept for that key if any, else a new empty one,
+    /// kept from then on. At most [`SHARED_MAPS`] geometries are kept; the one used longest ago
+    /// gives way.
+    pub fn shared(key: Vec<u64>, width: f64, height: f64) -> Arc<Self> {
+        let mut kept = SHARED.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(i) = kept.iter().position(|(k, _)| *k == key) {
+            let entry = kept.remove(i);
+            let grid = entry.1.clone();
+            kept.push(entry);
+            return grid;
+        }
+        let grid = Arc::new(ClearanceGrid::new(width, height));
+        if kept.len() >= SHARED_MAPS {
+            kept.remove(0);
+        }
+        kept.push((key, grid.clone()));
+        grid
     }
 
     /// A lower bound on the clearance at `p`, from the nearest node (computed by `exact` on
@@ -133,5 +162,23 @@ mod tests {
         assert!(big.nodes.len() <= 2 * MAX_NODES);
         let absurd = ClearanceGrid::new(1e300, 1e300);
         assert!(absurd.nodes.is_empty());
+    }
+
+    #[test]
+    fn one_grid_per_geometry() {
+        let key = |x: f64| vec![x.to_bits(), 7];
+        let a = ClearanceGrid::shared(key(-1.5), 10.0, 5.0);
+        let b = ClearanceGrid::shared(key(-1.5), 10.0, 5.0);
+        let c = ClearanceGrid::shared(key(-2.5), 10.0, 5.0);
+        assert!(Arc::ptr_eq(&a, &b));
+        assert!(!Arc::ptr_eq(&a, &c));
+        // the kept grids are bounded: after many other geometries, the first is new again
+        for i in 0..SHARED_MAPS {
+            ClearanceGrid::shared(key(-10.0 - i as f64), 10.0, 5.0);
+        }
+        assert!(!Arc::ptr_eq(
+            &a,
+            &ClearanceGrid::shared(key(-1.5), 10.0, 5.0)
+        ));
     }
 }

@@ -1,5 +1,7 @@
 //! The world's obstacles and walls as one parry [`Compound`] with its BVH.
 
+use std::sync::Arc;
+
 use parry2d_f64::math::Pose;
 use parry2d_f64::query::{self, PointQuery};
 use parry2d_f64::shape::{Ball, Capsule, Compound, SharedShape, TriMesh};
@@ -24,7 +26,7 @@ pub struct CollisionWorld {
     compound: Compound,
     ball: Ball,
     agent_radius: f64,
-    grid: ClearanceGrid,
+    grid: Arc<ClearanceGrid>,
 }
 
 impl std::fmt::Debug for CollisionWorld {
@@ -86,7 +88,7 @@ impl CollisionWorld {
             compound: Compound::new(parts),
             ball: Ball::new(agent_radius),
             agent_radius,
-            grid: ClearanceGrid::new(w, h),
+            grid: ClearanceGrid::shared(geometry_key(world, agent_radius), w, h),
         }
     }
 
@@ -175,6 +177,28 @@ impl CollisionWorld {
     }
 }
 
+/// Every number that defines the clearance field of `world` for disks of `agent_radius`, as
+/// bits (with a tag per obstacle kind and count), the key of its shared grid.
+fn geometry_key(world: &World, agent_radius: f64) -> Vec<u64> {
+    let mut key = vec![
+        world.width.to_bits(),
+        world.height.to_bits(),
+        agent_radius.to_bits(),
+    ];
+    for o in &world.obstacles {
+        match o {
+            Obstacle::Circle { center, radius } => {
+                key.extend([0, center.x.to_bits(), center.y.to_bits(), radius.to_bits()]);
+            }
+            Obstacle::Polygon(v) => {
+                key.extend([1, v.len() as u64]);
+                key.extend(v.iter().flat_map(|p| [p.x.to_bits(), p.y.to_bits()]));
+            }
+        }
+    }
+    key
+}
+
 /// parry's intersection test of `shape` at `pose` against the compound; an unsupported pair
 /// counts as a collision.
 fn intersects(pose: &Pose, shape: &dyn parry2d_f64::shape::Shape, compound: &Compound) -> bool {
@@ -239,6 +263,50 @@ mod tests {
         let c = CollisionWorld::new(&world(), 0.5);
         let q = c.push_out(Vec2::new(0.2, 0.3)).unwrap();
         assert!(q.x >= 0.5 - 1e-9 && q.y >= 0.5 - 1e-9, "{q:?}");
+    }
+
+    /// On every built-in map, at random points (inside and outside obstacles), the clearance
+    /// bound never exceeds the exact clearance, and the grid's quick answers of
+    /// [`CollisionWorld::agent_clear`] agree with parry's intersection test; a second world of
+    /// the same geometry shares the (partly filled) grid and answers the same.
+    #[test]
+    fn bounds_never_exceed_the_exact_clearance_on_every_map() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        for name in crate::scenario::builtin_names() {
+            let s = crate::Scenario::load(name).unwrap();
+            let (a, b) = (
+                CollisionWorld::new(&s.world, 0.5),
+                CollisionWorld::new(&s.world, 0.5),
+            );
+            assert!(
+                Arc::ptr_eq(&a.grid, &b.grid),
+                "{name}: one grid per geometry"
+            );
+            let other = CollisionWorld::new(&s.world, 0.25);
+            assert!(
+                !Arc::ptr_eq(&a.grid, &other.grid),
+                "{name}: radius is geometry"
+            );
+            let mut near = 0;
+            for k in 0..4000 {
+                let p = Vec2::new(
+                    rng.random_range(-1.0..s.world.width + 1.0),
+                    rng.random_range(-1.0..s.world.height + 1.0),
+                );
+                let w = if k % 2 == 0 { &a } else { &b };
+                let exact = w.clearance(p);
+                let bound = w.clearance_bound(p);
+                assert!(
+                    bound <= exact,
+                    "{name} {p:?}: bound {bound} > exact {exact}"
+                );
+                let touching = !intersects(&Pose::translation(p.x, p.y), &w.ball, &w.compound);
+                assert_eq!(w.agent_clear(p), touching, "{name} {p:?}");
+                near += usize::from(exact.abs() < NEAR);
+            }
+            assert!(near > 0, "{name}: no point near an obstacle");
+        }
     }
 
     #[test]

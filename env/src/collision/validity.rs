@@ -76,8 +76,7 @@ impl ValidityChecker {
         out: &mut [Vec2],
     ) -> bool {
         if let Some(edge) = model.closed_form(start, u) {
-            edge.at(duration, out);
-            return self.edge_valid(&edge, duration);
+            return self.edge_end_valid(&edge, duration, out);
         }
         let mut prev = [Vec2::zeros(); crate::MAX_AGENTS];
         let n = start.len();
@@ -98,6 +97,17 @@ impl ValidityChecker {
             return false;
         }
         advance::clear_along(&self.collision, &PairMotion(edge), duration)
+    }
+
+    /// [`PairEdge::at`] `duration` into `out` and [`ValidityChecker::edge_valid`], with the end,
+    /// the separation range and the end's speed bound from one evaluation of the orbit.
+    pub fn edge_end_valid(&self, edge: &PairEdge, duration: f64, out: &mut [Vec2]) -> bool {
+        let ((lo, hi), summary) = edge.end_range_and_speed(duration, out);
+        if !(lo > self.r_min && hi < self.r_max) {
+            return false;
+        }
+        let motion = PairMotion(edge);
+        advance::clear_along_from(&self.collision, &motion, duration, &out[..2], summary)
     }
 
     /// Smallest agent clearance to walls and obstacles (BL).

@@ -63,6 +63,17 @@ impl Kinematics {
     /// state).
     #[inline]
     pub fn pair_edge_from(&self, start: &PairStart, act: &Actuation) -> Option<PairEdge> {
+        let velocity = self.pair_velocity(act)?;
+        let (m, mu) = (self.moment[0], self.mobility[0]);
+        let kappa = 2.0 * self.force_coeff * m * m * mu;
+        start.edge(kappa, velocity, Vec2::new(act.b_hat.x, act.b_hat.y))
+    }
+
+    /// The centre-of-mass velocity of the exact pair motion under `act` (that of
+    /// [`Kinematics::pair_edge_from`]'s edge, bit for bit), without solving the orbit; `None`
+    /// when the closed form does not apply.
+    #[inline]
+    pub fn pair_velocity(&self, act: &Actuation) -> Option<Vec2> {
         if self.moment[0] != self.moment[1]
             || self.mobility[0] != self.mobility[1]
             || act.b_hat.z != 0.0
@@ -70,9 +81,7 @@ impl Kinematics {
             return None;
         }
         let (m, mu) = (self.moment[0], self.mobility[0]);
-        let kappa = 2.0 * self.force_coeff * m * m * mu;
-        let velocity = Vec2::new(act.pull.x, act.pull.y) * (self.pull_coeff * m * mu) + self.flow;
-        start.edge(kappa, velocity, Vec2::new(act.b_hat.x, act.b_hat.y))
+        Some(Vec2::new(act.pull.x, act.pull.y) * (self.pull_coeff * m * mu) + self.flow)
     }
 
     /// Writes the velocity of every agent at positions `p` under `act` into `v`.

@@ -56,9 +56,16 @@ pub fn aligned_pair_force_planar(r_ij: Vec2, b: Vec3) -> Vec2 {
 }
 
 /// Unit field direction for global in-plane angle `theta` and elevation `alpha` (radians).
+/// An in-plane field (`alpha = ±0`) skips the elevation's sine and cosine, which are then
+/// `(alpha, 1)` exactly.
+#[inline]
 pub fn field_direction(theta: f64, alpha: f64) -> Vec3 {
     let (st, ct) = theta.sin_cos();
-    let (sa, ca) = alpha.sin_cos();
+    let (sa, ca) = if alpha == 0.0 {
+        (alpha, 1.0)
+    } else {
+        alpha.sin_cos()
+    };
     Vec3::new(ca * ct, ca * st, sa)
 }
 
@@ -81,6 +88,19 @@ mod tests {
         let f = aligned_pair_force(rh * r, field_direction(phi + psi, alpha));
         let s = r.powi(4);
         (f.dot(&rh) * s, f.dot(&eph) * s, f.z * s)
+    }
+
+    #[test]
+    fn in_plane_direction_equals_the_general_formula() {
+        for theta in [-3.0, -0.7, 0.0, 0.4, 2.9] {
+            for alpha in [0.0, -0.0] {
+                let b = field_direction(theta, alpha);
+                let (sa, ca) = f64::sin_cos(alpha);
+                let (st, ct) = f64::sin_cos(theta);
+                let general = Vec3::new(ca * ct, ca * st, sa);
+                assert_eq!(b.map(f64::to_bits), general.map(f64::to_bits));
+            }
+        }
     }
 
     #[test]

@@ -40,6 +40,12 @@ impl PairStart {
         })
     }
 
+    /// The centre of mass of the start.
+    #[inline]
+    pub fn centre(&self) -> Vec2 {
+        self.centre
+    }
+
     /// The edge from this start under in-plane unit field direction `field`, with
     /// relative-motion constant `kappa` and centre-of-mass velocity `velocity`; `None` when a
     /// number is not finite or `kappa` not positive.
@@ -144,7 +150,30 @@ impl PairEdge {
         }
         let end = self.orbit.at(duration);
         self.place(duration, &end, out);
-        let r1 = self.orbit.separation(&end);
+        self.range_to(&end)
+    }
+
+    /// [`PairEdge::end_and_range`] with the [`SpeedSummary`] at the end (that of
+    /// [`PairEdge::at_with_speed`] there, bit for bit), from one evaluation of the orbit.
+    pub fn end_range_and_speed(
+        &self,
+        duration: f64,
+        out: &mut [Vec2],
+    ) -> ((f64, f64), SpeedSummary) {
+        if duration <= 0.0 {
+            let r0 = self.orbit.r0();
+            return ((r0, r0), self.at_with_speed(duration, out));
+        }
+        let end = self.orbit.at(duration);
+        self.place(duration, &end, out);
+        (self.range_to(&end), self.summary(&end))
+    }
+
+    /// The smallest and largest separation from the start to orbit point `end`.
+    #[inline]
+    fn range_to(&self, end: &OrbitPoint) -> (f64, f64) {
+        let r0 = self.orbit.r0();
+        let r1 = self.orbit.separation(end);
         let mut hi = r0.max(r1);
         if let Some(peak) = self.orbit.peak()
             && 3.0 * end.cos * end.cos >= 1.0
@@ -190,10 +219,16 @@ impl PairEdge {
             self.place(t, &p, out);
             p
         };
+        self.summary(&p)
+    }
+
+    /// What bounds the agents' speed at orbit point `p`.
+    #[inline]
+    fn summary(&self, p: &OrbitPoint) -> SpeedSummary {
         let c2 = p.cos * p.cos;
         SpeedSummary {
             shape: (1.0 - 2.0 * c2 + 5.0 * c2 * c2).sqrt(),
-            separation: self.orbit.separation(&p),
+            separation: self.orbit.separation(p),
         }
     }
 
