@@ -26,6 +26,7 @@ pub mod extend;
 pub mod extend_batch;
 pub mod first_plan;
 pub mod goal_connect;
+pub mod guide;
 pub mod informed;
 pub mod metric;
 pub mod motion;

@@ -5,6 +5,7 @@ use std::f64::consts::PI;
 use magbench_env::{Goal, Vec2};
 use rand::RngExt;
 
+use crate::guide::Guide;
 use crate::{Problem, Rng};
 
 /// Samples team states for one problem.
@@ -46,6 +47,12 @@ impl StateSampler {
             rng.random_range(0.0..self.width),
             rng.random_range(0.0..self.height),
         );
+        self.about(rng, c, out);
+    }
+
+    /// A state with centroid `c` and the relative state drawn as [`StateSampler::uniform`]
+    /// draws it.
+    pub fn about(&self, rng: &mut Rng, c: Vec2, out: &mut [Vec2]) {
         if self.agents == 2 {
             let r = rng.random_range(self.r_min..self.r_max);
             let phi = rng.random_range(-PI..PI);
@@ -95,9 +102,13 @@ pub fn valid_sample(
 /// Rejection tries per sample before an iteration gives up on sampling.
 pub const SAMPLE_TRIES: usize = 1000;
 
+/// Share of the whole-space draws a guide replaces with a centroid near the guide path.
+pub const GUIDE_SHARE: f64 = 0.5;
+
 /// The seed's randomStateGoalZoom: a biased coin toss picks the goal-zoom region (with
 /// probability `bias`) or the whole space; samples in obstacles or outside the proximity range
-/// are redrawn.
+/// are redrawn. With a [`Guide`], a second coin replaces [`GUIDE_SHARE`] of the whole-space
+/// draws by states whose centroid lies near the guide path ahead of the tree.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GoalZoom {
     /// Probability of sampling the zoom region.
@@ -115,10 +126,27 @@ impl GoalZoom {
         rng: &mut Rng,
         out: &mut [Vec2],
     ) -> bool {
+        self.sample_guided(problem, sampler, None, rng, out)
+    }
+
+    /// [`GoalZoom::sample`], with `guide` (when given) choosing [`GUIDE_SHARE`] of the
+    /// whole-space draws; without a guide the random stream is exactly `sample`'s.
+    pub fn sample_guided(
+        &self,
+        problem: &Problem,
+        sampler: &StateSampler,
+        guide: Option<&Guide>,
+        rng: &mut Rng,
+        out: &mut [Vec2],
+    ) -> bool {
         let zoom = rng.random::<f64>() < self.bias;
+        let guide = guide.filter(|_| !zoom && rng.random::<f64>() < GUIDE_SHARE);
         valid_sample(problem, SAMPLE_TRIES, out, |s| {
             if zoom {
                 sampler.zoom(rng, &problem.goal, self.radius, s)
+            } else if let Some(g) = guide {
+                let c = g.centroid(rng);
+                sampler.about(rng, c, s)
             } else {
                 sampler.uniform(rng, s)
             }

@@ -1,7 +1,7 @@
 //! The search settings every planner embeds: EXTEND's tries and edge durations
 //! (the seed's Algorithm 3) and the goal-zoom sampler (Algorithm 2). Declared once, so every
 //! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius`, `timing` and
-//! `planar` and `shortcut` alike.
+//! `planar`, `shortcut` and `guide` alike.
 //!
 //! `planar` says whether EXTEND draws the field elevation too: `auto` (the default) keeps two
 //! agents in the plane — the random stream is then exactly the planar one — and draws
@@ -18,6 +18,7 @@ use magbench_env::params::Reals;
 
 use crate::Problem;
 use crate::extend::{Extend, Timing};
+use crate::guide::Guide;
 use crate::objective::plan_cost;
 use crate::result::Best;
 use crate::sampler::GoalZoom;
@@ -56,6 +57,10 @@ declare_params! {
         /// (crate::shortcut; 0 none; pairs under the exact flow only).
         #[param("shortcut", 0..=1_000_000)]
         pub shortcut: usize = 0,
+        /// Whether the sampler draws part of its whole-space samples near a shortest centroid
+        /// path from start to goal, ahead of the tree (crate::guide; a heuristic only).
+        #[param("guide")]
+        pub guide: bool = false,
     }
     check(SearchSettings::check_durations);
 }
@@ -90,6 +95,15 @@ impl SearchSettings {
         GoalZoom {
             bias: self.goal_bias,
             radius: self.zoom_radius,
+        }
+    }
+
+    /// The guide path of `problem` when `guide` is on and the map leaves one.
+    pub fn guide(&self, problem: &Problem) -> Option<Guide> {
+        if self.guide {
+            Guide::new(problem)
+        } else {
+            None
         }
     }
 

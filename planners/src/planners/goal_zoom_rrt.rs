@@ -75,6 +75,7 @@ impl Planner for GoalZoomRrt {
         let mut rng = Rng::seed_from_u64(problem.seed);
         let extend = self.search.extend(problem);
         let zoom = self.search.zoom();
+        let mut guide = self.search.guide(problem);
         let sampler = StateSampler::new(problem);
         let mut progress = Progress::start(problem);
 
@@ -98,7 +99,13 @@ impl Planner for GoalZoomRrt {
         while reached.is_none() && !progress.done(i) {
             i += 1;
             // Algorithm 2: BUILD-RRT
-            if zoom.sample(problem, &sampler, &mut rng, &mut q_sample[..n]) {
+            if zoom.sample_guided(
+                problem,
+                &sampler,
+                guide.as_ref(),
+                &mut rng,
+                &mut q_sample[..n],
+            ) {
                 let (near, _) = nn.nearest(&q_sample[..n]).expect("the tree has its root");
                 let ext = extend.run(problem, &mut rng, tree.state(near), &q_sample[..n]);
                 let (u, periods) = (ext.control, ext.periods);
@@ -107,6 +114,9 @@ impl Planner for GoalZoomRrt {
                 {
                     let id = tree.add(near, &q_new[..n], u, periods, 0.0);
                     nn.add(&q_new[..n], id);
+                    if let Some(g) = guide.as_mut() {
+                        g.observe(&q_new[..n]);
+                    }
                     let dist = problem.goal.distance(&q_new[..n]);
                     let closer = dist < closest.1;
                     if closer {
