@@ -160,6 +160,7 @@ mod tests {
                 "zoom_radius",
                 "timing",
                 "shortcut",
+                "guide",
             ] {
                 if name.starts_with("ompl:") {
                     break;

@@ -98,6 +98,7 @@ impl Sst {
         let mut rng = Rng::seed_from_u64(problem.seed);
         let propagate = self.search.extend(problem);
         let zoom = self.search.zoom();
+        let mut guide = self.search.guide(problem);
         let sampler = StateSampler::new(problem);
         let mut progress = Progress::start(problem);
 
@@ -139,7 +140,13 @@ impl Sst {
         while !progress.done(i) && (!self.stop_on_solution || !best.solved) {
             i += 1;
             // x_selected ← BEST_FIRST_SELECTION(V_active, δ_BN)
-            if !zoom.sample(problem, &sampler, &mut rng, &mut x_rand[..n]) {
+            if !zoom.sample_guided(
+                problem,
+                &sampler,
+                guide.as_ref(),
+                &mut rng,
+                &mut x_rand[..n],
+            ) {
                 progress.record(i, best.solved_cost());
                 continue;
             }
@@ -204,6 +211,9 @@ impl Sst {
                 active[id as usize] = true;
             }
             v_active.add(&x_new[..n], id);
+            if let Some(g) = guide.as_mut() {
+                g.observe(&x_new[..n]);
+            }
             added += 1;
 
             // PRUNE_DOMINATED_NODES

@@ -53,6 +53,7 @@ impl RrtStar {
         };
         s.nn.add(&problem.start, 0);
         let zoom = self.search.zoom();
+        let mut guide = self.search.guide(problem);
         let sampler = StateSampler::new(problem);
         let informed = InformedSet::new(problem);
         let k_rrt = self.rewire_factor * std::f64::consts::E * (1.0 + 1.0 / (2 * n) as f64);
@@ -79,7 +80,13 @@ impl RrtStar {
                 Some(c) if self.informed => {
                     informed.sample(problem, &mut s.rng, &sampler, &zoom, c, &mut x_rand[..n])
                 }
-                _ => zoom.sample(problem, &sampler, &mut s.rng, &mut x_rand[..n]),
+                _ => zoom.sample_guided(
+                    problem,
+                    &sampler,
+                    guide.as_ref(),
+                    &mut s.rng,
+                    &mut x_rand[..n],
+                ),
             };
             if let Some(log) = self.sample_log.as_mut().filter(|_| sampled) {
                 log.push(LoggedSample {
@@ -89,6 +96,9 @@ impl RrtStar {
                 });
             }
             if sampled && let Some(x_new) = s.iterate(&x_rand[..n], k_rrt, &mut near) {
+                if let Some(g) = guide.as_mut() {
+                    g.observe(s.tree.state(x_new));
+                }
                 let d = problem.goal.distance(s.tree.state(x_new));
                 if d < closest.1 {
                     closest = (x_new, d);
