@@ -27,13 +27,13 @@ pub const MARGINS: [f64; 3] = [1.0, 0.5, 0.0];
 pub const MAX_NODES: usize = 1 << 20;
 
 /// How far ahead of the progress a guided sample's centroid is centred (path nodes).
-pub const AHEAD: usize = 6;
+pub const AHEAD: usize = 14;
 
 /// Radius of the disk about the guide point a guided centroid is drawn in (BL).
-pub const SPREAD: f64 = 1.0;
+pub const SPREAD: f64 = 2.0;
 
 /// How far beyond the progress a new node may advance it (path nodes).
-pub const WINDOW: usize = 8;
+pub const WINDOW: usize = 12;
 
 /// Distance within which a node's centroid counts as on the path (BL).
 pub const NEAR: f64 = 1.5;

@@ -103,7 +103,7 @@ pub fn valid_sample(
 pub const SAMPLE_TRIES: usize = 1000;
 
 /// Share of the whole-space draws a guide replaces with a centroid near the guide path.
-pub const GUIDE_SHARE: f64 = 0.5;
+pub const GUIDE_SHARE: f64 = 0.7;
 
 /// The seed's randomStateGoalZoom: a biased coin toss picks the goal-zoom region (with
 /// probability `bias`) or the whole space; samples in obstacles or outside the proximity range
