@@ -62,9 +62,9 @@ pub fn orbit_steer(kappa: f64, r0: f64, r1: f64, dphi: f64) -> Option<OrbitSteer
     }
     let target = (r1 / r0).ln();
     let residual = |a: f64| {
-        let b = a - d;
-        let value = ln_f(b) - ln_f(a) - target;
-        (value, d_ln_f(b) - d_ln_f(a))
+        let (fb, db) = ln_f_and_slope(a - d);
+        let (fa, da) = ln_f_and_slope(a);
+        (fb - fa - target, db - da)
     };
     // small-turn guess: (ln f)'(ψ̂₀ − d/2) = −ln(r₁/r₀)/d, i.e. tan² + 2k tan − 2 = 0
     let k = -target / d;
@@ -88,15 +88,11 @@ pub fn orbit_steer(kappa: f64, r0: f64, r1: f64, dphi: f64) -> Option<OrbitSteer
 /// A turn below this (rad) is steered along the separation itself.
 const RADIAL_TURN: f64 = 1e-12;
 
-/// `ln(sin x √cos x)`.
-fn ln_f(x: f64) -> f64 {
-    x.sin().ln() + 0.5 * x.cos().ln()
-}
-
-/// `d/dx ln(sin x √cos x) = cot x − ½ tan x`, strictly decreasing on `(0, π/2)`.
-fn d_ln_f(x: f64) -> f64 {
+/// `ln(sin x √cos x)` and its derivative `cot x − ½ tan x` (strictly decreasing on
+/// `(0, π/2)`), from one sine and cosine.
+fn ln_f_and_slope(x: f64) -> (f64, f64) {
     let (s, c) = x.sin_cos();
-    c / s - 0.5 * s / c
+    (s.ln() + 0.5 * c.ln(), c / s - 0.5 * s / c)
 }
 
 /// The root in `(lo, hi)` of an increasing function given with its derivative, negative near
@@ -292,20 +288,30 @@ impl Relative<'_> {
         let (theta0, first) = self.rounded(&at, &mid)?;
         let nominal = self.orbit(&mid, to)?.time / self.limits.period;
         let base = nominal.round().max(1.0) as u32;
+        // by the field angle of the second-to-last edge: where it ends and the last orbit from
+        // there (both brackets step through the same angles, and the root was evaluated last)
+        let mut seen: Vec<(u64, Option<(Shape, OrbitSteer)>)> = Vec::with_capacity(64);
+        let mut last_orbit = |theta: f64| {
+            let key = theta.to_bits();
+            if let Some(&(_, known)) = seen.iter().find(|e| e.0 == key) {
+                return known;
+            }
+            let found = self
+                .end(&at, theta, first)
+                .and_then(|m| Some((m, self.orbit(&m, to)?)));
+            seen.push((key, found));
+            found
+        };
         for last in [base, base + 1] {
             if last == 0 || last > self.limits.max_periods {
                 continue;
             }
             let time = last as f64 * self.limits.period;
-            let miss = |theta: f64| {
-                let m = self.end(&at, theta, first)?;
-                Some(self.orbit(&m, to)?.time - time)
-            };
+            let miss = |theta: f64| Some(last_orbit(theta)?.1.time - time);
             let Some(theta) = bracket_root(miss, theta0) else {
                 continue;
             };
-            let m = self.end(&at, theta, first)?;
-            let o = self.orbit(&m, to)?;
+            let (m, o) = last_orbit(theta)?;
             let theta_last = m.phi + o.psi;
             self.end(&m, theta_last, last)?;
             edges.push((theta, first));
