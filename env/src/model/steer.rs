@@ -223,6 +223,69 @@ struct Relative<'a> {
     model: &'a PlanningModel,
     limits: &'a SteerLimits,
     kappa: f64,
+    /// The centre of mass's shift over the steer (BL).
+    shift: Vec2,
+    /// [`PullBound`], when the coil has its form.
+    pull: Option<PullBound>,
+}
+
+/// Why [`Relative::solve`] has no edges.
+enum Unsolved {
+    /// No edges within the limits.
+    Failed,
+    /// The edges would last this many periods in all, too short for the pull to carry the
+    /// centre of mass its shift whatever their field angles: no gradients exist.
+    TooSlow(u32),
+}
+
+/// The centre of mass's velocity at zero gradient and its largest change per axis under the
+/// largest gradient along that axis, at any field angle, for a coil whose pull per gradient
+/// is `(G_x cos θ_B, G_y sin θ_B)` (the tri-axial coil): the drift is the same at every angle and
+/// axis `x` moves fastest at `θ_B = 0`, axis `y` at `θ_B = π/2`.
+#[derive(Debug, Clone, Copy)]
+struct PullBound {
+    drift: Vec2,
+    reach: [f64; 2],
+}
+
+impl PullBound {
+    /// The bound at `from`; `None` unless the coil's pull, sampled at a third angle, has the
+    /// tri-axial form.
+    fn of(model: &PlanningModel, from: &[Vec2]) -> Option<Self> {
+        let limit = model.coil.gradient_limit();
+        let mut v = [Vec2::zeros(); 2];
+        let mut centre = |theta: f64, gx: f64, gy: f64| {
+            model.velocities(from, &Control::planar(theta, gx, gy), &mut v);
+            (v[0] + v[1]) * 0.5
+        };
+        let drift = centre(0.0, 0.0, 0.0);
+        let x = centre(0.0, limit, 0.0) - drift;
+        let y = centre(FRAC_PI_2, 0.0, limit) - centre(FRAC_PI_2, 0.0, 0.0);
+        const PROBE: f64 = 0.3;
+        let (sp, cp) = PROBE.sin_cos();
+        let d = centre(PROBE, 0.0, 0.0);
+        let px = centre(PROBE, limit, 0.0) - d;
+        let py = centre(PROBE, 0.0, limit) - d;
+        let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(f64::MIN_POSITIVE);
+        let shaped = (d - drift).norm() <= 1e-9 * drift.norm().max(x.norm())
+            && near(px.x, x.x * cp)
+            && near(py.y, y.y * sp)
+            && px.y.abs() <= 1e-9 * x.norm()
+            && py.x.abs() <= 1e-9 * y.norm();
+        (shaped && x.x.is_finite() && y.y.is_finite()).then_some(PullBound {
+            drift,
+            reach: [x.x.abs(), y.y.abs()],
+        })
+    }
+
+    /// Whether no gradients within the limits carry the centre by `shift` over `periods`
+    /// periods of `period` seconds, at any field angles (with a margin of 1e-6 for rounding).
+    fn too_slow(&self, shift: Vec2, periods: u32, period: f64) -> bool {
+        let t = periods as f64 * period;
+        let rest = shift - self.drift * t;
+        let margin = 1.0 + 1e-6;
+        rest.x.abs() > t * self.reach[0] * margin || rest.y.abs() > t * self.reach[1] * margin
+    }
 }
 
 impl Relative<'_> {
@@ -267,7 +330,7 @@ impl Relative<'_> {
         turn: f64,
         n: usize,
         scale: f64,
-    ) -> Option<Vec<(f64, u32)>> {
+    ) -> Result<Vec<(f64, u32)>, Unsolved> {
         let [r_min, r_max] = self.limits.separation;
         let waypoint = |k: usize| {
             let f = k as f64 / n as f64;
@@ -280,14 +343,16 @@ impl Relative<'_> {
         let mut edges = Vec::with_capacity(n);
         let mut at = *from;
         for k in 1..n - 1 {
-            let (theta, periods) = self.rounded(&at, &waypoint(k))?;
-            at = self.end(&at, theta, periods)?;
+            let (theta, periods) = self.rounded(&at, &waypoint(k)).ok_or(Unsolved::Failed)?;
+            at = self.end(&at, theta, periods).ok_or(Unsolved::Failed)?;
             edges.push((theta, periods));
         }
         let mid = waypoint(n - 1);
-        let (theta0, first) = self.rounded(&at, &mid)?;
-        let nominal = self.orbit(&mid, to)?.time / self.limits.period;
+        let (theta0, first) = self.rounded(&at, &mid).ok_or(Unsolved::Failed)?;
+        let nominal = self.orbit(&mid, to).ok_or(Unsolved::Failed)?.time / self.limits.period;
         let base = nominal.round().max(1.0) as u32;
+        // every edge's duration is known but the last's
+        let before: u32 = edges.iter().map(|e| e.1).sum::<u32>() + first;
         // by the field angle of the second-to-last edge: where it ends and the last orbit from
         // there (both brackets step through the same angles, and the root was evaluated last)
         let mut seen: Vec<(u64, Option<(Shape, OrbitSteer)>)> = Vec::with_capacity(64);
@@ -308,23 +373,31 @@ impl Relative<'_> {
             }
             let time = last as f64 * self.limits.period;
             let miss = |theta: f64| Some(last_orbit(theta)?.1.time - time);
-            let Some(theta) = bracket_root(miss, theta0) else {
+            // when the pull cannot carry the centre its shift in this time, no field angles
+            // give gradients: whether a root exists is all that matters, not where it is
+            let too_slow = self
+                .pull
+                .is_some_and(|p| p.too_slow(self.shift, before + last, self.limits.period));
+            let Some(theta) = bracket_root(miss, theta0, !too_slow) else {
                 continue;
             };
-            let (m, o) = last_orbit(theta)?;
+            if too_slow {
+                return Err(Unsolved::TooSlow(before + last));
+            }
+            let (m, o) = last_orbit(theta).ok_or(Unsolved::Failed)?;
             let theta_last = m.phi + o.psi;
-            self.end(&m, theta_last, last)?;
+            self.end(&m, theta_last, last).ok_or(Unsolved::Failed)?;
             edges.push((theta, first));
             edges.push((theta_last, last));
-            return Some(edges);
+            return Ok(edges);
         }
-        None
+        Err(Unsolved::Failed)
     }
 }
 
 /// A root of `f` near `x0`: the nearest sign change on a grid stepping outward from `x0`,
-/// refined by [`illinois`].
-fn bracket_root(mut f: impl FnMut(f64) -> Option<f64>, x0: f64) -> Option<f64> {
+/// refined by [`illinois`] if `refine` (otherwise the grid point that closes the bracket).
+fn bracket_root(mut f: impl FnMut(f64) -> Option<f64>, x0: f64, refine: bool) -> Option<f64> {
     const STEP: f64 = 0.025;
     const STEPS: usize = 10;
     let f0 = f(x0);
@@ -339,6 +412,9 @@ fn bracket_root(mut f: impl FnMut(f64) -> Option<f64>, x0: f64) -> Option<f64> {
             if let ((xp, Some(fp)), Some(v)) = (prev[side], fx)
                 && fp.signum() != v.signum()
             {
+                if !refine {
+                    return Some(x);
+                }
                 let (a, b, fa, fb) = if xp < x {
                     (xp, x, fp, v)
                 } else {
@@ -456,17 +532,25 @@ pub fn steer_pair(
         .pair_edge(from, &Control::planar(0.0, 0.0, 0.0))?
         .orbit()
         .kappa();
-    let rel = Relative {
-        model,
-        limits,
-        kappa,
-    };
     let (a, b) = (Shape::of(from[1] - from[0]), Shape::of(to[1] - to[0]));
     let [r_min, r_max] = limits.separation;
     if !(a.r > r_min && a.r < r_max && b.r > r_min && b.r < r_max) {
         return None;
     }
     let shift = (to[0] + to[1] - from[0] - from[1]) * 0.5;
+    let rel = Relative {
+        model,
+        limits,
+        kappa,
+        shift,
+        pull: PullBound::of(model, from),
+    };
+    let needed = shift.norm() / pull_speed(model, from);
+    // too fast for the pull: slow the orbits by widening the pair (t ∝ r⁵)
+    let widen = |scale: f64, periods: u32| {
+        let time = periods as f64 * limits.period;
+        scale * ((needed / time).max(1.0).powf(0.2) * 1.05)
+    };
     let turn = wrap_angle(b.phi - a.phi);
     let mut turns = vec![turn];
     if turn.abs() > 2.0 * PI / 3.0 {
@@ -475,9 +559,8 @@ pub fn steer_pair(
     for &turn in &turns {
         // enough edges to turn in short orbits, and to give the pull time for the shift
         let edge_time = limits.max_periods as f64 * limits.period;
-        let shift_time = shift.norm() / pull_speed(model, from);
         let fewest = ((turn.abs() / EDGE_TURN).ceil() as usize)
-            .max((shift_time / (0.8 * edge_time)).ceil() as usize)
+            .max((needed / (0.8 * edge_time)).ceil() as usize)
             .max(2);
         if fewest > MAX_EDGES {
             continue;
@@ -486,16 +569,17 @@ pub fn steer_pair(
             for first_scale in SCALES {
                 let mut scale = first_scale;
                 for _ in 0..3 {
-                    let Some(edges) = rel.solve(&a, &b, turn, n, scale) else {
-                        break;
+                    let edges = match rel.solve(&a, &b, turn, n, scale) {
+                        Ok(edges) => edges,
+                        Err(Unsolved::TooSlow(periods)) => {
+                            scale = widen(scale, periods);
+                            continue;
+                        }
+                        Err(Unsolved::Failed) => break,
                     };
                     let Some(controls) = gradients(model, from, &edges, limits.period, shift)
                     else {
-                        // too fast for the pull: slow the orbits by widening the pair (t ∝ r⁵)
-                        let periods: u32 = edges.iter().map(|e| e.1).sum();
-                        let time = periods as f64 * limits.period;
-                        let needed = shift.norm() / pull_speed(model, from);
-                        scale *= (needed / time).max(1.0).powf(0.2) * 1.05;
+                        scale = widen(scale, edges.iter().map(|e| e.1).sum());
                         continue;
                     };
                     let steer: Vec<SteerEdge> = controls
