@@ -322,7 +322,8 @@ impl Relative<'_> {
 
     /// The relative part of a steer through `n ≥ 2` orbits turning by `turn` in all, the
     /// waypoints' separations interpolated geometrically and scaled by `scale`: the field
-    /// angles and periods of every edge.
+    /// angles and periods of every edge. `final_try`: no wider steer is tried after this one,
+    /// so edges too quick for the pull are [`Unsolved::Failed`] without a bracket.
     fn solve(
         &self,
         from: &Shape,
@@ -330,6 +331,7 @@ impl Relative<'_> {
         turn: f64,
         n: usize,
         scale: f64,
+        final_try: bool,
     ) -> Result<Vec<(f64, u32)>, Unsolved> {
         let [r_min, r_max] = self.limits.separation;
         let waypoint = |k: usize| {
@@ -353,6 +355,19 @@ impl Relative<'_> {
         let base = nominal.round().max(1.0) as u32;
         // every edge's duration is known but the last's
         let before: u32 = edges.iter().map(|e| e.1).sum::<u32>() + first;
+        let too_slow = |last: u32| {
+            self.pull
+                .is_some_and(|p| p.too_slow(self.shift, before + last, self.limits.period))
+        };
+        let within = |last: u32| last <= self.limits.max_periods;
+        if final_try
+            && [base, base + 1]
+                .into_iter()
+                .all(|l| !within(l) || too_slow(l))
+        {
+            // whatever the brackets find, the gradients fail and nothing is tried after this
+            return Err(Unsolved::Failed);
+        }
         // by the field angle of the second-to-last edge: where it ends and the last orbit from
         // there (both brackets step through the same angles, and the root was evaluated last)
         let mut seen: Vec<(u64, Option<(Shape, OrbitSteer)>)> = Vec::with_capacity(64);
@@ -375,13 +390,11 @@ impl Relative<'_> {
             let miss = |theta: f64| Some(last_orbit(theta)?.1.time - time);
             // when the pull cannot carry the centre its shift in this time, no field angles
             // give gradients: whether a root exists is all that matters, not where it is
-            let too_slow = self
-                .pull
-                .is_some_and(|p| p.too_slow(self.shift, before + last, self.limits.period));
-            let Some(theta) = bracket_root(miss, theta0, !too_slow) else {
+            let slow = too_slow(last);
+            let Some(theta) = bracket_root(miss, theta0, !slow) else {
                 continue;
             };
-            if too_slow {
+            if slow {
                 return Err(Unsolved::TooSlow(before + last));
             }
             let (m, o) = last_orbit(theta).ok_or(Unsolved::Failed)?;
@@ -568,8 +581,9 @@ pub fn steer_pair(
         for n in [fewest, fewest + 2] {
             for first_scale in SCALES {
                 let mut scale = first_scale;
-                for _ in 0..3 {
-                    let edges = match rel.solve(&a, &b, turn, n, scale) {
+                for attempt in 0..WIDENINGS {
+                    let final_try = attempt + 1 == WIDENINGS;
+                    let edges = match rel.solve(&a, &b, turn, n, scale, final_try) {
                         Ok(edges) => edges,
                         Err(Unsolved::TooSlow(periods)) => {
                             scale = widen(scale, periods);
@@ -602,6 +616,9 @@ pub fn steer_pair(
 /// (at 2 BL, 60° takes 14 s and 36° 1.7 s under the default preset), so several short turns
 /// are faster than one long one.
 const EDGE_TURN: f64 = 0.4;
+
+/// Steers solved per candidate: the first and up to two with the waypoints widened.
+const WIDENINGS: usize = 3;
 
 /// The most edges a steer plans.
 const MAX_EDGES: usize = 24;
