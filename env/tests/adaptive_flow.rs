@@ -90,8 +90,9 @@ fn deviation(a: &[Vec2], b: &[Vec2]) -> f64 {
 
 /// Every visited sample of a valid team (all separations at least `r_min`), the end included,
 /// within the tolerance of the fine reference, over many random motions of teams of three to
-/// six (planar and elevated commands). A motion is followed up to its first invalid sample,
-/// where the proximity check stops it.
+/// six (planar and elevated commands), and for each team size the largest deviation no larger
+/// than fixed-step RK4's at `dt` on the same samples. A motion is followed up to its first
+/// invalid sample, where the proximity check stops it.
 #[test]
 fn adaptive_samples_match_a_fine_reference_within_the_tolerance() {
     let p = PhysicalParams::default();
@@ -138,6 +139,12 @@ fn adaptive_samples_match_a_fine_reference_within_the_tolerance() {
             w.whole += usize::from(closest(reference.last().unwrap()) >= p.r_min);
             w.count(&m, &start, &u, duration, reference.len());
         }
+        assert!(
+            w.worst <= w.worst_rk4,
+            "n = {n}: the adaptive flow's largest deviation {:e} BL exceeds fixed-step RK4's {:e} BL",
+            w.worst,
+            w.worst_rk4
+        );
         rows.push((n, w));
     }
     let compared: usize = rows.iter().map(|(_, w)| w.compared).sum();

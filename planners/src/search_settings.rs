@@ -107,26 +107,38 @@ impl SearchSettings {
         }
     }
 
-    /// `best` after `shortcut` rounds of shortcutting when it is a solution; `alpha_max` is
-    /// the largest elevation the planner could draw (`None` in the plane), recorded on the
-    /// plan. Every planner passes its solution through here before `finish`.
-    pub fn polish(&self, problem: &Problem, mut best: Best, alpha_max: Option<f64>) -> Best {
-        if !best.solved || self.shortcut == 0 {
-            return best;
-        }
-        best.plan.alpha_max = alpha_max;
-        let max_periods = to_periods(self.max_duration, problem.control_period);
-        let plan = Shortcut::new(self.shortcut, max_periods).run(problem, &best.plan);
-        let cost = plan_cost(problem, &plan);
-        Best {
-            plan,
-            solved: true,
-            cost,
-        }
+    /// `best` after this setting's shortcut pass ([`polish`]). Every planner passes its
+    /// solution through here before `finish`.
+    pub fn polish(&self, problem: &Problem, best: Best, alpha_max: Option<f64>) -> Best {
+        polish(problem, best, self.shortcut, self.max_duration, alpha_max)
     }
 
     fn check_durations(&self) -> Result<(), Rejection> {
         check_durations(self.min_duration, self.max_duration)
+    }
+}
+
+/// `best` after a shortcut pass of `budget` steer solves (steered edges at most `max_duration`
+/// seconds) when it is a solution; `alpha_max` is the largest elevation the planner could draw
+/// (`None` in the plane), recorded on the plan. `budget` 0 returns `best` as it is.
+pub fn polish(
+    problem: &Problem,
+    mut best: Best,
+    budget: usize,
+    max_duration: f64,
+    alpha_max: Option<f64>,
+) -> Best {
+    if !best.solved || budget == 0 {
+        return best;
+    }
+    best.plan.alpha_max = alpha_max;
+    let max_periods = to_periods(max_duration, problem.control_period);
+    let plan = Shortcut::new(budget, max_periods).run(problem, &best.plan);
+    let cost = plan_cost(problem, &plan);
+    Best {
+        plan,
+        solved: true,
+        cost,
     }
 }
 

@@ -12,6 +12,9 @@
 //! invalid, a steer onto one of the next old waypoints, at any cost, takes its place; if none
 //! does, or the sweep's plan misses the goal, the sweep is dropped.
 //!
+//! Runs of consecutive edges under one command (a planner such as OMPL's returns one edge per
+//! control period) are first replayed as one edge each, so that spans count commands.
+//!
 //! Sweeps repeat on the shorter plan until one finds nothing or `rounds` steer solves have been
 //! spent: the work is a count, so the result depends only on the plan and the problem. The
 //! result replays bit for bit like any plan and never costs more than the input. Pairs under
@@ -98,8 +101,9 @@ impl Shortcut {
             separation: [problem.checker.r_min, problem.checker.r_max],
             tolerance: STEER_TOLERANCE,
         };
-        let mut best = plan.clone();
-        let mut best_cost = plan_cost(problem, plan);
+        let input_cost = plan_cost(problem, plan);
+        let mut best = merge_runs(problem, plan).unwrap_or_else(|| plan.clone());
+        let mut best_cost = plan_cost(problem, &best);
         while stats.rounds < self.rounds {
             stats.sweeps += 1;
             let Some(next) = self.sweep(problem, &best, &limits, &mut stats) else {
@@ -112,6 +116,9 @@ impl Shortcut {
             }
             best = next;
             best_cost = cost;
+        }
+        if best_cost >= input_cost {
+            return (plan.clone(), stats);
         }
         best.alpha_max = plan.alpha_max;
         (best, stats)
@@ -219,6 +226,37 @@ impl Shortcut {
         }
         found
     }
+}
+
+/// `plan` with each run of consecutive edges under one command replayed as one edge (a
+/// planner such as OMPL's returns one edge per control period), so that the spans count
+/// commands; `None` when no two consecutive edges share a command, or a merged edge fails the
+/// checked propagation, or the replay misses the goal.
+fn merge_runs(problem: &Problem, plan: &Plan) -> Option<Plan> {
+    let m = plan.edges();
+    if !(1..m).any(|k| plan.controls[k] == plan.controls[k - 1]) {
+        return None;
+    }
+    let mut merged = Plan::at(&plan.states[0]);
+    merged.flow = plan.flow;
+    let mut at = plan.states[0].clone();
+    let mut out = [Vec2::zeros(); MAX_AGENTS];
+    let mut k = 0;
+    while k < m {
+        let u = plan.controls[k];
+        let mut periods = 0;
+        while k < m && plan.controls[k] == u {
+            periods += (plan.durations[k] / problem.control_period).round() as u32;
+            k += 1;
+        }
+        let d = problem.periods(periods);
+        if !propagate_valid(problem, &at, &u, d, &mut out[..2]) {
+            return None;
+        }
+        merged.push(u, d, out[..2].to_vec());
+        at.copy_from_slice(&out[..2]);
+    }
+    problem.goal.contains(&at).then_some(merged)
 }
 
 /// The objective's cost of edge `k` of `plan`.

@@ -26,11 +26,14 @@
 
 use crate::math::{MAX_AGENTS, Vec2};
 
-/// The integration tolerance on every agent position (BL): a twentieth of the camera's position
-/// noise (σ = 0.02 BL in the `realistic` and `hardware` presets) and 1/750 of the built-in goal
-/// tolerance (0.75 BL), so neither the closed loop nor the goal test can tell it from the exact
-/// motion.
-pub const TOLERANCE_BL: f64 = 1e-3;
+/// The integration tolerance on every agent position (BL): a tenth of the bound the project
+/// holds the fixed step to (halving `dt` moves an RK4 edge's end by less than 1e-3 BL,
+/// `env/tests/integration_step.rs`), a two-hundredth of the camera's position noise
+/// (σ = 0.02 BL in the `realistic` and `hardware` presets) and 1/7500 of the built-in goal
+/// tolerance (0.75 BL). The accuracy test (`env/tests/adaptive_flow.rs`) checks every sample
+/// against it and, team size by team size, the largest deviation from a fine reference against
+/// fixed-step RK4's at `dt`: the adaptive flow must be at least as accurate.
+pub const TOLERANCE_BL: f64 = 1e-4;
 
 /// The longest motion the tolerance budget is spread over (s): the planners' default longest
 /// edge (`max_duration = 2`).
@@ -105,8 +108,6 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
-type Agents = [Vec2; MAX_AGENTS];
-
 /// The sample spacing `dt` (s) and the error budget of an adaptive motion.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dp5Grid {
@@ -126,16 +127,17 @@ pub struct Dp5Stats {
 }
 
 /// The dense output of one accepted step: `y(t0 + θh) = r1 + θ(r2 + (1−θ)(r3 + θ(r4 + (1−θ)r5)))`.
-struct Dense {
-    r: [Agents; 5],
+struct Dense<const N: usize> {
+    r: [[Vec2; N]; 5],
 }
 
-impl Dense {
+impl<const N: usize> Dense<N> {
     #[inline]
-    fn at(&self, n: usize, theta: f64, out: &mut [Vec2]) {
+    fn at(&self, theta: f64, out: &mut [Vec2]) {
         let t1 = 1.0 - theta;
         let [r1, r2, r3, r4, r5] = &self.r;
-        for i in 0..n {
+        let out = &mut out[..N];
+        for i in 0..N {
             out[i] = r1[i] + (r2[i] + (r3[i] + (r4[i] + r5[i] * t1) * theta) * t1) * theta;
         }
     }
@@ -149,7 +151,6 @@ impl Dense {
 /// with them. Returns the verdict and the work done. Every step is at least `dt / 64` long (`dt`
 /// inside `r_min`), so the work is bounded by the duration whatever the velocity field does.
 #[inline]
-#[allow(clippy::needless_range_loop)] // the stage formulas index every array by agent alike
 pub fn dp5_solve(
     f: &impl Fn(&[Vec2], &mut [Vec2]),
     start: &[Vec2],
@@ -159,76 +160,316 @@ pub fn dp5_solve(
     visits: bool,
     mut visit: impl FnMut(&[Vec2]) -> bool,
 ) -> (bool, Dp5Stats) {
-    let Dp5Grid { dt, budget } = grid;
-    let mut stats = Dp5Stats::default();
-    let n = start.len();
     assert!(
-        n <= MAX_AGENTS && out.len() == n,
+        start.len() <= MAX_AGENTS && out.len() == start.len(),
         "at most {MAX_AGENTS} agents"
     );
-    let (steps, rest) = super::step_schedule(duration, dt);
-    let samples = steps + usize::from(rest > 0.0);
-    if samples == 0 {
-        out.copy_from_slice(start);
-        return (true, stats);
+    macro_rules! solve_n {
+        ($($n:literal)*) => {
+            match start.len() {
+                $($n => solve_n::<$n>(f, start, duration, grid, out, visits, &mut visit),)*
+                _ => unreachable!("at most {MAX_AGENTS} agents"),
+            }
+        };
     }
-    let sample_time = |k: usize| {
-        if k >= samples {
-            duration
-        } else {
-            k as f64 * dt
-        }
-    };
-    let mut next = if visits { 1 } else { samples };
-    let mut next_t = sample_time(next);
+    solve_n!(0 1 2 3 4 5 6 7 8)
+}
 
-    let z = Vec2::zeros();
-    let mut y: Agents = [z; MAX_AGENTS];
-    y[..n].copy_from_slice(start);
-    let mut k = [[z; MAX_AGENTS]; 7];
-    let mut s: Agents = [z; MAX_AGENTS];
-    let mut y_new: Agents = [z; MAX_AGENTS];
-    f(&y[..n], &mut k[0][..n]);
-    let h_max = REFERENCE_DURATION_S;
-    let h_floor = |y: &[Vec2]| {
-        let r2 = budget.r_min * budget.r_min;
-        let close = (0..n).any(|i| ((i + 1)..n).any(|j| (y[i] - y[j]).norm_squared() < r2));
-        if close { dt } else { dt * SMALLEST_STEP_DTS }
-    };
-    let mut h_min = h_floor(&y[..n]);
-    let mut h = dt * FIRST_STEP_DTS;
-    let mut t = 0.0;
-    let mut rejected_last = false;
-    let mut last_accepted: Option<(f64, f64)> = None;
+/// [`dp5_solve`] for a team of `N`: every loop over the agents has a known length.
+#[inline]
+fn solve_n<const N: usize>(
+    f: &impl Fn(&[Vec2], &mut [Vec2]),
+    start: &[Vec2],
+    duration: f64,
+    grid: Dp5Grid,
+    out: &mut [Vec2],
+    visits: bool,
+    visit: &mut impl FnMut(&[Vec2]) -> bool,
+) -> (bool, Dp5Stats) {
+    let mut lane = Dp5Lane::<N>::idle();
+    if !lane.start(f, start, duration, grid, visits) {
+        out.copy_from_slice(start);
+        return (true, lane.stats);
+    }
     loop {
-        for i in 0..n {
-            s[i] = y[i] + k[0][i] * (h * A21);
+        for stage in 1..=6 {
+            lane.stage(stage, f);
         }
-        f(&s[..n], &mut k[1][..n]);
-        for i in 0..n {
-            s[i] = y[i] + (k[0][i] * A31 + k[1][i] * A32) * h;
+        if let Some(verdict) = lane.conclude(out, visits, visit) {
+            return (verdict, lane.stats);
         }
-        f(&s[..n], &mut k[2][..n]);
-        for i in 0..n {
-            s[i] = y[i] + (k[0][i] * A41 + k[1][i] * A42 + k[2][i] * A43) * h;
+    }
+}
+
+/// Motions solved side by side by [`dp5_solve_many`]: enough independent work to overlap one
+/// motion's square roots and divisions with another's.
+const LANES: usize = 8;
+
+/// The ends of many motions from one `start`, motion `i` under `fields[i]` for `durations[i]`
+/// seconds into `ends[i]` (first N entries), skipping those with `skip[i]`: each end equals
+/// [`dp5_solve`]'s without visits bit for bit. Up to [`LANES`] motions advance together, stage
+/// by stage (each with its own steps), and a finished motion's place goes to the next, so the
+/// processor overlaps their arithmetic. Allocates nothing.
+pub fn dp5_solve_many<F: Fn(&[Vec2], &mut [Vec2])>(
+    fields: &[F],
+    start: &[Vec2],
+    durations: &[f64],
+    skip: &[bool],
+    grid: Dp5Grid,
+    ends: &mut [[Vec2; MAX_AGENTS]],
+) {
+    let k = fields.len();
+    assert!(
+        start.len() <= MAX_AGENTS && durations.len() == k && skip.len() == k && ends.len() >= k,
+        "at most {MAX_AGENTS} agents, one duration, skip flag and end per field"
+    );
+    macro_rules! many_n {
+        ($($n:literal)*) => {
+            match start.len() {
+                $($n => many_n::<$n, F>(fields, start, durations, skip, grid, ends),)*
+                _ => unreachable!("at most {MAX_AGENTS} agents"),
+            }
+        };
+    }
+    many_n!(0 1 2 3 4 5 6 7 8)
+}
+
+/// [`dp5_solve_many`] for a team of `N`.
+#[inline]
+fn many_n<const N: usize, F: Fn(&[Vec2], &mut [Vec2])>(
+    fields: &[F],
+    start: &[Vec2],
+    durations: &[f64],
+    skip: &[bool],
+    grid: Dp5Grid,
+    ends: &mut [[Vec2; MAX_AGENTS]],
+) {
+    let k = fields.len();
+    let mut lanes = [Dp5Lane::<N>::idle(); LANES];
+    let mut motion = [0usize; LANES];
+    let mut pending = (0..k).filter(|&i| !skip[i]);
+    // fills a free lane with the next motion that needs steps; false when none is left
+    let mut fill = |lane: &mut Dp5Lane<N>, slot: &mut usize, ends: &mut [[Vec2; MAX_AGENTS]]| {
+        for i in pending.by_ref() {
+            if lane.start(&fields[i], start, durations[i], grid, false) {
+                *slot = i;
+                return true;
+            }
+            ends[i][..N].copy_from_slice(start);
         }
-        f(&s[..n], &mut k[3][..n]);
-        for i in 0..n {
-            s[i] = y[i] + (k[0][i] * A51 + k[1][i] * A52 + k[2][i] * A53 + k[3][i] * A54) * h;
+        false
+    };
+    let mut busy = 0;
+    for l in 0..LANES {
+        if fill(&mut lanes[l], &mut motion[l], ends) {
+            busy = l + 1;
+        } else {
+            break;
         }
-        f(&s[..n], &mut k[4][..n]);
-        for i in 0..n {
-            s[i] = y[i]
-                + (k[0][i] * A61 + k[1][i] * A62 + k[2][i] * A63 + k[3][i] * A64 + k[4][i] * A65)
-                    * h;
+    }
+    while busy > 0 {
+        for stage in 1..=6 {
+            for (lane, &i) in lanes[..busy].iter_mut().zip(&motion[..busy]) {
+                lane.stage(stage, &fields[i]);
+            }
         }
-        f(&s[..n], &mut k[5][..n]);
-        for i in 0..n {
-            y_new[i] = y[i]
-                + (k[0][i] * B1 + k[2][i] * B3 + k[3][i] * B4 + k[4][i] * B5 + k[5][i] * B6) * h;
+        let mut l = 0;
+        while l < busy {
+            let i = motion[l];
+            if lanes[l]
+                .conclude(&mut ends[i][..N], false, &mut |_| true)
+                .is_none()
+            {
+                l += 1;
+            } else if !fill(&mut lanes[l], &mut motion[l], ends) {
+                busy -= 1;
+                lanes.swap(l, busy);
+                motion.swap(l, busy);
+            } else {
+                l += 1;
+            }
         }
-        f(&y_new[..n], &mut k[6][..n]);
-        let mut err: f64 = 0.0;
+    }
+}
+
+/// One adaptive motion in progress: its state, its stages and its step control.
+#[derive(Clone, Copy)]
+struct Dp5Lane<const N: usize> {
+    dt: f64,
+    budget: ErrorBudget,
+    duration: f64,
+    samples: usize,
+    next: usize,
+    next_t: f64,
+    y: [Vec2; N],
+    k: [[Vec2; N]; 7],
+    s: [Vec2; N],
+    y_new: [Vec2; N],
+    h: f64,
+    h_min: f64,
+    t: f64,
+    rejected_last: bool,
+    last_accepted: Option<(f64, f64)>,
+    stats: Dp5Stats,
+}
+
+impl<const N: usize> Dp5Lane<N> {
+    /// A lane holding no motion.
+    fn idle() -> Self {
+        let z = [Vec2::zeros(); N];
+        Self {
+            dt: 0.0,
+            budget: ErrorBudget {
+                per_bl: 0.0,
+                min_speed: 0.0,
+                r_min: 0.0,
+            },
+            duration: 0.0,
+            samples: 0,
+            next: 0,
+            next_t: 0.0,
+            y: z,
+            k: [z; 7],
+            s: z,
+            y_new: z,
+            h: 0.0,
+            h_min: 0.0,
+            t: 0.0,
+            rejected_last: false,
+            last_accepted: None,
+            stats: Dp5Stats::default(),
+        }
+    }
+
+    /// Starts the motion from `start` for `duration`; false (and nothing to solve) when it has
+    /// no sample.
+    #[inline]
+    fn start(
+        &mut self,
+        f: &impl Fn(&[Vec2], &mut [Vec2]),
+        start: &[Vec2],
+        duration: f64,
+        grid: Dp5Grid,
+        visits: bool,
+    ) -> bool {
+        let (steps, rest) = super::step_schedule(duration, grid.dt);
+        let samples = steps + usize::from(rest > 0.0);
+        self.stats = Dp5Stats::default();
+        if samples == 0 {
+            return false;
+        }
+        self.dt = grid.dt;
+        self.budget = grid.budget;
+        self.duration = duration;
+        self.samples = samples;
+        self.next = if visits { 1 } else { samples };
+        self.next_t = self.sample_time(self.next);
+        self.y.copy_from_slice(start);
+        f(&self.y, &mut self.k[0]);
+        self.h_min = self.h_floor();
+        self.h = grid.dt * FIRST_STEP_DTS;
+        self.t = 0.0;
+        self.rejected_last = false;
+        self.last_accepted = None;
+        true
+    }
+
+    /// The time of sample `k` (1-based; the last is the end).
+    #[inline]
+    fn sample_time(&self, k: usize) -> f64 {
+        if k >= self.samples {
+            self.duration
+        } else {
+            k as f64 * self.dt
+        }
+    }
+
+    /// The smallest step from the state `y`: `dt` when two agents are closer than `r_min`.
+    #[inline]
+    fn h_floor(&self) -> f64 {
+        let (y, n) = (&self.y, N);
+        let r2 = self.budget.r_min * self.budget.r_min;
+        let close = (0..n).any(|i| ((i + 1)..n).any(|j| (y[i] - y[j]).norm_squared() < r2));
+        if close {
+            self.dt
+        } else {
+            self.dt * SMALLEST_STEP_DTS
+        }
+    }
+
+    /// Forms the input of stage `stage` (1–6; the sixth is the fifth-order solution) of the
+    /// step of size `h` and evaluates `f` there.
+    #[inline]
+    #[allow(clippy::needless_range_loop)] // the stage formulas index every array by agent alike
+    fn stage(&mut self, stage: usize, f: &impl Fn(&[Vec2], &mut [Vec2])) {
+        let (n, h, y) = (N, self.h, &self.y);
+        let k = &self.k;
+        let s = &mut self.s;
+        match stage {
+            1 => {
+                for i in 0..n {
+                    s[i] = y[i] + k[0][i] * (h * A21);
+                }
+            }
+            2 => {
+                for i in 0..n {
+                    s[i] = y[i] + (k[0][i] * A31 + k[1][i] * A32) * h;
+                }
+            }
+            3 => {
+                for i in 0..n {
+                    s[i] = y[i] + (k[0][i] * A41 + k[1][i] * A42 + k[2][i] * A43) * h;
+                }
+            }
+            4 => {
+                for i in 0..n {
+                    s[i] =
+                        y[i] + (k[0][i] * A51 + k[1][i] * A52 + k[2][i] * A53 + k[3][i] * A54) * h;
+                }
+            }
+            5 => {
+                for i in 0..n {
+                    s[i] = y[i]
+                        + (k[0][i] * A61
+                            + k[1][i] * A62
+                            + k[2][i] * A63
+                            + k[3][i] * A64
+                            + k[4][i] * A65)
+                            * h;
+                }
+            }
+            _ => {
+                for i in 0..n {
+                    self.y_new[i] = y[i]
+                        + (k[0][i] * B1
+                            + k[2][i] * B3
+                            + k[3][i] * B4
+                            + k[4][i] * B5
+                            + k[5][i] * B6)
+                            * h;
+                }
+                f(&self.y_new, &mut self.k[6]);
+                return;
+            }
+        }
+        f(&self.s, &mut self.k[stage]);
+    }
+
+    /// Ends the attempted step once its six stages are evaluated: rejects it (and shrinks `h`)
+    /// or accepts it, visits the samples it contains and picks the next step. Returns the
+    /// motion's verdict once it ends (the end or the stopping sample in `out`), else `None`.
+    #[inline]
+    #[allow(clippy::needless_range_loop)] // the error formulas index every array by agent alike
+    fn conclude(
+        &mut self,
+        out: &mut [Vec2],
+        visits: bool,
+        visit: &mut impl FnMut(&[Vec2]) -> bool,
+    ) -> Option<bool> {
+        let (n, h) = (N, self.h);
+        let (k, y, y_new) = (&self.k, &self.y, &self.y_new);
+        // squared norms, one square root for the ratio
+        let mut err2: f64 = 0.0;
         for i in 0..n {
             let e = (k[0][i] * E1
                 + k[2][i] * E3
@@ -237,75 +478,81 @@ pub fn dp5_solve(
                 + k[5][i] * E6
                 + k[6][i] * E7)
                 * h;
-            let e = e.norm();
-            err = if e.is_nan() || e > err { e } else { err };
+            let e2 = e.norm_squared();
+            err2 = if e2.is_nan() || e2 > err2 { e2 } else { err2 };
         }
         let mut mean = Vec2::zeros();
         for i in 0..n {
             mean += y_new[i] - y[i];
         }
         mean /= n as f64;
-        let mut moved = budget.min_speed * h;
+        let slowest = self.budget.min_speed * h;
+        let mut moved2 = slowest * slowest;
         for i in 0..n {
-            moved = moved.max((y_new[i] - y[i] - mean).norm());
+            moved2 = moved2.max((y_new[i] - y[i] - mean).norm_squared());
         }
-        let ratio = err / (budget.per_bl * moved);
-        if (ratio.is_nan() || ratio > 1.0) && h > h_min {
-            stats.rejected += 1;
+        let ratio = (err2 / moved2).sqrt() / self.budget.per_bl;
+        if (ratio.is_nan() || ratio > 1.0) && h > self.h_min {
+            self.stats.rejected += 1;
             let shrink = if ratio.is_finite() {
                 (0.9 / ratio.sqrt().sqrt()).clamp(0.2, 0.9)
             } else {
                 0.2
             };
-            h = (h * shrink).max(h_min);
-            rejected_last = true;
-            continue;
+            self.h = (h * shrink).max(self.h_min);
+            self.rejected_last = true;
+            return None;
         }
-        stats.accepted += 1;
-        let t_new = t + h;
-        if next_t <= t_new {
-            let dense = dense_output(n, &y, &y_new, &k, h);
-            while next_t <= t_new {
-                dense.at(n, (next_t - t) / h, out);
+        self.stats.accepted += 1;
+        let t_new = self.t + h;
+        if self.next_t <= t_new {
+            let dense = dense_output(y, y_new, k, h);
+            while self.next_t <= t_new {
+                dense.at((self.next_t - self.t) / h, out);
                 if visits && !visit(out) {
-                    return (false, stats);
+                    return Some(false);
                 }
-                if next >= samples {
-                    return (true, stats);
+                if self.next >= self.samples {
+                    return Some(true);
                 }
-                next += 1;
-                next_t = sample_time(next);
+                self.next += 1;
+                self.next_t = self.sample_time(self.next);
             }
         }
-        y[..n].copy_from_slice(&y_new[..n]);
-        k[0] = k[6];
-        t = t_new;
+        self.y = self.y_new;
+        self.k[0] = self.k[6];
+        self.t = t_new;
         // Gustafsson's predictive controller: the trend of the last two accepted steps'
         // errors and sizes anticipates a team that speeds up (a contraction), so that the next
         // step is not tried at a size the trend already rules out
         let ratio = ratio.max(1e-12);
         let mut grow = 0.9 / ratio.sqrt().sqrt();
-        if let Some((h_prev, ratio_prev)) = last_accepted {
+        if let Some((h_prev, ratio_prev)) = self.last_accepted {
             grow *= (h / h_prev) * (ratio_prev / ratio).sqrt().sqrt();
         }
         let grow = if grow.is_nan() {
             1.0
         } else {
-            grow.clamp(0.2, if rejected_last { 1.0 } else { 10.0 })
+            grow.clamp(0.2, if self.rejected_last { 1.0 } else { 10.0 })
         };
-        last_accepted = Some((h, ratio));
-        rejected_last = false;
-        h_min = h_floor(&y[..n]);
-        h = (h * grow).clamp(h_min, h_max);
+        self.last_accepted = Some((h, ratio));
+        self.rejected_last = false;
+        self.h_min = self.h_floor();
+        self.h = (h * grow).clamp(self.h_min, REFERENCE_DURATION_S);
+        None
     }
 }
 
 /// Hairer's dense output coefficients of the step `y → y_new` of size `h`.
 #[inline]
-fn dense_output(n: usize, y: &Agents, y_new: &Agents, k: &[Agents; 7], h: f64) -> Dense {
-    let z = Vec2::zeros();
-    let mut r = [[z; MAX_AGENTS]; 5];
-    for i in 0..n {
+fn dense_output<const N: usize>(
+    y: &[Vec2; N],
+    y_new: &[Vec2; N],
+    k: &[[Vec2; N]; 7],
+    h: f64,
+) -> Dense<N> {
+    let mut r = [[Vec2::zeros(); N]; 5];
+    for i in 0..N {
         let diff = y_new[i] - y[i];
         let bspl = k[0][i] * h - diff;
         r[0][i] = y[i];

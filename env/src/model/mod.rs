@@ -13,13 +13,17 @@ mod kinematics;
 pub mod pair_flow;
 mod planning;
 pub mod steer;
+mod team_field;
 
-pub use dopri::{Dp5Grid, Dp5Stats, ErrorBudget, REFERENCE_DURATION_S, TOLERANCE_BL, dp5_solve};
+pub use dopri::{
+    Dp5Grid, Dp5Stats, ErrorBudget, REFERENCE_DURATION_S, TOLERANCE_BL, dp5_solve, dp5_solve_many,
+};
 pub use integrator::{rk4_step, step_schedule};
 pub use kinematics::Kinematics;
 pub use pair_flow::PairEdge;
 pub use planning::{Flow, PlanningModel};
 pub use steer::{OrbitSteer, SteerEdge, SteerLimits, orbit_steer, steer_pair};
+pub use team_field::TeamField;
 
 use crate::coil::Control;
 use crate::math::Vec2;

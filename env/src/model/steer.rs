@@ -62,9 +62,9 @@ pub fn orbit_steer(kappa: f64, r0: f64, r1: f64, dphi: f64) -> Option<OrbitSteer
     }
     let target = (r1 / r0).ln();
     let residual = |a: f64| {
-        let b = a - d;
-        let value = ln_f(b) - ln_f(a) - target;
-        (value, d_ln_f(b) - d_ln_f(a))
+        let (fb, db) = ln_f_and_slope(a - d);
+        let (fa, da) = ln_f_and_slope(a);
+        (fb - fa - target, db - da)
     };
     // small-turn guess: (ln f)'(ψ̂₀ − d/2) = −ln(r₁/r₀)/d, i.e. tan² + 2k tan − 2 = 0
     let k = -target / d;
@@ -88,15 +88,11 @@ pub fn orbit_steer(kappa: f64, r0: f64, r1: f64, dphi: f64) -> Option<OrbitSteer
 /// A turn below this (rad) is steered along the separation itself.
 const RADIAL_TURN: f64 = 1e-12;
 
-/// `ln(sin x √cos x)`.
-fn ln_f(x: f64) -> f64 {
-    x.sin().ln() + 0.5 * x.cos().ln()
-}
-
-/// `d/dx ln(sin x √cos x) = cot x − ½ tan x`, strictly decreasing on `(0, π/2)`.
-fn d_ln_f(x: f64) -> f64 {
+/// `ln(sin x √cos x)` and its derivative `cot x − ½ tan x` (strictly decreasing on
+/// `(0, π/2)`), from one sine and cosine.
+fn ln_f_and_slope(x: f64) -> (f64, f64) {
     let (s, c) = x.sin_cos();
-    c / s - 0.5 * s / c
+    (s.ln() + 0.5 * c.ln(), c / s - 0.5 * s / c)
 }
 
 /// The root in `(lo, hi)` of an increasing function given with its derivative, negative near
@@ -227,6 +223,69 @@ struct Relative<'a> {
     model: &'a PlanningModel,
     limits: &'a SteerLimits,
     kappa: f64,
+    /// The centre of mass's shift over the steer (BL).
+    shift: Vec2,
+    /// [`PullBound`], when the coil has its form.
+    pull: Option<PullBound>,
+}
+
+/// Why [`Relative::solve`] has no edges.
+enum Unsolved {
+    /// No edges within the limits.
+    Failed,
+    /// The edges would last this many periods in all, too short for the pull to carry the
+    /// centre of mass its shift whatever their field angles: no gradients exist.
+    TooSlow(u32),
+}
+
+/// The centre of mass's velocity at zero gradient and its largest change per axis under the
+/// largest gradient along that axis, at any field angle, for a coil whose pull per gradient
+/// is `(G_x cos θ_B, G_y sin θ_B)` (the tri-axial coil): the drift is the same at every angle and
+/// axis `x` moves fastest at `θ_B = 0`, axis `y` at `θ_B = π/2`.
+#[derive(Debug, Clone, Copy)]
+struct PullBound {
+    drift: Vec2,
+    reach: [f64; 2],
+}
+
+impl PullBound {
+    /// The bound at `from`; `None` unless the coil's pull, sampled at a third angle, has the
+    /// tri-axial form.
+    fn of(model: &PlanningModel, from: &[Vec2]) -> Option<Self> {
+        let limit = model.coil.gradient_limit();
+        let mut v = [Vec2::zeros(); 2];
+        let mut centre = |theta: f64, gx: f64, gy: f64| {
+            model.velocities(from, &Control::planar(theta, gx, gy), &mut v);
+            (v[0] + v[1]) * 0.5
+        };
+        let drift = centre(0.0, 0.0, 0.0);
+        let x = centre(0.0, limit, 0.0) - drift;
+        let y = centre(FRAC_PI_2, 0.0, limit) - centre(FRAC_PI_2, 0.0, 0.0);
+        const PROBE: f64 = 0.3;
+        let (sp, cp) = PROBE.sin_cos();
+        let d = centre(PROBE, 0.0, 0.0);
+        let px = centre(PROBE, limit, 0.0) - d;
+        let py = centre(PROBE, 0.0, limit) - d;
+        let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(f64::MIN_POSITIVE);
+        let shaped = (d - drift).norm() <= 1e-9 * drift.norm().max(x.norm())
+            && near(px.x, x.x * cp)
+            && near(py.y, y.y * sp)
+            && px.y.abs() <= 1e-9 * x.norm()
+            && py.x.abs() <= 1e-9 * y.norm();
+        (shaped && x.x.is_finite() && y.y.is_finite()).then_some(PullBound {
+            drift,
+            reach: [x.x.abs(), y.y.abs()],
+        })
+    }
+
+    /// Whether no gradients within the limits carry the centre by `shift` over `periods`
+    /// periods of `period` seconds, at any field angles (with a margin of 1e-6 for rounding).
+    fn too_slow(&self, shift: Vec2, periods: u32, period: f64) -> bool {
+        let t = periods as f64 * period;
+        let rest = shift - self.drift * t;
+        let margin = 1.0 + 1e-6;
+        rest.x.abs() > t * self.reach[0] * margin || rest.y.abs() > t * self.reach[1] * margin
+    }
 }
 
 impl Relative<'_> {
@@ -263,7 +322,8 @@ impl Relative<'_> {
 
     /// The relative part of a steer through `n ≥ 2` orbits turning by `turn` in all, the
     /// waypoints' separations interpolated geometrically and scaled by `scale`: the field
-    /// angles and periods of every edge.
+    /// angles and periods of every edge. `final_try`: no wider steer is tried after this one,
+    /// so edges too quick for the pull are [`Unsolved::Failed`] without a bracket.
     fn solve(
         &self,
         from: &Shape,
@@ -271,7 +331,8 @@ impl Relative<'_> {
         turn: f64,
         n: usize,
         scale: f64,
-    ) -> Option<Vec<(f64, u32)>> {
+        final_try: bool,
+    ) -> Result<Vec<(f64, u32)>, Unsolved> {
         let [r_min, r_max] = self.limits.separation;
         let waypoint = |k: usize| {
             let f = k as f64 / n as f64;
@@ -284,41 +345,72 @@ impl Relative<'_> {
         let mut edges = Vec::with_capacity(n);
         let mut at = *from;
         for k in 1..n - 1 {
-            let (theta, periods) = self.rounded(&at, &waypoint(k))?;
-            at = self.end(&at, theta, periods)?;
+            let (theta, periods) = self.rounded(&at, &waypoint(k)).ok_or(Unsolved::Failed)?;
+            at = self.end(&at, theta, periods).ok_or(Unsolved::Failed)?;
             edges.push((theta, periods));
         }
         let mid = waypoint(n - 1);
-        let (theta0, first) = self.rounded(&at, &mid)?;
-        let nominal = self.orbit(&mid, to)?.time / self.limits.period;
+        let (theta0, first) = self.rounded(&at, &mid).ok_or(Unsolved::Failed)?;
+        let nominal = self.orbit(&mid, to).ok_or(Unsolved::Failed)?.time / self.limits.period;
         let base = nominal.round().max(1.0) as u32;
+        // every edge's duration is known but the last's
+        let before: u32 = edges.iter().map(|e| e.1).sum::<u32>() + first;
+        let too_slow = |last: u32| {
+            self.pull
+                .is_some_and(|p| p.too_slow(self.shift, before + last, self.limits.period))
+        };
+        let within = |last: u32| last <= self.limits.max_periods;
+        if final_try
+            && [base, base + 1]
+                .into_iter()
+                .all(|l| !within(l) || too_slow(l))
+        {
+            // whatever the brackets find, the gradients fail and nothing is tried after this
+            return Err(Unsolved::Failed);
+        }
+        // by the field angle of the second-to-last edge: where it ends and the last orbit from
+        // there (both brackets step through the same angles, and the root was evaluated last)
+        let mut seen: Vec<(u64, Option<(Shape, OrbitSteer)>)> = Vec::with_capacity(64);
+        let mut last_orbit = |theta: f64| {
+            let key = theta.to_bits();
+            if let Some(&(_, known)) = seen.iter().find(|e| e.0 == key) {
+                return known;
+            }
+            let found = self
+                .end(&at, theta, first)
+                .and_then(|m| Some((m, self.orbit(&m, to)?)));
+            seen.push((key, found));
+            found
+        };
         for last in [base, base + 1] {
             if last == 0 || last > self.limits.max_periods {
                 continue;
             }
             let time = last as f64 * self.limits.period;
-            let miss = |theta: f64| {
-                let m = self.end(&at, theta, first)?;
-                Some(self.orbit(&m, to)?.time - time)
-            };
-            let Some(theta) = bracket_root(miss, theta0) else {
+            let miss = |theta: f64| Some(last_orbit(theta)?.1.time - time);
+            // when the pull cannot carry the centre its shift in this time, no field angles
+            // give gradients: whether a root exists is all that matters, not where it is
+            let slow = too_slow(last);
+            let Some(theta) = bracket_root(miss, theta0, !slow) else {
                 continue;
             };
-            let m = self.end(&at, theta, first)?;
-            let o = self.orbit(&m, to)?;
+            if slow {
+                return Err(Unsolved::TooSlow(before + last));
+            }
+            let (m, o) = last_orbit(theta).ok_or(Unsolved::Failed)?;
             let theta_last = m.phi + o.psi;
-            self.end(&m, theta_last, last)?;
+            self.end(&m, theta_last, last).ok_or(Unsolved::Failed)?;
             edges.push((theta, first));
             edges.push((theta_last, last));
-            return Some(edges);
+            return Ok(edges);
         }
-        None
+        Err(Unsolved::Failed)
     }
 }
 
 /// A root of `f` near `x0`: the nearest sign change on a grid stepping outward from `x0`,
-/// refined by [`illinois`].
-fn bracket_root(mut f: impl FnMut(f64) -> Option<f64>, x0: f64) -> Option<f64> {
+/// refined by [`illinois`] if `refine` (otherwise the grid point that closes the bracket).
+fn bracket_root(mut f: impl FnMut(f64) -> Option<f64>, x0: f64, refine: bool) -> Option<f64> {
     const STEP: f64 = 0.025;
     const STEPS: usize = 10;
     let f0 = f(x0);
@@ -333,6 +425,9 @@ fn bracket_root(mut f: impl FnMut(f64) -> Option<f64>, x0: f64) -> Option<f64> {
             if let ((xp, Some(fp)), Some(v)) = (prev[side], fx)
                 && fp.signum() != v.signum()
             {
+                if !refine {
+                    return Some(x);
+                }
                 let (a, b, fa, fb) = if xp < x {
                     (xp, x, fp, v)
                 } else {
@@ -450,17 +545,25 @@ pub fn steer_pair(
         .pair_edge(from, &Control::planar(0.0, 0.0, 0.0))?
         .orbit()
         .kappa();
-    let rel = Relative {
-        model,
-        limits,
-        kappa,
-    };
     let (a, b) = (Shape::of(from[1] - from[0]), Shape::of(to[1] - to[0]));
     let [r_min, r_max] = limits.separation;
     if !(a.r > r_min && a.r < r_max && b.r > r_min && b.r < r_max) {
         return None;
     }
     let shift = (to[0] + to[1] - from[0] - from[1]) * 0.5;
+    let rel = Relative {
+        model,
+        limits,
+        kappa,
+        shift,
+        pull: PullBound::of(model, from),
+    };
+    let needed = shift.norm() / pull_speed(model, from);
+    // too fast for the pull: slow the orbits by widening the pair (t ∝ r⁵)
+    let widen = |scale: f64, periods: u32| {
+        let time = periods as f64 * limits.period;
+        scale * ((needed / time).max(1.0).powf(0.2) * 1.05)
+    };
     let turn = wrap_angle(b.phi - a.phi);
     let mut turns = vec![turn];
     if turn.abs() > 2.0 * PI / 3.0 {
@@ -469,9 +572,8 @@ pub fn steer_pair(
     for &turn in &turns {
         // enough edges to turn in short orbits, and to give the pull time for the shift
         let edge_time = limits.max_periods as f64 * limits.period;
-        let shift_time = shift.norm() / pull_speed(model, from);
         let fewest = ((turn.abs() / EDGE_TURN).ceil() as usize)
-            .max((shift_time / (0.8 * edge_time)).ceil() as usize)
+            .max((needed / (0.8 * edge_time)).ceil() as usize)
             .max(2);
         if fewest > MAX_EDGES {
             continue;
@@ -479,17 +581,19 @@ pub fn steer_pair(
         for n in [fewest, fewest + 2] {
             for first_scale in SCALES {
                 let mut scale = first_scale;
-                for _ in 0..3 {
-                    let Some(edges) = rel.solve(&a, &b, turn, n, scale) else {
-                        break;
+                for attempt in 0..WIDENINGS {
+                    let final_try = attempt + 1 == WIDENINGS;
+                    let edges = match rel.solve(&a, &b, turn, n, scale, final_try) {
+                        Ok(edges) => edges,
+                        Err(Unsolved::TooSlow(periods)) => {
+                            scale = widen(scale, periods);
+                            continue;
+                        }
+                        Err(Unsolved::Failed) => break,
                     };
                     let Some(controls) = gradients(model, from, &edges, limits.period, shift)
                     else {
-                        // too fast for the pull: slow the orbits by widening the pair (t ∝ r⁵)
-                        let periods: u32 = edges.iter().map(|e| e.1).sum();
-                        let time = periods as f64 * limits.period;
-                        let needed = shift.norm() / pull_speed(model, from);
-                        scale *= (needed / time).max(1.0).powf(0.2) * 1.05;
+                        scale = widen(scale, edges.iter().map(|e| e.1).sum());
                         continue;
                     };
                     let steer: Vec<SteerEdge> = controls
@@ -512,6 +616,9 @@ pub fn steer_pair(
 /// (at 2 BL, 60° takes 14 s and 36° 1.7 s under the default preset), so several short turns
 /// are faster than one long one.
 const EDGE_TURN: f64 = 0.4;
+
+/// Steers solved per candidate: the first and up to two with the waypoints widened.
+const WIDENINGS: usize = 3;
 
 /// The most edges a steer plans.
 const MAX_EDGES: usize = 24;

@@ -186,3 +186,43 @@ fn unreachable_targets_are_reported() {
     let rk4 = m.with_flow(crate::model::Flow::Rk4);
     assert!(steer_pair(&rk4, &from, &near, &limits, |_| true).is_none());
 }
+
+/// The pull bound is necessary: any gradients within the limits, held over edges of random
+/// field angles and durations, shift the centre by no more than it allows; a shift twice the
+/// bound is refused.
+#[test]
+fn the_pull_bound_admits_every_shift_the_coil_can_make() {
+    let (m, limits) = model();
+    let limit = m.coil.gradient_limit();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for _ in 0..300 {
+        let from = pair(
+            Vec2::new(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0)),
+            rng.random_range(1.5..4.0),
+            rng.random_range(-PI..PI),
+        );
+        let bound = PullBound::of(&m, &from).expect("the tri-axial coil has the bound's form");
+        let mut at = from;
+        let mut periods = 0;
+        for _ in 0..rng.random_range(1..5) {
+            let u = Control::planar(
+                rng.random_range(-PI..PI),
+                limit * rng.random_range(-1.0..=1.0),
+                limit * rng.random_range(-1.0..=1.0),
+            );
+            let p = rng.random_range(1..60);
+            let mut out = [Vec2::zeros(); 2];
+            m.propagate(&at, &u, p as f64 * limits.period, &mut out);
+            at = out;
+            periods += p;
+        }
+        let shift = (at[0] + at[1] - from[0] - from[1]) * 0.5;
+        assert!(
+            !bound.too_slow(shift, periods, limits.period),
+            "shift {shift:?} over {periods} periods refused"
+        );
+        let t = periods as f64 * limits.period;
+        let far = Vec2::new(2.0 * t * bound.reach[0], 0.0) + bound.drift * t;
+        assert!(bound.too_slow(far, periods, limits.period));
+    }
+}

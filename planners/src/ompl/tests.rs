@@ -102,6 +102,31 @@ fn every_ompl_planner_makes_valid_plans_on_open_field() {
     }
 }
 
+/// OMPL's solutions go through magbench's shortcut pass like every planner's: the shortened
+/// plan is valid, replays, and costs less than OMPL's own plan on the same seed.
+#[test]
+fn ompl_solutions_go_through_the_shortcut_pass() {
+    let p = problem("open-field", 0, 30_000);
+    let plain = create("ompl:rrt", &[]).unwrap().solve(&p);
+    let short = create("ompl:rrt", &owned(&[("shortcut", "100")]))
+        .unwrap()
+        .solve(&p);
+    assert!(plain.solved && short.solved);
+    validate_plan(&p, &short.plan).unwrap();
+    check_result(&p, &short).unwrap();
+    assert!(
+        short.cost.unwrap() < 0.95 * plain.cost.unwrap(),
+        "{:?} against {:?}",
+        short.cost,
+        plain.cost
+    );
+    assert_eq!(short.progress.last().unwrap().best_cost, short.cost);
+    let e = create("ompl:sst", &owned(&[("shortcut", "-1")]))
+        .err()
+        .unwrap();
+    assert_eq!(e.field, "param.shortcut");
+}
+
 /// The same seed gives the same plan: again in the same process, and in parallel threads.
 #[test]
 fn same_seed_same_plan_in_one_process_and_in_threads() {
