@@ -611,6 +611,15 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "guide",
+        source: Sweep {
+            experiment: "experiments/guide.toml",
+            quick_seeds: 2,
+            table: Runs(planning),
+        },
+        feature: None,
+    },
+    Measure {
         name: "team-scaling",
         source: Sweep {
             experiment: "experiments/team-scaling.toml",
