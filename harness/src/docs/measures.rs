@@ -602,6 +602,15 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "shortcut-budget",
+        source: Sweep {
+            experiment: "experiments/shortcut-budget.toml",
+            quick_seeds: 2,
+            table: Runs(improvement),
+        },
+        feature: None,
+    },
+    Measure {
         name: "shortcut-tracking",
         source: Sweep {
             experiment: "experiments/shortcut-tracking.toml",
