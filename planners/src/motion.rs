@@ -8,7 +8,7 @@
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
-use crate::Problem;
+use crate::{Plan, Problem};
 
 /// A uniformly random planar control: θ_B in [−π, π), each gradient command in [−G, G].
 #[inline]
@@ -166,4 +166,25 @@ mod tests {
             );
         }
     }
+}
+
+/// `head` followed by `edges` (command, duration), each propagated by [`propagate_valid`] from
+/// where the one before ends; `None` at the first invalid edge.
+pub fn replay_onto(
+    problem: &Problem,
+    mut head: Plan,
+    edges: impl IntoIterator<Item = (Control, f64)>,
+) -> Option<Plan> {
+    let n = problem.agents();
+    let mut at = [Vec2::zeros(); MAX_AGENTS];
+    at[..n].copy_from_slice(head.end());
+    let mut next = at;
+    for (u, d) in edges {
+        if !propagate_valid(problem, &at[..n], &u, d, &mut next[..n]) {
+            return None;
+        }
+        head.push(u, d, next[..n].to_vec());
+        at = next;
+    }
+    Some(head)
 }

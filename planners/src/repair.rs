@@ -27,7 +27,7 @@ use magbench_env::{MAX_AGENTS, Vec2};
 use rand::{RngExt, SeedableRng};
 
 use crate::extend::Extend;
-use crate::motion::propagate_valid;
+use crate::motion::{propagate_valid, replay_onto};
 use crate::nn::NearestNeighbors;
 use crate::objective::plan_cost;
 use crate::sampler::{SAMPLE_TRIES, in_disk, valid_sample};
@@ -152,19 +152,13 @@ impl Repair {
                     // plan replays alike from each, so one replay decides for all
                     return true;
                 }
-                let mut p = head.clone();
-                let mut at = [Vec2::zeros(); MAX_AGENTS];
-                at[..2].copy_from_slice(&from);
-                for e in edges {
-                    work.edges += 1;
-                    let mut next = [Vec2::zeros(); MAX_AGENTS];
-                    let d = problem.periods(e.periods);
-                    if !propagate_valid(problem, &at[..2], &e.control, d, &mut next[..2]) {
-                        return false;
-                    }
-                    p.push(e.control, d, next[..2].to_vec());
-                    at = next;
-                }
+                let steered = edges
+                    .iter()
+                    .map(|e| (e.control, problem.periods(e.periods)));
+                let counted = steered.inspect(|_| work.edges += 1);
+                let Some(p) = replay_onto(problem, head.clone(), counted) else {
+                    return false;
+                };
                 replayed = true;
                 found = replay_rest(problem, p, plan, j, &mut work.edges);
                 true
@@ -273,24 +267,17 @@ impl Repair {
 /// replayed is counted in `edges`.
 fn replay_rest(
     problem: &Problem,
-    mut head: Plan,
+    head: Plan,
     plan: &Plan,
     j: usize,
     edges: &mut u64,
 ) -> Option<Plan> {
-    let n = problem.agents();
-    let mut at = [Vec2::zeros(); MAX_AGENTS];
-    at[..n].copy_from_slice(head.end());
-    for (u, &d) in plan.controls[j..].iter().zip(&plan.durations[j..]) {
-        *edges += 1;
-        let mut next = [Vec2::zeros(); MAX_AGENTS];
-        if !propagate_valid(problem, &at[..n], u, d, &mut next[..n]) {
-            return None;
-        }
-        head.push(*u, d, next[..n].to_vec());
-        at = next;
-    }
-    (head.edges() > 0 && problem.goal.contains(&at[..n])).then_some(head)
+    let rest = plan.controls[j..]
+        .iter()
+        .copied()
+        .zip(plan.durations[j..].iter().copied());
+    let head = replay_onto(problem, head, rest.inspect(|_| *edges += 1))?;
+    (head.edges() > 0 && problem.goal.contains(head.end())).then_some(head)
 }
 
 /// The waypoint of `plan` from `from` on nearest to `s` under the problem's metric (the first

@@ -119,19 +119,9 @@ pub struct GoalZoom {
 
 impl GoalZoom {
     /// Draws a valid sample into `out`; false if none was found in [`SAMPLE_TRIES`] draws.
+    /// With `guide`, [`GUIDE_SHARE`] of the whole-space draws come from the guide; without
+    /// one the random stream is the seed's.
     pub fn sample(
-        &self,
-        problem: &Problem,
-        sampler: &StateSampler,
-        rng: &mut Rng,
-        out: &mut [Vec2],
-    ) -> bool {
-        self.sample_guided(problem, sampler, None, rng, out)
-    }
-
-    /// [`GoalZoom::sample`], with `guide` (when given) choosing [`GUIDE_SHARE`] of the
-    /// whole-space draws; without a guide the random stream is exactly `sample`'s.
-    pub fn sample_guided(
         &self,
         problem: &Problem,
         sampler: &StateSampler,

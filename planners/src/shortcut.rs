@@ -23,7 +23,7 @@
 use magbench_env::model::{SteerEdge, SteerLimits, steer_pair};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 
-use crate::motion::propagate_valid;
+use crate::motion::{propagate_valid, replay_onto};
 use crate::objective::{Motion, plan_cost};
 use crate::{Plan, Problem};
 
@@ -237,26 +237,19 @@ fn merge_runs(problem: &Problem, plan: &Plan) -> Option<Plan> {
     if !(1..m).any(|k| plan.controls[k] == plan.controls[k - 1]) {
         return None;
     }
-    let mut merged = Plan::at(&plan.states[0]);
-    merged.flow = plan.flow;
-    let mut at = plan.states[0].clone();
-    let mut out = [Vec2::zeros(); MAX_AGENTS];
-    let mut k = 0;
-    while k < m {
-        let u = plan.controls[k];
-        let mut periods = 0;
-        while k < m && plan.controls[k] == u {
-            periods += (plan.durations[k] / problem.control_period).round() as u32;
-            k += 1;
+    let mut runs: Vec<(Control, u32)> = Vec::new();
+    for (u, d) in plan.controls.iter().zip(&plan.durations) {
+        let periods = (d / problem.control_period).round() as u32;
+        match runs.last_mut() {
+            Some((v, p)) if v == u => *p += periods,
+            _ => runs.push((*u, periods)),
         }
-        let d = problem.periods(periods);
-        if !propagate_valid(problem, &at, &u, d, &mut out[..2]) {
-            return None;
-        }
-        merged.push(u, d, out[..2].to_vec());
-        at.copy_from_slice(&out[..2]);
     }
-    problem.goal.contains(&at).then_some(merged)
+    let mut start = Plan::at(&plan.states[0]);
+    start.flow = plan.flow;
+    let edges = runs.into_iter().map(|(u, p)| (u, problem.periods(p)));
+    let merged = replay_onto(problem, start, edges)?;
+    problem.goal.contains(merged.end()).then_some(merged)
 }
 
 /// The objective's cost of edge `k` of `plan`.

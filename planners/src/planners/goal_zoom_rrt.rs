@@ -99,7 +99,7 @@ impl Planner for GoalZoomRrt {
         while reached.is_none() && !progress.done(i) {
             i += 1;
             // Algorithm 2: BUILD-RRT
-            if zoom.sample_guided(
+            if zoom.sample(
                 problem,
                 &sampler,
                 guide.as_ref(),

@@ -140,7 +140,7 @@ impl Sst {
         while !progress.done(i) && (!self.stop_on_solution || !best.solved) {
             i += 1;
             // x_selected ← BEST_FIRST_SELECTION(V_active, δ_BN)
-            if !zoom.sample_guided(
+            if !zoom.sample(
                 problem,
                 &sampler,
                 guide.as_ref(),

@@ -80,7 +80,7 @@ impl RrtStar {
                 Some(c) if self.informed => {
                     informed.sample(problem, &mut s.rng, &sampler, &zoom, c, &mut x_rand[..n])
                 }
-                _ => zoom.sample_guided(
+                _ => zoom.sample(
                     problem,
                     &sampler,
                     guide.as_ref(),
