@@ -127,6 +127,27 @@ pub fn propagate_checked(
     ok.then_some(length)
 }
 
+/// `head` followed by `edges` (command, duration), each propagated by [`propagate_valid`] from
+/// where the one before ends; `None` at the first invalid edge.
+pub fn replay_onto(
+    problem: &Problem,
+    mut head: Plan,
+    edges: impl IntoIterator<Item = (Control, f64)>,
+) -> Option<Plan> {
+    let n = problem.agents();
+    let mut at = [Vec2::zeros(); MAX_AGENTS];
+    at[..n].copy_from_slice(head.end());
+    let mut next = at;
+    for (u, d) in edges {
+        if !propagate_valid(problem, &at[..n], &u, d, &mut next[..n]) {
+            return None;
+        }
+        head.push(u, d, next[..n].to_vec());
+        at = next;
+    }
+    Some(head)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -166,25 +187,4 @@ mod tests {
             );
         }
     }
-}
-
-/// `head` followed by `edges` (command, duration), each propagated by [`propagate_valid`] from
-/// where the one before ends; `None` at the first invalid edge.
-pub fn replay_onto(
-    problem: &Problem,
-    mut head: Plan,
-    edges: impl IntoIterator<Item = (Control, f64)>,
-) -> Option<Plan> {
-    let n = problem.agents();
-    let mut at = [Vec2::zeros(); MAX_AGENTS];
-    at[..n].copy_from_slice(head.end());
-    let mut next = at;
-    for (u, d) in edges {
-        if !propagate_valid(problem, &at[..n], &u, d, &mut next[..n]) {
-            return None;
-        }
-        head.push(u, d, next[..n].to_vec());
-        at = next;
-    }
-    Some(head)
 }
