@@ -252,6 +252,46 @@ fn adaptive_flow_is_deterministic_and_consistent() {
     }
 }
 
+/// `solve_many` starts the motions in the order given, hands each end over as one-at-a-time
+/// propagation gives it, and drops the motions `wanted` refuses, before or during their steps.
+#[test]
+fn solve_many_follows_order_and_drops_unwanted_motions() {
+    let p = PhysicalParams::default();
+    let m = model();
+    let g = m.coil.gradient_limit();
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    for n in 3..=6 {
+        let start = team(&mut rng, n, &p);
+        let k = 9;
+        let controls: Vec<_> = (0..k).map(|i| command(&mut rng, g, i)).collect();
+        let mut durations: Vec<_> = (0..k).map(|i| (12 + 13 * i) as f64 / 60.0).collect();
+        durations[0] = 0.0;
+        durations[8] = 2.0;
+        let order = [8, 0, 5, 2, 7, 1, 4, 6, 3];
+        // motion 4 is refused from the start; motion 8, started first, once motion 0 (no
+        // duration: its end, the start, is handed over as a second lane is filled) has ended,
+        // which is after 8's first step (6 `dt`) and long before its end
+        let finished = std::cell::Cell::new(0);
+        let mut reported = Vec::new();
+        m.solve_many(
+            &start,
+            &controls,
+            &durations,
+            order,
+            |i| i != 4 && (i != 8 || finished.get() < 1),
+            |i, end| {
+                finished.set(finished.get() + 1);
+                let mut a = vec![Vec2::zeros(); n];
+                m.propagate(&start, &controls[i], durations[i], &mut a);
+                assert_eq!(end, &a[..], "n = {n}, motion {i}");
+                reported.push(i);
+            },
+        );
+        reported.sort();
+        assert_eq!(reported, [0, 1, 2, 3, 5, 6, 7], "n = {n}");
+    }
+}
+
 /// With identical agents the pair forces cancel, so the centre of mass moves at the pull and
 /// background velocity; the adaptive steps and their dense output keep it on that line.
 #[test]
@@ -265,6 +305,7 @@ fn adaptive_centre_of_mass_is_exact() {
         let u = Control::planar(0.7, 0.8 * g, -0.3 * g);
         let act = m.coil.actuation(&u);
         let v = Vec2::new(act.pull.x, act.pull.y) * m.kinematics.pull_coeff;
+        assert_eq!(m.kinematics.centroid_velocity(&act, n), Some(v), "n = {n}");
         let c0 = start.iter().sum::<Vec2>() / n as f64;
         let mut t = 0.0;
         let mut out = vec![Vec2::zeros(); n];

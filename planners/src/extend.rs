@@ -19,10 +19,13 @@
 //! or the whole control period at which the try's motion passes closest to the target
 //! ([`Timing::Closest`]: the exact flow makes a look along the whole motion cheap).
 
+use std::cell::Cell;
+
 use magbench_env::params::{BadValue, ParamType, Value, choose};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
+use crate::metric::floor_exceeds;
 use crate::motion::{random_control, random_elevated_control};
 use crate::{Problem, Rng};
 
@@ -205,18 +208,27 @@ impl Extend {
         let k = controls.len();
         let mut candidate = vec![true; k];
         let (r_min, r_max) = (problem.checker.r_min, problem.checker.r_max);
-        let mut exact = 0;
+        let mut integrated = Vec::with_capacity(k);
+        let mut closest = f64::INFINITY;
         for i in 0..k {
-            if let Some(edge) = problem.model.pair_edge(near, &controls[i]) {
-                let (lo, hi) = edge.end_and_range(durations[i], &mut ends[i][..n]);
-                candidate[i] = lo > r_min && hi < r_max;
-                exact += 1;
+            match problem.model.pair_edge(near, &controls[i]) {
+                Some(edge) => {
+                    let (lo, hi) = edge.end_and_range(durations[i], &mut ends[i][..n]);
+                    candidate[i] = lo > r_min && hi < r_max;
+                    if candidate[i] {
+                        let d2 = problem.metric.distance_squared(&ends[i][..n], target);
+                        closest = closest.min(d2);
+                    }
+                }
+                None => integrated.push(i),
             }
         }
-        if exact < k && integrate {
-            problem
-                .model
-                .propagate_many(near, controls, durations, &mut ends);
+        if !integrated.is_empty() && integrate {
+            for i in solve_nearest_first(
+                problem, near, target, controls, durations, integrated, closest, &mut ends,
+            ) {
+                candidate[i] = false;
+            }
         }
         let mut best = Extension {
             control: Control::default(),
@@ -311,5 +323,152 @@ impl Extend {
     }
 }
 
+/// Solves the tries `integrated` (those without a closed form) from `near` into `ends`, in
+/// order of their centroid floors ([`crate::metric::Metric::centroid_floor`]; the centroid of a team of equally
+/// mobile agents moves in a straight line,
+/// [`magbench_env::model::Kinematics::centroid_velocity`]), and drops a try, before or while it
+/// is solved, once its floor exceeds the smallest squared distance to `target` so far (starting
+/// from `closest`): such a try cannot be the closest. Returns the dropped tries. Without floors
+/// (agents of unequal mobility) every try is solved.
+#[allow(clippy::too_many_arguments)]
+fn solve_nearest_first(
+    problem: &Problem,
+    near: &[Vec2],
+    target: &[Vec2],
+    controls: &[Control],
+    durations: &[f64],
+    mut integrated: Vec<usize>,
+    closest: f64,
+    ends: &mut [[Vec2; MAX_AGENTS]],
+) -> Vec<usize> {
+    let (n, k) = (near.len(), controls.len());
+    let model = &problem.model;
+    let centre = |s: &[Vec2]| s.iter().sum::<Vec2>() / n as f64;
+    let (from, to) = (centre(near), centre(target));
+    let mut floor = vec![0.0; k];
+    let floors: Option<Vec<f64>> = integrated
+        .iter()
+        .map(|&i| {
+            let act = model.coil.actuation(&controls[i]);
+            let v = model.kinematics.centroid_velocity(&act, n)?;
+            let f = problem
+                .metric
+                .centroid_floor(n, from + v * durations[i], to);
+            (!f.is_nan()).then_some(f)
+        })
+        .collect();
+    if let Some(floors) = floors {
+        for (&i, f) in integrated.iter().zip(floors) {
+            floor[i] = f;
+        }
+        integrated.sort_by(|&a, &b| floor[a].total_cmp(&floor[b]));
+    }
+    let mut solved = vec![false; k];
+    let closest = Cell::new(closest);
+    model.solve_many(
+        near,
+        controls,
+        durations,
+        integrated.iter().copied(),
+        |i| !floor_exceeds(floor[i], closest.get()),
+        |i, end| {
+            ends[i][..n].copy_from_slice(end);
+            solved[i] = true;
+            closest.set(
+                closest
+                    .get()
+                    .min(problem.metric.distance_squared(end, target)),
+            );
+        },
+    );
+    integrated.into_iter().filter(|&i| !solved[i]).collect()
+}
+
 /// Coarse grid intervals of [`Timing::Closest`]'s search over the duration range.
 const CLOSEST_GRID: u32 = 12;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::metric::Metric;
+    use crate::sampler::{StateSampler, valid_sample};
+    use crate::search_settings::SearchSettings;
+    use rand::SeedableRng;
+
+    /// For teams of three to six, with equal and unequal agents, under both metrics, EXTEND's
+    /// choice (tries solved nearest floor first, the hopeless ones dropped) is the try a plain
+    /// scan of every try's one-at-a-time end chooses, bit for bit.
+    #[test]
+    fn team_extend_chooses_the_closest_try_of_all() {
+        let weighted = Metric::CentroidShape {
+            centroid: 2.0,
+            shape: 0.5,
+        };
+        let mut dropped_some = false;
+        for (name, agents) in [("trio-triangle", 3), ("quad-square", 4), ("trio-maze", 3)] {
+            let s = magbench_env::Scenario::load(name).unwrap();
+            let base = Problem::from_scenario(&s, 0, None, 0);
+            assert_eq!(base.start.len(), agents);
+            for (metric, unequal) in [
+                (Metric::Positions, false),
+                (weighted, false),
+                (Metric::Positions, true),
+            ] {
+                let mut p = base.clone();
+                p.metric = metric;
+                if unequal {
+                    p.model.kinematics.mobility[1] *= 1.1;
+                }
+                let extend = SearchSettings::default().extend(&p);
+                let sampler = StateSampler::new(&p);
+                let mut rng = Rng::seed_from_u64(5);
+                let n = agents;
+                let (mut near, mut target) = (vec![Vec2::zeros(); n], vec![Vec2::zeros(); n]);
+                for _ in 0..40 {
+                    assert!(valid_sample(&p, 1000, &mut near, |x| sampler.uniform(&mut rng, x)));
+                    assert!(valid_sample(&p, 1000, &mut target, |x| sampler.uniform(&mut rng, x)));
+                    let g = p.model.coil.gradient_limit();
+                    let controls: Vec<_> = (0..extend.tries)
+                        .map(|_| random_control(&mut rng, g))
+                        .collect();
+                    let periods: Vec<_> = (0..extend.tries)
+                        .map(|_| extend.random_periods(&mut rng))
+                        .collect();
+                    let durations: Vec<_> = periods.iter().map(|&q| p.periods(q)).collect();
+                    let chosen =
+                        extend.evaluate(&p, &near, &target, &controls, &periods, &durations);
+                    let mut best = (f64::INFINITY, usize::MAX);
+                    let mut out = vec![Vec2::zeros(); n];
+                    let mut dists = Vec::new();
+                    for i in 0..controls.len() {
+                        p.model
+                            .propagate(&near, &controls[i], durations[i], &mut out);
+                        let d2 = p.metric.distance_squared(&out, &target);
+                        dists.push(d2);
+                        if d2 < best.0 {
+                            best = (d2, i);
+                        }
+                    }
+                    assert_eq!(chosen.distance, best.0.sqrt(), "{name}");
+                    assert_eq!(chosen.control, controls[best.1], "{name}");
+                    assert_eq!(chosen.periods, periods[best.1], "{name}");
+                    p.model
+                        .propagate(&near, &controls[best.1], durations[best.1], &mut out);
+                    assert_eq!(chosen.end(n), &out[..], "{name}");
+                    // some try's floor alone rules it out
+                    let centre = |s: &[Vec2]| s.iter().sum::<Vec2>() / n as f64;
+                    dropped_some |= !unequal
+                        && controls.iter().zip(&durations).any(|(u, &d)| {
+                            let act = p.model.coil.actuation(u);
+                            let v = p.model.kinematics.centroid_velocity(&act, n).unwrap();
+                            let f =
+                                p.metric
+                                    .centroid_floor(n, centre(&near) + v * d, centre(&target));
+                            floor_exceeds(f, best.0)
+                        });
+                }
+            }
+        }
+        assert!(dropped_some, "no try was ever ruled out by its floor");
+    }
+}

@@ -19,7 +19,7 @@ use magbench_env::model::pair_flow::PairStart;
 use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2};
 
 use crate::extend::{Extend, Extension, Timing};
-use crate::metric::Metric;
+use crate::metric::floor_exceeds;
 use crate::motion::random_control;
 use crate::{Problem, Rng};
 
@@ -61,7 +61,6 @@ impl Tries {
             end: [Vec2::zeros(); MAX_AGENTS],
             distance: f64::INFINITY,
         };
-        let weight = centroid_weight(&problem.metric);
         let goal_centre = (target[0] + target[1]) * 0.5;
         // every try's actuation and centroid floor first, then the tries in order of their
         // floors: once a floor exceeds the best distance, so do all later ones
@@ -72,7 +71,7 @@ impl Tries {
             let act = model.coil.actuation(u);
             let velocity = model.kinematics.pair_velocity(&act)?;
             let centre = start.centre() + velocity * self.durations[i];
-            let floor = weight * (centre - goal_centre).norm_squared();
+            let floor = problem.metric.centroid_floor(2, centre, goal_centre);
             if floor.is_nan() {
                 return None;
             }
@@ -85,7 +84,7 @@ impl Tries {
         let mut end = [Vec2::zeros(); 2];
         for &i in order.iter() {
             let i = i as usize;
-            if floors[i] > best.distance * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN {
+            if floor_exceeds(floors[i], best.distance) {
                 break;
             }
             let edge = model.kinematics.pair_edge_from(&start, &acts[i])?;
@@ -105,19 +104,6 @@ impl Tries {
         }
         best.distance = best.distance.sqrt();
         Some(best)
-    }
-}
-
-/// Relative and absolute margin (BL²) by which a try's centroid bound must exceed the best
-/// squared distance before it is skipped; rounding of either is below 1e-12 for any state the
-/// planners reach.
-const FLOOR_MARGIN: f64 = 1e-9;
-
-/// The factor of `‖Δc‖²` in a pair's squared distance: `N w_c²` (`w_c = 1` for positions).
-fn centroid_weight(metric: &Metric) -> f64 {
-    match *metric {
-        Metric::Positions => 2.0,
-        Metric::CentroidShape { centroid, .. } => 2.0 * centroid * centroid,
     }
 }
 
@@ -160,6 +146,7 @@ impl Extend {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::metric::Metric;
     use crate::sampler::{StateSampler, valid_sample};
     use crate::search_settings::SearchSettings;
     use rand::{RngExt, SeedableRng};

@@ -5,6 +5,18 @@
 
 use magbench_env::{MAX_AGENTS, Vec2};
 
+/// Relative and absolute margin (BL²) by which a bound from [`Metric::centroid_floor`] must
+/// exceed a squared distance before a state is ruled out by it; rounding of either is below
+/// 1e-12 for any state the planners reach.
+pub const FLOOR_MARGIN: f64 = 1e-9;
+
+/// Whether a state whose squared distance is at least `floor` is surely farther than `best`
+/// (a squared distance), by more than rounding ([`FLOOR_MARGIN`]).
+#[inline]
+pub fn floor_exceeds(floor: f64, best: f64) -> bool {
+    floor > best * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN
+}
+
 /// Largest embedding dimension (two coordinates per agent).
 pub const MAX_DIMS: usize = 2 * MAX_AGENTS;
 
@@ -140,6 +152,18 @@ impl Metric {
                     .sum()
             }
         }
+    }
+
+    /// A lower bound of [`Metric::distance_squared`] between two states of `n` agents from
+    /// their centroids `a` and `b` alone: the centroid term `w_c² N ‖Δc‖²` (`w_c = 1` for
+    /// positions), the shape term being at least zero.
+    #[inline]
+    pub fn centroid_floor(&self, n: usize, a: Vec2, b: Vec2) -> f64 {
+        let w = match *self {
+            Metric::Positions => 1.0,
+            Metric::CentroidShape { centroid, .. } => centroid * centroid,
+        };
+        w * n as f64 * (a - b).norm_squared()
     }
 
     /// Distance between two states.

@@ -84,6 +84,20 @@ impl Kinematics {
         Some(Vec2::new(act.pull.x, act.pull.y) * (self.pull_coeff * m * mu) + self.flow)
     }
 
+    /// The velocity of the centroid of a team of `n` under `act`, constant whatever the team's
+    /// shape when all `n` agents share one mobility: each pair force then moves its two agents
+    /// by opposite velocities, which cancel in the mean, and the centroid moves at the mean of
+    /// the agents' pull and flow velocities. `None` when the mobilities differ.
+    #[inline]
+    pub fn centroid_velocity(&self, act: &Actuation, n: usize) -> Option<Vec2> {
+        let mu = self.mobility[0];
+        if n == 0 || self.mobility[..n].iter().any(|&m| m != mu) {
+            return None;
+        }
+        let moment = self.moment[..n].iter().sum::<f64>() / n as f64;
+        Some(Vec2::new(act.pull.x, act.pull.y) * (self.pull_coeff * moment * mu) + self.flow)
+    }
+
     /// Writes the velocity of every agent at positions `p` under `act` into `v`.
     #[inline]
     pub fn velocities(&self, p: &[Vec2], act: &Actuation, v: &mut [Vec2]) {

@@ -369,10 +369,9 @@ impl PlanningModel {
 
 impl PlanningModel {
     /// Solves `start` under each `(controls[i], durations[i])` into `ends[i]` (first N
-    /// entries). Exact motions are evaluated directly; adaptive ones are solved a few side by
-    /// side ([`dp5_solve_many`]); RK4 integrations advance step by step together so that the CPU overlaps them
-    /// (about 3× faster than one at a time for two agents). Each end equals
-    /// [`PlanningModel::propagate`]'s bit for bit.
+    /// entries). Exact motions are evaluated directly, the others by
+    /// [`PlanningModel::solve_many`]. Each end equals [`PlanningModel::propagate`]'s bit for
+    /// bit.
     pub fn propagate_many(
         &self,
         start: &[Vec2],
@@ -383,16 +382,46 @@ impl PlanningModel {
         let n = start.len();
         let k = controls.len();
         assert!(n <= MAX_AGENTS && durations.len() == k && ends.len() >= k);
-        let mut exact = vec![false; k];
+        let mut integrated = Vec::new();
         for i in 0..k {
-            if let Some(edge) = self.pair_edge(start, &controls[i]) {
-                edge.at(durations[i], &mut ends[i][..n]);
-                exact[i] = true;
+            match self.pair_edge(start, &controls[i]) {
+                Some(edge) => edge.at(durations[i], &mut ends[i][..n]),
+                None => integrated.push(i),
             }
         }
-        if exact.iter().all(|&e| e) {
+        if integrated.is_empty() {
             return;
         }
+        self.solve_many(
+            start,
+            controls,
+            durations,
+            integrated,
+            |_| true,
+            |i, end| ends[i][..n].copy_from_slice(end),
+        );
+    }
+
+    /// Solves `start` under `(controls[i], durations[i])` for each `i` that `order` yields, by
+    /// the flow's integrator (never the exact pair flow), and hands each end to `done(i, end)`.
+    /// Adaptive motions are solved a few side by side ([`dp5_solve_many`]) in `order`'s order,
+    /// `order` pulled as lanes free, and a motion for which `wanted(i)` turns false — asked
+    /// before it starts and after each of its steps — is dropped without an end. RK4 motions
+    /// are all drawn from `order` first and advance step by step together, so that the CPU
+    /// overlaps them (about 3× faster than one at a time for two agents). Each end equals
+    /// [`PlanningModel::propagate_actuated`]'s bit for bit.
+    pub fn solve_many(
+        &self,
+        start: &[Vec2],
+        controls: &[Control],
+        durations: &[f64],
+        order: impl IntoIterator<Item = usize>,
+        wanted: impl Fn(usize) -> bool,
+        mut done: impl FnMut(usize, &[Vec2]),
+    ) {
+        let n = start.len();
+        let k = controls.len();
+        assert!(n <= MAX_AGENTS && durations.len() == k);
         let acts: Vec<_> = controls.iter().map(|u| self.coil.actuation(u)).collect();
         if self.flow.adaptive() {
             let fields: Vec<_> = acts
@@ -402,40 +431,44 @@ impl PlanningModel {
                     move |p: &[Vec2], v: &mut [Vec2]| field.velocities(p, v)
                 })
                 .collect();
-            dp5_solve_many(&fields, start, durations, &exact, self.dp5_grid(n), ends);
+            dp5_solve_many(
+                &fields,
+                start,
+                durations,
+                self.dp5_grid(n),
+                order,
+                wanted,
+                done,
+            );
             return;
         }
-        let schedules: Vec<_> = durations
+        let motions: Vec<usize> = order.into_iter().filter(|&i| wanted(i)).collect();
+        let schedules: Vec<_> = motions
             .iter()
-            .zip(&exact)
-            .map(|(&d, &e)| {
-                if e {
-                    (0, 0.0)
-                } else {
-                    step_schedule(d, self.dt)
-                }
-            })
+            .map(|&i| step_schedule(durations[i], self.dt))
             .collect();
         let most = schedules.iter().map(|s| s.0).max().unwrap_or(0);
-        for (e, _) in ends[..k].iter_mut().zip(&exact).filter(|(_, x)| !**x) {
+        let mut ends = vec![[Vec2::zeros(); MAX_AGENTS]; motions.len()];
+        for e in &mut ends {
             e[..n].copy_from_slice(start);
         }
         for step in 0..most {
-            for i in 0..k {
-                if step < schedules[i].0 {
+            for (m, &i) in motions.iter().enumerate() {
+                if step < schedules[m].0 {
                     let act = &acts[i];
                     let f = |p: &[Vec2], v: &mut [Vec2]| self.kinematics.velocities(p, act, v);
-                    rk4_step(&f, &mut ends[i][..n], self.dt);
+                    rk4_step(&f, &mut ends[m][..n], self.dt);
                 }
             }
         }
-        for i in 0..k {
-            let rest = schedules[i].1;
+        for (m, &i) in motions.iter().enumerate() {
+            let rest = schedules[m].1;
             if rest > 0.0 {
                 let act = &acts[i];
                 let f = |p: &[Vec2], v: &mut [Vec2]| self.kinematics.velocities(p, act, v);
-                rk4_step(&f, &mut ends[i][..n], rest);
+                rk4_step(&f, &mut ends[m][..n], rest);
             }
+            done(i, &ends[m][..n]);
         }
     }
 }

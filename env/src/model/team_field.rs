@@ -74,8 +74,9 @@ impl TeamField {
             for j in (i + 1)..n {
                 let d = p[j] - p[i];
                 let r2 = d.x * d.x + d.y * d.y;
-                let inv_r = 1.0 / r2.sqrt();
-                let inv_r2 = inv_r * inv_r;
+                // the division and the square root are independent: their latencies overlap
+                let inv_r2 = 1.0 / r2;
+                let inv_r = r2.sqrt() * inv_r2;
                 let c = b.x * d.x + b.y * d.y;
                 let radial = 1.0 - 5.0 * c * c * inv_r2;
                 let s = inv_r2 * inv_r2 * inv_r;
