@@ -93,6 +93,35 @@ def test_python_rrt_plans_like_a_builtin(sc):
     np.testing.assert_array_equal(again.states, p.states)
 
 
+class OwnShortcut(PyRrt):
+    """A planner with its own ``shortcut`` parameter: magbench's pass leaves it alone."""
+
+    def __init__(self, shortcut=0, goal_bias=0.1, max_periods=30):
+        super().__init__(goal_bias, max_periods)
+        self.own_shortcut = shortcut
+
+
+def test_python_plans_go_through_the_shortcut_pass(sc):
+    mb.register_planner("py-rrt", PyRrt)
+    opts = dict(seed=0, max_iterations=20000)
+    raw = mb.plan(sc, "py-rrt", **opts)
+    short = mb.plan(sc, "py-rrt", params={"shortcut": 200}, **opts)
+    assert raw.solved and short.solved
+    assert short.info["cost"] < 0.95 * raw.info["cost"]
+    assert sc.in_goal(short.states[-1])
+    for i in range(len(short)):
+        assert sc.motion_valid(short.states[i], short.controls[i], short.durations[i])
+    # the search's first solution is reported as before, the pass's plan as the last point
+    assert short.info["first_solution_iteration"] == raw.info["first_solution_iteration"]
+    assert short.progress["best_cost"][-1] == pytest.approx(short.info["cost"])
+    with pytest.raises(mb.InputError) as e:
+        mb.plan(sc, "py-rrt", params={"shortcut": -1})
+    assert e.value.field == "param.shortcut"
+    mb.register_planner("own-shortcut", OwnShortcut)
+    own = mb.plan(sc, "own-shortcut", params={"shortcut": 200}, **opts)
+    np.testing.assert_array_equal(own.states, raw.states)
+
+
 def test_problem_limits_params_and_progress(sc):
     mb.register_planner("seen", Seen)
     p = mb.plan(sc, "seen", seed=7, max_iterations=123,
