@@ -19,6 +19,11 @@ pub fn wrap_angle(a: f64) -> f64 {
     w
 }
 
+/// The centroid (mean position) of a team's state; zero for an empty one.
+pub fn centroid(state: &[Vec2]) -> Vec2 {
+    state.iter().sum::<Vec2>() / state.len().max(1) as f64
+}
+
 /// Lifts a planar vector into 3D with z = 0.
 pub fn lift(v: Vec2) -> Vec3 {
     Vec3::new(v.x, v.y, 0.0)
@@ -35,5 +40,16 @@ mod tests {
         assert!((wrap_angle(-PI) - PI).abs() < 1e-12);
         assert!((wrap_angle(0.5) - 0.5).abs() < 1e-15);
         assert!((wrap_angle(-0.5 - 4.0 * PI) + 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn centroid_is_the_mean_and_zero_for_no_agents() {
+        let s = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(2.0, 4.0),
+            Vec2::new(1.0, -1.0),
+        ];
+        assert_eq!(centroid(&s), Vec2::new(1.0, 1.0));
+        assert_eq!(centroid(&[]), Vec2::zeros());
     }
 }

@@ -21,6 +21,7 @@
 
 use std::cell::Cell;
 
+use magbench_env::math::centroid;
 use magbench_env::params::{BadValue, ParamType, Value, choose};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
@@ -343,8 +344,7 @@ fn solve_nearest_first(
 ) -> Vec<usize> {
     let (n, k) = (near.len(), controls.len());
     let model = &problem.model;
-    let centre = |s: &[Vec2]| s.iter().sum::<Vec2>() / n as f64;
-    let (from, to) = (centre(near), centre(target));
+    let (from, to) = (centroid(near), centroid(target));
     let mut floor = vec![0.0; k];
     let floors: Option<Vec<f64>> = integrated
         .iter()
@@ -456,14 +456,15 @@ mod tests {
                         .propagate(&near, &controls[best.1], durations[best.1], &mut out);
                     assert_eq!(chosen.end(n), &out[..], "{name}");
                     // some try's floor alone rules it out
-                    let centre = |s: &[Vec2]| s.iter().sum::<Vec2>() / n as f64;
                     dropped_some |= !unequal
                         && controls.iter().zip(&durations).any(|(u, &d)| {
                             let act = p.model.coil.actuation(u);
                             let v = p.model.kinematics.centroid_velocity(&act, n).unwrap();
-                            let f =
-                                p.metric
-                                    .centroid_floor(n, centre(&near) + v * d, centre(&target));
+                            let f = p.metric.centroid_floor(
+                                n,
+                                centroid(&near) + v * d,
+                                centroid(&target),
+                            );
                             floor_exceeds(f, best.0)
                         });
                 }

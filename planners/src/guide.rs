@@ -12,6 +12,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use magbench_env::Vec2;
+use magbench_env::math::centroid;
 use rand::RngExt;
 
 use crate::sampler::in_disk;
@@ -112,11 +113,6 @@ impl Guide {
         let i = (self.reach + rng.random_range(1..=AHEAD)).min(last);
         in_disk(rng, self.points[i], SPREAD)
     }
-}
-
-/// The mean of `state`'s positions.
-fn centroid(state: &[Vec2]) -> Vec2 {
-    state.iter().fold(Vec2::zeros(), |a, p| a + p) / state.len().max(1) as f64
 }
 
 /// The guide's grid of nodes `SPACING` apart over the world's rectangle.

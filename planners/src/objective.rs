@@ -4,6 +4,7 @@
 use std::fmt::Debug;
 use std::sync::Arc;
 
+use magbench_env::math::centroid;
 use magbench_env::{Control, Goal, PlanningModel, Vec2};
 
 /// What one edge did: the input to [`Objective::motion_cost`].
@@ -69,10 +70,6 @@ impl Objective for PathLength {
 pub struct Duration {
     /// Largest centroid speed (BL/s): the pull speed at full gradient.
     pub max_centroid_speed: f64,
-}
-
-fn centroid(s: &[Vec2]) -> Vec2 {
-    s.iter().sum::<Vec2>() / s.len() as f64
 }
 
 impl Objective for Duration {

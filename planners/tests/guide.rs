@@ -2,6 +2,7 @@
 //! pass the validator, the option changes the search, and bad values are refused.
 
 use magbench_env::Scenario;
+use magbench_env::math::centroid;
 use magbench_planners::guide::{Guide, SPACING};
 use magbench_planners::{
     Limits, PlannerResult, Problem, check_result, registry::Planners, validate_plan,
@@ -25,10 +26,6 @@ fn solve(p: &Problem, guide: &str) -> PlannerResult {
         .create("goal-zoom-rrt", &params)
         .unwrap()
         .solve(p)
-}
-
-fn centroid(s: &[magbench_env::Vec2]) -> magbench_env::Vec2 {
-    (s[0] + s[1]) / 2.0
 }
 
 #[test]

@@ -43,6 +43,7 @@
 
 use magbench_env::check::Rejection;
 use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};
+use magbench_env::math::centroid;
 use magbench_env::model::pair_flow::PairStart;
 use magbench_env::params::Reals;
 use magbench_env::{
@@ -462,7 +463,7 @@ impl ObcOptimizer {
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
         self.model
             .propagate_from(s.x, s.pair.as_ref(), act, self.horizon_s, &mut pred[..n]);
-        let c0 = pred[..n].iter().sum::<Vec2>() / n as f64;
+        let c0 = centroid(&pred[..n]);
         let mut want = s.ct - c0;
         let mut grad = self.best_gradient(ax, ay, want);
         let mut shift = ax * grad[0] + ay * grad[1];
@@ -512,7 +513,7 @@ impl ObcOptimizer {
         let mut pred = [Vec2::zeros(); MAX_AGENTS];
         self.model
             .propagate(s.x, &u, self.horizon_s, &mut pred[..n]);
-        let c = pred[..n].iter().sum::<Vec2>() / n as f64;
+        let c = centroid(&pred[..n]);
         let cost = self.score(s, &pred[..n], c, u.theta, u.alpha);
         Candidate {
             theta: u.theta,

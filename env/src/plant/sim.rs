@@ -10,7 +10,7 @@ use super::streams::{Stream, normal, stream};
 use super::{DisturbancePreset, Walls};
 use crate::coil::{Coil, Control};
 use crate::collision::CollisionWorld;
-use crate::math::{MAX_AGENTS, Vec2, Vec3};
+use crate::math::{MAX_AGENTS, Vec2, Vec3, centroid};
 use crate::model::{Kinematics, PairEdge, step_schedule};
 use crate::physics::PhysicalParams;
 use crate::world::World;
@@ -104,7 +104,7 @@ impl Plant {
             m: [Vec3::zeros(); MAX_AGENTS],
         };
         state.p[..n].copy_from_slice(start);
-        let centre = start.iter().sum::<Vec2>() / n as f64;
+        let centre = centroid(start);
         Self {
             kinematics,
             dynamics,

@@ -9,7 +9,7 @@
 
 use super::Scenario;
 use super::freespace::FreeGrid;
-use crate::math::Vec2;
+use crate::math::{Vec2, centroid};
 
 /// Consecutive bends of the shortened path the same way round and closer than this many
 /// clearances (plus two cells) count as one turn.
@@ -81,10 +81,6 @@ pub const COLUMNS: [&str; 14] = [
     "rotation_deg",
     "shape_change_bl",
 ];
-
-fn centroid(s: &[Vec2]) -> Vec2 {
-    s.iter().sum::<Vec2>() / s.len() as f64
-}
 
 /// The relative move from `a` to `b`: (span at a, span at b, rotation in degrees, shape
 /// change).

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use magbench_env::coil::{Planar, elevation_params};
+use magbench_env::math::centroid;
 use magbench_env::params::split_all;
 use magbench_env::plant::{Medium, Tilt};
 use magbench_env::{MAX_AGENTS, PhysicalParams, Scenario, Vec2};
@@ -215,7 +216,6 @@ fn tree_edges(planner: &dyn Planner) -> Vec<(Vec2, Vec2)> {
     let Some(tree) = planner.tree() else {
         return vec![];
     };
-    let centroid = |s: &[Vec2]| s.iter().sum::<Vec2>() / s.len() as f64;
     let edges: Vec<(u32, u32)> = tree.edges().collect();
     let stride = edges.len().div_ceil(20_000).max(1);
     edges

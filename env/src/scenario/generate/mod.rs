@@ -26,7 +26,7 @@ use rand_chacha::ChaCha8Rng;
 use super::freespace::FreeGrid;
 use super::{Draft, Scenario, parse_scenario};
 use crate::error::InputError;
-use crate::math::Vec2;
+use crate::math::{Vec2, centroid};
 use crate::params::{ParamSet, apply};
 use crate::physics::PhysicalParams;
 use crate::registry::{Entry, Registry};
@@ -128,7 +128,7 @@ pub fn corridor_clearance(start: &[Vec2], goal: &[Vec2], physics: &PhysicalParam
         return (physics.r_min + 1.0) / 2.0;
     }
     let reach = |s: &[Vec2]| {
-        let c = s.iter().sum::<Vec2>() / s.len() as f64;
+        let c = centroid(s);
         s.iter().map(|p| (p - c).norm()).fold(0.0, f64::max)
     };
     reach(start).max(reach(goal)) + 0.5
@@ -247,9 +247,8 @@ fn check(s: &Scenario, physics: &PhysicalParams) -> Result<(), Unsolvable> {
         return Err(Unsolvable::StartInGoal);
     }
     let clearance = corridor_clearance(&s.start, &goal.agents, physics);
-    let c = |v: &[Vec2]| v.iter().sum::<Vec2>() / v.len() as f64;
     FreeGrid::new(&s.world)
-        .grid_path(c(&s.start), c(&goal.agents), clearance)
+        .grid_path(centroid(&s.start), centroid(&goal.agents), clearance)
         .map(|_| ())
         .ok_or(Unsolvable::NoCorridor { clearance })
 }

@@ -8,7 +8,7 @@ use rand::RngExt;
 use super::place::round_pt;
 use super::{Family, Refusal, Rng};
 use crate::declare_params;
-use crate::math::{MAX_AGENTS, Vec2};
+use crate::math::{MAX_AGENTS, Vec2, centroid};
 use crate::params::{BadValue, ParamType, Reals, Value, choose};
 use crate::physics::PhysicalParams;
 use crate::plant::{DisturbancePreset, Interface, Medium};
@@ -131,7 +131,7 @@ impl Team {
                 v
             }
         };
-        let c = v.iter().sum::<Vec2>() / v.len().max(1) as f64;
+        let c = centroid(&v);
         v.iter().map(|p| p - c).collect()
     }
 

@@ -1,5 +1,6 @@
 //! The RRT* search: the iteration loop, choosing parents, CONNECT and rewiring.
 
+use magbench_env::math::centroid;
 use magbench_env::{MAX_AGENTS, Vec2};
 use rand::SeedableRng;
 
@@ -346,8 +347,4 @@ impl Search<'_> {
             };
         }
     }
-}
-
-fn centroid(s: &[Vec2]) -> Vec2 {
-    s.iter().sum::<Vec2>() / s.len() as f64
 }
