@@ -192,7 +192,8 @@ impl Extend {
     }
 
     /// The closest candidate: exact tries end and are ranged by their edge, the others are
-    /// integrated when `integrate` holds (else `ends` already holds them).
+    /// integrated when `integrate` holds (else `ends` already holds them), nearest centroid
+    /// floor first and without those the floor rules out ([`solve_nearest_first`]).
     #[allow(clippy::too_many_arguments)]
     fn choose(
         &self,
@@ -325,8 +326,8 @@ impl Extend {
 }
 
 /// Solves the tries `integrated` (those without a closed form) from `near` into `ends`, in
-/// order of their centroid floors ([`crate::metric::Metric::centroid_floor`]; the centroid of a team of equally
-/// mobile agents moves in a straight line,
+/// order of their centroid floors ([`crate::metric::Metric::centroid_floor`]; the centroid of a
+/// team of equally mobile agents moves in a straight line,
 /// [`magbench_env::model::Kinematics::centroid_velocity`]), and drops a try, before or while it
 /// is solved, once its floor exceeds the smallest squared distance to `target` so far (starting
 /// from `closest`): such a try cannot be the closest. Returns the dropped tries. Without floors
@@ -395,7 +396,7 @@ mod tests {
     use crate::search_settings::SearchSettings;
     use rand::SeedableRng;
 
-    /// For teams of three to six, with equal and unequal agents, under both metrics, EXTEND's
+    /// For teams of three and four, with equal and unequal agents, under both metrics, EXTEND's
     /// choice (tries solved nearest floor first, the hopeless ones dropped) is the try a plain
     /// scan of every try's one-at-a-time end chooses, bit for bit.
     #[test]

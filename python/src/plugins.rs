@@ -294,7 +294,8 @@ impl PyPlanner {
             && self.polish.params().iter().any(|p| p.name == key)
     }
 
-    /// The solution after the shortcut pass ([`polish`]), with the pass's time.
+    /// The solution after the shortcut pass ([`polish`]), its steered edges at most the
+    /// built-in planners' default longest edge.
     fn polished(&self, problem: &Problem, plan: magbench_planners::Plan, cost: f64) -> Best {
         let best = Best {
             plan,
