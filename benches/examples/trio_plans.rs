@@ -1,10 +1,12 @@
-//! Whole trio-triangle plans by goal-zoom-rrt to the first solution, seeds `0..SEEDS`, under
-//! one flow: prints the summed iterations, the summed planning time and iterations/s. A fixed
-//! seed range makes two builds comparable plan for plan (same trees when the model's results
-//! agree), and the whole process can be timed from outside or profiled.
+//! Whole team plans by goal-zoom-rrt to the first solution, seeds `0..SEEDS`, under one flow:
+//! prints the summed iterations, the summed planning time and iterations/s. A fixed seed range
+//! makes two builds comparable plan for plan (same trees when the model's results agree), and
+//! the whole process can be timed from outside or profiled. The scenario is trio-triangle unless
+//! a third argument names another (a built-in or a file).
 //!
 //! ```sh
 //! cargo run --release -p magbench-benches --example trio_plans -- pair-adaptive 20
+//! cargo run --release -p magbench-benches --example trio_plans -- pair-adaptive 6 experiments/teams/team6-hexagon.toml
 //! ```
 
 use std::time::Instant;
@@ -28,7 +30,14 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let s = Scenario::load("trio-triangle").expect("built-in scenario");
+    let name = args.get(2).map(String::as_str).unwrap_or("trio-triangle");
+    let s = match Scenario::load(name) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("trio_plans: scenario: {e}");
+            std::process::exit(2);
+        }
+    };
     let p = Problem::from_scenario(&s, 0, None, 0);
     let (mut iterations, mut seconds, mut solved) = (0u64, 0.0, 0u64);
     for seed in 0..seeds {
