@@ -620,6 +620,17 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "shortcut-plans",
+        source: Test {
+            package: "magbench-planners",
+            target: Target::Example("shortcut_plans"),
+            test: "",
+            ignored: false,
+            release: true,
+        },
+        feature: None,
+    },
+    Measure {
         name: "guide",
         source: Sweep {
             experiment: "experiments/guide.toml",
