@@ -394,11 +394,12 @@ mod tests {
     use crate::metric::Metric;
     use crate::sampler::{StateSampler, valid_sample};
     use crate::search_settings::SearchSettings;
+    use magbench_env::model::Flow;
     use rand::SeedableRng;
 
-    /// For teams of three and four, with equal and unequal agents, under both metrics, EXTEND's
-    /// choice (tries solved nearest floor first, the hopeless ones dropped) is the try a plain
-    /// scan of every try's one-at-a-time end chooses, bit for bit.
+    /// For teams of three and four, with equal and unequal agents, under both metrics and both
+    /// integrators, EXTEND's choice (tries solved nearest floor first, the hopeless ones
+    /// dropped) is the try a plain scan of every try's one-at-a-time end chooses, bit for bit.
     #[test]
     fn team_extend_chooses_the_closest_try_of_all() {
         let weighted = Metric::CentroidShape {
@@ -410,13 +411,15 @@ mod tests {
             let s = magbench_env::Scenario::load(name).unwrap();
             let base = Problem::from_scenario(&s, 0, None, 0);
             assert_eq!(base.start.len(), agents);
-            for (metric, unequal) in [
-                (Metric::Positions, false),
-                (weighted, false),
-                (Metric::Positions, true),
+            for (metric, unequal, flow) in [
+                (Metric::Positions, false, Flow::PairAdaptive),
+                (weighted, false, Flow::PairAdaptive),
+                (Metric::Positions, true, Flow::PairAdaptive),
+                (Metric::Positions, false, Flow::PairExact),
             ] {
                 let mut p = base.clone();
                 p.metric = metric;
+                p.model = p.model.with_flow(flow);
                 if unequal {
                     p.model.kinematics.mobility[1] *= 1.1;
                 }
