@@ -12,12 +12,12 @@
 //! ```
 
 use std::hint::black_box;
-use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use magbench_benches::first_plan;
 use magbench_env::model::Flow;
 use magbench_env::{Control, Scenario, Vec2};
-use magbench_planners::{Limits, Planner, Planners, Problem};
+use magbench_planners::Problem;
 use rand::{RngExt, SeedableRng};
 
 const FLOWS: [Flow; 2] = [Flow::PairExact, Flow::PairAdaptive];
@@ -59,19 +59,9 @@ fn bench(c: &mut Criterion) {
         let (mut seed, mut iterations, mut seconds) = (0, 0u64, 0.0);
         group.bench_function(flow.name(), |b| {
             b.iter(|| {
-                let mut q = p.clone();
-                q.model = q.model.with_flow(flow);
-                q.seed = seed;
-                q.limits = Limits {
-                    max_iterations: Some(200_000),
-                    time_limit: None,
-                };
+                let (r, s) = first_plan(&p, flow, seed);
                 seed += 1;
-                let mut planner: Box<dyn Planner> =
-                    Planners::builtin().create("goal-zoom-rrt", &[]).unwrap();
-                let t = Instant::now();
-                let r = planner.solve(&q);
-                seconds += t.elapsed().as_secs_f64();
+                seconds += s;
                 iterations += r.iterations;
                 r.solved
             })

@@ -9,11 +9,10 @@
 //! cargo run --release -p magbench-benches --example trio_plans -- pair-adaptive 6 experiments/teams/team6-hexagon.toml
 //! ```
 
-use std::time::Instant;
-
+use magbench_benches::first_plan;
 use magbench_env::Scenario;
 use magbench_env::model::Flow;
-use magbench_planners::{Limits, Planner, Planners, Problem};
+use magbench_planners::Problem;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -41,19 +40,8 @@ fn main() {
     let p = Problem::from_scenario(&s, 0, None, 0);
     let (mut iterations, mut seconds, mut solved) = (0u64, 0.0, 0u64);
     for seed in 0..seeds {
-        let mut q = p.clone();
-        q.model = q.model.with_flow(flow);
-        q.seed = seed;
-        q.limits = Limits {
-            max_iterations: Some(200_000),
-            time_limit: None,
-        };
-        let mut planner: Box<dyn Planner> = Planners::builtin()
-            .create("goal-zoom-rrt", &[])
-            .expect("built-in planner");
-        let t = Instant::now();
-        let r = planner.solve(&q);
-        seconds += t.elapsed().as_secs_f64();
+        let (r, s) = first_plan(&p, flow, seed);
+        seconds += s;
         iterations += r.iterations;
         solved += u64::from(r.solved);
     }

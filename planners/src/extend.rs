@@ -226,11 +226,20 @@ impl Extend {
             }
         }
         if !integrated.is_empty() && integrate {
-            for i in solve_nearest_first(
-                problem, near, target, controls, durations, integrated, closest, &mut ends,
-            ) {
+            for &i in &integrated {
                 candidate[i] = false;
             }
+            solve_nearest_first(
+                problem,
+                near,
+                target,
+                controls,
+                durations,
+                integrated,
+                closest,
+                &mut ends,
+                &mut candidate,
+            );
         }
         let mut best = Extension {
             control: Control::default(),
@@ -330,8 +339,8 @@ impl Extend {
 /// team of equally mobile agents moves in a straight line,
 /// [`magbench_env::model::Kinematics::centroid_velocity`]), and drops a try, before or while it
 /// is solved, once its floor exceeds the smallest squared distance to `target` so far (starting
-/// from `closest`): such a try cannot be the closest. Returns the dropped tries. Without floors
-/// (agents of unequal mobility) every try is solved.
+/// from `closest`): such a try cannot be the closest. A solved try is marked in `solved`.
+/// Without floors (agents of unequal mobility) every try is solved, in the order given.
 #[allow(clippy::too_many_arguments)]
 fn solve_nearest_first(
     problem: &Problem,
@@ -342,35 +351,27 @@ fn solve_nearest_first(
     mut integrated: Vec<usize>,
     closest: f64,
     ends: &mut [[Vec2; MAX_AGENTS]],
-) -> Vec<usize> {
-    let (n, k) = (near.len(), controls.len());
+    solved: &mut [bool],
+) {
+    let n = near.len();
     let model = &problem.model;
     let (from, to) = (centroid(near), centroid(target));
-    let mut floor = vec![0.0; k];
-    let floors: Option<Vec<f64>> = integrated
-        .iter()
-        .map(|&i| {
-            let act = model.coil.actuation(&controls[i]);
-            let v = model.kinematics.centroid_velocity(&act, n)?;
-            let f = problem
+    let mut floor = vec![0.0; controls.len()];
+    for &i in &integrated {
+        let act = model.coil.actuation(&controls[i]);
+        if let Some(v) = model.kinematics.centroid_velocity(&act, n) {
+            floor[i] = problem
                 .metric
                 .centroid_floor(n, from + v * durations[i], to);
-            (!f.is_nan()).then_some(f)
-        })
-        .collect();
-    if let Some(floors) = floors {
-        for (&i, f) in integrated.iter().zip(floors) {
-            floor[i] = f;
         }
-        integrated.sort_by(|&a, &b| floor[a].total_cmp(&floor[b]));
     }
-    let mut solved = vec![false; k];
+    integrated.sort_by(|&a, &b| floor[a].total_cmp(&floor[b]));
     let closest = Cell::new(closest);
     model.solve_many(
         near,
         controls,
         durations,
-        integrated.iter().copied(),
+        integrated,
         |i| !floor_exceeds(floor[i], closest.get()),
         |i, end| {
             ends[i][..n].copy_from_slice(end);
@@ -382,7 +383,6 @@ fn solve_nearest_first(
             );
         },
     );
-    integrated.into_iter().filter(|&i| !solved[i]).collect()
 }
 
 /// Coarse grid intervals of [`Timing::Closest`]'s search over the duration range.

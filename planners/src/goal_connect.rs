@@ -4,16 +4,13 @@
 //! ([`propagate_valid`]), and the steer is added to the tree only if all of it is valid and it
 //! ends in the goal region. Teams other than a pair under the exact flow are never connected.
 
-use magbench_env::model::{SteerLimits, steer_pair};
+use magbench_env::model::steer_pair;
 use magbench_env::{MAX_AGENTS, Vec2};
 
 use crate::Problem;
 use crate::motion::propagate_valid;
 use crate::nn::NearestNeighbors;
 use crate::tree::Tree;
-
-/// Largest miss of a steer (BL, any agent) before the goal check: far inside any tolerance.
-const STEER_TOLERANCE: f64 = 1e-6;
 
 /// Goal connection settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,12 +37,7 @@ impl GoalConnect {
         mut nn: Option<&mut NearestNeighbors>,
         from: u32,
     ) -> Option<u32> {
-        let limits = SteerLimits {
-            period: problem.control_period,
-            max_periods: self.max_periods,
-            separation: [problem.checker.r_min, problem.checker.r_max],
-            tolerance: STEER_TOLERANCE,
-        };
+        let limits = problem.steer_limits(self.max_periods);
         let start: Vec<Vec2> = tree.state(from).to_vec();
         let mut states: Vec<[Vec2; MAX_AGENTS]> = Vec::new();
         let steer = steer_pair(

@@ -3,6 +3,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
+use magbench_env::model::SteerLimits;
 use magbench_env::{Goal, PlanningModel, Scenario, ValidityChecker, Vec2, World};
 
 use crate::metric::Metric;
@@ -58,6 +59,10 @@ pub struct Problem {
     pub alpha_max: f64,
 }
 
+/// Largest miss of an exact steer onto its target (BL, any agent): far inside any goal
+/// tolerance, so a steer onto a waypoint or goal lands on it for every check that follows.
+pub const STEER_TOLERANCE: f64 = 1e-6;
+
 impl Problem {
     /// The problem of leg `leg` of `scenario`, from `start` (the scenario's start if `None`),
     /// under the default [`PlanningSetup`]: path length, agent positions, the default limits,
@@ -75,6 +80,18 @@ impl Problem {
     /// Number of agents.
     pub fn agents(&self) -> usize {
         self.start.len()
+    }
+
+    /// The limits of env's exact pair steer on this problem: edges of whole control periods, at
+    /// most `max_periods` each, between the validity check's separations, landing within
+    /// [`STEER_TOLERANCE`] of the target.
+    pub fn steer_limits(&self, max_periods: u32) -> SteerLimits {
+        SteerLimits {
+            period: self.control_period,
+            max_periods,
+            separation: [self.checker.r_min, self.checker.r_max],
+            tolerance: STEER_TOLERANCE,
+        }
     }
 
     /// The duration of `periods` control periods (s); every edge duration is one of these.

@@ -22,7 +22,7 @@
 
 use std::time::Instant;
 
-use magbench_env::model::{SteerLimits, steer_pair};
+use magbench_env::model::steer_pair;
 use magbench_env::{MAX_AGENTS, Vec2};
 use rand::{RngExt, SeedableRng};
 
@@ -33,9 +33,6 @@ use crate::objective::plan_cost;
 use crate::sampler::{SAMPLE_TRIES, in_disk, valid_sample};
 use crate::tree::Tree;
 use crate::{Plan, PlannerResult, Problem, Rng};
-
-/// Largest miss of a steer onto a waypoint (BL, any agent).
-const STEER_TOLERANCE: f64 = 1e-6;
 
 /// Radius of each agent's disk about a waypoint ahead, where the tree samples (BL).
 const SAMPLE_RADIUS: f64 = 1.0;
@@ -134,12 +131,7 @@ impl Repair {
         if problem.agents() != 2 {
             return None;
         }
-        let limits = SteerLimits {
-            period: problem.control_period,
-            max_periods: self.extend.max_periods,
-            separation: [problem.checker.r_min, problem.checker.r_max],
-            tolerance: STEER_TOLERANCE,
-        };
+        let limits = problem.steer_limits(self.extend.max_periods);
         let from: Vec<Vec2> = head.end().to_vec();
         let last = plan.edges().min(near + self.ahead);
         for j in near + 1..=last {

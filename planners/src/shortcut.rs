@@ -27,9 +27,6 @@ use crate::motion::{propagate_valid, replay_onto};
 use crate::objective::{Motion, plan_cost};
 use crate::{Plan, Problem};
 
-/// Largest miss of a steer (BL, any agent) onto a waypoint.
-const STEER_TOLERANCE: f64 = 1e-6;
-
 /// Spans (edges replaced) tried at each waypoint, longest first.
 pub const SPANS: [usize; 3] = [12, 6, 3];
 
@@ -95,12 +92,7 @@ impl Shortcut {
         if problem.agents() != 2 || plan.flow != problem.model.flow || plan.elevation_free() {
             return (plan.clone(), stats);
         }
-        let limits = SteerLimits {
-            period: problem.control_period,
-            max_periods: self.max_periods,
-            separation: [problem.checker.r_min, problem.checker.r_max],
-            tolerance: STEER_TOLERANCE,
-        };
+        let limits = problem.steer_limits(self.max_periods);
         let input_cost = plan_cost(problem, plan);
         let mut best = merge_runs(problem, plan).unwrap_or_else(|| plan.clone());
         let mut best_cost = plan_cost(problem, &best);

@@ -143,6 +143,22 @@ impl<const N: usize> Dense<N> {
     }
 }
 
+/// Calls `$f::<N>($args)` with `N` the team size `$n` as a constant, so that every loop over
+/// the agents has a known length; `$n` is at most [`MAX_AGENTS`].
+macro_rules! for_team_size {
+    ($n:expr, $f:ident $args:tt) => {
+        for_team_size!(@ $n, $f $args, 0 1 2 3 4 5 6 7 8)
+    };
+    (@ $n:expr, $f:ident $args:tt, $($k:literal)*) => {
+        match $n {
+            $($k => $f::<$k> $args,)*
+            _ => unreachable!("at most {MAX_AGENTS} agents"),
+        }
+    };
+}
+
+const _: () = assert!(MAX_AGENTS == 8, "for_team_size! lists the sizes 0 to 8");
+
 /// Solves `ṗ = f(p)` from `start` for `duration` seconds by adaptive Dormand–Prince 5(4) within
 /// `budget` and writes the end into `out`. With `visits`, calls `visit` on the sample at every
 /// whole `dt` after the start and at the end (the fixed-step integrator's sample instants);
@@ -164,15 +180,10 @@ pub fn dp5_solve(
         start.len() <= MAX_AGENTS && out.len() == start.len(),
         "at most {MAX_AGENTS} agents"
     );
-    macro_rules! solve_n {
-        ($($n:literal)*) => {
-            match start.len() {
-                $($n => solve_n::<$n>(f, start, duration, grid, out, visits, &mut visit),)*
-                _ => unreachable!("at most {MAX_AGENTS} agents"),
-            }
-        };
-    }
-    solve_n!(0 1 2 3 4 5 6 7 8)
+    for_team_size!(
+        start.len(),
+        solve_n(f, start, duration, grid, out, visits, &mut visit)
+    )
 }
 
 /// [`dp5_solve`] for a team of `N`: every loop over the agents has a known length.
@@ -231,21 +242,16 @@ pub fn dp5_solve_many<F: Fn(&[Vec2], &mut [Vec2])>(
         "at most {MAX_AGENTS} agents, one duration per field"
     );
     let order = order.into_iter();
-    macro_rules! many_n {
-        ($($n:literal)*) => {
-            match start.len() {
-                $($n => many_n::<$n, F>(fields, start, durations, grid, order, &wanted, &mut done),)*
-                _ => unreachable!("at most {MAX_AGENTS} agents"),
-            }
-        };
-    }
-    many_n!(0 1 2 3 4 5 6 7 8)
+    for_team_size!(
+        start.len(),
+        many_n(fields, start, durations, grid, order, &wanted, &mut done)
+    )
 }
 
 /// [`dp5_solve_many`] for a team of `N`.
 #[inline]
-fn many_n<const N: usize, F: Fn(&[Vec2], &mut [Vec2])>(
-    fields: &[F],
+fn many_n<const N: usize>(
+    fields: &[impl Fn(&[Vec2], &mut [Vec2])],
     start: &[Vec2],
     durations: &[f64],
     grid: Dp5Grid,
