@@ -10,12 +10,14 @@
 //! lasts whole control periods, so [`steer_pair`] splits the relative move into `n ≥ 2` orbits
 //! through waypoints, rounds each duration, and makes the last two exact: the field angle of
 //! the second-to-last edge is found (a bracketed 1-D root find) so that the last orbit's time
-//! from where it ends is a whole number of periods. The centre of mass moves at the pull
+//! from where it ends is a whole number of periods. When the centre of mass needs longer for its
+//! shift than the relative move takes, the waypoints make a radial detour out and back (or in
+//! and back) that lasts as long as the shift. The centre of mass moves at the pull
 //! velocity, affine in the gradient command for a given field angle, so the gradients that
 //! carry it onto the target's centre over the edges' total time follow in closed form, within
 //! the coil's limits or not at all.
 
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, SQRT_2, TAU};
 
 use super::PlanningModel;
 use super::pair_flow::{g, g_complement};
@@ -320,10 +322,12 @@ impl Relative<'_> {
         (p <= self.limits.max_periods as f64).then_some(p as u32)
     }
 
-    /// The relative part of a steer through `n ≥ 2` orbits turning by `turn` in all, the
-    /// waypoints' separations interpolated geometrically and scaled by `scale`: the field
-    /// angles and periods of every edge. `final_try`: no wider steer is tried after this one,
-    /// so edges too quick for the pull are [`Unsolved::Failed`] without a bracket.
+    /// The relative part of a steer through `n ≥ 2` orbits turning by `turn` in all: the field
+    /// angles and periods of every edge. The waypoints' separations are interpolated linearly
+    /// in `r⁵` (a radial orbit's time is proportional to the change of `r⁵`, so each edge gets
+    /// an equal share of it) and scaled by `scale`, or by `scale` raised to a [`Detour`]'s tent
+    /// when one is given. `final_try`: no wider steer is tried after this one, so edges too
+    /// quick for the pull are [`Unsolved::Failed`] without a bracket.
     fn solve(
         &self,
         from: &Shape,
@@ -332,11 +336,14 @@ impl Relative<'_> {
         n: usize,
         scale: f64,
         final_try: bool,
+        detour: Option<Detour>,
     ) -> Result<Vec<(f64, u32)>, Unsolved> {
         let [r_min, r_max] = self.limits.separation;
+        let (r0, r1) = (from.r.powi(5), to.r.powi(5));
         let waypoint = |k: usize| {
             let f = k as f64 / n as f64;
-            let r = (from.r * (to.r / from.r).powf(f) * scale).clamp(
+            let lift = detour.map_or(1.0, |d| d.tent(f));
+            let r = ((r0 + f * (r1 - r0)).powf(0.2) * scale.powf(lift)).clamp(
                 r_min + 0.05 * (r_max - r_min),
                 r_max - 0.05 * (r_max - r_min),
             );
@@ -559,10 +566,24 @@ pub fn steer_pair(
         pull: PullBound::of(model, from),
     };
     let needed = shift.norm() / pull_speed(model, from);
-    // too fast for the pull: slow the orbits by widening the pair (t ∝ r⁵)
-    let widen = |scale: f64, periods: u32| {
+    // the slowest axis's time at its fastest pull: what a detour must last
+    let axis_needed = rel.pull.map_or(needed * SQRT_2, |p| {
+        (shift.x.abs() / p.reach[0]).max(shift.y.abs() / p.reach[1])
+    });
+    // too fast for the pull: slow the orbits by widening the pair (t ∝ r⁵), or lengthen
+    // a detour's excursion in proportion
+    let widen = |scale: f64, detour: Option<Detour>, periods: u32| {
         let time = periods as f64 * limits.period;
-        scale * ((needed / time).max(1.0).powf(0.2) * 1.05)
+        let factor = (needed / time).max(1.0);
+        match detour {
+            None => scale * factor.powf(0.2) * 1.05,
+            Some(_) => Detour::stretch(scale, factor * 1.1),
+        }
+    };
+    // a radial orbit's time per unit change of r⁵: 1/10κ inward, 1/5κ outward
+    let radial_time = |r0: f64, r1: f64| {
+        let rate = if r1 > r0 { 5.0 } else { 10.0 } * kappa;
+        (r1.powi(5) - r0.powi(5)).abs() / rate
     };
     let turn = wrap_angle(b.phi - a.phi);
     let mut turns = vec![turn];
@@ -574,26 +595,39 @@ pub fn steer_pair(
         let edge_time = limits.max_periods as f64 * limits.period;
         let fewest = ((turn.abs() / EDGE_TURN).ceil() as usize)
             .max((needed / (0.8 * edge_time)).ceil() as usize)
+            .max((radial_time(a.r, b.r) / (0.8 * edge_time)).ceil() as usize + 1)
             .max(2);
         if fewest > MAX_EDGES {
             continue;
         }
+        // detours for a shift that outlasts the relative move: out and back (the pull acts
+        // along the separation's normal while the pair repels) or in and back
+        let r5 = a.r.min(b.r).powi(5);
+        let mut starts: Vec<(f64, Option<Detour>)> = SCALES.map(|s| (s, None)).to_vec();
+        starts.push(Detour::Out.start(axis_needed * kappa / r5));
+        let (dip, inward) = Detour::In.start(needed * kappa / r5);
+        if dip > 0.0 {
+            starts.push((dip, inward));
+        }
         for n in [fewest, fewest + 2] {
-            for first_scale in SCALES {
+            for &(first_scale, detour) in &starts {
                 let mut scale = first_scale;
                 for attempt in 0..WIDENINGS {
                     let final_try = attempt + 1 == WIDENINGS;
-                    let edges = match rel.solve(&a, &b, turn, n, scale, final_try) {
+                    let edges = match rel.solve(&a, &b, turn, n, scale, final_try, detour) {
                         Ok(edges) => edges,
                         Err(Unsolved::TooSlow(periods)) => {
-                            scale = widen(scale, periods);
+                            scale = widen(scale, detour, periods);
                             continue;
                         }
                         Err(Unsolved::Failed) => break,
                     };
                     let Some(controls) = gradients(model, from, &edges, limits.period, shift)
                     else {
-                        scale = widen(scale, edges.iter().map(|e| e.1).sum());
+                        scale = match detour {
+                            None => widen(scale, None, edges.iter().map(|e| e.1).sum()),
+                            Some(_) => Detour::stretch(scale, DETOUR_STRETCH),
+                        };
                         continue;
                     };
                     let steer: Vec<SteerEdge> = controls
@@ -610,6 +644,57 @@ pub fn steer_pair(
         }
     }
     None
+}
+
+/// A radial excursion of the waypoints for a shift that outlasts the relative move: the
+/// separations rise to `scale` times their interpolated value ([`Detour::Out`]) or fall to it
+/// ([`Detour::In`]) at a peak and come back, linearly in the waypoints' fraction. The peak sits
+/// where the outward and inward legs take equal shares of time: a radial orbit outward takes
+/// twice as long as inward for the same change of `r⁵`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Detour {
+    /// Repel first, then attract: the peak at 2/3 of the waypoints.
+    Out,
+    /// Attract first, then repel: the peak at 1/3.
+    In,
+}
+
+/// How much longer a detour's excursion gets when its gradients fail.
+const DETOUR_STRETCH: f64 = 1.5;
+
+impl Detour {
+    /// The waypoints' fraction at the peak.
+    fn peak(self) -> f64 {
+        match self {
+            Detour::Out => 2.0 / 3.0,
+            Detour::In => 1.0 / 3.0,
+        }
+    }
+
+    /// The exponent of the scale at waypoint fraction `f`: 0 at the ends, 1 at the peak.
+    fn tent(self, f: f64) -> f64 {
+        let p = self.peak();
+        if f <= p { f / p } else { (1.0 - f) / (1.0 - p) }
+    }
+
+    /// The first scale of this detour for a shift that needs `time · κ / r⁵` (with `r` the
+    /// smaller end separation): an out-and-back radial excursion lasts `0.3 |s⁵ − 1| r⁵ / κ`
+    /// (1/5κ out, 1/10κ back per unit of `r⁵`), so `s⁵ = 1 ± time κ / (0.3 r⁵)`, with a 50%
+    /// margin outward (`time` is then the slowest axis's, and only the repelling legs pull
+    /// along the separation's normal) and 10% inward.
+    fn start(self, time_kappa_r5: f64) -> (f64, Option<Detour>) {
+        let excursion = time_kappa_r5 / 0.3;
+        let s5 = match self {
+            Detour::Out => 1.0 + 1.5 * excursion,
+            Detour::In => 1.0 - 1.1 * excursion,
+        };
+        (s5.max(0.0).powf(0.2), Some(self))
+    }
+
+    /// A peak scale whose excursion `|scale⁵ − 1|` is `factor` times longer.
+    fn stretch(scale: f64, factor: f64) -> f64 {
+        (1.0 + (scale.powi(5) - 1.0) * factor).max(0.0).powf(0.2)
+    }
 }
 
 /// The turn planned for one orbit at most (rad). An orbit's time grows steeply with its turn

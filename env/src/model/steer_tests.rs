@@ -226,3 +226,31 @@ fn the_pull_bound_admits_every_shift_the_coil_can_make() {
         assert!(bound.too_slow(far, periods, limits.period));
     }
 }
+
+/// A pair carried without changing its shape, and a slow separation change at a wide
+/// separation: the relative move is quicker than the shift, or longer than one edge, so the
+/// waypoints detour and the edges share the radial time. Each lands within the tolerance.
+#[test]
+fn shifts_and_slow_separation_changes_land() {
+    let (m, limits) = model();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let (mut shifts, mut widenings) = (0, 0);
+    for _ in 0..40 {
+        let phi = rng.random_range(-PI..PI);
+        let heading = rng.random_range(-PI..PI);
+        let from = pair(Vec2::zeros(), 4.0, phi);
+        let to = pair(Vec2::new(heading.cos(), heading.sin()) * 2.0, 4.0, phi);
+        if let Some(steer) = steer_pair(&m, &from, &to, &limits, |_| true) {
+            assert!(miss(&replay(&m, &from, &steer, limits.period), &to) <= limits.tolerance);
+            shifts += 1;
+        }
+        let from = pair(Vec2::zeros(), 2.9, phi);
+        let to = pair(Vec2::new(0.3, 0.2), 4.0, phi - 0.2);
+        if let Some(steer) = steer_pair(&m, &from, &to, &limits, |_| true) {
+            assert!(miss(&replay(&m, &from, &steer, limits.period), &to) <= limits.tolerance);
+            widenings += 1;
+        }
+    }
+    assert!(shifts >= 25, "{shifts}/40 shifts of 2 BL steered");
+    assert!(widenings >= 35, "{widenings}/40 slow widenings steered");
+}
