@@ -124,6 +124,7 @@ fn bench(c: &mut Criterion) {
         max_periods: 120,
         timing: Timing::Random,
         alpha_max: None,
+        aim: false,
     };
     let target = LocalView {
         xc: 20.5,

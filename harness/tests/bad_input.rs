@@ -533,7 +533,7 @@ fn planning_options_name_their_bad_values() {
         a.extend_from_slice(extra);
         a.into_iter().map(String::from).collect::<Vec<_>>()
     };
-    let cases: [(&[&str], &[&str]); 9] = [
+    let cases: [(&[&str], &[&str]); 11] = [
         (&["--flow", "bogus"], &["--flow", "bogus", "pair-adaptive"]),
         (&["--param", "timing=bogus"], &["param.timing", "closest"]),
         (
@@ -543,6 +543,11 @@ fn planning_options_name_their_bad_values() {
         (&["--param", "k=0"], &["param.k"]),
         (&["--param", "shortcut=-1"], &["param.shortcut"]),
         (&["--param", "guide=maybe"], &["param.guide"]),
+        (&["--param", "aim=maybe"], &["param.aim"]),
+        (
+            &["--param", "aim=true", "--param", "timing=closest"],
+            &["param.aim", "timing=random"],
+        ),
         (&["--alpha-max", "120"], &["--alpha-max", "[0, 90]"]),
         (&["--param", "planar=maybe"], &["param.planar", "auto"]),
         (&["--fps", "0"], &["--fps", "got 0"]),

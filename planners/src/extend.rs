@@ -27,7 +27,7 @@ use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
 use crate::metric::floor_exceeds;
-use crate::motion::{random_control, random_elevated_control};
+use crate::motion::{aimed, random_control, random_elevated_control};
 use crate::{Problem, Rng};
 
 /// How EXTEND picks the duration of each try.
@@ -88,6 +88,9 @@ pub struct Extend {
     pub timing: Timing,
     /// The largest elevation drawn (rad), or `None` for planar controls only.
     pub alpha_max: Option<f64>,
+    /// Whether each try's gradients are aimed ([`aimed`]): the field and duration stay
+    /// random, the gradients carry the centroid as close to the target's as the coil allows.
+    pub aim: bool,
 }
 
 /// The best try of one EXTEND call.
@@ -111,6 +114,26 @@ impl Extension {
 }
 
 impl Extend {
+    /// `u` with its gradients [`aimed`] from centroid `from` at centroid `to` over `duration`
+    /// when `aim` is set (the random gradients were drawn all the same, so the random stream
+    /// does not depend on it); `u` itself otherwise.
+    #[inline]
+    pub(crate) fn aim_at(
+        &self,
+        problem: &Problem,
+        u: Control,
+        agents: usize,
+        from: Vec2,
+        to: Vec2,
+        duration: f64,
+    ) -> Control {
+        if self.aim {
+            aimed(problem, u, agents, from, to, duration)
+        } else {
+            u
+        }
+    }
+
     /// A random duration in control periods, uniform in `[min_periods, max_periods]`.
     #[inline]
     pub fn random_periods(&self, rng: &mut Rng) -> u32 {
@@ -149,15 +172,20 @@ impl Extend {
         let mut controls = Vec::with_capacity(k);
         let mut periods = Vec::with_capacity(k);
         let mut durations = Vec::with_capacity(k);
+        let (from, to) = (centroid(near), centroid(target));
         for _ in 0..k {
-            controls.push(match self.alpha_max {
+            let u = match self.alpha_max {
                 None => random_control(rng, g),
                 Some(a) => random_elevated_control(rng, g, a),
-            });
+            };
             if self.timing == Timing::Random {
                 let p = self.random_periods(rng);
+                let d = problem.periods(p);
+                controls.push(self.aim_at(problem, u, near.len(), from, to, d));
                 periods.push(p);
-                durations.push(problem.periods(p));
+                durations.push(d);
+            } else {
+                controls.push(u);
             }
         }
         let mut ends = vec![[Vec2::zeros(); MAX_AGENTS]; k];

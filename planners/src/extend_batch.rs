@@ -15,6 +15,7 @@
 //! solved in order of their bounds, so the first bound above the best distance ends the batch.
 
 use arrayvec::ArrayVec;
+use magbench_env::math::centroid;
 use magbench_env::model::pair_flow::PairStart;
 use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2};
 
@@ -35,14 +36,27 @@ struct Tries {
 }
 
 impl Tries {
-    /// Draws `k ≤ BATCH_MAX` planar tries with random durations, in the scalar path's order.
-    fn draw(&mut self, extend: &Extend, problem: &Problem, rng: &mut Rng, k: usize) {
+    /// Draws `k ≤ BATCH_MAX` planar tries with random durations, in the scalar path's order,
+    /// their gradients aimed from `near`'s centroid at `target`'s when the settings say so.
+    fn draw(
+        &mut self,
+        extend: &Extend,
+        problem: &Problem,
+        rng: &mut Rng,
+        k: usize,
+        near: &[Vec2],
+        target: &[Vec2],
+    ) {
         let g = problem.model.coil.gradient_limit();
+        let (from, to) = (centroid(near), centroid(target));
         for _ in 0..k {
-            self.controls.push(random_control(rng, g));
+            let u = random_control(rng, g);
             let p = extend.random_periods(rng);
+            let d = problem.periods(p);
+            self.controls
+                .push(extend.aim_at(problem, u, 2, from, to, d));
             self.periods.push(p);
-            self.durations.push(problem.periods(p));
+            self.durations.push(d);
         }
     }
 
@@ -128,7 +142,7 @@ impl Extend {
     ) -> Extension {
         let k = self.tries.max(1);
         let mut tries = Tries::default();
-        tries.draw(self, problem, rng, k);
+        tries.draw(self, problem, rng, k, near, target);
         if let Some(best) = tries.best_exact(problem, near, target) {
             return best;
         }
@@ -171,9 +185,13 @@ mod tests {
             let mut rng = Rng::seed_from_u64(11);
             let (mut near, mut target) = (vec![Vec2::zeros(); 2], vec![Vec2::zeros(); 2]);
             let mut found = 0;
-            for k in [1, 5, 12, 40, BATCH_MAX] {
+            for (k, aim) in [1, 5, 12, 40, BATCH_MAX]
+                .into_iter()
+                .flat_map(|k| [(k, false), (k, true)])
+            {
                 let extend = SearchSettings {
                     tries: k,
+                    aim,
                     ..SearchSettings::default()
                 }
                 .extend(&p);
@@ -185,7 +203,7 @@ mod tests {
                     let (mut a, mut b) = (Rng::seed_from_u64(seed), Rng::seed_from_u64(seed));
                     let x = extend.run_batch(&p, &mut a, &near, &target);
                     let y = extend.run_scalar(&p, &mut b, &near, &target);
-                    assert_eq!(x.control, y.control, "{name} k {k}");
+                    assert_eq!(x.control, y.control, "{name} k {k} aim {aim}");
                     assert_eq!(x.periods, y.periods);
                     assert_eq!(x.end, y.end);
                     assert_eq!(x.distance.to_bits(), y.distance.to_bits());
@@ -193,7 +211,7 @@ mod tests {
                     found += usize::from(x.periods > 0);
                 }
             }
-            assert!(found > 1000, "{name}: only {found} tries with a candidate");
+            assert!(found > 2000, "{name}: only {found} tries with a candidate");
         }
     }
 }

@@ -5,7 +5,7 @@
 //! exactly as `ValidityChecker::motion_valid` does (swept capsules between samples, proximity
 //! range at every sample). Durations passed here are whole control periods.
 
-use magbench_env::{Control, MAX_AGENTS, Vec2};
+use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2, Vec3};
 use rand::RngExt;
 
 use crate::{Plan, Problem};
@@ -186,5 +186,61 @@ mod tests {
                 "{name}: {valid} valid, {invalid} invalid"
             );
         }
+    }
+}
+
+/// `u` with the gradient commands, each within the coil's limit, that bring the centroid of a
+/// team of `n` at `from`, moving for `duration` under `u`'s field, closest to `to`; `u`
+/// unchanged when the agents' mobilities differ (the centroid then has no velocity of its
+/// own). The pull is linear in the gradient commands for a given field (the coil's
+/// `pull_map`); the team's relative motion does not depend on the gradients (every agent feels
+/// the same pull), so this choice brings the try's end closest to a target whose centroid is
+/// `to`, under either metric, among all gradients when the coil's axes pull independently (the
+/// tri-axial coil); otherwise the commands are the unconstrained best, clamped.
+pub fn aimed(
+    problem: &Problem,
+    u: Control,
+    n: usize,
+    from: Vec2,
+    to: Vec2,
+    duration: f64,
+) -> Control {
+    let (coil, kinematics) = (&problem.model.coil, &problem.model.kinematics);
+    let limit = coil.gradient_limit();
+    let (zero, [px, py]) = coil.pull_map(&u);
+    let velocity = |pull: Vec3| kinematics.centroid_velocity(&Actuation { pull, ..zero }, n);
+    let (Some(v0), Some(vx), Some(vy)) = (
+        velocity(zero.pull),
+        velocity(zero.pull + px * limit),
+        velocity(zero.pull + py * limit),
+    ) else {
+        return u;
+    };
+    // the velocity per full command along each axis, and the velocity wanted beyond the drift
+    let (ax, ay) = (vx - v0, vy - v0);
+    let want = (to - from) / duration - v0;
+    let det = ax.x * ay.y - ax.y * ay.x;
+    let (sx, sy) = if ax.y == 0.0 && ay.x == 0.0 || det == 0.0 || !det.is_finite() {
+        // each axis on its own (the tri-axial coil: x pulls along x, y along y)
+        (fraction(want.x, ax.x), fraction(want.y, ay.y))
+    } else {
+        (
+            fraction(want.x * ay.y - want.y * ay.x, det),
+            fraction(ax.x * want.y - ax.y * want.x, det),
+        )
+    };
+    Control {
+        grad: [sx * limit, sy * limit],
+        ..u
+    }
+}
+
+/// `want / reach` within `[−1, 1]`; 0 when the axis does not reach (`reach` 0).
+fn fraction(want: f64, reach: f64) -> f64 {
+    let s = want / reach;
+    if s.is_finite() {
+        s.clamp(-1.0, 1.0)
+    } else {
+        0.0
     }
 }

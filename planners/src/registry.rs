@@ -161,6 +161,7 @@ mod tests {
                 "timing",
                 "shortcut",
                 "guide",
+                "aim",
             ] {
                 if name.starts_with("ompl:") {
                     break;

@@ -1,7 +1,7 @@
 //! The search settings every planner embeds: EXTEND's tries and edge durations
 //! (the seed's Algorithm 3) and the goal-zoom sampler (Algorithm 2). Declared once, so every
-//! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius`, `timing` and
-//! `planar`, `shortcut` and `guide` alike.
+//! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius`, `timing`,
+//! `planar`, `shortcut`, `guide` and `aim` alike.
 //!
 //! `planar` says whether EXTEND draws the field elevation too: `auto` (the default) keeps two
 //! agents in the plane — the random stream is then exactly the planar one — and draws
@@ -61,8 +61,13 @@ declare_params! {
         /// path from start to goal, ahead of the tree (crate::guide; a heuristic only).
         #[param("guide")]
         pub guide: bool = false,
+        /// Whether each EXTEND try's gradients are aimed: the field and duration random, the
+        /// gradients the ones that carry the centroid closest to the target's (random timing
+        /// only).
+        #[param("aim")]
+        pub aim: bool = false,
     }
-    check(SearchSettings::check_durations);
+    check(SearchSettings::check);
 }
 
 impl SearchSettings {
@@ -79,6 +84,7 @@ impl SearchSettings {
             max_periods: to_periods(self.max_duration, problem.control_period),
             timing: self.timing,
             alpha_max: self.elevation_free(problem).then_some(problem.alpha_max),
+            aim: self.aim,
         }
     }
 
@@ -113,8 +119,16 @@ impl SearchSettings {
         polish(problem, best, self.shortcut, self.max_duration, alpha_max)
     }
 
-    fn check_durations(&self) -> Result<(), Rejection> {
-        check_durations(self.min_duration, self.max_duration)
+    fn check(&self) -> Result<(), Rejection> {
+        check_durations(self.min_duration, self.max_duration)?;
+        if self.aim && self.timing == Timing::Closest {
+            // a try's gradients are aimed over its duration, which `closest` picks after them
+            return Err(Rejection::new(
+                "aim",
+                "aim=true needs timing=random (timing=closest picks each try's duration after its control)",
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -40,4 +40,19 @@ pub trait Coil: Send + Sync + std::fmt::Debug {
     fn clamp(&self, u: &Control) -> (Control, bool);
     /// The field direction and pull a (within-limits) command produces.
     fn actuation(&self, u: &Control) -> Actuation;
+
+    /// The actuation of `u`'s field with zero gradient commands, and the pull's change per unit
+    /// gradient command along x and along y: the pull is linear in the gradient commands for a
+    /// given field. The default probes [`Coil::actuation`] three times.
+    fn pull_map(&self, u: &Control) -> (Actuation, [Vec3; 2]) {
+        let at = |gx: f64, gy: f64| {
+            self.actuation(&Control {
+                grad: [gx, gy],
+                ..*u
+            })
+        };
+        let zero = at(0.0, 0.0);
+        let (x, y) = (at(1.0, 0.0), at(0.0, 1.0));
+        (zero, [x.pull - zero.pull, y.pull - zero.pull])
+    }
 }

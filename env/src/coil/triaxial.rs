@@ -75,12 +75,64 @@ impl Coil for TriaxialMaxwell {
             pull: Vec3::new(gx * b.x, gy * b.y, -(gx + gy) * b.z),
         }
     }
+
+    fn pull_map(&self, u: &Control) -> (Actuation, [Vec3; 2]) {
+        let b = field_direction(u.theta, u.alpha);
+        let zero = Actuation {
+            b_hat: b,
+            pull: Vec3::zeros(),
+        };
+        (zero, [Vec3::new(b.x, 0.0, -b.z), Vec3::new(0.0, b.y, -b.z)])
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::f64::consts::{FRAC_PI_2, PI};
+
+    /// The closed-form pull map equals the trait's default, which probes the actuation.
+    #[test]
+    fn pull_map_equals_the_probed_one() {
+        #[derive(Debug)]
+        struct Probed(TriaxialMaxwell);
+        impl Coil for Probed {
+            fn name(&self) -> &str {
+                "probed"
+            }
+            fn gradient_limit(&self) -> f64 {
+                self.0.gradient_limit()
+            }
+            fn alpha_max(&self) -> f64 {
+                self.0.alpha_max()
+            }
+            fn clamp(&self, u: &Control) -> (Control, bool) {
+                self.0.clamp(u)
+            }
+            fn actuation(&self, u: &Control) -> Actuation {
+                self.0.actuation(u)
+            }
+        }
+        let c = TriaxialMaxwell::new(0.1);
+        let probed = Probed(c.clone());
+        for (theta, alpha) in [(0.3, 0.0), (-2.0, 0.4), (PI / 2.0, 0.1)] {
+            let u = Control {
+                theta,
+                alpha,
+                grad: [0.05, -0.02],
+            };
+            let (a, [x, y]) = c.pull_map(&u);
+            let (b, [px, py]) = probed.pull_map(&u);
+            assert_eq!(a.b_hat, b.b_hat);
+            assert!((a.pull - b.pull).norm() < 1e-15);
+            assert!(
+                (x - px).norm() < 1e-12 && (y - py).norm() < 1e-12,
+                "{x} {px} {y} {py}"
+            );
+            let full = c.actuation(&u).pull;
+            assert!((a.pull + x * 0.05 - y * 0.02 - full).norm() < 1e-15);
+        }
+    }
 
     #[test]
     fn pull_along_x_vanishes_at_90_degrees() {

@@ -640,6 +640,24 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "aim",
+        source: Sweep {
+            experiment: "experiments/aim.toml",
+            quick_seeds: 2,
+            table: Runs(first_solution_work),
+        },
+        feature: None,
+    },
+    Measure {
+        name: "aim-tracking",
+        source: Sweep {
+            experiment: "experiments/aim-tracking.toml",
+            quick_seeds: 2,
+            table: Runs(team_runs),
+        },
+        feature: None,
+    },
+    Measure {
         name: "team-scaling",
         source: Sweep {
             experiment: "experiments/team-scaling.toml",
