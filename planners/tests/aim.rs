@@ -3,23 +3,19 @@
 //! the try, they leave the relative motion alone, aimed plans pass the validator, and bad
 //! values are refused.
 
+mod common;
+
 use magbench_env::math::centroid;
 use magbench_env::{Control, MAX_AGENTS, Scenario, Vec2};
 use magbench_planners::motion::{aimed, propagate_valid, random_control};
 use magbench_planners::sampler::{StateSampler, valid_sample};
-use magbench_planners::{Limits, Problem, Rng, check_result, registry::Planners, validate_plan};
+use magbench_planners::{Problem, Rng, check_result, registry::Planners, validate_plan};
 use rand::{RngExt, SeedableRng};
 
 const PLANNERS: [&str; 4] = ["goal-zoom-rrt", "rrt-star", "informed-rrt-star", "sst"];
 
 fn problem(name: &str, seed: u64) -> Problem {
-    let s = Scenario::load(name).unwrap();
-    let mut p = Problem::from_scenario(&s, 0, None, seed);
-    p.limits = Limits {
-        max_iterations: Some(200_000),
-        time_limit: None,
-    };
-    p
+    common::problem(&Scenario::load(name).unwrap(), seed, 200_000)
 }
 
 fn params(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
