@@ -148,47 +148,6 @@ pub fn replay_onto(
     Some(head)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::Rng;
-    use crate::sampler::{StateSampler, valid_sample};
-    use rand::SeedableRng;
-
-    /// The shortcut never changes the verdict or the end state of env's `motion_valid`.
-    #[test]
-    fn checked_propagation_agrees_with_motion_valid() {
-        for name in ["micro-factory", "narrow-passage"] {
-            let s = magbench_env::Scenario::load(name).unwrap();
-            let p = Problem::from_scenario(&s, 0, None, 0);
-            let sampler = StateSampler::new(&p);
-            let mut rng = Rng::seed_from_u64(5);
-            let g = p.model.coil.gradient_limit();
-            let (mut valid, mut invalid) = (0, 0);
-            let mut x = vec![Vec2::zeros(); 2];
-            let (mut a, mut b) = (vec![Vec2::zeros(); 2], vec![Vec2::zeros(); 2]);
-            for k in 0..3000 {
-                assert!(valid_sample(&p, 1000, &mut x, |s| sampler.uniform(&mut rng, s)));
-                let u = random_control(&mut rng, g);
-                let d = p.periods(1 + k % 120);
-                let ours = propagate_checked(&p, &x, &u, d, &mut a);
-                let env = p.checker.motion_valid(&p.model, &x, &u, d, &mut b);
-                assert_eq!(ours.is_some(), env, "{name}: edge {k}");
-                if env {
-                    assert_eq!(a, b);
-                    valid += 1;
-                } else {
-                    invalid += 1;
-                }
-            }
-            assert!(
-                valid > 300 && invalid > 300,
-                "{name}: {valid} valid, {invalid} invalid"
-            );
-        }
-    }
-}
-
 /// `u` with the gradient commands, each within the coil's limit, that bring the centroid of a
 /// team of `n` at `from`, moving for `duration` under `u`'s field, closest to `to`; `u`
 /// unchanged when the agents' mobilities differ (the centroid then has no velocity of its
@@ -242,5 +201,46 @@ fn fraction(want: f64, reach: f64) -> f64 {
         s.clamp(-1.0, 1.0)
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Rng;
+    use crate::sampler::{StateSampler, valid_sample};
+    use rand::SeedableRng;
+
+    /// The shortcut never changes the verdict or the end state of env's `motion_valid`.
+    #[test]
+    fn checked_propagation_agrees_with_motion_valid() {
+        for name in ["micro-factory", "narrow-passage"] {
+            let s = magbench_env::Scenario::load(name).unwrap();
+            let p = Problem::from_scenario(&s, 0, None, 0);
+            let sampler = StateSampler::new(&p);
+            let mut rng = Rng::seed_from_u64(5);
+            let g = p.model.coil.gradient_limit();
+            let (mut valid, mut invalid) = (0, 0);
+            let mut x = vec![Vec2::zeros(); 2];
+            let (mut a, mut b) = (vec![Vec2::zeros(); 2], vec![Vec2::zeros(); 2]);
+            for k in 0..3000 {
+                assert!(valid_sample(&p, 1000, &mut x, |s| sampler.uniform(&mut rng, s)));
+                let u = random_control(&mut rng, g);
+                let d = p.periods(1 + k % 120);
+                let ours = propagate_checked(&p, &x, &u, d, &mut a);
+                let env = p.checker.motion_valid(&p.model, &x, &u, d, &mut b);
+                assert_eq!(ours.is_some(), env, "{name}: edge {k}");
+                if env {
+                    assert_eq!(a, b);
+                    valid += 1;
+                } else {
+                    invalid += 1;
+                }
+            }
+            assert!(
+                valid > 300 && invalid > 300,
+                "{name}: {valid} valid, {invalid} invalid"
+            );
+        }
     }
 }

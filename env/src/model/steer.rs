@@ -325,8 +325,8 @@ impl Relative<'_> {
     /// The relative part of a steer through `n ≥ 2` orbits turning by `turn` in all: the field
     /// angles and periods of every edge. The waypoints' separations are interpolated linearly
     /// in `r⁵` (a radial orbit's time is proportional to the change of `r⁵`, so each edge gets
-    /// an equal share of it) and scaled by `scale`, or by `scale` raised to a [`Detour`]'s tent
-    /// when one is given. `final_try`: no wider steer is tried after this one, so edges too
+    /// an equal share of it) and scaled by `scale`, or by `scale` raised to the tent of
+    /// `detour` when one is given. `final_try`: no wider steer is tried after this one, so edges too
     /// quick for the pull are [`Unsolved::Failed`] without a bracket.
     fn solve(
         &self,
@@ -334,9 +334,8 @@ impl Relative<'_> {
         to: &Shape,
         turn: f64,
         n: usize,
-        scale: f64,
+        (scale, detour): (f64, Option<Detour>),
         final_try: bool,
-        detour: Option<Detour>,
     ) -> Result<Vec<(f64, u32)>, Unsolved> {
         let [r_min, r_max] = self.limits.separation;
         let (r0, r1) = (from.r.powi(5), to.r.powi(5));
@@ -614,7 +613,7 @@ pub fn steer_pair(
                 let mut scale = first_scale;
                 for attempt in 0..WIDENINGS {
                     let final_try = attempt + 1 == WIDENINGS;
-                    let edges = match rel.solve(&a, &b, turn, n, scale, final_try, detour) {
+                    let edges = match rel.solve(&a, &b, turn, n, (scale, detour), final_try) {
                         Ok(edges) => edges,
                         Err(Unsolved::TooSlow(periods)) => {
                             scale = widen(scale, detour, periods);
