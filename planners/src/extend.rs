@@ -90,6 +90,8 @@ pub struct Extend {
     pub alpha_max: Option<f64>,
     /// Whether each try's gradients are aimed ([`aimed`]): the field and duration stay
     /// random, the gradients carry the centroid as close to the target's as the coil allows.
+    /// With [`Timing::Closest`] the duration is picked after the control, so nothing is aimed
+    /// (the search settings refuse the pair).
     pub aim: bool,
 }
 

@@ -603,10 +603,13 @@ pub fn steer_pair(
         // along the separation's normal while the pair repels) or in and back
         let r5 = a.r.min(b.r).powi(5);
         let mut starts: Vec<(f64, Option<Detour>)> = SCALES.map(|s| (s, None)).to_vec();
-        starts.push(Detour::Out.start(axis_needed * kappa / r5));
-        let (dip, inward) = Detour::In.start(needed * kappa / r5);
+        starts.push((
+            Detour::Out.start(axis_needed * kappa / r5),
+            Some(Detour::Out),
+        ));
+        let dip = Detour::In.start(needed * kappa / r5);
         if dip > 0.0 {
-            starts.push((dip, inward));
+            starts.push((dip, Some(Detour::In)));
         }
         for n in [fewest, fewest + 2] {
             for &(first_scale, detour) in &starts {
@@ -681,13 +684,13 @@ impl Detour {
     /// (1/5κ out, 1/10κ back per unit of `r⁵`), so `s⁵ = 1 ± time κ / (0.3 r⁵)`, with a 50%
     /// margin outward (`time` is then the slowest axis's, and only the repelling legs pull
     /// along the separation's normal) and 10% inward.
-    fn start(self, time_kappa_r5: f64) -> (f64, Option<Detour>) {
+    fn start(self, time_kappa_r5: f64) -> f64 {
         let excursion = time_kappa_r5 / 0.3;
         let s5 = match self {
             Detour::Out => 1.0 + 1.5 * excursion,
             Detour::In => 1.0 - 1.1 * excursion,
         };
-        (s5.max(0.0).powf(0.2), Some(self))
+        s5.max(0.0).powf(0.2)
     }
 
     /// A peak scale whose excursion `|scale⁵ − 1|` is `factor` times longer.
