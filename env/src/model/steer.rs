@@ -322,6 +322,53 @@ impl Relative<'_> {
         (p <= self.limits.max_periods as f64).then_some(p as u32)
     }
 
+    /// The waypoint at fraction `f` of a relative move from `from` to `to` turning by `turn`:
+    /// the separation interpolated linearly in `r⁵` and scaled by `scale`, or by `scale` raised
+    /// to the tent of `detour`, kept 5% of the proximity range inside it.
+    fn waypoint(
+        &self,
+        from: &Shape,
+        to: &Shape,
+        turn: f64,
+        f: f64,
+        (scale, detour): (f64, Option<Detour>),
+    ) -> Shape {
+        let [r_min, r_max] = self.limits.separation;
+        let (r0, r1) = (from.r.powi(5), to.r.powi(5));
+        let lift = detour.map_or(1.0, |d| d.tent(f));
+        let r = ((r0 + f * (r1 - r0)).powf(0.2) * scale.powf(lift)).clamp(
+            r_min + 0.05 * (r_max - r_min),
+            r_max - 0.05 * (r_max - r_min),
+        );
+        Shape::polar(r, from.phi + turn * f)
+    }
+
+    /// At least `n`, and enough edges that the orbits through `n` waypoints, which last `T` in
+    /// all, fit in edges of 80% of the longest edge: `max(n, ⌈T / 0.8 t_max⌉)`, or `n` when an
+    /// orbit has no solution. The time of turning grows with `r⁵`, so a wide pair turning even
+    /// a little needs more edges than its turn alone asks for.
+    fn timed_edges(
+        &self,
+        from: &Shape,
+        to: &Shape,
+        turn: f64,
+        n: usize,
+        start: (f64, Option<Detour>),
+    ) -> usize {
+        let mut time = 0.0;
+        let mut at = *from;
+        for k in 1..=n {
+            let next = self.waypoint(from, to, turn, k as f64 / n as f64, start);
+            let Some(o) = self.orbit(&at, &next) else {
+                return n;
+            };
+            time += o.time;
+            at = next;
+        }
+        let edge_time = self.limits.max_periods as f64 * self.limits.period;
+        n.max((time / (0.8 * edge_time)).ceil() as usize)
+    }
+
     /// The relative part of a steer through `n ≥ 2` orbits turning by `turn` in all: the field
     /// angles and periods of every edge. The waypoints' separations are interpolated linearly
     /// in `r⁵` (a radial orbit's time is proportional to the change of `r⁵`, so each edge gets
@@ -337,17 +384,7 @@ impl Relative<'_> {
         (scale, detour): (f64, Option<Detour>),
         final_try: bool,
     ) -> Result<Vec<(f64, u32)>, Unsolved> {
-        let [r_min, r_max] = self.limits.separation;
-        let (r0, r1) = (from.r.powi(5), to.r.powi(5));
-        let waypoint = |k: usize| {
-            let f = k as f64 / n as f64;
-            let lift = detour.map_or(1.0, |d| d.tent(f));
-            let r = ((r0 + f * (r1 - r0)).powf(0.2) * scale.powf(lift)).clamp(
-                r_min + 0.05 * (r_max - r_min),
-                r_max - 0.05 * (r_max - r_min),
-            );
-            Shape::polar(r, from.phi + turn * f)
-        };
+        let waypoint = |k: usize| self.waypoint(from, to, turn, k as f64 / n as f64, (scale, detour));
         let mut edges = Vec::with_capacity(n);
         let mut at = *from;
         for k in 1..n - 1 {
@@ -611,8 +648,12 @@ pub fn steer_pair(
         if dip > 0.0 {
             starts.push((dip, Some(Detour::In)));
         }
-        for n in [fewest, fewest + 2] {
+        for extra in [0, 2] {
             for &(first_scale, detour) in &starts {
+                let n = rel.timed_edges(&a, &b, turn, fewest, (first_scale, detour)) + extra;
+                if n > MAX_EDGES {
+                    continue;
+                }
                 let mut scale = first_scale;
                 for attempt in 0..WIDENINGS {
                     let final_try = attempt + 1 == WIDENINGS;

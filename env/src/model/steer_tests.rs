@@ -254,3 +254,25 @@ fn shifts_and_slow_separation_changes_land() {
     assert!(shifts >= 25, "{shifts}/40 shifts of 2 BL steered");
     assert!(widenings >= 35, "{widenings}/40 slow widenings steered");
 }
+
+/// A wide pair turning a little: at 3.5 BL a 20° turn takes several longest edges (the time
+/// grows with `r⁵`), however few its angle alone asks for. Each lands within the tolerance.
+#[test]
+fn wide_pairs_turn_over_several_edges() {
+    let (m, limits) = model();
+    let mut rng = ChaCha8Rng::seed_from_u64(6);
+    let mut landed = 0;
+    for _ in 0..40 {
+        let phi = rng.random_range(-PI..PI);
+        let turn = rng.random_range(0.25..0.4) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let from = pair(Vec2::zeros(), rng.random_range(3.3..3.8), phi);
+        let to = pair(Vec2::new(0.2, -0.3), 4.0, phi + turn);
+        if let Some(steer) = steer_pair(&m, &from, &to, &limits, |_| true) {
+            assert!(miss(&replay(&m, &from, &steer, limits.period), &to) <= limits.tolerance);
+            let time: u32 = steer.iter().map(|e| e.periods).sum();
+            assert!(time > 2 * limits.max_periods, "{time} periods: more than two edges' worth");
+            landed += 1;
+        }
+    }
+    assert!(landed >= 35, "{landed}/40 wide turns steered");
+}
