@@ -60,6 +60,11 @@ declare_params! {
         /// distance of the goal that is closer to it than any before (BL; 0 never; pairs under the exact flow only).
         #[param("steer_radius", Reals::closed(0.0, 1.0e6))]
         pub steer_radius: f64 = 3.0,
+        /// Steer into the goal by way of one of its approaches (crate::goal_connect) from every
+        /// new node within this distance of the approach that is closer to it than any before
+        /// (BL; 0 never; pairs under the exact flow only).
+        #[param("approach_radius", Reals::closed(0.0, 1.0e6))]
+        pub approach_radius: f64 = 5.0,
         /// The tree of the last solve.
         pub last_tree: Option<Tree> = None,
     }
@@ -85,12 +90,14 @@ impl Planner for GoalZoomRrt {
         nn.add(&problem.start, 0);
         let mut closest = (0u32, problem.goal.distance(&problem.start));
         let mut reached = problem.goal.contains(&problem.start).then_some(0u32);
-        let connect = GoalConnect {
-            radius: self.steer_radius,
-            max_periods: extend.max_periods,
-        };
-        if reached.is_none() && connect.near(problem, closest.1) {
-            reached = connect.run(problem, &mut tree, Some(&mut nn), 0);
+        let mut connect = GoalConnect::new(
+            problem,
+            self.steer_radius,
+            self.approach_radius,
+            extend.max_periods,
+        );
+        if reached.is_none() {
+            reached = connect.attempt(problem, &mut tree, Some(&mut nn), 0, closest.1, true);
         }
 
         let mut q_sample = [Vec2::zeros(); MAX_AGENTS];
@@ -124,8 +131,9 @@ impl Planner for GoalZoomRrt {
                     }
                     if problem.goal.contains(&q_new[..n]) {
                         reached = Some(id); // T.hasReachedGoal()
-                    } else if closer && connect.near(problem, dist) {
-                        reached = connect.run(problem, &mut tree, Some(&mut nn), id);
+                    } else {
+                        reached =
+                            connect.attempt(problem, &mut tree, Some(&mut nn), id, dist, closer);
                     }
                 }
             }
