@@ -384,7 +384,8 @@ impl Relative<'_> {
         (scale, detour): (f64, Option<Detour>),
         final_try: bool,
     ) -> Result<Vec<(f64, u32)>, Unsolved> {
-        let waypoint = |k: usize| self.waypoint(from, to, turn, k as f64 / n as f64, (scale, detour));
+        let waypoint =
+            |k: usize| self.waypoint(from, to, turn, k as f64 / n as f64, (scale, detour));
         let mut edges = Vec::with_capacity(n);
         let mut at = *from;
         for k in 1..n - 1 {

@@ -270,7 +270,10 @@ fn wide_pairs_turn_over_several_edges() {
         if let Some(steer) = steer_pair(&m, &from, &to, &limits, |_| true) {
             assert!(miss(&replay(&m, &from, &steer, limits.period), &to) <= limits.tolerance);
             let time: u32 = steer.iter().map(|e| e.periods).sum();
-            assert!(time > 2 * limits.max_periods, "{time} periods: more than two edges' worth");
+            assert!(
+                time > 2 * limits.max_periods,
+                "{time} periods: more than two edges' worth"
+            );
             landed += 1;
         }
     }
