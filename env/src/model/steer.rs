@@ -64,9 +64,12 @@ pub fn orbit_steer(kappa: f64, r0: f64, r1: f64, dphi: f64) -> Option<OrbitSteer
     }
     let target = (r1 / r0).ln();
     let residual = |a: f64| {
-        let (fb, db) = ln_f_and_slope(a - d);
-        let (fa, da) = ln_f_and_slope(a);
-        (fb - fa - target, db - da)
+        let (sb, cb) = (a - d).sin_cos();
+        let (sa, ca) = a.sin_cos();
+        // ln f(b) − ln f(a) as one logarithm; the slope of ln f is cot − ½ tan
+        let ratio = (sb / sa) * (cb / ca).sqrt();
+        let slope = |s: f64, c: f64| c / s - 0.5 * s / c;
+        (ratio.ln() - target, slope(sb, cb) - slope(sa, ca))
     };
     // small-turn guess: (ln f)'(ψ̂₀ − d/2) = −ln(r₁/r₀)/d, i.e. tan² + 2k tan − 2 = 0
     let k = -target / d;
@@ -89,13 +92,6 @@ pub fn orbit_steer(kappa: f64, r0: f64, r1: f64, dphi: f64) -> Option<OrbitSteer
 
 /// A turn below this (rad) is steered along the separation itself.
 const RADIAL_TURN: f64 = 1e-12;
-
-/// `ln(sin x √cos x)` and its derivative `cot x − ½ tan x` (strictly decreasing on
-/// `(0, π/2)`), from one sine and cosine.
-fn ln_f_and_slope(x: f64) -> (f64, f64) {
-    let (s, c) = x.sin_cos();
-    (s.ln() + 0.5 * c.ln(), c / s - 0.5 * s / c)
-}
 
 /// The root in `(lo, hi)` of an increasing function given with its derivative, negative near
 /// `lo` and positive near `hi`: Newton steps from `guess`, bisection whenever a step leaves the
@@ -649,9 +645,13 @@ pub fn steer_pair(
         if dip > 0.0 {
             starts.push((dip, Some(Detour::In)));
         }
+        let timed: Vec<usize> = starts
+            .iter()
+            .map(|&start| rel.timed_edges(&a, &b, turn, fewest, start))
+            .collect();
         for extra in [0, 2] {
-            for &(first_scale, detour) in &starts {
-                let n = rel.timed_edges(&a, &b, turn, fewest, (first_scale, detour)) + extra;
+            for (&(first_scale, detour), &timed) in starts.iter().zip(&timed) {
+                let n = timed + extra;
                 if n > MAX_EDGES {
                     continue;
                 }
