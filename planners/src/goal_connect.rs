@@ -131,19 +131,8 @@ impl GoalConnect {
         nn: Option<&mut NearestNeighbors>,
         from: u32,
     ) -> Option<u32> {
-        let start: Vec<Vec2> = tree.state(from).to_vec();
-        let mut states = Vec::new();
-        steer_pair(
-            &problem.model,
-            &start,
-            &problem.goal.agents,
-            &problem.steer_limits(self.max_periods),
-            |edges| {
-                states.clear();
-                replay(problem, &start, edges, &mut states)
-                    .is_some_and(|end| problem.goal.contains(&end))
-            },
-        )?;
+        let start = pair(tree.state(from));
+        let states = self.into_goal(problem, &start, &problem.goal.agents, &[])?;
         Some(add(tree, nn, from, &states))
     }
 
@@ -157,24 +146,12 @@ impl GoalConnect {
         from: u32,
         a: usize,
     ) -> Option<u32> {
-        let limits = problem.steer_limits(self.max_periods);
-        let target = self.approaches[a].state;
         let tail = self.tail(problem, a)?;
-        let start: Vec<Vec2> = tree.state(from).to_vec();
-        let mut states = Vec::new();
-        steer_pair(&problem.model, &start, &target, &limits, |edges| {
-            states.clear();
-            let Some(there) = replay(problem, &start, edges, &mut states) else {
-                return false;
-            };
-            replay(problem, &there, &tail, &mut states)
-                .is_some_and(|end| problem.goal.contains(&end))
-        })?;
+        let start = pair(tree.state(from));
+        let states = self.into_goal(problem, &start, &self.approaches[a].state, &tail)?;
         Some(add(tree, nn, from, &states))
     }
-}
 
-impl GoalConnect {
     /// The steer from approach `a` into the goal, solved the first time it is asked for: a
     /// steer onto the approach it steers into followed by that one's, or straight into the
     /// goal.
@@ -183,33 +160,46 @@ impl GoalConnect {
             return known.clone();
         }
         let (from, next) = (self.approaches[a].state, self.approaches[a].next);
-        let (to, after) = match next {
-            Some(b) => (self.approaches[b].state, self.tail(problem, b)),
-            None => (
-                problem.goal.agents.clone().try_into().ok()?,
-                Some(Vec::new()),
-            ),
-        };
-        let tail = after.and_then(|after| {
-            let mut states = Vec::new();
-            let mut first = steer_pair(
-                &problem.model,
-                &from,
-                &to,
-                &problem.steer_limits(self.max_periods),
-                |edges| {
-                    states.clear();
-                    replay(problem, &from, edges, &mut states)
-                        .and_then(|there| replay(problem, &there, &after, &mut states))
-                        .is_some_and(|end| problem.goal.contains(&end))
-                },
-            )?;
-            first.extend(after);
-            Some(first)
-        });
+        let tail = match next {
+            Some(b) => self.tail(problem, b).and_then(|after| {
+                self.into_goal(problem, &from, &self.approaches[b].state, &after)
+            }),
+            None => self.into_goal(problem, &from, &problem.goal.agents, &[]),
+        }
+        .map(|states| states.into_iter().map(|(e, _)| e).collect());
         self.approaches[a].tail = Some(tail.clone());
         tail
     }
+
+    /// A steer from `from` onto `to` whose edges, followed by `after`, all pass the checked
+    /// propagation and end in the goal region: every edge of both with its end.
+    fn into_goal(
+        &self,
+        problem: &Problem,
+        from: &[Vec2; 2],
+        to: &[Vec2],
+        after: &[SteerEdge],
+    ) -> Option<Vec<(SteerEdge, [Vec2; MAX_AGENTS])>> {
+        let mut states = Vec::new();
+        steer_pair(
+            &problem.model,
+            from,
+            to,
+            &problem.steer_limits(self.max_periods),
+            |edges| {
+                states.clear();
+                replay(problem, from, edges, &mut states)
+                    .and_then(|there| replay(problem, &there, after, &mut states))
+                    .is_some_and(|end| problem.goal.contains(&end))
+            },
+        )?;
+        Some(states)
+    }
+}
+
+/// The first two agents of `s`.
+fn pair(s: &[Vec2]) -> [Vec2; 2] {
+    [s[0], s[1]]
 }
 
 /// Propagates `edges` from `start` with the checked propagation, pushing each edge's command,
