@@ -26,13 +26,13 @@
 //! Like the seed's, this RRT keeps no costs: the plan's cost under the problem's objective is
 //! measured once, on the plan it returns (`plan_cost`).
 //!
-//! Defaults, tuned for time to the first solution on micro-factory (10–20 seeds each):
-//! `k = 5` tries (k = 3 needed twice the iterations; k = 8–20 fewer iterations but more time);
-//! durations from 0.25 s to 2 s — an edge moves the centroid up to 1 BL (the pull is at most
-//! 0.5 BL/s), while a constant field held much longer collapses or splits a close pair (at
-//! r = 2 BL the separation changes at up to 3 BL/s). With k = 10 and 1/60–0.5 s edges the
-//! median first solution took 26.5k iterations; with these defaults about 6k. Goal bias 0.1
-//! into a zoom region of 1.5 BL about each agent's goal centre (0.05 and 0.2 were slower).
+//! Defaults: the search settings' (docs/planners.md, "Parameters and defaults", with the experiments
+//! behind each): `k = 12` tries, durations from 0.25 s to 2 s (a random edge moves the centroid
+//! up to 1 BL, the pull being at most 0.5 BL/s, while a constant field held much longer
+//! collapses or splits a close pair: at r = 2 BL the separation changes at up to 3 BL/s), goal
+//! bias 0.2 into a zoom region of 1.5 BL about each agent's goal centre. With aimed gradients
+//! (`aim=true`) longer edges pay: `aim=true,guide=true,max_duration=5` is the fastest setting
+//! measured on micro-factory (docs/planners.md, "Speed").
 
 use magbench_env::params::Reals;
 use magbench_env::{MAX_AGENTS, Vec2, declare_params};
