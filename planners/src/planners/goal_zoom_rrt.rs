@@ -26,8 +26,8 @@
 //! Like the seed's, this RRT keeps no costs: the plan's cost under the problem's objective is
 //! measured once, on the plan it returns (`plan_cost`).
 //!
-//! Defaults: the search settings' (docs/planners.md, "Parameters and defaults", with the experiments
-//! behind each): `k = 12` tries, durations from 0.25 s to 2 s (a random edge moves the centroid
+//! Defaults: the search settings' (docs/planners.md, "Parameters and defaults", with the
+//! experiments behind each): `k = 12` tries, durations from 0.25 s to 2 s (a random edge moves the centroid
 //! up to 1 BL, the pull being at most 0.5 BL/s, while a constant field held much longer
 //! collapses or splits a close pair: at r = 2 BL the separation changes at up to 3 BL/s), goal
 //! bias 0.2 into a zoom region of 1.5 BL about each agent's goal centre. With aimed gradients
