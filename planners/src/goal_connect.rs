@@ -6,13 +6,14 @@
 //!
 //! A goal in a pocket (agents in chambers, a dock) is rarely reached by one steer: the pair's
 //! centre moves on a straight line while its shape changes, and the agents cut across the
-//! pocket's walls. So the goal also has *approaches*: the goal's shape translated straight out
-//! of it by the first of [`APPROACH_DISTANCES`] in each of [`APPROACH_DIRECTIONS`] directions
-//! where both agents sweep clear of every obstacle and end at least [`APPROACH_CLEARANCE`]
-//! from them. A node near an approach, closer to it than any node before, is steered onto the
-//! approach and then along the approach's own steer into the goal (solved once, from the
-//! approach, the first time it is needed); the whole is added only if every edge is valid and
-//! it ends in the goal region.
+//! pocket's walls. So such a goal, one whose agents are not both [`APPROACH_CLEARANCE`] clear,
+//! also has *approaches*: in each of [`APPROACH_DIRECTIONS`] directions, rungs of the goal's
+//! shape translated straight out of it by each of [`APPROACH_DISTANCES`] in turn, for as long
+//! as both agents sweep clear from the goal, up to the first rung where both are
+//! [`APPROACH_CLEARANCE`] clear. Each rung steers into the one below it (the first into the
+//! goal), solved once, from the rung, the first time it is needed. A node near a rung, closer
+//! to it than any node before, is steered onto the rung and then along the rung's steer into
+//! the goal; the whole is added only if every edge is valid and it ends in the goal region.
 
 use std::f64::consts::TAU;
 
@@ -30,8 +31,8 @@ pub const APPROACH_DIRECTIONS: usize = 8;
 /// Distances (BL) of an approach's rungs from the goal, nearest first.
 pub const APPROACH_DISTANCES: [f64; 3] = [2.0, 4.0, 6.0];
 
-/// The least clearance (BL) both agents keep at an approach: room for the tree to arrive in
-/// a different shape.
+/// The clearance (BL) at which both agents are out of the pocket: the last rung has it, and a
+/// goal that has it needs no approaches; room for the tree to arrive in a different shape.
 pub const APPROACH_CLEARANCE: f64 = 1.5;
 
 /// Goal connection settings and state.
@@ -47,7 +48,8 @@ pub struct GoalConnect {
     approaches: Vec<Approach>,
 }
 
-/// The goal's shape translated out of the goal, and how to steer from it into the goal.
+/// A rung: the goal's shape translated out of the goal, and how to steer from it into the
+/// goal.
 #[derive(Debug, Clone)]
 struct Approach {
     state: [Vec2; 2],
