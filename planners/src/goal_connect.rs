@@ -134,7 +134,7 @@ impl GoalConnect {
         from: u32,
     ) -> Option<u32> {
         let start = pair(tree.state(from));
-        let states = self.into_goal(problem, &start, &problem.goal.agents, &[])?;
+        let states = self.steer_into_goal(problem, &start, &problem.goal.agents, &[])?;
         Some(add(tree, nn, from, &states))
     }
 
@@ -150,7 +150,7 @@ impl GoalConnect {
     ) -> Option<u32> {
         let tail = self.tail(problem, a)?;
         let start = pair(tree.state(from));
-        let states = self.into_goal(problem, &start, &self.approaches[a].state, &tail)?;
+        let states = self.steer_into_goal(problem, &start, &self.approaches[a].state, &tail)?;
         Some(add(tree, nn, from, &states))
     }
 
@@ -164,9 +164,9 @@ impl GoalConnect {
         let (from, next) = (self.approaches[a].state, self.approaches[a].next);
         let tail = match next {
             Some(b) => self.tail(problem, b).and_then(|after| {
-                self.into_goal(problem, &from, &self.approaches[b].state, &after)
+                self.steer_into_goal(problem, &from, &self.approaches[b].state, &after)
             }),
-            None => self.into_goal(problem, &from, &problem.goal.agents, &[]),
+            None => self.steer_into_goal(problem, &from, &problem.goal.agents, &[]),
         }
         .map(|states| states.into_iter().map(|(e, _)| e).collect());
         self.approaches[a].tail = Some(tail.clone());
@@ -175,7 +175,7 @@ impl GoalConnect {
 
     /// A steer from `from` onto `to` whose edges, followed by `after`, all pass the checked
     /// propagation and end in the goal region: every edge of both with its end.
-    fn into_goal(
+    fn steer_into_goal(
         &self,
         problem: &Problem,
         from: &[Vec2; 2],
