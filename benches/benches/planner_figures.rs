@@ -67,6 +67,7 @@ const CONFIGS: [&[(&str, &str)]; 2] = [
 ];
 
 /// One column's figures over the seeds.
+#[derive(Default)]
 struct Figures {
     solved: u64,
     times: Vec<f64>,
@@ -83,16 +84,7 @@ fn measure(s: &Scenario, seeds: u64, params: &[(&str, &str)]) -> Figures {
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
-    let mut f = Figures {
-        solved: 0,
-        times: vec![],
-        first_iterations: vec![],
-        iterations: 0,
-        seconds: 0.0,
-        per_node: vec![],
-        tree_bytes: vec![],
-        kd_bytes: vec![],
-    };
+    let mut f = Figures::default();
     for seed in 0..seeds {
         let mut p = Problem::from_scenario(s, 0, None, seed);
         p.limits = Limits {

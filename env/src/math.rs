@@ -24,6 +24,21 @@ pub fn centroid(state: &[Vec2]) -> Vec2 {
     state.iter().sum::<Vec2>() / state.len().max(1) as f64
 }
 
+/// The largest distance between matched agents of two states (BL); NaN when a position is not
+/// a number.
+pub fn max_agent_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, |m: f64, d| {
+            if m.is_nan() || d.is_nan() {
+                f64::NAN
+            } else {
+                m.max(d)
+            }
+        })
+}
+
 /// Lifts a planar vector into 3D with z = 0.
 pub fn lift(v: Vec2) -> Vec3 {
     Vec3::new(v.x, v.y, 0.0)

@@ -533,8 +533,12 @@ fn planning_options_name_their_bad_values() {
         a.extend_from_slice(extra);
         a.into_iter().map(String::from).collect::<Vec<_>>()
     };
-    let cases: [(&[&str], &[&str]); 11] = [
+    let cases: [(&[&str], &[&str]); 12] = [
         (&["--flow", "bogus"], &["--flow", "bogus", "pair-adaptive"]),
+        (
+            &["--param", "approach_radius=-1"],
+            &["param.approach_radius", "must be in [0,", "got -1"],
+        ),
         (&["--param", "timing=bogus"], &["param.timing", "closest"]),
         (
             &["--param", "max_duration=0.1", "--param", "min_duration=0.5"],

@@ -17,6 +17,7 @@
 
 use std::f64::consts::TAU;
 
+use magbench_env::math::max_agent_distance;
 use magbench_env::model::{SteerEdge, steer_pair};
 use magbench_env::{MAX_AGENTS, Vec2};
 
@@ -101,9 +102,6 @@ impl GoalConnect {
         distance: f64,
         closer: bool,
     ) -> Option<u32> {
-        if problem.agents() != 2 {
-            return None;
-        }
         if closer
             && self.near(problem, distance)
             && let Some(node) = self.run(problem, tree, nn.as_deref_mut(), from)
@@ -111,7 +109,7 @@ impl GoalConnect {
             return Some(node);
         }
         for a in 0..self.approaches.len() {
-            let d = max_distance(tree.state(from), &self.approaches[a].state);
+            let d = max_agent_distance(tree.state(from), &self.approaches[a].state);
             if d > self.approach_radius || d >= self.approaches[a].closest {
                 continue;
             }
@@ -240,14 +238,6 @@ fn add(
         }
     }
     node
-}
-
-/// The largest distance between matched agents (the goal's distance).
-fn max_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max)
 }
 
 /// The goal's approaches, none when both goal agents are [`APPROACH_CLEARANCE`] clear: in each

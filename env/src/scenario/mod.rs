@@ -38,16 +38,7 @@ impl Goal {
     /// Largest distance of an agent from its goal centre (BL); NaN when a position is not a
     /// number (so a lost estimate is never inside a goal).
     pub fn distance(&self, s: &[Vec2]) -> f64 {
-        s.iter()
-            .zip(&self.agents)
-            .map(|(p, g)| (p - g).norm())
-            .fold(0.0, |a: f64, d| {
-                if a.is_nan() || d.is_nan() {
-                    f64::NAN
-                } else {
-                    a.max(d)
-                }
-            })
+        crate::math::max_agent_distance(s, &self.agents)
     }
 
     /// True when every agent is within the tolerance of its goal centre.

@@ -19,18 +19,20 @@
 //! ```
 //!
 //! From the root and from every new node within `steer_radius` of the goal that is closer to
-//! it than every earlier node, a pair under the
-//! exact flow is steered straight onto the goal centres (crate::goal_connect); the steer joins
-//! the tree only if every edge passes the same check as EXTEND's and it ends in the goal.
+//! it than every earlier node, a pair under the exact flow is steered straight onto the goal
+//! centres, and from every new node within `approach_radius` of one of a pocket goal's
+//! approaches that is closer to it than every earlier node, by way of that approach
+//! (crate::goal_connect); the steer joins the tree only if every edge passes the same check as
+//! EXTEND's and it ends in the goal.
 //!
 //! Like the seed's, this RRT keeps no costs: the plan's cost under the problem's objective is
 //! measured once, on the plan it returns (`plan_cost`).
 //!
 //! Defaults: the search settings' (docs/planners.md, "Parameters and defaults", with the
-//! experiments behind each): `k = 12` tries, durations from 0.25 s to 2 s (a random edge moves the centroid
-//! up to 1 BL, the pull being at most 0.5 BL/s, while a constant field held much longer
-//! collapses or splits a close pair: at r = 2 BL the separation changes at up to 3 BL/s), goal
-//! bias 0.2 into a zoom region of 1.5 BL about each agent's goal centre. With aimed gradients
+//! experiments behind each): `k = 12` tries, durations from 0.25 s to 2 s (a random edge
+//! moves the centroid up to 1 BL, the pull being at most 0.5 BL/s, while a constant field held
+//! much longer collapses or splits a close pair: at r = 2 BL the separation changes at up to
+//! 3 BL/s), goal bias 0.2 into a zoom region of 1.5 BL about each agent's goal centre. With aimed gradients
 //! (`aim=true`) longer edges pay: `aim=true,guide=true,max_duration=5` is the fastest setting
 //! measured on micro-factory (docs/planners.md, "Speed").
 
