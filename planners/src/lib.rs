@@ -47,6 +47,7 @@ pub mod search_settings;
 pub mod setup;
 pub mod shortcut;
 pub mod steer;
+pub mod straighten;
 pub mod tree;
 pub mod validate;
 

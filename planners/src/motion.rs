@@ -164,19 +164,11 @@ pub fn aimed(
     to: Vec2,
     duration: f64,
 ) -> Control {
-    let (coil, kinematics) = (&problem.model.coil, &problem.model.kinematics);
-    let limit = coil.gradient_limit();
-    let (zero, [px, py]) = coil.pull_map(&u);
-    let velocity = |pull: Vec3| kinematics.centroid_velocity(&Actuation { pull, ..zero }, n);
-    let (Some(v0), Some(vx), Some(vy)) = (
-        velocity(zero.pull),
-        velocity(zero.pull + px * limit),
-        velocity(zero.pull + py * limit),
-    ) else {
+    let limit = problem.model.coil.gradient_limit();
+    let Some((v0, ax, ay)) = centroid_map(problem, &u, n) else {
         return u;
     };
-    // the velocity per full command along each axis, and the velocity wanted beyond the drift
-    let (ax, ay) = (vx - v0, vy - v0);
+    // the velocity wanted beyond the drift
     let want = (to - from) / duration - v0;
     let det = ax.x * ay.y - ax.y * ay.x;
     let (sx, sy) = if ax.y == 0.0 && ay.x == 0.0 || det == 0.0 || !det.is_finite() {
@@ -192,6 +184,22 @@ pub fn aimed(
         grad: [sx * limit, sy * limit],
         ..u
     }
+}
+
+/// The centroid velocity of a team of `n` under `u`'s field with zero gradient commands (the
+/// drift), and its change per full gradient command (the coil's limit) along x and along y:
+/// the centroid's velocity is affine in the gradient commands for a given field. `None` when
+/// the agents' mobilities differ (the centroid then has no velocity of its own).
+#[inline]
+pub fn centroid_map(problem: &Problem, u: &Control, n: usize) -> Option<(Vec2, Vec2, Vec2)> {
+    let (coil, kinematics) = (&problem.model.coil, &problem.model.kinematics);
+    let limit = coil.gradient_limit();
+    let (zero, [px, py]) = coil.pull_map(u);
+    let velocity = |pull: Vec3| kinematics.centroid_velocity(&Actuation { pull, ..zero }, n);
+    let v0 = velocity(zero.pull)?;
+    let vx = velocity(zero.pull + px * limit)?;
+    let vy = velocity(zero.pull + py * limit)?;
+    Some((v0, vx - v0, vy - v0))
 }
 
 /// `want / reach` within `[−1, 1]`; 0 when the axis does not reach (`reach` 0).

@@ -245,7 +245,7 @@ fn merge_runs(problem: &Problem, plan: &Plan) -> Option<Plan> {
 }
 
 /// The objective's cost of edge `k` of `plan`.
-fn edge_cost(problem: &Problem, plan: &Plan, k: usize) -> f64 {
+pub(crate) fn edge_cost(problem: &Problem, plan: &Plan, k: usize) -> f64 {
     motion_cost(
         problem,
         &plan.states[k],
@@ -255,7 +255,7 @@ fn edge_cost(problem: &Problem, plan: &Plan, k: usize) -> f64 {
 }
 
 /// The objective's cost of one motion.
-fn motion_cost(problem: &Problem, from: &[Vec2], u: &Control, d: f64) -> f64 {
+pub(crate) fn motion_cost(problem: &Problem, from: &[Vec2], u: &Control, d: f64) -> f64 {
     problem.objective.motion_cost(&Motion {
         control: *u,
         duration: d,

@@ -20,7 +20,7 @@ use magbench_env::{Control, Vec2};
 use magbench_planners::objective::objective_by_name;
 use magbench_planners::registry::Entry as PlannerEntry;
 use magbench_planners::result::Best;
-use magbench_planners::search_settings::{SearchSettings, polish};
+use magbench_planners::search_settings::{Passes, SearchSettings, polish};
 use magbench_planners::{
     Limits, Metric, Planner, PlannerResult, PlanningSetup, Problem, ProgressPoint, plan_cost,
 };
@@ -277,6 +277,11 @@ declare_params! {
         /// `shortcut` parameter keeps it, and gets no pass.
         #[param("shortcut", 0..=1_000_000)]
         shortcut: usize = 0,
+        /// Whether magbench straightens the solution's centroid after the shortcut pass
+        /// (the same fields and durations, gradients that run the centroid straight). A class
+        /// that declares its own `straighten` parameter keeps it.
+        #[param("straighten")]
+        straighten: bool = false,
     }
 }
 
@@ -294,20 +299,26 @@ impl PyPlanner {
             && self.polish.params().iter().any(|p| p.name == key)
     }
 
-    /// The solution after the shortcut pass ([`polish`]), its steered edges at most the
-    /// built-in planners' default longest edge.
+    /// The solution after the shortcut pass and straightening ([`polish`]) of the settings
+    /// that are magbench's, its steered edges at most the built-in planners' default longest
+    /// edge.
     fn polished(&self, problem: &Problem, plan: magbench_planners::Plan, cost: f64) -> Best {
         let best = Best {
             plan,
             solved: true,
             cost,
         };
-        if !self.polish_key("shortcut") {
-            return best;
-        }
+        let passes = Passes {
+            shortcut: if self.polish_key("shortcut") {
+                self.polish.shortcut
+            } else {
+                0
+            },
+            straighten: self.polish_key("straighten") && self.polish.straighten,
+        };
         let alpha_max = best.plan.alpha_max;
         let max_duration = SearchSettings::default().max_duration;
-        polish(problem, best, self.polish.shortcut, max_duration, alpha_max)
+        polish(problem, best, passes, max_duration, alpha_max)
     }
 }
 

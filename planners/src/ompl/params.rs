@@ -11,7 +11,7 @@ use magbench_env::params::{ParamSet, Reals};
 
 use crate::Problem;
 use crate::result::Best;
-use crate::search_settings::{SearchSettings, check_durations, polish, to_periods};
+use crate::search_settings::{Passes, SearchSettings, check_durations, polish, to_periods};
 
 declare_params! {
     /// What every OMPL planner's controls share: the duration bounds, in seconds, used in whole
@@ -33,6 +33,10 @@ declare_params! {
         /// returned (crate::shortcut; 0 none; pairs under the exact flow only).
         #[param("shortcut", 0..=1_000_000)]
         pub shortcut: usize = 0,
+        /// Whether magbench straightens the centroid of OMPL's solution after the shortcut
+        /// pass (crate::straighten).
+        #[param("straighten")]
+        pub straighten: bool = false,
     }
     check(Durations::check);
 }
@@ -46,9 +50,13 @@ impl Durations {
         )
     }
 
-    /// `best` after the shortcut pass ([`crate::search_settings::polish`]).
+    /// `best` after the shortcut pass and straightening ([`crate::search_settings::polish`]).
     pub fn polish(&self, problem: &Problem, best: Best, alpha_max: Option<f64>) -> Best {
-        polish(problem, best, self.shortcut, self.max_duration, alpha_max)
+        let passes = Passes {
+            shortcut: self.shortcut,
+            straighten: self.straighten,
+        };
+        polish(problem, best, passes, self.max_duration, alpha_max)
     }
 
     /// The largest elevation (rad) when the field may leave the plane for `problem`.
@@ -65,12 +73,13 @@ impl Durations {
 }
 
 /// Keys that magbench reads itself; every other parameter goes to OMPL by name.
-pub const MAGBENCH_KEYS: [&str; 5] = [
+pub const MAGBENCH_KEYS: [&str; 6] = [
     "min_duration",
     "max_duration",
     "stop_on_solution",
     "planar",
     "shortcut",
+    "straighten",
 ];
 
 /// An OMPL planner's parameters.

@@ -1,0 +1,268 @@
+//! Straightening the centroid: a local trajectory optimisation any solution can go through
+//! after shortcutting (docs/steering.md).
+//!
+//! Every agent feels the same pull, so the team's relative motion depends on the field alone
+//! and the centroid moves at a velocity affine in the gradient commands
+//! ([`centroid_map`]). A run of edges can therefore keep its field angles and durations — and so
+//! its relative motion, exactly — while its gradients are chosen afresh: the pass chooses them
+//! so that the centroid runs along the straight line from where the run starts to where it
+//! ends, each edge at the same fraction of its fastest speed along that line within the coil's
+//! limits. The run then ends where it did, and the centroid's share of the path length is the
+//! line's.
+//!
+//! The pass sweeps the plan from start to goal. At waypoint `k` it tries the run to the goal,
+//! then runs half as long, down to two edges; the first whose edges all pass the same checked
+//! propagation as EXTEND's, end at the old waypoint ([`LANDING`]) and cost less under the
+//! problem's objective than the old edges replaces them, and the sweep goes on from the run's
+//! end. When no run is straightened, edge `k` is replayed. The relative dynamics are chaotic:
+//! a run's rounding, amplified over the replayed rest of a long plan, can carry it out of the
+//! goal or into a wall. Such a sweep is dropped and the next one keeps the first half of what
+//! the last one swept as it was (recorded, not replayed) and straightens only the rest. The
+//! result replays bit for bit like any plan and never costs more than the input; a plan whose
+//! agents' mobilities differ (no centroid velocity of its own), or whose flow is not the
+//! problem's, comes back unchanged.
+
+use magbench_env::math::{centroid, max_agent_distance};
+use magbench_env::{Control, MAX_AGENTS, Vec2};
+
+use crate::motion::{centroid_map, propagate_valid};
+use crate::objective::plan_cost;
+use crate::shortcut::{edge_cost, motion_cost};
+use crate::{Plan, Problem};
+
+/// Work counts of a pass.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Stats {
+    /// Sweeps run.
+    pub sweeps: usize,
+    /// Runs tried.
+    pub tries: usize,
+    /// Runs straightened.
+    pub accepted: usize,
+    /// Edges propagated (straightened and replayed).
+    pub propagations: usize,
+}
+
+/// The plan with its centroid straightened; `plan` itself when nothing cheaper was found.
+/// `plan` must be valid for `problem`.
+pub fn straighten(problem: &Problem, plan: &Plan) -> Plan {
+    straighten_with_stats(problem, plan).0
+}
+
+/// [`straighten`] with its work counts.
+pub fn straighten_with_stats(problem: &Problem, plan: &Plan) -> (Plan, Stats) {
+    let mut stats = Stats::default();
+    let m = plan.edges();
+    if plan.flow != problem.model.flow || m < 2 {
+        return (plan.clone(), stats);
+    }
+    let costs: Vec<f64> = (0..m).map(|k| edge_cost(problem, plan, k)).collect();
+    let input = plan_cost(problem, plan);
+    let mut first = 0;
+    while first + 2 <= m {
+        stats.sweeps += 1;
+        if let Some(next) = sweep(problem, plan, &costs, first, &mut stats)
+            && plan_cost(problem, &next) < input
+        {
+            return (next, stats);
+        }
+        first += (m - first).div_ceil(2);
+    }
+    (plan.clone(), stats)
+}
+
+/// One sweep that keeps edges `..first` as they are and straightens from waypoint `first`
+/// on: its plan, if a run was straightened, every edge is valid and it ends in the goal.
+fn sweep(
+    problem: &Problem,
+    plan: &Plan,
+    costs: &[f64],
+    first: usize,
+    stats: &mut Stats,
+) -> Option<Plan> {
+    let n = problem.agents();
+    let m = plan.edges();
+    let mut next = Plan::at(&plan.states[0]);
+    next.flow = plan.flow;
+    next.alpha_max = plan.alpha_max;
+    next.made_for = plan.made_for.clone();
+    for k in 0..first {
+        next.push(
+            plan.controls[k],
+            plan.durations[k],
+            plan.states[k + 1].clone(),
+        );
+    }
+    let mut at = plan.states[first].clone();
+    let mut out = [Vec2::zeros(); MAX_AGENTS];
+    let mut accepted = false;
+    let mut k = first;
+    while k < m {
+        let mut span = m - k;
+        while span >= 2 {
+            stats.tries += 1;
+            let old: f64 = costs[k..k + span].iter().sum();
+            if let Some(edges) = line(problem, plan, &at, k, span, old, stats) {
+                for (u, d, end) in edges {
+                    next.push(u, d, end);
+                }
+                at.copy_from_slice(next.end());
+                k += span;
+                stats.accepted += 1;
+                accepted = true;
+                break;
+            }
+            span /= 2;
+        }
+        if k == m {
+            break;
+        }
+        if span >= 2 {
+            continue;
+        }
+        let (u, d) = (plan.controls[k], plan.durations[k]);
+        stats.propagations += 1;
+        if !propagate_valid(problem, &at, &u, d, &mut out[..n]) {
+            return None;
+        }
+        next.push(u, d, out[..n].to_vec());
+        at.copy_from_slice(&out[..n]);
+        k += 1;
+    }
+    (accepted && problem.goal.contains(&at)).then_some(next)
+}
+
+/// How far (BL) a straightened run may end from the old waypoint. Its centroid lands there
+/// exactly and its relative motion is the old one's, but the relative dynamics amplify the
+/// rounding of the new positions over a long run; the replayed rest of the plan and the goal
+/// are checked after it.
+const LANDING: f64 = 1e-3;
+
+/// Edges `k..k + span` of `plan` from `from` with their gradients chosen so that the centroid
+/// runs straight to its place at waypoint `k + span`: their (command, duration, end), when
+/// every edge is valid, the run ends within [`LANDING`] of that waypoint (in the goal, when it
+/// is the plan's last) and costs less than `old`.
+#[allow(clippy::type_complexity)]
+fn line(
+    problem: &Problem,
+    plan: &Plan,
+    from: &[Vec2],
+    k: usize,
+    span: usize,
+    old: f64,
+    stats: &mut Stats,
+) -> Option<Vec<(Control, f64, Vec<Vec2>)>> {
+    let n = from.len();
+    let target = &plan.states[k + span];
+    let controls = &plan.controls[k..k + span];
+    let durations = &plan.durations[k..k + span];
+    let commands = line_commands(
+        problem,
+        n,
+        controls,
+        durations,
+        centroid(target) - centroid(from),
+    )?;
+    let mut at = from.to_vec();
+    let mut out = [Vec2::zeros(); MAX_AGENTS];
+    let mut cost = 0.0;
+    let mut edges = Vec::with_capacity(span);
+    for (u, &d) in commands.into_iter().zip(durations) {
+        stats.propagations += 1;
+        if !propagate_valid(problem, &at, &u, d, &mut out[..n]) {
+            return None;
+        }
+        cost += motion_cost(problem, &at, &u, d);
+        if cost >= old {
+            return None;
+        }
+        edges.push((u, d, out[..n].to_vec()));
+        at.copy_from_slice(&out[..n]);
+    }
+    let last = k + span == plan.edges();
+    let landed =
+        max_agent_distance(&at, target) <= LANDING && (!last || problem.goal.contains(&at));
+    landed.then_some(edges)
+}
+
+/// `controls` with gradient commands that carry the centroid of a team of `n` by `shift` over
+/// `durations` as straight and as evenly as the coil's limits allow: per axis, every edge's
+/// centroid velocity is one common value `μ`, clipped to what that edge's field lets the
+/// gradient reach, with `μ` the one that adds up to the shift (the least `Σ t |v|²` for that
+/// shift). Where no edge is clipped, the centroid runs along the straight line at one speed.
+/// `None` when the shift is out of reach, or the coil's axes do not pull independently (the
+/// tri-axial coil's do).
+pub fn line_commands(
+    problem: &Problem,
+    n: usize,
+    controls: &[Control],
+    durations: &[f64],
+    shift: Vec2,
+) -> Option<Vec<Control>> {
+    // per edge and axis: the drift and the reach of a full command (velocity = drift + g·reach)
+    let mut maps = Vec::with_capacity(controls.len());
+    for u in controls {
+        let (v0, ax, ay) = centroid_map(problem, u, n)?;
+        let independent = ax.y == 0.0 && ay.x == 0.0 && ax.x != 0.0 && ay.y != 0.0;
+        if !(independent && ax.x.is_finite() && ay.y.is_finite()) {
+            return None;
+        }
+        maps.push((v0, [ax.x, ay.y]));
+    }
+    let mut fractions = vec![[0.0; 2]; controls.len()];
+    for axis in 0..2 {
+        let ranges: Vec<(f64, f64)> = maps
+            .iter()
+            .map(|(v0, reach)| (v0[axis] - reach[axis].abs(), v0[axis] + reach[axis].abs()))
+            .collect();
+        let mu = level(&ranges, durations, shift[axis])?;
+        for ((g, (v0, reach)), &(lo, hi)) in fractions.iter_mut().zip(&maps).zip(&ranges) {
+            g[axis] = ((mu.clamp(lo, hi) - v0[axis]) / reach[axis]).clamp(-1.0, 1.0);
+        }
+    }
+    let limit = problem.model.coil.gradient_limit();
+    Some(
+        controls
+            .iter()
+            .zip(fractions)
+            .map(|(u, [gx, gy])| Control {
+                grad: [gx * limit, gy * limit],
+                ..*u
+            })
+            .collect(),
+    )
+}
+
+/// The level `μ` at which `Σ tₖ clip(μ, loₖ, hiₖ) = total` (water filling; the sum is
+/// nondecreasing in `μ`), found by bisection to the last bit; `None` when `total` lies outside
+/// the sum's range.
+fn level(ranges: &[(f64, f64)], durations: &[f64], total: f64) -> Option<f64> {
+    let sum = |mu: f64| -> f64 {
+        ranges
+            .iter()
+            .zip(durations)
+            .map(|(&(lo, hi), t)| t * mu.clamp(lo, hi))
+            .sum()
+    };
+    let mut lo = ranges.iter().map(|r| r.0).fold(f64::INFINITY, f64::min);
+    let mut hi = ranges.iter().map(|r| r.1).fold(f64::NEG_INFINITY, f64::max);
+    if !(sum(lo) <= total && total <= sum(hi)) {
+        return None;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if sum(mid) < total {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(if total - sum(lo) <= sum(hi) - total {
+        lo
+    } else {
+        hi
+    })
+}
