@@ -533,7 +533,7 @@ fn planning_options_name_their_bad_values() {
         a.extend_from_slice(extra);
         a.into_iter().map(String::from).collect::<Vec<_>>()
     };
-    let cases: [(&[&str], &[&str]); 12] = [
+    let cases: [(&[&str], &[&str]); 13] = [
         (&["--flow", "bogus"], &["--flow", "bogus", "pair-adaptive"]),
         (
             &["--param", "approach_radius=-1"],
@@ -547,6 +547,7 @@ fn planning_options_name_their_bad_values() {
         (&["--param", "k=0"], &["param.k"]),
         (&["--param", "shortcut=-1"], &["param.shortcut"]),
         (&["--param", "guide=maybe"], &["param.guide"]),
+        (&["--param", "straighten=maybe"], &["param.straighten"]),
         (&["--param", "aim=maybe"], &["param.aim"]),
         (
             &["--param", "aim=true", "--param", "timing=closest"],

@@ -122,6 +122,37 @@ def test_python_plans_go_through_the_shortcut_pass(sc):
     np.testing.assert_array_equal(own.states, raw.states)
 
 
+class OwnStraighten(PyRrt):
+    """A planner with its own ``straighten`` parameter: magbench's pass leaves it alone."""
+
+    def __init__(self, straighten=False, goal_bias=0.1, max_periods=30):
+        super().__init__(goal_bias, max_periods)
+        self.own_straighten = straighten
+
+
+def test_python_plans_go_through_straightening(sc):
+    mb.register_planner("py-rrt", PyRrt)
+    opts = dict(seed=0, max_iterations=20000)
+    raw = mb.plan(sc, "py-rrt", **opts)
+    straight = mb.plan(sc, "py-rrt", params={"straighten": True}, **opts)
+    assert raw.solved and straight.solved
+    # open-field has no obstacle in the centroid's way
+    assert straight.info["cost"] < 0.95 * raw.info["cost"]
+    assert sc.in_goal(straight.states[-1])
+    for i in range(len(straight)):
+        assert sc.motion_valid(straight.states[i], straight.controls[i], straight.durations[i])
+    # the fields and durations are the search's; only the gradients change
+    np.testing.assert_array_equal(straight.durations, raw.durations)
+    np.testing.assert_array_equal(straight.controls[:, :2], raw.controls[:, :2])
+    assert straight.progress["best_cost"][-1] == pytest.approx(straight.info["cost"])
+    with pytest.raises(mb.InputError) as e:
+        mb.plan(sc, "py-rrt", params={"straighten": "maybe"})
+    assert e.value.field == "param.straighten"
+    mb.register_planner("own-straighten", OwnStraighten)
+    own = mb.plan(sc, "own-straighten", params={"straighten": True}, **opts)
+    np.testing.assert_array_equal(own.states, raw.states)
+
+
 def test_problem_limits_params_and_progress(sc):
     mb.register_planner("seen", Seen)
     p = mb.plan(sc, "seen", seed=7, max_iterations=123,
