@@ -160,6 +160,7 @@ mod tests {
                 "zoom_radius",
                 "timing",
                 "shortcut",
+                "straighten",
                 "guide",
                 "aim",
             ] {

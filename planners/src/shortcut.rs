@@ -224,7 +224,7 @@ impl Shortcut {
 /// planner such as OMPL's returns one edge per control period), so that the spans count
 /// commands; `None` when no two consecutive edges share a command, or a merged edge fails the
 /// checked propagation, or the replay misses the goal.
-fn merge_runs(problem: &Problem, plan: &Plan) -> Option<Plan> {
+pub(crate) fn merge_runs(problem: &Problem, plan: &Plan) -> Option<Plan> {
     let m = plan.edges();
     if !(1..m).any(|k| plan.controls[k] == plan.controls[k - 1]) {
         return None;

@@ -20,14 +20,16 @@
 //! the last one swept as it was (recorded, not replayed) and straightens only the rest. The
 //! result replays bit for bit like any plan and never costs more than the input; a plan whose
 //! agents' mobilities differ (no centroid velocity of its own), or whose flow is not the
-//! problem's, comes back unchanged.
+//! problem's, comes back unchanged. Runs of consecutive edges under one command (OMPL's planners
+//! return one edge per control period) are first replayed as one edge each, as the shortcut
+//! pass does.
 
 use magbench_env::math::{centroid, max_agent_distance};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 
 use crate::motion::{centroid_map, propagate_valid};
 use crate::objective::plan_cost;
-use crate::shortcut::{edge_cost, motion_cost};
+use crate::shortcut::{edge_cost, merge_runs, motion_cost};
 use crate::{Plan, Problem};
 
 /// Work counts of a pass.
@@ -52,18 +54,22 @@ pub fn straighten(problem: &Problem, plan: &Plan) -> Plan {
 /// [`straighten`] with its work counts.
 pub fn straighten_with_stats(problem: &Problem, plan: &Plan) -> (Plan, Stats) {
     let mut stats = Stats::default();
-    let m = plan.edges();
-    if plan.flow != problem.model.flow || m < 2 {
+    if plan.flow != problem.model.flow || plan.edges() < 2 {
         return (plan.clone(), stats);
     }
-    let costs: Vec<f64> = (0..m).map(|k| edge_cost(problem, plan, k)).collect();
     let input = plan_cost(problem, plan);
+    let merged = merge_runs(problem, plan);
+    let base = merged.as_ref().unwrap_or(plan);
+    let m = base.edges();
+    let costs: Vec<f64> = (0..m).map(|k| edge_cost(problem, base, k)).collect();
     let mut first = 0;
     while first + 2 <= m {
         stats.sweeps += 1;
-        if let Some(next) = sweep(problem, plan, &costs, first, &mut stats)
+        if let Some(mut next) = sweep(problem, base, &costs, first, &mut stats)
             && plan_cost(problem, &next) < input
         {
+            next.alpha_max = plan.alpha_max;
+            next.made_for = plan.made_for.clone();
             return (next, stats);
         }
         first += (m - first).div_ceil(2);
@@ -84,8 +90,6 @@ fn sweep(
     let m = plan.edges();
     let mut next = Plan::at(&plan.states[0]);
     next.flow = plan.flow;
-    next.alpha_max = plan.alpha_max;
-    next.made_for = plan.made_for.clone();
     for k in 0..first {
         next.push(
             plan.controls[k],

@@ -127,6 +127,32 @@ fn ompl_solutions_go_through_the_shortcut_pass() {
     assert_eq!(e.field, "param.shortcut");
 }
 
+/// OMPL's solutions are straightened like every planner's: the same fields and durations of
+/// OMPL's commands, a valid plan that costs less than OMPL's own on the same seed.
+#[test]
+fn ompl_solutions_are_straightened_too() {
+    let p = problem("open-field", 0, 30_000);
+    let plain = create("ompl:rrt", &[]).unwrap().solve(&p);
+    let straight = create("ompl:rrt", &owned(&[("straighten", "true")]))
+        .unwrap()
+        .solve(&p);
+    assert!(plain.solved && straight.solved);
+    validate_plan(&p, &straight.plan).unwrap();
+    check_result(&p, &straight).unwrap();
+    assert!(
+        straight.cost.unwrap() < 0.95 * plain.cost.unwrap(),
+        "{:?} against {:?}",
+        straight.cost,
+        plain.cost
+    );
+    let total = |plan: &Plan| plan.durations.iter().sum::<f64>();
+    assert!((total(&straight.plan) - total(&plain.plan)).abs() < 1e-9);
+    let e = create("ompl:sst", &owned(&[("straighten", "maybe")]))
+        .err()
+        .unwrap();
+    assert_eq!(e.field, "param.straighten");
+}
+
 /// The same seed gives the same plan: again in the same process, and in parallel threads.
 #[test]
 fn same_seed_same_plan_in_one_process_and_in_threads() {
