@@ -1,5 +1,7 @@
-//! What the shortcut pass changes in a plan besides its cost: goal-zoom RRT's first solution and
-//! the same seed's plan after `shortcut=200`, on the built-in pair mazes, seeds 0–9, medians of
+//! What the shortcut pass and straightening change in a plan besides its cost: goal-zoom RRT's
+//! first solution and the same seed's plan after `shortcut=200` or `straighten=true`, and the
+//! aimed, guided 5 s first solution without and with `straighten=true`, on the built-in pair
+//! mazes, seeds 0–9, medians of
 //! the plans' edges, duration, closest approach of the two agents, and how hard the plan drives
 //! the coil's gradient (the time-weighted mean of `max(|g_x|, |g_y|)` over the limit, and the
 //! share of the plan's time at the limit), which is the headroom a tracker has left to correct
@@ -9,6 +11,26 @@
 use magbench_env::Vec2;
 use magbench_planners::registry::Planners;
 use magbench_planners::{Limits, Plan, Problem};
+
+/// goal-zoom-rrt's settings compared, each with its label.
+const PLANNERS: [(&str, &[(&str, &str)]); 5] = [
+    ("goal-zoom-rrt", &[]),
+    ("goal-zoom-rrt{shortcut=200}", &[("shortcut", "200")]),
+    ("goal-zoom-rrt{straighten=true}", &[("straighten", "true")]),
+    (
+        "goal-zoom-rrt{aim=true,guide=true,max_duration=5}",
+        &[("aim", "true"), ("guide", "true"), ("max_duration", "5")],
+    ),
+    (
+        "goal-zoom-rrt{aim=true,guide=true,max_duration=5,straighten=true}",
+        &[
+            ("aim", "true"),
+            ("guide", "true"),
+            ("max_duration", "5"),
+            ("straighten", "true"),
+        ],
+    ),
+];
 
 /// Seeds per maze.
 const SEEDS: u64 = 10;
@@ -28,12 +50,11 @@ fn main() {
         "cargo-delivery",
     ] {
         let s = magbench_env::Scenario::load(name).expect("built-in scenario");
-        for planner in ["goal-zoom-rrt", "goal-zoom-rrt{shortcut=200}"] {
-            let params: Vec<(String, String)> = if planner.contains("shortcut") {
-                vec![("shortcut".into(), "200".into())]
-            } else {
-                vec![]
-            };
+        for (planner, settings) in PLANNERS {
+            let params: Vec<(String, String)> = settings
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect();
             let mut rows: Vec<[f64; 5]> = vec![];
             for seed in 0..SEEDS {
                 let mut p = Problem::from_scenario(&s, 0, None, seed);
