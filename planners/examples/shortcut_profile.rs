@@ -71,6 +71,8 @@ fn main() {
                 sst.tries += ss.tries;
                 sst.accepted += ss.accepted;
                 sst.propagations += ss.propagations;
+                sst.rests += ss.rests;
+                sst.rests_failed += ss.rests_failed;
                 assert!(magbench_planners::validate_plan(&p, &o).is_ok());
                 o
             } else {

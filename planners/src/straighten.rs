@@ -11,18 +11,18 @@
 //! line's.
 //!
 //! The pass sweeps the plan from start to goal. At waypoint `k` it tries the run to the goal,
-//! then runs half as long, down to two edges; the first whose edges all pass the same checked
-//! propagation as EXTEND's, end at the old waypoint ([`LANDING`]) and cost less under the
-//! problem's objective than the old edges replaces them, and the sweep goes on from the run's
-//! end. When no run is straightened, edge `k` is replayed. The relative dynamics are chaotic:
-//! a run's rounding, amplified over the replayed rest of a long plan, can carry it out of the
-//! goal or into a wall. Such a sweep is dropped and the next one keeps the first half of what
-//! the last one swept as it was (recorded, not replayed) and straightens only the rest. The
-//! result replays bit for bit like any plan and never costs more than the input; a plan whose
-//! agents' mobilities differ (no centroid velocity of its own), or whose flow is not the
-//! problem's, comes back unchanged. Runs of consecutive edges under one command (OMPL's planners
-//! return one edge per control period) are first replayed as one edge each, as the shortcut
-//! pass does.
+//! then runs half as long, down to two edges; it keeps the first whose edges all pass the same
+//! checked propagation as EXTEND's, which ends at the old waypoint ([`LANDING`]), costs less
+//! under the problem's objective than the old edges, and after which the old rest of the plan
+//! still replays valid into the goal. The relative dynamics are chaotic: a run's rounding,
+//! amplified over the rest of a long plan, can carry it out of the goal or into a wall, so the
+//! rest is replayed before a run is kept, and those replayed states are the ones later edges
+//! start from. When no run is straightened, edge `k` is kept. The result replays bit for bit
+//! like any plan and never costs more than the input; a plan whose agents' mobilities differ
+//! (no centroid velocity of its own), or whose flow is not the problem's, comes back
+//! unchanged. Runs of consecutive edges under one command (OMPL's planners return one edge per
+//! control period) are first replayed as one edge each, as the shortcut pass does. The work is
+//! a count: the pass stops trying runs after [`WORK_PER_EDGE`] propagations per edge.
 
 use magbench_env::math::{centroid, max_agent_distance};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
@@ -35,15 +35,23 @@ use crate::{Plan, Problem};
 /// Work counts of a pass.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Stats {
-    /// Sweeps run.
-    pub sweeps: usize,
     /// Runs tried.
     pub tries: usize,
     /// Runs straightened.
     pub accepted: usize,
-    /// Edges propagated (straightened and replayed).
+    /// Edges propagated (straightened, and the old edges after them replayed).
     pub propagations: usize,
+    /// Replays of the rest of the plan after a run.
+    pub rests: usize,
+    /// Runs refused because the rest of the plan, replayed after them, turned invalid or
+    /// missed the goal.
+    pub rests_failed: usize,
 }
+
+/// The most propagations the pass spends, per edge of the plan: a bound on the work of a very
+/// long plan (a pass over goal-zoom RRT's micro-factory plans, about 260 edges, spends about 70
+/// an edge; `STRAIGHTEN=1 shortcut_profile 0`).
+const WORK_PER_EDGE: usize = 100;
 
 /// The plan with its centroid straightened; `plan` itself when nothing cheaper was found.
 /// `plan` must be valid for `problem`.
@@ -57,95 +65,101 @@ pub fn straighten_with_stats(problem: &Problem, plan: &Plan) -> (Plan, Stats) {
     if plan.flow != problem.model.flow || plan.edges() < 2 {
         return (plan.clone(), stats);
     }
-    let input = plan_cost(problem, plan);
     let merged = merge_runs(problem, plan);
     let base = merged.as_ref().unwrap_or(plan);
-    let m = base.edges();
-    let costs: Vec<f64> = (0..m).map(|k| edge_cost(problem, base, k)).collect();
-    let mut first = 0;
-    while first + 2 <= m {
-        stats.sweeps += 1;
-        if let Some(mut next) = sweep(problem, base, &costs, first, &mut stats)
-            && plan_cost(problem, &next) < input
-        {
+    match sweep(problem, base, &mut stats) {
+        Some(mut next) if plan_cost(problem, &next) < plan_cost(problem, plan) => {
             next.alpha_max = plan.alpha_max;
             next.made_for = plan.made_for.clone();
-            return (next, stats);
+            (next, stats)
         }
-        first += (m - first).div_ceil(2);
+        _ => (plan.clone(), stats),
     }
-    (plan.clone(), stats)
 }
 
-/// One sweep that keeps edges `..first` as they are and straightens from waypoint `first`
-/// on: its plan, if a run was straightened, every edge is valid and it ends in the goal.
-fn sweep(
-    problem: &Problem,
-    plan: &Plan,
-    costs: &[f64],
-    first: usize,
-    stats: &mut Stats,
-) -> Option<Plan> {
-    let n = problem.agents();
+/// The sweep over `plan`: its rebuilt plan if a run was straightened.
+fn sweep(problem: &Problem, plan: &Plan, stats: &mut Stats) -> Option<Plan> {
     let m = plan.edges();
+    let costs: Vec<f64> = (0..m).map(|k| edge_cost(problem, plan, k)).collect();
     let mut next = Plan::at(&plan.states[0]);
     next.flow = plan.flow;
-    for k in 0..first {
-        next.push(
-            plan.controls[k],
-            plan.durations[k],
-            plan.states[k + 1].clone(),
-        );
-    }
-    let mut at = plan.states[first].clone();
-    let mut out = [Vec2::zeros(); MAX_AGENTS];
+    // where the old edges lead from where the sweep stands: the plan's own states until a run
+    // is straightened, then the checked replay from its end
+    let mut tail = plan.states.clone();
     let mut accepted = false;
-    let mut k = first;
+    let budget = WORK_PER_EDGE * m;
+    let mut k = 0;
     while k < m {
         let mut span = m - k;
-        while span >= 2 {
+        let mut straightened = None;
+        while span >= 2 && stats.propagations < budget {
             stats.tries += 1;
             let old: f64 = costs[k..k + span].iter().sum();
-            if let Some(edges) = line(problem, plan, &at, k, span, old, stats) {
-                for (u, d, end) in edges {
-                    next.push(u, d, end);
-                }
-                at.copy_from_slice(next.end());
-                k += span;
-                stats.accepted += 1;
-                accepted = true;
+            if let Some(edges) = line(problem, plan, &tail[k], k, span, old, stats)
+                && let Some(rest) = replay_rest(problem, plan, k + span, &edges, stats)
+            {
+                straightened = Some((edges, rest));
                 break;
             }
             span /= 2;
         }
-        if k == m {
-            break;
-        }
-        if span >= 2 {
+        let Some((edges, rest)) = straightened else {
+            next.push(plan.controls[k], plan.durations[k], tail[k + 1].clone());
+            k += 1;
             continue;
+        };
+        for (u, d, end) in edges {
+            next.push(u, d, end);
         }
-        let (u, d) = (plan.controls[k], plan.durations[k]);
+        k += span;
+        tail.splice(k.., rest);
+        stats.accepted += 1;
+        accepted = true;
+    }
+    accepted.then_some(next)
+}
+
+/// The states old edges `j..` of `plan` reach from the end of `run`, the run's end first, if
+/// every one is valid and the last is in the goal.
+#[allow(clippy::type_complexity)]
+fn replay_rest(
+    problem: &Problem,
+    plan: &Plan,
+    j: usize,
+    run: &[(Control, f64, Vec<Vec2>)],
+    stats: &mut Stats,
+) -> Option<Vec<Vec<Vec2>>> {
+    let n = problem.agents();
+    stats.rests += 1;
+    let mut states = Vec::with_capacity(plan.edges() + 1 - j);
+    states.push(run.last()?.2.clone());
+    let mut out = [Vec2::zeros(); MAX_AGENTS];
+    for (u, &d) in plan.controls[j..].iter().zip(&plan.durations[j..]) {
         stats.propagations += 1;
-        if !propagate_valid(problem, &at, &u, d, &mut out[..n]) {
+        if !propagate_valid(problem, states.last()?, u, d, &mut out[..n]) {
+            stats.rests_failed += 1;
             return None;
         }
-        next.push(u, d, out[..n].to_vec());
-        at.copy_from_slice(&out[..n]);
-        k += 1;
+        states.push(out[..n].to_vec());
     }
-    (accepted && problem.goal.contains(&at)).then_some(next)
+    let end = states.last()?;
+    if !problem.goal.contains(end) {
+        stats.rests_failed += 1;
+        return None;
+    }
+    Some(states)
 }
 
 /// How far (BL) a straightened run may end from the old waypoint. Its centroid lands there
 /// exactly and its relative motion is the old one's, but the relative dynamics amplify the
-/// rounding of the new positions over a long run; the replayed rest of the plan and the goal
-/// are checked after it.
+/// rounding of the new positions over a long run; the replayed rest of the plan is checked
+/// after it.
 const LANDING: f64 = 1e-3;
 
 /// Edges `k..k + span` of `plan` from `from` with their gradients chosen so that the centroid
 /// runs straight to its place at waypoint `k + span`: their (command, duration, end), when
-/// every edge is valid, the run ends within [`LANDING`] of that waypoint (in the goal, when it
-/// is the plan's last) and costs less than `old`.
+/// every edge is valid, the run ends within [`LANDING`] of that waypoint and costs less than
+/// `old`.
 #[allow(clippy::type_complexity)]
 fn line(
     problem: &Problem,
@@ -183,10 +197,7 @@ fn line(
         edges.push((u, d, out[..n].to_vec()));
         at.copy_from_slice(&out[..n]);
     }
-    let last = k + span == plan.edges();
-    let landed =
-        max_agent_distance(&at, target) <= LANDING && (!last || problem.goal.contains(&at));
-    landed.then_some(edges)
+    (max_agent_distance(&at, target) <= LANDING).then_some(edges)
 }
 
 /// `controls` with gradient commands that carry the centroid of a team of `n` by `shift` over

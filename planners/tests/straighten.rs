@@ -169,6 +169,12 @@ fn the_pass_is_reproducible_and_straightens_a_trio_too() {
     let p = problem("open-field", 3);
     let r = solve("goal-zoom-rrt", &p, "false");
     assert_eq!(straighten(&p, &r.plan), straighten(&p, &r.plan));
+    // the work is a count bounded by the plan's length: 100 propagations an edge, and the last
+    // run tried and the rest replayed after it
+    let long = solve("goal-zoom-rrt", &problem("micro-factory", 0), "false");
+    let (_, stats) = straighten_with_stats(&problem("micro-factory", 0), &long.plan);
+    let m = long.plan.edges();
+    assert!(stats.propagations <= 102 * m, "{stats:?} over {m} edges");
     let (p, r) = common::solved_trio();
     let out = straighten(&p, &r.plan);
     let (before, after) = (plan_cost(&p, &r.plan), plan_cost(&p, &out));
