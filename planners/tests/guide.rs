@@ -1,14 +1,14 @@
 //! The guide path (`guide=true`): it runs through free space from start to goal, guided plans
 //! pass the validator, the option changes the search, and bad values are refused.
 
+mod common;
+
 use magbench_env::Scenario;
 use magbench_env::math::centroid;
 use magbench_planners::guide::{Guide, SPACING};
 use magbench_planners::{
     Limits, PlannerResult, Problem, check_result, registry::Planners, validate_plan,
 };
-
-const PLANNERS: [&str; 4] = ["goal-zoom-rrt", "rrt-star", "informed-rrt-star", "sst"];
 
 fn problem(name: &str, seed: u64) -> Problem {
     let s = Scenario::load(name).unwrap();
@@ -86,15 +86,5 @@ fn guided_plans_on_micro_factory_validate_and_change_the_search() {
 
 #[test]
 fn bad_guide_values_are_refused() {
-    for planner in PLANNERS {
-        for bad in ["maybe", "2", "", "TRUE!"] {
-            let params = vec![("guide".to_string(), bad.to_string())];
-            let e = match Planners::builtin().create(planner, &params) {
-                Ok(_) => panic!("{planner}: guide={bad:?} accepted"),
-                Err(e) => e,
-            };
-            assert_eq!(e.field, "param.guide", "{planner}, {bad:?}: {e}");
-            assert!(!e.reason.is_empty());
-        }
-    }
+    common::assert_refused("guide", &["maybe", "2", "", "TRUE!"]);
 }

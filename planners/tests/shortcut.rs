@@ -6,21 +6,12 @@ mod common;
 use magbench_env::Scenario;
 use magbench_planners::search_settings::to_periods;
 use magbench_planners::shortcut::Shortcut;
-use magbench_planners::{
-    Limits, PlannerResult, Problem, check_result, registry::Planners, validate_plan,
-};
+use magbench_planners::{Limits, PlannerResult, Problem, check_result, validate_plan};
 
-const PLANNERS: [&str; 4] = ["goal-zoom-rrt", "rrt-star", "informed-rrt-star", "sst"];
+use common::{BUILTIN_PLANNERS as PLANNERS, first_solution};
 
 fn solve(planner: &str, p: &Problem, shortcut: &str) -> PlannerResult {
-    let mut params = vec![("shortcut".to_string(), shortcut.to_string())];
-    if planner != "goal-zoom-rrt" {
-        params.push(("stop_on_solution".to_string(), "true".to_string()));
-    }
-    Planners::builtin()
-        .create(planner, &params)
-        .unwrap()
-        .solve(p)
+    first_solution(planner, p, "shortcut", shortcut)
 }
 
 #[test]
@@ -86,15 +77,5 @@ fn a_trio_plan_comes_back_unchanged() {
 
 #[test]
 fn bad_shortcut_values_are_refused() {
-    for planner in PLANNERS {
-        for bad in ["-1", "1.5", "many", "1000001", ""] {
-            let params = vec![("shortcut".to_string(), bad.to_string())];
-            let e = match Planners::builtin().create(planner, &params) {
-                Ok(_) => panic!("{planner}: shortcut={bad:?} accepted"),
-                Err(e) => e,
-            };
-            assert_eq!(e.field, "param.shortcut", "{planner}, {bad:?}: {e}");
-            assert!(!e.reason.is_empty());
-        }
-    }
+    common::assert_refused("shortcut", &["-1", "1.5", "many", "1000001", ""]);
 }

@@ -8,21 +8,12 @@ mod common;
 use magbench_env::math::centroid;
 use magbench_env::{Scenario, Vec2};
 use magbench_planners::straighten::{line_commands, straighten, straighten_with_stats};
-use magbench_planners::{
-    Limits, PlannerResult, Problem, check_result, plan_cost, registry::Planners, validate_plan,
-};
+use magbench_planners::{Limits, PlannerResult, Problem, check_result, plan_cost, validate_plan};
 
-const PLANNERS: [&str; 4] = ["goal-zoom-rrt", "rrt-star", "informed-rrt-star", "sst"];
+use common::{BUILTIN_PLANNERS as PLANNERS, first_solution};
 
 fn solve(planner: &str, p: &Problem, straighten: &str) -> PlannerResult {
-    let mut params = vec![("straighten".to_string(), straighten.to_string())];
-    if planner != "goal-zoom-rrt" {
-        params.push(("stop_on_solution".to_string(), "true".to_string()));
-    }
-    Planners::builtin()
-        .create(planner, &params)
-        .unwrap()
-        .solve(p)
+    first_solution(planner, p, "straighten", straighten)
 }
 
 fn problem(name: &str, seed: u64) -> Problem {
@@ -186,15 +177,5 @@ fn the_pass_is_reproducible_and_straightens_a_trio_too() {
 
 #[test]
 fn bad_straighten_values_are_refused() {
-    for planner in PLANNERS {
-        for bad in ["2", "maybe", "on", ""] {
-            let params = vec![("straighten".to_string(), bad.to_string())];
-            let e = match Planners::builtin().create(planner, &params) {
-                Ok(_) => panic!("{planner}: straighten={bad:?} accepted"),
-                Err(e) => e,
-            };
-            assert_eq!(e.field, "param.straighten", "{planner}, {bad:?}: {e}");
-            assert!(!e.reason.is_empty());
-        }
-    }
+    common::assert_refused("straighten", &["2", "maybe", "on", ""]);
 }

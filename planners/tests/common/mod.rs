@@ -172,3 +172,36 @@ pub fn trace(r: &PlannerResult) -> Vec<(u64, Option<f64>)> {
         .map(|p| (p.iteration, p.best_cost))
         .collect()
 }
+
+/// The built-in planners that take the shared search settings.
+pub const BUILTIN_PLANNERS: [&str; 4] = ["goal-zoom-rrt", "rrt-star", "informed-rrt-star", "sst"];
+
+/// `planner`'s first solution of `p` with `key=value` (the planners that go on after one
+/// stop at it).
+pub fn first_solution(planner: &str, p: &Problem, key: &str, value: &str) -> PlannerResult {
+    let mut params = vec![(key.to_string(), value.to_string())];
+    if planner != "goal-zoom-rrt" {
+        params.push(("stop_on_solution".to_string(), "true".to_string()));
+    }
+    magbench_planners::registry::Planners::builtin()
+        .create(planner, &params)
+        .unwrap()
+        .solve(p)
+}
+
+/// Every value of `bad` for `key` is refused by every built-in planner, naming `param.<key>`
+/// and a reason.
+pub fn assert_refused(key: &str, bad: &[&str]) {
+    for planner in BUILTIN_PLANNERS {
+        for value in bad {
+            let params = vec![(key.to_string(), value.to_string())];
+            let e = match magbench_planners::registry::Planners::builtin().create(planner, &params)
+            {
+                Ok(_) => panic!("{planner}: {key}={value:?} accepted"),
+                Err(e) => e,
+            };
+            assert_eq!(e.field, format!("param.{key}"), "{planner}, {value:?}: {e}");
+            assert!(!e.reason.is_empty());
+        }
+    }
+}
