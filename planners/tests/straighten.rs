@@ -8,7 +8,7 @@ mod common;
 use magbench_env::math::centroid;
 use magbench_env::{Scenario, Vec2};
 use magbench_planners::straighten::{line_commands, straighten, straighten_with_stats};
-use magbench_planners::{Limits, PlannerResult, Problem, check_result, plan_cost, validate_plan};
+use magbench_planners::{PlannerResult, Problem, check_result, plan_cost, validate_plan};
 
 use common::{BUILTIN_PLANNERS as PLANNERS, first_solution};
 
@@ -17,13 +17,7 @@ fn solve(planner: &str, p: &Problem, straighten: &str) -> PlannerResult {
 }
 
 fn problem(name: &str, seed: u64) -> Problem {
-    let s = Scenario::load(name).unwrap();
-    let mut p = Problem::from_scenario(&s, 0, None, seed);
-    p.limits = Limits {
-        max_iterations: Some(200_000),
-        time_limit: None,
-    };
-    p
+    common::problem(&Scenario::load(name).unwrap(), seed, 200_000)
 }
 
 #[test]
