@@ -611,6 +611,15 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "straighten-teams",
+        source: Sweep {
+            experiment: "experiments/straighten-teams.toml",
+            quick_seeds: 2,
+            table: Runs(improvement),
+        },
+        feature: None,
+    },
+    Measure {
         name: "shortcut-tracking",
         source: Sweep {
             experiment: "experiments/shortcut-tracking.toml",
