@@ -5,10 +5,10 @@
 //! and the centroid moves at a velocity affine in the gradient commands
 //! ([`centroid_map`]). A run of edges can therefore keep its field angles and durations — and so
 //! its relative motion, exactly — while its gradients are chosen afresh: the pass chooses them
-//! so that the centroid runs along the straight line from where the run starts to where it
-//! ends, each edge at the same fraction of its fastest speed along that line within the coil's
-//! limits. The run then ends where it did, and the centroid's share of the path length is the
-//! line's.
+//! so that the centroid goes from where the run starts to where it ends as straight as the
+//! coil's limits allow ([`line_commands`]: per axis one common velocity, clipped where an
+//! edge's field cannot reach it; the straight line at one speed where nothing clips). The run
+//! then ends where it did, its centroid's path as short as those limits let it be.
 //!
 //! The pass sweeps the plan from start to goal. At waypoint `k` it tries the run to the goal,
 //! then runs half as long, down to two edges; it keeps the first whose edges all pass the same
