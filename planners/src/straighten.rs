@@ -7,8 +7,8 @@
 //! its relative motion, exactly — while its gradients are chosen afresh: the pass chooses them
 //! so that the centroid goes from where the run starts to where it ends as straight as the
 //! coil's limits allow ([`line_commands`]: per axis one common velocity, clipped where an
-//! edge's field cannot reach it; the straight line at one speed where nothing clips). The run
-//! then ends where it did, its centroid's path as short as those limits let it be.
+//! edge's field cannot reach it: the least `Σ t |v|²` for the run's shift, the straight line at
+//! one speed where nothing clips). The run then ends where it did.
 //!
 //! The pass sweeps the plan from start to goal. At waypoint `k` it tries the run to the goal,
 //! then runs half as long, down to two edges; it keeps the first whose edges all pass the same
