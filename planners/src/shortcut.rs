@@ -23,7 +23,7 @@
 use magbench_env::model::{SteerEdge, SteerLimits, steer_pair};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 
-use crate::motion::{propagate_valid, replay_onto};
+use crate::motion::{propagate_checked, propagate_valid, replay_onto};
 use crate::objective::{Motion, plan_cost};
 use crate::{Plan, Problem};
 
@@ -197,11 +197,12 @@ impl Shortcut {
             for e in edges {
                 let d = problem.periods(e.periods);
                 stats.steer_propagations += 1;
-                if !propagate_valid(problem, &at, &e.control, d, &mut out[..2]) {
+                let Some(c) = checked_motion_cost(problem, &at, &e.control, d, &mut out[..2])
+                else {
                     stats.invalid += 1;
                     return false;
-                }
-                cost += motion_cost(problem, &at, &e.control, d);
+                };
+                cost += c;
                 if old.is_some_and(|old| cost >= old) {
                     stats.not_cheaper += 1;
                     return false;
@@ -254,8 +255,26 @@ pub(crate) fn edge_cost(problem: &Problem, plan: &Plan, k: usize) -> f64 {
     )
 }
 
+/// The objective's cost of one motion from `from`, solved into `out` and checked as EXTEND's
+/// are ([`propagate_checked`], which measures the path length on the way); `None` when the
+/// motion is invalid.
+pub(crate) fn checked_motion_cost(
+    problem: &Problem,
+    from: &[Vec2],
+    u: &Control,
+    d: f64,
+    out: &mut [Vec2],
+) -> Option<f64> {
+    let path_length = propagate_checked(problem, from, u, d, out)?;
+    Some(problem.objective.motion_cost(&Motion {
+        control: *u,
+        duration: d,
+        path_length,
+    }))
+}
+
 /// The objective's cost of one motion.
-pub(crate) fn motion_cost(problem: &Problem, from: &[Vec2], u: &Control, d: f64) -> f64 {
+fn motion_cost(problem: &Problem, from: &[Vec2], u: &Control, d: f64) -> f64 {
     problem.objective.motion_cost(&Motion {
         control: *u,
         duration: d,

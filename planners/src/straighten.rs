@@ -29,7 +29,7 @@ use magbench_env::{Control, MAX_AGENTS, Vec2};
 
 use crate::motion::{centroid_map, propagate_valid};
 use crate::objective::plan_cost;
-use crate::shortcut::{edge_cost, merge_runs, motion_cost};
+use crate::shortcut::{checked_motion_cost, edge_cost, merge_runs};
 use crate::{Plan, Problem};
 
 /// Work counts of a pass.
@@ -187,10 +187,7 @@ fn line(
     let mut edges = Vec::with_capacity(span);
     for (u, &d) in commands.into_iter().zip(durations) {
         stats.propagations += 1;
-        if !propagate_valid(problem, &at, &u, d, &mut out[..n]) {
-            return None;
-        }
-        cost += motion_cost(problem, &at, &u, d);
+        cost += checked_motion_cost(problem, &at, &u, d, &mut out[..n])?;
         if cost >= old {
             return None;
         }
