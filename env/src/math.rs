@@ -7,7 +7,7 @@ pub type Vec2 = nalgebra::Vector2<f64>;
 pub type Vec3 = nalgebra::Vector3<f64>;
 
 /// The largest team the fixed-size integrator buffers accept.
-pub const MAX_AGENTS: usize = 8;
+pub const MAX_AGENTS: usize = 16;
 
 /// Wraps an angle to the interval (−π, π].
 pub fn wrap_angle(a: f64) -> f64 {

@@ -9,7 +9,8 @@ use magbench_env::model::Kinematics;
 use magbench_env::plant::dynamics::{Dynamics, State};
 use magbench_env::plant::{DisturbancePreset, Plant};
 use magbench_env::{
-    Coil, Control, LocalView, PhysicalParams, PlanningModel, TriaxialMaxwell, Vec2, Vec3, World,
+    Coil, Control, LocalView, MAX_AGENTS, PhysicalParams, PlanningModel, TriaxialMaxwell, Vec2,
+    Vec3, World,
 };
 
 /// The `hardware` preset with only `term` on (`None`: every term off).
@@ -73,8 +74,8 @@ fn with_every_term_off_the_dynamics_are_the_planning_kinematics() {
         Vec2::new(3.7, 6.3),
     ];
     let mut s = State {
-        p: [Vec2::zeros(); 8],
-        m: [Vec3::zeros(); 8],
+        p: [Vec2::zeros(); MAX_AGENTS],
+        m: [Vec3::zeros(); MAX_AGENTS],
     };
     s.p[..3].copy_from_slice(&pos);
     for u in [

@@ -2,7 +2,7 @@
 //!
 //! kiddo's mutable tree needs its dimension at compile time and splits leaves on the dimensions
 //! in turn, so a constant padding coordinate would make leaves unsplittable. Instead a team of
-//! N agents (embedding dimension D = 2N) is stored in a tree of K ∈ {4, 8, 16} dimensions whose
+//! N agents (embedding dimension D = 2N) is stored in a tree of K ∈ {4, 8, 16, 32} dimensions whose
 //! extra coordinates repeat the embedding's first ones, each copy scaled by `1/√multiplicity`:
 //! squared distances stay exactly those of the metric. Two agents use K = 4 with no copies.
 
@@ -18,7 +18,7 @@ const BUCKET: usize = 128;
 
 /// kiddo's mutable k-d tree (Eytzinger stems, array leaves) with `BUCKET`-point leaves.
 type Kd<const K: usize> = KdTree<f64, u32, Eytzinger, VecOfArrays<f64, u32, K, BUCKET>, K, BUCKET>;
-use magbench_env::Vec2;
+use magbench_env::{MAX_AGENTS, Vec2};
 
 use crate::metric::{MAX_DIMS, Metric};
 
@@ -36,6 +36,7 @@ enum Index {
     K4(Kd<4>),
     K8(Kd<8>),
     K16(Kd<16>),
+    K32(Kd<32>),
 }
 
 /// Runs `$body` with `$t` bound to the tree inside `$index` (`&self.index` or
@@ -58,6 +59,11 @@ macro_rules! with_index {
                 const $k: usize = 16;
                 $body
             }
+            Index::K32($t) => {
+                #[allow(dead_code)]
+                const $k: usize = 32;
+                $body
+            }
         }
     };
 }
@@ -66,11 +72,12 @@ impl NearestNeighbors {
     /// An empty structure for teams of `agents` agents under `metric`.
     pub fn new(metric: Metric, agents: usize) -> Self {
         let dims = 2 * agents;
-        assert!((4..=MAX_DIMS).contains(&dims), "2 to 8 agents");
+        assert!((4..=MAX_DIMS).contains(&dims), "2 to {MAX_AGENTS} agents");
         let (index, k) = match dims {
             4 => (Index::K4(Kd::default()), 4),
             5..=8 => (Index::K8(Kd::default()), 8),
-            _ => (Index::K16(Kd::default()), 16),
+            9..=16 => (Index::K16(Kd::default()), 16),
+            _ => (Index::K32(Kd::default()), 32),
         };
         let mut weights = [0.0; MAX_DIMS];
         for (j, w) in weights.iter_mut().enumerate().take(k) {
@@ -206,7 +213,7 @@ mod tests {
     #[test]
     fn queries_match_a_linear_scan() {
         let mut rng = Rng::seed_from_u64(3);
-        for n in 2..=8 {
+        for n in 2..=MAX_AGENTS {
             for metric in [
                 Metric::Positions,
                 Metric::CentroidShape {

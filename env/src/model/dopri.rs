@@ -147,7 +147,7 @@ impl<const N: usize> Dense<N> {
 /// the agents has a known length; `$n` is at most [`MAX_AGENTS`].
 macro_rules! for_team_size {
     ($n:expr, $f:ident $args:tt) => {
-        for_team_size!(@ $n, $f $args, 0 1 2 3 4 5 6 7 8)
+        for_team_size!(@ $n, $f $args, 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
     };
     (@ $n:expr, $f:ident $args:tt, $($k:literal)*) => {
         match $n {
@@ -157,7 +157,7 @@ macro_rules! for_team_size {
     };
 }
 
-const _: () = assert!(MAX_AGENTS == 8, "for_team_size! lists the sizes 0 to 8");
+const _: () = assert!(MAX_AGENTS == 16, "for_team_size! lists the sizes 0 to 16");
 
 /// Solves `ṗ = f(p)` from `start` for `duration` seconds by adaptive Dormand–Prince 5(4) within
 /// `budget` and writes the end into `out`. With `visits`, calls `visit` on the sample at every

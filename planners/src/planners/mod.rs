@@ -5,10 +5,12 @@
 //! plus its `mod` line and one [`Entry`] below. A planner outside the workspace is added at run
 //! time instead ([`magbench_env::registry::Registry::add`] on [`crate::registry::Planners`]).
 
+mod formation_rrt;
 mod goal_zoom_rrt;
 mod rrt_star;
 mod sst;
 
+pub use formation_rrt::FormationRrt;
 pub use goal_zoom_rrt::GoalZoomRrt;
 pub use rrt_star::{LoggedSample, RrtStar, RrtStarStats};
 pub use sst::{Sst, SstStats};
@@ -22,6 +24,11 @@ pub fn builtins() -> Vec<Entry> {
             "goal-zoom-rrt",
             "the seed's RRT (Algorithms 1–3): goal-zoom sampling, brute-force EXTEND, stops at the goal",
             || Box::new(GoalZoomRrt::default()),
+        ),
+        Entry::new(
+            "formation-rrt",
+            "for teams: shapes sampled apart from the centroid, the centroid carried along a line, HOLD at the goal shape",
+            || Box::new(FormationRrt::default()),
         ),
         Entry::new(
             "rrt-star",

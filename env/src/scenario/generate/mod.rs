@@ -102,7 +102,7 @@ pub fn families() -> Registry<dyn Family> {
         ),
         E::new(
             "team",
-            "N = 2…8 agents from one formation to another across an open field",
+            "N = 2…16 agents from one formation to another across an open field",
             || Box::new(team::Team::default()),
         ),
     ];

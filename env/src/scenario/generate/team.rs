@@ -1,4 +1,4 @@
-//! `team`: N = 2…8 agents moved from one formation to another across an open field, at a
+//! `team`: N = 2…16 agents moved from one formation to another across an open field, at a
 //! liquid–air interface (the `hardware` preset's), where a tilted field is free to use.
 
 use std::f64::consts::{PI, TAU};

@@ -233,7 +233,7 @@ fn impossible_parameters_are_refused_naming_the_parameter_and_the_reason() {
             "param.spacing",
             "outside the proximity range",
         ),
-        ("team", vec![("agents", "9")], "param.agents", "[2, 8]"),
+        ("team", vec![("agents", "17")], "param.agents", "[2, 16]"),
         (
             "team",
             vec![("distance", "0")],
