@@ -40,7 +40,10 @@ fn ten_agents_are_carried_along_the_line() {
     for state in &r.plan.states {
         let off = centroid(state) - a;
         let across = off.x * along.y - off.y * along.x;
-        assert!(across.abs() < 1e-6, "the centroid is {across} BL off the line");
+        assert!(
+            across.abs() < 1e-6,
+            "the centroid is {across} BL off the line"
+        );
     }
 }
 

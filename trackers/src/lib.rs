@@ -39,4 +39,4 @@ pub use registry::{TrackerSpec, Trackers};
 pub use rig::{GroundTruth, Rig, RigError};
 pub use sim_rig::SimRig;
 pub use tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
-pub use trackers::{Lookahead, Obc, OpenLoop};
+pub use trackers::{Formation, Lookahead, Obc, OpenLoop};

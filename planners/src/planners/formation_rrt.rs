@@ -46,13 +46,13 @@ use magbench_env::{Control, MAX_AGENTS, Vec2, declare_params};
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
 
+use crate::extend::Extend;
 use crate::metric::Metric;
 use crate::motion::{aimed, centroid_map, propagate, propagate_valid};
 use crate::nn::NearestNeighbors;
 use crate::objective::plan_cost;
 use crate::progress::Progress;
 use crate::result::{Best, finish};
-use crate::extend::Extend;
 use crate::search_settings::SearchSettings;
 use crate::tree::Tree;
 use crate::{Plan, Planner, PlannerResult, Problem, Rng};
@@ -279,9 +279,11 @@ impl FormationRrt {
                 return Some(edges);
             }
             let ranked = self.ranked_tries(problem, &at, carry, goal, self.stay, &set);
-            let Some(best) = ranked.into_iter().take(HOLD_CHECKS).find(|t| {
-                propagate_valid(problem, &at, &t.control, problem.periods(1), &mut next)
-            }) else {
+            let Some(best) = ranked
+                .into_iter()
+                .take(HOLD_CHECKS)
+                .find(|t| propagate_valid(problem, &at, &t.control, problem.periods(1), &mut next))
+            else {
                 return None;
             };
             at.copy_from_slice(&next);
@@ -374,7 +376,14 @@ impl Planner for FormationRrt {
         let mut found: Option<(u32, Vec<(Control, u32, Vec<Vec2>)>)> = None;
         let tried_hold = |node: u32, state: &[Vec2], found: &mut Option<_>| {
             if shape_max_distance(state, &goal.agents) <= fit
-                && let Some(edges) = self.hold_from(problem, state, carry, &goal.agents, goal.tolerance, alpha_max)
+                && let Some(edges) = self.hold_from(
+                    problem,
+                    state,
+                    carry,
+                    &goal.agents,
+                    goal.tolerance,
+                    alpha_max,
+                )
                 && goal.contains(edges.last().map_or(state, |e| &e.2))
             {
                 *found = Some((node, edges));
@@ -408,8 +417,9 @@ impl Planner for FormationRrt {
             let mut last = f64::INFINITY;
             for _ in 0..if toward_goal { CONNECT_STEPS } else { 1 } {
                 let from = tree.state(near).to_vec();
-                let Some(best) = self.extend(problem, &mut rng, &extend, &from, carry, &sample, &mut q_new)
-                else {
+                let Some(best) = self.extend(
+                    problem, &mut rng, &extend, &from, carry, &sample, &mut q_new,
+                ) else {
                     break;
                 };
                 let id = tree.add(near, &q_new, best.control, best.periods, 0.0);

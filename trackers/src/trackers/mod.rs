@@ -5,11 +5,13 @@
 //! below. A tracker outside the workspace is added at run time instead
 //! ([`magbench_env::registry::Registry::add`] on [`crate::registry::Trackers`]).
 
+mod formation;
 mod lookahead;
 mod obc;
 mod obc_drive;
 mod open_loop;
 
+pub use formation::Formation;
 pub use lookahead::Lookahead;
 pub use obc::Obc;
 pub use obc_drive::ObcDrive;
@@ -34,6 +36,11 @@ pub fn builtins() -> Vec<Entry> {
             "lookahead",
             "pure pursuit (eq. 6) with per-agent moving targets, turned into commands by the OBC optimizer",
             || Box::new(Lookahead::default()),
+        ),
+        Entry::new(
+            "formation",
+            "for teams: one period ahead, the field that keeps the shape closest to the plan's, gradients for the centroid, pairs kept apart",
+            || Box::new(Formation::default()),
         ),
     ]
 }
