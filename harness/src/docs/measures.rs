@@ -676,6 +676,27 @@ pub static MEASURES: &[Measure] = &[
         feature: None,
     },
     Measure {
+        name: "team-sizes",
+        source: Transcript {
+            files: &["experiments"],
+            cwd: ".",
+            steps: &[
+                Step::Run("bench experiments/team-sizes.toml --out team-sizes --threads 2 --quiet"),
+                Step::Run("results scaling team-sizes --family team --by agents"),
+            ],
+        },
+        feature: None,
+    },
+    Measure {
+        name: "team-tracking",
+        source: Sweep {
+            experiment: "experiments/team-tracking.toml",
+            quick_seeds: 2,
+            table: Runs(team_runs),
+        },
+        feature: None,
+    },
+    Measure {
         name: "bench-team-flows",
         source: Bench {
             bench: "team_flows",
