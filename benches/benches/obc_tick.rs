@@ -1,7 +1,8 @@
 //! One OBC tick: the tracker's command for one camera frame (nearest-sample search, the
 //! brute-force field-angle grid with the closed-form pull, the refinement and the wall check),
 //! on micro-factory, mid-path, with the team 0.05 BL off its reference; the optimizer alone for
-//! the pair and for three agents, planar and elevated. After the criterion
+//! the pair and for three agents, planar and elevated; each tracker's tick on a team of ten.
+//! After the criterion
 //! groups, whole simulated runs give the median and 99th percentile of the per-tick time,
 //! printed as a Markdown table (`magbench docs measure --only bench-obc-tick` keeps it).
 //!
@@ -12,8 +13,10 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group};
 use magbench_env::coil::Planar;
 use magbench_env::plant::{DisturbancePreset, Observation};
+use magbench_env::scenario::generate::generate;
 use magbench_env::{Control, LocalView, PlanningModel, Scenario, Vec2};
-use magbench_planners::Plan;
+use magbench_planners::registry::Planners;
+use magbench_planners::{Limits, Plan, PlanningSetup};
 use magbench_trackers::{
     Mission, ObcOptimizer, ObcWeights, Reference, Tick, TrackerContext, Trackers, simulate,
 };
@@ -100,6 +103,7 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    ten_agents(c);
     let opt = ObcOptimizer::new(
         model.clone(),
         checker.clone(),
@@ -160,6 +164,66 @@ fn bench(c: &mut Criterion) {
     c.bench_function("wall clearance (one agent)", |b| {
         b.iter(|| checker.collision.clearance(black_box(x[0])))
     });
+}
+
+/// One tick of each closed-loop tracker on a team of ten: a ring at 1.8 BL spacing (the `team`
+/// family) moved 8 BL by formation-rrt's plan, mid-plan, with every agent 0.05 BL off its
+/// reference.
+fn ten_agents(c: &mut Criterion) {
+    let params: Vec<(String, String)> = [("agents", "10"), ("spacing", "1.8")]
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    let s = generate("bench", "team", &params, 1, 0).unwrap().scenario;
+    let setup = PlanningSetup {
+        limits: Limits {
+            max_iterations: Some(2_000),
+            time_limit: None,
+        },
+        ..PlanningSetup::default()
+    };
+    let problem = setup.problem(&s, 0, None, 1);
+    let solved = Planners::builtin()
+        .create("formation-rrt", &[])
+        .unwrap()
+        .solve(&problem);
+    assert!(solved.solved, "formation-rrt left the ring of ten unsolved");
+    let model = &problem.model;
+    let r = Reference::from_plan(&solved.plan, model);
+    let k = r.len() / 2;
+    let x: Vec<Vec2> = r
+        .state(k)
+        .iter()
+        .map(|p| p + Vec2::new(0.03, -0.04))
+        .collect();
+    let obs = Observation {
+        t: 0.0,
+        agents: x.iter().map(|p| Some(*p)).collect(),
+    };
+    let ctx = TrackerContext {
+        reference: &r,
+        model,
+        world: &s.world,
+        checker: &problem.checker,
+        period: 1.0 / 60.0,
+        goal: s.final_goal(),
+    };
+    let tick = Tick {
+        t: r.time(k),
+        estimate: &x,
+        observation: &obs,
+    };
+    for name in ["formation", "obc", "lookahead"] {
+        let mut tracker = Trackers::builtin()
+            .spec(name, &[], "bench")
+            .unwrap()
+            .build();
+        tracker.reset(&ctx);
+        tracker.command(&ctx, &tick);
+        c.bench_function(&format!("{name} tick (ten agents)"), |b| {
+            b.iter(|| black_box(tracker.command(&ctx, black_box(&tick))))
+        });
+    }
 }
 
 /// Per-tick times of whole simulated runs (realistic preset) of the same plan: median and 99th

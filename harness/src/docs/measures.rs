@@ -692,7 +692,7 @@ pub static MEASURES: &[Measure] = &[
         source: Sweep {
             experiment: "experiments/team-tracking.toml",
             quick_seeds: 2,
-            table: Runs(team_runs),
+            table: Runs(tracking),
         },
         feature: None,
     },
@@ -742,6 +742,9 @@ pub static MEASURES: &[Measure] = &[
                 "obc optimizer solve",
                 "obc optimizer solve (three agents, planar)",
                 "obc optimizer solve (three agents, elevated)",
+                "formation tick (ten agents)",
+                "obc tick (ten agents)",
+                "lookahead tick (ten agents)",
                 "planning-model prediction (one frame)",
                 "wall clearance (one agent)",
             ],
