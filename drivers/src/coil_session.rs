@@ -121,7 +121,7 @@ impl CoilSession {
             return Err(LinkError::Lost(f.clone()));
         }
         if self.abort.load(Ordering::Relaxed) {
-            return Err(LinkError::Lost("interrupted".into()));
+            return Err(LinkError::Interrupted);
         }
         let Some(cmd) = s.driver.command(u, dt) else {
             drop(s);

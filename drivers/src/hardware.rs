@@ -35,6 +35,9 @@ pub enum HardwareError {
     /// The device or the host safety checks zeroed the field under the loop.
     #[error("{0}; field zeroed")]
     Safety(String),
+    /// The Ctrl-C handler could not be installed, so the rig was not opened.
+    #[error("{0}; the rig was not opened")]
+    Interrupt(#[from] crate::interrupt::InterruptError),
 }
 
 /// Counters of one run.

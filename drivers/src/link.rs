@@ -28,6 +28,9 @@ pub enum LinkError {
         /// The device's status.
         status: AckStatus,
     },
+    /// The abort flag (Ctrl-C) is raised: the session sends no further command.
+    #[error("interrupted: no further command sent")]
+    Interrupted,
 }
 
 /// What an acknowledgement said.

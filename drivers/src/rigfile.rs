@@ -6,11 +6,13 @@
 use std::path::{Path, PathBuf};
 
 use magbench_env::InputError;
+use magbench_env::check::bounds::number;
 use magbench_env::check::{Bound, Checker, Fixed, parse_toml, read_text};
 use serde::Deserialize;
 
 use crate::calibration::Calibration;
 use crate::pixel_map::PixelMap;
+use crate::protocol::{AckStatus, Message, WATCHDOG_MAX_MS, WATCHDOG_MIN_MS, encode};
 
 /// Pixels per body length: an agent 1000 px across fills a whole sensor side; beyond it the
 /// emulator's agent patches (side ≈ px_per_bl + 8 blur) outgrow the memory budget.
@@ -37,6 +39,29 @@ pub const FPS: Bound = Bound::closed(
     10_000.0,
     " fps",
     "a frame every 10 s tracks nothing, 10 kHz is a high-speed camera",
+);
+
+/// Longest host hold timeout (ms): the device's longest watchdog
+/// ([`WATCHDOG_MAX_MS`]). The hold timeout and the watchdog guard the same hazard, a field that
+/// nothing steers: a live host whose control loop stalled (its keep-alive thread still satisfying
+/// the watchdog) must zero the field no later than the device zeroes it for a dead host.
+pub const MAX_HOLD_TIMEOUT_MS: u32 = WATCHDOG_MAX_MS as u32;
+
+/// Largest current limit per channel (A): coil drivers for microrobots supply tens of amperes;
+/// 1 kA per channel is beyond any of them.
+pub const CURRENT_LIMIT_A: Bound = Bound::above(
+    0.0,
+    1000.0,
+    " A",
+    "1 kA a channel is beyond any coil driver for microrobots",
+);
+
+/// Image rotation (degrees): one turn either way; a larger angle only loses precision.
+pub const ROTATION_DEG: Bound = Bound::closed(
+    -360.0,
+    360.0,
+    "°",
+    "one turn either way covers every orientation",
 );
 
 /// Most pixels of one frame: 32 Mpx (a 16-byte-per-pixel emulator frame is 512 MiB, a
@@ -317,8 +342,9 @@ impl RigConfig {
         let ck = Checker::new(file);
         let coil = coil(ck, raw.coil)?;
         let camera = camera(ck, raw.camera)?;
+        loop_timing(ck, &coil, &camera)?;
         let pixels = pixels(ck, raw.pixels)?;
-        let detector = detector(ck, raw.detector)?;
+        let detector = detector(ck, raw.detector, &camera, &pixels)?;
         Ok(RigConfig {
             name: raw.name,
             source: file.to_string(),
@@ -373,6 +399,17 @@ pub enum EndpointsError {
 }
 
 fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
+    for (f, x) in [
+        ("coil.heartbeat_ms", c.heartbeat_ms),
+        ("coil.watchdog_ms", c.watchdog_ms),
+        ("coil.ack_timeout_ms", c.ack_timeout_ms),
+        ("coil.hold_timeout_ms", c.hold_timeout_ms),
+    ] {
+        if x == 0 {
+            return Err(ck.err(f, "must be > 0"));
+        }
+    }
+    timers(ck, &c)?;
     let endpoint = match (c.port, c.address) {
         (Some(path), None) => {
             if c.baud == 0 {
@@ -393,28 +430,6 @@ fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
             return Err(ck.err("coil", "needs `port` (serial) or `address` (TCP)"));
         }
     };
-    for (f, x) in [
-        ("coil.heartbeat_ms", c.heartbeat_ms),
-        ("coil.watchdog_ms", c.watchdog_ms),
-        ("coil.ack_timeout_ms", c.ack_timeout_ms),
-        ("coil.hold_timeout_ms", c.hold_timeout_ms),
-    ] {
-        if x == 0 {
-            return Err(ck.err(f, "must be > 0"));
-        }
-    }
-    if c.heartbeat_ms * 2 > c.watchdog_ms {
-        return Err(ck.err(
-                "coil.heartbeat_ms",
-                format!("must be at most half of watchdog_ms = {} so one lost heartbeat does not trip it, got {}", c.watchdog_ms, c.heartbeat_ms),
-            ));
-    }
-    if c.watchdog_ms > u16::MAX as u32 {
-        return Err(ck.err(
-            "coil.watchdog_ms",
-            format!("must be ≤ {}, got {}", u16::MAX, c.watchdog_ms),
-        ));
-    }
     if let Some(f) = c.field_mt {
         ck.positive("coil.field_mt", f)?;
         ck.bound(
@@ -439,8 +454,11 @@ fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
     }
     let calibration = calibration(ck, &c.calibration)?;
     let n = calibration.channels();
+    if let CoilEndpoint::Serial { baud: b, .. } = &endpoint {
+        baud(ck, *b, n, c.ack_timeout_ms)?;
+    }
     let current_limit_a = match c.limits.current_a {
-        OneOrMany::One(x) => vec![ck.positive("coil.limits.current_a", x)?; n],
+        OneOrMany::One(x) => vec![ck.bound("coil.limits.current_a", x, &CURRENT_LIMIT_A)?; n],
         OneOrMany::Many(v) => {
             if v.len() != n {
                 return Err(ck.err(
@@ -452,7 +470,7 @@ fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
                 ));
             }
             for (i, x) in v.iter().enumerate() {
-                ck.positive(&format!("coil.limits.current_a[{i}]"), *x)?;
+                ck.bound(&format!("coil.limits.current_a[{i}]"), *x, &CURRENT_LIMIT_A)?;
             }
             v
         }
@@ -471,6 +489,130 @@ fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
         current_limit_a,
         slew_a_per_s,
     })
+}
+
+/// The coil link's timers, each bounded by what it is for; every sum and product is taken in
+/// `u64`, so no accepted `u32` can wrap it.
+fn timers(ck: Checker, c: &CoilFile) -> Result<(), InputError> {
+    let (lo, hi) = (u32::from(WATCHDOG_MIN_MS), u32::from(WATCHDOG_MAX_MS));
+    if !(lo..=hi).contains(&c.watchdog_ms) {
+        return Err(ck.err(
+            "coil.watchdog_ms",
+            format!(
+                "must be in [{lo}, {hi}] ms: the device clamps the watchdog it is asked for to this range, so another value is not the one in force, got {}",
+                c.watchdog_ms
+            ),
+        ));
+    }
+    let (heartbeat, watchdog) = (u64::from(c.heartbeat_ms), u64::from(c.watchdog_ms));
+    if heartbeat * 2 > watchdog {
+        return Err(ck.err(
+            "coil.heartbeat_ms",
+            format!(
+                "must be at most half of watchdog_ms = {watchdog} so one lost heartbeat does not trip it, got {heartbeat}"
+            ),
+        ));
+    }
+    let ack = u64::from(c.ack_timeout_ms);
+    if heartbeat + ack > watchdog {
+        return Err(ck.err(
+            "coil.ack_timeout_ms",
+            format!(
+                "must be at most watchdog_ms − heartbeat_ms = {} ms so the resend of a lost heartbeat reaches the device before its watchdog trips, got {ack}",
+                watchdog - heartbeat
+            ),
+        ));
+    }
+    let hold = u64::from(c.hold_timeout_ms);
+    if hold > u64::from(MAX_HOLD_TIMEOUT_MS) {
+        return Err(ck.err(
+            "coil.hold_timeout_ms",
+            format!(
+                "must be at most {MAX_HOLD_TIMEOUT_MS} ms: a stalled control loop may keep the field on no longer than the device's longest watchdog keeps it on for a dead host, got {hold}"
+            ),
+        ));
+    }
+    let give_up = (u64::from(c.retries) + 1) * ack;
+    if give_up > hold {
+        return Err(ck.err(
+            "coil.retries",
+            format!(
+                "(retries + 1) × ack_timeout_ms = {give_up} ms must be at most hold_timeout_ms = {hold} ms: while a message waits for its acknowledgement nothing can zero the field, got retries = {}",
+                c.retries
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The serial link must carry the longest exchange (SET_CURRENTS of every channel and its ACK,
+/// 10 bits a byte) within `ack_timeout_ms`, or every message would time out.
+fn baud(ck: Checker, baud: u32, channels: usize, ack_timeout_ms: u32) -> Result<(), InputError> {
+    let ack = Message::Ack {
+        seq: 0,
+        status: AckStatus::Ok,
+        flags: 0,
+        device_ms: 0,
+    };
+    let bytes = (encode(0, &Message::SetCurrents(vec![0.0; channels])).len()
+        + encode(0, &ack).len()) as u64;
+    if bytes * 10 * 1000 > u64::from(baud) * u64::from(ack_timeout_ms) {
+        return Err(ck.err(
+            "coil.baud",
+            format!(
+                "must carry a SET_CURRENTS of {channels} channels and its ACK ({bytes} bytes, 10 bits a byte) within ack_timeout_ms = {ack_timeout_ms}: that needs at least {} baud, got {baud}",
+                (bytes * 10 * 1000).div_ceil(u64::from(ack_timeout_ms))
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The bounds that tie the coil timers to the camera: the loop renews the field once a frame.
+fn loop_timing(ck: Checker, coil: &CoilConfig, camera: &CameraConfig) -> Result<(), InputError> {
+    let period_ms = 1000.0 / camera.fps;
+    let hold = coil.hold_timeout_ms;
+    if f64::from(hold) <= period_ms {
+        return Err(ck.err(
+            "coil.hold_timeout_ms",
+            format!(
+                "must be longer than one frame period (1000 / camera.fps = {} ms): the loop renews the field once a frame, got {hold}",
+                number(period_ms)
+            ),
+        ));
+    }
+    let ft = camera.frame_timeout_ms;
+    if f64::from(ft) <= period_ms {
+        return Err(ck.err(
+            "camera.frame_timeout_ms",
+            format!(
+                "must be longer than one frame period (1000 / camera.fps = {} ms) or every frame is late, got {ft}",
+                number(period_ms)
+            ),
+        ));
+    }
+    if ft > hold {
+        return Err(ck.err(
+            "camera.frame_timeout_ms",
+            format!(
+                "must be at most coil.hold_timeout_ms = {hold}: frames that stop for longer have the field zeroed by the hold timeout first, so a longer wait only delays the stop, got {ft}"
+            ),
+        ));
+    }
+    let blind_ms = f64::from(camera.stuck_frames) * 1000.0 / camera.fps;
+    if blind_ms > f64::from(MAX_HOLD_TIMEOUT_MS) {
+        return Err(ck.err(
+            "camera.stuck_frames",
+            format!(
+                "must be at most {} at {} fps: the loop steers on a frozen image until the count is reached, and may do so for at most {MAX_HOLD_TIMEOUT_MS} ms (the longest the field may go unsteered, coil.hold_timeout_ms's bound), got {} ({} ms)",
+                (f64::from(MAX_HOLD_TIMEOUT_MS) * camera.fps / 1000.0).floor(),
+                number(camera.fps),
+                camera.stuck_frames,
+                number(blind_ms),
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputError> {
@@ -597,11 +739,16 @@ fn pixels(ck: Checker, p: PixelsFile) -> Result<PixelMap, InputError> {
     let scale = ck.bound("pixels.px_per_bl", p.px_per_bl, &PX_PER_BL)?;
     let ox = ck.finite("pixels.origin_px[0]", p.origin_px.0[0])?;
     let oy = ck.finite("pixels.origin_px[1]", p.origin_px.0[1])?;
-    let rot = ck.finite("pixels.rotation_deg", p.rotation_deg)?;
+    let rot = ck.bound("pixels.rotation_deg", p.rotation_deg, &ROTATION_DEG)?;
     Ok(PixelMap::new(scale, [ox, oy], rot.to_radians(), p.flip_y))
 }
 
-fn detector(ck: Checker, d: DetectorFile) -> Result<DetectorConfig, InputError> {
+fn detector(
+    ck: Checker,
+    d: DetectorFile,
+    camera: &CameraConfig,
+    pixels: &PixelMap,
+) -> Result<DetectorConfig, InputError> {
     let polarity = match d.polarity.as_str() {
         "dark" => Polarity::Dark,
         "bright" => Polarity::Bright,
@@ -631,6 +778,27 @@ fn detector(ck: Checker, d: DetectorFile) -> Result<DetectorConfig, InputError> 
         ));
     }
     let max_jump_bl = ck.positive("detector.max_jump_bl", d.max_jump_bl)?;
+    let [w, h] = camera.size_px;
+    let diagonal_bl = f64::from(w).hypot(f64::from(h)) / pixels.px_per_bl;
+    if max_jump_bl > diagonal_bl {
+        return Err(ck.err(
+            "detector.max_jump_bl",
+            format!(
+                "must be at most the sensor's diagonal ({diagonal_bl:.1} BL at pixels.px_per_bl = {}): a longer move leaves the image, got {}",
+                number(pixels.px_per_bl),
+                number(max_jump_bl)
+            ),
+        ));
+    }
+    if !(1..=254).contains(&d.threshold) {
+        return Err(ck.err(
+            "detector.threshold",
+            format!(
+                "must be in [1, 254]: 0 and 255 are the ends of the grey range and separate nothing from the background, got {}",
+                d.threshold
+            ),
+        ));
+    }
     Ok(DetectorConfig {
         polarity,
         radius_px,
@@ -686,6 +854,193 @@ mod tests {
         );
         let bad = EXAMPLE.replace("heartbeat_ms = 50", "heartbeat_ms = 150");
         assert!(err(&bad).starts_with("r.toml: coil.heartbeat_ms: must be at most half"));
+    }
+
+    /// The example with `from` replaced by `to` (which must be in it).
+    fn with(from: &str, to: &str) -> String {
+        assert!(EXAMPLE.contains(from), "{from}");
+        EXAMPLE.replace(from, to)
+    }
+
+    #[test]
+    fn a_heartbeat_that_wraps_32_bits_is_refused() {
+        // 2 × 2147483698 wraps to 100 in 32 bits, which is at most half of 200
+        let e = err(&with("heartbeat_ms = 50", "heartbeat_ms = 2147483698"));
+        assert!(
+            e.starts_with("r.toml: coil.heartbeat_ms: must be at most half of watchdog_ms = 200"),
+            "{e}"
+        );
+        assert!(e.ends_with("got 2147483698"), "{e}");
+        let e = err(&with(
+            "heartbeat_ms = 50",
+            &format!("heartbeat_ms = {}", u32::MAX),
+        ));
+        assert!(e.starts_with("r.toml: coil.heartbeat_ms: "), "{e}");
+        // exactly half is accepted
+        RigConfig::parse(&with("heartbeat_ms = 50", "heartbeat_ms = 100"), "r.toml").unwrap();
+    }
+
+    #[test]
+    fn a_watchdog_outside_what_the_device_enforces_is_refused() {
+        for w in ["65535", "1001", "19", "4294967295"] {
+            let e = err(&with("watchdog_ms = 200", &format!("watchdog_ms = {w}")));
+            assert!(
+                e.starts_with(&format!(
+                    "r.toml: coil.watchdog_ms: must be in [{WATCHDOG_MIN_MS}, {WATCHDOG_MAX_MS}] ms: the device clamps"
+                )),
+                "{e}"
+            );
+            assert!(e.ends_with(&format!("got {w}")), "{e}");
+        }
+        let r = RigConfig::parse(&with("watchdog_ms = 200", "watchdog_ms = 1000"), "r.toml");
+        assert_eq!(r.unwrap().coil.watchdog_ms, u32::from(WATCHDOG_MAX_MS));
+    }
+
+    #[test]
+    fn a_hold_timeout_beyond_the_safety_limit_is_refused() {
+        for h in ["1000000000", "1001"] {
+            let e = err(&with(
+                "hold_timeout_ms = 250",
+                &format!("hold_timeout_ms = {h}"),
+            ));
+            assert_eq!(
+                e,
+                format!(
+                    "r.toml: coil.hold_timeout_ms: must be at most {MAX_HOLD_TIMEOUT_MS} ms: a stalled control loop may keep the field on no longer than the device's longest watchdog keeps it on for a dead host, got {h}"
+                )
+            );
+        }
+        let r = RigConfig::parse(
+            &with("hold_timeout_ms = 250", "hold_timeout_ms = 1000"),
+            "r.toml",
+        );
+        assert_eq!(r.unwrap().coil.hold_timeout_ms, MAX_HOLD_TIMEOUT_MS);
+        // at 2 fps the loop renews the field every 500 ms, after the 250 ms hold
+        let e = err(&with("fps = 60.0", "fps = 2.0"));
+        assert!(
+            e.starts_with("r.toml: coil.hold_timeout_ms: must be longer than one frame period"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn link_timers_that_would_outlast_the_watchdog_or_the_hold_are_refused() {
+        // a lost heartbeat's resend (after 50 + 151 ms) would come after the 200 ms watchdog
+        let e = err(&with("ack_timeout_ms = 20", "ack_timeout_ms = 151"));
+        assert!(
+            e.starts_with(
+                "r.toml: coil.ack_timeout_ms: must be at most watchdog_ms − heartbeat_ms = 150 ms"
+            ),
+            "{e}"
+        );
+        let e = err(&with(
+            "ack_timeout_ms = 20",
+            &format!("ack_timeout_ms = {}", u32::MAX),
+        ));
+        assert!(e.starts_with("r.toml: coil.ack_timeout_ms: "), "{e}");
+        // 4294967295 + 1 retries would wrap 32 bits to 0
+        let e = err(&with("retries = 3", &format!("retries = {}", u32::MAX)));
+        assert!(
+            e.starts_with("r.toml: coil.retries: (retries + 1) × ack_timeout_ms = 85899345920 ms must be at most hold_timeout_ms = 250 ms"),
+            "{e}"
+        );
+        let e = err(&with("retries = 3", "retries = 12"));
+        assert!(
+            e.starts_with("r.toml: coil.retries: (retries + 1) × ack_timeout_ms = 260 ms"),
+            "{e}"
+        );
+        RigConfig::parse(&with("retries = 3", "retries = 11"), "r.toml").unwrap();
+    }
+
+    #[test]
+    fn a_serial_link_too_slow_for_the_ack_timeout_is_refused() {
+        let serial = with("address = \"127.0.0.1:7700\"", "port = \"/dev/ttyUSB0\"");
+        let r = RigConfig::parse(&serial, "r.toml").unwrap();
+        assert!(matches!(
+            r.coil.endpoint,
+            CoilEndpoint::Serial { baud: 115_200, .. }
+        ));
+        // 5 channels: SET_CURRENTS 31 bytes + ACK 18 bytes = 490 bits, 25.5 ms at 19200 baud
+        let slow = serial.replace("heartbeat_ms = 50", "baud = 19200\nheartbeat_ms = 50");
+        let e = err(&slow);
+        assert_eq!(
+            e,
+            "r.toml: coil.baud: must carry a SET_CURRENTS of 5 channels and its ACK (49 bytes, 10 bits a byte) within ack_timeout_ms = 20: that needs at least 24500 baud, got 19200"
+        );
+        RigConfig::parse(
+            &serial.replace("heartbeat_ms = 50", "baud = 24500\nheartbeat_ms = 50"),
+            "r.toml",
+        )
+        .unwrap();
+    }
+
+    #[test]
+    fn camera_timers_are_bounded_by_the_frame_period_and_the_hold() {
+        let e = err(&with("frame_timeout_ms = 100", "frame_timeout_ms = 16"));
+        assert!(
+            e.starts_with("r.toml: camera.frame_timeout_ms: must be longer than one frame period"),
+            "{e}"
+        );
+        let e = err(&with(
+            "frame_timeout_ms = 100",
+            &format!("frame_timeout_ms = {}", u32::MAX),
+        ));
+        assert!(
+            e.starts_with(
+                "r.toml: camera.frame_timeout_ms: must be at most coil.hold_timeout_ms = 250"
+            ),
+            "{e}"
+        );
+        // 61 frames at 60 fps are more than a second of steering on a frozen image
+        let e = err(&with("stuck_frames = 30", "stuck_frames = 61"));
+        assert!(
+            e.starts_with("r.toml: camera.stuck_frames: must be at most 60 at 60 fps"),
+            "{e}"
+        );
+        RigConfig::parse(&with("stuck_frames = 30", "stuck_frames = 60"), "r.toml").unwrap();
+        let e = err(&with(
+            "stuck_frames = 30",
+            &format!("stuck_frames = {}", u32::MAX),
+        ));
+        assert!(e.starts_with("r.toml: camera.stuck_frames: "), "{e}");
+    }
+
+    #[test]
+    fn currents_angles_thresholds_and_jumps_are_bounded() {
+        let e = err(&with("current_a = 8.0", "current_a = 1e300"));
+        assert!(
+            e.starts_with("r.toml: coil.limits.current_a: must be in (0, 1000] A: 1 kA a channel"),
+            "{e}"
+        );
+        let e = err(&with(
+            "current_a = 8.0",
+            "current_a = [8.0, 8.0, 8.0, 8.0, 1e4]",
+        ));
+        assert!(
+            e.starts_with("r.toml: coil.limits.current_a[4]: must be in (0, 1000] A"),
+            "{e}"
+        );
+        let e = err(&with("rotation_deg = 0.0", "rotation_deg = 1e300"));
+        assert!(
+            e.starts_with("r.toml: pixels.rotation_deg: must be in [-360, 360]°"),
+            "{e}"
+        );
+        for t in ["0", "255"] {
+            let e = err(&with("threshold = 120", &format!("threshold = {t}")));
+            assert!(
+                e.starts_with("r.toml: detector.threshold: must be in [1, 254]"),
+                "{e}"
+            );
+        }
+        // the 520 × 340 px sensor at 10 px/BL is 62.1 BL across its diagonal
+        let e = err(&with("max_jump_bl = 1.0", "max_jump_bl = 63.0"));
+        assert!(
+            e.starts_with(
+                "r.toml: detector.max_jump_bl: must be at most the sensor's diagonal (62.1"
+            ),
+            "{e}"
+        );
+        RigConfig::parse(&with("max_jump_bl = 1.0", "max_jump_bl = 62.0"), "r.toml").unwrap();
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! The hardware rig against an in-process emulator (TCP): the field goes to zero on a panic,
-//! on a stalled loop (host hold timeout) and on a non-finite command.
+//! on a stalled loop (host hold timeout), on an interrupt (the abort flag the Ctrl-C handler
+//! raises) and on a non-finite command.
 //!
 //! Host and emulator share one [`ManualClock`] and the emulator runs in lockstep, so no timer
 //! (hold timeout, heartbeat, device watchdog) moves unless the test moves it: "the loop stalls
@@ -118,16 +119,13 @@ fn count(ev: &[(String, bool)], name: &str) -> usize {
 }
 
 fn open(emu: &Emu) -> HardwareRig {
+    open_with_abort(emu, Arc::new(AtomicBool::new(false)))
+}
+
+/// The rig with `abort` as its interrupt flag (what `interrupt::interrupt_flag` hands a real run).
+fn open_with_abort(emu: &Emu, abort: Arc<AtomicBool>) -> HardwareRig {
     let s = Scenario::load("open-field").unwrap();
-    HardwareRig::open_with_clock(
-        &emu.rig,
-        5.0,
-        &s.start,
-        Arc::new(AtomicBool::new(false)),
-        None,
-        emu.clock.clone(),
-    )
-    .unwrap()
+    HardwareRig::open_with_clock(&emu.rig, 5.0, &s.start, abort, None, emu.clock.clone()).unwrap()
 }
 
 fn drive(rig: &mut HardwareRig, frames: usize) {
@@ -193,6 +191,54 @@ fn a_stalled_loop_is_zeroed_by_the_hold_timeout() {
         Err(HardwareError::Safety(m)) => assert!(m.contains("hold timeout"), "{m}"),
         other => panic!("expected a hold-timeout stop, got {other:?}"),
     }
+}
+
+#[test]
+fn an_interrupt_zeroes_the_field_from_the_keep_alive_thread() {
+    let emu = emulator();
+    let abort = Arc::new(AtomicBool::new(false));
+    let mut rig = open_with_abort(&emu, abort.clone());
+    drive(&mut rig, 10);
+    let ev = events(&emu.log);
+    assert!(
+        ev.iter().any(|(e, z)| e == "currents" && !z),
+        "the field was never on: {ev:?}"
+    );
+    assert!(!zeroed_after_on(&ev), "zeroed before the interrupt: {ev:?}");
+    // Ctrl-C while the loop sits between frames: the keep-alive thread alone must zero the
+    // field. The shared clock stands still, so neither the hold timeout nor the device
+    // watchdog can be what zeroes it.
+    let before = emu.clock.now();
+    abort.store(true, Ordering::SeqCst);
+    wait_for(&emu.log, "the interrupt's ZERO", zeroed_after_on);
+    assert_eq!(emu.clock.now(), before);
+    let ev = events(&emu.log);
+    assert_eq!(count(&ev, "watchdog"), 0, "{ev:?}");
+    assert!(
+        ev.iter()
+            .rev()
+            .find(|(e, _)| e == "currents" || e == "zero")
+            .is_some_and(|(_, z)| *z),
+        "the currents in force are not zero: {ev:?}"
+    );
+    // the loop ends as interrupted, and sends nothing more
+    match rig.observe() {
+        Err(HardwareError::Safety(m)) => {
+            assert!(
+                m.contains("interrupted: field zeroed (acknowledged)"),
+                "{m}"
+            )
+        }
+        other => panic!("expected an interrupted stop, got {other:?}"),
+    }
+    assert!(rig.command(&Control::planar(1.0, 0.0, 0.0)).is_err());
+    drop(rig);
+    let ev = events(&emu.log);
+    let on_after = ev
+        .iter()
+        .rposition(|(e, z)| e == "zero" && *z)
+        .is_some_and(|z| ev[z..].iter().any(|(e, z)| e == "currents" && !z));
+    assert!(!on_after, "currents after the interrupt: {ev:?}");
 }
 
 #[test]

@@ -117,6 +117,52 @@ fn camera_rates_and_fixed_arrays_of_rig_files_are_checked() {
     );
 }
 
+/// The coil timers of a rig file are bounded by what they are for: a heartbeat whose double
+/// wraps 32 bits, a hold timeout of days, a watchdog the device would clamp.
+#[test]
+fn rig_file_timers_are_bounded_by_their_meaning() {
+    let d = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "heartbeat_ms = 50",
+            "heartbeat_ms = 2147483698",
+            "coil.heartbeat_ms",
+            "must be at most half of watchdog_ms = 200",
+        ),
+        (
+            "hold_timeout_ms = 250",
+            "hold_timeout_ms = 1000000000",
+            "coil.hold_timeout_ms",
+            "must be at most 1000 ms: a stalled control loop",
+        ),
+        (
+            "watchdog_ms = 200",
+            "watchdog_ms = 65535",
+            "coil.watchdog_ms",
+            "must be in [20, 1000] ms: the device clamps",
+        ),
+        (
+            "retries = 3",
+            "retries = 4294967295",
+            "coil.retries",
+            "(retries + 1) × ack_timeout_ms = 85899345920 ms must be at most hold_timeout_ms = 250 ms",
+        ),
+        (
+            "stuck_frames = 30",
+            "stuck_frames = 4294967295",
+            "camera.stuck_frames",
+            "must be at most 60 at 60 fps",
+        ),
+    ];
+    for (from, to, field, why) in cases {
+        let r = rig(d.path(), from, to);
+        refused(
+            &["rig", "check", "--rig", &r, "open-field"],
+            &[&format!("{r}: {field}: {why}")],
+        );
+    }
+}
+
 #[test]
 fn nan_truth_in_a_recording_is_refused() {
     let d = tempfile::tempdir().unwrap();

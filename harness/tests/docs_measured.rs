@@ -14,6 +14,20 @@
 //!
 //! Such figures belong in a measurement's table, quoted by `{{#include measured/NAME.md}}`.
 //! Sections not yet generated are listed once, in [`EXCEPTIONS`].
+//!
+//! A sentence that compares figures of a measured table carries a claim marker, an HTML comment
+//! (invisible in the book) that the test reads back from the table; see [`Claim`]:
+//! `<!-- claim: measured/NAME.md | COLUMN | STAT | CLAIM -->`, with `STAT` one of `median`,
+//! `p90` (the two halves of a `median / p90` cell) or `value`, and `CLAIM` one of
+//! - `ROWS < ROWS` (or `>`): the two rows' figures compare so; the paragraph quotes both;
+//! - `ROWS / ROWS per KEY spans LO..HI`: the ratios of the first rows' figures to the second
+//!   rows' with the same `KEY` column, lowest and highest rounded as `LO` and `HI` are written
+//!   (`1.8`, `46k`), are `LO` and `HI`, both quoted in the paragraph;
+//! - `ROWS spans LO..HI`: the same for the rows' figures themselves.
+//!
+//! `ROWS` selects rows by `COLUMN=VALUE`, `COLUMN!=VALUE`, `COLUMN^=PREFIX`, `COLUMN!^=PREFIX`
+//! and `nonzero` (the figure), joined by `,`. The paragraph is the paragraph or list item that
+//! holds the marker: its lines between blank lines, list items and headings.
 
 use std::path::{Path, PathBuf};
 
@@ -252,4 +266,307 @@ fn the_rule_catches_a_planted_hand_typed_figure() {
         1,
         "conditions outside a measured section"
     );
+}
+
+/// A table of a measured file: its header and rows of cells.
+struct Table {
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// The first `| … |` table in `text`.
+    fn parse(text: &str) -> Table {
+        let cells = |l: &str| -> Vec<String> {
+            l.trim()
+                .trim_matches('|')
+                .split('|')
+                .map(|c| c.trim().to_string())
+                .collect()
+        };
+        let mut lines = text.lines().filter(|l| l.trim_start().starts_with('|'));
+        let header = cells(lines.next().expect("a table"));
+        let rows = lines.skip(1).map(cells).collect();
+        Table { header, rows }
+    }
+
+    fn column(&self, name: &str) -> Result<usize, String> {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| format!("no column {name:?} in {:?}", self.header))
+    }
+}
+
+/// One half of a `median / p90` cell, or the whole cell, as a number and as written; `None`
+/// for an empty `–`.
+fn figure(cell: &str, stat: &str) -> Result<Option<(f64, String)>, String> {
+    let part = match stat {
+        "median" => cell.split(" / ").next(),
+        "p90" => cell.split(" / ").nth(1),
+        "value" => Some(cell),
+        other => return Err(format!("unknown statistic {other:?}")),
+    }
+    .ok_or_else(|| format!("cell {cell:?} has no {stat}"))?
+    .trim();
+    if part == "–" {
+        return Ok(None);
+    }
+    part.parse()
+        .map(|x| Some((x, part.to_string())))
+        .map_err(|_| format!("cell {cell:?}: {part:?} is not a number"))
+}
+
+/// A bound as the prose writes it (`1.8`, `46k`): its value, and the step it is rounded to.
+fn written(s: &str) -> Result<(f64, f64), String> {
+    let (digits, scale) = match s.strip_suffix('k') {
+        Some(d) => (d, 1000.0),
+        None => (s, 1.0),
+    };
+    let v: f64 = digits
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number"))?;
+    let decimals = digits.split('.').nth(1).map_or(0, str::len) as i32;
+    Ok((v * scale, scale * 10f64.powi(-decimals)))
+}
+
+/// Whether `v` rounded to a multiple of `step` is `target` (within rounding noise).
+fn rounds_to(v: f64, step: f64, target: f64) -> bool {
+    ((v / step).round() * step - target).abs() < step * 1e-6
+}
+
+/// A claim marker read from a chapter (see the module documentation).
+#[derive(Debug)]
+struct Claim {
+    /// `docs/FILE:LINE` of the marker.
+    at: String,
+    /// The measured file, relative to `docs/`.
+    file: String,
+    /// The column compared.
+    column: String,
+    /// `median`, `p90` or `value`.
+    stat: String,
+    /// The relation the sentence states.
+    claim: String,
+    /// The paragraph or list item holding the marker, markers removed.
+    paragraph: String,
+}
+
+/// The claim markers of a chapter's `text`, named `docs/{file}`.
+fn claims(file: &str, text: &str) -> Vec<Claim> {
+    let re = Regex::new(r"<!-- claim: ([^|]+)\|([^|]+)\|([^|]+)\|(.+?) -->").unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let ends = |l: &str| {
+        let l = l.trim_start();
+        l.is_empty() || l.starts_with("- ") || l.starts_with('#')
+    };
+    let mut found = vec![];
+    for (i, line) in lines.iter().enumerate() {
+        for c in re.captures_iter(line) {
+            let mut start = i;
+            while start > 0 && !lines[start].trim_start().starts_with("- ") && {
+                let prev = lines[start - 1].trim_start();
+                !(prev.is_empty() || prev.starts_with('#'))
+            } {
+                start -= 1;
+            }
+            let end = (i + 1..lines.len())
+                .find(|&j| ends(lines[j]))
+                .unwrap_or(lines.len());
+            let paragraph = lines[start..end].join("\n");
+            found.push(Claim {
+                at: format!("docs/{file}:{}", i + 1),
+                file: c[1].trim().to_string(),
+                column: c[2].trim().to_string(),
+                stat: c[3].trim().to_string(),
+                claim: c[4].trim().to_string(),
+                paragraph: re.replace_all(&paragraph, "").to_string(),
+            });
+        }
+    }
+    found
+}
+
+impl Claim {
+    /// The rows `sel` picks, with their figures (rows whose figure is `–` left out).
+    fn select(&self, t: &Table, sel: &str) -> Result<Vec<(usize, f64, String)>, String> {
+        let col = t.column(&self.column)?;
+        let mut conds = vec![];
+        let mut nonzero = false;
+        for c in sel.split(',').map(str::trim) {
+            if c == "nonzero" {
+                nonzero = true;
+                continue;
+            }
+            let (key, op, value) = ["!^=", "^=", "!=", "="]
+                .iter()
+                .find_map(|op| c.split_once(op).map(|(k, v)| (k, *op, v)))
+                .ok_or_else(|| format!("condition {c:?} is not COLUMN=VALUE"))?;
+            conds.push((t.column(key.trim())?, op, value.trim().to_string()));
+        }
+        let mut rows = vec![];
+        for (i, r) in t.rows.iter().enumerate() {
+            let keep = conds.iter().all(|(k, op, v)| match *op {
+                "=" => r[*k] == *v,
+                "!=" => r[*k] != *v,
+                "^=" => r[*k].starts_with(v.as_str()),
+                _ => !r[*k].starts_with(v.as_str()),
+            });
+            if !keep {
+                continue;
+            }
+            if let Some((x, text)) = figure(&r[col], &self.stat)?
+                && !(nonzero && x == 0.0)
+            {
+                rows.push((i, x, text));
+            }
+        }
+        if rows.is_empty() {
+            return Err(format!("no row with a figure matches {sel:?}"));
+        }
+        Ok(rows)
+    }
+
+    /// The figure of the one row `sel` picks, as a number and as written.
+    fn one(&self, t: &Table, sel: &str) -> Result<(f64, String), String> {
+        match self.select(t, sel)?.as_slice() {
+            [(_, x, text)] => Ok((*x, text.clone())),
+            many => Err(format!("{sel:?} matches {} rows, not one", many.len())),
+        }
+    }
+
+    /// `Ok` when the claim holds of `t` and the paragraph quotes its figures.
+    fn check(&self, t: &Table) -> Result<(), String> {
+        let quoted = |s: &str| -> Result<(), String> {
+            let alone = format!(r"(?:^|[^\d.]){}(?:[^\d]|$)", regex::escape(s));
+            if Regex::new(&alone).unwrap().is_match(&self.paragraph) {
+                Ok(())
+            } else {
+                Err(format!("the sentence does not quote {s}"))
+            }
+        };
+        if let Some((rows, range)) = self.claim.split_once(" spans ") {
+            let (lo, hi) = range
+                .split_once("..")
+                .ok_or_else(|| format!("{range:?} is not LO..HI"))?;
+            let values: Vec<f64> = match rows.split_once(" per ") {
+                Some((ratio, key)) => {
+                    let (a, b) = ratio
+                        .split_once(" / ")
+                        .ok_or_else(|| format!("{ratio:?} is not ROWS / ROWS"))?;
+                    let k = t.column(key.trim())?;
+                    let mut v = vec![];
+                    for (i, x, _) in self.select(t, a)? {
+                        let same = format!("{b},{}={}", key.trim(), t.rows[i][k]);
+                        v.push(x / self.one(t, &same)?.0);
+                    }
+                    v
+                }
+                None => self
+                    .select(t, rows)?
+                    .into_iter()
+                    .map(|(_, x, _)| x)
+                    .collect(),
+            };
+            let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+            let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let ((lo_v, lo_step), (hi_v, hi_step)) = (written(lo)?, written(hi)?);
+            if !rounds_to(min, lo_step, lo_v) || !rounds_to(max, hi_step, hi_v) {
+                return Err(format!(
+                    "the table's figures span {min:.4}..{max:.4}, not {lo}..{hi}"
+                ));
+            }
+            quoted(lo)?;
+            return quoted(hi);
+        }
+        for (op, holds) in [(" < ", f64::lt as fn(&f64, &f64) -> bool), (" > ", f64::gt)] {
+            if let Some((a, b)) = self.claim.split_once(op) {
+                let ((x, xs), (y, ys)) = (self.one(t, a)?, self.one(t, b)?);
+                if !holds(&x, &y) {
+                    return Err(format!("the table has {xs}{op}{ys} false"));
+                }
+                quoted(&xs)?;
+                return quoted(&ys);
+            }
+        }
+        Err(format!("{:?} is no claim", self.claim))
+    }
+}
+
+/// Every claim marker in the book holds of the table it names.
+#[test]
+fn the_book_s_comparisons_agree_with_their_tables() {
+    let mut n = 0;
+    let mut bad = vec![];
+    for page in markdown_in(&docs()) {
+        let text = std::fs::read_to_string(&page).unwrap();
+        for c in claims(&name(&page), &text) {
+            n += 1;
+            let table = std::fs::read_to_string(docs().join(&c.file))
+                .map(|t| Table::parse(&t))
+                .map_err(|e| format!("{}: {e}", c.file));
+            if let Err(e) = table.and_then(|t| c.check(&t)) {
+                bad.push(format!(
+                    "{}: {} | {} | {} | {}: {e}",
+                    c.at, c.file, c.column, c.stat, c.claim
+                ));
+            }
+        }
+    }
+    assert!(n > 0, "the book has no claim marker");
+    assert!(
+        bad.is_empty(),
+        "claims that disagree with their tables:\n{}",
+        bad.join("\n")
+    );
+}
+
+/// The claim checker fails on a false comparison, a wrong span, an unquoted figure and a
+/// selector that matches more than one row; a paragraph is its own list item only.
+#[test]
+fn the_claim_checker_catches_a_wrong_claim() {
+    let table = Table::parse(
+        "| scenario | tracker | path |\n| --- | --- | --- |\n\
+         | a | obc | 0.0502 / 0.0548 |\n| a | lookahead | 0.0393 / 0.0572 |\n\
+         | b | obc | 0.0200 / 0.0300 |\n| b | lookahead | 0.0500 / 0.0600 |\n",
+    );
+    let check = |claim: &str, prose: &str| {
+        let text = format!(
+            "first\n\n- before\n- {prose}\n  <!-- claim: t.md | path | {claim} -->\n- next\n\nlast"
+        );
+        let c = claims("x.md", &text);
+        assert_eq!(c.len(), 1);
+        for other in ["first", "before", "next", "last"] {
+            assert!(
+                !c[0].paragraph.contains(other),
+                "{other}: {}",
+                c[0].paragraph
+            );
+        }
+        c[0].check(&table)
+    };
+    let ok = "median | scenario=a,tracker=lookahead < scenario=a,tracker=obc";
+    assert_eq!(check(ok, "lookahead 0.0393 against 0.0502"), Ok(()));
+    assert!(check(ok, "lookahead is lower").is_err(), "unquoted");
+    let wrong = "median | scenario=a,tracker=obc < scenario=a,tracker=lookahead";
+    assert!(check(wrong, "0.0393 against 0.0502").is_err(), "false");
+    let p90 = "p90 | scenario=a,tracker=obc < scenario=a,tracker=lookahead";
+    assert_eq!(check(p90, "0.0548 against 0.0572"), Ok(()));
+    assert!(
+        check("median | tracker=obc < scenario=a,tracker=lookahead", "").is_err(),
+        "two rows"
+    );
+    // obc / lookahead: 1.277 on a, 0.4 on b
+    let ratio = "median | tracker=obc / tracker=lookahead per scenario spans";
+    assert_eq!(check(&format!("{ratio} 0.4..1.3"), "0.4 to 1.3"), Ok(()));
+    assert!(check(&format!("{ratio} 0.4..1.2"), "0.4 to 1.2").is_err());
+    assert!(check(&format!("{ratio} 1.0..1.3"), "1.0 to 1.3").is_err());
+    let span = "median | nonzero spans 0.02..0.05";
+    assert_eq!(check(span, "from 0.02 to 0.05"), Ok(()));
+    assert!(
+        check(span, "from 0.020 to 0.05").is_err(),
+        "0.02 only inside 0.020"
+    );
+    assert_eq!(written("46k"), Ok((46000.0, 1000.0)));
+    assert!(rounds_to(45676.0, 1000.0, 46000.0) && !rounds_to(45676.0, 1000.0, 45000.0));
 }

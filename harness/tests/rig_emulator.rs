@@ -1,5 +1,6 @@
 //! The physical code path against the emulator, each in its own process over real I/O
-//! (loopback TCP or a pseudo-terminal): bring-up runs, every injected fault, a killed host.
+//! (loopback TCP or a pseudo-terminal): bring-up runs, every injected fault, a killed host, an
+//! interrupted host.
 //!
 //! The emulator runs in lockstep: a frame goes out when the host has answered the last one,
 //! and fault times count frames, so machine load cannot reorder what a test checks. Nothing
@@ -471,6 +472,78 @@ fn a_killed_host_leaves_the_device_zeroing_after_the_watchdog() {
 fn a_frozen_host_on_tcp_trips_the_watchdog() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     silent_host(None, true);
+}
+
+/// Ctrl-C (a real SIGINT) mid-run: the host's handler raises the abort flag, the field is
+/// zeroed by the host (its keep-alive thread, or the loop if it sees the flag first) and the run
+/// ends as interrupted. Without the handler SIGINT would kill the host, and only the closed
+/// connection would zero the currents, with no ZERO message and no stop in the host log.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_makes_the_host_zero_the_field() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let emu = Emulator::start("open-field", &[]);
+    let host = Command::new(BIN)
+        .args(["rig", "check", "--rig"])
+        .arg(emu.rig())
+        .args(["open-field", "--duration", "60", "--out"])
+        .arg(emu.out())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for_log(&emu, "the host driving the coil", |log| {
+        log.iter()
+            .filter(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
+            .count()
+            >= 30
+    });
+    let pid = host.id().to_string();
+    assert!(
+        Command::new("kill")
+            .args(["-INT", &pid])
+            .status()
+            .unwrap()
+            .success()
+    );
+    let out = wait_or_kill(host, Duration::from_secs(30));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("interrupted: zeroing the field and stopping"),
+        "the handler did not run: {stderr}"
+    );
+    let last = stderr.lines().last().unwrap_or("");
+    assert!(
+        last.contains("interrupted") && last.ends_with("field zeroed"),
+        "{stderr}"
+    );
+    // the host log: the interrupt as a fault, then the acknowledged stop
+    let rows: Vec<String> = emu.host_log().lines().map(str::to_string).collect();
+    let kind = |r: &str| r.split(',').nth(2).unwrap_or("").to_string();
+    let fault = rows
+        .iter()
+        .position(|r| kind(r) == "fault" && r.contains("interrupted"))
+        .unwrap_or_else(|| panic!("no interrupt in the host log: {rows:?}"));
+    assert!(
+        rows[fault..]
+            .iter()
+            .any(|r| kind(r) == "stop" && r.contains("field zeroed (acknowledged)")),
+        "{rows:?}"
+    );
+    // the device saw ZERO after the last non-zero currents, and its currents are zero: the host
+    // zeroed them, not the watchdog
+    let log = log_after_zero(&emu);
+    let last_on = log
+        .iter()
+        .rposition(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
+        .unwrap();
+    assert!(
+        log[last_on..].iter().any(|e| e.name == "zero"),
+        "no ZERO after the last currents: {:?}",
+        &log[last_on..]
+    );
+    assert!(log.iter().all(|e| e.name != "watchdog"), "{log:?}");
 }
 
 /// The end-to-end run: `magbench rig run` on micro-factory against the emulator in its own

@@ -2,7 +2,9 @@
 
 use std::time::Duration;
 
-use crate::protocol::{AckStatus, Decoded, Message, PROTOCOL_VERSION, ack_flags};
+use crate::protocol::{
+    AckStatus, Decoded, Message, PROTOCOL_VERSION, WATCHDOG_MAX_MS, WATCHDOG_MIN_MS, ack_flags,
+};
 
 /// What handling one frame did, for the log.
 #[derive(Debug, Clone, PartialEq)]
@@ -112,7 +114,9 @@ impl DeviceState {
                 } else if channels as usize != self.currents.len() {
                     DeviceEvent::Refused(AckStatus::ChannelMismatch)
                 } else {
-                    self.watchdog = Duration::from_millis(watchdog_ms.clamp(20, 1000) as u64);
+                    self.watchdog = Duration::from_millis(
+                        watchdog_ms.clamp(WATCHDOG_MIN_MS, WATCHDOG_MAX_MS) as u64,
+                    );
                     DeviceEvent::Hello {
                         watchdog_ms: self.watchdog.as_millis() as u32,
                     }

@@ -3,6 +3,14 @@
 /// Protocol version carried by [`Message::Hello`].
 pub const PROTOCOL_VERSION: u8 = 1;
 
+/// The shortest device watchdog (ms): the device raises a shorter [`Message::Hello`] request to
+/// this.
+pub const WATCHDOG_MIN_MS: u16 = 20;
+
+/// The longest device watchdog (ms): the device lowers a longer [`Message::Hello`] request to
+/// this, so a dead host's field is zeroed within a second whatever the host asked.
+pub const WATCHDOG_MAX_MS: u16 = 1000;
+
 /// Message type bytes.
 pub mod msg_type {
     /// Host → device: open a session.
@@ -83,7 +91,8 @@ pub enum Message {
         version: u8,
         /// Number of current channels the host will send.
         channels: u8,
-        /// The device watchdog timeout the host asks for (ms).
+        /// The device watchdog timeout the host asks for (ms); the device clamps it to
+        /// [`WATCHDOG_MIN_MS`]..=[`WATCHDOG_MAX_MS`].
         watchdog_ms: u16,
     },
     /// Set every channel's current (A).

@@ -21,4 +21,6 @@ mod codec;
 mod message;
 
 pub use codec::{Decoded, Decoder, FRAME_OVERHEAD, MAX_PAYLOAD, SYNC, encode};
-pub use message::{AckStatus, Message, PROTOCOL_VERSION, ack_flags, msg_type};
+pub use message::{
+    AckStatus, Message, PROTOCOL_VERSION, WATCHDOG_MAX_MS, WATCHDOG_MIN_MS, ack_flags, msg_type,
+};

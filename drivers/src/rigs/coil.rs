@@ -83,7 +83,7 @@ impl PhysicalRig {
         log: Option<PathBuf>,
     ) -> Result<Self, HardwareError> {
         let field = cfg.coil.field_mt.unwrap_or(scenario.physics.field_mt);
-        let abort = interrupt::interrupt_flag();
+        let abort = interrupt::interrupt_flag()?;
         let rig = HardwareRig::open(cfg, field, &scenario.start, abort.clone(), log.as_deref())?;
         Ok(Self {
             rig,

@@ -12,7 +12,7 @@ use magbench_drivers::emulator::render::RenderParams;
 use magbench_drivers::emulator::{self, DeviceEndpoint, EmulatorConfig};
 use magbench_drivers::rigfile::{CoilEndpoint, RigConfig};
 use magbench_drivers::rigs::preset_named;
-use magbench_drivers::{HardwareRig, check, interrupt, replay};
+use magbench_drivers::{HardwareError, HardwareRig, check, interrupt, replay};
 use magbench_env::Scenario;
 
 use super::output::{emit, outln, prepare_dir, prepare_file};
@@ -354,13 +354,8 @@ fn open_rig(
 ) -> Result<(RigConfig, HardwareRig), CliError> {
     let rig = RigConfig::load(rig_path)?;
     let field = rig.coil.field_mt.unwrap_or(scenario.physics.field_mt);
-    let hw = HardwareRig::open(
-        &rig,
-        field,
-        &scenario.start,
-        interrupt::interrupt_flag(),
-        log,
-    )?;
+    let abort = interrupt::interrupt_flag().map_err(HardwareError::from)?;
+    let hw = HardwareRig::open(&rig, field, &scenario.start, abort, log)?;
     Ok((rig, hw))
 }
 
