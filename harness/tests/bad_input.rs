@@ -533,8 +533,21 @@ fn planning_options_name_their_bad_values() {
         a.extend_from_slice(extra);
         a.into_iter().map(String::from).collect::<Vec<_>>()
     };
-    let cases: [(&[&str], &[&str]); 13] = [
+    let cases: [(&[&str], &[&str]); 15] = [
         (&["--flow", "bogus"], &["--flow", "bogus", "pair-adaptive"]),
+        // every squared distance would overflow to inf, and the tree never grow
+        (
+            &["--metric", "centroid-shape:1e308:1"],
+            &[
+                "--metric",
+                "centroid weight 1e308",
+                "must be in [1e-6, 1e6]",
+            ],
+        ),
+        (
+            &["--metric", "centroid-shape:1:1e-300"],
+            &["--metric", "shape weight 1e-300", "must be in [1e-6, 1e6]"],
+        ),
         (
             &["--param", "approach_radius=-1"],
             &["param.approach_radius", "must be in [0,", "got -1"],
