@@ -287,6 +287,32 @@ fn scenario_values_that_crashed_later_are_refused_by_check_and_plan() {
     }
 }
 
+/// Two lobes of an obstacle that touch where a vertex of one lies on an edge of the other are
+/// refused alike in decimal and in binary-exact coordinates (the same shape, touching at
+/// (0.1, 0.3) and at (0.125, 0.375)).
+#[test]
+fn lobes_touching_at_a_vertex_are_refused_in_either_coordinate_form() {
+    let d = tempfile::tempdir().unwrap();
+    for lobes in [
+        "[[0.0, 0.2], [0.2, 0.4], [0.3, 0.3], [0.25, 0.25], [0.1, 0.3], [0.15, 0.15]]",
+        "[[0.0, 0.25], [0.25, 0.5], [0.375, 0.375], [0.3125, 0.3125], [0.125, 0.375], [0.1875, 0.1875]]",
+    ] {
+        let text = SCENARIO.replace(
+            "[[10.0, 0.0], [12.0, 0.0], [12.0, 8.0], [10.0, 8.0]]",
+            lobes,
+        );
+        let f = scenario(d.path(), &text);
+        refused(
+            &["scenario", "check", &f],
+            &[
+                &f,
+                "world.obstacles[0].polygon",
+                "self-intersecting polygon",
+            ],
+        );
+    }
+}
+
 #[test]
 fn a_10000_vertex_polygon_is_refused_with_its_bound() {
     let d = tempfile::tempdir().unwrap();
@@ -533,8 +559,21 @@ fn planning_options_name_their_bad_values() {
         a.extend_from_slice(extra);
         a.into_iter().map(String::from).collect::<Vec<_>>()
     };
-    let cases: [(&[&str], &[&str]); 13] = [
+    let cases: [(&[&str], &[&str]); 15] = [
         (&["--flow", "bogus"], &["--flow", "bogus", "pair-adaptive"]),
+        // every squared distance would overflow to inf, and the tree never grow
+        (
+            &["--metric", "centroid-shape:1e308:1"],
+            &[
+                "--metric",
+                "centroid weight 1e308",
+                "must be in [1e-6, 1e6]",
+            ],
+        ),
+        (
+            &["--metric", "centroid-shape:1:1e-300"],
+            &["--metric", "shape weight 1e-300", "must be in [1e-6, 1e6]"],
+        ),
         (
             &["--param", "approach_radius=-1"],
             &["param.approach_radius", "must be in [0,", "got -1"],

@@ -350,6 +350,39 @@ fn garbage_scenarios_are_refused() {
     }
 }
 
+/// `time_slack` is simulated time granted beyond each plan's own: 1e6 s would track an
+/// unsolved plan for minutes of wall time (and keep a log row per frame of it), in `track`
+/// and in `bench`.
+#[test]
+fn a_time_slack_beyond_its_maximum_is_refused() {
+    let why = ["param.time_slack", "must be in [0, 600]", "1e6"];
+    refused(
+        &[
+            "track",
+            "micro-factory",
+            "--tracker",
+            "obc",
+            "--planner",
+            "rrt-star",
+            "--max-iters",
+            "20",
+            "--param",
+            "time_slack=1e6",
+        ],
+        &why,
+    );
+    let d = tempfile::tempdir().unwrap();
+    let e = write(
+        d.path(),
+        "e.toml",
+        "name = \"e\"\nscenarios = [\"micro-factory\"]\nplanners = [\"rrt-star\"]\ntrackers = [\"obc{time_slack=1e6}\"]\nseeds = 1\n[limits]\niterations = 20\n",
+    );
+    refused(
+        &["bench", &e, "--dry-run"],
+        &[&e, "trackers[0].time_slack", "must be in [0, 600]"],
+    );
+}
+
 #[test]
 fn experiment_parameter_errors_name_the_key() {
     let d = tempfile::tempdir().unwrap();

@@ -52,6 +52,24 @@ fn json_is_one_object_with_the_documented_keys() {
 }
 
 #[test]
+fn help_states_the_default_time_limit() {
+    for cmd in ["plan", "track", "rig"] {
+        let args: &[&str] = if cmd == "rig" {
+            &["rig", "run", "--help"]
+        } else {
+            &[cmd, "--help"]
+        };
+        let (code, stdout, _) = magbench(args);
+        assert_eq!(code, 0);
+        let flat = stdout.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(
+            flat.contains("--time-limit <TIME_LIMIT> Planner wall-time limit of every planning call (s; default 60"),
+            "{cmd}: {stdout}"
+        );
+    }
+}
+
+#[test]
 fn unsolved_exits_zero_with_null_cost() {
     let (code, stdout, _) = magbench(&[
         "plan",

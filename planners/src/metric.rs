@@ -17,6 +17,16 @@ pub fn floor_exceeds(floor: f64, best: f64) -> bool {
     floor > best * (1.0 + FLOOR_MARGIN) + FLOOR_MARGIN
 }
 
+/// Largest `centroid-shape` weight. The largest distance of any scenario, between two teams of
+/// [`MAX_AGENTS`] agents at opposite corners of the largest world
+/// ([`magbench_env::scenario::MAX_WORLD_BL`] a side), is then at most
+/// `1e6 · √(8 · 2) · 1e4 ≈ 4e10` and its square 1.6e21: no sum of squared distances overflows.
+pub const MAX_WEIGHT: f64 = 1e6;
+
+/// Smallest `centroid-shape` weight: the square of a 1e-12 BL displacement (the planners'
+/// rounding) under it is 1e-36, far above where squares underflow.
+pub const MIN_WEIGHT: f64 = 1e-6;
+
 /// Largest embedding dimension (two coordinates per agent).
 pub const MAX_DIMS: usize = 2 * MAX_AGENTS;
 
@@ -53,9 +63,18 @@ pub enum MetricError {
     /// `centroid-shape` with other than two weights.
     #[error("expected centroid-shape:W_CENTROID:W_SHAPE")]
     WeightCount,
-    /// A weight is not finite and > 0.
-    #[error("metric weights must be finite and > 0")]
-    NotPositive,
+    /// A weight outside [[`MIN_WEIGHT`], [`MAX_WEIGHT`]].
+    #[error(
+        "{which} weight {text} must be in [{min:e}, {max:e}] (a larger weight can overflow a distance, a smaller one underflow it)",
+        min = MIN_WEIGHT,
+        max = MAX_WEIGHT
+    )]
+    WeightOutOfRange {
+        /// `centroid` or `shape`.
+        which: &'static str,
+        /// The text given.
+        text: String,
+    },
     /// No metric of that name.
     #[error("unknown metric {0:?} (expected positions or centroid-shape:W_C:W_S)")]
     Unknown(String),
@@ -71,21 +90,9 @@ impl Metric {
             let parts: Vec<&str> = rest.split(':').skip(1).collect();
             let (wc, ws) = match parts.as_slice() {
                 [] => (1.0, 1.0),
-                [a, b] => (
-                    a.parse::<f64>().map_err(|_| MetricError::BadWeight {
-                        which: "centroid",
-                        text: a.to_string(),
-                    })?,
-                    b.parse::<f64>().map_err(|_| MetricError::BadWeight {
-                        which: "shape",
-                        text: b.to_string(),
-                    })?,
-                ),
+                [a, b] => (weight("centroid", a)?, weight("shape", b)?),
                 _ => return Err(MetricError::WeightCount),
             };
-            if !(wc.is_finite() && ws.is_finite() && wc > 0.0 && ws > 0.0) {
-                return Err(MetricError::NotPositive);
-            }
             return Ok(Metric::CentroidShape {
                 centroid: wc,
                 shape: ws,
@@ -173,6 +180,22 @@ impl Metric {
     }
 }
 
+/// The `which` weight of `centroid-shape` written `text`: a number in
+/// [[`MIN_WEIGHT`], [`MAX_WEIGHT`]].
+fn weight(which: &'static str, text: &str) -> Result<f64, MetricError> {
+    let w = text.parse::<f64>().map_err(|_| MetricError::BadWeight {
+        which,
+        text: text.to_string(),
+    })?;
+    if !(MIN_WEIGHT..=MAX_WEIGHT).contains(&w) {
+        return Err(MetricError::WeightOutOfRange {
+            which,
+            text: text.to_string(),
+        });
+    }
+    Ok(w)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -211,6 +234,29 @@ mod tests {
         assert!(
             (m.distance(&a, &spread) - 3.0 * Metric::Positions.distance(&a, &spread)).abs() < 1e-12
         );
+    }
+
+    #[test]
+    fn weights_that_could_overflow_a_distance_are_refused() {
+        for text in [
+            "centroid-shape:1e308:1",
+            "centroid-shape:1:1e200",
+            "centroid-shape:1e-300:1",
+            "centroid-shape:1:1e7",
+        ] {
+            let e = Metric::parse(text).unwrap_err().to_string();
+            assert!(e.contains("must be in [1e-6, 1e6]"), "{text}: {e}");
+        }
+        // the largest weights accepted keep the largest distance of any scenario finite: two
+        // teams of the most agents at opposite corners of the largest world
+        let m = Metric::parse("centroid-shape:1e6:1e6").unwrap();
+        let side = magbench_env::scenario::MAX_WORLD_BL;
+        let a = vec![Vec2::new(0.0, 0.0); MAX_AGENTS];
+        let b: Vec<Vec2> = (0..MAX_AGENTS)
+            .map(|i| Vec2::new(side, if i % 2 == 0 { side } else { 0.0 }))
+            .collect();
+        assert!(m.distance_squared(&a, &b).is_finite());
+        assert!(m.distance_squared(&a, &b) > 0.0);
     }
 
     #[test]

@@ -13,7 +13,7 @@ mod write;
 
 pub use builtin::{BUILTIN, builtin_names, builtin_source};
 pub use difficulty::Difficulty;
-pub use file::parse_scenario;
+pub use file::{MAX_WORLD_BL, parse_scenario};
 pub use write::Draft;
 
 use std::sync::Arc;

@@ -1,14 +1,17 @@
 //! Polygon well-formedness: enough vertices, non-zero area, no self-intersection.
 
 use crate::math::Vec2;
-use parry2d_f64::math::Vector;
-use parry2d_f64::utils::segments_intersection2d;
 
 /// Signed area (positive when the vertices run counter-clockwise).
 pub fn signed_area(v: &[Vec2]) -> f64 {
     let n = v.len();
     (0..n).map(|i| v[i].perp(&v[(i + 1) % n])).sum::<f64>() * 0.5
 }
+
+/// Two non-adjacent edges closer than this times the polygon's largest coordinate (at least
+/// 1 BL) touch. Far above the rounding of coordinates written in decimal (a vertex typed onto
+/// an edge is about 1e-17 times its coordinates off it), far below any gap a map means.
+pub const TOUCH_TOLERANCE: f64 = 1e-9;
 
 /// Most vertices of one polygon. Far more than any map needs; the bound keeps a checked
 /// scenario's collision queries fast and the self-intersection check's worst case small.
@@ -40,6 +43,10 @@ pub enum PolygonError {
 /// distinct ones, non-zero area, and no two non-adjacent edges touching. Returns the reason
 /// when it is not.
 ///
+/// Two edges touch when they cross (exact orientation tests) or come closer than
+/// [`TOUCH_TOLERANCE`] times the largest coordinate: a vertex on another edge, or two lobes
+/// meeting at a point, is refused alike whether its coordinates are binary-exact or decimal.
+///
 /// Edges are swept in order of their smallest x: only edges whose x-ranges overlap are tested
 /// against each other, so an ordinary polygon is checked in about n log n.
 pub fn check_polygon(v: &[Vec2]) -> Result<(), PolygonError> {
@@ -55,7 +62,10 @@ pub fn check_polygon(v: &[Vec2]) -> Result<(), PolygonError> {
             return Err(PolygonError::Coincident(i, (i + 1) % n));
         }
     }
-    let p = |i: usize| Vector::new(v[i % n].x, v[i % n].y);
+    let scale = v
+        .iter()
+        .fold(1.0_f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    let tol = TOUCH_TOLERANCE * scale;
     let x_range = |i: usize| {
         let (a, b) = (v[i].x, v[(i + 1) % n].x);
         (a.min(b), a.max(b))
@@ -71,17 +81,17 @@ pub fn check_polygon(v: &[Vec2]) -> Result<(), PolygonError> {
     for &j in &order {
         let xj0 = x_range(j).0;
         let (yj0, yj1) = y_range(j);
-        active.retain(|&i| x_range(i).1 >= xj0 - 1e-12);
+        active.retain(|&i| x_range(i).1 >= xj0 - tol);
         for &i in &active {
             let (a, b) = (i.min(j), i.max(j));
             if b == a + 1 || (a == 0 && b == n - 1) {
                 continue; // adjacent edges share a vertex
             }
             let (yi0, yi1) = y_range(i);
-            if yi1 < yj0 - 1e-12 || yj1 < yi0 - 1e-12 {
+            if yi1 < yj0 - tol || yj1 < yi0 - tol {
                 continue;
             }
-            if segments_intersection2d(p(a), p(a + 1), p(b), p(b + 1), 1e-12).is_some() {
+            if segments_touch([v[a], v[a + 1]], [v[b], v[(b + 1) % n]], tol) {
                 return Err(PolygonError::Crossing(a, b));
             }
         }
@@ -91,6 +101,28 @@ pub fn check_polygon(v: &[Vec2]) -> Result<(), PolygonError> {
         return Err(PolygonError::ZeroArea);
     }
     Ok(())
+}
+
+/// Whether the segments `s` and `t` cross or come within `tol` of each other: a proper
+/// crossing by the signs of exact orientations ([`robust::orient2d`]), anything else by the
+/// distance of an end to the other segment (the closest two segments that do not cross come).
+pub fn segments_touch(s: [Vec2; 2], t: [Vec2; 2], tol: f64) -> bool {
+    let orient = |a: Vec2, b: Vec2, c: Vec2| {
+        let p = |q: Vec2| robust::Coord { x: q.x, y: q.y };
+        robust::orient2d(p(a), p(b), p(c))
+    };
+    let opposite = |x: f64, y: f64| (x > 0.0 && y < 0.0) || (x < 0.0 && y > 0.0);
+    if opposite(orient(s[0], s[1], t[0]), orient(s[0], s[1], t[1]))
+        && opposite(orient(t[0], t[1], s[0]), orient(t[0], t[1], s[1]))
+    {
+        return true;
+    }
+    let near = |p: Vec2, [a, b]: [Vec2; 2]| {
+        let ab = b - a;
+        let along = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
+        (a + ab * along - p).norm() <= tol
+    };
+    near(t[0], s) || near(t[1], s) || near(s[0], t) || near(s[1], t)
 }
 
 #[cfg(test)]
@@ -120,6 +152,77 @@ mod tests {
         assert!(check_polygon(&pts(&[[0.0, 0.0], [1.0, 0.0]])).is_err());
     }
 
+    /// Two lobes, `V B G E` and `A V H`, that touch where the vertex `V` of one lies halfway
+    /// along the edge `A B` of the other, in decimal coordinates and in binary-exact ones: in
+    /// binary floating point (0.1, 0.3) is not exactly on the edge from (0, 0.2) to (0.2, 0.4),
+    /// while (0.125, 0.375) is exactly on the one from (0, 0.25) to (0.25, 0.5).
+    const TOUCHING_LOBES: [[[f64; 2]; 6]; 2] = [
+        [
+            [0.0, 0.2],
+            [0.2, 0.4],
+            [0.3, 0.3],
+            [0.25, 0.25],
+            [0.1, 0.3],
+            [0.15, 0.15],
+        ],
+        [
+            [0.0, 0.25],
+            [0.25, 0.5],
+            [0.375, 0.375],
+            [0.3125, 0.3125],
+            [0.125, 0.375],
+            [0.1875, 0.1875],
+        ],
+    ];
+
+    #[test]
+    fn lobes_touching_at_a_vertex_are_refused_in_decimal_and_binary_coordinates() {
+        for lobes in TOUCHING_LOBES {
+            for scale in [1.0, 10.0, 1000.0] {
+                let v: Vec<Vec2> = pts(&lobes).iter().map(|p| p * scale).collect();
+                let r = check_polygon(&v);
+                assert!(
+                    matches!(r, Err(PolygonError::Crossing(0, 3 | 4))),
+                    "{v:?}: {r:?}"
+                );
+            }
+        }
+        // the touching vertex moved a hundredth of a body length off the edge: simple
+        let mut apart = pts(&TOUCHING_LOBES[0]);
+        apart[4].x += 0.01;
+        assert_eq!(check_polygon(&apart), Ok(()));
+    }
+
+    /// A vertex halfway along a non-adjacent edge, at random decimal coordinates (hundredths),
+    /// is a touch wherever it lies.
+    #[test]
+    fn a_vertex_on_another_edge_is_a_touch_at_any_decimal_coordinates() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        let tenth = |rng: &mut rand_chacha::ChaCha8Rng, lo: i32, hi: i32| {
+            rng.random_range(lo..=hi) as f64 / 10.0
+        };
+        for _ in 0..2000 {
+            let v = Vec2::new(tenth(&mut rng, -50, 50), tenth(&mut rng, -50, 50));
+            let d = Vec2::new(tenth(&mut rng, 1, 9), tenth(&mut rng, -9, 9));
+            let n = Vec2::new(d.y, -d.x) * 2.0;
+            let lobes = [v - d, v + d, v + d + n, v + n + d * 0.5, v, v + n - d * 0.5];
+            // written as a file gives them: each coordinate the double nearest its decimal
+            let typed: Vec<Vec2> = lobes
+                .iter()
+                .map(|p| {
+                    let r = |x: f64| format!("{x:.2}").parse::<f64>().unwrap();
+                    Vec2::new(r(p.x), r(p.y))
+                })
+                .collect();
+            let r = check_polygon(&typed);
+            assert!(
+                matches!(r, Err(PolygonError::Crossing(..))),
+                "{typed:?}: {r:?}"
+            );
+        }
+    }
+
     /// A regular polygon of `n` vertices, optionally with vertex `k` pulled across the centre.
     fn star(n: usize, bad: Option<usize>) -> Vec<Vec2> {
         (0..n)
@@ -142,6 +245,8 @@ mod tests {
 
     #[test]
     fn the_sweep_finds_what_the_all_pairs_check_finds() {
+        use parry2d_f64::math::Vector;
+        use parry2d_f64::utils::segments_intersection2d;
         use rand::{RngExt, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
         for _ in 0..2000 {

@@ -9,7 +9,7 @@ use magbench_planners::{ElevationRefused, Limits, PlanningSetup};
 
 use super::number::count;
 use crate::CliError;
-use crate::run::spec::{ITERATIONS, time_limit};
+use crate::run::spec::{DEFAULT_TIME_LIMIT_S, ITERATIONS, time_limit};
 
 /// The planning setup options.
 #[derive(Debug, Clone, Args)]
@@ -41,7 +41,7 @@ impl SetupArgs {
     /// naming the option.
     pub fn setup(&self) -> Result<PlanningSetup, CliError> {
         let mut setup = PlanningSetup {
-            limits: self.limits.limits()?.unwrap_or_default(),
+            limits: self.limits.limits()?,
             ..PlanningSetup::default()
         };
         for (key, value) in [
@@ -92,31 +92,34 @@ pub fn check_elevation(
 /// `--max-iters` and `--time-limit`.
 #[derive(Debug, Clone, Args)]
 pub struct LimitArgs {
-    /// Planner iteration limit of every planning call (200000 when no limit is given).
+    /// Planner iteration limit of every planning call (200000 when neither limit is given;
+    /// none when only --time-limit is).
     #[arg(long)]
     pub max_iters: Option<u64>,
-    /// Planner wall-time limit of every planning call (s). Results are reproducible only with
-    /// an iteration limit.
+    /// Planner wall-time limit of every planning call (s; default 60, at most a week). A run
+    /// that reaches it depends on the machine; one that stops at --max-iters is reproducible.
     #[arg(long)]
     pub time_limit: Option<f64>,
 }
 
 impl LimitArgs {
-    /// The limits, or `None` when neither is given; exit 2 on a bad value.
-    pub fn limits(&self) -> Result<Option<Limits>, CliError> {
+    /// The limits: `--max-iters` (200 000 iterations when neither option is given, no
+    /// iteration limit when only `--time-limit` is) and `--time-limit` (or
+    /// [`DEFAULT_TIME_LIMIT_S`]); exit 2 on a bad value.
+    pub fn limits(&self) -> Result<Limits, CliError> {
         if let Some(n) = self.max_iters {
             count("--max-iters", &ITERATIONS, n)?;
         }
-        let time_limit = match self.time_limit {
-            Some(t) => Some(time_limit(t).map_err(|r| CliError::rejected("--time-limit", r))?),
-            None => None,
+        let t = self.time_limit.unwrap_or(DEFAULT_TIME_LIMIT_S);
+        let time = time_limit(t).map_err(|r| CliError::rejected("--time-limit", r))?;
+        let max_iterations = match (self.max_iters, self.time_limit) {
+            (None, None) => Limits::default().max_iterations,
+            (n, _) => n,
         };
-        Ok(
-            (self.max_iters.is_some() || time_limit.is_some()).then_some(Limits {
-                max_iterations: self.max_iters,
-                time_limit,
-            }),
-        )
+        Ok(Limits {
+            max_iterations,
+            time_limit: Some(time),
+        })
     }
 }
 
@@ -155,9 +158,39 @@ mod tests {
             max_iters: Some(5),
             time_limit: Some(2.5),
         };
-        let l = a.limits().unwrap().unwrap();
+        let l = a.limits().unwrap();
         assert_eq!(l.max_iterations, Some(5));
         assert_eq!(l.time_limit, Some(Duration::from_millis(2500)));
+    }
+
+    #[test]
+    fn without_limits_a_planning_call_gets_the_default_time_limit() {
+        use clap::Parser;
+        for cmd in [
+            vec!["magbench", "plan", "open-field", "--planner", "sst"],
+            vec!["magbench", "track", "open-field", "--tracker", "obc"],
+            vec![
+                "magbench",
+                "plan",
+                "open-field",
+                "--planner",
+                "sst",
+                "--max-iters",
+                "9",
+            ],
+        ] {
+            let setup = match crate::cli::Args::try_parse_from(&cmd).unwrap().command {
+                crate::cli::Command::Plan(a) => a.setup.setup().unwrap(),
+                crate::cli::Command::Track(a) => a.setup.setup().unwrap(),
+                _ => unreachable!(),
+            };
+            assert_eq!(
+                setup.limits.time_limit,
+                Some(Duration::from_secs(60)),
+                "{cmd:?}"
+            );
+            assert!(setup.limits.max_iterations.is_some(), "{cmd:?}");
+        }
     }
 
     #[test]

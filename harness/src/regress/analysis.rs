@@ -90,7 +90,7 @@ pub struct Comparison {
     /// The change, with its interval.
     pub change: Change,
     /// The p-value of the one-sided test for a regression: Holm-adjusted over the gated
-    /// metrics, unadjusted for the others.
+    /// metrics, or over the others for a metric that is not gated.
     pub p: Option<f64>,
     /// Verdict.
     pub verdict: Verdict,
@@ -131,7 +131,8 @@ impl Comparison {
     }
 }
 
-/// Sets the verdicts of tested rows: Holm over the gated rows' regression tests.
+/// Sets the verdicts of tested rows: Holm over the gated rows' regression tests, and apart
+/// over the other rows' ([`adjust`]).
 fn decide(rows: &mut [Comparison], alpha: f64) {
     let tested: Vec<usize> = (0..rows.len())
         .filter(|&i| rows[i].test.is_some())

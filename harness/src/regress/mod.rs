@@ -3,7 +3,8 @@
 //! Per configuration (scenario, planner, tracker, preset) and metric, one of three verdicts:
 //!
 //! - **regression**: a change beyond the tolerance is shown — a one-sided test that the change
-//!   exceeds the tolerance, Holm-adjusted over the gated metrics of the whole table;
+//!   exceeds the tolerance, Holm-adjusted over the gated metrics of the whole table (and, for
+//!   the metrics shown but not gated, apart over those);
 //! - **ok**: the change is shown to be within the tolerance — the worse end of the two-sided
 //!   `1 − 2α` interval lies inside it (the non-inferiority half of TOST);
 //! - **inconclusive**: neither, with the seeds per folder that would likely resolve it.

@@ -210,6 +210,12 @@ pub fn footer(rows: &[Comparison], tol: &Tolerances, policy: OnInconclusive) -> 
         .filter(|r| !r.gated && r.verdict != Verdict::New)
         .count();
     let family = rows.iter().filter(|r| r.gated && r.p.is_some()).count();
+    let shown = rows.iter().filter(|r| !r.gated && r.p.is_some()).count();
+    let shown = if shown > 0 {
+        format!(", and apart over the {shown} tests not gated")
+    } else {
+        String::new()
+    };
     out += &format!(
         "summary: {} ok, {} inconclusive, {} regression, {} missing{}\n",
         gated(Verdict::Ok),
@@ -223,7 +229,7 @@ pub fn footer(rows: &[Comparison], tol: &Tolerances, policy: OnInconclusive) -> 
         }
     );
     out += &format!(
-        "method: regression = a one-sided test that the change exceeds the tolerance, Holm-adjusted over {family} gated tests (family-wise α = {}); ok = the worse end of the {}% interval inside the tolerance; tolerances: success −{} points, error/cost/iterations +{}%, time +{}%\n",
+        "method: regression = a one-sided test that the change exceeds the tolerance, Holm-adjusted over {family} gated tests (family-wise α = {}){shown}; ok = the worse end of the {}% interval inside the tolerance; tolerances: success −{} points, error/cost/iterations +{}%, time +{}%\n",
         tol.alpha,
         fmt(100.0 * (1.0 - 2.0 * tol.alpha)),
         fmt(100.0 * tol.success),

@@ -280,6 +280,45 @@ fn a_a_comparisons_raise_false_alarms_at_most_at_rate_alpha() {
     assert!(ok > total / 4, "{ok} of {total} ok");
 }
 
+/// Over 100 comparisons of two samples of the same distribution on different seeds, with every
+/// ungated metric (the shown ones and, by default, the wall-clock ones) filled, the share of
+/// tables that show a "REGRESSION" anywhere stays at most α: ungated verdicts are corrected for
+/// their multiplicity as the gated ones are.
+#[test]
+fn a_a_comparisons_of_many_ungated_metrics_show_no_regression_beyond_rate_alpha() {
+    use crate::metrics::Regress;
+    let ungated: Vec<Metric> = Metric::ALL
+        .iter()
+        .copied()
+        .filter(|m| matches!(m.def().regress, Regress::Shown | Regress::WallClock))
+        .collect();
+    assert!(ungated.len() >= 10, "{ungated:?}");
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let mut shown = 0;
+    for k in 0..100u64 {
+        let n = [8, 12, 20][k as usize % 3];
+        let side = |rng: &mut ChaCha8Rng, from: u64| {
+            let e = lognormal(rng, n, 0.1, 0.3);
+            let mut r = runs(&seeds(from, n), &e, &vec![true; n]);
+            for &m in &ungated {
+                for (r, v) in r.iter_mut().zip(lognormal(rng, n, 5.0, 1.0)) {
+                    r.set(m, Some(v));
+                }
+            }
+            r
+        };
+        let (b, c) = (side(&mut rng, 0), side(&mut rng, 1000));
+        let rows = compare(&b, &c, &TOL);
+        if table(&rows, &TOL).contains("REGRESSION") {
+            shown += 1;
+        }
+    }
+    assert!(
+        shown <= 5,
+        "{shown} of 100 A/A comparisons showed a REGRESSION"
+    );
+}
+
 #[test]
 fn slower_times_are_reported_but_not_gated_by_default() {
     let e = vec![0.1; 20];

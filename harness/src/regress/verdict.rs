@@ -1,4 +1,5 @@
-//! Verdicts: a one-sided test for a regression (Holm-adjusted over the gated metrics), an
+//! Verdicts: a one-sided test for a regression (Holm-adjusted over the gated metrics, and
+//! apart over the ungated ones), an
 //! interval inside the tolerance for "ok", and otherwise "inconclusive" with the number of
 //! seeds that would likely resolve it.
 
@@ -66,14 +67,17 @@ pub fn verdict_of(t: &Test, p_adjusted: f64, alpha: f64) -> (Verdict, bool) {
     (v, t.hi < -t.tol)
 }
 
-/// Holm-adjusted p-values of the family `gated` (the indices of `p` that can fail the
-/// check); the other entries keep their own p-value.
+/// Holm-adjusted p-values in two families: the entries `gated` marks (those that can fail the
+/// check), and the others (shown, not gated), so that neither family's verdicts show a
+/// regression more often than at level α when nothing changed.
 pub fn adjust(p: &[f64], gated: &[bool]) -> Vec<f64> {
-    let family: Vec<usize> = (0..p.len()).filter(|&i| gated[i]).collect();
-    let adj = holm(&family.iter().map(|&i| p[i]).collect::<Vec<_>>());
     let mut out = p.to_vec();
-    for (k, &i) in family.iter().enumerate() {
-        out[i] = adj[k];
+    for in_family in [true, false] {
+        let family: Vec<usize> = (0..p.len()).filter(|&i| gated[i] == in_family).collect();
+        let adj = holm(&family.iter().map(|&i| p[i]).collect::<Vec<_>>());
+        for (k, &i) in family.iter().enumerate() {
+            out[i] = adj[k];
+        }
     }
     out
 }

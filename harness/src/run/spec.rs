@@ -31,6 +31,12 @@ pub const TIME_LIMIT: Bound = Bound::above(
     "a week, far beyond any useful plan",
 );
 
+/// Planning time limit of every planning call of `plan`, `track` and `rig run` when
+/// `--time-limit` is not given (s): a minute, several times what 200 000 iterations of the
+/// built-in planners take on the built-in scenarios, so only a planner far slower than those
+/// (a plugin, a hard scenario) is cut short.
+pub const DEFAULT_TIME_LIMIT_S: f64 = 60.0;
+
 /// Memory one planner iteration may take at most (bytes): a planner keeps at most one tree node
 /// per iteration (its states, control, links and its place in the neighbour index), about
 /// 360 B for four agents (`plan quad-square --planner rrt-star`: 4.3 MB more peak memory for

@@ -52,6 +52,12 @@ use crate::tracker::{Tick, Tracker, TrackerContext};
 /// iteration limit, above the p95 of a pair's from-scratch drift replans (docs/replanning.md).
 pub const REPLAN_ITERATIONS: usize = 20_000;
 
+/// Largest `time_slack` (s of tracked time beyond `time_factor` × a plan's duration): ten
+/// minutes, many times what the built-in scenarios' plans last. A run that does not reach its
+/// goal lasts its whole allowance, and keeps a log row per camera frame of it: 1e6 s tracked
+/// an unsolved plan for minutes of wall time.
+pub const MAX_TIME_SLACK_S: f64 = 600.0;
+
 declare_params! {
     /// Settings of the loop (not of a tracker); every tracker takes them as parameters, with
     /// its own defaults ([`Tracker::loop_options`]).
@@ -90,8 +96,8 @@ declare_params! {
         /// its first plan, where the stall rule applies).
         #[param("time_factor", Reals::closed(1.0, 1e3))]
         pub time_factor: f64 = 3.0,
-        /// See time_factor (s).
-        #[param("time_slack", Reals::closed(0.0, 1e6))]
+        /// See time_factor (s; at most [`MAX_TIME_SLACK_S`]).
+        #[param("time_slack", Reals::closed(0.0, MAX_TIME_SLACK_S))]
         pub time_slack: f64 = 20.0,
         /// Seconds the team must stay in a goal region to complete a leg.
         #[param("hold", Reals::closed(0.0, 1e3))]
