@@ -112,6 +112,9 @@ const EXTEND_CHECKS: usize = 4;
 /// Most extensions of one CONNECT toward the goal's shape.
 const CONNECT_STEPS: usize = 50;
 
+/// One edge of HOLD: its control, duration in periods and end.
+type HoldEdge = (Control, u32, Vec<Vec2>);
+
 /// One try of EXTEND or HOLD: its control, duration in periods and its end's shape distance
 /// to the target.
 #[derive(Clone, Copy)]
@@ -267,7 +270,7 @@ impl FormationRrt {
         goal: &[Vec2],
         tolerance: f64,
         alpha_max: f64,
-    ) -> Option<Vec<(Control, u32, Vec<Vec2>)>> {
+    ) -> Option<Vec<HoldEdge>> {
         let n = q.len();
         let set = hold_set(alpha_max, carry.goal - centroid(q));
         let max_steps = (self.hold / problem.control_period).ceil() as usize;
@@ -279,13 +282,9 @@ impl FormationRrt {
                 return Some(edges);
             }
             let ranked = self.ranked_tries(problem, &at, carry, goal, self.stay, &set);
-            let Some(best) = ranked
-                .into_iter()
-                .take(HOLD_CHECKS)
-                .find(|t| propagate_valid(problem, &at, &t.control, problem.periods(1), &mut next))
-            else {
-                return None;
-            };
+            let best = ranked.into_iter().take(HOLD_CHECKS).find(|t| {
+                propagate_valid(problem, &at, &t.control, problem.periods(1), &mut next)
+            })?;
             at.copy_from_slice(&next);
             if shape_max_distance(&at, goal) > tolerance {
                 return None;
@@ -373,7 +372,7 @@ impl Planner for FormationRrt {
         let mut nn = NearestNeighbors::new(metric, n);
         nn.add(&problem.start, 0);
         let mut closest = (0u32, shape_max_distance(&problem.start, &goal.agents));
-        let mut found: Option<(u32, Vec<(Control, u32, Vec<Vec2>)>)> = None;
+        let mut found: Option<(u32, Vec<HoldEdge>)> = None;
         let tried_hold = |node: u32, state: &[Vec2], found: &mut Option<_>| {
             if shape_max_distance(state, &goal.agents) <= fit
                 && let Some(edges) = self.hold_from(
@@ -440,9 +439,7 @@ impl Planner for FormationRrt {
         }
 
         let first = found.as_ref().map(|_| (i, progress.elapsed()));
-        let (node, hold) = found
-            .map(|(node, edges)| (node, edges))
-            .unwrap_or((closest.0, Vec::new()));
+        let (node, hold) = found.unwrap_or((closest.0, Vec::new()));
         let mut plan: Plan = tree.plan_to(node, problem);
         for (u, periods, state) in hold {
             plan.push(u, problem.periods(periods), state);
