@@ -41,11 +41,11 @@ class PyPd:
         ref, est = self.ref, observation.estimate
         k = self._at(observation.t)
         ahead = self._at(observation.t + self.period)
-        error = ref.states[k] - est
+        error = ref.samples[k] - est
         change = np.zeros_like(error) if self.last_error is None else error - self.last_error
         self.last_error = error
-        want = ref.states[ahead] + self.kp * error + self.kd * change
-        ff = ref.controls[k]
+        want = ref.samples[ahead] + self.kp * error + self.kd * change
+        ff = ref.sample_controls[k]
         if np.isnan(ff[0]):
             ff = np.zeros(4)
         # the pull that moves the centroid toward the target (scaled to the gradient limit)

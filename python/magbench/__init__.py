@@ -13,7 +13,7 @@ numpy vectors ``[x0, y0, x1, y1, ...]`` in body lengths (BL), controls are
 See docs/python.md.
 """
 
-from ._magbench import InputError, MagbenchError, Plan, Scenario, plan
+from ._magbench import InputError, MagbenchError, Plan, Reference, Scenario, plan
 from ._api import TrackResult, track, bench, main
 from ._plugins import register_planner, register_tracker, registered, unregister
 from ._results import Results, load_results
@@ -23,6 +23,7 @@ __all__ = [
     "InputError",
     "MagbenchError",
     "Plan",
+    "Reference",
     "Scenario",
     "TrackResult",
     "Results",

@@ -7,6 +7,7 @@ mod calls;
 mod errors;
 mod plan;
 mod plugins;
+mod reference;
 mod registry;
 mod scenario;
 mod timing;
@@ -21,6 +22,7 @@ fn _magbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MagbenchError", py.get_type::<errors::MagbenchError>())?;
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<plan::Plan>()?;
+    m.add_class::<reference::Reference>()?;
     m.add_function(wrap_pyfunction!(calls::plan, m)?)?;
     m.add_function(wrap_pyfunction!(calls::track, m)?)?;
     m.add_function(wrap_pyfunction!(calls::main, m)?)?;

@@ -26,8 +26,7 @@ use magbench_planners::{
 };
 use magbench_trackers::registry::Entry as TrackerEntry;
 use magbench_trackers::{Tick, Tracker, TrackerContext, TrackerStatus};
-use numpy::ndarray::Array2;
-use numpy::{PyArray1, PyArray2};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
@@ -613,37 +612,7 @@ impl Tracker for PyTracker {
             let problem = tracker_problem(ctx);
             let free = elevation_free(problem.agents(), &problem.model);
             let sc = Bound::new(py, Scenario::of_problem(problem, free))?;
-            let reference = ctx.reference;
-            let k = reference.len();
-            let n = reference.agents();
-            let times: Vec<f64> = (0..k).map(|i| reference.time(i)).collect();
-            let states: Vec<f64> = (0..k).flat_map(|i| state_vec(reference.state(i))).collect();
-            let controls: Vec<f64> = (0..k)
-                .flat_map(|i| {
-                    reference
-                        .control(i)
-                        .map_or([f64::NAN; 4], crate::arrays::control_arr)
-                })
-                .collect();
-            let kw = PyDict::new(py);
-            kw.set_item("t", PyArray1::from_vec(py, times))?;
-            kw.set_item(
-                "states",
-                PyArray2::from_owned_array(
-                    py,
-                    Array2::from_shape_vec((k, 2 * n), states).expect("rows"),
-                ),
-            )?;
-            kw.set_item(
-                "controls",
-                PyArray2::from_owned_array(
-                    py,
-                    Array2::from_shape_vec((k, 4), controls).expect("rows"),
-                ),
-            )?;
-            kw.set_item("duration", reference.duration())?;
-            kw.set_item("plan_end", reference.plan_end())?;
-            let plan = self.namespace(py, &kw)?;
+            let plan = Bound::new(py, crate::reference::Reference::of(py, ctx.reference)?)?;
             let inst = self.instance.as_ref().expect("made above").bind(py);
             inst.call_method1("reset", (sc, plan))?;
             Ok(())

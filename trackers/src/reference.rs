@@ -35,6 +35,9 @@ pub struct Reference {
     /// The plan's nodes (its stored waypoint states, start to end), node-major: node `j`,
     /// agent `i` at `j * agents + i`. A settle segment adds none.
     nodes: Vec<Vec2>,
+    /// The plan's edges: the control of edge `j` (from node `j` to `j + 1`) and how long it is
+    /// held (s).
+    plan_edges: Vec<(Control, f64)>,
 }
 
 /// Segments per bounding circle of the path-distance index.
@@ -53,6 +56,12 @@ impl Reference {
         let n = plan.start().len();
         let mut r = Reference::empty(n);
         r.nodes = plan.states.iter().flatten().copied().collect();
+        r.plan_edges = plan
+            .controls
+            .iter()
+            .copied()
+            .zip(plan.durations.iter().copied())
+            .collect();
         r.push_sample(0.0, plan.start());
         let mut t0 = 0.0;
         let mut out = vec![Vec2::zeros(); n];
@@ -91,6 +100,7 @@ impl Reference {
             if k > 0 {
                 r.controls.push(Control::default());
                 r.edges.push(k - 1);
+                r.plan_edges.push((Control::default(), t - times[k - 1]));
             }
             r.push_sample(*t, s);
         }
@@ -110,6 +120,7 @@ impl Reference {
             chunks: vec![vec![]; agents],
             groups: vec![vec![]; agents],
             nodes: vec![],
+            plan_edges: vec![],
         }
     }
 
@@ -241,6 +252,13 @@ impl Reference {
         }
         self.index();
         self
+    }
+
+    /// The plan's edges, in order: the control of edge `j` (from [`Reference::node`] `j` to
+    /// `j + 1`) and how long it is held (s). Edges are what the plan stores; the samples
+    /// resample them at every integration step.
+    pub fn plan_edges(&self) -> &[(Control, f64)] {
+        &self.plan_edges
     }
 
     /// Index of the last sample of the plan proper (before any settle segment).
@@ -431,6 +449,13 @@ mod tests {
         assert_eq!(r.state(60), &plan.states[1][..]);
         assert_eq!(r.nodes(), 3);
         assert_eq!(r.node(1), &plan.states[1][..]);
+        let edges: Vec<(Control, f64)> = plan
+            .controls
+            .iter()
+            .copied()
+            .zip(plan.durations.iter().copied())
+            .collect();
+        assert_eq!(r.plan_edges(), &edges[..]);
         // between nodes the polyline is near, the nearest node is not
         let mid = r.state(30).to_vec();
         assert!(crate::scoring::synchronous_error(&r, &mid) < 1e-12);

@@ -6,6 +6,7 @@ mod calibrate;
 mod calibrate_plot;
 mod docs;
 mod figures;
+mod label;
 mod merge;
 mod number;
 pub(crate) mod output;

@@ -15,7 +15,6 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use magbench_env::coil::{Planar, elevation_params};
 use magbench_env::math::centroid;
-use magbench_env::params::split_all;
 use magbench_env::plant::{Medium, Tilt};
 use magbench_env::{MAX_AGENTS, PhysicalParams, Scenario, Vec2};
 use magbench_planners::{
@@ -38,7 +37,9 @@ pub struct PlanArgs {
     /// A built-in scenario name or a scenario file.
     #[arg(required_unless_present = "list")]
     pub scenario: Option<String>,
-    /// The planner: goal-zoom-rrt, rrt-star, informed-rrt-star or sst (see --list).
+    /// The planner: a name (goal-zoom-rrt, rrt-star, informed-rrt-star, sst or a plugin's;
+    /// see --list) or a label with parameters as experiment files write it,
+    /// `goal-zoom-rrt{aim=true,guide=true}`.
     #[arg(long, required_unless_present = "list")]
     pub planner: Option<String>,
     /// Seed of the planner's random stream (leg k uses seed + k).
@@ -47,7 +48,8 @@ pub struct PlanArgs {
     /// Planner limits per leg, objective, metric and flow.
     #[command(flatten)]
     pub setup: SetupArgs,
-    /// A planner parameter, key=value (repeatable; see --list).
+    /// A planner parameter, key=value (repeatable; see --list). Added to those of a --planner
+    /// label; a key in both is refused.
     #[arg(long = "param", value_name = "KEY=VALUE")]
     pub params: Vec<String>,
     /// Camera frames per second of the rig that will run the plan: every edge lasts a whole
@@ -85,15 +87,15 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
         out!("{}", planner_list(registry.planners()));
         return Ok(());
     }
-    let (Some(scenario_name), Some(planner_name)) = (a.scenario.as_deref(), a.planner.as_deref())
-    else {
+    let (Some(scenario_name), Some(label)) = (a.scenario.as_deref(), a.planner.as_deref()) else {
         return Err(CliError::arg(
             "SCENARIO",
             "a scenario and --planner are required",
         ));
     };
     let scenario = Scenario::load(scenario_name)?;
-    let params = split_all("<command line>", &a.params)?;
+    let (planner_name, params) = super::label::named("--planner", label, "--param", &a.params)?;
+    let planner_name = planner_name.as_str();
     let mut planner = registry.planners().create(planner_name, &params)?;
     // the bound of a rig file's `camera.fps`: the rig that runs the plan has one of those
     checked("--fps", &magbench_drivers::rigfile::FPS, a.fps)?;

@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 
 use magbench_drivers::rigs::RigDescription;
 use magbench_drivers::{RigStats, stats};
-use magbench_env::params::split_all;
 use magbench_env::{Scenario, Vec2};
 use magbench_planners::{FirstPlan, Limits, Planner, PlanningSetup, Unusable, solve_checked};
 use magbench_trackers::plan_file::{check_origin, check_plan, plan_json_for, read_plan};
@@ -32,9 +31,10 @@ pub struct TrackRun<'a> {
     pub scenario: &'a Scenario,
     /// The rig, loaded from its description by the registry.
     pub rig: Box<dyn RigDescription>,
-    /// The planner of the first plan (unless `plan` is given) and of every replan.
+    /// The planner of the first plan (unless `plan` is given) and of every replan: a name or a
+    /// label `name{key=value,…}`.
     pub planner: Option<String>,
-    /// The planner's `key=value` parameters.
+    /// The planner's `key=value` parameters (`--planner-param`), added to its label's.
     pub planner_params: &'a [String],
     /// A plan file to track instead of planning the first leg.
     pub plan: Option<PathBuf>,
@@ -54,26 +54,32 @@ pub struct TrackRun<'a> {
     pub json: bool,
 }
 
-/// The tracker `name` of `registry` with its (and the loop's) `--param key=value` options.
+/// The tracker `label` (`--tracker`: a name or `name{key=value,…}`) of `registry` with its
+/// (and the loop's) `--param key=value` options added.
 pub fn tracker_spec(
     registry: &Registry,
-    name: &str,
+    label: &str,
     params: &[String],
 ) -> Result<TrackerSpec, CliError> {
-    let params = split_all("<command line>", params)?;
-    Ok(registry.trackers().spec(name, &params, "<command line>")?)
+    let (name, params) = super::label::named("--tracker", label, "--param", params)?;
+    Ok(registry.trackers().spec(&name, &params, "<command line>")?)
 }
 
 /// Runs it: open the rig, find the start, make (or read) the first plan, track it, stop the
 /// rig, write the outputs and print the summary.
 pub fn run(r: TrackRun) -> Result<(), CliError> {
     let s = r.scenario;
-    let mut planner = match &r.planner {
-        Some(name) => Some(
-            r.registry
-                .planners()
-                .create(name, &split_all("<command line>", r.planner_params)?)?,
-        ),
+    let named = match &r.planner {
+        Some(label) => Some(super::label::named(
+            "--planner",
+            label,
+            "--planner-param",
+            r.planner_params,
+        )?),
+        None => None,
+    };
+    let mut planner = match &named {
+        Some((name, params)) => Some(r.registry.planners().create(name, params)?),
         None => None,
     };
     // every plan, the first and each replan, is in whole frames of the rig that runs it, for
@@ -206,7 +212,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     progress.clear();
     let stopped = rig.stop();
     let rig_stats = rig.stats();
-    let planner_label = r.planner.as_deref().unwrap_or("file");
+    let planner_label = named.as_ref().map_or("file", |(name, _)| name.as_str());
     let summary = summary_json(
         &r,
         planner_label,

@@ -75,19 +75,23 @@ pub struct RunArgs {
     pub rig_type: String,
     /// A built-in scenario name or a scenario file.
     pub scenario: String,
-    /// The planner of the first plan and of every replan.
+    /// The planner of the first plan and of every replan: a name or a label such as
+    /// `goal-zoom-rrt{k=5}`.
     #[arg(long)]
     pub planner: String,
-    /// The tracker: open-loop, obc or lookahead.
+    /// The tracker: a name (open-loop, obc, lookahead or a plugin's; see `track --list`) or a label
+    /// with parameters as experiment files write it, `obc{time_slack=5}`.
     #[arg(long)]
     pub tracker: String,
     /// Seed of the planner.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// A tracker or loop parameter, key=value (repeatable).
+    /// A tracker or loop parameter, key=value (repeatable). Added to those of a --tracker
+    /// label; a key in both is refused.
     #[arg(long = "param", value_name = "KEY=VALUE")]
     pub params: Vec<String>,
-    /// A planner parameter, key=value (repeatable).
+    /// A planner parameter, key=value (repeatable). Added to those of a --planner label; a key
+    /// in both is refused.
     #[arg(long = "planner-param", value_name = "KEY=VALUE")]
     pub planner_params: Vec<String>,
     /// Planner limits, objective, metric and flow of every planning call.

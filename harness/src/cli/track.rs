@@ -4,7 +4,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 use magbench_env::Scenario;
+use magbench_trackers::Trackers;
 
+use super::output::out;
 use super::plan_and_track::{TrackRun, tracker_spec};
 use super::setup::SetupArgs;
 use crate::CliError;
@@ -14,13 +16,16 @@ use crate::registry::Registry;
 #[derive(Debug, Args)]
 pub struct TrackArgs {
     /// A built-in scenario name or a scenario file.
-    pub scenario: String,
-    /// The planner that makes the plan (and every replan); goal-zoom-rrt unless --plan is given.
+    #[arg(required_unless_present = "list")]
+    pub scenario: Option<String>,
+    /// The planner that makes the plan (and every replan): a name or a label such as
+    /// `goal-zoom-rrt{k=5}`; goal-zoom-rrt unless --plan is given.
     #[arg(long)]
     pub planner: Option<String>,
-    /// The tracker: open-loop, obc or lookahead.
-    #[arg(long)]
-    pub tracker: String,
+    /// The tracker: a name (open-loop, obc, lookahead or a plugin's; see --list) or a label
+    /// with parameters as experiment files write it, `obc{time_slack=5}`.
+    #[arg(long, required_unless_present = "list")]
+    pub tracker: Option<String>,
     /// Seed of the planner and of the simulated disturbances.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -32,10 +37,12 @@ pub struct TrackArgs {
     /// --preset), `coil` (--preset is then a rig file) or a plugin's.
     #[arg(long, default_value = "simulated")]
     pub rig_type: String,
-    /// A tracker or loop parameter, key=value (repeatable).
+    /// A tracker or loop parameter, key=value (repeatable). Added to those of a --tracker
+    /// label; a key in both is refused.
     #[arg(long = "param", value_name = "KEY=VALUE")]
     pub params: Vec<String>,
-    /// A planner parameter, key=value (repeatable).
+    /// A planner parameter, key=value (repeatable). Added to those of a --planner label; a key
+    /// in both is refused.
     #[arg(long = "planner-param", value_name = "KEY=VALUE")]
     pub planner_params: Vec<String>,
     /// Track this plan (JSON, as written by `track --out` or `plan --out`) instead of planning
@@ -58,13 +65,27 @@ pub struct TrackArgs {
     /// Also write a GIF of each leg into --out (slow to encode).
     #[arg(long, requires = "out")]
     pub gif: bool,
+    /// List the trackers (plugins' included) and their parameters with defaults, the loop's
+    /// after each tracker's own, and exit.
+    #[arg(long)]
+    pub list: bool,
 }
 
 /// Runs `magbench track` with the planners, trackers and rigs of `registry`.
 pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
-    let scenario = Scenario::load(&a.scenario)?;
+    if a.list {
+        out!("{}", tracker_list(registry.trackers()));
+        return Ok(());
+    }
+    let (Some(scenario), Some(tracker)) = (a.scenario.as_deref(), a.tracker.as_deref()) else {
+        return Err(CliError::arg(
+            "SCENARIO",
+            "a scenario and --tracker are required",
+        ));
+    };
+    let scenario = Scenario::load(scenario)?;
     let rig = registry.rigs().load(&a.rig_type, &a.preset, "--preset")?;
-    let tracker = tracker_spec(registry, &a.tracker, &a.params)?;
+    let tracker = tracker_spec(registry, tracker, &a.params)?;
     let setup = a.setup.setup()?;
     // without a plan file, the seed's planner makes the plan unless another is named
     let planner = match (&a.planner, &a.plan) {
@@ -87,4 +108,17 @@ pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
         gif: a.gif,
         json: a.json,
     })
+}
+
+/// The trackers of `trackers` and their parameters (each tracker's own, then the loop's) with
+/// defaults, for `--list`.
+pub fn tracker_list(trackers: &Trackers) -> String {
+    let mut s = String::new();
+    for (name, summary, params) in trackers.list() {
+        s += &format!("{name}\n    {summary}\n");
+        for p in params {
+            s += &p.listing_line([20, 10, 16]);
+        }
+    }
+    s
 }

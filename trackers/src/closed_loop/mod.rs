@@ -96,7 +96,7 @@ declare_params! {
         /// its first plan, where the stall rule applies).
         #[param("time_factor", Reals::closed(1.0, 1e3))]
         pub time_factor: f64 = 3.0,
-        /// See time_factor (s; at most [`MAX_TIME_SLACK_S`]).
+        /// See time_factor (s; at most 600, so that a run that misses its goal ends soon).
         #[param("time_slack", Reals::closed(0.0, MAX_TIME_SLACK_S))]
         pub time_slack: f64 = 20.0,
         /// Seconds the team must stay in a goal region to complete a leg.
