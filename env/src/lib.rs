@@ -35,6 +35,7 @@ pub mod plant;
 pub mod registry;
 pub mod scenario;
 pub mod team_controllability;
+pub mod team_symmetry;
 pub mod world;
 
 pub use coil::{Actuation, Coil, Control, TriaxialMaxwell};

@@ -308,3 +308,48 @@ fn self_touching_polygons_are_refused() {
     let e = reject(&text);
     assert_names(&e, "world.obstacles[0].polygon", "");
 }
+
+#[test]
+fn names_a_goal_outside_the_starts_invariant_set() {
+    // a square is symmetric about its centroid and every field keeps it so; a kite is 0.375 BL
+    // from the nearest such formation
+    let square = GOOD.replace(
+        "[[3.0, 5.0], [5.0, 5.0]]",
+        "[[3.0, 3.0], [5.0, 3.0], [5.0, 5.0], [3.0, 5.0]]",
+    );
+    let kite = "[[20.0, 15.0], [22.0, 16.0], [24.0, 15.0], [22.0, 12.5]]";
+    let load = |text: &str| parse_scenario(text, "t.toml").expect("a valid scenario");
+    let s = load(
+        &square
+            .replace("[[25.0, 15.0], [27.5, 15.0]]", kite)
+            .replace("tolerance = 0.5", "tolerance = 0.3"),
+    );
+    let (leg, field, reason) = s.unreachable_leg().expect("unreachable");
+    assert_eq!((leg, field.as_str()), (0, "goal.agents"));
+    assert!(
+        reason.contains("unreachable") && reason.contains("0↔2, 1↔3") && reason.contains("0.375"),
+        "{reason}"
+    );
+    // within tolerance of a symmetric formation, or from an asymmetric start, it is reachable
+    let near = load(
+        &square
+            .replace("[[25.0, 15.0], [27.5, 15.0]]", kite)
+            .replace("tolerance = 0.5", "tolerance = 0.4"),
+    );
+    assert_eq!(near.unreachable_leg(), None);
+    let kite_start = GOOD.replace(
+        "[[3.0, 5.0], [5.0, 5.0]]",
+        "[[3.0, 4.0], [5.0, 5.0], [7.0, 4.0], [5.0, 1.5]]",
+    );
+    let square_goal = "[[20.0, 13.0], [22.0, 13.0], [22.0, 15.0], [20.0, 15.0]]";
+    let free = load(&kite_start.replace("[[25.0, 15.0], [27.5, 15.0]]", square_goal));
+    assert_eq!(free.unreachable_leg(), None);
+    // every built-in is reachable
+    for name in builtin_names() {
+        assert_eq!(
+            Scenario::load(name).unwrap().unreachable_leg(),
+            None,
+            "{name}"
+        );
+    }
+}

@@ -23,6 +23,7 @@ use crate::error::InputError;
 use crate::math::Vec2;
 use crate::physics::PhysicalParams;
 use crate::plant::{DisturbancePreset, Medium};
+use crate::team_symmetry::unreachable_reason;
 use crate::world::{Obstacle, World};
 
 /// A goal region: every agent within `tolerance` of its goal centre.
@@ -138,6 +139,21 @@ impl Scenario {
             Some(obs) => self.world.with_obstacles(obs),
             None => self.world.clone(),
         }
+    }
+
+    /// The first leg whose goal the planning model cannot reach, with its field and the reason:
+    /// a start symmetric about its centroid stays so under every field, and every leg starts
+    /// where the last ended ([`crate::team_symmetry`]).
+    pub fn unreachable_leg(&self) -> Option<(usize, String, String)> {
+        self.legs.iter().enumerate().find_map(|(i, leg)| {
+            let reason = unreachable_reason(&self.start, &leg.goal.agents, leg.goal.tolerance)?;
+            let field = if self.legs.len() == 1 {
+                "goal.agents".to_string()
+            } else {
+                format!("legs[{i}].goal.agents")
+            };
+            Some((i, field, reason))
+        })
     }
 
     /// The validity checker of leg `i`.
