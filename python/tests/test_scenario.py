@@ -65,8 +65,13 @@ def test_validity_goal_and_motion(sc):
     assert sc.is_valid(same) is False
     # outside the world
     assert sc.is_valid(sc.start + [1e4, 0, 1e4, 0]) is False
-    ok, end = sc.motion_valid(sc.start, sc.sample_control(1), 0.5, return_state=True)
-    assert isinstance(ok, bool) and end.shape == (4,)
+    u = sc.sample_control(1)
+    ok, end = sc.motion_valid(sc.start, u, 0.5, return_state=True)
+    assert ok is sc.motion_valid(sc.start, u, 0.5) and end.shape == (4,)
+    if ok:
+        # a valid motion ends where the model's flow does, in a valid configuration
+        np.testing.assert_array_equal(end, sc.propagate(sc.start, u, 0.5))
+        assert sc.is_valid(end) is True
 
 
 def test_sample_control_is_admissible_and_seeded(sc):
