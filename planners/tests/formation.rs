@@ -56,6 +56,20 @@ fn a_turned_ring_of_six_is_solved_and_reproduced() {
     assert_solution(&p, &r);
     let (_, again) = solve(&s, 2, 20_000);
     assert_eq!(r.plan, again.plan);
+    // CONNECT's extensions are iterations: the tree holds at most one node per iteration (the
+    // memory bound of an iteration limit rests on it)
+    assert!(
+        r.nodes as u64 <= r.iterations + 1,
+        "{} nodes after {} iterations",
+        r.nodes,
+        r.iterations
+    );
+    let (_, short) = solve(&s, 2, 50);
+    assert!(
+        short.nodes <= 51,
+        "{} nodes after 50 iterations",
+        short.nodes
+    );
 }
 
 /// A team in a bulk liquid keeps the field in the plane: every edge's elevation is 0, whatever

@@ -40,7 +40,8 @@ pub const DEFAULT_TIME_LIMIT_S: f64 = 60.0;
 /// Memory one planner iteration may take at most (bytes): a planner keeps at most one tree node
 /// per iteration (its states, control, links and its place in the neighbour index), about
 /// 360 B for four agents (`plan quad-square --planner rrt-star`: 4.3 MB more peak memory for
-/// 12 154 more nodes) and so under 1 KiB for the eight agents of the largest team.
+/// 12 154 more nodes), of which the positions, held twice (tree and index), are 128 B; so about
+/// 232 B + 2 × 256 B = 744 B, under 1 KiB, for the sixteen agents of the largest team.
 pub const BYTES_PER_ITERATION: u64 = 1 << 10;
 
 /// Planner iteration limits (`--max-iters`, `figures --maze-iterations`, an experiment's

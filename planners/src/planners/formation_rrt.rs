@@ -412,9 +412,16 @@ impl Planner for FormationRrt {
             }
             let (mut near, _) = nn.nearest(&sample).expect("the tree has its root");
             // EXTEND toward the sample; toward the goal's shape, CONNECT: again from each new
-            // node while the shape comes closer
+            // node while the shape comes closer, each extension an iteration (a tree gains at
+            // most one node per iteration)
             let mut last = f64::INFINITY;
-            for _ in 0..if toward_goal { CONNECT_STEPS } else { 1 } {
+            for step in 0..if toward_goal { CONNECT_STEPS } else { 1 } {
+                if step > 0 {
+                    i += 1;
+                    if progress.done(i) {
+                        break;
+                    }
+                }
                 let from = tree.state(near).to_vec();
                 let Some(best) = self.extend(
                     problem, &mut rng, &extend, &from, carry, &sample, &mut q_new,
