@@ -290,6 +290,10 @@ fn special_files_are_refused() {
     let fifo = d.path().join("fifo.toml");
     let made = Command::new("mkfifo").arg(&fifo).status();
     if !made.is_ok_and(|s| s.success()) {
+        assert!(
+            std::env::var_os("MAGBENCH_REQUIRE_TOOLS").is_none(),
+            "MAGBENCH_REQUIRE_TOOLS is set but mkfifo failed"
+        );
         eprintln!("skipped: no mkfifo");
         return;
     }
