@@ -251,8 +251,18 @@ fn a_time_limit_stops_ompl() {
         max_iterations: None,
         time_limit: Some(std::time::Duration::from_millis(300)),
     };
-    let r = create("ompl:pdst", &[]).unwrap().solve(&p);
+    // without the limit PDST would run on: the answer must come, not only come late (the
+    // bound is a termination check, 400 times the limit, not a speed check)
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(create("ompl:pdst", &[]).unwrap().solve(&p));
+    });
+    let r = rx
+        .recv_timeout(std::time::Duration::from_secs(120))
+        .expect("OMPL's planner did not stop at magbench's time limit");
     assert!(r.time_s >= 0.3 && r.iterations > 0, "{} s", r.time_s);
+    let last = r.progress.last().expect("a progress trace");
+    assert!(last.time_s <= r.time_s, "{last:?} after {} s", r.time_s);
 }
 
 /// The figures of the SST defect for docs/ompl-planners.md (not part of the suite), printed as
