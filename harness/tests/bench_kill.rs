@@ -115,5 +115,26 @@ fn sigkill_mid_sweep_then_resume_loses_and_duplicates_nothing() {
     .unwrap();
     assert!(o.status.success());
     assert_eq!(deterministic_runs(&clean), resumed);
-    assert!(out.join("report.html").exists() && out.join("ompl.log").exists());
+    // the resumed folder's OMPL log and report cover every run, as the clean sweep's do
+    let runs_in_log = |d: &std::path::Path| -> Vec<String> {
+        std::fs::read_to_string(d.join("ompl.log"))
+            .unwrap()
+            .lines()
+            .filter(|l| l.ends_with(" runs"))
+            .map(str::to_string)
+            .collect()
+    };
+    let logged = runs_in_log(&out);
+    assert!(!logged.is_empty(), "ompl.log lists no runs");
+    assert_eq!(logged, runs_in_log(&clean));
+    let rows = |d: &std::path::Path| {
+        std::fs::read_to_string(d.join("report.html"))
+            .unwrap()
+            .matches("<tr")
+            .count()
+    };
+    assert!(
+        rows(&out) > 0 && rows(&out) == rows(&clean),
+        "the report's tables differ"
+    );
 }
