@@ -166,7 +166,9 @@ mod tests {
         let r = plan_leg(&other, 0, None, planner().as_mut(), &setup, 0).unwrap();
         let e = track_plan(request(&s, r.plan)).map(|_| ()).unwrap_err();
         assert_eq!(e.exit_code(), 2);
-        assert!(e.to_string().contains("<plan>: states[0][0]"), "{e}");
+        // within the goal tolerance of the start (0.5 BL), and refused by its fit: it leaves the
+        // world
+        assert!(e.to_string().contains("<plan>: states["), "{e}");
         let trio = Scenario::load("trio-row").unwrap();
         let e = track_plan(request(&trio, Plan::at(&s.start)))
             .map(|_| ())
