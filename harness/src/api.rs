@@ -1,20 +1,21 @@
 //! Library entry points for programs that drive magbench without its command line (the Python
 //! package): plan one leg of a scenario, and track a plan in closed loop against the simulated
-//! plant, with the same rules as `magbench plan` and `magbench track`.
+//! plant, through the same [`Pipeline`] as `magbench plan`, `magbench track` and sweeps.
 
 use magbench_env::Scenario;
 use magbench_env::plant::DisturbancePreset;
-use magbench_planners::{
-    ElevationRefused, FirstPlan, Plan, Planner, PlannerResult, PlanningSetup, solve_checked,
-};
-use magbench_trackers::plan_file::check_plan;
-use magbench_trackers::{LoopOptions, Mission, TrackOutcome, Tracker, simulate};
+use magbench_planners::{ElevationRefused, FirstPlan, Plan, Planner, PlannerResult, PlanningSetup};
+use magbench_trackers::{LoopOptions, TrackOutcome, Tracker, simulate};
 
 use crate::CliError;
+use crate::pipeline::start::check_given_plan;
+use crate::pipeline::{Failure, Pipeline};
 
 /// Plans leg `leg` of `scenario` from `start` (the scenario's start if `None`) with `planner`
-/// under `setup`. A start that is invalid in the leg's map is bad input; a plan the validator
-/// refuses is a failure naming the planner (a plan without motion is returned, not solved).
+/// under `setup`, through the run's [`Pipeline`]: seeded by the seed rule (leg `leg` of a run
+/// of seed `seed`, as a sweep plans it), post-processed by the planner the registry made. A
+/// start that is invalid in the leg's map is bad input; a plan the validator refuses is a
+/// failure naming the planner (a plan without motion is returned, not solved).
 pub fn plan_leg(
     scenario: &Scenario,
     leg: usize,
@@ -33,17 +34,6 @@ pub fn plan_leg(
             ),
         ));
     }
-    let problem = setup.problem(scenario, leg, start, seed);
-    if !problem.checker.is_valid(&problem.start) {
-        return Err(CliError::arg(
-            "start",
-            format!(
-                "the start is invalid in leg {} of {}",
-                leg + 1,
-                scenario.name
-            ),
-        ));
-    }
     setup
         .check_settings(scenario, &planner.params())
         .map_err(|e| match e {
@@ -51,19 +41,23 @@ pub fn plan_leg(
             ElevationRefused::AlphaMax(r) => CliError::arg("param.alpha_max", r.to_string()),
             ElevationRefused::SetupAlphaMax(r) => CliError::arg("alpha_max", r.to_string()),
         })?;
-    let checked = solve_checked(planner, &problem);
-    if let Some(e) = checked.invalid() {
-        return Err(CliError::Failed(format!(
-            "{} returned an invalid plan: {e}",
+    let pipe = Pipeline::new(scenario, setup.clone(), seed);
+    match pipe.plan_leg(planner, leg, start) {
+        Ok(planned) => Ok(planned.checked.result),
+        Err(Failure::InvalidStart { leg }) => Err(CliError::arg(
+            "start",
+            format!(
+                "the start is invalid in leg {} of {}",
+                leg + 1,
+                scenario.name
+            ),
+        )),
+        Err(Failure::InvalidPlan { error, .. }) => Err(CliError::Failed(format!(
+            "{} returned an invalid plan: {error}",
             planner.name()
-        )));
+        ))),
     }
-    Ok(checked.result)
 }
-
-/// How far a tracked plan may start from the scenario's start (BL): the simulated rig starts
-/// the team at the scenario's start.
-pub const START_TOLERANCE_BL: f64 = 0.05;
 
 /// One closed-loop run of a given plan against the simulated plant.
 pub struct TrackRequest<'a> {
@@ -88,9 +82,9 @@ pub struct TrackRequest<'a> {
 }
 
 /// Tracks `r.plan` on a simulated rig of `r.scenario` under `r.preset`, recording every tick.
-/// The plan is checked first as `magbench track --plan` checks a plan file: under the preset's
-/// frames, medium and coil; a plan that does not fit is an [`magbench_env::InputError`] naming
-/// `r.plan_source`.
+/// The plan is checked first as `magbench track --plan` checks a plan file, by the start rule
+/// ([`check_given_plan`]: its origin, then its fit under the preset's frames, medium and coil);
+/// a plan that does not fit is an [`magbench_env::InputError`] naming `r.plan_source`.
 pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, CliError> {
     let preset = DisturbancePreset::resolve(r.preset).map_err(|e| {
         if e.file == r.preset {
@@ -103,45 +97,14 @@ pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, CliError> {
         .setup
         .in_frames_of(1.0 / preset.camera.fps)
         .on_plant(&preset.medium, preset.coil.alpha_max_deg);
-    if r.plan.states.first().map(Vec::len) != Some(r.scenario.agents()) {
-        return Err(CliError::Input(magbench_env::InputError::new(
-            r.plan_source,
-            "states",
-            format!(
-                "the plan is for {} agent(s); scenario {} has {}",
-                r.plan.states.first().map_or(0, Vec::len),
-                r.scenario.name,
-                r.scenario.agents()
-            ),
-        )));
-    }
-    let away = r
-        .plan
-        .start()
-        .iter()
-        .zip(&r.scenario.start)
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max);
-    if away.is_nan() || away > START_TOLERANCE_BL {
-        return Err(CliError::Input(magbench_env::InputError::new(
-            r.plan_source,
-            "states[0]",
-            format!(
-                "the plan starts {away:.3} BL from the start of scenario {} (at most {START_TOLERANCE_BL} BL): is it a plan for another scenario?",
-                r.scenario.name
-            ),
-        )));
-    }
-    check_plan(&r.plan, r.scenario, r.plan_source, &setup)?;
+    check_given_plan(&r.plan, r.scenario, r.plan_source, &setup)?;
     let mut planner = r.planner;
     let solved = r.scenario.legs[0].goal.contains(r.plan.end());
-    let mission = Mission {
-        scenario: r.scenario,
-        first: FirstPlan::given(r.plan, solved),
-        planner: planner.as_deref_mut().map(|p| p as &mut dyn Planner),
-        setup,
-        seed: r.seed,
-    };
+    let pipe = Pipeline::new(r.scenario, setup, r.seed);
+    let mission = pipe.mission(
+        FirstPlan::given(r.plan, solved),
+        planner.as_deref_mut().map(|p| p as &mut dyn Planner),
+    );
     let mut tracker = r.tracker;
     let mut opts = r.options;
     opts.record_ticks = true;
@@ -203,12 +166,14 @@ mod tests {
         let r = plan_leg(&other, 0, None, planner().as_mut(), &setup, 0).unwrap();
         let e = track_plan(request(&s, r.plan)).map(|_| ()).unwrap_err();
         assert_eq!(e.exit_code(), 2);
-        assert!(e.to_string().contains("<plan>: states[0]"), "{e}");
+        // within the goal tolerance of the start (0.5 BL), and refused by its fit: it leaves the
+        // world
+        assert!(e.to_string().contains("<plan>: states["), "{e}");
         let trio = Scenario::load("trio-row").unwrap();
         let e = track_plan(request(&trio, Plan::at(&s.start)))
             .map(|_| ())
             .unwrap_err();
-        assert!(e.to_string().contains("agent(s)"), "{e}");
+        assert!(e.to_string().contains("the plan moves 2 agents"), "{e}");
     }
 
     #[test]

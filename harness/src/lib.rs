@@ -21,6 +21,7 @@ pub mod experiment;
 pub mod figures;
 pub mod fuzz;
 pub mod metrics;
+pub mod pipeline;
 pub mod plot;
 pub mod prelude;
 pub mod registry;

@@ -2,18 +2,20 @@
 //!
 //! [`Planners`] is a value: [`Planners::builtin`] holds the planners of this crate
 //! ([`crate::planners::builtins`]) and [`Registry::add`] takes more at run time (a plugin's).
-//! Each planner's parameters are declared once in its own file. Unknown planners, unknown
+//! Each planner's parameters are declared once in its own file; every planner made here is a
+//! [`PostProcessed`] one, so it also takes the run's post-processing passes (`shortcut`,
+//! `straighten`, crate::post_process) and its solutions go through them. Unknown planners, unknown
 //! parameters and bad values are [`InputError`]s naming the source, the field (`planner`,
 //! `param.KEY`) and the reason.
 
 use std::ops::{Deref, DerefMut};
 
 use magbench_env::InputError;
-use magbench_env::params::{ParamInfo, apply};
+use magbench_env::params::{ParamInfo, ParamSet, apply};
 use magbench_env::registry::{Registry, Renamed};
 
 use crate::tree::Tree;
-use crate::{Planner, PlannerResult, Problem};
+use crate::{Planner, PlannerResult, PostProcessed, Problem};
 
 /// A registered planner: its name, a one-line summary and a constructor with defaults.
 pub type Entry = magbench_env::registry::Entry<dyn Planner>;
@@ -58,10 +60,11 @@ impl Planners {
         )
     }
 
-    /// Every planner's name, summary and parameters with their defaults.
+    /// Every planner's name, summary and parameters (the post-processing passes' included)
+    /// with their defaults.
     pub fn list(&self) -> Vec<(&str, &str, Vec<ParamInfo>)> {
         self.iter()
-            .map(|e| (e.name(), e.summary(), e.make().params()))
+            .map(|e| (e.name(), e.summary(), PostProcessed::new(e.make()).params()))
             .collect()
     }
 
@@ -75,8 +78,9 @@ impl Planners {
         self.create_in("<command line>", name, params)
     }
 
-    /// Creates planner `name` with parameters `params`; errors name `source` (a file or
-    /// `<command line>`), the field (`planner` or `param.KEY`) and the reason.
+    /// Creates planner `name` with parameters `params`, followed by the post-processing passes
+    /// they set ([`PostProcessed`]); errors name `source` (a file or `<command line>`), the
+    /// field (`planner` or `param.KEY`) and the reason.
     pub fn create_in(
         &self,
         source: &str,
@@ -84,7 +88,8 @@ impl Planners {
         params: &[(String, String)],
     ) -> Result<Box<dyn Planner>, InputError> {
         let entry = self.lookup(source, name)?;
-        let mut planner = named(entry.make(), entry.name());
+        let mut planner: Box<dyn Planner> =
+            Box::new(PostProcessed::new(named(entry.make(), entry.name())));
         apply(source, name, &mut *planner, params)?;
         Ok(planner)
     }

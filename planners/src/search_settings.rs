@@ -1,7 +1,8 @@
 //! The search settings every planner embeds: EXTEND's tries and edge durations
 //! (the seed's Algorithm 3) and the goal-zoom sampler (Algorithm 2). Declared once, so every
 //! planner takes `k`, `min_duration`, `max_duration`, `goal_bias`, `zoom_radius`, `timing`,
-//! `planar`, `shortcut`, `straighten`, `guide` and `aim` alike.
+//! `planar`, `guide` and `aim` alike. (Post-processing, `shortcut` and `straighten`, is the
+//! run's step, crate::post_process, not a search setting.)
 //!
 //! `planar` says whether EXTEND draws the field elevation too: `auto` (the default) keeps two
 //! agents in the plane — the random stream is then exactly the planar one — and draws
@@ -19,11 +20,8 @@ use magbench_env::params::Reals;
 use crate::Problem;
 use crate::extend::{Extend, Timing};
 use crate::guide::Guide;
-use crate::objective::plan_cost;
 use crate::result::Best;
 use crate::sampler::GoalZoom;
-use crate::shortcut::Shortcut;
-use crate::straighten::straighten;
 
 declare_params! {
     /// The search settings every planner embeds (EXTEND's tries and durations, goal zoom).
@@ -54,15 +52,6 @@ declare_params! {
         /// `false` (refused in bulk).
         #[param("planar")]
         pub planar: Planar = Planar::Auto,
-        /// Steer solves (rounds) of shortcutting spent on a solution before it is returned
-        /// (crate::shortcut; 0 none; pairs under the exact flow only).
-        #[param("shortcut", 0..=1_000_000)]
-        pub shortcut: usize = 0,
-        /// Whether a solution's centroid is straightened before it is returned, after the
-        /// shortcut pass (crate::straighten: the same fields and durations, gradients that run
-        /// the centroid straight).
-        #[param("straighten")]
-        pub straighten: bool = false,
         /// Whether the sampler draws part of its whole-space samples near a shortest centroid
         /// path from start to goal, ahead of the tree (crate::guide; a heuristic only).
         #[param("guide")]
@@ -119,14 +108,11 @@ impl SearchSettings {
         }
     }
 
-    /// `best` after this setting's shortcut pass and straightening ([`polish`]). Every
-    /// planner passes its solution through here before `finish`.
-    pub fn polish(&self, problem: &Problem, best: Best, alpha_max: Option<f64>) -> Best {
-        let passes = Passes {
-            shortcut: self.shortcut,
-            straighten: self.straighten,
-        };
-        polish(problem, best, passes, self.max_duration, alpha_max)
+    /// `best` as it is: a planner returns its search's solution, and the run's post-processing
+    /// (crate::post_process) is applied to it by the planner the registry makes
+    /// ([`crate::PostProcessed`]).
+    pub fn polish(&self, _problem: &Problem, best: Best, _alpha_max: Option<f64>) -> Best {
+        best
     }
 
     fn check(&self) -> Result<(), Rejection> {
@@ -139,46 +125,6 @@ impl SearchSettings {
             ));
         }
         Ok(())
-    }
-}
-
-/// The post-processing a solution goes through before it is returned.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Passes {
-    /// Steer solves of the shortcut pass (crate::shortcut; 0 none).
-    pub shortcut: usize,
-    /// Whether the centroid is straightened after it (crate::straighten).
-    pub straighten: bool,
-}
-
-/// `best` after `passes` when it is a solution: a shortcut pass of `passes.shortcut` steer
-/// solves (steered edges at most `max_duration` seconds), then the centroid straightened if
-/// `passes.straighten`; `alpha_max` is the largest elevation the planner could draw (`None`
-/// in the plane), recorded on the plan. With neither pass `best` is returned as it is.
-pub fn polish(
-    problem: &Problem,
-    mut best: Best,
-    passes: Passes,
-    max_duration: f64,
-    alpha_max: Option<f64>,
-) -> Best {
-    if !best.solved || passes == Passes::default() {
-        return best;
-    }
-    best.plan.alpha_max = alpha_max;
-    let mut plan = best.plan;
-    if passes.shortcut > 0 {
-        let max_periods = to_periods(max_duration, problem.control_period);
-        plan = Shortcut::new(passes.shortcut, max_periods).run(problem, &plan);
-    }
-    if passes.straighten {
-        plan = straighten(problem, &plan);
-    }
-    let cost = plan_cost(problem, &plan);
-    Best {
-        plan,
-        solved: true,
-        cost,
     }
 }
 

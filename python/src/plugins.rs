@@ -14,13 +14,10 @@ use std::time::Instant;
 use magbench::Registry;
 use magbench_env::check::Rejection;
 use magbench_env::coil::Planar;
-use magbench_env::declare_params;
 use magbench_env::params::{BadValue, ParamError, ParamInfo, ParamSet, Value};
 use magbench_env::{Control, Vec2};
 use magbench_planners::objective::objective_by_name;
 use magbench_planners::registry::Entry as PlannerEntry;
-use magbench_planners::result::Best;
-use magbench_planners::search_settings::{Passes, SearchSettings, polish};
 use magbench_planners::{
     Limits, Metric, Planner, PlannerResult, PlanningSetup, Problem, ProgressPoint, plan_cost,
 };
@@ -261,63 +258,18 @@ fn describe(py: Python<'_>, e: &PyErr) -> String {
     format!("{kind}: {}", e.value(py))
 }
 
-/// A registered Python planner class.
+/// A registered Python planner class. Its solutions go through the run's post-processing
+/// (`shortcut`, `straighten`) as every planner's do: the registry wraps it
+/// ([`magbench_planners::PostProcessed`]).
 pub struct PyPlanner {
     values: Values,
-    polish: Polish,
-}
-
-declare_params! {
-    /// What magbench does with a Python planner's solution, as with every planner's.
-    #[derive(Debug, Clone, PartialEq)]
-    struct Polish {
-        /// Steer solves of magbench's shortcut pass spent on the solution before it is
-        /// returned (0 none; pairs under the exact flow only). A class that declares its own
-        /// `shortcut` parameter keeps it, and gets no pass.
-        #[param("shortcut", 0..=1_000_000)]
-        shortcut: usize = 0,
-        /// Whether magbench straightens the solution's centroid after the shortcut pass
-        /// (the same fields and durations, gradients that run the centroid straight). A class
-        /// that declares its own `straighten` parameter keeps it.
-        #[param("straighten")]
-        straighten: bool = false,
-    }
 }
 
 impl PyPlanner {
     fn new(class: PluginClass) -> Self {
         PyPlanner {
             values: Values::new(class),
-            polish: Polish::default(),
         }
-    }
-
-    /// Whether `key` is one of magbench's own settings ([`Polish`]) rather than the class's.
-    fn polish_key(&self, key: &str) -> bool {
-        !self.values.class.params.iter().any(|p| p.name == key)
-            && self.polish.params().iter().any(|p| p.name == key)
-    }
-
-    /// The solution after the shortcut pass and straightening ([`polish`]) of the settings
-    /// that are magbench's, its steered edges at most the built-in planners' default longest
-    /// edge.
-    fn polished(&self, problem: &Problem, plan: magbench_planners::Plan, cost: f64) -> Best {
-        let best = Best {
-            plan,
-            solved: true,
-            cost,
-        };
-        let passes = Passes {
-            shortcut: if self.polish_key("shortcut") {
-                self.polish.shortcut
-            } else {
-                0
-            },
-            straighten: self.polish_key("straighten") && self.polish.straighten,
-        };
-        let alpha_max = best.plan.alpha_max;
-        let max_duration = SearchSettings::default().max_duration;
-        polish(problem, best, passes, max_duration, alpha_max)
     }
 }
 
@@ -338,30 +290,7 @@ macro_rules! param_set_by_values {
     )+};
 }
 
-param_set_by_values!(PyTracker);
-
-impl ParamSet for PyPlanner {
-    fn params(&self) -> Vec<ParamInfo> {
-        let mut params = self.values.params();
-        params.extend(
-            self.polish
-                .params()
-                .into_iter()
-                .filter(|p| self.polish_key(&p.name)),
-        );
-        params
-    }
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        if self.polish_key(key) {
-            return self.polish.set_param(key, value);
-        }
-        self.values.set(key, value)
-    }
-    fn check_params(&self) -> Result<(), Rejection> {
-        self.polish.check_params()?;
-        self.values.check()
-    }
-}
+param_set_by_values!(PyTracker, PyPlanner);
 
 /// Whether a team on `model` may tilt the field (`planar = auto`).
 fn elevation_free(agents: usize, model: &magbench_env::PlanningModel) -> bool {
@@ -498,7 +427,7 @@ impl Planner for PyPlanner {
         let solved = agents_ok && plan.edges() > 0 && problem.goal.contains(plan.end());
         let iterations = progress.iter().map(|p| p.iteration).max().unwrap_or(0);
         let search_s = t0.elapsed().as_secs_f64();
-        let mut cost = solved.then(|| plan_cost(problem, &plan));
+        let cost = solved.then(|| plan_cost(problem, &plan));
         let first_solution = progress
             .iter()
             .find(|p| p.best_cost.is_some())
@@ -513,18 +442,6 @@ impl Planner for PyPlanner {
                 time_s: search_s,
                 best_cost: cost,
             });
-        }
-        if let Some(c) = cost {
-            let best = self.polished(problem, plan, c);
-            plan = best.plan;
-            if best.cost < c {
-                cost = Some(best.cost);
-                progress.push(ProgressPoint {
-                    iteration: iterations,
-                    time_s: t0.elapsed().as_secs_f64(),
-                    best_cost: cost,
-                });
-            }
         }
         let time_s = t0.elapsed().as_secs_f64();
         PlannerResult {

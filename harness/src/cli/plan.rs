@@ -17,15 +17,14 @@ use magbench_env::coil::{Planar, elevation_params};
 use magbench_env::math::centroid;
 use magbench_env::plant::{Medium, Tilt};
 use magbench_env::{MAX_AGENTS, PhysicalParams, Scenario, Vec2};
-use magbench_planners::{
-    Plan, Planner, PlannerResult, Planners, PlanningSetup, Problem, Unusable, check_result,
-};
+use magbench_planners::{Plan, Planner, PlannerResult, Planners, PlanningSetup, Problem};
 use serde_json::{Value, json};
 
 use super::number::checked;
 use super::output::{out, outln};
 use super::setup::{SetupArgs, check_elevation};
 use crate::CliError;
+use crate::pipeline::{Failure, Pipeline};
 use crate::plot::world::{WorldPlot, render};
 use crate::registry::Registry;
 use crate::replay::tree_svg::{TreePicture, svg_paths};
@@ -42,7 +41,8 @@ pub struct PlanArgs {
     /// `goal-zoom-rrt{aim=true,guide=true}`.
     #[arg(long, required_unless_present = "list")]
     pub planner: Option<String>,
-    /// Seed of the planner's random stream (leg k uses seed + k).
+    /// Seed of the run: leg k (from 0) is planned with seed + k·1000003, as a sweep's run of
+    /// this seed plans it.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Planner limits per leg, objective, metric and flow.
@@ -81,6 +81,12 @@ struct LegRun {
     tree_data: Option<LegTree>,
 }
 
+impl AsRef<PlannerResult> for LegRun {
+    fn as_ref(&self) -> &PlannerResult {
+        &self.result
+    }
+}
+
 /// Runs `magbench plan` with the planners of `registry`.
 pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     if a.list {
@@ -96,7 +102,7 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     let scenario = Scenario::load(scenario_name)?;
     let (planner_name, params) = super::label::named("--planner", label, "--param", &a.params)?;
     let planner_name = planner_name.as_str();
-    let mut planner = registry.planners().create(planner_name, &params)?;
+    let planner = registry.planners().create(planner_name, &params)?;
     // the bound of a rig file's `camera.fps`: the rig that runs the plan has one of those
     checked("--fps", &magbench_drivers::rigfile::FPS, a.fps)?;
     let setup = a.setup.setup()?.in_frames_of(1.0 / a.fps);
@@ -120,52 +126,38 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
         }
     }
 
-    let mut runs: Vec<LegRun> = Vec::new();
-    let mut start: Option<Vec<Vec2>> = None;
+    let pipe = Pipeline::new(&scenario, setup.clone(), a.seed);
     let progress = super::progress::Progress::new(!a.json);
     let legs = scenario.legs.len();
-    for leg in 0..legs {
-        let problem = setup.problem(
-            &scenario,
-            leg,
-            start.as_deref(),
-            a.seed.wrapping_add(leg as u64),
-        );
-        if !problem.checker.is_valid(&problem.start) {
-            return Err(CliError::Failed(format!(
-                "leg {}: the previous leg ends in a state that is invalid in this leg's map",
-                leg + 1
-            )));
-        }
+    let runs = pipe.plan_legs(|leg, start| {
         let prefix = if legs > 1 {
             format!("leg {}/{legs}", leg + 1)
         } else {
             "planning".to_string()
         };
-        let result = magbench_planners::progress::observe(progress.planning(prefix), || {
-            planner.solve(&problem)
-        });
-        // never hand out a plan the validator refuses (a plan without motion is reported)
-        if let Err(Unusable::Invalid(e)) = check_result(&problem, &result) {
-            return Err(CliError::Failed(format!(
-                "leg {}: {planner_name} returned an invalid plan: {e}",
+        // a fresh planner for every leg, as a sweep plans
+        let mut planner = registry.planners().create(planner_name, &params)?;
+        let planned = magbench_planners::progress::observe(progress.planning(prefix), || {
+            pipe.plan_leg(planner.as_mut(), leg, start)
+        })
+        .map_err(|f| match f {
+            Failure::InvalidStart { leg } => CliError::Failed(format!(
+                "leg {}: the previous leg ends in a state that is invalid in this leg's map",
                 leg + 1
-            )));
-        }
-        let tree = tree_edges(&*planner);
-        let tree_data = LegTree::of_planner(&*planner, &problem, leg);
-        let solved = result.solved;
-        start = Some(result.plan.end().to_vec());
-        runs.push(LegRun {
-            problem,
-            result,
-            tree,
-            tree_data,
-        });
-        if !solved {
-            break;
-        }
-    }
+            )),
+            // never hand out a plan the validator refuses (a plan without motion is reported)
+            Failure::InvalidPlan { leg, error } => CliError::Failed(format!(
+                "leg {}: {planner_name} returned an invalid plan: {error}",
+                leg + 1
+            )),
+        })?;
+        Ok::<_, CliError>(LegRun {
+            tree: tree_edges(&*planner),
+            problem: planned.problem,
+            result: planned.checked.result,
+            tree_data: planned.tree,
+        })
+    })?;
 
     progress.clear();
     let plans = runs.iter().map(|r| &r.result.plan);

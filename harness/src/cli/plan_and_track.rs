@@ -1,5 +1,6 @@
 //! Plan → track → write outputs: the one runner behind `magbench track` (a simulated rig) and
-//! `magbench rig run` (a coil-and-camera rig, or the emulator).
+//! `magbench rig run` (a coil-and-camera rig, or the emulator), planning and tracking through
+//! the run's [`Pipeline`] (a plan file is checked by its start rule first).
 //!
 //! The rig comes from the registry's rigs ([`magbench_drivers::rigs::Rigs`]), so this runner,
 //! like the command line, does not know which rigs exist.
@@ -9,15 +10,16 @@ use std::path::{Path, PathBuf};
 use magbench_drivers::rigs::RigDescription;
 use magbench_drivers::{RigStats, stats};
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{FirstPlan, Limits, Planner, PlanningSetup, Unusable, solve_checked};
+use magbench_planners::{FirstPlan, Limits, Planner, PlanningSetup, Unusable};
 use magbench_trackers::plan_file::{check_origin, check_plan, plan_json_for, read_plan};
 use magbench_trackers::{
-    Mission, RunStatus, TrackOutcome, TrackerSpec, reference_for, track, write_ticks_csv,
+    RunStatus, TrackOutcome, TrackerSpec, reference_for, track, write_ticks_csv,
 };
 use serde_json::{Value, json};
 
 use super::output::{emit, prepare_dir};
 use crate::CliError;
+use crate::pipeline::{Failure, Pipeline};
 use crate::plot::anim::{Frame, GifOptions, render_gif};
 use crate::plot::world::{WorldPlot, render};
 use crate::registry::Registry;
@@ -96,6 +98,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     }
     sets.push(("param", r.tracker.build().params()));
     super::setup::check_elevation(&setup, s, &sets, &plant.coil_source)?;
+    let pipe = Pipeline::new(s, setup.clone(), r.seed);
     // a plan file, validated under the rig's setup: its frames, medium and coil
     let given = match &r.plan {
         Some(path) => {
@@ -138,16 +141,36 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
             ));
         }
         (None, Some(planner)) => {
-            let problem = setup.problem(s, 0, observed.as_deref(), r.seed);
-            let checked = {
+            let planned = {
                 let progress = super::progress::Progress::new(!r.json);
-                let checked = magbench_planners::progress::observe(
+                let planned = magbench_planners::progress::observe(
                     progress.planning("planning".into()),
-                    || solve_checked(planner.as_mut(), &problem),
+                    || pipe.plan_leg(planner.as_mut(), 0, observed.as_deref()),
                 );
                 progress.clear();
-                checked
+                planned
             };
+            let planned = match planned {
+                Ok(planned) => planned,
+                Err(f) => {
+                    let _ = rig.stop();
+                    let name = planner.name();
+                    return Err(CliError::Failed(match f {
+                        Failure::InvalidStart { .. } => format!(
+                            "{name}: the {} start is invalid in the first leg's map (collision or proximity range)",
+                            if observed.is_some() {
+                                "observed"
+                            } else {
+                                "scenario's"
+                            }
+                        ),
+                        Failure::InvalidPlan { error, .. } => {
+                            format!("{name}: {}", Unusable::Invalid(error))
+                        }
+                    }));
+                }
+            };
+            let checked = planned.checked;
             let result = &checked.result;
             if rig.describe().is_some() {
                 eprintln!(
@@ -165,7 +188,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
                 );
             }
             let name = planner.name().to_string();
-            let tree = LegTree::of_planner(&**planner, &problem, 0);
+            let tree = planned.tree;
             match checked.followable() {
                 Ok(first) => (first, tree),
                 Err(e) => {
@@ -194,13 +217,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     let trees: Vec<LegTree> = tree.into_iter().collect();
     let solved = first.solved;
     let model = setup.model(s);
-    let mission = Mission {
-        scenario: s,
-        first,
-        planner: planner.as_deref_mut().map(|p| p as &mut dyn Planner),
-        setup,
-        seed: r.seed,
-    };
+    let mission = pipe.mission(first, planner.as_deref_mut().map(|p| p as &mut dyn Planner));
     let mut tracker = r.tracker.build();
     let mut opts = r.tracker.loop_options();
     opts.record_ticks = r.out.is_some();

@@ -5,7 +5,8 @@
 //! planner ([`SETUP_KEYS`]): `objective` (`path-length`, `duration`, `control-effort`),
 //! `metric` (`positions`, `centroid-shape:W_C:W_S`) and `flow` (`pair-adaptive`, `pair-exact`,
 //! `rk4`). Every planning call of the run — each leg, and in a tracked run each replan — is made
-//! under that one setup ([`setup`]), in whole frames of the preset's camera when the run is tracked. A
+//! under that one setup ([`setup`]), in whole frames of the preset's camera when the run is tracked,
+//! through the run's [`Pipeline`] (its seed rule, start rule, validator and post-processing). A
 //! scenario with several legs is planned leg by leg, each leg from the end of the previous
 //! leg's plan with the full limits; the run is solved when every leg is, and its iterations,
 //! nodes, times, costs and progress add up over the legs.
@@ -25,14 +26,13 @@ use magbench_env::check::Rejection;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::ElevationRefused;
 use magbench_planners::setup::SETUP_KEYS;
-use magbench_planners::{
-    Checked, Limits, Plan, Planner, PlannerResult, PlanningSetup, solve_checked,
-};
-use magbench_trackers::{Mission, RunStatus, simulate};
+use magbench_planners::{Limits, Plan, Planner, PlannerResult, PlanningSetup};
+use magbench_trackers::{RunStatus, simulate};
 
 use super::executor::base_record;
 use super::{Executor, ProgressRow, RunError, RunOutput, RunSpec, Status, Variant};
 use crate::metrics::{PathFacts, PlanFacts, TrackFacts};
+use crate::pipeline::{Failure, LegPlan, Pipeline};
 use crate::registry::Registry;
 use crate::replay::{LegTree, ReplayData};
 
@@ -111,32 +111,31 @@ fn plant(spec: &RunSpec) -> Arc<DisturbancePreset> {
         .unwrap_or_else(|| Arc::new(DisturbancePreset::ideal()))
 }
 
-/// The planner seed of leg `leg` of the run.
-fn leg_seed(spec: &RunSpec, leg: usize) -> u64 {
-    spec.seed.wrapping_add(leg as u64 * 1_000_003)
+/// The run's pipeline: its scenario, planning `setup` and seed.
+fn pipeline<'a>(spec: &'a RunSpec, setup: &PlanningSetup) -> Pipeline<'a> {
+    Pipeline::new(&spec.scenario, setup.clone(), spec.seed)
 }
 
-/// Plans leg `leg` of the run's scenario from `start` under `setup` with a fresh planner of
-/// the run from `registry` ([`solve_checked`]). A plan the validator refuses is an error (a
-/// crash row); a plan without motion is a result (a timeout), not followable.
+/// A pipeline failure as the run's error (a crash row).
+fn failed(f: Failure) -> RunError {
+    RunError::InvalidPlan {
+        leg: f.leg(),
+        error: f.plan_error(),
+    }
+}
+
+/// Plans leg `leg` of the run's scenario from `start` with a fresh planner of the run from
+/// `registry` ([`Pipeline::plan_leg`]). A plan the validator refuses is an error (a crash
+/// row); a plan without motion is a result (a timeout), not followable.
 fn plan_leg(
     registry: &Registry,
     spec: &RunSpec,
-    setup: &PlanningSetup,
+    pipe: &Pipeline,
     leg: usize,
-    start: &[magbench_env::Vec2],
-) -> Result<(Checked, Option<LegTree>), RunError> {
+    start: Option<&[magbench_env::Vec2]>,
+) -> Result<LegPlan, RunError> {
     let mut planner = new_planner(registry, spec)?;
-    let p = setup.problem(&spec.scenario, leg, Some(start), leg_seed(spec, leg));
-    let checked = solve_checked(planner.as_mut(), &p);
-    if let Some(e) = checked.invalid() {
-        return Err(RunError::InvalidPlan {
-            leg,
-            error: e.clone(),
-        });
-    }
-    let tree = LegTree::of_planner(&*planner, &p, leg);
-    Ok((checked, tree))
+    pipe.plan_leg(planner.as_mut(), leg, start).map_err(failed)
 }
 
 /// Plans every leg of the run's scenario in turn under `setup` (stopping at an unsolved leg),
@@ -155,19 +154,13 @@ pub fn plan_legs_with_trees(
     spec: &RunSpec,
     setup: &PlanningSetup,
 ) -> Result<(Vec<PlannerResult>, Vec<LegTree>), RunError> {
+    let pipe = pipeline(spec, setup);
+    let legs = pipe.plan_legs(|leg, start| plan_leg(registry, spec, &pipe, leg, start))?;
     let mut trees = vec![];
-    let mut start = spec.scenario.start.clone();
     let mut out = vec![];
-    for leg in 0..spec.scenario.legs.len() {
-        let (checked, tree) = plan_leg(registry, spec, setup, leg, &start)?;
-        trees.extend(tree);
-        let r = checked.result;
-        let solved = r.solved;
-        start = r.plan.end().to_vec();
-        out.push(r);
-        if !solved {
-            break;
-        }
+    for l in legs {
+        trees.extend(l.tree);
+        out.push(l.checked.result);
     }
     Ok((out, trees))
 }
@@ -337,7 +330,12 @@ impl Executor for RealExecutor {
                 replans: vec![],
             });
         };
-        let (first, tree) = plan_leg(&self.registry, spec, &setup, 0, &spec.scenario.start)?;
+        let pipe = pipeline(spec, &setup);
+        let LegPlan {
+            checked: first,
+            tree,
+            ..
+        } = plan_leg(&self.registry, spec, &pipe, 0, None)?;
         let model = setup.model(&spec.scenario);
         let trees: Vec<LegTree> = tree.into_iter().collect();
         let progress = fill_planning(std::slice::from_ref(&first.result), 1, spec, &mut rec);
@@ -363,13 +361,7 @@ impl Executor for RealExecutor {
         };
         let preset = plant(spec);
         let mut planner = new_planner(&self.registry, spec)?;
-        let mission = Mission {
-            scenario: &spec.scenario,
-            first,
-            planner: Some(planner.as_mut()),
-            setup,
-            seed: spec.seed,
-        };
+        let mission = pipe.mission(first, Some(planner.as_mut()));
         let mut tracker = tspec.build();
         let mut opts = tspec.loop_options();
         opts.record_ticks = true;

@@ -147,7 +147,6 @@ impl<P: OmplParams> Ompl<P> {
                 cost: 0.0,
             },
         };
-        let best = self.params.durations().polish(problem, best, alpha_max);
         let mut progress = live.progress;
         let first = match (live.first, best.solved) {
             (Some(f), true) => Some(f),

@@ -10,8 +10,7 @@ use magbench_env::declare_params;
 use magbench_env::params::{ParamSet, Reals};
 
 use crate::Problem;
-use crate::result::Best;
-use crate::search_settings::{Passes, SearchSettings, check_durations, polish, to_periods};
+use crate::search_settings::{SearchSettings, check_durations, to_periods};
 
 declare_params! {
     /// What every OMPL planner's controls share: the duration bounds, in seconds, used in whole
@@ -29,14 +28,6 @@ declare_params! {
         /// `false`. Elevated, the control space gains α ∈ [0, alpha_max].
         #[param("planar")]
         pub planar: Planar = Planar::Auto,
-        /// Steer solves of magbench's shortcut pass spent on OMPL's solution before it is
-        /// returned (crate::shortcut; 0 none; pairs under the exact flow only).
-        #[param("shortcut", 0..=1_000_000)]
-        pub shortcut: usize = 0,
-        /// Whether magbench straightens the centroid of OMPL's solution after the shortcut
-        /// pass (crate::straighten).
-        #[param("straighten")]
-        pub straighten: bool = false,
     }
     check(Durations::check);
 }
@@ -48,15 +39,6 @@ impl Durations {
             to_periods(self.min_duration, problem.control_period),
             to_periods(self.max_duration, problem.control_period),
         )
-    }
-
-    /// `best` after the shortcut pass and straightening ([`crate::search_settings::polish`]).
-    pub fn polish(&self, problem: &Problem, best: Best, alpha_max: Option<f64>) -> Best {
-        let passes = Passes {
-            shortcut: self.shortcut,
-            straighten: self.straighten,
-        };
-        polish(problem, best, passes, self.max_duration, alpha_max)
     }
 
     /// The largest elevation (rad) when the field may leave the plane for `problem`.
@@ -73,14 +55,7 @@ impl Durations {
 }
 
 /// Keys that magbench reads itself; every other parameter goes to OMPL by name.
-pub const MAGBENCH_KEYS: [&str; 6] = [
-    "min_duration",
-    "max_duration",
-    "stop_on_solution",
-    "planar",
-    "shortcut",
-    "straighten",
-];
+pub const MAGBENCH_KEYS: [&str; 4] = ["min_duration", "max_duration", "stop_on_solution", "planar"];
 
 /// An OMPL planner's parameters.
 pub trait OmplParams: ParamSet + Clone + Default + Send + 'static {

@@ -158,7 +158,6 @@ impl Planner for GoalZoomRrt {
             solved: reached.is_some(),
             cost,
         };
-        let best = self.search.polish(problem, best, extend.alpha_max);
         let nodes = tree.len();
         self.last_tree = Some(tree);
         finish(problem, best, i, nodes, progress, first, extend.alpha_max)

@@ -261,7 +261,6 @@ impl Sst {
         };
         let nodes = tree.len();
         self.last_tree = Some(tree);
-        let best = self.search.polish(problem, best, propagate.alpha_max);
         (
             finish(
                 problem,

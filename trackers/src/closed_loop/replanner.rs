@@ -24,6 +24,7 @@ use magbench_env::params::{ParamType, Value, choose};
 use magbench_env::{Scenario, ValidityChecker, Vec2};
 use magbench_planners::repair::{Repair, RepairHow};
 use magbench_planners::search_settings::SearchSettings;
+use magbench_planners::seeds::replan_seed;
 use magbench_planners::{
     Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, check_result,
 };
@@ -34,10 +35,6 @@ use crate::log::{PlanReason, ReplanHow, ReplanRecord};
 
 /// Waypoints ahead of the nearest one that a repair's rejoin steers onto.
 const REPAIR_AHEAD: usize = 8;
-
-/// Seeds of successive plans of a run: the run's seed plus the plan's index times the 64-bit
-/// golden ratio, so that every replan draws a fresh, reproducible random stream.
-const SEED_STEP: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// Whether a stall on the plan calls for a replan (loop parameter `replan_stall`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -325,7 +322,7 @@ impl<'a> Replanner<'a> {
                 *p = q;
             }
         }
-        let seed = self.seed.wrapping_add((k as u64).wrapping_mul(SEED_STEP));
+        let seed = replan_seed(self.seed, k);
         let mut problem = self.setup.problem(scenario, leg, Some(&start), seed);
         if !problem.checker.is_valid(&problem.start) {
             // the validator (`check_result`) refuses every plan from an invalid start (agents too close or too

@@ -122,15 +122,7 @@ impl RrtStar {
         self.last_tree = Some(std::mem::replace(&mut s.tree, Tree::new(&problem.start)));
         let alpha_max = s.extend.alpha_max;
         (
-            finish(
-                problem,
-                self.search.polish(problem, s.best, alpha_max),
-                i,
-                nodes,
-                progress,
-                first,
-                alpha_max,
-            ),
+            finish(problem, s.best, i, nodes, progress, first, alpha_max),
             stats,
         )
     }
