@@ -20,7 +20,6 @@ use magbench_env::params::Reals;
 use crate::Problem;
 use crate::extend::{Extend, Timing};
 use crate::guide::Guide;
-use crate::result::Best;
 use crate::sampler::GoalZoom;
 
 declare_params! {
@@ -106,13 +105,6 @@ impl SearchSettings {
         } else {
             None
         }
-    }
-
-    /// `best` as it is: a planner returns its search's solution, and the run's post-processing
-    /// (crate::post_process) is applied to it by the planner the registry makes
-    /// ([`crate::PostProcessed`]).
-    pub fn polish(&self, _problem: &Problem, best: Best, _alpha_max: Option<f64>) -> Best {
-        best
     }
 
     fn check(&self) -> Result<(), Rejection> {

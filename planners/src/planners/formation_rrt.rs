@@ -457,7 +457,6 @@ impl Planner for FormationRrt {
             progress.record(i, Some(cost));
         }
         let best = Best { plan, solved, cost };
-        let best = self.search.polish(problem, best, extend.alpha_max);
         let nodes = tree.len();
         self.last_tree = Some(tree);
         finish(problem, best, i, nodes, progress, first, extend.alpha_max)
