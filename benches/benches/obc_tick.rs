@@ -74,6 +74,7 @@ fn bench(c: &mut Criterion) {
         checker: &checker,
         period,
         goal: s.final_goal(),
+        seed: 0,
     };
     for name in ["obc", "lookahead"] {
         let mut tracker = Trackers::builtin()
@@ -207,6 +208,7 @@ fn ten_agents(c: &mut Criterion) {
         checker: &problem.checker,
         period: 1.0 / 60.0,
         goal: s.final_goal(),
+        seed: 0,
     };
     let tick = Tick {
         t: r.time(k),

@@ -1,0 +1,143 @@
+//! The `mppi` tracker: under the ideal preset it follows goal-zoom-rrt's plan of `open-field`
+//! into the goal, and formation-rrt's plan of a ring of ten; a run is the same for the same seed
+//! (and the seed is what its noise comes from); bad parameters are refused naming the key.
+
+use magbench_env::Scenario;
+use magbench_env::plant::DisturbancePreset;
+use magbench_env::scenario::generate::generate;
+use magbench_planners::registry::Planners;
+use magbench_planners::{Limits, Plan, PlanningSetup};
+use magbench_trackers::{Mission, RunStatus, TrackOutcome, Trackers, simulate};
+
+fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
+    pairs
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect()
+}
+
+/// `planner`'s plan of `s`'s first leg (seed 1, at most `iterations` iterations).
+fn plan(s: &Scenario, planner: &str, iterations: u64) -> Plan {
+    let setup = PlanningSetup {
+        limits: Limits {
+            max_iterations: Some(iterations),
+            time_limit: None,
+        },
+        ..PlanningSetup::default()
+    };
+    let p = setup.problem(s, 0, None, 1);
+    let r = Planners::builtin().create(planner, &[]).unwrap().solve(&p);
+    assert!(r.solved, "{planner}: goal distance {}", r.goal_distance);
+    r.plan
+}
+
+/// A run of `mppi` with `params` following `plan` under the ideal preset, seeded with `seed`.
+fn run(s: &Scenario, plan: &Plan, params: &[(&str, &str)], seed: u64) -> TrackOutcome {
+    let spec = Trackers::builtin().spec("mppi", &kv(params), "test").unwrap();
+    let mut mission = Mission::with_plan(s, plan.clone());
+    mission.seed = seed;
+    simulate(
+        mission,
+        spec.build().as_mut(),
+        &DisturbancePreset::ideal(),
+        &spec.loop_options(),
+    )
+}
+
+#[test]
+fn the_pair_follows_goal_zoom_rrt_into_the_goal_of_open_field() {
+    let s = Scenario::load("open-field").unwrap();
+    let p = plan(&s, "goal-zoom-rrt", 20_000);
+    let out = run(&s, &p, &[], 1);
+    let m = &out.metrics;
+    assert_eq!(m.status, RunStatus::ReachedGoal, "{m:?}");
+    assert!(!m.agent_contact && m.wall_contacts == 0, "{m:?}");
+    assert!(m.rms_error_bl < 0.05, "{m:?}");
+}
+
+#[test]
+fn ten_agents_follow_formation_rrt_into_the_goal() {
+    let s = generate("<test>", "team", &kv(&[("agents", "10"), ("spacing", "1.8")]), 1, 0)
+        .unwrap()
+        .scenario;
+    let p = plan(&s, "formation-rrt", 2_000);
+    let out = run(&s, &p, &[("samples", "64"), ("horizon", "6")], 1);
+    let m = &out.metrics;
+    assert_eq!(m.status, RunStatus::ReachedGoal, "{m:?}");
+    assert!(!m.agent_contact && m.wall_contacts == 0, "{m:?}");
+}
+
+#[test]
+fn the_same_seed_gives_the_same_run_and_another_seed_another() {
+    let s = Scenario::load("open-field").unwrap();
+    let p = plan(&s, "goal-zoom-rrt", 20_000);
+    let params = [("samples", "32"), ("horizon", "5"), ("time_slack", "2")];
+    let commands = |seed| -> Vec<_> {
+        run(&s, &p, &params, seed)
+            .ticks
+            .iter()
+            .map(|t| (t.command, t.truth.clone()))
+            .collect()
+    };
+    let (a, b, c) = (commands(3), commands(3), commands(4));
+    assert!(a.len() > 10);
+    assert_eq!(a, b, "seed 3 twice");
+    assert_ne!(a, c, "seeds 3 and 4 drew the same noise");
+}
+
+#[test]
+fn parallel_and_serial_rollouts_give_the_same_run() {
+    let s = Scenario::load("open-field").unwrap();
+    let p = plan(&s, "goal-zoom-rrt", 20_000);
+    let commands = |parallel_from| -> Vec<_> {
+        let params = [
+            ("samples", "48"),
+            ("horizon", "5"),
+            ("time_slack", "1"),
+            ("parallel_from", parallel_from),
+        ];
+        run(&s, &p, &params, 5)
+            .ticks
+            .iter()
+            .map(|t| t.command)
+            .collect()
+    };
+    assert_eq!(commands("1"), commands("1000"));
+}
+
+#[test]
+fn bad_values_are_refused_naming_the_key() {
+    for (key, value) in [
+        ("samples", "1"),
+        ("samples", "0"),
+        ("samples", "2.5"),
+        ("horizon", "0"),
+        ("horizon", "10000"),
+        ("temperature", "0"),
+        ("temperature", "-1"),
+        ("noise_angle", "nan"),
+        ("noise_angle", "4"),
+        ("noise_grad", "-0.1"),
+        ("control_weight", "-1"),
+        ("parallel_from", "0"),
+        ("alpha_max", "91"),
+    ] {
+        let e = match Trackers::builtin().spec("mppi", &kv(&[(key, value)]), "exp.toml") {
+            Ok(_) => panic!("{key}={value} accepted"),
+            Err(e) => e,
+        };
+        assert_eq!(e.field, format!("param.{key}"), "{key}={value}: {e}");
+        assert!(!e.reason.is_empty());
+    }
+    // too much work per tick: refused naming samples, with the bound
+    let e = Trackers::builtin()
+        .spec(
+            "mppi",
+            &kv(&[("samples", "100000"), ("horizon", "600")]),
+            "x",
+        )
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("samples"), "{e}");
+    assert!(e.reason.contains("at most"), "{e}");
+}
