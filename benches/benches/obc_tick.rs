@@ -1,7 +1,9 @@
 //! One OBC tick: the tracker's command for one camera frame (nearest-sample search, the
 //! brute-force field-angle grid with the closed-form pull, the refinement and the wall check),
 //! on micro-factory, mid-path, with the team 0.05 BL off its reference; the optimizer alone for
-//! the pair and for three agents, planar and elevated; each tracker's tick on a team of ten.
+//! the pair and for three agents, planar and elevated; each tracker's tick on a team of ten. The
+//! MPPI tracker's tick at its defaults is timed beside them (`mppi tick (micro-factory)`, `mppi
+//! tick (ten agents)`).
 //! After the criterion
 //! groups, whole simulated runs give the median and 99th percentile of the per-tick time,
 //! printed as a Markdown table (`magbench docs measure --only bench-obc-tick` keeps it).
@@ -76,7 +78,7 @@ fn bench(c: &mut Criterion) {
         goal: s.final_goal(),
         seed: 0,
     };
-    for name in ["obc", "lookahead"] {
+    for name in ["obc", "lookahead", "mppi"] {
         let mut tracker = Trackers::builtin()
             .spec(name, &[], "bench")
             .unwrap()
@@ -215,7 +217,7 @@ fn ten_agents(c: &mut Criterion) {
         estimate: &x,
         observation: &obs,
     };
-    for name in ["formation", "obc", "lookahead"] {
+    for name in ["formation", "obc", "lookahead", "mppi"] {
         let mut tracker = Trackers::builtin()
             .spec(name, &[], "bench")
             .unwrap()
@@ -238,7 +240,7 @@ fn tick_percentiles() {
     s.start = p.start().to_vec();
     println!("| tracker | simulated ticks (5 runs, realistic) | median | p99 |");
     println!("| --- | --- | --- | --- |");
-    for name in ["obc", "lookahead"] {
+    for name in ["obc", "lookahead", "mppi"] {
         let spec = Trackers::builtin()
             .spec(name, &[("time_slack".into(), "8".into())], "bench")
             .unwrap();
