@@ -312,16 +312,23 @@ impl Tracker for Mppi {
             sequences.iter().map(|v| rollouts.cost(v)).collect()
         };
 
-        // the exponentially weighted average of the perturbations
+        // the exponentially weighted average of the perturbations: a rollout whose cost is not a
+        // number weighs nothing, and if none is a number the nominal is kept
         let best = costs.iter().copied().fold(f64::INFINITY, f64::min);
         let weights: Vec<f64> = costs
             .iter()
-            .map(|c| (-(c - best) / self.temperature).exp())
+            .map(|&c| {
+                if c.is_finite() {
+                    (-(c - best) / self.temperature).exp()
+                } else {
+                    0.0
+                }
+            })
             .collect();
         let total: f64 = weights.iter().sum();
         let mut mean = vec![[0.0; 4]; h_len];
         for (v, w) in sequences.iter().zip(&weights) {
-            if *w == 0.0 {
+            if *w == 0.0 || total == 0.0 {
                 continue;
             }
             for (m, (vu, u)) in mean.iter_mut().zip(v.iter().zip(&nominal)) {
