@@ -1,13 +1,17 @@
 //! The `mppi` tracker: under the ideal preset it follows goal-zoom-rrt's plan of `open-field`
 //! into the goal, and formation-rrt's plan of a ring of ten; a run is the same for the same seed
-//! (and the seed is what its noise comes from); bad parameters are refused naming the key.
+//! (and the seed is what its noise comes from); a reference that brings the pair into contact is
+//! followed only as far as the proximity range allows; bad parameters are refused naming the key.
 
-use magbench_env::Scenario;
-use magbench_env::plant::DisturbancePreset;
+use magbench_env::plant::{DisturbancePreset, Observation};
 use magbench_env::scenario::generate::generate;
+use magbench_env::{LocalView, PlanningModel, Scenario, Vec2};
 use magbench_planners::registry::Planners;
 use magbench_planners::{Limits, Plan, PlanningSetup};
-use magbench_trackers::{Mission, RunStatus, TrackOutcome, Trackers, simulate};
+use magbench_trackers::{
+    Mission, Mppi, Reference, RunStatus, Tick, TrackOutcome, Tracker, TrackerContext, Trackers,
+    simulate,
+};
 
 fn kv(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
     pairs
@@ -114,6 +118,62 @@ fn parallel_and_serial_rollouts_give_the_same_run() {
     assert!(
         commands("1") == commands("1000"),
         "parallel and serial scoring differ"
+    );
+}
+
+/// A reference that closes the pair at 1 BL/s from 2.5 to 0.5 BL apart, below `r_min`: driven
+/// by the tracker (the planning model as the plant), the pair closes in but every frame stays
+/// valid.
+#[test]
+fn a_reference_into_contact_is_followed_only_as_far_as_the_proximity_range() {
+    let s = Scenario::load("open-field").unwrap();
+    let model = PlanningModel::new(&s.physics);
+    let checker = s.checker_for_leg(0);
+    let steps = (10.0 / model.dt).round() as usize;
+    let times: Vec<f64> = (0..=steps).map(|k| k as f64 * model.dt).collect();
+    let states: Vec<Vec<Vec2>> = times
+        .iter()
+        .map(|t| {
+            let r = (2.5 - t).max(0.5);
+            LocalView::new(15.0, 10.0, r, 0.0).to_pair().to_vec()
+        })
+        .collect();
+    let reference = Reference::from_samples(&times, &states);
+    let ctx = TrackerContext {
+        reference: &reference,
+        model: &model,
+        world: &s.world,
+        checker: &checker,
+        period: 1.0 / 60.0,
+        goal: s.final_goal(),
+        seed: 1,
+    };
+    let mut tracker = Mppi::default();
+    tracker.reset(&ctx);
+    let mut x = states[0].clone();
+    let mut out = x.clone();
+    let mut least = f64::INFINITY;
+    for frame in 0..600 {
+        let t = frame as f64 * ctx.period;
+        let observation = Observation {
+            t,
+            agents: x.iter().map(|p| Some(*p)).collect(),
+        };
+        let tick = Tick {
+            t,
+            estimate: &x,
+            observation: &observation,
+        };
+        let u = tracker.command(&ctx, &tick);
+        model.propagate(&x, &u, ctx.period, &mut out);
+        x.copy_from_slice(&out);
+        let r = (x[1] - x[0]).norm();
+        assert!(checker.is_valid(&x), "frame {frame}: r = {r}");
+        least = least.min(r);
+    }
+    assert!(
+        least < 2.0,
+        "the pair stayed {least} BL apart: the reference was not followed"
     );
 }
 

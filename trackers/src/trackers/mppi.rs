@@ -11,6 +11,7 @@
 //!   x_ref(h) ← reference sample k + h·(one period), h = 1..H     (clamped to the end)
 //!   U ← U shifted by one period; its last control is the plan's there (else repeated)
 //!   V_0 ← U, V_1 ← the plan's own controls ahead (feedforward),
+//!   V_2.. ← U with its field angle held at θ_U(1) + 2π·a/(angles + 1), a = 1..angles,
 //!   V_j ← clamp(U + ε_j), ε_j ~ N(0, diag(noise_angle², noise_angle², (noise_grad·G)²))
 //!   for each j (in parallel when samples ≥ parallel_from):
 //!     x ← x̂
@@ -18,8 +19,9 @@
 //!       S_j += mean_i |x_i − x_ref,i(h)|²
 //!              + control_weight · |V_j(h) − V_j(h−1)|²          V_j(0): the last command sent
 //!              + PENALTY if the checker rejects x                (the rest of the rollout too)
-//!   w_j ← exp(−(S_j − min S) / temperature)
-//!   U ← clamp(U + Σ w_j (V_j − U) / Σ w_j)
+//!   w_j ← exp(−(S_j − min S) / temperature),  V_b the best candidate
+//!   U ← clamp(V_b + Σ w_j (V_j − V_b) / Σ w_j)     each V_j(h) in the polarity nearer V_b(h)
+//!   U(h) ← the polarity of U(h) nearer U(h−1)      U(0): the last command sent
 //!   return U(1)
 //! ```
 //!
@@ -30,6 +32,8 @@
 //! ChaCha8 stream of the run's seed, one stream per reference followed (first plan, new legs,
 //! replans), so a run is the same for the same seed; the rollouts are scored in parallel but into their own
 //! slots, so the average does not depend on the threads.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use magbench_env::check::Rejection;
 use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};
@@ -68,6 +72,10 @@ declare_params! {
         /// fraction of the gradient limit).
         #[param("control_weight", Reals::closed(0.0, 1e9))]
         pub control_weight: f64 = 1e-5,
+        /// Candidates whose field angle is held over the horizon at evenly spread angles away
+        /// from the nominal's (the nominal's gradients and elevation), among the `samples`.
+        #[param("angles", 0..=360)]
+        pub angles: usize = 11,
         /// How far ahead of its progress the nearest reference sample is sought (s).
         #[param("window", Reals::closed(0.0, 1e4))]
         pub window: f64 = 1.0,
@@ -282,6 +290,13 @@ impl Tracker for Mppi {
         let mut sequences: Vec<Vec<Control>> = Vec::with_capacity(self.samples);
         sequences.push(nominal.clone());
         sequences.push(feedforward);
+        // fields far from the nominal's, held over the horizon: local noise alone cannot turn
+        // the field round in time when the pair closes in
+        for j in 0..self.angles {
+            let theta =
+                wrap_angle(nominal[0].theta + TAU * (j + 1) as f64 / (self.angles + 1) as f64);
+            sequences.push(nominal.iter().map(|u| Control { theta, ..*u }).collect());
+        }
         while sequences.len() < self.samples {
             let v: Vec<Control> = nominal
                 .iter()
@@ -312,9 +327,18 @@ impl Tracker for Mppi {
             sequences.iter().map(|v| rollouts.cost(v)).collect()
         };
 
-        // the exponentially weighted average of the perturbations: a rollout whose cost is not a
-        // number weighs nothing, and if none is a number the nominal is kept
-        let best = costs.iter().copied().fold(f64::INFINITY, f64::min);
+        // the exponentially weighted average, taken about the best candidate: each control in
+        // the polarity nearer the best's field angle (a field turned by π with its elevation and
+        // gradients negated moves the team the same), so that two fields a half turn apart,
+        // which act alike, are not averaged into one that does not; a rollout whose cost is not
+        // a number weighs nothing
+        let (best_j, best) = costs
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|(_, c)| c.is_finite())
+            .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        let base = sequences[best_j].clone();
         let weights: Vec<f64> = costs
             .iter()
             .map(|&c| {
@@ -328,20 +352,31 @@ impl Tracker for Mppi {
         let total: f64 = weights.iter().sum();
         let mut mean = vec![[0.0; 4]; h_len];
         for (v, w) in sequences.iter().zip(&weights) {
-            if *w == 0.0 || total == 0.0 {
+            if *w == 0.0 || !total.is_finite() || total == 0.0 {
                 continue;
             }
-            for (m, (vu, u)) in mean.iter_mut().zip(v.iter().zip(&nominal)) {
-                let e = Mppi::offset(vu, u);
+            for (m, (vu, b)) in mean.iter_mut().zip(v.iter().zip(&base)) {
+                let e = Mppi::offset(&nearest_polarity(ctx, vu, b.theta), b);
                 for (mi, ei) in m.iter_mut().zip(e) {
                     *mi += w * ei / total;
                 }
             }
         }
-        self.nominal = nominal
+        // the new nominal, each control in the polarity nearer the one before it (the first,
+        // nearer the last command sent): the coil's field does not reverse between frames
+        let mut before = self.last.map(|u| u.theta);
+        self.nominal = base
             .iter()
             .zip(&mean)
-            .map(|(u, e)| self.clamp(ctx, &Mppi::moved(u, e), elevated))
+            .map(|(b, e)| {
+                let u = self.clamp(ctx, &Mppi::moved(b, e), elevated);
+                let u = match before {
+                    Some(theta) => nearest_polarity(ctx, &u, theta),
+                    None => u,
+                };
+                before = Some(u.theta);
+                u
+            })
             .collect();
         let u = self.nominal[0];
         self.last = Some(u);
@@ -355,6 +390,26 @@ impl Tracker for Mppi {
             targets: Some(self.targets.clone()),
         }
     }
+}
+
+/// `u`, or its twin — the field turned by π with the elevation and the gradients negated — when
+/// the twin's field angle is nearer `theta` and the coil makes the opposite field direction and
+/// the same pull of it (true of the tri-axial set, whose pull is linear in both): every moment
+/// reverses, so the pair forces and the pull, and with them the motion, are the same.
+fn nearest_polarity(ctx: &TrackerContext, u: &Control, theta: f64) -> Control {
+    if wrap_angle(u.theta - theta).abs() <= FRAC_PI_2 {
+        return *u;
+    }
+    let twin = Control {
+        theta: wrap_angle(u.theta + PI),
+        alpha: -u.alpha,
+        grad: [-u.grad[0], -u.grad[1]],
+    };
+    let coil = &ctx.model.coil;
+    let (a, b) = (coil.actuation(u), coil.actuation(&twin));
+    let same = (a.b_hat + b.b_hat).norm() <= 1e-12
+        && (a.pull - b.pull).norm() <= 1e-12 * (1.0 + a.pull.norm());
+    if same { twin } else { *u }
 }
 
 /// Reference samples per control period (at least one).
