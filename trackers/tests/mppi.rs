@@ -3,6 +3,7 @@
 //! (and the seed is what its noise comes from); a reference that brings the pair into contact is
 //! followed only as far as the proximity range allows; bad parameters are refused naming the key.
 
+use magbench_env::coil::DEFAULT_ALPHA_MAX_DEG;
 use magbench_env::plant::{DisturbancePreset, Observation};
 use magbench_env::scenario::generate::generate;
 use magbench_env::{LocalView, PlanningModel, Scenario, Vec2};
@@ -77,6 +78,21 @@ fn ten_agents_follow_formation_rrt_into_the_goal() {
     let m = &out.metrics;
     assert_eq!(m.status, RunStatus::ReachedGoal, "{m:?}");
     assert!(!m.agent_contact && m.wall_contacts == 0, "{m:?}");
+    // every command within the coil's limits: the gradients, and the elevation (the team's
+    // field leaves the plane) within the tracker's alpha_max, which it reaches
+    let model = PlanningModel::new(&s.physics);
+    let (g_max, top) = (
+        model.coil.gradient_limit(),
+        DEFAULT_ALPHA_MAX_DEG
+            .to_radians()
+            .min(model.coil.alpha_max()),
+    );
+    for t in &out.ticks {
+        let u = t.command;
+        assert!(u.grad.iter().all(|g| g.abs() <= g_max), "{u:?}");
+        assert!(u.alpha.abs() <= top, "{u:?}");
+    }
+    assert!(out.ticks.iter().any(|t| t.command.alpha != 0.0));
 }
 
 #[test]
@@ -148,6 +164,7 @@ fn a_reference_into_contact_is_followed_only_as_far_as_the_proximity_range() {
         goal: s.final_goal(),
         seed: 1,
     };
+    let g_max = model.coil.gradient_limit();
     let mut tracker = Mppi::default();
     tracker.reset(&ctx);
     let mut x = states[0].clone();
@@ -165,6 +182,8 @@ fn a_reference_into_contact_is_followed_only_as_far_as_the_proximity_range() {
             observation: &observation,
         };
         let u = tracker.command(&ctx, &tick);
+        assert_eq!(u.alpha, 0.0, "a pair's field stays in the plane");
+        assert!(u.grad.iter().all(|g| g.abs() <= g_max), "{u:?}");
         model.propagate(&x, &u, ctx.period, &mut out);
         x.copy_from_slice(&out);
         let r = (x[1] - x[0]).norm();
