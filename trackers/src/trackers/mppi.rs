@@ -1,9 +1,10 @@
 //! `mppi`: model predictive path integral control (Williams et al.), a receding-horizon tracker.
 //!
 //! The tracker keeps a nominal sequence of `horizon` controls, one per control period. Each
-//! tick it shifts the sequence by one period, draws `samples` perturbed copies of it, rolls
-//! every copy out from the estimate with the planning model, scores each rollout and sends the
-//! first control of the exponentially weighted average:
+//! tick it shifts the sequence by one period, makes `samples` candidate sequences (the nominal,
+//! the plan's own controls, fields held round the circle and noisy copies of the nominal), rolls
+//! every candidate out from the estimate with the planning model, scores each rollout and sends
+//! the first control of the exponentially weighted average:
 //!
 //! ```text
 //! MPPI(x̂, t)
@@ -30,8 +31,8 @@
 //! (`planar`, as for `formation`), within `alpha_max` and the coil's own limit; every sampled
 //! control is brought within the coil's limits by the coil's own clamp. The noise comes from a
 //! ChaCha8 stream of the run's seed, one stream per reference followed (first plan, new legs,
-//! replans), so a run is the same for the same seed; the rollouts are scored in parallel but into their own
-//! slots, so the average does not depend on the threads.
+//! replans), so a run is the same for the same seed; the rollouts are scored in parallel but
+//! into their own slots, so the average does not depend on the threads.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
