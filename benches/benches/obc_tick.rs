@@ -1,7 +1,9 @@
 //! One OBC tick: the tracker's command for one camera frame (nearest-sample search, the
 //! brute-force field-angle grid with the closed-form pull, the refinement and the wall check),
 //! on micro-factory, mid-path, with the team 0.05 BL off its reference; the optimizer alone for
-//! the pair and for three agents, planar and elevated; each tracker's tick on a team of ten.
+//! the pair and for three agents, planar and elevated; each tracker's tick on a team of ten. The
+//! MPPI tracker's tick at its defaults is timed beside them (`mppi tick (micro-factory)`, `mppi
+//! tick (ten agents)`).
 //! After the criterion
 //! groups, whole simulated runs give the median and 99th percentile of the per-tick time,
 //! printed as a Markdown table (`magbench docs measure --only bench-obc-tick` keeps it).
@@ -74,8 +76,9 @@ fn bench(c: &mut Criterion) {
         checker: &checker,
         period,
         goal: s.final_goal(),
+        seed: 0,
     };
-    for name in ["obc", "lookahead"] {
+    for name in ["obc", "lookahead", "mppi"] {
         let mut tracker = Trackers::builtin()
             .spec(name, &[], "bench")
             .unwrap()
@@ -207,13 +210,14 @@ fn ten_agents(c: &mut Criterion) {
         checker: &problem.checker,
         period: 1.0 / 60.0,
         goal: s.final_goal(),
+        seed: 0,
     };
     let tick = Tick {
         t: r.time(k),
         estimate: &x,
         observation: &obs,
     };
-    for name in ["formation", "obc", "lookahead"] {
+    for name in ["formation", "obc", "lookahead", "mppi"] {
         let mut tracker = Trackers::builtin()
             .spec(name, &[], "bench")
             .unwrap()
@@ -236,7 +240,7 @@ fn tick_percentiles() {
     s.start = p.start().to_vec();
     println!("| tracker | simulated ticks (5 runs, realistic) | median | p99 |");
     println!("| --- | --- | --- | --- |");
-    for name in ["obc", "lookahead"] {
+    for name in ["obc", "lookahead", "mppi"] {
         let spec = Trackers::builtin()
             .spec(name, &[("time_slack".into(), "8".into())], "bench")
             .unwrap();

@@ -10,7 +10,8 @@
 //!   measured against;
 //! - [`estimator`]: latency compensation and missed detections;
 //! - [`optimizer`]: the OBC's brute-force field-angle search with the closed-form pull;
-//! - [`trackers`]: [`OpenLoop`], [`Obc`], [`Lookahead`], one file each, by name in [`registry::Trackers`];
+//! - [`trackers`]: [`OpenLoop`], [`Obc`], [`Lookahead`], [`Formation`], [`Mppi`], one file each,
+//!   by name in [`registry::Trackers`];
 //! - [`run`]: the loop, replanning, and [`metrics`], scored per frame by [`scoring`];
 //! - [`plan_file`]: plans as JSON, read back bit for bit.
 
@@ -39,4 +40,4 @@ pub use registry::{TrackerSpec, Trackers};
 pub use rig::{GroundTruth, Rig, RigError};
 pub use sim_rig::SimRig;
 pub use tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
-pub use trackers::{Formation, Lookahead, Obc, OpenLoop};
+pub use trackers::{Formation, Lookahead, Mppi, Obc, OpenLoop};

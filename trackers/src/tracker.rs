@@ -7,8 +7,8 @@ use magbench_env::{Control, Goal, PlanningModel, ValidityChecker, Vec2, World};
 use crate::Reference;
 use crate::closed_loop::LoopOptions;
 
-/// What a tracker may use: the reference, the planning model, the leg's validity checker and
-/// the control period.
+/// What a tracker may use: the reference, the planning model, the leg's validity checker, the
+/// control period and the run's seed.
 #[derive(Debug, Clone, Copy)]
 pub struct TrackerContext<'a> {
     /// The reference being followed.
@@ -23,6 +23,8 @@ pub struct TrackerContext<'a> {
     pub period: f64,
     /// The current leg's goal region.
     pub goal: &'a Goal,
+    /// The run's seed: a randomized tracker draws from streams of it.
+    pub seed: u64,
 }
 
 /// One control tick's input.

@@ -255,6 +255,8 @@ struct Run<'a> {
     contacts: ContactDetector,
     rec: Recorder,
     status: Option<RunStatus>,
+    /// The run's seed (the tracker's, for its own draws).
+    seed: u64,
 }
 
 impl<'a> Run<'a> {
@@ -303,6 +305,7 @@ impl<'a> Run<'a> {
             contacts: ContactDetector::new(s.agents()),
             rec: Recorder::new(&s.start, first.time_s, opts.record_ticks),
             status: None,
+            seed: mission.seed,
             model,
             opts: opts.clone(),
         };
@@ -433,6 +436,7 @@ impl<'a> Run<'a> {
             checker: self.course.checker(),
             period: self.feedback.period(),
             goal: self.course.goal(),
+            seed: self.seed,
         }
     }
 

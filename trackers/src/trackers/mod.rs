@@ -7,12 +7,14 @@
 
 mod formation;
 mod lookahead;
+mod mppi;
 mod obc;
 mod obc_drive;
 mod open_loop;
 
 pub use formation::Formation;
 pub use lookahead::Lookahead;
+pub use mppi::Mppi;
 pub use obc::Obc;
 pub use obc_drive::ObcDrive;
 pub use open_loop::OpenLoop;
@@ -41,6 +43,11 @@ pub fn builtins() -> Vec<Entry> {
             "formation",
             "for teams: one period ahead, the field that keeps the shape closest to the plan's, gradients for the centroid, pairs kept apart",
             || Box::new(Formation::default()),
+        ),
+        Entry::new(
+            "mppi",
+            "model predictive path integral control: sampled control sequences over a horizon, rolled out with the planning model, exponentially averaged",
+            || Box::new(Mppi::default()),
         ),
     ]
 }
