@@ -79,8 +79,8 @@ pub struct RunArgs {
     /// `goal-zoom-rrt{k=5}`.
     #[arg(long)]
     pub planner: String,
-    /// The tracker: a name (open-loop, obc, lookahead or a plugin's; see `track --list`) or a label
-    /// with parameters as experiment files write it, `obc{time_slack=5}`.
+    /// The tracker: a name (open-loop, obc, lookahead, formation, mppi or a plugin's; see
+    /// `track --list`) or a label with parameters as experiment files write it, `obc{time_slack=5}`.
     #[arg(long)]
     pub tracker: String,
     /// Seed of the planner.

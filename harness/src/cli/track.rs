@@ -22,8 +22,8 @@ pub struct TrackArgs {
     /// `goal-zoom-rrt{k=5}`; goal-zoom-rrt unless --plan is given.
     #[arg(long)]
     pub planner: Option<String>,
-    /// The tracker: a name (open-loop, obc, lookahead or a plugin's; see --list) or a label
-    /// with parameters as experiment files write it, `obc{time_slack=5}`.
+    /// The tracker: a name (open-loop, obc, lookahead, formation, mppi or a plugin's; see
+    /// --list) or a label with parameters as experiment files write it, `obc{time_slack=5}`.
     #[arg(long, required_unless_present = "list")]
     pub tracker: Option<String>,
     /// Seed of the planner and of the simulated disturbances.
