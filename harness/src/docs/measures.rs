@@ -745,6 +745,8 @@ pub static MEASURES: &[Measure] = &[
                 "formation tick (ten agents)",
                 "obc tick (ten agents)",
                 "lookahead tick (ten agents)",
+                "mppi tick (micro-factory)",
+                "mppi tick (ten agents)",
                 "planning-model prediction (one frame)",
                 "wall clearance (one agent)",
             ],
