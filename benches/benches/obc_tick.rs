@@ -26,6 +26,21 @@ use magbench_trackers::{
 /// A plan through the open middle of micro-factory, made by propagating the planning model:
 /// the field near the magic angle either side of the pair heading (the pair turns to and fro)
 /// while the gradient pulls it along.
+/// The estimate a tick sees: the reference's state `k` off by (0.03, −0.04) BL, and its
+/// observation.
+fn off_reference(r: &Reference, k: usize) -> (Vec<Vec2>, Observation) {
+    let x: Vec<Vec2> = r
+        .state(k)
+        .iter()
+        .map(|p| p + Vec2::new(0.03, -0.04))
+        .collect();
+    let obs = Observation {
+        t: 0.0,
+        agents: x.iter().map(|p| Some(*p)).collect(),
+    };
+    (x, obs)
+}
+
 fn plan(model: &PlanningModel) -> Plan {
     let start = LocalView {
         xc: 32.0,
@@ -59,15 +74,7 @@ fn bench(c: &mut Criterion) {
     assert!(checker.is_valid(p.end()), "{:?}", p.end());
     let r = Reference::from_plan(&p, &model);
     let k = r.len() / 2;
-    let x: Vec<Vec2> = r
-        .state(k)
-        .iter()
-        .map(|p| p + Vec2::new(0.03, -0.04))
-        .collect();
-    let obs = Observation {
-        t: 0.0,
-        agents: x.iter().map(|p| Some(*p)).collect(),
-    };
+    let (x, obs) = off_reference(&r, k);
     let period = 1.0 / 60.0;
     let ctx = TrackerContext {
         reference: &r,
@@ -194,15 +201,7 @@ fn ten_agents(c: &mut Criterion) {
     let model = &problem.model;
     let r = Reference::from_plan(&solved.plan, model);
     let k = r.len() / 2;
-    let x: Vec<Vec2> = r
-        .state(k)
-        .iter()
-        .map(|p| p + Vec2::new(0.03, -0.04))
-        .collect();
-    let obs = Observation {
-        t: 0.0,
-        agents: x.iter().map(|p| Some(*p)).collect(),
-    };
+    let (x, obs) = off_reference(&r, k);
     let ctx = TrackerContext {
         reference: &r,
         model,

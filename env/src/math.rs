@@ -24,6 +24,15 @@ pub fn centroid(state: &[Vec2]) -> Vec2 {
     state.iter().sum::<Vec2>() / state.len().max(1) as f64
 }
 
+/// Sum of squared distances between the shapes (positions about the centroid) of `a` and `b`.
+pub fn shape_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
+    let (ca, cb) = (centroid(a), centroid(b));
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| ((p - ca) - (q - cb)).norm_squared())
+        .sum()
+}
+
 /// The largest distance between matched agents of two states (BL); NaN when a position is not
 /// a number.
 pub fn max_agent_distance(a: &[Vec2], b: &[Vec2]) -> f64 {

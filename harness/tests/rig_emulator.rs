@@ -178,6 +178,16 @@ fn wait_for_log(emu: &Emulator, what: &str, done: impl Fn(&[Event]) -> bool) -> 
     }
 }
 
+/// Waits until the host has sent the emulator 30 commands with a current on.
+fn wait_for_host_driving(emu: &Emulator) {
+    wait_for_log(emu, "the host driving the coil", |log| {
+        log.iter()
+            .filter(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
+            .count()
+            >= 30
+    });
+}
+
 /// The emulator's log once the currents it has in force are zero (the host gone or stopped).
 fn log_after_zero(emu: &Emulator) -> Vec<Event> {
     wait_for_log(emu, "zero currents at the end", |log| {
@@ -406,12 +416,7 @@ fn silent_host(port: Option<&Path>, freeze: bool) {
         .spawn()
         .unwrap();
     // let the host drive for a while (a few dozen commands), then silence it
-    wait_for_log(&emu, "the host driving the coil", |log| {
-        log.iter()
-            .filter(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
-            .count()
-            >= 30
-    });
+    wait_for_host_driving(&emu);
     let pid = host.id().to_string();
     let signal = if freeze { "-STOP" } else { "-KILL" };
     assert!(
@@ -492,12 +497,7 @@ fn ctrl_c_makes_the_host_zero_the_field() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    wait_for_log(&emu, "the host driving the coil", |log| {
-        log.iter()
-            .filter(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
-            .count()
-            >= 30
-    });
+    wait_for_host_driving(&emu);
     let pid = host.id().to_string();
     assert!(
         Command::new("kill")

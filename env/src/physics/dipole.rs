@@ -55,6 +55,13 @@ pub fn aligned_pair_force_planar(r_ij: Vec2, b: Vec3) -> Vec2 {
     )
 }
 
+/// The elevation α_h (cos²α_h = 2/3, 35.26°) at which a field swept through in-plane angles
+/// evenly cancels every aligned pair's force on average (docs/physics.md, "Teams of three and
+/// more").
+pub fn sweep_cancelling_elevation() -> f64 {
+    (2.0f64 / 3.0).sqrt().acos()
+}
+
 /// Unit field direction for global in-plane angle `theta` and elevation `alpha` (radians).
 /// An in-plane field (`alpha = ±0`) skips the elevation's sine and cosine, which are then
 /// `(alpha, 1)` exactly.

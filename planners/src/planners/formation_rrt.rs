@@ -40,8 +40,9 @@
 
 use std::f64::consts::{PI, TAU};
 
-use magbench_env::math::centroid;
+use magbench_env::math::{centroid, shape_distance};
 use magbench_env::params::Reals;
+use magbench_env::physics::sweep_cancelling_elevation;
 use magbench_env::{Control, MAX_AGENTS, Vec2, declare_params};
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
@@ -92,12 +93,6 @@ declare_params! {
         /// The tree of the last solve.
         pub last_tree: Option<Tree> = None,
     }
-}
-
-/// The elevation at which three in-plane angles 120° apart cancel every pair's force on
-/// average: cos²α = 2/3.
-fn hold_elevation() -> f64 {
-    (2.0f64 / 3.0).sqrt().acos()
 }
 
 /// In-plane angles of the hold set.
@@ -158,15 +153,6 @@ impl Carry {
         };
         aimed(problem, u, n, from, to, duration)
     }
-}
-
-/// Sum of squared distances between the shapes (positions about the centroid) of `a` and `b`.
-fn shape_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
-    let (ca, cb) = (centroid(a), centroid(b));
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| ((p - ca) - (q - cb)).norm_squared())
-        .sum()
 }
 
 /// The largest agent distance between the shapes of `a` and `b`.
@@ -302,7 +288,7 @@ impl FormationRrt {
 /// component on it).
 fn hold_set(alpha_max: f64, left: Vec2) -> Vec<(Control, u32)> {
     let mut alphas = vec![0.0];
-    let h = hold_elevation();
+    let h = sweep_cancelling_elevation();
     if alpha_max >= h {
         alphas.push(h);
     }

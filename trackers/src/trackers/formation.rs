@@ -23,8 +23,9 @@
 use std::f64::consts::{PI, TAU};
 
 use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};
-use magbench_env::math::centroid;
+use magbench_env::math::{centroid, shape_distance};
 use magbench_env::params::Reals;
+use magbench_env::physics::sweep_cancelling_elevation;
 use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2, declare_params};
 
 use crate::tracker::{Tick, Tracker, TrackerContext, TrackerStatus};
@@ -55,15 +56,6 @@ declare_params! {
     }
 }
 
-/// Squared shape distance of `a` and `b` (positions about their centroids).
-fn shape_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
-    let (ca, cb) = (centroid(a), centroid(b));
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| ((p - ca) - (q - cb)).norm_squared())
-        .sum()
-}
-
 /// The least separation of any pair of `s`.
 fn least_separation(s: &[Vec2]) -> f64 {
     let mut least = f64::INFINITY;
@@ -81,7 +73,7 @@ impl Formation {
         let mut alphas = vec![0.0];
         if elevated {
             let top = self.alpha_max.to_radians().min(coil_alpha_max);
-            let hold = (2.0f64 / 3.0).sqrt().acos();
+            let hold = sweep_cancelling_elevation();
             alphas.extend([hold.min(top), top]);
             alphas.dedup();
         }
