@@ -31,6 +31,7 @@
 
 use std::path::{Path, PathBuf};
 
+use magbench::docs::freshness::staleness;
 use magbench::docs::{MEASURES, parse};
 use regex::Regex;
 
@@ -154,6 +155,135 @@ fn every_measured_file_parses_and_belongs_to_a_measurement() {
             "docs/measured/{}.md is missing: run `magbench docs measure --only {}`",
             m.name,
             m.name
+        );
+    }
+}
+
+/// Measured files whose source changed after they were measured (or that name a dirty tree),
+/// waiting to be regenerated on an idle machine at a clean commit; `magbench docs stale` says
+/// what changed for each. A stale file missing from this list fails, and so does a listed file
+/// that is fresh: the list names exactly the files whose figures may not be today's.
+const AWAITING_REGENERATION: &[&str] = &[
+    "planners-success",
+    "trackers-50",
+    "cargo-delivery",
+    "seed-metric",
+    "fidelity-hardware",
+    "fidelity-short",
+    "trio-planning",
+    "trio-tracking",
+    "quad-tracking",
+    "trio-stall",
+    "trio-open-loop",
+    "team-stall",
+    "extend",
+    "trio-alpha-max",
+    "team-elevation",
+    "stlc-teams",
+    "planners-convergence",
+    "informed",
+    "replan-latency",
+    "replan-latency-team",
+    "vs-ompl",
+    "ablation-obc",
+    "ablation-lookahead",
+    "ablation-open-loop",
+    "obc-grid",
+    "trio-loop-cost",
+    "calibration-walkthrough",
+    "scaling",
+    "pair-100-profile",
+    "bench-threads",
+    "main-job",
+    "replay-gif",
+    "rig-latency",
+    "bench-planning",
+    "steering",
+    "shortcut",
+    "shortcut-budget",
+    "straighten-teams",
+    "shortcut-tracking",
+    "shortcut-plans",
+    "guide",
+    "aim",
+    "aim-tracking",
+    "team-scaling",
+    "team-sizes",
+    "team-tracking",
+    "bench-team-flows",
+    "adaptive-accuracy",
+    "planner-figures",
+    "bench-obc-tick",
+    "bench-ompl-abi",
+    "python-plugins",
+    "python-overhead",
+    "python-rrt",
+    "sst-pruning",
+    "calibration-noise-bias",
+    "calibration-draws",
+    "calibration-emulator",
+    "calibration-validation",
+    "calibration-segments",
+    "detector-accuracy",
+    "detect-timing",
+    "rig-replay",
+    "bench-plant-frame",
+    "pixel-quantisation",
+];
+
+/// Whether the source tree is a git repository with its whole history (not shallow).
+fn full_history(root: &Path) -> Result<(), String> {
+    let out = std::process::Command::new("git")
+        .arg("-C")
+        .arg(root)
+        .args(["rev-parse", "--is-shallow-repository"])
+        .output()
+        .map_err(|e| format!("git: {e}"))?;
+    match String::from_utf8_lossy(&out.stdout).trim() {
+        "false" => Ok(()),
+        "true" => Err("a shallow clone (`git fetch --unshallow` gives the history)".into()),
+        _ => Err(format!(
+            "not a git repository: {}",
+            String::from_utf8_lossy(&out.stderr).trim()
+        )),
+    }
+}
+
+#[test]
+fn measured_files_are_fresh_or_awaiting_regeneration() {
+    let root = docs().join("..");
+    if let Err(why) = full_history(&root) {
+        eprintln!("SKIPPED measured_files_are_fresh_or_awaiting_regeneration: {why}");
+        return;
+    }
+    let mut unlisted = vec![];
+    let mut fresh_but_listed = vec![];
+    for m in MEASURES {
+        let path = docs().join(format!("measured/{}.md", m.name));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let header = parse(&text).unwrap();
+        let version = header.field("magbench").unwrap();
+        let stale = staleness(&root, m, version).unwrap_or_else(|e| panic!("{}: {e}", m.name));
+        let listed = AWAITING_REGENERATION.contains(&m.name);
+        match (stale, listed) {
+            (Some(why), false) => unlisted.push(format!("{}: {why}", m.name)),
+            (None, true) => fresh_but_listed.push(m.name),
+            _ => {}
+        }
+    }
+    assert!(
+        unlisted.is_empty(),
+        "stale measured files (regenerate with `magbench docs measure --only NAME`):\n{}",
+        unlisted.join("\n")
+    );
+    assert!(
+        fresh_but_listed.is_empty(),
+        "fresh, so no longer awaiting regeneration: {fresh_but_listed:?}"
+    );
+    for name in AWAITING_REGENERATION {
+        assert!(
+            MEASURES.iter().any(|m| m.name == *name),
+            "{name} is no measurement"
         );
     }
 }

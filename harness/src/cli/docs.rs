@@ -1,4 +1,5 @@
-//! `magbench docs measure`: regenerate the measured figures of the book in `docs/measured/`.
+//! `magbench docs measure`: regenerate the measured figures of the book in `docs/measured/`;
+//! `magbench docs stale`: name the ones whose source changed since they were measured.
 
 use std::path::{Path, PathBuf};
 
@@ -6,11 +7,14 @@ use clap::{Args, Subcommand};
 
 use super::output::outln;
 use crate::CliError;
+use crate::docs::freshness::{pathspecs, staleness};
 use crate::docs::measures::{MEASURES, Measure, find};
+use crate::docs::parse;
 use crate::docs::run::{RunOptions, measure};
 use crate::registry::Registry;
 use crate::run::real::RealExecutor;
 use crate::sweep::ProgressMode;
+use magbench_env::InputError;
 
 /// `magbench docs …`.
 #[derive(Debug, Subcommand)]
@@ -18,6 +22,21 @@ pub enum DocsCmd {
     /// Run the book's measurements and write each table to `docs/measured/NAME.md`, headed by
     /// the command, machine, load, date and version.
     Measure(MeasureArgs),
+    /// Name each file of `docs/measured/` whose header names a dirty tree, or whose
+    /// measurement's source paths changed in git after the revision it names; exit 1 when any
+    /// is stale.
+    Stale(StaleArgs),
+}
+
+/// Arguments of `magbench docs stale`.
+#[derive(Debug, Args)]
+pub struct StaleArgs {
+    /// The folder of generated files (default: docs/measured of the repository).
+    #[arg(long)]
+    pub dir: Option<PathBuf>,
+    /// Also print each measurement's source paths.
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 /// Arguments of `magbench docs measure`.
@@ -62,6 +81,53 @@ fn root() -> PathBuf {
 pub fn run(c: DocsCmd, registry: &Registry) -> Result<(), CliError> {
     match c {
         DocsCmd::Measure(a) => run_measure(a, registry),
+        DocsCmd::Stale(a) => run_stale(a),
+    }
+}
+
+fn run_stale(a: StaleArgs) -> Result<(), CliError> {
+    let root = root();
+    let dir = a.dir.unwrap_or_else(|| root.join("docs/measured"));
+    let mut stale = 0;
+    for m in MEASURES {
+        let path = dir.join(format!("{}.md", m.name));
+        let text = match std::fs::read_to_string(&path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                outln!("{}: not measured yet", m.name);
+                stale += 1;
+                continue;
+            }
+            Err(e) => return Err(CliError::Failed(format!("{}: {e}", path.display()))),
+        };
+        let header = parse(&text).map_err(|e| {
+            CliError::Input(InputError::new(
+                path.display().to_string(),
+                "header",
+                e.to_string(),
+            ))
+        })?;
+        let version = header.field("magbench").unwrap_or_default();
+        if a.verbose {
+            outln!("{}: depends on {}", m.name, pathspecs(m).join(" "));
+        }
+        match staleness(&root, m, version)
+            .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?
+        {
+            Some(why) => {
+                outln!("{}: stale: {why}", m.name);
+                stale += 1;
+            }
+            None if a.verbose => outln!("{}: fresh", m.name),
+            None => {}
+        }
+    }
+    match stale {
+        0 => Ok(()),
+        n => Err(CliError::Failed(format!(
+            "{n} of {} measured files are stale; regenerate each with `magbench docs measure --only NAME` on an idle machine at a clean commit",
+            MEASURES.len()
+        ))),
     }
 }
 

@@ -120,6 +120,11 @@ pub struct Measure {
     /// for a sweep (this build must have it), of `magbench-benches` for a bench (passed to
     /// `cargo bench`), of the test's crate for a test (passed to cargo).
     pub feature: Option<&'static str>,
+    /// The source its figures depend on besides its own file (see [`Measure::own_files`]):
+    /// groups of git pathspecs relative to the repository root (`:!PATH` excludes).
+    /// `magbench docs stale` reports the file when any of them changed after the revision its
+    /// header names.
+    pub depends: &'static [&'static [&'static str]],
 }
 
 impl Measure {
@@ -145,6 +150,33 @@ impl Measure {
         match self.source {
             Sweep { experiment, .. } => Some(experiment),
             Bench { .. } | Test { .. } | Python { .. } | Transcript { .. } => None,
+        }
+    }
+
+    /// The repository files that are the measurement itself, as git pathspecs: its experiment,
+    /// bench, test, example or script, or a transcript's files and renderer.
+    pub fn own_files(&self) -> Vec<String> {
+        match self.source {
+            Sweep { experiment, .. } => vec![experiment.to_string()],
+            Bench { bench, .. } => {
+                vec![format!("benches/benches/{bench}.rs"), "benches/src".into()]
+            }
+            Test {
+                package, target, ..
+            } => {
+                let dir = crate_dir(package);
+                match target {
+                    Target::Lib => vec![format!("{dir}/src")],
+                    Target::Test(f) => vec![
+                        format!("{dir}/tests/{f}.rs"),
+                        format!("{dir}/tests/{f}"),
+                        format!("{dir}/tests/common"),
+                    ],
+                    Target::Example(e) => vec![format!("{dir}/examples/{e}.rs")],
+                }
+            }
+            Python { script, .. } => vec![script.to_string()],
+            Transcript { files, .. } => files.iter().map(|f| f.to_string()).collect(),
         }
     }
 
@@ -199,6 +231,49 @@ impl Measure {
     }
 }
 
+/// The physics and the plant's presets: every measurement's figures depend on them.
+const PLANT: &[&str] = &["env/src", "presets"];
+/// The planners and the scenarios they plan on.
+const PLANNING: &[&str] = &["planners/src", "scenarios"];
+/// The trackers.
+const TRACKING: &[&str] = &["trackers/src"];
+/// What turns an experiment into runs and its runs into a table.
+const SWEEP: &[&str] = &[
+    "harness/src/run",
+    "harness/src/pipeline",
+    "harness/src/experiment",
+    "harness/src/metrics",
+    "harness/src/results",
+    "harness/src/stats",
+    "harness/src/registry.rs",
+    "harness/src/docs/table.rs",
+    "harness/src/docs/tables.rs",
+    "harness/src/docs/planner_tables.rs",
+    "harness/src/docs/teams.rs",
+    "harness/src/docs/convergence.rs",
+    "harness/src/docs/ablation.rs",
+    "harness/src/docs/replans.rs",
+];
+/// The magbench commands a transcript runs: the whole harness but the book's measurements.
+const CLI: &[&str] = &[
+    "harness/src",
+    ":!harness/src/docs",
+    "harness/src/docs/transcript.rs",
+];
+/// The rig: drivers, emulator, calibration and the rig files.
+const RIG: &[&str] = &["drivers/src", "rigs"];
+/// The Python binding.
+const PYTHON: &[&str] = &["python/src"];
+
+/// The folder of a workspace crate, by its package name.
+fn crate_dir(package: &str) -> &str {
+    match package {
+        "magbench" => "harness",
+        "magbench-benches" => "benches",
+        p => p.strip_prefix("magbench-").unwrap_or(p),
+    }
+}
+
 /// Criterion's `--quick`: the `quick_args` of a criterion bench.
 const QUICK: &[&str] = &["--quick"];
 
@@ -212,6 +287,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(planning),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "trackers-50",
@@ -221,6 +297,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(tracking),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "cargo-delivery",
@@ -230,6 +307,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(tracking),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "seed-metric",
@@ -239,6 +317,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(errors),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "fidelity-hardware",
@@ -248,6 +327,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(tracking),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "fidelity-short",
@@ -257,6 +337,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(tracking),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "trio-planning",
@@ -266,6 +347,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(planning),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "trio-tracking",
@@ -275,6 +357,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(tracking),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "quad-tracking",
@@ -284,6 +367,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(tracking),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "trio-stall",
@@ -293,6 +377,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(team_runs),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "trio-open-loop",
@@ -302,6 +387,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(team_runs),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "team-stall",
@@ -313,6 +399,7 @@ pub static MEASURES: &[Measure] = &[
             release: true,
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "extend",
@@ -322,6 +409,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(first_solution_work),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "trio-alpha-max",
@@ -331,6 +419,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(team_runs),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "team-elevation",
@@ -340,6 +429,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(first_solution_work),
         },
         feature: Some("ompl"),
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "stlc-teams",
@@ -354,6 +444,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI],
     },
     Measure {
         name: "planners-convergence",
@@ -363,6 +454,7 @@ pub static MEASURES: &[Measure] = &[
             table: Folder(convergence),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "informed",
@@ -372,6 +464,7 @@ pub static MEASURES: &[Measure] = &[
             table: Folder(convergence),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "replan-latency",
@@ -381,6 +474,7 @@ pub static MEASURES: &[Measure] = &[
             table: Outputs(replan_latency),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "replan-latency-team",
@@ -390,6 +484,7 @@ pub static MEASURES: &[Measure] = &[
             table: Outputs(replan_latency),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "vs-ompl",
@@ -399,6 +494,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(first_solution),
         },
         feature: Some("ompl"),
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "ablation-obc",
@@ -408,6 +504,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(ablation),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "ablation-lookahead",
@@ -417,6 +514,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(ablation),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "ablation-open-loop",
@@ -426,6 +524,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(ablation),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "obc-grid",
@@ -435,6 +534,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(loop_cost),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "trio-loop-cost",
@@ -444,6 +544,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(loop_cost),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "calibration-walkthrough",
@@ -473,6 +574,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
+        depends: &[PLANT, RIG, CLI],
     },
     Measure {
         name: "scaling",
@@ -487,6 +589,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI],
     },
     Measure {
         name: "pair-100-profile",
@@ -499,6 +602,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: Some("ompl"),
+        depends: &[PLANT, PLANNING, TRACKING, CLI],
     },
     Measure {
         name: "bench-threads",
@@ -511,6 +615,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI],
     },
     Measure {
         name: "main-job",
@@ -520,6 +625,7 @@ pub static MEASURES: &[Measure] = &[
             steps: &[Step::Run("bench --out default --threads 2 --quiet")],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI],
     },
     Measure {
         name: "replay-gif",
@@ -532,6 +638,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI],
     },
     Measure {
         name: "rig-latency",
@@ -557,6 +664,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, RIG, CLI],
     },
     Measure {
         name: "bench-planning",
@@ -582,6 +690,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: QUICK,
         },
         feature: None,
+        depends: &[PLANT, PLANNING],
     },
     Measure {
         name: "steering",
@@ -591,6 +700,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(first_solution),
         },
         feature: Some("ompl"),
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "shortcut",
@@ -600,6 +710,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(improvement),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "shortcut-budget",
@@ -609,6 +720,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(improvement),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "straighten-teams",
@@ -618,6 +730,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(improvement),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "shortcut-tracking",
@@ -627,6 +740,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(team_runs),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "shortcut-plans",
@@ -638,6 +752,7 @@ pub static MEASURES: &[Measure] = &[
             release: true,
         },
         feature: None,
+        depends: &[PLANT, PLANNING],
     },
     Measure {
         name: "guide",
@@ -647,6 +762,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(planning),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "aim",
@@ -656,6 +772,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(first_solution_work),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "aim-tracking",
@@ -665,6 +782,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(team_runs),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "team-scaling",
@@ -674,6 +792,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(team_scaling),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "team-sizes",
@@ -686,6 +805,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI],
     },
     Measure {
         name: "team-tracking",
@@ -695,6 +815,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(tracking),
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
         name: "bench-team-flows",
@@ -710,6 +831,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: QUICK,
         },
         feature: None,
+        depends: &[PLANT],
     },
     Measure {
         name: "adaptive-accuracy",
@@ -721,6 +843,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
+        depends: &[PLANT],
     },
     Measure {
         name: "planner-figures",
@@ -731,6 +854,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: &["5"],
         },
         feature: None,
+        depends: &[PLANT, PLANNING],
     },
     Measure {
         name: "bench-obc-tick",
@@ -754,6 +878,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: QUICK,
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING],
     },
     Measure {
         name: "bench-ompl-abi",
@@ -764,6 +889,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: QUICK,
         },
         feature: Some("ompl"),
+        depends: &[PLANT, PLANNING],
     },
     Measure {
         name: "python-plugins",
@@ -773,6 +899,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: &[],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, PYTHON],
     },
     Measure {
         name: "python-overhead",
@@ -782,6 +909,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: &["--quick"],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, PYTHON],
     },
     Measure {
         name: "python-rrt",
@@ -791,6 +919,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: &["--quick"],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, PYTHON],
     },
     Measure {
         name: "sst-pruning",
@@ -802,6 +931,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: Some("ompl"),
+        depends: &[PLANT],
     },
     Measure {
         name: "calibration-noise-bias",
@@ -813,6 +943,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
+        depends: &[PLANT, RIG],
     },
     Measure {
         name: "calibration-draws",
@@ -824,6 +955,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
+        depends: &[PLANT, RIG],
     },
     Measure {
         name: "calibration-emulator",
@@ -835,6 +967,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
+        depends: &[PLANT, RIG],
     },
     Measure {
         name: "calibration-validation",
@@ -846,6 +979,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
+        depends: &[PLANT, RIG, CLI],
     },
     Measure {
         name: "calibration-segments",
@@ -857,6 +991,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
+        depends: &[PLANT, RIG],
     },
     Measure {
         name: "detector-accuracy",
@@ -868,6 +1003,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
+        depends: &[PLANT, RIG],
     },
     Measure {
         name: "detect-timing",
@@ -879,6 +1015,7 @@ pub static MEASURES: &[Measure] = &[
             release: true,
         },
         feature: None,
+        depends: &[PLANT, RIG],
     },
     Measure {
         name: "rig-replay",
@@ -896,6 +1033,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, RIG, CLI],
     },
     Measure {
         name: "bench-plant-frame",
@@ -910,6 +1048,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: QUICK,
         },
         feature: None,
+        depends: &[PLANT, TRACKING],
     },
     Measure {
         name: "pixel-quantisation",
@@ -921,6 +1060,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
+        depends: &[PLANT],
     },
 ];
 

@@ -1,0 +1,293 @@
+//! Whether a file in `docs/measured/` still measures the current code: its header names the git
+//! revision it was measured at, its [`Measure`] names the source paths its figures depend on,
+//! and git says whether any of those paths changed since.
+
+use std::path::Path;
+use std::process::Command;
+
+use thiserror::Error;
+
+use super::measures::Measure;
+
+/// Why a generated file may not hold what its measurement gives on the current code.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Staleness {
+    /// The header's revision had uncommitted changes outside `docs/measured/`: the measured
+    /// code is in no commit.
+    Dirty {
+        /// The revision named, without `+dirty`.
+        revision: String,
+    },
+    /// Source paths the measurement depends on changed in commits after the measured one.
+    Changed {
+        /// The revision named.
+        revision: String,
+        /// The changed files, relative to the repository root.
+        files: Vec<String>,
+    },
+    /// The header names no git revision (`magbench: … (git unknown)` or none).
+    NoRevision,
+}
+
+impl std::fmt::Display for Staleness {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Staleness::Dirty { revision } => write!(
+                f,
+                "measured on a tree with uncommitted changes (git {}+dirty)",
+                short(revision)
+            ),
+            Staleness::Changed { revision, files } => {
+                let shown: Vec<&str> = files.iter().take(4).map(String::as_str).collect();
+                let more = match files.len().saturating_sub(shown.len()) {
+                    0 => String::new(),
+                    n => format!(" and {n} more"),
+                };
+                write!(
+                    f,
+                    "measured at {}; since then {}{more} changed",
+                    short(revision),
+                    shown.join(", ")
+                )
+            }
+            Staleness::NoRevision => write!(f, "its header names no git revision"),
+        }
+    }
+}
+
+fn short(revision: &str) -> &str {
+    &revision[..revision.len().min(10)]
+}
+
+/// Why freshness could not be decided.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum FreshnessError {
+    /// `git` could not run or failed.
+    #[error("git {args}: {reason}")]
+    Git {
+        /// The arguments given.
+        args: String,
+        /// What went wrong (git's stderr).
+        reason: String,
+    },
+    /// The revision a header names is not in this clone's history (a shallow clone, or a
+    /// revision never pushed).
+    #[error(
+        "revision {0} is not in this repository's history (a shallow clone? `git fetch --unshallow`)"
+    )]
+    UnknownRevision(String),
+}
+
+/// The revision named in a header's `magbench` value (`0.1.0 (git REV)` or `(git REV+dirty)`)
+/// and whether it is marked dirty; `None` when it names none.
+pub fn revision(version: &str) -> Option<(String, bool)> {
+    let rest = &version[version.find("(git ")? + 5..];
+    let rev = &rest[..rest.find(')')?];
+    let (rev, dirty) = match rev.strip_suffix("+dirty") {
+        Some(r) => (r, true),
+        None => (rev, false),
+    };
+    let hex = rev.len() >= 7 && rev.chars().all(|c| c.is_ascii_hexdigit());
+    hex.then(|| (rev.to_string(), dirty))
+}
+
+/// The git pathspecs of the source a measurement's figures depend on: its own file (the
+/// experiment, bench, test, example or script) and its declared [`Measure::depends`].
+pub fn pathspecs(m: &Measure) -> Vec<String> {
+    let mut v: Vec<String> = m.own_files();
+    v.extend(
+        m.depends
+            .iter()
+            .flat_map(|g| g.iter())
+            .map(|p| p.to_string()),
+    );
+    v
+}
+
+/// Whether the generated file with header value `version` (its `magbench` line) is stale for
+/// measurement `m` in the git repository at `root`: `Ok(None)` when the file names a clean
+/// revision and no path of [`pathspecs`] changed between it and `HEAD`.
+pub fn staleness(
+    root: &Path,
+    m: &Measure,
+    version: &str,
+) -> Result<Option<Staleness>, FreshnessError> {
+    let Some((revision, dirty)) = revision(version) else {
+        return Ok(Some(Staleness::NoRevision));
+    };
+    let object = format!("{revision}^{{commit}}");
+    if git(root, &["cat-file", "-e", &object]).is_err() {
+        return Err(FreshnessError::UnknownRevision(revision));
+    }
+    if dirty {
+        return Ok(Some(Staleness::Dirty { revision }));
+    }
+    let mut args = vec![
+        "diff".to_string(),
+        "--name-only".into(),
+        revision.clone(),
+        "HEAD".into(),
+        "--".into(),
+    ];
+    args.extend(
+        pathspecs(m)
+            .into_iter()
+            .map(|p| match p.strip_prefix(":!") {
+                Some(excluded) => format!(":(top,exclude){excluded}"),
+                None => format!(":(top){p}"),
+            }),
+    );
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let files: Vec<String> = git(root, &args)?
+        .lines()
+        .filter(|l| !l.is_empty())
+        .map(str::to_string)
+        .collect();
+    Ok((!files.is_empty()).then_some(Staleness::Changed { revision, files }))
+}
+
+/// Runs `git -C root ARGS` and returns its stdout.
+fn git(root: &Path, args: &[&str]) -> Result<String, FreshnessError> {
+    let failed = |reason: String| FreshnessError::Git {
+        args: args.join(" "),
+        reason,
+    };
+    let out = Command::new("git")
+        .arg("-C")
+        .arg(root)
+        .args(args)
+        .output()
+        .map_err(|e| failed(e.to_string()))?;
+    if !out.status.success() {
+        return Err(failed(String::from_utf8_lossy(&out.stderr).trim().into()));
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::docs::measures::{Kind, Source};
+    use crate::docs::tables::planning;
+
+    /// A measurement of `exp.toml` depending on `src/` but `src/docs`.
+    const M: Measure = Measure {
+        name: "m",
+        source: Source::Sweep {
+            experiment: "exp.toml",
+            quick_seeds: 1,
+            table: Kind::Runs(planning),
+        },
+        feature: None,
+        depends: &[&["src", ":!src/docs"]],
+    };
+
+    /// A git repository with `exp.toml`, `src/a.rs`, `src/docs/b.rs` and `other.rs` committed;
+    /// returns it and the commit.
+    fn repo() -> (tempfile::TempDir, String) {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path();
+        for (f, text) in [
+            ("exp.toml", "x"),
+            ("src/a.rs", "a"),
+            ("src/docs/b.rs", "b"),
+            ("other.rs", "o"),
+        ] {
+            let p = root.join(f);
+            std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+            std::fs::write(p, text).unwrap();
+        }
+        let rev = commit(root, "first");
+        (dir, rev)
+    }
+
+    fn commit(root: &Path, msg: &str) -> String {
+        let id = [
+            "-c",
+            "user.name=t",
+            "-c",
+            "user.email=t@t",
+            "-c",
+            "commit.gpgsign=false",
+        ];
+        git(root, &["init", "-q"]).unwrap();
+        git(root, &["add", "-A"]).unwrap();
+        let mut args = id.to_vec();
+        args.extend(["commit", "-q", "-m", msg]);
+        git(root, &args).unwrap();
+        git(root, &["rev-parse", "HEAD"])
+            .unwrap()
+            .trim()
+            .to_string()
+    }
+
+    fn version(rev: &str) -> String {
+        format!("0.1.0 (git {rev})")
+    }
+
+    #[test]
+    fn a_file_measured_at_head_is_fresh() {
+        let (dir, rev) = repo();
+        assert_eq!(staleness(dir.path(), &M, &version(&rev)), Ok(None));
+    }
+
+    #[test]
+    fn a_change_to_an_undeclared_or_excluded_path_keeps_it_fresh() {
+        let (dir, rev) = repo();
+        std::fs::write(dir.path().join("other.rs"), "o2").unwrap();
+        std::fs::write(dir.path().join("src/docs/b.rs"), "b2").unwrap();
+        commit(dir.path(), "second");
+        assert_eq!(staleness(dir.path(), &M, &version(&rev)), Ok(None));
+    }
+
+    #[test]
+    fn a_change_to_a_declared_path_or_its_own_file_makes_it_stale() {
+        for changed in ["src/a.rs", "exp.toml"] {
+            let (dir, rev) = repo();
+            std::fs::write(dir.path().join(changed), "changed").unwrap();
+            commit(dir.path(), "second");
+            assert_eq!(
+                staleness(dir.path(), &M, &version(&rev)),
+                Ok(Some(Staleness::Changed {
+                    revision: rev.clone(),
+                    files: vec![changed.to_string()]
+                })),
+                "{changed}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_dirty_tree_or_no_revision_is_stale_and_an_unknown_one_an_error() {
+        let (dir, rev) = repo();
+        let dirty = format!("0.1.0 (git {rev}+dirty)");
+        assert_eq!(
+            staleness(dir.path(), &M, &dirty),
+            Ok(Some(Staleness::Dirty { revision: rev }))
+        );
+        assert_eq!(
+            staleness(dir.path(), &M, "0.1.0 (git unknown)"),
+            Ok(Some(Staleness::NoRevision))
+        );
+        let unknown = "0.1.0 (git 0123456789abcdef0123456789abcdef01234567)";
+        assert!(matches!(
+            staleness(dir.path(), &M, unknown),
+            Err(FreshnessError::UnknownRevision(_))
+        ));
+    }
+
+    #[test]
+    fn reads_the_revision_and_its_dirty_mark() {
+        let clean = "0.1.0 (git 9c6638f3cc9a36be300ef68e065623af26489037)";
+        assert_eq!(
+            revision(clean),
+            Some(("9c6638f3cc9a36be300ef68e065623af26489037".into(), false))
+        );
+        assert_eq!(
+            revision("0.1.0 (git 9c6638f+dirty)"),
+            Some(("9c6638f".into(), true))
+        );
+        assert_eq!(revision("0.1.0 (git unknown)"), None);
+        assert_eq!(revision("0.1.0"), None);
+    }
+}
