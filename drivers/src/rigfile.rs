@@ -56,6 +56,16 @@ pub const CURRENT_LIMIT_A: Bound = Bound::above(
     "1 kA a channel is beyond any coil driver for microrobots",
 );
 
+/// Largest current slew limit (A/s): a swing across the widest current range
+/// (2 × [`CURRENT_LIMIT_A`]'s 1 kA) within the shortest frame ([`FPS`]'s 10 kHz: 0.1 ms) is
+/// 2 × 10⁷ A/s. A larger limit never binds, so it would claim a protection it does not give.
+pub const SLEW_A_PER_S: Bound = Bound::above(
+    0.0,
+    2.0e7,
+    " A/s",
+    "a swing of 2 kA (±1 kA, coil.limits.current_a's bound) in 0.1 ms (a frame at 10 kHz, camera.fps's bound); a larger limit never binds",
+);
+
 /// Image rotation (degrees): one turn either way; a larger angle only loses precision.
 pub const ROTATION_DEG: Bound = Bound::closed(
     -360.0,
@@ -475,7 +485,11 @@ fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
             v
         }
     };
-    let slew_a_per_s = ck.positive("coil.limits.slew_a_per_s", c.limits.slew_a_per_s)?;
+    let slew_a_per_s = ck.bound(
+        "coil.limits.slew_a_per_s",
+        c.limits.slew_a_per_s,
+        &SLEW_A_PER_S,
+    )?;
     Ok(CoilConfig {
         endpoint,
         heartbeat_ms: c.heartbeat_ms,
@@ -1041,6 +1055,21 @@ mod tests {
             "{e}"
         );
         RigConfig::parse(&with("max_jump_bl = 1.0", "max_jump_bl = 62.0"), "r.toml").unwrap();
+        for slew in ["2.1e7", "1e300", "0.0", "-1.0", "nan"] {
+            let e = err(&with(
+                "slew_a_per_s = 1000.0",
+                &format!("slew_a_per_s = {slew}"),
+            ));
+            assert!(
+                e.starts_with("r.toml: coil.limits.slew_a_per_s: must be in (0, 20000000] A/s"),
+                "{e}"
+            );
+        }
+        RigConfig::parse(
+            &with("slew_a_per_s = 1000.0", "slew_a_per_s = 2e7"),
+            "r.toml",
+        )
+        .unwrap();
     }
 
     #[test]

@@ -30,10 +30,29 @@ fn figures_are_written_as_svg_and_png() {
         let png = std::fs::read(out.join(format!("{f}.png"))).unwrap();
         assert!(&png[1..4] == b"PNG" && png.len() > 20_000, "{f}.png");
     }
+    // the angles labelled "f_r = 0" are where the physics' radial force vanishes, to the
+    // label's two decimals (|df_r/dψ| ≤ 3 per radian: at most 3 × 0.005° = 2.7e-4)
     let ellipse = std::fs::read_to_string(out.join("force-ellipse.svg")).unwrap();
+    let zero = regex::Regex::new(r"ψ = ([+−])(\d+\.\d\d)°: f_r = 0").unwrap();
+    let labelled: Vec<f64> = zero
+        .captures_iter(&ellipse)
+        .map(|c| {
+            let deg: f64 = c[2].parse().unwrap();
+            if &c[1] == "−" { -deg } else { deg }
+        })
+        .collect();
+    assert_eq!(labelled.len(), 2, "both zero-force angles are labelled");
+    assert!(labelled[0] > 0.0 && labelled[1] < 0.0, "{labelled:?}");
+    for deg in labelled {
+        let (f_r, _) = magbench_env::controllability::velocity_ellipse(deg.to_radians());
+        assert!(
+            f_r.abs() <= 2.7e-4,
+            "f_r at the labelled ψ = {deg}° is {f_r}"
+        );
+    }
     assert!(
-        ellipse.contains("54.74°") && ellipse.contains("radial force"),
-        "ψ = ±54.74° and axis labels must be marked"
+        ellipse.contains("radial force"),
+        "the axis labels are marked"
     );
     let larc = std::fs::read_to_string(out.join("larc-margin.svg")).unwrap();
     assert!(larc.contains("ψ = θ_B − φ (deg)"));

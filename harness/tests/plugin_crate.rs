@@ -4,7 +4,11 @@
 //! the plots and the report beside the built-ins.
 //!
 //! Skipped (with the reason printed) only when cargo cannot be run. The build goes to a
-//! target folder under `target/tmp/` that is kept between runs, so a second run is incremental.
+//! target folder under `target/tmp/` that is kept between runs, so a second run is incremental,
+//! or to the folder `MAGBENCH_PLUGIN_TARGET_DIR` names. CI names the workspace's own `target/`
+//! and runs this test binary directly after `cargo test`, so the plugin's build reuses the
+//! crates the tests compiled (under `cargo test` that folder is locked, and a build in it would
+//! wait forever).
 
 mod common;
 
@@ -88,7 +92,10 @@ fn a_plugin_crate_outside_the_workspace_is_benchmarked_beside_the_built_ins() {
     // the workspace's lock file: the same dependency versions, no registry look-ups
     std::fs::copy(root.join("Cargo.lock"), crate_dir.join("Cargo.lock")).unwrap();
 
-    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugin-crate-target");
+    let target = match std::env::var_os("MAGBENCH_PLUGIN_TARGET_DIR") {
+        Some(dir) => PathBuf::from(dir),
+        None => Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugin-crate-target"),
+    };
     run(
         Command::new(&cargo)
             .arg("build")

@@ -186,9 +186,13 @@ impl Figure for ForceEllipse {
             palette::series(0).stroke_width(3),
         )))?;
         let z = zero_radial_psi().to_degrees();
+        let (plus, minus) = (
+            format!("ψ = +{z:.2}°: f_r = 0"),
+            format!("ψ = −{z:.2}°: f_r = 0"),
+        );
         let marks: [(f64, &str, RGBColor); 7] = [
-            (z, "ψ = +54.74°: f_r = 0", BLACK),
-            (-z, "ψ = −54.74°: f_r = 0", BLACK),
+            (z, &plus, BLACK),
+            (-z, &minus, BLACK),
             (0.0, "ψ = 0°: strongest attraction (−2)", ATTRACT),
             (90.0, "ψ = ±90°: repulsion (+1)", REPEL),
             (45.0, "ψ = +45°", palette::series(1)),
