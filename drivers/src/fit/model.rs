@@ -93,9 +93,9 @@ impl Kind {
     }
 }
 
-/// Seconds of steady commands before a segment's start: the prediction starts with the coil
-/// settled on the command in force, which holds within e^−3.75 ≈ 2% after 0.15 s for the
-/// slowest coil of the benchmark's range (τ = 40 ms).
+/// Seconds of steady commands before a segment's start when the base has coil dynamics: the
+/// prediction starts with the coil settled on the command in force, which holds within
+/// e^−3.75 ≈ 2% after 0.15 s for the slowest coil of the range (τ = 40 ms).
 pub const SETTLE_S: f64 = 0.15;
 
 /// Largest change of the commanded field angle between frames (radians) that still counts as
@@ -279,7 +279,12 @@ impl Model {
         for (r, run) in self.runs.iter().enumerate() {
             let f = &run.frames;
             let period = frame_period(f);
-            let settle = (SETTLE_S / period).ceil() as usize;
+            // without coil dynamics in the prediction there is no coil state to settle
+            let settle = if self.predict_base.coil_lag.enabled {
+                (SETTLE_S / period).ceil() as usize
+            } else {
+                0
+            };
             let ok_step = |j: usize| {
                 j >= back
                     && j + 1 < f.len()

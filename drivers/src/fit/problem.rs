@@ -238,7 +238,7 @@ impl<'a> Problem<'a> {
     /// singular direction, NaN for a held one. The degrees of freedom discount the free start
     /// states (2 per agent per segment). With `along`, a direction in every parameter (0 on
     /// the held ones), the last entry is the standard error of the coordinate along it when
-    /// it replaces the free parameter it moves most (the others held at their values).
+    /// it replaces the free parameter it moves most (the other free ones free as well).
     pub fn standard_errors_along(&self, along: Option<&[f64]>) -> Vec<f64> {
         let mut se = vec![f64::NAN; self.x.len() + usize::from(along.is_some())];
         if self.free.is_empty() {
@@ -254,6 +254,9 @@ impl<'a> Problem<'a> {
         };
         let dof = m.saturating_sub(self.free.len() + starts).max(1);
         let s2 = r.iter().map(|v| v * v).sum::<f64>() / dof as f64;
+        for (c, &i) in self.free.iter().enumerate() {
+            se[i] = (variance(&j, c) * s2).sqrt();
+        }
         // the direction replaces the free column it moves most: J·B, B = I with that column v
         let swap = along.and_then(|v| {
             let c = (0..self.free.len())
@@ -264,32 +267,7 @@ impl<'a> Problem<'a> {
             let vf = DVector::from_iterator(self.free.len(), self.free.iter().map(|&i| v[i]));
             let col = &j * vf;
             j.set_column(c, &col);
-        }
-        // var_i = s² Σ_k V_ik² / λ_k over the eigenpairs of JᵀJ: a direction the data do not
-        // see (λ_k ≈ 0) makes the variance of every parameter along it huge
-        let eig = (j.transpose() * &j).symmetric_eigen();
-        let lmax = eig.eigenvalues.max().max(0.0);
-        let var = |c: usize| {
-            let mut v = 0.0;
-            for (k, &l) in eig.eigenvalues.iter().enumerate() {
-                let w = eig.eigenvectors[(c, k)].powi(2);
-                if l <= lmax * 1e-14 {
-                    if w > 1e-12 {
-                        return f64::INFINITY;
-                    }
-                } else {
-                    v += w / l;
-                }
-            }
-            v
-        };
-        for (c, &i) in self.free.iter().enumerate() {
-            if Some(c) != swap {
-                se[i] = (var(c) * s2).sqrt();
-            }
-        }
-        if let Some(c) = swap {
-            se[self.x.len()] = (var(c) * s2).sqrt();
+            se[self.x.len()] = (variance(&j, c) * s2).sqrt();
         }
         se
     }
@@ -325,6 +303,25 @@ impl<'a> Problem<'a> {
             (s, se_cov / (2.0 * s))
         })
     }
+}
+
+/// The variance factor `((JᵀJ)⁻¹)_cc` of column `c`, as `Σ_k V_ck² / λ_k` over the eigenpairs
+/// of `JᵀJ`: a direction the data do not see (λ_k ≈ 0) makes it infinite.
+fn variance(j: &DMatrix<f64>, c: usize) -> f64 {
+    let eig = (j.transpose() * j).symmetric_eigen();
+    let lmax = eig.eigenvalues.max().max(0.0);
+    let mut v = 0.0;
+    for (k, &l) in eig.eigenvalues.iter().enumerate() {
+        let w = eig.eigenvectors[(c, k)].powi(2);
+        if l <= lmax * 1e-14 {
+            if w > 1e-12 {
+                return f64::INFINITY;
+            }
+        } else {
+            v += w / l;
+        }
+    }
+    v
 }
 
 impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
