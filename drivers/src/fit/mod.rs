@@ -306,7 +306,11 @@ pub fn calibrate(
         let mut se = p.standard_errors_along(dir.as_deref());
         let scale_se = if dir.is_some() { se.pop() } else { None };
         if let Some(s) = scale_se {
-            if !pinned && !(s <= SCALE_IDENTIFIED_BELOW) {
+            // a NaN or infinite error is not identified either
+            let identified = s.partial_cmp(&SCALE_IDENTIFIED_BELOW)
+                != Some(std::cmp::Ordering::Greater)
+                && s.is_finite();
+            if !pinned && !identified {
                 pinned = true;
                 scale = ScaleFit::Convention(s);
                 x_start = p.x().to_vec();

@@ -423,10 +423,10 @@ impl Model {
         // j+1 the command of frame j−n−1 acts for φ of the period, then that of frame j−n
         for j in s.start..s.start + s.len {
             let dt = f[j + 1].t - f[j].t;
-            if phi > 0.0 {
-                if let Some(u) = f[j - n - 1].command {
-                    plant.run(&u, phi * dt);
-                }
+            if phi > 0.0
+                && let Some(u) = f[j - n - 1].command
+            {
+                plant.run(&u, phi * dt);
             }
             if let Some(u) = f[j - n].command {
                 plant.run(&u, (1.0 - phi) * dt);

@@ -322,7 +322,8 @@ impl FitReport {
     pub fn warnings(&self) -> Vec<String> {
         let mut w = vec![];
         let h = &self.held_out;
-        if !(h.fitted_rms < h.base_rms) {
+        // a NaN (no held-out segment predicted) warns as well
+        if h.fitted_rms.partial_cmp(&h.base_rms) != Some(std::cmp::Ordering::Less) {
             w.push(format!(
                 "the fitted preset predicts the held-out segments no better than the base ({:.4} against {:.4} BL): do not use it; check that --scenario and --base match the rig, then excite longer or harder",
                 h.fitted_rms, h.base_rms
