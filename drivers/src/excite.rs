@@ -2,8 +2,21 @@
 //!
 //! Blocks of [`BLOCK_S`] seconds, each with a field angle relative to the pair's separation
 //! (ψ), a gradient and an elevation. ψ visits the singular angles in turn — 0° (strongest
-//! attraction, no turn), ±54.74° (no radial force, fastest turn), 90° (repulsion) — and every
-//! fourth block sweeps ψ through the whole half turn. Gradient blocks pull along x or y at
+//! attraction, no turn), ±54.74° (no radial force, fastest turn), 90° (repulsion) — and in
+//! every eight blocks one sweeps ψ through the whole half turn and one is a chirp.
+//!
+//! Steps and chirps are what make the coils' lag and the camera's latency visible. Each block
+//! starts with a step of ψ and of the gradient: after a step a latency `L` delays the motion
+//! by `L` frame periods and then the agents move as before, while a coil of time constant τ
+//! rounds the step off over a few τ — the first frames after each step tell the two apart,
+//! and the blocks hold their command long enough ([`BLOCK_S`] ≫ τ) for the fit's segments
+//! to start from settled coils. A chirp block sweeps the frequency of a square wave from
+//! [`CHIRP_F0_HZ`] to [`CHIRP_F1_HZ`]: on even chirp blocks ψ alternates ±[`CHIRP_PSI_DEG`]°
+//! about the block's ψ, on odd ones the gradient reverses. A first-order coil passes a
+//! frequency `f` with the gain `1/√(1 + (2πfτ)²)` and a latency shifts its phase by `2πfL`
+//! without changing its gain, so the amplitude of the response across the sweep measures τ
+//! and its phase the sum; 10 Hz is 2πfτ = 1.6 for a 25 ms coil and 6 frames a cycle at
+//! 60 fps. Gradient blocks pull along x or y at
 //! [`GRADIENT_FRACTION`] of the coil's limit, and with a z coil some blocks tilt the field by
 //! ±[`ALPHA_STEP_DEG`]°; the order of the blocks is drawn from the seed. Two closed loops keep
 //! the run usable: on the separation of agents 0 and 1 (below [`R_MIN`] BL the field turns to
@@ -32,6 +45,15 @@ pub const R_MAX: f64 = 3.2;
 pub const GRADIENT_FRACTION: f64 = 0.7;
 /// Elevation steps (degrees), where the coil can tilt the field.
 pub const ALPHA_STEP_DEG: f64 = 35.0;
+/// A chirp's first frequency (Hz): one cycle per block, below any coil's corner (≥ 4 Hz for
+/// τ ≤ 40 ms).
+pub const CHIRP_F0_HZ: f64 = 2.0;
+/// A chirp's last frequency (Hz): above the corner of a 16 ms coil, and 6 frames a cycle at
+/// 60 fps (a square wave sampled by the camera still shows it).
+pub const CHIRP_F1_HZ: f64 = 10.0;
+/// Amplitude of a field-angle chirp about the block's ψ (degrees): the torque and the pair's
+/// force change by tens of percent, the pair stays within one regime.
+pub const CHIRP_PSI_DEG: f64 = 30.0;
 
 /// What the trajectory needs to know about the rig.
 #[derive(Debug, Clone)]
@@ -48,11 +70,24 @@ pub struct ExciteSetup {
     pub world: World,
 }
 
+/// What a block's command does within it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Chirp {
+    /// Holds (a step at the block's start).
+    None,
+    /// ψ alternates ±[`CHIRP_PSI_DEG`] about the block's ψ at a rising frequency.
+    Psi,
+    /// The gradient reverses at a rising frequency.
+    Gradient,
+}
+
 /// One block: ψ (or a sweep), gradient, elevation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Block {
     /// ψ (radians), or `None` for a sweep from −90° to 90°.
     psi: Option<f64>,
+    /// A chirp within the block.
+    chirp: Chirp,
     /// Gradient axis (0 = x, 1 = y) and sign, or none.
     grad: Option<(usize, f64)>,
     /// Elevation (radians).
@@ -91,21 +126,32 @@ fn blocks(setup: &ExciteSetup) -> Vec<Block> {
     let tilt = setup.alpha_max.min(ALPHA_STEP_DEG.to_radians());
     (0..n)
         .map(|k| {
-            let psi = if k % 4 == 3 {
+            let psi = if k % 8 == 3 {
                 None
             } else {
                 psis[(k + k / 4) % 4]
             };
-            let grad = match rng.random_range(0..5) {
-                0 => None,
-                g => Some(((g - 1) % 2, if g <= 2 { 1.0 } else { -1.0 })),
+            let chirp = match (k % 8, (k / 8) % 2) {
+                (7, 0) => Chirp::Psi,
+                (7, _) => Chirp::Gradient,
+                _ => Chirp::None,
+            };
+            let grad = match (chirp, rng.random_range(0..5)) {
+                (Chirp::Gradient, g) => Some((g % 2, 1.0)),
+                (_, 0) => None,
+                (_, g) => Some(((g - 1) % 2, if g <= 2 { 1.0 } else { -1.0 })),
             };
             let alpha = if tilt > 0.0 && rng.random_range(0..3) == 0 {
                 if rng.random_bool(0.5) { tilt } else { -tilt }
             } else {
                 0.0
             };
-            Block { psi, grad, alpha }
+            Block {
+                psi,
+                chirp,
+                grad,
+                alpha,
+            }
         })
         .collect()
 }
@@ -185,12 +231,12 @@ fn next_command(
     rep.separation_range = (rep.separation_range.0.min(r), rep.separation_range.1.max(r));
     let k = ((t / BLOCK_S) as usize).min(plan.len() - 1);
     let block = plan[k];
+    let s = (t / BLOCK_S).fract();
+    let wave = square_chirp(s * BLOCK_S);
     let mut psi = match block.psi {
+        Some(p) if block.chirp == Chirp::Psi => p + wave * CHIRP_PSI_DEG.to_radians(),
         Some(p) => p,
-        None => {
-            let s = (t / BLOCK_S).fract();
-            (s - 0.5) * std::f64::consts::PI
-        }
+        None => (s - 0.5) * std::f64::consts::PI,
     };
     if r < R_MIN {
         psi = std::f64::consts::FRAC_PI_2;
@@ -206,6 +252,11 @@ fn next_command(
         let com = found.iter().sum::<Vec2>() / found.len() as f64;
         // the pull along the axis is G·m̂: its direction follows the field's component
         let m = if axis == 0 { theta.cos() } else { theta.sin() } * block.alpha.cos();
+        let sign = if block.chirp == Chirp::Gradient {
+            sign * wave
+        } else {
+            sign
+        };
         let g = sign * GRADIENT_FRACTION * setup.gradient_limit;
         let mut pull = g * m;
         let off = com[axis] - centre[axis];
@@ -220,6 +271,14 @@ fn next_command(
         alpha: block.alpha,
         grad,
     })
+}
+
+/// The chirp's square wave (±1) at `t` seconds into its block: the sign of
+/// `sin 2π(f₀t + (f₁ − f₀)t²/(2T))`, its frequency rising linearly from [`CHIRP_F0_HZ`] to
+/// [`CHIRP_F1_HZ`] over the block's [`BLOCK_S`].
+fn square_chirp(t: f64) -> f64 {
+    let phase = CHIRP_F0_HZ * t + (CHIRP_F1_HZ - CHIRP_F0_HZ) * t * t / (2.0 * BLOCK_S);
+    if (phase.fract()) < 0.5 { 1.0 } else { -1.0 }
 }
 
 /// A rig that does not log itself, with a log that receives what [`excite`] does.
@@ -258,6 +317,15 @@ mod tests {
             }
         }
         assert!(b.iter().any(|x| x.alpha != 0.0));
+        assert!(
+            b.iter().any(|x| x.chirp == Chirp::Psi),
+            "a field-angle chirp"
+        );
+        assert!(
+            b.iter()
+                .any(|x| x.chirp == Chirp::Gradient && x.grad.is_some()),
+            "a gradient chirp"
+        );
         assert!(blocks(&setup(0.0)).iter().all(|x| x.alpha == 0.0));
     }
 
@@ -266,6 +334,7 @@ mod tests {
         let s = setup(0.0);
         let plan = vec![Block {
             psi: Some(0.0),
+            chirp: Chirp::None,
             grad: None,
             alpha: 0.0,
         }];
@@ -283,5 +352,20 @@ mod tests {
         let u = next_command(&obs(2.5), 0.0, &plan, &s, c, c, &mut rep).unwrap();
         assert_eq!(u.theta, 0.0, "the block's ψ");
         assert_eq!(rep.separation_overrides, 1);
+    }
+}
+
+#[cfg(test)]
+mod chirp_tests {
+    use super::*;
+
+    #[test]
+    fn the_square_chirp_switches_faster_towards_the_end_of_its_block() {
+        let frames: Vec<f64> = (0..30).map(|k| square_chirp(k as f64 / 60.0)).collect();
+        let switches = |w: &[f64]| w.windows(2).filter(|p| p[0] != p[1]).count();
+        assert!(
+            switches(&frames[15..]) > switches(&frames[..15]),
+            "{frames:?}"
+        );
     }
 }

@@ -6,22 +6,32 @@
 //! minimises the squared differences to what was seen, the first frame included. The start
 //! states are free parameters profiled out by variable projection (the `starts` module):
 //! predicting from the first observation instead carries its detection noise into every later
-//! frame and biases the moments and drags along their common scale. The parameters
-//! ([`model::Kind`]): per-agent moment and drag factors, each gradient axis's gain, the
-//! field-angle bias, a uniform drift and, when the base preset has coil dynamics, the field
-//! axes' time constant. The camera latency is a discrete search over whole frames (a quick fit
-//! from the observed starts for each; the least mean squared residual wins); the detection
-//! noise comes from the residuals: for one-frame predictions `e_k = n_{k+1} − n_k + w_k`, so
-//! white detection noise of σ gives consecutive residuals the covariance −σ² while the process
-//! noise `w` gives none.
+//! frame and biases the moments and drags along their common scale.
+//! The parameters ([`model::Kind`]): per-agent moment and drag factors, each gradient axis's
+//! gain, the field-angle bias, a uniform drift, the field and gradient axes' time constants
+//! when the base preset has coil dynamics, and the camera latency, a continuous number of
+//! frames fitted jointly with the rest: frame `k` shows the plant `L` frame periods before
+//! its capture, so between two frames the prediction runs the command of `⌊L⌋ + 1` frames
+//! back for the fraction `L − ⌊L⌋` of the period and then that of `⌊L⌋` frames back (the
+//! frames interpolated). Its starting value is the best of quick fits at each whole frame.
+//! The detection noise comes from the residuals: for one-frame predictions
+//! `e_k = n_{k+1} − n_k + w_k`, so white detection noise of σ gives consecutive residuals the
+//! covariance −σ² while the process noise `w` gives none.
 //!
-//! Standard errors come from the Jacobian at the optimum, `σ_r² (JᵀJ)⁻¹`. A parameter whose
-//! standard error exceeds its threshold ([`model::Kind::identified_below`]) is not fitted to
-//! noise: the worst one is held at the base value and the fit repeated, until every parameter
-//! left is identified. Moment, drag and gradient gain share one scale symmetry (moments ×λ,
-//! drags ×λ², gains ×λ leave every force the same) that only the terms which do not scale with
-//! the agent's own drag or moment break (hydrodynamic interaction, capillary attraction, the
-//! magnet's rotation lag); without them one of the three is held.
+//! Standard errors come from the Jacobian at the optimum, `σ_r² (JᵀJ)⁻¹`. Moment, drag and
+//! gradient gain share one scale symmetry (moments ×λ, drags ×λ², gains ×λ leave every force
+//! the same) that only the terms which do not scale with the agent's own drag or moment break
+//! (hydrodynamic interaction, capillary attraction, the magnet's rotation lag). The fit
+//! measures the standard error of `ln λ`; above [`SCALE_IDENTIFIED_BELOW`] it fixes the scale
+//! by a stated convention — the geometric mean of the moment factors is the base's, 1 — and
+//! reports it ([`ScaleFit`]); the ratios `m_i/√d_i` and `g_a/√d_i` are what the data then
+//! identify. A parameter whose standard error exceeds its threshold
+//! ([`model::Kind::identified_below`]) is not fitted to noise: the worst one is held at the
+//! base value and the fit repeated, until every parameter left is identified.
+//!
+//! Every fifth segment is held out of the fit; the report gives the prediction error of the
+//! fitted preset and of the base on them ([`HeldOut`]) and warns when the fit predicts no
+//! better than the base or left a parameter unidentified.
 
 pub mod error;
 pub mod log;
@@ -33,10 +43,12 @@ mod starts;
 use magbench_env::plant::DisturbancePreset;
 use magbench_env::{InputError, Scenario};
 
+use self::model::{Segment, frame_period};
+
 pub use self::error::FitError;
 pub use self::log::{LoggedFrame, LoggedRun, read_log};
 pub use self::model::{Kind, Model, SegmentTrace};
-pub use self::report::{FitReport, ParamFit, Status, TRACE_S};
+pub use self::report::{FitReport, HeldOut, ParamFit, ScaleFit, Status, TRACE_S};
 
 use self::problem::{Problem, solve};
 
@@ -45,7 +57,8 @@ use self::problem::{Problem, solve};
 pub struct FitOptions {
     /// Frames per segment.
     pub segment_frames: usize,
-    /// Latencies tried (frames): 0 to this.
+    /// Largest latency (frames) the fit may take; quick fits start it at each whole frame
+    /// from 0 to this.
     pub max_latency: usize,
     /// Names of parameters held at the base value (e.g. `gradient_gain.x`).
     pub hold: Vec<String>,
@@ -65,6 +78,135 @@ impl Default for FitOptions {
     }
 }
 
+/// Largest standard error of `ln λ`, the common scale of moments, drags and gains, at which
+/// the data fix it (as for any factor, [`model::Kind::identified_below`]); above it the
+/// convention holds the moments' geometric mean at 1.
+pub const SCALE_IDENTIFIED_BELOW: f64 = 0.1;
+
+/// One segment in this many is held out of the fit for the check of its predictions.
+pub const HOLD_OUT_EVERY: usize = 5;
+
+/// Fewest segments a fit takes: 5 held out (a prediction error from fewer says little) and 20
+/// fitted (every one of the excitation's 4 field-angle blocks seen about 5 times).
+pub const MIN_SEGMENTS: usize = 25;
+
+/// Largest share of frames a log may lose in gaps: beyond it the consecutive stretches the fit
+/// predicts are the exception, not the run.
+pub const MAX_LOST_SHARE: f64 = 0.5;
+
+/// Largest share of frames in which two agents may touch: a pair in contact sticks (env's
+/// plant freezes it) and moves as one, which says nothing of the parameters; beyond half the
+/// run the log is of a stuck team.
+pub const MAX_CONTACT_SHARE: f64 = 0.5;
+
+/// Room (BL) around the scenario's workspace an observation may fall in (detection error and
+/// an agent's radius); beyond it the log is of another workspace.
+pub const WORKSPACE_MARGIN_BL: f64 = 1.0;
+
+/// Checks that every run can be a run of `scenario`: its agent count, positions within the
+/// workspace, time and frame order, not mostly agents in contact, not mostly gaps.
+fn check_runs(scenario: &Scenario, runs: &[LoggedRun]) -> Result<(), InputError> {
+    let (w, h) = (scenario.world.width, scenario.world.height);
+    let m = WORKSPACE_MARGIN_BL;
+    for run in runs {
+        let f = &run.frames;
+        if let Some(fr) = f.iter().find(|fr| fr.agents.len() != scenario.agents()) {
+            return Err(InputError::new(
+                &run.source,
+                format!("frame {}", fr.frame),
+                format!(
+                    "{} agents, the scenario {} has {}",
+                    fr.agents.len(),
+                    scenario.name,
+                    scenario.agents()
+                ),
+            ));
+        }
+        for fr in f {
+            if let Some(p) = fr
+                .agents
+                .iter()
+                .flatten()
+                .find(|p| p.x < -m || p.y < -m || p.x > w + m || p.y > h + m)
+            {
+                return Err(InputError::new(
+                    &run.source,
+                    format!("frame {}", fr.frame),
+                    format!(
+                        "an agent observed at ({:.2}, {:.2}) BL, outside {}'s {w} × {h} BL workspace: a log of another scenario or rig?",
+                        p.x, p.y, scenario.name
+                    ),
+                ));
+            }
+        }
+        if let Some(k) =
+            (1..f.len()).find(|&k| f[k].frame <= f[k - 1].frame || f[k].t <= f[k - 1].t)
+        {
+            return Err(InputError::new(
+                &run.source,
+                format!("frame {}", f[k].frame),
+                format!(
+                    "frame index or time does not increase (frame {} at {} s after frame {} at {} s)",
+                    f[k].frame,
+                    f[k].t,
+                    f[k - 1].frame,
+                    f[k - 1].t
+                ),
+            ));
+        }
+        let contact = 2.0 * magbench_env::plant::AGENT_RADIUS_BL;
+        let touching = f
+            .iter()
+            .filter(|fr| {
+                let seen: Vec<_> = fr.agents.iter().flatten().collect();
+                seen.iter()
+                    .enumerate()
+                    .any(|(i, a)| seen[i + 1..].iter().any(|b| (**a - **b).norm() <= contact))
+            })
+            .count();
+        if touching as f64 > MAX_CONTACT_SHARE * f.len() as f64 {
+            return Err(InputError::new(
+                &run.source,
+                "frame",
+                format!(
+                    "agents in contact (within {contact} BL) in {touching} of {} frames: a stuck team says nothing of the parameters; excite again keeping them apart (at an interface, capillary attraction may beat the separation loop)",
+                    f.len()
+                ),
+            ));
+        }
+        let span = f.last().map_or(0, |l| l.frame - f[0].frame) + 1;
+        let lost = span.saturating_sub(f.len() as u64);
+        if lost as f64 > MAX_LOST_SHARE * span as f64 {
+            return Err(InputError::new(
+                &run.source,
+                "frame",
+                format!(
+                    "gaps: {lost} of {span} frames missing (more than {:.0}%)",
+                    100.0 * MAX_LOST_SHARE
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The direction of the moment/drag/gain scale symmetry in the fitted coordinates (ln moment
+/// +1, ln drag +2, ln gain +1 per unit of ln λ), or `None` when one of them is held.
+fn scale_direction(kinds: &[Kind], free: &[bool]) -> Option<Vec<f64>> {
+    let v: Vec<f64> = kinds
+        .iter()
+        .map(|k| match k {
+            Kind::Moment(_) | Kind::GradientGain(_) => 1.0,
+            Kind::Drag(_) => 2.0,
+            _ => 0.0,
+        })
+        .collect();
+    v.iter()
+        .zip(free)
+        .all(|(v, f)| *v == 0.0 || *f)
+        .then_some(v)
+}
+
 /// Fits `base` to `runs` of `scenario`.
 pub fn calibrate(
     scenario: &Scenario,
@@ -72,65 +214,112 @@ pub fn calibrate(
     runs: Vec<LoggedRun>,
     opts: &FitOptions,
 ) -> Result<FitReport, FitError> {
-    for run in &runs {
-        if let Some(f) = run
-            .frames
-            .iter()
-            .find(|f| f.agents.len() != scenario.agents())
-        {
-            return Err(InputError::new(
-                &run.source,
-                format!("frame {}", f.frame),
-                format!(
-                    "{} agents, the scenario {} has {}",
-                    f.agents.len(),
-                    scenario.name,
-                    scenario.agents()
-                ),
-            )
-            .into());
-        }
-    }
+    check_runs(scenario, &runs)?;
     let sources = runs
         .iter()
         .map(|r| r.source.as_str())
         .collect::<Vec<_>>()
         .join(", ");
-    let model = Model::new(scenario, base, runs);
+    let seconds: f64 = runs
+        .iter()
+        .map(|r| r.frames.len() as f64 * frame_period(&r.frames))
+        .sum();
+    let model = Model::new(scenario, base, runs, opts.max_latency);
     let x0 = model.base_point(base);
     let mut free: Vec<bool> = model
         .kinds
         .iter()
         .map(|k| !opts.hold.contains(&k.name()))
         .collect();
-    // latency: the quick fit of each candidate, least mean squared residual wins
-    let mut latency_table = vec![];
-    for l in 0..=opts.max_latency {
-        let segs = model.segments(opts.segment_frames, l);
-        if segs.is_empty() {
-            continue;
-        }
-        let p = Problem::new(&model, segs, l, x0.clone(), free.clone(), false);
-        let (p, _) = solve(p, 3);
-        latency_table.push((l, p.mean_square()));
+    let all = model.segments(opts.segment_frames);
+    if all.is_empty() {
+        return Err(FitError::NoSegments(sources));
     }
-    let &(latency, _) = latency_table
+    if all.len() < MIN_SEGMENTS {
+        return Err(InputError::new(
+            &sources,
+            "",
+            format!(
+                "too short to fit: {} segments of up to {} frames with every agent seen, the field on and the coils settled ({seconds:.1} s logged); a fit needs {MIN_SEGMENTS} (a longer run)",
+                all.len(),
+                opts.segment_frames
+            ),
+        )
+        .into());
+    }
+    let held: Vec<Segment> = all
         .iter()
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .ok_or(FitError::NoSegments(sources))?;
-    let segs = model.segments(opts.segment_frames, latency);
+        .enumerate()
+        .filter(|(k, _)| k % HOLD_OUT_EVERY == HOLD_OUT_EVERY - 1)
+        .map(|(_, s)| *s)
+        .collect();
+    let segs: Vec<Segment> = all
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| k % HOLD_OUT_EVERY != HOLD_OUT_EVERY - 1)
+        .map(|(_, s)| *s)
+        .collect();
+    let lat = model
+        .kinds
+        .iter()
+        .position(|k| *k == Kind::Latency)
+        .expect("the latency is a parameter");
+    // the latency's start: a quick fit at each whole frame, least mean squared residual wins
+    let mut latency_table = vec![];
+    let mut x_start = x0.clone();
+    if free[lat] {
+        let mut best = f64::INFINITY;
+        for l in 0..=opts.max_latency {
+            let mut x = x0.clone();
+            x[lat] = l as f64;
+            let mut quick = free.clone();
+            quick[lat] = false;
+            let p = Problem::new(&model, segs.clone(), x, quick, opts.free_starts);
+            let (p, _) = solve(p, 3);
+            let ms = p.mean_square();
+            latency_table.push((l, ms));
+            if ms < best {
+                best = ms;
+                x_start = p.x().to_vec();
+            }
+        }
+    }
+    let moments: Vec<usize> = (0..model.kinds.len())
+        .filter(|&i| matches!(model.kinds[i], Kind::Moment(_)))
+        .collect();
+    let mut scale = ScaleFit::Held;
+    let mut pinned = false;
     let mut unidentified = vec![];
     let (problem, se) = loop {
-        let p = Problem::new(
+        let mut p = Problem::new(
             &model,
             segs.clone(),
-            latency,
-            x0.clone(),
+            x_start.clone(),
             free.clone(),
             opts.free_starts,
         );
+        if pinned {
+            p.pin_scale(moments.clone());
+        }
         let (p, _) = solve(p, 20);
-        let se = p.standard_errors();
+        let dir = scale_direction(&model.kinds, &free);
+        let mut se = p.standard_errors_along(dir.as_deref());
+        let scale_se = if dir.is_some() { se.pop() } else { None };
+        if let Some(s) = scale_se {
+            // a NaN or infinite error is not identified either
+            let identified = s.partial_cmp(&SCALE_IDENTIFIED_BELOW)
+                != Some(std::cmp::Ordering::Greater)
+                && s.is_finite();
+            if !pinned && !identified {
+                pinned = true;
+                scale = ScaleFit::Convention(s);
+                x_start = p.x().to_vec();
+                continue;
+            }
+            if !pinned {
+                scale = ScaleFit::Identified(s);
+            }
+        }
         let worst = model
             .kinds
             .iter()
@@ -142,12 +331,29 @@ pub fn calibrate(
         match worst {
             Some((i, _)) => {
                 free[i] = false;
+                x_start = p.x().to_vec();
+                x_start[i] = x0[i];
                 unidentified.push((i, se[i]));
             }
             None => break (p, se),
         }
     };
     let noise = problem.detection_noise();
+    let check = |x: &[f64]| {
+        let p = Problem::new(
+            &model,
+            held.clone(),
+            x.to_vec(),
+            vec![false; x.len()],
+            opts.free_starts,
+        );
+        p.mean_square().sqrt()
+    };
+    let held_out = HeldOut {
+        segments: held.len(),
+        fitted_rms: check(problem.x()),
+        base_rms: check(&x0),
+    };
     Ok(report::build(
         &model,
         base,
@@ -155,8 +361,10 @@ pub fn calibrate(
         &se,
         &free,
         &unidentified,
-        latency,
         latency_table,
         noise,
+        scale,
+        held_out,
+        seconds,
     ))
 }

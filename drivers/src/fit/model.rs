@@ -25,6 +25,11 @@ pub enum Kind {
     Drift(usize),
     /// ln of the field axes' coil time constant (ms).
     FieldTau,
+    /// ln of the gradient axes' coil time constant (ms).
+    GradientTau,
+    /// Camera latency (frames, continuous): frame `k` shows the plant as it was `L` frame
+    /// periods before its capture.
+    Latency,
 }
 
 impl Kind {
@@ -37,6 +42,8 @@ impl Kind {
             Kind::FieldBias => "field_bias_deg".into(),
             Kind::Drift(a) => format!("drift_bl_s.{}", ["x", "y"][*a]),
             Kind::FieldTau => "coil_lag.field_tau_ms".into(),
+            Kind::GradientTau => "coil_lag.gradient_tau_ms".into(),
+            Kind::Latency => "camera.latency.frames".into(),
         }
     }
 
@@ -44,7 +51,11 @@ impl Kind {
     pub fn is_log(&self) -> bool {
         matches!(
             self,
-            Kind::Moment(_) | Kind::Drag(_) | Kind::GradientGain(_) | Kind::FieldTau
+            Kind::Moment(_)
+                | Kind::Drag(_)
+                | Kind::GradientGain(_)
+                | Kind::FieldTau
+                | Kind::GradientTau
         )
     }
 
@@ -53,18 +64,21 @@ impl Kind {
         match self {
             Kind::FieldBias => 1e-4,
             Kind::Drift(_) => 1e-4,
-            Kind::FieldTau => 1e-2,
+            Kind::FieldTau | Kind::GradientTau => 1e-2,
+            Kind::Latency => 1e-2,
             _ => 1e-4,
         }
     }
 
     /// The largest standard error (fitted coordinate) at which the data identify it: 10% for
-    /// factors, 1° for the bias, 0.005 BL/s for a drift, a factor e^0.5 for the coil's τ.
+    /// factors, 1° for the bias, 0.005 BL/s for a drift, 30% for the coil's τ (the issue's
+    /// tolerance on τ), a quarter frame for the latency (half of its ½-frame tolerance).
     pub fn identified_below(&self) -> f64 {
         match self {
             Kind::FieldBias => 1f64.to_radians(),
             Kind::Drift(_) => 0.005,
-            Kind::FieldTau => 0.5,
+            Kind::FieldTau | Kind::GradientTau => 0.3,
+            Kind::Latency => 0.25,
             _ => 0.1,
         }
     }
@@ -78,6 +92,22 @@ impl Kind {
         }
     }
 }
+
+/// Seconds of steady commands before a segment's start when the base has coil dynamics: the
+/// prediction starts with the coil settled on the command in force, which holds within
+/// e^−3.75 ≈ 2% after 0.15 s for the slowest coil of the range (τ = 40 ms).
+pub const SETTLE_S: f64 = 0.15;
+
+/// Largest change of the commanded field angle between frames (radians) that still counts as
+/// steady. Commands that follow the measured pair direction jitter with its detection noise,
+/// `√2 σ/r` per frame and `2σ/r` between frames (3.8° at σ = 0.05 BL, r = 1.5 BL); a step of
+/// `rig excite` is at least 35° (0° to 54.74° less a sweep). 15°, four such jitters, lets the
+/// jitter pass and stops at every step.
+pub const STEADY_DTHETA: f64 = 15.0 * std::f64::consts::PI / 180.0;
+
+/// Largest change of a commanded gradient component between frames (T/m) that still counts as
+/// steady: rounding, far below any step (a step is 70% of a coil's limit, ~0.06 T/m).
+pub const STEADY_DGRAD: f64 = 1e-9;
 
 /// One stretch of consecutive frames predicted from its first observation.
 #[derive(Debug, Clone, Copy)]
@@ -115,11 +145,19 @@ pub struct Model {
     pub n: usize,
     /// Every parameter, in order.
     pub kinds: Vec<Kind>,
+    /// Largest latency the fit may take (frames).
+    pub max_latency: usize,
 }
 
 impl Model {
-    /// The model of `runs` of `scenario` under `base`.
-    pub fn new(scenario: &Scenario, base: &DisturbancePreset, runs: Vec<LoggedRun>) -> Self {
+    /// The model of `runs` of `scenario` under `base`, with a latency of at most `max_latency`
+    /// frames.
+    pub fn new(
+        scenario: &Scenario,
+        base: &DisturbancePreset,
+        runs: Vec<LoggedRun>,
+        max_latency: usize,
+    ) -> Self {
         let params = scenario.physics.clone();
         let mut p = scenario.plant_preset(base);
         // what no prediction can know: per-run draws and random forcing
@@ -152,6 +190,10 @@ impl Model {
         if p.coil_lag.enabled && p.coil_lag.field_tau_ms > 0.0 {
             kinds.push(Kind::FieldTau);
         }
+        if p.coil_lag.enabled && p.coil_lag.gradient_tau_ms > 0.0 {
+            kinds.push(Kind::GradientTau);
+        }
+        kinds.push(Kind::Latency);
         let w = &scenario.world;
         Self {
             collision: Arc::new(CollisionWorld::new(w, magbench_env::plant::AGENT_RADIUS_BL)),
@@ -162,6 +204,7 @@ impl Model {
             runs,
             n,
             kinds,
+            max_latency,
         }
     }
 
@@ -171,6 +214,11 @@ impl Model {
             .iter()
             .map(|k| match k {
                 Kind::FieldTau => base.coil_lag.field_tau_ms.max(1e-3).ln(),
+                Kind::GradientTau => base.coil_lag.gradient_tau_ms.max(1e-3).ln(),
+                Kind::Latency => base
+                    .camera
+                    .nominal_latency_frames()
+                    .clamp(0.0, self.max_latency as f64),
                 _ => 0.0,
             })
             .collect()
@@ -196,6 +244,11 @@ impl Model {
                 Kind::FieldBias => f.field_bias_deg = Some(val),
                 Kind::Drift(a) => f.drift_bl_s.as_mut().expect("set")[a] = val,
                 Kind::FieldTau => p.coil_lag.field_tau_ms = val,
+                Kind::GradientTau => p.coil_lag.gradient_tau_ms = val,
+                Kind::Latency => {
+                    p.camera.latency.enabled = true;
+                    p.camera.latency.frames = val.clamp(0.0, self.max_latency as f64);
+                }
             }
         }
         p.fitted = f;
@@ -207,20 +260,56 @@ impl Model {
         &self.predict_base
     }
 
-    /// Segments of up to `len` frames with `latency` frames between a command and the frames
-    /// it moves: consecutive frames, every agent observed at the start, the field on.
-    pub fn segments(&self, len: usize, latency: usize) -> Vec<Segment> {
+    /// The latency (frames) that `preset` states, within the fit's range.
+    pub fn latency_of(&self, preset: &DisturbancePreset) -> f64 {
+        preset
+            .camera
+            .nominal_latency_frames()
+            .clamp(0.0, self.max_latency as f64)
+    }
+
+    /// Segments of up to `len` frames that every latency up to [`Model::max_latency`] can
+    /// predict: consecutive frames with the field on from `max_latency + 1` frames before each
+    /// step, every agent observed at the start, and commands steady ([`STEADY_DTHETA`], the
+    /// same gradient and elevation) for [`SETTLE_S`] before it (the prediction starts with the
+    /// coil settled).
+    pub fn segments(&self, len: usize) -> Vec<Segment> {
+        let back = self.max_latency + 1;
         let mut out = vec![];
         for (r, run) in self.runs.iter().enumerate() {
             let f = &run.frames;
-            let mut k = latency;
+            let period = frame_period(f);
+            // without coil dynamics in the prediction there is no coil state to settle
+            let settle = if self.predict_base.coil_lag.enabled {
+                (SETTLE_S / period).ceil() as usize
+            } else {
+                0
+            };
+            let ok_step = |j: usize| {
+                j >= back
+                    && j + 1 < f.len()
+                    && f[j + 1].frame == f[j].frame + 1
+                    && f[j].frame == f[j - back].frame + back as u64
+                    && (j - back..=j).all(|i| f[i].command.is_some())
+            };
+            let steady = |k: usize| {
+                k >= back + settle
+                    && f[k].frame == f[k - back - settle].frame + (back + settle) as u64
+                    && (k - back - settle..k - back).all(|i| {
+                        match (f[i].command, f[i + 1].command) {
+                            (Some(a), Some(b)) => {
+                                (a.theta - b.theta).abs() <= STEADY_DTHETA
+                                    && (a.grad[0] - b.grad[0]).abs() <= STEADY_DGRAD
+                                    && (a.grad[1] - b.grad[1]).abs() <= STEADY_DGRAD
+                                    && (a.alpha - b.alpha).abs() <= STEADY_DTHETA
+                            }
+                            _ => false,
+                        }
+                    })
+            };
+            let mut k = back;
             while k + 1 < f.len() {
-                let ok_step = |j: usize| {
-                    j + 1 < f.len()
-                        && f[j + 1].frame == f[j].frame + 1
-                        && f[j - latency].command.is_some()
-                };
-                if f[k].agents.iter().all(Option::is_some) && ok_step(k) {
+                if f[k].agents.iter().all(Option::is_some) && ok_step(k) && steady(k) {
                     let mut l = 1;
                     while l < len && ok_step(k + l) {
                         l += 1;
@@ -239,18 +328,37 @@ impl Model {
         out
     }
 
+    /// One-frame segments at every step that every latency up to [`Model::max_latency`] can
+    /// predict (for the detection noise from consecutive residuals; no settling asked).
+    pub fn steps(&self) -> Vec<Segment> {
+        let back = self.max_latency + 1;
+        let mut out = vec![];
+        for (r, run) in self.runs.iter().enumerate() {
+            let f = &run.frames;
+            for k in back..f.len().saturating_sub(1) {
+                if f[k].agents.iter().all(Option::is_some)
+                    && f[k + 1].frame == f[k].frame + 1
+                    && f[k].frame == f[k - back].frame + back as u64
+                    && (k - back..=k).all(|i| f[i].command.is_some())
+                {
+                    out.push(Segment {
+                        run: r,
+                        start: k,
+                        len: 1,
+                    });
+                }
+            }
+        }
+        out
+    }
+
     /// Residuals (observed − predicted, BL; 0 for a missed detection) of every segment under
     /// `preset`, 2 per agent per predicted frame; segments in which the prediction touched a
     /// wall or stuck are marked in the second vector (their residuals are 0).
-    pub fn residuals(
-        &self,
-        preset: &DisturbancePreset,
-        segs: &[Segment],
-        latency: usize,
-    ) -> (Vec<f64>, Vec<bool>) {
+    pub fn residuals(&self, preset: &DisturbancePreset, segs: &[Segment]) -> (Vec<f64>, Vec<bool>) {
         let per: Vec<(Vec<f64>, bool)> = segs
             .par_iter()
-            .map(|s| self.segment_residuals(preset, s, latency))
+            .map(|s| self.segment_residuals(preset, s))
             .collect();
         let mut r = Vec::with_capacity(per.iter().map(|p| p.0.len()).sum());
         let mut bad = Vec::with_capacity(per.len());
@@ -270,13 +378,8 @@ impl Model {
     /// The prediction of segment `s` under `preset`: the times, observations and predicted
     /// positions of its first frame (predicted = observed) and of every frame it predicts; the
     /// flag is set when the prediction touched a wall or stuck.
-    pub fn predict(
-        &self,
-        preset: &DisturbancePreset,
-        s: &Segment,
-        latency: usize,
-    ) -> (SegmentTrace, bool) {
-        self.predict_from(preset, s, latency, &self.observed_start(s))
+    pub fn predict(&self, preset: &DisturbancePreset, s: &Segment) -> (SegmentTrace, bool) {
+        self.predict_from(preset, s, &self.observed_start(s))
     }
 
     /// Every agent's observed position at the first frame of `s` (segments start where every
@@ -295,11 +398,13 @@ impl Model {
         &self,
         preset: &DisturbancePreset,
         s: &Segment,
-        latency: usize,
         start: &[Vec2],
     ) -> (SegmentTrace, bool) {
         let f = &self.runs[s.run].frames;
         let start = start.to_vec();
+        let latency = self.latency_of(preset);
+        let whole = latency.floor();
+        let (n, phi) = (whole as usize, latency - whole);
         let mut plant = Plant::new(
             &self.params,
             self.coil.clone(),
@@ -314,9 +419,17 @@ impl Model {
             observed: vec![f[s.start].agents.clone()],
             predicted: vec![start],
         };
+        // frame j+1 shows the plant at its capture time less L periods: between frames j and
+        // j+1 the command of frame j−n−1 acts for φ of the period, then that of frame j−n
         for j in s.start..s.start + s.len {
-            if let Some(u) = f[j - latency].command {
-                plant.run(&u, f[j + 1].t - f[j].t);
+            let dt = f[j + 1].t - f[j].t;
+            if phi > 0.0
+                && let Some(u) = f[j - n - 1].command
+            {
+                plant.run(&u, phi * dt);
+            }
+            if let Some(u) = f[j - n].command {
+                plant.run(&u, (1.0 - phi) * dt);
             }
             tr.t.push(f[j + 1].t);
             tr.observed.push(f[j + 1].agents.clone());
@@ -325,13 +438,8 @@ impl Model {
         (tr, plant.stuck() || plant.wall_contacts() > 0)
     }
 
-    fn segment_residuals(
-        &self,
-        preset: &DisturbancePreset,
-        s: &Segment,
-        latency: usize,
-    ) -> (Vec<f64>, bool) {
-        let (mut rows, bad) = self.segment_rows(preset, s, latency, &self.observed_start(s));
+    fn segment_residuals(&self, preset: &DisturbancePreset, s: &Segment) -> (Vec<f64>, bool) {
+        let (mut rows, bad) = self.segment_rows(preset, s, &self.observed_start(s));
         rows.drain(..2 * self.n);
         (rows, bad)
     }
@@ -344,10 +452,9 @@ impl Model {
         &self,
         preset: &DisturbancePreset,
         s: &Segment,
-        latency: usize,
         start: &[Vec2],
     ) -> (Vec<f64>, bool) {
-        let (tr, bad) = self.predict_from(preset, s, latency, start);
+        let (tr, bad) = self.predict_from(preset, s, start);
         let mut out = Vec::with_capacity((s.len + 1) * 2 * self.n);
         for (obs, pred) in tr.observed.iter().zip(&tr.predicted) {
             for (o, p) in obs.iter().zip(pred) {
@@ -359,4 +466,19 @@ impl Model {
         }
         (out, bad)
     }
+}
+
+/// The median frame period of a run (s); 1/60 s when it has no two consecutive frames.
+pub fn frame_period(f: &[super::log::LoggedFrame]) -> f64 {
+    let mut d: Vec<f64> = f
+        .windows(2)
+        .filter(|w| w[1].frame == w[0].frame + 1)
+        .map(|w| w[1].t - w[0].t)
+        .filter(|d| *d > 0.0)
+        .collect();
+    if d.is_empty() {
+        return 1.0 / 60.0;
+    }
+    d.sort_by(f64::total_cmp);
+    d[d.len() / 2]
 }

@@ -1,6 +1,8 @@
 //! The least-squares problem of one fit, for the `levenberg-marquardt` crate: free parameters
 //! in, residuals of every segment out (with the segments' start states profiled out, see
 //! [`super::starts`], or predicted from the observed starts), Jacobian by forward differences.
+//! With a scale convention ([`Problem::pin_scale`]) one more residual row holds the geometric
+//! mean of the moment factors at 1.
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt, MinimizationReport};
 use magbench_env::plant::DisturbancePreset;
@@ -14,14 +16,19 @@ use super::starts::StartBasis;
 pub struct Problem<'a> {
     model: &'a Model,
     segs: Vec<Segment>,
-    latency: usize,
     /// Every parameter (fitted coordinates); the held ones stay at their start.
     x: Vec<f64>,
     free: Vec<usize>,
     base: DisturbancePreset,
     /// Whether each segment's start state is free (profiled out) or the observed one.
     free_starts: bool,
+    /// Parameters whose mean the scale convention holds at 0 (the ln of the moment factors).
+    pin: Vec<usize>,
 }
+
+/// Weight of the scale convention's row (1/BL): a mean ln-moment off by 10⁻³ costs as much as
+/// a residual of 1 BL, far beyond what the data pull along a direction they do not see.
+const PIN_WEIGHT: f64 = 1e3;
 
 /// One segment's residual rows and their derivatives in some parameters.
 struct Block {
@@ -37,7 +44,6 @@ impl<'a> Problem<'a> {
     pub fn new(
         model: &'a Model,
         segs: Vec<Segment>,
-        latency: usize,
         x: Vec<f64>,
         free: Vec<bool>,
         free_starts: bool,
@@ -46,12 +52,36 @@ impl<'a> Problem<'a> {
         Self {
             model,
             segs,
-            latency,
             free: (0..x.len()).filter(|&i| free[i]).collect(),
             x,
             base,
             free_starts,
+            pin: vec![],
         }
+    }
+
+    /// Holds the geometric mean of the parameters `idx` (ln moment factors) at 1 by one more
+    /// residual row: the convention that fixes the moment/drag/gain scale when the data do not.
+    pub fn pin_scale(&mut self, idx: Vec<usize>) {
+        self.pin = idx;
+    }
+
+    /// The scale convention's residual row (empty without one).
+    fn pin_row(&self, x: &[f64]) -> Vec<f64> {
+        if self.pin.is_empty() {
+            return vec![];
+        }
+        let m = self.pin.iter().map(|&i| x[i]).sum::<f64>() / self.pin.len() as f64;
+        vec![PIN_WEIGHT * m]
+    }
+
+    /// The scale convention's row of the Jacobian in the free parameters.
+    fn pin_jacobian(&self) -> Vec<f64> {
+        let w = PIN_WEIGHT / self.pin.len().max(1) as f64;
+        self.free
+            .iter()
+            .map(|i| if self.pin.contains(i) { w } else { 0.0 })
+            .collect()
     }
 
     /// Residual rows of segment `s` at `x`, and their forward differences towards each of
@@ -62,9 +92,9 @@ impl<'a> Problem<'a> {
         at: &DisturbancePreset,
         steps: &[(DisturbancePreset, f64)],
     ) -> Block {
-        let (mut r, bad) =
-            self.model
-                .segment_rows(at, s, self.latency, &self.model.observed_start(s));
+        let (mut r, bad) = self
+            .model
+            .segment_rows(at, s, &self.model.observed_start(s));
         let zero = |r: &[f64]| Block {
             r: vec![0.0; r.len()],
             cols: vec![vec![0.0; r.len()]; steps.len()],
@@ -74,7 +104,7 @@ impl<'a> Problem<'a> {
             return zero(&r);
         }
         let basis = if self.free_starts {
-            match StartBasis::new(self.model, at, s, self.latency, &r) {
+            match StartBasis::new(self.model, at, s, &r) {
                 Some(b) => Some(b),
                 None => return zero(&r),
             }
@@ -84,9 +114,7 @@ impl<'a> Problem<'a> {
         let cols = steps
             .iter()
             .map(|(p, h)| {
-                let (rh, _) =
-                    self.model
-                        .segment_rows(p, s, self.latency, &self.model.observed_start(s));
+                let (rh, _) = self.model.segment_rows(p, s, &self.model.observed_start(s));
                 let mut c: Vec<f64> = rh.iter().zip(&r).map(|(a, b)| (a - b) / h).collect();
                 if let Some(b) = &basis {
                     b.project(&mut c);
@@ -157,6 +185,26 @@ impl<'a> Problem<'a> {
         self.evaluate(x, false).0
     }
 
+    /// The residuals of the data and the scale convention's row, and their Jacobian (when
+    /// asked), with the number of segments used.
+    fn evaluate_all(&self, x: &[f64], jacobian: bool) -> (Vec<f64>, Option<DMatrix<f64>>, usize) {
+        let (mut r, j, used) = self.evaluate(x, jacobian);
+        let pin = self.pin_row(x);
+        if pin.is_empty() {
+            return (r, j, used);
+        }
+        r.extend(pin);
+        let j = j.map(|j| {
+            let rows = j.nrows();
+            let mut j = j.insert_row(rows, 0.0);
+            for (c, v) in self.pin_jacobian().into_iter().enumerate() {
+                j[(rows, c)] = v;
+            }
+            j
+        });
+        (r, j, used)
+    }
+
     /// Mean squared residual (BL²) over the observed coordinates.
     pub fn mean_square(&self) -> f64 {
         let r = self.residuals_at(&self.x);
@@ -182,19 +230,22 @@ impl<'a> Problem<'a> {
 
     /// The Jacobian of the residuals in the free parameters.
     fn jacobian_free(&self) -> DMatrix<f64> {
-        self.evaluate(&self.x, true).1.expect("asked for")
+        self.evaluate_all(&self.x, true).1.expect("asked for")
     }
 
     /// Standard error of every parameter (fitted coordinates): `σ_r² (JᵀJ)⁻¹` over the free
-    /// ones; infinite for a free parameter along a singular direction, NaN for a held one.
-    /// The degrees of freedom discount the free start states (2 per agent per segment).
-    pub fn standard_errors(&self) -> Vec<f64> {
-        let mut se = vec![f64::NAN; self.x.len()];
+    /// ones (the scale convention's row included); infinite for a free parameter along a
+    /// singular direction, NaN for a held one. The degrees of freedom discount the free start
+    /// states (2 per agent per segment). With `along`, a direction in every parameter (0 on
+    /// the held ones), the last entry is the standard error of the coordinate along it when
+    /// it replaces the free parameter it moves most (the other free ones free as well).
+    pub fn standard_errors_along(&self, along: Option<&[f64]>) -> Vec<f64> {
+        let mut se = vec![f64::NAN; self.x.len() + usize::from(along.is_some())];
         if self.free.is_empty() {
             return se;
         }
-        let (r, j, used) = self.evaluate(&self.x, true);
-        let j = j.expect("asked for");
+        let (r, j, used) = self.evaluate_all(&self.x, true);
+        let mut j = j.expect("asked for");
         let m = r.iter().filter(|v| **v != 0.0).count();
         let starts = if self.free_starts {
             used * 2 * self.model.n
@@ -203,35 +254,33 @@ impl<'a> Problem<'a> {
         };
         let dof = m.saturating_sub(self.free.len() + starts).max(1);
         let s2 = r.iter().map(|v| v * v).sum::<f64>() / dof as f64;
-        // var_i = s² Σ_k V_ik² / λ_k over the eigenpairs of JᵀJ: a direction the data do not
-        // see (λ_k ≈ 0) makes the variance of every parameter along it huge
-        let eig = (j.transpose() * &j).symmetric_eigen();
-        let lmax = eig.eigenvalues.max().max(0.0);
         for (c, &i) in self.free.iter().enumerate() {
-            let mut v = 0.0;
-            for (k, &l) in eig.eigenvalues.iter().enumerate() {
-                let w = eig.eigenvectors[(c, k)].powi(2);
-                if l <= lmax * 1e-14 {
-                    if w > 1e-12 {
-                        v = f64::INFINITY;
-                    }
-                } else {
-                    v += w / l;
-                }
-            }
-            se[i] = (v * s2).sqrt();
+            se[i] = (variance(&j, c) * s2).sqrt();
+        }
+        // the direction replaces the free column it moves most: J·B, B = I with that column v
+        let swap = along.and_then(|v| {
+            let c = (0..self.free.len())
+                .max_by(|a, b| v[self.free[*a]].abs().total_cmp(&v[self.free[*b]].abs()))?;
+            (v[self.free[c]] != 0.0).then_some(c)
+        });
+        if let (Some(v), Some(c)) = (along, swap) {
+            let vf = DVector::from_iterator(self.free.len(), self.free.iter().map(|&i| v[i]));
+            let col = &j * vf;
+            j.set_column(c, &col);
+            se[self.x.len()] = (variance(&j, c) * s2).sqrt();
         }
         se
     }
 
-    /// White detection noise σ (BL per coordinate) from one-frame residuals: −cov(e_k, e_k+1);
-    /// `None` when the process noise hides it (the covariance is not negative).
-    pub fn detection_noise(&self) -> Option<f64> {
-        let segs = self.model.segments(1, self.latency);
+    /// White detection noise σ (BL per coordinate) from one-frame residuals, −cov(e_k, e_k+1),
+    /// with its standard error (the products taken as independent); `None` when the process
+    /// noise hides it (the covariance is not negative).
+    pub fn detection_noise(&self) -> Option<(f64, f64)> {
+        let segs = self.model.steps();
         let preset = self.model.preset_at(&self.base, &self.x);
-        let (r, bad) = self.model.residuals(&preset, &segs, self.latency);
+        let (r, bad) = self.model.residuals(&preset, &segs);
         let w = 2 * self.model.n;
-        let (mut sum, mut count) = (0.0, 0usize);
+        let (mut sum, mut sq, mut count) = (0.0, 0.0, 0usize);
         for k in 0..segs.len().saturating_sub(1) {
             let (a, b) = (segs[k], segs[k + 1]);
             if a.run != b.run || b.start != a.start + 1 || bad[k] || bad[k + 1] {
@@ -241,13 +290,38 @@ impl<'a> Problem<'a> {
                 let (x, y) = (r[k * w + c], r[(k + 1) * w + c]);
                 if x != 0.0 && y != 0.0 {
                     sum += x * y;
+                    sq += (x * y).powi(2);
                     count += 1;
                 }
             }
         }
-        let cov = sum / count.max(1) as f64;
-        (count > 0 && cov < 0.0).then(|| (-cov).sqrt())
+        let c = count.max(1) as f64;
+        let cov = sum / c;
+        let se_cov = ((sq / c - cov * cov).max(0.0) / c).sqrt();
+        (count > 0 && cov < 0.0).then(|| {
+            let s = (-cov).sqrt();
+            (s, se_cov / (2.0 * s))
+        })
     }
+}
+
+/// The variance factor `((JᵀJ)⁻¹)_cc` of column `c`, as `Σ_k V_ck² / λ_k` over the eigenpairs
+/// of `JᵀJ`: a direction the data do not see (λ_k ≈ 0) makes it infinite.
+fn variance(j: &DMatrix<f64>, c: usize) -> f64 {
+    let eig = (j.transpose() * j).symmetric_eigen();
+    let lmax = eig.eigenvalues.max().max(0.0);
+    let mut v = 0.0;
+    for (k, &l) in eig.eigenvalues.iter().enumerate() {
+        let w = eig.eigenvectors[(c, k)].powi(2);
+        if l <= lmax * 1e-14 {
+            if w > 1e-12 {
+                return f64::INFINITY;
+            }
+        } else {
+            v += w / l;
+        }
+    }
+    v
 }
 
 impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
@@ -266,7 +340,7 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     }
 
     fn residuals(&self) -> Option<DVector<f64>> {
-        let r = self.residuals_at(&self.x);
+        let r = self.evaluate_all(&self.x, false).0;
         r.iter()
             .all(|v| v.is_finite())
             .then(|| DVector::from_vec(r))

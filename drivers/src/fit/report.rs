@@ -1,5 +1,5 @@
 //! What a fit found, and the preset file it writes: the fitted values in the preset's own
-//! format, their standard errors and the fit's residuals as comments.
+//! format, their standard errors, the held-out check and the warnings as comments.
 
 use std::fmt::Write as _;
 
@@ -34,17 +34,50 @@ pub struct ParamFit {
     pub status: Status,
 }
 
+/// How the moment/drag/gain scale (moments ×λ, drags ×λ², gains ×λ) was settled.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ScaleFit {
+    /// The data identify it: the standard error of `ln λ`.
+    Identified(f64),
+    /// The data do not (standard error of `ln λ` shown): the geometric mean of the moment
+    /// factors is held at the base's, 1, and moments, drags and gains are relative to it.
+    Convention(f64),
+    /// A moment, drag or gain was held (`--hold` or unidentified), which fixes it.
+    Held,
+}
+
+/// The check on segments left out of the fit: prediction error (residual RMS per coordinate,
+/// each segment's start state fitted) under the fitted preset and under the base.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeldOut {
+    /// Segments held out.
+    pub segments: usize,
+    /// RMS error of the fitted preset's predictions (BL).
+    pub fitted_rms: f64,
+    /// RMS error of the base preset's predictions (BL).
+    pub base_rms: f64,
+}
+
 /// The result of `magbench calibrate`.
 #[derive(Debug, Clone)]
 pub struct FitReport {
     /// Every parameter.
     pub params: Vec<ParamFit>,
-    /// The latency chosen (frames), and the mean squared residual of each candidate.
-    pub latency: usize,
-    /// (latency, mean squared residual in BL²) per candidate.
+    /// The latency written (frames): fitted, or the base's when not identified.
+    pub latency: f64,
+    /// (latency, mean squared residual in BL²) of the quick fit at each whole frame that
+    /// started the latency.
     pub latency_table: Vec<(usize, f64)>,
     /// Detection noise σ (BL per coordinate), when the residuals show it.
     pub noise: Option<f64>,
+    /// The standard error of [`FitReport::noise`] (BL).
+    pub noise_se: Option<f64>,
+    /// How the moment/drag/gain scale was settled.
+    pub scale: ScaleFit,
+    /// The check on held-out segments.
+    pub held_out: HeldOut,
+    /// Seconds of log.
+    pub seconds: f64,
     /// Residual RMS per agent (BL) at the optimum.
     pub rms_per_agent: Vec<f64>,
     /// Segments and residuals fitted.
@@ -70,9 +103,11 @@ pub(super) fn build(
     se: &[f64],
     free: &[bool],
     unidentified: &[(usize, f64)],
-    latency: usize,
     latency_table: Vec<(usize, f64)>,
-    noise: Option<f64>,
+    noise: Option<(f64, f64)>,
+    scale: ScaleFit,
+    held_out: HeldOut,
+    seconds: f64,
 ) -> FitReport {
     let x = p.x();
     let params: Vec<ParamFit> = model
@@ -93,10 +128,14 @@ pub(super) fn build(
                 Kind::FieldBias => s.to_degrees(),
                 _ => s,
             };
+            let value = match k {
+                Kind::Latency => x[i].clamp(0.0, model.max_latency as f64),
+                _ => k.value(x[i]),
+            };
             ParamFit {
                 kind: *k,
                 name: k.name(),
-                value: k.value(x[i]),
+                value,
                 se: fitted.then(|| se_unit(se[i])),
                 status,
             }
@@ -118,9 +157,15 @@ pub(super) fn build(
     if let Some(v) = fit(&|k| matches!(k, Kind::FieldTau)) {
         preset.coil_lag.field_tau_ms = v[0];
     }
-    preset.camera.latency.enabled = latency > 0 || preset.camera.latency.enabled;
-    preset.camera.latency.frames = latency as f64;
-    if let Some(s) = noise {
+    if let Some(v) = fit(&|k| matches!(k, Kind::GradientTau)) {
+        preset.coil_lag.gradient_tau_ms = v[0];
+    }
+    if let Some(v) = fit(&|k| matches!(k, Kind::Latency)) {
+        preset.camera.latency.enabled = v[0] > 0.0 || preset.camera.latency.enabled;
+        preset.camera.latency.frames = v[0];
+    }
+    let latency = preset.camera.nominal_latency_frames();
+    if let Some((s, _)) = noise {
         preset.camera.noise.enabled = true;
         preset.camera.noise.sigma_bl = s;
     }
@@ -134,14 +179,18 @@ pub(super) fn build(
         .segments()
         .iter()
         .filter(|s| s.run == 0 && model.runs[0].frames[s.start].t < t0 + TRACE_S)
-        .map(|s| model.predict(&predict, s, latency).0)
+        .map(|s| model.predict(&predict, s).0)
         .collect();
     FitReport {
         traces,
         params,
         latency,
         latency_table,
-        noise,
+        noise: noise.map(|n| n.0),
+        noise_se: noise.map(|n| n.1),
+        scale,
+        held_out,
+        seconds,
         rms_per_agent: p.rms_per_agent(),
         segments: p.segments().len(),
         residuals: model.residual_count(p.segments()),
@@ -174,6 +223,7 @@ impl FitReport {
         for p in &self.params {
             let se = |s: f64| match p.kind {
                 k if k.is_log() => format!("± {:.1}%", 100.0 * s),
+                Kind::Latency => format!("± {s:.2} frames"),
                 Kind::FieldBias => format!("± {s:.3}°"),
                 _ => format!("± {s:.2e}"),
             };
@@ -201,22 +251,42 @@ impl FitReport {
                 100.0 * s
             ));
         }
-        out.push(format!(
-            "{:<24} {:>10}  search over whole frames, mean squared residual per candidate: {}",
-            "camera.latency.frames",
-            self.latency,
-            self.latency_table
-                .iter()
-                .map(|(l, m)| format!("{l}: {m:.3e} BL²"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-        out.push(match self.noise {
-            Some(s) => format!(
+        if !self.latency_table.is_empty() {
+            out.push(format!(
+                "{:<24} {:>10}  latency started from quick fits at whole frames, mean squared residual: {}",
+                "",
+                "",
+                self.latency_table
+                    .iter()
+                    .map(|(l, m)| format!("{l}: {m:.3e} BL²"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        out.push(match self.scale {
+            ScaleFit::Identified(s) => format!(
+                "{:<24} {:>10}  ± {:.1}%  identified by the data (moments ×λ, drags ×λ², gains ×λ)",
+                "scale λ", "1", 100.0 * s
+            ),
+            ScaleFit::Convention(s) => format!(
+                "{:<24} {:>10}  not identified by the data (± {:.0}%): fixed by convention, the moments' geometric mean = 1; moments, drags and gains are relative to it (identified: m_i/√d_i, g/√d_i)",
+                "scale λ", "-", 100.0 * s
+            ),
+            ScaleFit::Held => format!(
+                "{:<24} {:>10}  fixed by a held moment, drag or gain",
+                "scale λ", "-"
+            ),
+        });
+        out.push(match (self.noise, self.noise_se) {
+            (Some(s), Some(e)) => format!(
+                "{:<24} {:>10.4}  ± {e:.1e}  from the residuals' lag-1 covariance",
+                "camera.noise.sigma_bl", s
+            ),
+            (Some(s), None) => format!(
                 "{:<24} {:>10.4}  from the residuals' lag-1 covariance",
                 "camera.noise.sigma_bl", s
             ),
-            None => format!(
+            (None, _) => format!(
                 "{:<24} {:>10}  not seen in the residuals: left at the base value",
                 "camera.noise.sigma_bl", "-"
             ),
@@ -231,11 +301,50 @@ impl FitReport {
             self.segments,
             self.residuals
         ));
+        let h = &self.held_out;
+        out.push(format!(
+            "held-out check           prediction RMS {:.4} BL fitted against {:.4} BL base, on {} segments left out of the fit",
+            h.fitted_rms, h.base_rms, h.segments
+        ));
         out.push(
-            "left at the base value, never fitted: camera.noise bias (absorbed in the positions), camera.latency jitter, misses and swaps, field jitter, axis gains and skew, cross-talk, ambient field, flow, Brownian motion, hydrodynamics and capillary (physics, not parameters), magnet lag (from the moments), gradient coil τ"
+            "left at the base value, never fitted: camera.noise bias (absorbed in the positions), camera.latency jitter, misses and swaps, field jitter, axis gains and skew, cross-talk, ambient field, flow, Brownian motion, hydrodynamics and capillary (physics, not parameters), magnet lag (from the moments)"
                 .into(),
         );
+        for w in self.warnings() {
+            out.push(format!("warning: {w}"));
+        }
         out
+    }
+
+    /// What the output cannot be trusted for, each with what to change: predictions on held-out
+    /// segments no better than the base's, parameters the data did not identify, a scale fixed
+    /// by convention, a noise the residuals did not show.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = vec![];
+        let h = &self.held_out;
+        // a NaN (no held-out segment predicted) warns as well
+        if h.fitted_rms.partial_cmp(&h.base_rms) != Some(std::cmp::Ordering::Less) {
+            w.push(format!(
+                "the fitted preset predicts the held-out segments no better than the base ({:.4} against {:.4} BL): do not use it; check that --scenario and --base match the rig, then excite longer or harder",
+                h.fitted_rms, h.base_rms
+            ));
+        }
+        for p in &self.params {
+            if let Status::Unidentified(_) = p.status {
+                w.push(format!(
+                    "{} was not identified and keeps the base value: {}",
+                    p.name,
+                    advice(p.kind)
+                ));
+            }
+        }
+        if let ScaleFit::Convention(_) = self.scale {
+            w.push("the common scale of moments, drags and gains is not in the data (no hydrodynamic interaction, capillary attraction or magnet lag strong enough to break it): the absolute values rest on the convention; measure one (a gradient gain with a gaussmeter) and --hold it".into());
+        }
+        if self.noise.is_none() {
+            w.push("the detection noise was not seen in the residuals and keeps the base value: the process noise hides it; image a resting team to measure it".into());
+        }
+        w
     }
 
     /// The fitted preset as a file: the report as comments, then the preset's TOML.
@@ -260,5 +369,24 @@ impl FitReport {
         }
         s.push_str(&self.preset.to_toml());
         s
+    }
+}
+
+/// What to change so that a parameter of this kind is identified.
+fn advice(k: Kind) -> &'static str {
+    match k {
+        Kind::Moment(_) | Kind::Drag(_) => {
+            "run longer, with the agents far enough apart to move independently (rig excite's separation band)"
+        }
+        Kind::GradientGain(_) => {
+            "run longer or with stronger gradient steps (rig excite pulls at 70% of the limit)"
+        }
+        Kind::FieldBias | Kind::Drift(_) => "run longer",
+        Kind::FieldTau | Kind::GradientTau => {
+            "its steps and chirps must move the agents by more than the detection noise within a few τ: a stronger field or gradient, a camera with less noise or more frames per second, a longer run"
+        }
+        Kind::Latency => {
+            "the excitation's steps must show when motion starts: a camera with less noise or more frames per second, a longer run"
+        }
     }
 }

@@ -36,20 +36,14 @@ pub struct StartBasis {
 impl StartBasis {
     /// The basis of segment `s` under `preset`, whose rows from the observed start are `r0`;
     /// `None` when a perturbed prediction touched a wall or stuck.
-    pub fn new(
-        model: &Model,
-        preset: &DisturbancePreset,
-        s: &Segment,
-        latency: usize,
-        r0: &[f64],
-    ) -> Option<Self> {
+    pub fn new(model: &Model, preset: &DisturbancePreset, s: &Segment, r0: &[f64]) -> Option<Self> {
         let start = model.observed_start(s);
         let cols = 2 * start.len();
         let mut j = DMatrix::zeros(r0.len(), cols);
         for c in 0..cols {
             let mut p: Vec<Vec2> = start.clone();
             p[c / 2][c % 2] += START_STEP_BL;
-            let (r, bad) = model.segment_rows(preset, s, latency, &p);
+            let (r, bad) = model.segment_rows(preset, s, &p);
             if bad {
                 return None;
             }

@@ -31,7 +31,7 @@ pub struct CalibrateArgs {
     /// Frames predicted from each observation.
     #[arg(long, default_value_t = 20)]
     pub segment_frames: usize,
-    /// Largest camera latency tried (frames).
+    /// Largest camera latency the fit may take (frames, fitted as a continuous number).
     #[arg(long, default_value_t = 4)]
     pub max_latency: usize,
     /// Hold a parameter at the base value, e.g. `gradient_gain.x` (repeatable).
@@ -97,8 +97,8 @@ const SEGMENT_FRAMES: Bound = Bound::closed(
     "10 s at 60 fps; a longer prediction drifts beyond what one observation pins",
 );
 
-/// Latencies searched: each candidate is a fit of its own; 30 frames is half a second at
-/// 60 fps, far beyond any camera pipeline.
+/// Latencies the fit may take: each whole frame up to it starts a quick fit of its own; 30
+/// frames is half a second at 60 fps, far beyond any camera pipeline.
 const MAX_LATENCY: Bound = Bound::closed(
     0.0,
     30.0,
