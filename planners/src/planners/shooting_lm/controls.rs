@@ -112,7 +112,7 @@ fn guess_field(from: &[Vec2], alpha_max: Option<f64>, k: usize) -> Control {
         ),
         None => {
             let psi_m = (1.0f64 / 3.0).sqrt().acos();
-            (axis + if k % 2 == 0 { psi_m } else { -psi_m }, 0.0)
+            (axis + if k.is_multiple_of(2) { psi_m } else { -psi_m }, 0.0)
         }
     };
     Control {
