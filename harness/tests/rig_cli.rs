@@ -28,7 +28,7 @@ fn a_bad_rig_file_exits_2_naming_file_field_and_reason() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
         stderr.contains(&format!(
-            "{}: coil.limits.slew_a_per_s: must be a finite number > 0, got -3",
+            "{}: coil.limits.slew_a_per_s: must be in (0, 20000000] A/s",
             bad.display()
         )),
         "{stderr}"

@@ -13,8 +13,6 @@
 //! - `sst`: Stable Sparse RRT ([`planners::Sst`]);
 //! - `formation-rrt`: for teams, shapes sampled apart from the centroid
 //!   ([`planners::FormationRrt`]);
-//! - `shooting-lm`: trajectory optimisation by single shooting and Levenberg–Marquardt
-//!   ([`planners::ShootingLm`]; partial: open fields only);
 //! - `ompl:rrt`, `ompl:sst`, `ompl:kpiece`, `ompl:est`, `ompl:pdst`: OMPL's control planners on
 //!   this model (cargo feature `ompl`; [`ompl`]).
 //!

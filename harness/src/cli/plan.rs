@@ -36,9 +36,9 @@ pub struct PlanArgs {
     /// A built-in scenario name or a scenario file.
     #[arg(required_unless_present = "list")]
     pub scenario: Option<String>,
-    /// The planner: a name (goal-zoom-rrt, rrt-star, informed-rrt-star, sst, formation-rrt,
-    /// shooting-lm or a plugin's; see --list) or a label with parameters as experiment files
-    /// write it, `goal-zoom-rrt{aim=true,guide=true}`.
+    /// The planner: a name (goal-zoom-rrt, rrt-star, informed-rrt-star, sst, formation-rrt or a
+    /// plugin's; see --list) or a label with parameters as experiment files write it,
+    /// `goal-zoom-rrt{aim=true,guide=true}`.
     #[arg(long, required_unless_present = "list")]
     pub planner: Option<String>,
     /// Seed of the run: leg k (from 0) is planned with seed + k·1000003, as a sweep's run of

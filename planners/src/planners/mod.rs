@@ -8,13 +8,11 @@
 mod formation_rrt;
 mod goal_zoom_rrt;
 mod rrt_star;
-mod shooting_lm;
 mod sst;
 
 pub use formation_rrt::FormationRrt;
 pub use goal_zoom_rrt::GoalZoomRrt;
 pub use rrt_star::{LoggedSample, RrtStar, RrtStarStats};
-pub use shooting_lm::ShootingLm;
 pub use sst::{Sst, SstStats};
 
 use crate::registry::Entry;
@@ -46,11 +44,6 @@ pub fn builtins() -> Vec<Entry> {
             "sst",
             "Stable Sparse RRT (Li, Littlefield & Bekris): selection and pruning radii, prunes dominated nodes",
             || Box::new(Sst::default()),
-        ),
-        Entry::new(
-            "shooting-lm",
-            "trajectory optimisation: single shooting over piecewise-constant controls, Levenberg–Marquardt, validity by penalties",
-            || Box::new(ShootingLm::default()),
         ),
         #[cfg(feature = "ompl")]
         Entry::new(
