@@ -71,8 +71,9 @@ impl Kind {
     }
 
     /// The largest standard error (fitted coordinate) at which the data identify it: 10% for
-    /// factors, 1° for the bias, 0.005 BL/s for a drift, 30% for the coil's τ (the issue's
-    /// tolerance on τ), a quarter frame for the latency (half of its ½-frame tolerance).
+    /// factors, 1° for the bias, 0.005 BL/s for a drift, 30% for the coil's τ (the
+    /// accuracy docs/calibration.md asks of τ), a quarter frame for the latency (half of the
+    /// ½-frame accuracy asked of it).
     pub fn identified_below(&self) -> f64 {
         match self {
             Kind::FieldBias => 1f64.to_radians(),
@@ -95,7 +96,8 @@ impl Kind {
 
 /// Seconds of steady commands before a segment's start when the base has coil dynamics: the
 /// prediction starts with the coil settled on the command in force, which holds within
-/// e^−3.75 ≈ 2% after 0.15 s for the slowest coil of the range (τ = 40 ms).
+/// e^−3.75 ≈ 2% after 0.15 s for the slowest coil of the
+/// range docs/calibration.md covers (τ from 2 to 40 ms).
 pub const SETTLE_S: f64 = 0.15;
 
 /// Largest change of the commanded field angle between frames (radians) that still counts as
