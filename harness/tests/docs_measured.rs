@@ -165,11 +165,9 @@ fn every_measured_file_parses_and_belongs_to_a_measurement() {
 /// that is fresh: the list names exactly the files whose figures may not be today's.
 const AWAITING_REGENERATION: &[&str] = &[
     "trackers-50",
-    "seed-metric",
     "fidelity-hardware",
     "trio-tracking",
     "quad-tracking",
-    "trio-stall",
     "team-stall",
     "extend",
     "trio-alpha-max",
@@ -192,11 +190,8 @@ const AWAITING_REGENERATION: &[&str] = &[
     "rig-latency",
     "bench-planning",
     "steering",
-    "shortcut",
     "shortcut-tracking",
-    "shortcut-plans",
     "aim-tracking",
-    "team-scaling",
     "team-sizes",
     "team-tracking",
     "bench-team-flows",
@@ -207,17 +202,13 @@ const AWAITING_REGENERATION: &[&str] = &[
     "python-plugins",
     "python-overhead",
     "python-rrt",
-    "sst-pruning",
     "calibration-noise-bias",
     "calibration-draws",
     "calibration-emulator",
     "calibration-validation",
     "calibration-segments",
-    "detector-accuracy",
     "detect-timing",
-    "rig-replay",
     "bench-plant-frame",
-    "pixel-quantisation",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).
