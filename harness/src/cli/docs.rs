@@ -7,9 +7,8 @@ use clap::{Args, Subcommand};
 
 use super::output::outln;
 use crate::CliError;
-use crate::docs::freshness::{pathspecs, staleness};
+use crate::docs::freshness::{FreshnessError, file_staleness, pathspecs};
 use crate::docs::measures::{MEASURES, Measure, find};
-use crate::docs::parse;
 use crate::docs::run::{RunOptions, measure};
 use crate::registry::Registry;
 use crate::run::real::RealExecutor;
@@ -100,20 +99,16 @@ fn run_stale(a: StaleArgs) -> Result<(), CliError> {
             }
             Err(e) => return Err(CliError::Failed(format!("{}: {e}", path.display()))),
         };
-        let header = parse(&text).map_err(|e| {
-            CliError::Input(InputError::new(
-                path.display().to_string(),
-                "header",
-                e.to_string(),
-            ))
-        })?;
-        let version = header.field("magbench").unwrap_or_default();
         if a.verbose {
             outln!("{}: depends on {}", m.name, pathspecs(m).join(" "));
         }
-        match staleness(&root, m, version)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?
-        {
+        let file = path.display().to_string();
+        match file_staleness(&root, m, &text).map_err(|e| match e {
+            FreshnessError::Header(e) => {
+                CliError::Input(InputError::new(file.clone(), "header", e.to_string()))
+            }
+            e => CliError::Failed(format!("{file}: {e}")),
+        })? {
             Some(why) => {
                 outln!("{}: stale: {why}", m.name);
                 stale += 1;

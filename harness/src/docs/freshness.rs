@@ -7,6 +7,7 @@ use std::process::Command;
 
 use thiserror::Error;
 
+use super::header::{ParseError, parse};
 use super::measures::Measure;
 
 /// Why a generated file may not hold what its measurement gives on the current code.
@@ -76,6 +77,9 @@ pub enum FreshnessError {
         "revision {0} is not in this repository's history (a shallow clone? `git fetch --unshallow`)"
     )]
     UnknownRevision(String),
+    /// The file is not a generated file.
+    #[error("header: {0}")]
+    Header(#[from] ParseError),
 }
 
 /// The revision named in a header's `magbench` value (`0.1.0 (git REV)` or `(git REV+dirty)`)
@@ -102,6 +106,17 @@ pub fn pathspecs(m: &Measure) -> Vec<String> {
             .map(|p| p.to_string()),
     );
     v
+}
+
+/// Whether the generated file `text` (its whole content) is stale for measurement `m`: the
+/// [`staleness`] of the revision its header's `magbench` line names.
+pub fn file_staleness(
+    root: &Path,
+    m: &Measure,
+    text: &str,
+) -> Result<Option<Staleness>, FreshnessError> {
+    let header = parse(text)?;
+    staleness(root, m, header.field("magbench").unwrap_or_default())
 }
 
 /// Whether the generated file with header value `version` (its `magbench` line) is stale for

@@ -254,10 +254,12 @@ const SWEEP: &[&str] = &[
     "harness/src/docs/ablation.rs",
     "harness/src/docs/replans.rs",
 ];
-/// The magbench commands a transcript runs: the whole harness but the book's measurements.
+/// The magbench commands a transcript runs: the whole harness but the book's measurements and
+/// their command (`magbench docs`), which no transcript runs.
 const CLI: &[&str] = &[
     "harness/src",
     ":!harness/src/docs",
+    ":!harness/src/cli/docs.rs",
     "harness/src/docs/transcript.rs",
 ];
 /// The rig: drivers, emulator, calibration and the rig files.
