@@ -6,8 +6,13 @@
 //! `P_i + P_σ(i) = 2c`, at most one agent at `c` — therefore stays symmetric, with the same
 //! pairing, under every field and pull: the velocities of `i` and `σ(i)` about the centroid are
 //! opposite. Its accessibility rank is the symmetric subspace's (`magbench stlc --agents 4`:
-//! rank 4 of 6 for the square, the rhombus and the row), and a goal none of whose formations
-//! within tolerance has that symmetry cannot be reached from it.
+//! rank 4 of 6 for the square, the rhombus and the row), and in exact arithmetic a goal none of
+//! whose formations within tolerance has that symmetry cannot be reached from it.
+//!
+//! The symmetric set is unstable, though: an asymmetry as small as round-off (1e-15 BL) grows
+//! under the team's chaotic dynamics until the team has left it, so in floating point a planner
+//! does reach such goals, through that growth, as a rig does through its noise
+//! (planners/tests/formation.rs shows a plan that does). [`symmetry_note`] says so.
 //!
 //! The least distance from a goal `G` to the symmetric set is exact: with `m_i = (G_i + G_σ(i))/2`,
 //! `|S_i − G_i| + |S_σ(i) − G_σ(i)| ≥ |S_i + S_σ(i) − 2m_i| = 2|c − m_i|`, and
@@ -95,9 +100,10 @@ fn circumcircle(a: Vec2, b: Vec2, c: Vec2) -> Option<(Vec2, f64)> {
     Some((a + center, center.norm()))
 }
 
-/// Why `goal` (within `tolerance`) cannot be reached from `start`, if the start is centrally
-/// symmetric and the goal is farther than `tolerance` from every formation with its symmetry.
-pub fn unreachable_reason(start: &[Vec2], goal: &[Vec2], tolerance: f64) -> Option<String> {
+/// A note when `start` is symmetric about its centroid and `goal` is farther than `tolerance`
+/// from every formation with its symmetry: the pairing, the distance, and that the goal is
+/// reached only through the growth of an asymmetry the exact dynamics would never create.
+pub fn symmetry_note(start: &[Vec2], goal: &[Vec2], tolerance: f64) -> Option<String> {
     let pairing = central_pairing(start, SYMMETRY_EPS)?;
     let gap = symmetric_gap(goal, &pairing);
     if gap <= tolerance {
@@ -116,11 +122,12 @@ pub fn unreachable_reason(start: &[Vec2], goal: &[Vec2], tolerance: f64) -> Opti
         .map(|(i, _)| format!(", agent {i} at the centroid"))
         .unwrap_or_default();
     Some(format!(
-        "unreachable: the start is symmetric about its centroid (agents paired {}{centre}) and \
-         every field keeps it so (the forces between agents are odd in their separation, the pull \
-         is the same for all; `magbench stlc --agents 4` shows the rank lost); the nearest \
-         formation with that symmetry is {gap:.3} BL from this goal, beyond its tolerance \
-         {tolerance} BL. Break the start's symmetry or give the goal the same symmetry",
+        "the start is symmetric about its centroid (agents paired {}{centre}), and in exact \
+         arithmetic every field keeps it so (the forces between agents are odd in their \
+         separation, the pull is the same for all); the nearest formation with that symmetry is \
+         {gap:.3} BL from this goal, beyond its tolerance {tolerance} BL. The symmetric \
+         formations are unstable, so the goal is reached only through the growth of an asymmetry: \
+         round-off in the planning model, noise on a rig (docs/physics.md, \"Central symmetry\")",
         pairs.join(", ")
     ))
 }
@@ -155,8 +162,8 @@ mod tests {
         let tri = v(&[[0.0, 0.0], [2.0, 1.7], [4.0, 0.0]]);
         let gap = symmetric_gap(&tri, &[2, 1, 0]);
         assert!((gap - 0.85).abs() < 1e-12, "{gap}");
-        assert!(unreachable_reason(&row, &tri, 0.5).is_some());
-        assert!(unreachable_reason(&row, &tri, 0.9).is_none());
+        assert!(symmetry_note(&row, &tri, 0.5).is_some());
+        assert!(symmetry_note(&row, &tri, 0.9).is_none());
     }
 
     #[test]
@@ -164,7 +171,7 @@ mod tests {
         let pair = v(&[[0.0, 0.0], [2.0, 0.0]]);
         let goal = v(&[[5.0, 3.0], [6.0, 7.0]]);
         assert_eq!(symmetric_gap(&goal, &[1, 0]), 0.0);
-        assert!(unreachable_reason(&pair, &goal, 0.1).is_none());
+        assert!(symmetry_note(&pair, &goal, 0.1).is_none());
     }
 
     #[test]
@@ -175,7 +182,7 @@ mod tests {
         let gap = symmetric_gap(&kite, &pairing);
         // midpoints (0↔2) = (12, 10) and (1↔3) = (12, 9.25): the circle on them has radius 0.375
         assert!((gap - 0.375).abs() < 1e-12, "{gap}");
-        let reason = unreachable_reason(&square, &kite, 0.3).unwrap();
+        let reason = symmetry_note(&square, &kite, 0.3).unwrap();
         assert!(
             reason.contains("0↔2, 1↔3") && reason.contains("0.375"),
             "{reason}"

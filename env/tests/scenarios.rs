@@ -324,30 +324,32 @@ fn names_a_goal_outside_the_starts_invariant_set() {
             .replace("[[25.0, 15.0], [27.5, 15.0]]", kite)
             .replace("tolerance = 0.5", "tolerance = 0.3"),
     );
-    let (leg, field, reason) = s.unreachable_leg().expect("unreachable");
+    let (leg, field, reason) = s.symmetric_leg().expect("a goal off the symmetric set");
     assert_eq!((leg, field.as_str()), (0, "goal.agents"));
     assert!(
-        reason.contains("unreachable") && reason.contains("0↔2, 1↔3") && reason.contains("0.375"),
+        reason.contains("symmetric about its centroid")
+            && reason.contains("0↔2, 1↔3")
+            && reason.contains("0.375"),
         "{reason}"
     );
-    // within tolerance of a symmetric formation, or from an asymmetric start, it is reachable
+    // within tolerance of a symmetric formation, or from an asymmetric start, there is no note
     let near = load(
         &square
             .replace("[[25.0, 15.0], [27.5, 15.0]]", kite)
             .replace("tolerance = 0.5", "tolerance = 0.4"),
     );
-    assert_eq!(near.unreachable_leg(), None);
+    assert_eq!(near.symmetric_leg(), None);
     let kite_start = GOOD.replace(
         "[[3.0, 5.0], [5.0, 5.0]]",
         "[[3.0, 4.0], [5.0, 5.0], [7.0, 4.0], [5.0, 1.5]]",
     );
     let square_goal = "[[20.0, 13.0], [22.0, 13.0], [22.0, 15.0], [20.0, 15.0]]";
     let free = load(&kite_start.replace("[[25.0, 15.0], [27.5, 15.0]]", square_goal));
-    assert_eq!(free.unreachable_leg(), None);
-    // every built-in is reachable
+    assert_eq!(free.symmetric_leg(), None);
+    // no built-in's goal lies off its start's symmetric set
     for name in builtin_names() {
         assert_eq!(
-            Scenario::load(name).unwrap().unreachable_leg(),
+            Scenario::load(name).unwrap().symmetric_leg(),
             None,
             "{name}"
         );

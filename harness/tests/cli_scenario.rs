@@ -19,6 +19,25 @@ fn scenario_list_names_every_builtin() {
 }
 
 #[test]
+fn scenario_check_notes_a_goal_off_the_starts_symmetric_set() {
+    // team-30 v1's grid of four (a square, paired 0↔3 and 1↔2 across its centre) to a ring
+    // paired otherwise: valid, and reached only through the growth of an asymmetry
+    let f = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../suites/team-30/scenarios/team-agents=4-goal=ring-start=grid-s0.toml");
+    let f = f.to_str().unwrap();
+    let (code, out, err) = magbench(&["scenario", "check", f]);
+    assert_eq!(code, 0, "stderr: {err}");
+    assert!(out.contains("ok (4 agents"), "{out}");
+    assert!(
+        err.starts_with("note: ")
+            && err.contains("goal.agents")
+            && err.contains("0↔3, 1↔2")
+            && err.contains("unstable"),
+        "{err}"
+    );
+}
+
+#[test]
 fn scenario_check_rejects_a_bad_file_with_exit_2_and_names_file_field_reason() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("bad.toml");

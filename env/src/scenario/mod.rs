@@ -23,7 +23,7 @@ use crate::error::InputError;
 use crate::math::Vec2;
 use crate::physics::PhysicalParams;
 use crate::plant::{DisturbancePreset, Medium};
-use crate::team_symmetry::unreachable_reason;
+use crate::team_symmetry::symmetry_note;
 use crate::world::{Obstacle, World};
 
 /// A goal region: every agent within `tolerance` of its goal centre.
@@ -141,12 +141,13 @@ impl Scenario {
         }
     }
 
-    /// The first leg whose goal the planning model cannot reach, with its field and the reason:
-    /// a start symmetric about its centroid stays so under every field, and every leg starts
-    /// where the last ended ([`crate::team_symmetry`]).
-    pub fn unreachable_leg(&self) -> Option<(usize, String, String)> {
+    /// The first leg whose goal lies off the symmetric set of a start symmetric about its
+    /// centroid, with its field and the note ([`crate::team_symmetry::symmetry_note`]): in exact
+    /// arithmetic no field leaves that set, so the goal is reached only through the growth of an
+    /// asymmetry (every leg is checked against the scenario's start).
+    pub fn symmetric_leg(&self) -> Option<(usize, String, String)> {
         self.legs.iter().enumerate().find_map(|(i, leg)| {
-            let reason = unreachable_reason(&self.start, &leg.goal.agents, leg.goal.tolerance)?;
+            let reason = symmetry_note(&self.start, &leg.goal.agents, leg.goal.tolerance)?;
             let field = if self.legs.len() == 1 {
                 "goal.agents".to_string()
             } else {
