@@ -179,8 +179,23 @@ fn jacobian(f: &dyn Fn(&Shape) -> Shape, s: &Shape, h: f64) -> DMatrix<f64> {
 /// nested central differences, good to about 1e-7).
 pub const RANK_TOL: f64 = 1e-5;
 
-/// Controllability of the team at `positions` (BL) under `fields`.
-pub fn team_report(kin: &Kinematics, positions: &[Vec2], fields: FieldSet) -> TeamReport {
+/// The accessibility ranks of a team at one formation under one field set.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Ranks {
+    /// Dimension of shape space, 2(N−1).
+    pub dim: usize,
+    /// Rank of the control fields alone (the first-order velocity span).
+    pub first_order: usize,
+    /// Rank with their brackets.
+    pub depth1: usize,
+    /// Rank with brackets of brackets too: the accessibility rank.
+    pub depth2: usize,
+}
+
+/// The rank of the control fields at `positions` (BL) under `fields`, with their brackets and
+/// brackets of brackets (Jacobians by central differences of the physics); brackets of
+/// brackets are computed only when the brackets leave the rank short of `dim`.
+pub fn accessibility(kin: &Kinematics, positions: &[Vec2], fields: FieldSet) -> Ranks {
     let s = shape_of(positions);
     let dim = s.len();
     let elevated = matches!(fields, FieldSet::Elevated { .. });
@@ -209,6 +224,23 @@ pub fn team_report(kin: &Kinematics, positions: &[Vec2], fields: FieldSet) -> Te
         }
         depth2 = rank(&cols, RANK_TOL);
     }
+    Ranks {
+        dim,
+        first_order,
+        depth1,
+        depth2,
+    }
+}
+
+/// Controllability of the team at `positions` (BL) under `fields`.
+pub fn team_report(kin: &Kinematics, positions: &[Vec2], fields: FieldSet) -> TeamReport {
+    let Ranks {
+        dim,
+        first_order,
+        depth1,
+        depth2,
+    } = accessibility(kin, positions, fields);
+    let s = shape_of(positions);
     let set = velocity_set(kin, &s, fields);
     let (holds, offset) = origin_inside(&set, None);
     let rotation = rotation_direction(&s);
@@ -609,5 +641,38 @@ mod tests {
             2
         );
         assert_eq!(rank(&[e([0.0; 4])], 1e-9), 0);
+    }
+}
+
+#[cfg(test)]
+mod ring_tests {
+    use super::*;
+    use crate::controllability::tests::kin;
+
+    /// A regular ring of `n` at neighbour spacing 1.6 BL.
+    fn ring(n: usize) -> Vec<Vec2> {
+        let r = 1.6 / (2.0 * (std::f64::consts::PI / n as f64).sin());
+        (0..n)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                Vec2::new(a.cos(), a.sin()) * r
+            })
+            .collect()
+    }
+
+    /// A ring of five has the full rank 8 by depth two; a ring of six is symmetric about its
+    /// centroid and stays in the 6-dimensional set of such formations (three opposite pairs:
+    /// three free vectors), and moved off it reaches the full rank 10.
+    #[test]
+    fn rings_reach_full_rank_except_in_their_invariant_set() {
+        let (kin, _) = kin();
+        let el = FieldSet::Elevated { alpha_max: 0.8 };
+        let five = accessibility(&kin, &ring(5), el);
+        assert_eq!((five.dim, five.first_order, five.depth2), (8, 3, 8));
+        let mut six = ring(6);
+        assert_eq!(accessibility(&kin, &six, el).depth2, 6);
+        six[0].x += 0.137;
+        six[1].y -= 0.071;
+        assert_eq!(accessibility(&kin, &six, el).depth2, 10);
     }
 }

@@ -131,7 +131,7 @@ fn generate_list_names_every_family_and_its_parameters() {
         assert!(out.contains(f), "{f} missing from:\n{out}");
     }
     assert!(out.contains("gap") && out.contains("[0.5, 50]"), "{out}");
-    assert!(out.contains("row|ring|grid|random"), "{out}");
+    assert!(out.contains("row|ring|grid|triangle|random"), "{out}");
 }
 
 #[test]

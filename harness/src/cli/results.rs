@@ -1,6 +1,7 @@
 //! `magbench results verify DIR`: check a results folder; `magbench results plot DIR`: draw
 //! its figures again at a size preset, DPI and axis scale, and as PDF; `magbench results scaling
 //! DIR`: fit how time and iterations to a first solution grow with a problem size; `magbench
+//! results formations DIR`: which formation a team reaches from which; `magbench
 //! results profile DIR`: the performance profile and paired comparisons as Markdown.
 
 use std::path::PathBuf;
@@ -38,6 +39,15 @@ pub enum ResultsCmd {
         #[arg(long)]
         family: Option<String>,
     },
+    /// The formation study: per team size, start and goal formation (the `team` family's labels)
+    /// and planner, the runs solved, the median time to a first plan and cost over its lower
+    /// bound, with the start's accessibility rank and central symmetry, as Markdown; one figure
+    /// per planner into DIR/plots/formations-PLANNER.svg (docs/planners.md, "Which formation
+    /// from which").
+    Formations {
+        /// The results folder.
+        dir: PathBuf,
+    },
     /// Print the comparison across problems of the report's "Across problems" section as
     /// Markdown: each planner's performance profile ρ(τ) at the given τ and the fraction of
     /// problems it solves, and the paired comparison (win rate, time ratio) of every pair of
@@ -64,6 +74,7 @@ pub enum ResultsCmd {
 pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
     match cmd {
         ResultsCmd::Scaling { dir, by, family } => scaling(&dir, &by, family.as_deref()),
+        ResultsCmd::Formations { dir } => formations(&dir),
         ResultsCmd::Profile { dir, tau } => {
             let md = super::profile::run(&dir, &tau)?;
             out!("{md}");
@@ -117,6 +128,26 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
             )))
         }
     }
+}
+
+fn formations(dir: &std::path::Path) -> Result<(), CliError> {
+    use crate::compare::formations::{figure, markdown, study};
+    let _lock = lock::shared(dir, "DIR")?;
+    let runs = crate::results::store::read_runs(dir)?;
+    let pairs = study(&runs, &dir.join("scenarios"))?;
+    out!("{}", markdown(&pairs));
+    let mut planners: Vec<&str> = vec![];
+    for o in pairs.iter().flat_map(|p| &p.planners) {
+        if !planners.contains(&o.planner.as_str()) {
+            planners.push(&o.planner);
+        }
+    }
+    for p in planners {
+        let stem = dir.join("plots").join(format!("formations-{p}"));
+        crate::plot::save(&figure(&pairs, p), &stem)?;
+        outln!("plot: {}", crate::plot::with_ext(&stem, "svg").display());
+    }
+    Ok(())
 }
 
 fn scaling(dir: &std::path::Path, by: &str, family: Option<&str>) -> Result<(), CliError> {

@@ -9,11 +9,13 @@
 //! - [`by_difficulty`]: success and time binned by a difficulty measure;
 //! - [`scaling`]: the log–log fit of median time against a problem size;
 //! - [`study`]: a scaling study over a results folder, its fits and plot;
+//! - [`formations`]: the formation study (which formation a team reaches from which);
 //! - [`section`]: the plots and the report's "Across problems" section.
 //!
 //! docs/suites.md, "Comparisons across problems".
 
 pub mod by_difficulty;
+pub mod formations;
 pub mod instances;
 pub mod paired;
 pub mod profile;

@@ -231,8 +231,19 @@ impl Measure {
     }
 }
 
-/// The physics and the plant's presets: every measurement's figures depend on them.
-const PLANT: &[&str] = &["env/src", "presets"];
+/// The physics and the plant's presets: every measurement's figures depend on them. The
+/// scenario generator and the team rank test are declared apart ([`GENERATOR`],
+/// [`CONTROLLABILITY`]) by the measurements that use them.
+const PLANT: &[&str] = &[
+    "env/src",
+    "presets",
+    ":!env/src/scenario/generate",
+    ":!env/src/team_controllability.rs",
+];
+/// The scenario generator: measurements of experiments with `[[generated]]` tables or suites.
+const GENERATOR: &[&str] = &["env/src/scenario/generate"];
+/// The Lie-bracket rank test of teams (`magbench stlc`, the formation study).
+const CONTROLLABILITY: &[&str] = &["env/src/team_controllability.rs"];
 /// The planners and the scenarios they plan on.
 const PLANNING: &[&str] = &["planners/src", "scenarios"];
 /// The trackers.
@@ -446,7 +457,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
-        depends: &[PLANT, PLANNING, TRACKING, CLI],
+        depends: &[PLANT, PLANNING, TRACKING, CLI, CONTROLLABILITY],
     },
     Measure {
         name: "planners-convergence",
@@ -591,7 +602,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
-        depends: &[PLANT, PLANNING, TRACKING, CLI],
+        depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR],
     },
     Measure {
         name: "pair-100-profile",
@@ -604,7 +615,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: Some("ompl"),
-        depends: &[PLANT, PLANNING, TRACKING, CLI],
+        depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR],
     },
     Measure {
         name: "bench-threads",
@@ -807,7 +818,20 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
-        depends: &[PLANT, PLANNING, TRACKING, CLI],
+        depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR],
+    },
+    Measure {
+        name: "formations",
+        source: Transcript {
+            files: &["experiments"],
+            cwd: ".",
+            steps: &[
+                Step::Run("bench experiments/formations.toml --out formations --threads 2 --quiet"),
+                Step::Run("results formations formations"),
+            ],
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR, CONTROLLABILITY],
     },
     Measure {
         name: "team-tracking",
@@ -817,7 +841,7 @@ pub static MEASURES: &[Measure] = &[
             table: Runs(tracking),
         },
         feature: None,
-        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, GENERATOR],
     },
     Measure {
         name: "bench-team-flows",

@@ -8,6 +8,7 @@
 //! - [`world`]: the world map (walls, obstacles, tree, planned and tracked paths, starts, goals);
 //! - [`anim`]: an animated GIF of agents moving over a world map;
 //! - [`bars`]: grouped horizontal bar charts (the ablation's contributions);
+//! - [`grid`]: panels of shaded cell tables (the formation study);
 //! - [`legend`]: a legend strip drawn under a chart;
 //! - [`palette`]: one colour per agent, and the planners' and trackers' colour families;
 //! - [`style`]: a series' colour, dash and marker;
@@ -18,6 +19,7 @@ pub mod bars;
 pub mod charts;
 pub mod export;
 pub mod font;
+pub mod grid;
 pub mod legend;
 pub mod palette;
 pub mod style;

@@ -23,6 +23,9 @@ pub enum Formation {
     Ring,
     /// Rows of ⌈√N⌉ agents.
     Grid,
+    /// A triangular patch of the hexagonal lattice: rows of 1, 2, 3, … agents, each row half a
+    /// spacing further out on both sides (the last row partly filled).
+    Triangle,
     /// Random points at least `spacing` apart and within the proximity range of each other.
     Random,
 }
@@ -37,6 +40,7 @@ impl ParamType for Formation {
                 ("row", Formation::Row),
                 ("ring", Formation::Ring),
                 ("grid", Formation::Grid),
+                ("triangle", Formation::Triangle),
                 ("random", Formation::Random),
             ],
         )
@@ -47,12 +51,13 @@ impl ParamType for Formation {
             Formation::Row => "row",
             Formation::Ring => "ring",
             Formation::Grid => "grid",
+            Formation::Triangle => "triangle",
             Formation::Random => "random",
         })
     }
 
     fn describe(_: &()) -> String {
-        "row|ring|grid|random".into()
+        "row|ring|grid|triangle|random".into()
     }
 }
 
@@ -112,6 +117,17 @@ impl Team {
                 let cols = (n as f64).sqrt().ceil() as usize;
                 (0..n)
                     .map(|i| Vec2::new((i % cols) as f64 * s, (i / cols) as f64 * s))
+                    .collect()
+            }
+            Formation::Triangle => {
+                let h = s * 3f64.sqrt() / 2.0;
+                (0..)
+                    .flat_map(|row: usize| {
+                        (0..=row).map(move |i| {
+                            Vec2::new((i as f64 - row as f64 / 2.0) * s, row as f64 * h)
+                        })
+                    })
+                    .take(n)
                     .collect()
             }
             Formation::Random => {

@@ -80,6 +80,15 @@ pub(crate) fn cases() -> Vec<(&'static str, Vec<(String, String)>)> {
             "team",
             owned(&[("agents", "8"), ("spacing", "1.4"), ("distance", "4")]),
         ),
+        (
+            "team",
+            owned(&[
+                ("agents", "10"),
+                ("start", "triangle"),
+                ("goal", "ring"),
+                ("spacing", "1.5"),
+            ]),
+        ),
     ]
 }
 
@@ -265,4 +274,31 @@ fn the_list_names_every_family_and_parameter_with_its_range() {
             assert!(l.contains(&*p.name) && l.contains(&p.range), "{}", p.name);
         }
     }
+}
+
+#[test]
+fn a_triangle_of_six_is_a_patch_of_the_hexagonal_lattice() {
+    let params = owned(&[
+        ("agents", "6"),
+        ("start", "triangle"),
+        ("goal", "triangle"),
+        ("spacing", "2"),
+    ]);
+    let g = generate("t", "team", &params, 3, 0).unwrap();
+    let a = &g.scenario.start;
+    let mut d: Vec<f64> = vec![];
+    for i in 0..a.len() {
+        for j in (i + 1)..a.len() {
+            d.push((a[i] - a[j]).norm());
+        }
+    }
+    d.sort_by(f64::total_cmp);
+    // rows of 1, 2 and 3 at spacing 2: nine neighbour pairs at 2, three at 2√3, three at 4
+    let near = |x: f64, v: f64| (x - v).abs() < 2e-3;
+    assert!(d[..9].iter().all(|&x| near(x, 2.0)), "{d:?}");
+    assert!(
+        d[9..12].iter().all(|&x| near(x, 2.0 * 3f64.sqrt())),
+        "{d:?}"
+    );
+    assert!(d[12..].iter().all(|&x| near(x, 4.0)), "{d:?}");
 }
