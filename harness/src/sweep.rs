@@ -282,7 +282,10 @@ pub fn run_sweep(
                 .unwrap_or_default();
             if !replays.keeps(&sampled, &o.record) {
                 o.replay = None;
-                // a page an interrupted sweep left for this run under another policy
+            }
+            if o.replay.is_none() {
+                // a page an interrupted sweep left for this run (another policy, or an attempt
+                // that ended otherwise) would show another run than the row
                 crate::replay::files::remove_replay(out, spec.index)?;
             }
             writer.lock().unwrap_or_else(|p| p.into_inner()).write(&o)?;
