@@ -216,7 +216,14 @@ pub fn run_sweep(
         }
     }
     manifest.one_at_a_time.sort();
+    manifest.replays = Some(e.replays.to_string());
     manifest.write(out)?;
+    // the sample is drawn from the whole matrix, so that every shard draws the same one
+    let replays = e.replays;
+    let sampled = replays.sampled(&e.runs());
+    if !replays.is_none() {
+        crate::replay::files::write_player(out)?;
+    }
 
     let agents = specs
         .iter()
@@ -273,6 +280,14 @@ pub fn run_sweep(
                 .get(spec.scenario_label.as_str())
                 .copied()
                 .unwrap_or_default();
+            if !replays.keeps(&sampled, &o.record) {
+                o.replay = None;
+            }
+            if o.replay.is_none() {
+                // a page an interrupted sweep left for this run (another policy, or an attempt
+                // that ended otherwise) would show another run than the row
+                crate::replay::files::remove_replay(out, spec.index)?;
+            }
             writer.lock().unwrap_or_else(|p| p.into_inner()).write(&o)?;
             reporter.finished(&o, f);
             Ok(())

@@ -663,3 +663,40 @@ fn docs_stale_refuses_a_file_that_is_not_a_generated_file() {
         "{stderr}"
     );
 }
+
+/// A bad replay policy is refused before any run, naming `--replays` (of `bench` and `ablate`)
+/// or the experiment file and its `replays` field, and the reason.
+#[test]
+fn bad_replay_policies_name_the_option_or_the_field() {
+    let d = tempfile::tempdir().unwrap();
+    let f = write(d.path(), "e.toml", EXPERIMENT);
+    let f = f.to_str().unwrap();
+    let out = d.path().join("out");
+    let out = out.to_str().unwrap();
+    let cases = [
+        ("sample:x", "must be a whole number"),
+        ("sample:0", "samples no run"),
+        ("bogus", "unknown policy \"bogus\""),
+        ("all+failed", "all cannot be combined"),
+    ];
+    for (policy, why) in cases {
+        let parts = ["<command line>", "--replays", why];
+        refused(&["bench", f, "--replays", policy, "--dry-run"], &parts);
+        refused(
+            &["bench", f, "--replays", policy, "--out", out, "--quiet"],
+            &parts,
+        );
+        refused(
+            &["ablate", "--replays", policy, "--out", out, "--quiet"],
+            &parts,
+        );
+        let text = EXPERIMENT.replace("seeds = 2", &format!("seeds = 2\nreplays = {policy:?}"));
+        let g = write(d.path(), "g.toml", &text);
+        let g = g.to_str().unwrap();
+        refused(&["bench", g, "--dry-run"], &[g, "replays", why]);
+    }
+    assert!(
+        !Path::new(out).join("runs.csv").exists(),
+        "a refused sweep ran"
+    );
+}

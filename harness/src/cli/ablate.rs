@@ -55,6 +55,10 @@ pub struct AblateArgs {
     /// Complete an interrupted ablation in --out.
     #[arg(long)]
     pub resume: bool,
+    /// Which runs get a replay page: all, failed, sample:N, failed+sample:N or none (default
+    /// failed+sample:30; docs/replay.md).
+    #[arg(long, value_name = "POLICY")]
+    pub replays: Option<String>,
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
@@ -63,6 +67,11 @@ pub struct AblateArgs {
 /// Runs `magbench ablate` with the planners and trackers of `registry`.
 pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
     let base = preset_named(&a.preset, "--preset")?;
+    let replays = a
+        .replays
+        .as_deref()
+        .map(super::bench::replay_policy)
+        .transpose()?;
     count("--seeds", &SEED_COUNT, a.seeds)?;
     count("--max-iters", &ITERATIONS, a.max_iters)?;
     let terms = terms_on(&base);
@@ -121,7 +130,7 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
     let file = out.join("ablation.toml");
     std::fs::write(&file, experiment)?;
     let executor = RealExecutor::new(registry.clone());
-    let e = match Experiment::load(&file, &executor) {
+    let mut e = match Experiment::load(&file, &executor) {
         Ok(e) => e,
         Err(err) => {
             if fresh {
@@ -138,6 +147,9 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
             return Err(CliError::arg(option, err.reason));
         }
     };
+    if let Some(p) = replays {
+        e.replays = p;
+    }
     let opts = SweepOptions {
         out: out.clone(),
         threads,

@@ -3,13 +3,14 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use magbench_env::check::Bound;
+use magbench_env::check::{Bound, Rejection};
 
 use super::number::count;
 use super::output::outln;
 use crate::CliError;
 use crate::experiment::{Experiment, MAX_RUNS, Tracking};
 use crate::registry::Registry;
+use crate::replay::ReplayPolicy;
 use crate::run::Executor;
 use crate::run::fake::FakeExecutor;
 use crate::run::real::RealExecutor;
@@ -55,6 +56,10 @@ pub struct BenchArgs {
     /// Complete an interrupted sweep in --out: run only the missing runs.
     #[arg(long)]
     pub resume: bool,
+    /// Which runs get a replay page: all, failed, sample:N, failed+sample:N or none (default:
+    /// the experiment file's `replays`, else failed+sample:30; docs/replay.md).
+    #[arg(long, value_name = "POLICY")]
+    pub replays: Option<String>,
     /// One plain line per run even on a terminal.
     #[arg(long, conflicts_with = "quiet")]
     pub lines: bool,
@@ -88,6 +93,12 @@ pub fn default_experiment() -> PathBuf {
     }
 }
 
+/// Parses `--replays`.
+pub fn replay_policy(text: &str) -> Result<ReplayPolicy, CliError> {
+    text.parse()
+        .map_err(|why: String| CliError::rejected("--replays", Rejection::new("", why)))
+}
+
 /// `--shard I/N`: N shards, at most one run each.
 const SHARDS: Bound = Bound::closed(
     1.0,
@@ -100,10 +111,13 @@ const SHARDS: Bound = Bound::closed(
 pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     let executor = a.executor.executor(registry);
     let ex = executor.as_ref();
-    let e = match &a.suite {
+    let mut e = match &a.suite {
         Some(name) => super::suite::experiment(name, registry, ex)?,
         None => Experiment::load(&a.file.clone().unwrap_or_else(default_experiment), ex)?,
     };
+    if let Some(p) = &a.replays {
+        e.replays = replay_policy(p)?;
+    }
     let shard = a
         .shard
         .as_deref()

@@ -10,6 +10,7 @@ use magbench_env::plant::DisturbancePreset;
 use serde::Deserialize;
 
 use super::{Experiment, LabelledPreset, Tracking, resolve_preset, resolve_scenario};
+use crate::replay::ReplayPolicy;
 use crate::run::spec::{ITERATIONS, time_limit};
 use crate::run::{Executor, ParamValue, RunLimits, Variant};
 
@@ -30,6 +31,7 @@ struct ExperimentFile {
     seeds: toml::Value,
     limits: LimitsFile,
     tracking: Option<TrackingFile>,
+    replays: Option<String>,
 }
 
 /// `[tracking]`: track only some planners' plans, besides every planner's planning runs.
@@ -388,6 +390,12 @@ pub fn parse(
             "give `iterations` and/or `time`",
         ));
     }
+    let replays = match &raw.replays {
+        Some(p) => p
+            .parse::<ReplayPolicy>()
+            .map_err(|why| InputError::new(file, "replays", why))?,
+        None => ReplayPolicy::default(),
+    };
     let combos = trackers.len() * presets.len();
     let per_seed = match &tracking {
         Tracking::None => Some(planners.len()),
@@ -425,6 +433,7 @@ pub fn parse(
         tracking,
         seeds,
         limits: RunLimits { iterations, time_s },
+        replays,
     };
     // what only a whole run can tell (a planner's `planar` against a scenario's medium): one
     // seed of each combination

@@ -9,6 +9,7 @@
 //! trackers = ["obc", "lookahead{gain=0.5}"] # optional: plan, then track in closed loop
 //! presets = ["ideal", "realistic"]          # with trackers; default ["ideal"]
 //! seeds = 10                                # a count (seeds 0..9) or a list [1, 5, 9]
+//! replays = "failed+sample:30"              # which runs get a replay page (the default)
 //! [limits]
 //! iterations = 20000                        # and/or
 //! time = 5.0                                # seconds of planning
@@ -73,6 +74,8 @@ pub struct Experiment {
     pub seeds: Vec<u64>,
     /// Planner limits.
     pub limits: RunLimits,
+    /// Which runs get a replay page (`replays`; `bench --replays` replaces it).
+    pub replays: crate::replay::ReplayPolicy,
 }
 
 impl Experiment {

@@ -1,5 +1,6 @@
 //! Where a results folder keeps replays and scenario previews: `replays/run-<index>.html`
-//! per run and `scenarios/<scenario>.svg` per scenario.
+//! per run that has one, the player they share (`replays/player.js`, `replays/player.css`)
+//! and `scenarios/<scenario>.svg` per scenario.
 
 use std::path::Path;
 
@@ -18,6 +19,11 @@ pub const SCENARIOS: &str = "scenarios";
 /// The replay of run `index`, relative to the results folder.
 pub fn replay_file(index: usize) -> String {
     format!("{REPLAYS}/run-{index}.html")
+}
+
+/// The files every replay of a results folder loads, relative to the folder.
+pub fn player_files() -> [String; 2] {
+    [super::page::PLAYER_FILE, super::page::STYLE_FILE].map(|f| format!("{REPLAYS}/{f}"))
 }
 
 /// `label` with every character outside `A-Za-z0-9._-` replaced by `_`.
@@ -40,7 +46,7 @@ pub fn preview_file(label: &str) -> String {
 }
 
 /// The report's cell of configuration `g`: a link to the replay of each of its runs that has
-/// one in results folder `dir`, labelled by seed; empty when none has.
+/// one in results folder `dir`, labelled by seed; "–" when none has.
 pub fn links_cell(dir: &Path, runs: &[RunRecord], g: &GroupSummary) -> String {
     let mut mine: Vec<&RunRecord> = runs
         .iter()
@@ -52,7 +58,8 @@ pub fn links_cell(dir: &Path, runs: &[RunRecord], g: &GroupSummary) -> String {
         })
         .collect();
     mine.sort_by_key(|r| r.run);
-    mine.iter()
+    let links = mine
+        .iter()
         .filter(|r| dir.join(replay_file(r.run)).is_file())
         .map(|r| {
             format!(
@@ -63,19 +70,54 @@ pub fn links_cell(dir: &Path, runs: &[RunRecord], g: &GroupSummary) -> String {
                 r.seed
             )
         })
-        .collect::<Vec<_>>()
-        .join(" ")
+        .collect::<Vec<_>>();
+    if links.is_empty() {
+        "–".into()
+    } else {
+        links.join(" ")
+    }
 }
 
-/// Writes run `index`'s replay into results folder `dir`.
+/// The runs of `runs` that have a replay in results folder `dir`.
+pub fn with_replay(dir: &Path, runs: &[RunRecord]) -> usize {
+    runs.iter()
+        .filter(|r| dir.join(replay_file(r.run)).is_file())
+        .count()
+}
+
+/// Writes the player the replays of results folder `dir` share.
+pub fn write_player(dir: &Path) -> Result<(), CliError> {
+    super::page::write_player(&dir.join(REPLAYS))
+}
+
+/// Writes run `index`'s replay into results folder `dir`; it loads the folder's player
+/// ([`write_player`]).
 pub fn write_replay(dir: &Path, index: usize, data: &ReplayData) -> Result<(), CliError> {
-    super::page::write(&dir.join(replay_file(index)), data)
+    super::page::write_with(
+        &dir.join(replay_file(index)),
+        data,
+        super::page::Player::Shared,
+    )
 }
 
-/// Copies run `index`'s replay (if it has one) and the scenario previews from results folder
-/// `from` into `to` (merging shards).
+/// Removes run `index`'s replay from results folder `dir`, if it has one.
+pub fn remove_replay(dir: &Path, index: usize) -> Result<(), CliError> {
+    let path = dir.join(replay_file(index));
+    match std::fs::remove_file(&path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(CliError::Failed(format!("{}: {e}", path.display())))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Copies run `index`'s replay (if it has one) with the player it loads, and the scenario
+/// previews, from results folder `from` into `to` (merging shards); a file `to` has is kept.
 pub fn copy_run(from: &Path, to: &Path, index: usize) -> Result<(), CliError> {
     let mut files = vec![replay_file(index)];
+    if from.join(replay_file(index)).is_file() {
+        files.extend(player_files());
+    }
     if let Ok(dir) = std::fs::read_dir(from.join(SCENARIOS)) {
         files.extend(
             dir.flatten()
@@ -118,5 +160,6 @@ mod tests {
         assert_eq!(slug("scenarios/my maze.toml"), "scenarios_my_maze.toml");
         assert_eq!(preview_file("open-field"), "scenarios/open-field.svg");
         assert_eq!(replay_file(12), "replays/run-12.html");
+        assert_eq!(player_files(), ["replays/player.js", "replays/player.css"]);
     }
 }

@@ -7,6 +7,7 @@
 //! - [`events`]: contacts found in the positions, replans and legs;
 //! - [`tree`]: a search tree as data (`plan --tree`), [`tree_svg`]: its picture;
 //! - [`page`]: the HTML page with its player script;
+//! - [`policy`]: which runs of a sweep get a page (`bench --replays`);
 //! - [`preview`]: the scenario preview (`scenario show --out`);
 //! - [`files`]: where a results folder keeps them.
 //!
@@ -16,10 +17,12 @@ pub mod data;
 pub mod events;
 pub mod files;
 pub mod page;
+pub mod policy;
 pub mod preview;
 pub mod scene;
 pub mod tree;
 pub mod tree_svg;
 
 pub use data::ReplayData;
+pub use policy::ReplayPolicy;
 pub use tree::{LegTree, TreeFile};

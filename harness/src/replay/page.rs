@@ -1,5 +1,7 @@
-//! The replay page: one self-contained HTML file (inline CSS, data and player script; no
-//! network) that draws a [`ReplayData`] on an SVG and plays it.
+//! The replay page: an HTML file that draws a [`ReplayData`] on an SVG and plays it, with its
+//! data inline and its player script and style either inline (a page on its own) or in the
+//! shared files [`PLAYER_FILE`] and [`STYLE_FILE`] next to it (the pages of a results folder).
+//! No network either way.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -11,9 +13,24 @@ use crate::CliError;
 use crate::results::report::esc;
 
 /// The player script ([`ReplayData`] in, SVG out).
-const PLAYER: &str = include_str!("player.js");
+pub const PLAYER: &str = include_str!("player.js");
 
-const STYLE: &str = "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;margin:1em;color:#222}\
+/// The name of the shared player script, in the folder of the pages that load it.
+pub const PLAYER_FILE: &str = "player.js";
+/// The name of the shared style, in the folder of the pages that load it.
+pub const STYLE_FILE: &str = "player.css";
+
+/// Where a page's player script and style are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Player {
+    /// Inside the page: it opens on its own.
+    Inline,
+    /// In [`PLAYER_FILE`] and [`STYLE_FILE`] next to the page ([`write_player`]).
+    Shared,
+}
+
+/// The page's style.
+pub const STYLE: &str = "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;margin:1em;color:#222}\
 h1{font-size:1.2em;margin:.2em 0}main{display:flex;gap:1em;flex-wrap:wrap;align-items:flex-start}\
 #view{flex:1 1 640px;max-width:1000px;border:1px solid #ddd;background:#fff}\
 aside{flex:0 1 300px;font-size:.85em}.controls{display:flex;gap:.5em;align-items:center;margin:.5em 0;flex-wrap:wrap}\
@@ -30,8 +47,13 @@ dl{display:grid;grid-template-columns:max-content auto;gap:.1em .8em;margin:.5em
 ul#events{max-height:16em;overflow:auto;padding-left:1.2em;margin:.3em 0}a.contact,a.wall{color:#c00}\
 .key span{display:inline-block;margin-right:.8em}.note{color:#666}";
 
-/// The page of `data`.
+/// The page of `data`, with its player inside.
 pub fn html(data: &ReplayData) -> String {
+    html_with(data, Player::Inline)
+}
+
+/// The page of `data`, with its player where `player` says.
+pub fn html_with(data: &ReplayData, player: Player) -> String {
     let colors: Vec<String> = crate::plot::palette::AGENTS
         .iter()
         .map(|c| format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2))
@@ -43,9 +65,13 @@ pub fn html(data: &ReplayData) -> String {
         .expect("json")
         .replace("</", "<\\/");
     let mut o = String::with_capacity(text.len() + PLAYER.len() + 4096);
+    let style = match player {
+        Player::Inline => format!("<style>{STYLE}</style>"),
+        Player::Shared => format!("<link rel=\"stylesheet\" href=\"{STYLE_FILE}\">"),
+    };
     let _ = write!(
         o,
-        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>replay: {t}</title><style>{STYLE}</style></head>\n<body>\n<h1>{t}</h1>\n",
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>replay: {t}</title>{style}</head>\n<body>\n<h1>{t}</h1>\n",
         t = esc(&data.title)
     );
     o.push_str("<div class=\"controls\"><button id=\"play\" type=\"button\">Play</button><button id=\"step-back\" type=\"button\" title=\"previous frame (←)\">◀</button><button id=\"step-fwd\" type=\"button\" title=\"next frame (→)\">▶</button>\
@@ -76,20 +102,42 @@ pub fn html(data: &ReplayData) -> String {
             _ => "the rig's estimates",
         }
     );
+    let script = match player {
+        Player::Inline => format!("<script>{PLAYER}</script>"),
+        Player::Shared => format!("<script src=\"{PLAYER_FILE}\"></script>"),
+    };
     let _ = write!(
         o,
-        "<script type=\"application/json\" id=\"replay-data\">{text}</script>\n<script>{PLAYER}</script>\n</body></html>\n"
+        "<script type=\"application/json\" id=\"replay-data\">{text}</script>\n{script}\n</body></html>\n"
     );
     o
 }
 
-/// Writes the page of `data` to `path` (creating its folder).
-pub fn write(path: &Path, data: &ReplayData) -> Result<(), CliError> {
+/// Writes `text` to `path`, creating its folder.
+fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
     let fail = |e: std::io::Error| CliError::Failed(format!("{}: {e}", path.display()));
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(fail)?;
     }
-    std::fs::write(path, html(data)).map_err(fail)
+    std::fs::write(path, text).map_err(fail)
+}
+
+/// Writes the page of `data` to `path` (creating its folder), with its player inside.
+pub fn write(path: &Path, data: &ReplayData) -> Result<(), CliError> {
+    write_with(path, data, Player::Inline)
+}
+
+/// Writes the page of `data` to `path` (creating its folder), with its player where `player`
+/// says.
+pub fn write_with(path: &Path, data: &ReplayData, player: Player) -> Result<(), CliError> {
+    write_file(path, &html_with(data, player))
+}
+
+/// Writes the shared player script and style into `dir`, for the pages written there with
+/// [`Player::Shared`].
+pub fn write_player(dir: &Path) -> Result<(), CliError> {
+    write_file(&dir.join(PLAYER_FILE), PLAYER)?;
+    write_file(&dir.join(STYLE_FILE), STYLE)
 }
 
 #[cfg(test)]
@@ -119,5 +167,28 @@ mod tests {
             "the title is escaped"
         );
         assert!(!page.contains("src=\"http") && !page.contains("href=\"http"));
+    }
+
+    #[test]
+    fn a_shared_page_links_the_player_instead_of_holding_it() {
+        let s = Scenario::load("open-field").unwrap();
+        let d = ReplayData::planned(
+            &s,
+            "t".into(),
+            &[],
+            &[],
+            &magbench_env::PlanningModel::new(&s.physics),
+        );
+        let (inline, shared) = (html(&d), html_with(&d, Player::Shared));
+        assert!(inline.contains(PLAYER) && inline.contains(STYLE));
+        assert!(!shared.contains(PLAYER) && !shared.contains(STYLE));
+        assert!(shared.contains("<script src=\"player.js\"></script>"));
+        assert!(shared.contains("<link rel=\"stylesheet\" href=\"player.css\">"));
+        assert_eq!(
+            inline.len() - shared.len(),
+            PLAYER.len() + STYLE.len() + "<style></style><script></script>".len()
+                - "<link rel=\"stylesheet\" href=\"player.css\"><script src=\"player.js\"></script>"
+                    .len()
+        );
     }
 }

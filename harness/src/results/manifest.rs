@@ -118,6 +118,9 @@ pub struct Manifest {
     /// finalized, by path relative to the folder; `results verify` checks them.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub files: BTreeMap<String, String>,
+    /// The replay policy of the latest sweep (docs/replay.md), e.g. `failed+sample:30`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub replays: Option<String>,
 }
 
 /// Now, RFC 3339 UTC to the second.
@@ -245,6 +248,7 @@ impl Manifest {
             sessions: vec![],
             one_at_a_time: vec![],
             files: BTreeMap::new(),
+            replays: Some(e.replays.to_string()),
         }
     }
 

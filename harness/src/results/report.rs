@@ -297,6 +297,21 @@ pub fn write(
             m.threads
         );
     }
+    let pages = crate::replay::files::with_replay(dir, runs);
+    let policy = m
+        .replays
+        .as_deref()
+        .map(|p| format!(" (replay policy <code>{}</code>)", esc(p)))
+        .unwrap_or_default();
+    let _ = writeln!(
+        o,
+        "<p>Replays: {}{policy}; each configuration's are linked in its <em>replays (by seed)</em> column.</p>",
+        if pages == 0 {
+            "no replay pages".to_string()
+        } else {
+            format!("{pages} of {} runs have a replay page", runs.len())
+        }
+    );
     o.push_str("<p>Files: <a href=\"runs.csv\">runs.csv</a> · <a href=\"progress.csv\">progress.csv</a> · <a href=\"manifest.json\">manifest.json</a> · <a href=\"ompl.log\">ompl.log</a> (OMPL benchmark log)</p>\n");
     let sums = summaries(runs);
     let mut scenarios: Vec<&str> = vec![];
