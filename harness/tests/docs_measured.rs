@@ -183,11 +183,9 @@ const AWAITING_REGENERATION: &[&str] = &[
     "python-overhead",
     "python-plugins",
     "python-rrt",
-    "scaling",
     "sst-pruning",
     "steering",
     "team-elevation",
-    "team-sizes",
     "vs-ompl",
 ];
 
