@@ -222,19 +222,8 @@ fn pages_share_the_folders_player_and_their_links_resolve() {
     }
     assert_eq!(report_replays(&out), pages(&out));
     // a page on its own (plan --out) keeps its player inside
-    let plan = dir.path().join("plan");
-    let (code, _, stderr) = magbench(&[
-        "plan",
-        "open-field",
-        "--planner",
-        "goal-zoom-rrt",
-        "--max-iters",
-        "300",
-        "--out",
-        plan.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let page = plan.join("replay.html");
+    let (plan, _) = common::plan_json(dir.path());
+    let page = plan.with_file_name("replay.html");
     assert!(
         std::fs::read_to_string(&page)
             .unwrap()
