@@ -39,7 +39,9 @@ fn chromium() -> Option<PathBuf> {
     found
 }
 
-/// Runs headless chromium with `args` then `url`; returns its stdout. A browser that has not
+/// Runs headless chromium with `args` then `url`; returns its stdout. The page gets 5 s of
+/// virtual time before its DOM or picture is taken: a replay inflates its packed data
+/// asynchronously (`DecompressionStream`) after the load event. A browser that has not
 /// finished after two minutes is killed and the test fails.
 fn browse(chrome: &Path, args: &[&str], url: &str) -> String {
     let profile = tempfile::tempdir().unwrap();
@@ -54,6 +56,7 @@ fn browse(chrome: &Path, args: &[&str], url: &str) -> String {
             "--disable-component-update",
             "--disable-sync",
             "--hide-scrollbars",
+            "--virtual-time-budget=5000",
         ])
         .arg(format!("--user-data-dir={}", profile.path().display()))
         .args(args)

@@ -219,6 +219,9 @@ fn pages_share_the_folders_player_and_their_links_resolve() {
             !html.contains("replay-data\").textContent"),
             "run {run}: the player is not copied into the page"
         );
+        // the data is packed (replay/pack.rs): a pair's page stays within 30 kB
+        assert!(html.contains("\"packed\":\""), "run {run}: packed data");
+        assert!(html.len() <= 30_000, "run {run}: {} bytes", html.len());
     }
     assert_eq!(report_replays(&out), pages(&out));
     // a page on its own (plan --out) keeps its player inside

@@ -54,9 +54,12 @@ def main(args):
     _magbench.main([str(a) for a in args])
 
 
-def bench(experiment, out=None, threads=None, resume=False, quiet=True, shard=None):
+def bench(experiment, out=None, threads=None, resume=False, quiet=True, shard=None, replays=None):
     """Runs an experiment file (``magbench bench``) into ``out`` (default
-    ``results/<experiment name>``) and returns its :class:`Results`. Experiment files may
+    ``results/<experiment name>``) and returns its :class:`Results`. ``replays`` chooses the
+    runs that get a replay page, as ``bench --replays`` does (``"all"``, ``"failed"``,
+    ``"sample:N"``, ``"failed+sample:N"``, ``"none"``; default: the experiment file's
+    ``replays`` key, else ``"failed+sample:30"``). Experiment files may
     name registered Python planners and trackers. Runs that fail (a Python plugin that
     raised) are rows with status ``crash`` and the exception's text in ``error``; they do
     not stop the sweep, and ``bench`` warns about them instead of raising."""
@@ -73,6 +76,8 @@ def bench(experiment, out=None, threads=None, resume=False, quiet=True, shard=No
         args.append("--quiet")
     if shard is not None:
         args += ["--shard", str(shard)]
+    if replays is not None:
+        args += ["--replays", str(replays)]
     try:
         _magbench.main(args)
     except _magbench.MagbenchError as e:

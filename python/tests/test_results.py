@@ -1,5 +1,6 @@
 """bench, load_results and the command line from Python."""
 
+import json
 import os
 
 import numpy as np
@@ -66,6 +67,19 @@ def test_load_committed_baseline():
 def test_load_results_of_a_missing_folder(tmp_path):
     with pytest.raises(FileNotFoundError):
         mb.load_results(tmp_path / "nothing")
+
+
+def test_bench_writes_the_replays_its_policy_names(tmp_path):
+    exp = small_experiment(tmp_path)
+    res = mb.bench(exp, out=tmp_path / "all", replays="all")
+    pages = sorted(p.name for p in (tmp_path / "all" / "replays").glob("run-*.html"))
+    assert len(pages) == len(res) == 4
+    assert json.loads((tmp_path / "all" / "manifest.json").read_text())["replays"] == "all"
+    mb.bench(exp, out=tmp_path / "none", replays="none")
+    assert not list((tmp_path / "none" / "replays").glob("run-*.html"))
+    with pytest.raises(mb.InputError) as e:
+        mb.bench(exp, out=tmp_path / "bad", replays="some")
+    assert "--replays" in str(e.value)
 
 
 def test_bench_bad_experiment(tmp_path):

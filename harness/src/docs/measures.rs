@@ -272,6 +272,11 @@ const CLI: &[&str] = &[
     ":!harness/src/docs",
     ":!harness/src/cli/docs.rs",
     "harness/src/docs/transcript.rs",
+    // a replay page's data, packing and player: written into pages, never printed
+    ":!harness/src/replay/data.rs",
+    ":!harness/src/replay/pack.rs",
+    ":!harness/src/replay/page.rs",
+    ":!harness/src/replay/player.js",
 ];
 /// The rig: drivers, emulator, calibration and the rig files.
 const RIG: &[&str] = &["drivers/src", "rigs"];

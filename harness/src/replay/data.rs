@@ -1,9 +1,10 @@
 //! The data one replay page shows: frames (time, leg, plan, true and observed positions,
 //! commanded field), the plans, the planner's trees, the marked events and a few metrics.
 //!
-//! Positions are stored as integers in hundredths of a BL ([`SCALE`]) and long runs are
-//! thinned to [`MAX_FRAMES`] frames, so that a replay stays within a few hundred kB; contacts
-//! and replans keep their exact times.
+//! Positions are stored as integers in hundredths of a BL ([`SCALE`]), tree edges in
+//! twentieths ([`TREE_SCALE`]), and long runs are thinned to [`MAX_FRAMES`] frames, so that a
+//! page's packed data ([`super::pack`]) stays within a few tens of kB; contacts and replans
+//! keep their exact times.
 
 use magbench_env::{Control, PlanningModel, Scenario, Vec2};
 use magbench_planners::{Plan, PlannerResult};
@@ -16,12 +17,15 @@ use super::tree::LegTree;
 
 /// Units of a stored position per BL.
 pub const SCALE: f64 = 100.0;
-/// Most frames one replay keeps (longer runs are thinned evenly; the last frame is kept).
-pub const MAX_FRAMES: usize = 2400;
+/// Most frames one replay keeps (longer runs are thinned evenly; the last frame is kept):
+/// 50 s of a 30 fps camera, and a pair's page under 30 kB.
+pub const MAX_FRAMES: usize = 1500;
 /// Most points of one agent's path in one plan.
 pub const MAX_PLAN_POINTS: usize = 300;
+/// Units of a stored tree edge per BL (the tree is drawn in light grey behind the run).
+pub const TREE_SCALE: f64 = 20.0;
 /// Most tree edges drawn per leg.
-pub const MAX_TREE_EDGES: usize = 3000;
+pub const MAX_TREE_EDGES: usize = 1000;
 
 fn q(x: f64) -> i32 {
     (x * SCALE).round() as i32
@@ -67,7 +71,8 @@ pub struct ReplayTree {
     pub leg: usize,
     /// Nodes in the whole tree.
     pub nodes: usize,
-    /// The edges drawn, `x1, y1, x2, y2, …` in hundredths of a BL.
+    /// The edges drawn, `x1, y1, x2, y2, …` in [`TREE_SCALE`] units per BL, sorted by their
+    /// first point (the order they are drawn in does not matter, and sorted they pack smaller).
     pub edges: Vec<i32>,
 }
 
@@ -84,6 +89,8 @@ pub struct ReplayData {
     pub scene: Scene,
     /// Units of a stored position per BL.
     pub scale: f64,
+    /// Units of a stored tree edge per BL.
+    pub tree_scale: f64,
     /// Each frame's time (s since the first tick).
     pub t: Vec<f64>,
     /// Each frame's leg (0-based).
@@ -138,14 +145,17 @@ fn plan_paths(plan: &Plan, model: &PlanningModel) -> Vec<Vec<i32>> {
 }
 
 fn replay_tree(t: &LegTree) -> ReplayTree {
+    let tq = |x: f64| (x * TREE_SCALE).round() as i32;
+    let mut edges: Vec<[i32; 4]> = t
+        .centroid_edges(MAX_TREE_EDGES)
+        .iter()
+        .map(|(a, b)| [tq(a[0]), tq(a[1]), tq(b[0]), tq(b[1])])
+        .collect();
+    edges.sort_unstable();
     ReplayTree {
         leg: t.leg - 1,
         nodes: t.nodes(),
-        edges: t
-            .centroid_edges(MAX_TREE_EDGES)
-            .iter()
-            .flat_map(|(a, b)| [q(a[0]), q(a[1]), q(b[0]), q(b[1])])
-            .collect(),
+        edges: edges.concat(),
     }
 }
 
@@ -161,6 +171,7 @@ impl ReplayData {
             truth_known: true,
             scene: Scene::of(s),
             scale: SCALE,
+            tree_scale: TREE_SCALE,
             t: vec![],
             leg: vec![],
             plan: vec![],

@@ -6,7 +6,7 @@
 //! - [`data`]: what one page shows, from a tracked or a planning run;
 //! - [`events`]: contacts found in the positions, replans and legs;
 //! - [`tree`]: a search tree as data (`plan --tree`), [`tree_svg`]: its picture;
-//! - [`page`]: the HTML page with its player script;
+//! - [`page`]: the HTML page with its player script, [`pack`]: the page's compact data;
 //! - [`policy`]: which runs of a sweep get a page (`bench --replays`);
 //! - [`preview`]: the scenario preview (`scenario show --out`);
 //! - [`files`]: where a results folder keeps them.
@@ -16,6 +16,7 @@
 pub mod data;
 pub mod events;
 pub mod files;
+pub mod pack;
 pub mod page;
 pub mod policy;
 pub mod preview;

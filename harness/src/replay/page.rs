@@ -58,7 +58,7 @@ pub fn html_with(data: &ReplayData, player: Player) -> String {
         .iter()
         .map(|c| format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2))
         .collect();
-    let mut v = serde_json::to_value(data).expect("replay data serializes");
+    let mut v = super::pack::page_json(data);
     v["colors"] = json!(colors);
     // the data sits in a script element: no "</" may end it early
     let text = serde_json::to_string(&v)
