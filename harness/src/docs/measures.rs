@@ -272,7 +272,9 @@ const CLI: &[&str] = &[
     ":!harness/src/docs",
     ":!harness/src/cli/docs.rs",
     "harness/src/docs/transcript.rs",
-    // a replay page's data, packing and player: written into pages, never printed
+    // a replay page's data, packing and player (and the module's declarations): written into
+    // pages, never printed
+    ":!harness/src/replay/mod.rs",
     ":!harness/src/replay/data.rs",
     ":!harness/src/replay/pack.rs",
     ":!harness/src/replay/page.rs",
