@@ -1,6 +1,7 @@
 """Results folders (``magbench bench --out DIR``) read into Python: the runs of ``runs.csv``,
 the progress curves of ``progress.csv`` and the manifest, as plain dicts and numpy arrays
-(pandas DataFrames with ``to_pandas()`` when pandas is installed)."""
+(pandas or polars DataFrames with ``to_pandas()`` / ``to_polars()``, read from the typed
+``runs.parquet`` of a finished folder when the library can read Parquet)."""
 
 import csv
 import json
@@ -41,7 +42,9 @@ class Results:
       (NaN before the first solution): each run's cost-versus-iteration curve;
     - ``agent_errors(kind)``: (runs, agents) array of a per-agent error column;
     - ``manifest``: ``manifest.json`` as a dict (or None);
-    - ``to_pandas()`` / ``progress_to_pandas()``: DataFrames (needs pandas).
+    - ``parquet``: the path of the folder's ``runs.parquet`` (None before it is finalized);
+    - ``to_pandas()`` / ``progress_to_pandas()``: DataFrames (needs pandas);
+      ``to_polars()``: the runs as a polars DataFrame (needs polars).
     """
 
     def __init__(self, path):
@@ -105,11 +108,35 @@ class Results:
             out[:, j] = self.column(f"{kind}_agent{i}_bl")
         return out
 
+    @property
+    def parquet(self):
+        """The path of ``runs.parquet`` (the runs, typed, with each column's unit in the
+        file's ``magbench.columns`` metadata), or None when the folder has none."""
+        path = os.path.join(self.path, "runs.parquet")
+        return path if os.path.isfile(path) else None
+
     def to_pandas(self):
-        """The runs as a pandas DataFrame (one row per run)."""
+        """The runs as a pandas DataFrame (one row per run): read from ``runs.parquet`` when
+        the folder has one and pyarrow is installed, else built from ``rows``."""
         import pandas as pd
 
+        if self.parquet is not None:
+            try:
+                import pyarrow  # noqa: F401
+            except ImportError:
+                pass
+            else:
+                return pd.read_parquet(self.parquet)
         return pd.DataFrame(self.rows, columns=self.columns)
+
+    def to_polars(self):
+        """The runs as a polars DataFrame (one row per run): read from ``runs.parquet`` when
+        the folder has one, else built from ``rows``."""
+        import polars as pl
+
+        if self.parquet is not None:
+            return pl.read_parquet(self.parquet)
+        return pl.DataFrame(self.rows, schema=self.columns, orient="row", infer_schema_length=None)
 
     def progress_to_pandas(self):
         """The progress curves as a long pandas DataFrame: run_id, iteration, time_s,

@@ -82,6 +82,28 @@ def test_bench_writes_the_replays_its_policy_names(tmp_path):
     assert "--replays" in str(e.value)
 
 
+def test_the_parquet_file_holds_the_csv_runs_typed(tmp_path):
+    import polars as pl
+    import pyarrow.parquet as pa
+
+    res = mb.bench(small_experiment(tmp_path), out=tmp_path / "out")
+    assert res.parquet == str(tmp_path / "out" / "runs.parquet")
+    table = pa.read_table(res.parquet)
+    assert table.column_names == res.columns
+    types = {f.name: str(f.type) for f in table.schema}
+    assert types["run_id"] == "string" and types["seed"] == "int64"
+    assert types["solved"] == "bool" and types["rms_error_bl"] == "double"
+    units = json.loads(table.schema.metadata[b"magbench.columns"])
+    assert units["rms_error_bl"]["unit"] == "BL" and units["plan_time_s"]["unit"] == "s"
+    for csv_row, pq_row in zip(res.rows, table.to_pylist(), strict=True):
+        assert {k: (None if v == "" else v) for k, v in pq_row.items()} == csv_row
+    df = res.to_pandas()
+    assert len(df) == len(res) and str(df["seed"].dtype) == "int64"
+    frame = res.to_polars()
+    assert isinstance(frame, pl.DataFrame) and frame.shape == (len(res), len(res.columns))
+    assert frame["run_id"].to_list() == [r["run_id"] for r in res.rows]
+
+
 def test_bench_bad_experiment(tmp_path):
     f = tmp_path / "bad.toml"
     f.write_text('name = "bad"\nscenarios = ["open-field"]\nplanners = ["no-such-planner"]\nseeds = 1\n[limits]\niterations = 10\n')

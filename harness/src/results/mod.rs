@@ -1,6 +1,8 @@
 //! A results folder `results/<experiment>/`:
 //!
 //! - `runs.csv`: one tidy row per run ([`crate::run::RunRecord`]);
+//! - `runs.parquet`: the same runs, typed, in Parquet ([`parquet`]), once the folder is
+//!   finalized;
 //! - `progress.csv`: the planners' progress traces;
 //! - `manifest.json`: the experiment, code revision, crate versions, host, threads, times;
 //! - `ompl.log`: the runs in OMPL's benchmark log format;
@@ -16,6 +18,7 @@ pub mod lock;
 pub mod manifest;
 pub mod merge;
 pub mod ompl;
+pub mod parquet;
 pub mod plots;
 pub mod repair;
 pub mod report;
@@ -32,7 +35,8 @@ use crate::CliError;
 use crate::run::Status;
 
 /// Writes the derived files of a results folder from its runs: sorts `runs.csv` and
-/// `progress.csv` into run order, writes `ompl.log`, the plots and `report.html`, and records
+/// `progress.csv` into run order, writes `runs.parquet`, `ompl.log`, the plots and
+/// `report.html`, and records
 /// the counts, end time and every file's hash in the manifest.
 pub fn finalize(dir: &Path) -> Result<(), CliError> {
     finalize_with(dir, &crate::plot::export::FigureOptions::default())
@@ -49,6 +53,7 @@ pub fn finalize_with(
     store::write_sorted(dir, runs, progress)?;
     let runs = store::read_runs(dir)?;
     let progress = store::read_progress(dir)?;
+    parquet::write(&dir.join(parquet::PARQUET), store::file_agents(dir), &runs)?;
     m.runs_done = runs.len();
     m.runs_failed = runs.iter().filter(|r| r.status == Status::Crash).count();
     m.finished = Some(manifest::now());

@@ -8,6 +8,7 @@ use magbench_env::InputError;
 use sha2::{Digest, Sha256};
 
 use super::manifest::{MANIFEST, Manifest};
+use super::parquet::PARQUET;
 use super::store::{self, PROGRESS, RUNS};
 use crate::CliError;
 use crate::run::{ProgressRow, RunRecord, Status};
@@ -239,10 +240,29 @@ pub fn verify(dir: &Path) -> Result<Verified, CliError> {
 
     v.incomplete = check_rows(&runs, manifest.as_ref(), p);
     check_traces(&runs, &progress, p, &mut v.notes);
+    check_parquet(dir, &runs, p);
     if let Some(m) = &manifest {
         v.files_hashed = check_hashes(dir, m, p, &mut v.notes)?;
     }
     Ok(v)
+}
+
+/// `runs.parquet`, when the folder has one: a whole Parquet file holding the runs of
+/// `runs.csv`, in its order.
+fn check_parquet(dir: &Path, runs: &[RunRecord], p: &mut Vec<String>) {
+    let path = dir.join(PARQUET);
+    if !path.exists() {
+        return;
+    }
+    match super::parquet::check(&path) {
+        Err(e) => p.push(format!("{PARQUET}: {e}")),
+        Ok(s) if !s.run_ids.iter().eq(runs.iter().map(|r| &r.run_id)) => p.push(format!(
+            "{PARQUET}: {} runs, not the {} runs of {RUNS} in their order",
+            s.rows,
+            runs.len()
+        )),
+        Ok(_) => {}
+    }
 }
 
 /// Runs [`verify`] on `dir` and fails (exit 1) listing the problems if it finds any; missing

@@ -1,0 +1,359 @@
+//! `runs.parquet`: a finished folder's runs in Parquet, beside `runs.csv`, for the tools that
+//! read columnar files natively (polars, pandas with pyarrow, DuckDB, Arrow). `runs.csv`
+//! stays the folder's crash-safe record, appended run by run; this file is written from it when
+//! the folder is finalized, in run order, so both hold the same runs.
+//!
+//! The columns are `runs.csv`'s, in its order, typed: text, 64-bit integers, booleans and
+//! doubles, nullable where a cell may be empty. The file's key–value metadata holds
+//! `magbench.columns` (JSON: per column, its unit and label, from the metric and difficulty
+//! tables; per-agent errors in BL) and `magbench.version`. Snappy compression, one row group
+//! per [`ROW_GROUP`] runs.
+
+use std::fs::File;
+use std::path::Path;
+use std::sync::Arc;
+
+use parquet::basic::{Compression, LogicalType, Repetition, Type as Physical};
+use parquet::data_type::{BoolType, ByteArray, ByteArrayType, DoubleType, Int64Type};
+use parquet::file::metadata::KeyValue;
+use parquet::file::properties::WriterProperties;
+use parquet::file::reader::{FileReader, SerializedFileReader};
+use parquet::file::writer::SerializedFileWriter;
+use parquet::record::RowAccessor;
+use parquet::schema::types::Type;
+use serde_json::{Value, json};
+
+use crate::CliError;
+use crate::metrics::Metric;
+use crate::metrics::difficulty::Measure;
+use crate::run::RunRecord;
+use crate::run::record::agent_columns;
+
+/// `runs.parquet`.
+pub const PARQUET: &str = "runs.parquet";
+/// Runs per row group.
+pub const ROW_GROUP: usize = 65_536;
+
+/// A column's type in the file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// UTF-8 text.
+    Text,
+    /// A 64-bit signed integer.
+    Int,
+    /// A boolean.
+    Bool,
+    /// A 64-bit float.
+    Float,
+}
+
+/// The serde columns of [`RunRecord`] (the first columns of `runs.csv`), with their types and
+/// whether a cell may be empty.
+const RECORD: &[(&str, Kind, bool)] = &[
+    ("run", Kind::Int, false),
+    ("run_id", Kind::Text, false),
+    ("experiment", Kind::Text, false),
+    ("scenario", Kind::Text, false),
+    ("agents", Kind::Int, false),
+    ("planner", Kind::Text, false),
+    ("planner_name", Kind::Text, false),
+    ("planner_params", Kind::Text, false),
+    ("tracker", Kind::Text, false),
+    ("preset", Kind::Text, false),
+    ("seed", Kind::Int, false),
+    ("max_iterations", Kind::Int, true),
+    ("time_limit_s", Kind::Float, true),
+    ("status", Kind::Text, false),
+    ("solved", Kind::Bool, false),
+    ("approximate", Kind::Bool, false),
+    ("progress_rows", Kind::Int, true),
+    ("track_status", Kind::Text, false),
+    ("reached_goal", Kind::Bool, true),
+    ("worst_agent", Kind::Int, true),
+    ("agent_contact", Kind::Bool, true),
+    ("error", Kind::Text, false),
+];
+
+/// One column of the file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    /// Its name (the `runs.csv` header's).
+    pub name: String,
+    /// Its type.
+    pub kind: Kind,
+    /// Whether a cell may be empty (null).
+    pub nullable: bool,
+    /// Its unit (empty: none).
+    pub unit: &'static str,
+    /// What it holds.
+    pub label: &'static str,
+}
+
+/// The columns of a file with per-agent columns for `agents` agents, in `runs.csv`'s order.
+pub fn columns(agents: usize) -> Vec<Column> {
+    let record = RECORD.iter().map(|&(name, kind, nullable)| Column {
+        name: name.into(),
+        kind,
+        nullable,
+        unit: if name == "time_limit_s" { "s" } else { "" },
+        label: "",
+    });
+    let metrics = Metric::ALL.iter().map(|m| {
+        let d = m.def();
+        Column {
+            name: d.column.into(),
+            kind: Kind::Float,
+            nullable: true,
+            unit: d.unit,
+            label: d.label,
+        }
+    });
+    let measures = Measure::ALL.iter().map(|m| {
+        let d = m.def();
+        Column {
+            name: d.column.into(),
+            kind: Kind::Float,
+            nullable: true,
+            unit: d.unit,
+            label: d.label,
+        }
+    });
+    let labels = [
+        "agent's RMS path error, observed",
+        "agent's largest path error, observed",
+        "agent's RMS path error, true",
+        "agent's largest path error, true",
+    ];
+    let per_agent = (0..agents).flat_map(move |i| {
+        agent_columns(i)
+            .into_iter()
+            .zip(labels)
+            .map(|(name, label)| Column {
+                name,
+                kind: Kind::Float,
+                nullable: true,
+                unit: "BL",
+                label,
+            })
+    });
+    record
+        .chain(metrics)
+        .chain(measures)
+        .chain(per_agent)
+        .collect()
+}
+
+fn schema(cols: &[Column]) -> Result<Type, parquet::errors::ParquetError> {
+    let fields = cols
+        .iter()
+        .map(|c| {
+            let (physical, logical) = match c.kind {
+                Kind::Text => (Physical::BYTE_ARRAY, Some(LogicalType::String)),
+                Kind::Int => (Physical::INT64, None),
+                Kind::Bool => (Physical::BOOLEAN, None),
+                Kind::Float => (Physical::DOUBLE, None),
+            };
+            let repetition = if c.nullable {
+                Repetition::OPTIONAL
+            } else {
+                Repetition::REQUIRED
+            };
+            Type::primitive_type_builder(&c.name, physical)
+                .with_repetition(repetition)
+                .with_logical_type(logical)
+                .build()
+                .map(Arc::new)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Type::group_type_builder("runs").with_fields(fields).build()
+}
+
+/// The cells of one column over `rows`: the serde columns from each row's serde form.
+fn cells<'a>(
+    rows: &'a [RunRecord],
+    serde: &'a [serde_json::Map<String, Value>],
+    col: &Column,
+    index: usize,
+) -> Vec<Value> {
+    let records = RECORD.len();
+    let metrics = Metric::ALL.len();
+    let measures = Measure::ALL.len();
+    let num = |v: Option<f64>| v.map_or(Value::Null, |x| json!(x));
+    match index {
+        i if i < records => serde.iter().map(|o| o[&col.name].clone()).collect(),
+        i if i < records + metrics => {
+            let m = Metric::ALL[i - records];
+            rows.iter().map(|r| num(r.get(m))).collect()
+        }
+        i if i < records + metrics + measures => {
+            let m = Measure::ALL[i - records - metrics];
+            rows.iter().map(|r| num(r.difficulty.get(m))).collect()
+        }
+        i => {
+            let k = i - records - metrics - measures;
+            rows.iter()
+                .map(|r| num(r.per_agent.get(k / 4).and_then(|a| a.values()[k % 4])))
+                .collect()
+        }
+    }
+}
+
+fn failed(path: &Path, e: impl std::fmt::Display) -> CliError {
+    CliError::Failed(format!("{}: {e}", path.display()))
+}
+
+/// Writes `rows` (with per-agent columns for `agents` agents) to `path` as Parquet, atomically
+/// (a temporary file, then a rename).
+pub fn write(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), CliError> {
+    let cols = columns(agents);
+    let serde: Vec<serde_json::Map<String, Value>> = rows
+        .iter()
+        .map(|r| match serde_json::to_value(r) {
+            Ok(Value::Object(o)) => o,
+            _ => serde_json::Map::new(),
+        })
+        .collect();
+    let meta: serde_json::Map<String, Value> = cols
+        .iter()
+        .map(|c| (c.name.clone(), json!({"unit": c.unit, "label": c.label})))
+        .collect();
+    let props = WriterProperties::builder()
+        .set_compression(Compression::SNAPPY)
+        .set_created_by(format!("magbench {}", env!("CARGO_PKG_VERSION")))
+        .set_key_value_metadata(Some(vec![
+            KeyValue::new("magbench.columns".into(), Value::Object(meta).to_string()),
+            KeyValue::new(
+                "magbench.version".into(),
+                env!("CARGO_PKG_VERSION").to_string(),
+            ),
+        ]))
+        .build();
+    let tmp = path.with_extension("parquet.tmp");
+    let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
+    let file = File::create(&tmp).map_err(|e| failed(&tmp, e))?;
+    let mut w =
+        SerializedFileWriter::new(file, Arc::new(schema(&cols).map_err(pq)?), Arc::new(props))
+            .map_err(pq)?;
+    for (group, serde) in rows.chunks(ROW_GROUP).zip(serde.chunks(ROW_GROUP)) {
+        let mut g = w.next_row_group().map_err(pq)?;
+        let mut index = 0;
+        while let Some(mut cw) = g.next_column().map_err(pq)? {
+            let col = &cols[index];
+            let cells = cells(group, serde, col, index);
+            let defs: Vec<i16> = cells.iter().map(|v| i16::from(!v.is_null())).collect();
+            let defs = col.nullable.then_some(defs.as_slice());
+            let present = cells.iter().filter(|v| !v.is_null());
+            match col.kind {
+                Kind::Text => {
+                    let v: Vec<ByteArray> = present
+                        .map(|v| ByteArray::from(v.as_str().unwrap_or_default()))
+                        .collect();
+                    cw.typed::<ByteArrayType>().write_batch(&v, defs, None)
+                }
+                Kind::Int => {
+                    let v: Vec<i64> = present.map(|v| v.as_i64().unwrap_or_default()).collect();
+                    cw.typed::<Int64Type>().write_batch(&v, defs, None)
+                }
+                Kind::Bool => {
+                    let v: Vec<bool> = present.map(|v| v.as_bool().unwrap_or_default()).collect();
+                    cw.typed::<BoolType>().write_batch(&v, defs, None)
+                }
+                Kind::Float => {
+                    let v: Vec<f64> = present.map(|v| v.as_f64().unwrap_or(f64::NAN)).collect();
+                    cw.typed::<DoubleType>().write_batch(&v, defs, None)
+                }
+            }
+            .map_err(pq)?;
+            cw.close().map_err(pq)?;
+            index += 1;
+        }
+        g.close().map_err(pq)?;
+    }
+    let file = w.into_inner().map_err(pq)?;
+    file.sync_all().map_err(|e| failed(&tmp, e))?;
+    drop(file);
+    std::fs::rename(&tmp, path).map_err(|e| failed(path, e))?;
+    super::store::sync_dir(path)
+}
+
+/// What [`check`] reads of a `runs.parquet`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// Rows in the file.
+    pub rows: usize,
+    /// Its column names, in order.
+    pub columns: Vec<String>,
+    /// The `run_id` of each row, in order.
+    pub run_ids: Vec<String>,
+}
+
+/// Reads the `runs.parquet` at `path`: its rows, columns and run ids; an error naming the
+/// file and the reason when it is not a whole Parquet file of runs.
+pub fn check(path: &Path) -> Result<Summary, String> {
+    let file = File::open(path).map_err(|e| e.to_string())?;
+    let reader = SerializedFileReader::new(file).map_err(|e| format!("not a Parquet file: {e}"))?;
+    let meta = reader.metadata().file_metadata();
+    let columns: Vec<String> = meta
+        .schema_descr()
+        .columns()
+        .iter()
+        .map(|c| c.name().to_string())
+        .collect();
+    let id = columns
+        .iter()
+        .position(|c| c == "run_id")
+        .ok_or("no run_id column")?;
+    let mut run_ids = Vec::with_capacity(meta.num_rows().max(0) as usize);
+    for row in reader.get_row_iter(None).map_err(|e| e.to_string())? {
+        let row = row.map_err(|e| format!("a row does not read: {e}"))?;
+        run_ids.push(
+            row.get_string(id)
+                .map_err(|e| format!("run_id: {e}"))?
+                .clone(),
+        );
+    }
+    Ok(Summary {
+        rows: run_ids.len(),
+        columns,
+        run_ids,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::store;
+
+    #[test]
+    fn the_record_columns_are_the_csv_headers_first_columns() {
+        let header = store::runs_header(3);
+        let names: Vec<String> = columns(3).into_iter().map(|c| c.name).collect();
+        assert_eq!(names.join(","), header);
+    }
+
+    #[test]
+    fn runs_round_trip_with_their_ids_and_a_torn_file_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let rows: Vec<RunRecord> = (0..5)
+            .map(|i| {
+                let mut r = store::tests::out(i).record;
+                r.set(Metric::RmsError, (i % 2 == 0).then_some(0.25 * i as f64));
+                r
+            })
+            .collect();
+        let path = dir.path().join(PARQUET);
+        write(&path, 0, &rows).unwrap();
+        let s = check(&path).unwrap();
+        assert_eq!(s.rows, 5);
+        assert_eq!(s.columns.join(","), store::runs_header(0));
+        assert_eq!(
+            s.run_ids,
+            rows.iter().map(|r| r.run_id.clone()).collect::<Vec<_>>()
+        );
+        let bytes = std::fs::read(&path).unwrap();
+        std::fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
+        let e = check(&path).unwrap_err();
+        assert!(e.starts_with("not a Parquet file"), "{e}");
+        assert!(!dir.path().join("runs.parquet.tmp").exists());
+    }
+}
