@@ -441,6 +441,20 @@ fn verify_names_what_is_wrong_and_exits_2_on_bad_input() {
         ok.contains(&format!("{RUNS} runs, {} trace points", RUNS * 51)),
         "{ok}"
     );
+    // a torn runs.parquet is named with its reason; a resume writes it whole again
+    let parquet = clean.join("runs.parquet");
+    let whole = std::fs::read(&parquet).unwrap();
+    std::fs::write(&parquet, &whole[..whole.len() / 2]).unwrap();
+    let o = verify(&clean);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        report.contains("runs.parquet: not a Parquet file"),
+        "{report}"
+    );
+    resume_ok(&exp, &clean);
+    assert_eq!(std::fs::read(&parquet).unwrap(), whole);
+    assert!(verify(&clean).status.success());
     // a doubled row, a changed plot
     let runs = std::fs::read_to_string(clean.join("runs.csv")).unwrap();
     let last = runs.lines().last().unwrap();
