@@ -14,6 +14,7 @@ use super::replans::replan_latency;
 use super::table::Table;
 use super::tables::{errors, first_solution, loop_cost, planning, tracking};
 use super::teams::{first_solution_work, team_runs};
+use super::tracker_tables::comparison;
 use super::transcript::Step;
 use crate::CliError;
 use crate::run::{RunOutput, RunRecord};
@@ -265,6 +266,8 @@ const SWEEP: &[&str] = &[
     "harness/src/docs/ablation.rs",
     "harness/src/docs/replans.rs",
 ];
+/// The tracker comparison's table.
+const TRACKER_TABLES: &[&str] = &["harness/src/docs/tracker_tables.rs"];
 /// The magbench commands a transcript runs: the whole harness but the book's measurements and
 /// their command (`magbench docs`), which no transcript runs.
 const CLI: &[&str] = &[
@@ -318,6 +321,16 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
+    },
+    Measure {
+        name: "trackers-mpc",
+        source: Sweep {
+            experiment: "experiments/trackers-mpc.toml",
+            quick_seeds: 2,
+            table: Runs(comparison),
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, TRACKER_TABLES],
     },
     Measure {
         name: "cargo-delivery",

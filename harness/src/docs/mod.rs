@@ -20,6 +20,7 @@ pub mod run;
 pub mod table;
 pub mod tables;
 pub mod teams;
+pub mod tracker_tables;
 pub mod transcript;
 
 pub use header::{Header, Measured, ParseError, parse};
