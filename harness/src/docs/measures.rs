@@ -948,6 +948,16 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, PLANNING, TRACKING, SWEEP, PYTHON],
     },
     Measure {
+        name: "scale",
+        source: Python {
+            script: "python/bench/scale.py",
+            args: &["--runs", "10000", "100000"],
+            quick_args: &["--runs", "1000"],
+        },
+        feature: None,
+        depends: &[CLI],
+    },
+    Measure {
         name: "python-overhead",
         source: Python {
             script: "python/bench/overhead.py",

@@ -174,11 +174,19 @@ impl PythonRun<'_> {
     }
 }
 
+/// The environment variable a script finds this magbench binary in (the one running `docs
+/// measure`), for scripts that time its commands.
+pub const BIN_VAR: &str = "MAGBENCH_BIN";
+
 /// Runs `r` with interpreter `i` (its stderr inherited) and returns the Markdown table lines
 /// it printed, one per line.
 pub fn run_python(i: &Interpreter, r: &PythonRun) -> Result<String, PythonError> {
     let command = r.command_line();
-    let out: Output = Command::new(&i.executable)
+    let mut cmd = Command::new(&i.executable);
+    if let Ok(exe) = std::env::current_exe() {
+        cmd.env(BIN_VAR, exe);
+    }
+    let out: Output = cmd
         .arg(r.script)
         .args(&r.args)
         .current_dir(r.root)

@@ -1,0 +1,119 @@
+"""What a results folder costs as it grows: wall time and peak memory of the harness's
+commands against the number of runs.
+
+For each size N, with the harness's fake executor (synthetic runs through the whole sweep
+machinery: two planners tracked by one tracker, 51 progress points per run; no planning),
+each command runs in its own process, started by this script, and is timed with its peak
+resident memory read from ``os.wait4``:
+
+- ``bench``: the N runs in one folder (``--replays none``, 2 threads);
+- ``bench (10 shards)``: the same experiment as 10 shards, one after another (the largest);
+- ``merge``: the 10 shards into one folder;
+- ``results verify``: the merged folder;
+- ``results plot``: the merged folder's derived files (plots, report, ompl.log, runs.parquet);
+- ``regress``: the merged folder against the unsharded one.
+
+Each process is the magbench binary that ``$MAGBENCH_BIN`` names (``magbench docs measure`` sets
+it to itself), else ``python -c "import magbench; magbench.main([...])"``, whose interpreter with
+numpy (the row ``import magbench``) is then part of every figure.
+
+Usage: python python/bench/scale.py [--runs N ...] [--work DIR]
+
+`magbench docs measure --only scale` keeps the table.
+"""
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+SHARDS = 10
+
+
+BIN = os.environ.get("MAGBENCH_BIN")
+
+
+def run(args):
+    """Runs magbench ``args`` in a process of its own; its wall time (s) and peak RSS (MB)."""
+    if BIN:
+        argv = [BIN, *args] if args else [BIN, "--version"]
+    else:
+        code = f"import magbench; magbench.main({args!r})" if args else "import magbench"
+        argv = [sys.executable, "-c", code]
+    t0 = time.perf_counter()
+    p = subprocess.Popen(argv, stdout=subprocess.DEVNULL)
+    _, status, usage = os.wait4(p.pid, 0)
+    wall = time.perf_counter() - t0
+    p.returncode = os.waitstatus_to_exitcode(status)
+    if p.returncode != 0:
+        raise SystemExit(f"magbench {' '.join(args)}: exit {p.returncode}")
+    return wall, usage.ru_maxrss / 1024
+
+
+def experiment(work, runs):
+    """An experiment file of ``runs`` fake runs."""
+    path = os.path.join(work, "scale.toml")
+    with open(path, "w") as f:
+        f.write(
+            'name = "scale"\nscenarios = ["open-field"]\n'
+            'planners = ["fake", "fake{p=0.5}"]\n'
+            f"seeds = {max(1, runs // 2)}\n"
+            '[limits]\niterations = 1000\n[tracking]\ntrackers = ["fake"]\npresets = ["realistic"]\n'
+        )
+    return path
+
+
+def measure(work, runs):
+    """The table rows of size ``runs``."""
+    exp = experiment(work, runs)
+    fake = ["--executor", "fake", "--quiet", "--replays", "none", "--threads", "2"]
+    whole = os.path.join(work, "whole")
+    rows = [("bench", *run(["bench", exp, "--out", whole, *fake]))]
+    shards = []
+    wall, peak = 0.0, 0.0
+    for k in range(1, SHARDS + 1):
+        out = os.path.join(work, f"shard-{k}")
+        w, m = run(["bench", exp, "--out", out, "--shard", f"{k}/{SHARDS}", *fake])
+        wall, peak = wall + w, max(peak, m)
+        shards.append(out)
+    rows.append((f"bench ({SHARDS} shards, one after another)", wall, peak))
+    merged = os.path.join(work, "merged")
+    rows.append(("merge", *run(["merge", "--out", merged, *shards])))
+    rows.append(("results verify", *run(["results", "verify", merged])))
+    rows.append(("results plot", *run(["results", "plot", merged])))
+    rows.append(("regress", *run(["regress", whole, merged])))
+    size = sum(
+        os.path.getsize(os.path.join(merged, f)) for f in ("runs.csv", "runs.parquet", "progress.csv")
+    )
+    rows.append(("files on disk: runs.csv, runs.parquet, progress.csv", None, size / 1e6))
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, nargs="+", default=[10_000, 100_000])
+    ap.add_argument("--work", default=None)
+    a = ap.parse_args()
+    work = a.work or tempfile.mkdtemp(prefix="magbench-scale-")
+    base_wall, base_peak = run([])
+    print("| runs | command | wall time (s) | peak memory (MB) | peak memory per run (kB) |")
+    print("| --- | --- | --- | --- | --- |")
+    start = "magbench --version" if BIN else "import magbench (in every row)"
+    print(f"| – | {start} | {base_wall:.2f} | {base_peak:.0f} | – |")
+    for n in a.runs:
+        d = os.path.join(work, str(n))
+        shutil.rmtree(d, ignore_errors=True)
+        os.makedirs(d)
+        for what, wall, peak in measure(d, n):
+            if wall is None:
+                print(f"| {n} | {what} | – | {peak:.1f} MB on disk | {1e3 * peak / n:.2f} kB on disk |")
+            else:
+                print(f"| {n} | {what} | {wall:.1f} | {peak:.0f} | {1e3 * (peak - base_peak) / n:.2f} |")
+        shutil.rmtree(d, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
