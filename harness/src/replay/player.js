@@ -58,7 +58,12 @@
     });
   }
 
-  unpack(JSON.parse(document.getElementById("replay-data").textContent)).then(play);
+  var packed = JSON.parse(document.getElementById("replay-data").textContent);
+  (typeof DecompressionStream === "function" ? unpack(packed) : Promise.reject(
+    new Error("this browser has no DecompressionStream (Chromium 103, Firefox 113, Safari 16.4 or later)")
+  )).then(play, function (e) {
+    document.getElementById("frame-info").textContent = "The replay's data could not be read: " + e.message;
+  });
 
   function play(D) {
     var NS = "http://www.w3.org/2000/svg";
