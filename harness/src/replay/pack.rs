@@ -78,20 +78,19 @@ pub fn pack(d: &ReplayData) -> String {
     }
     c.num(d.obs.len() as i64);
     for (o, a) in d.obs.iter().zip(&d.truth) {
-        let seen: Vec<usize> = (0..o.len() / 2)
-            .filter(|&k| o[2 * k].is_some() && o[2 * k + 1].is_some())
+        // each frame's detection minus the truth, or None for a missed one
+        let off: Vec<Option<[i64; 2]>> = o
+            .chunks_exact(2)
+            .zip(a.chunks_exact(2))
+            .map(|(o, a)| Some([o[0]? as i64 - a[0] as i64, o[1]? as i64 - a[1] as i64]))
             .collect();
         c.values(
-            &(0..o.len() / 2)
-                .map(|k| i64::from(seen.binary_search(&k).is_ok()))
+            &off.iter()
+                .map(|d| i64::from(d.is_some()))
                 .collect::<Vec<_>>(),
         );
         for axis in 0..2 {
-            let off: Vec<i64> = seen
-                .iter()
-                .map(|&k| o[2 * k + axis].unwrap_or(0) as i64 - a[2 * k + axis] as i64)
-                .collect();
-            c.values(&off);
+            c.values(&off.iter().flatten().map(|d| d[axis]).collect::<Vec<_>>());
         }
     }
     let field: [fn(&FieldFrame) -> f64; 4] = [|f| f.0, |f| f.1, |f| f.2, |f| f.3];
