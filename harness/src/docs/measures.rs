@@ -788,6 +788,18 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, PLANNING],
     },
     Measure {
+        name: "chaos",
+        source: Test {
+            package: "magbench-planners",
+            target: Target::Example("chaos"),
+            test: "",
+            ignored: false,
+            release: true,
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING],
+    },
+    Measure {
         name: "guide",
         source: Sweep {
             experiment: "experiments/guide.toml",
