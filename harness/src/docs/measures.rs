@@ -9,6 +9,7 @@ use std::path::Path;
 use super::ablation::ablation;
 pub use super::cargo_test::Target;
 use super::convergence::convergence;
+use super::edge_tables::edge_length;
 use super::planner_tables::{improvement, team_scaling};
 use super::replans::replan_latency;
 use super::table::Table;
@@ -266,6 +267,8 @@ const SWEEP: &[&str] = &[
     "harness/src/docs/ablation.rs",
     "harness/src/docs/replans.rs",
 ];
+/// The edge-length study's table.
+const EDGE_TABLES: &[&str] = &["harness/src/docs/edge_tables.rs"];
 /// The tracker comparison's table.
 const TRACKER_TABLES: &[&str] = &["harness/src/docs/tracker_tables.rs"];
 /// The magbench commands a transcript runs: the whole harness but the book's measurements and
@@ -612,7 +615,7 @@ pub static MEASURES: &[Measure] = &[
     Measure {
         name: "scaling",
         source: Transcript {
-            files: &["experiments"],
+            files: &["experiments/scaling.toml"],
             cwd: ".",
             steps: &[
                 Step::Run("bench experiments/scaling.toml --out scaling --threads 2 --quiet"),
@@ -640,7 +643,7 @@ pub static MEASURES: &[Measure] = &[
     Measure {
         name: "bench-threads",
         source: Transcript {
-            files: &["experiments"],
+            files: &["experiments/ci.toml"],
             cwd: ".",
             steps: &[
                 Step::Run("bench experiments/ci.toml --out t1 --threads 1 --quiet"),
@@ -800,6 +803,16 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, PLANNING],
     },
     Measure {
+        name: "edge-length",
+        source: Sweep {
+            experiment: "experiments/edge-length.toml",
+            quick_seeds: 2,
+            table: Runs(edge_length),
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, EDGE_TABLES],
+    },
+    Measure {
         name: "guide",
         source: Sweep {
             experiment: "experiments/guide.toml",
@@ -813,6 +826,16 @@ pub static MEASURES: &[Measure] = &[
         name: "aim",
         source: Sweep {
             experiment: "experiments/aim.toml",
+            quick_seeds: 2,
+            table: Runs(first_solution_work),
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
+    },
+    Measure {
+        name: "aim-edge-length",
+        source: Sweep {
+            experiment: "experiments/aim-edge-length.toml",
             quick_seeds: 2,
             table: Runs(first_solution_work),
         },
@@ -842,7 +865,7 @@ pub static MEASURES: &[Measure] = &[
     Measure {
         name: "team-sizes",
         source: Transcript {
-            files: &["experiments"],
+            files: &["experiments/team-sizes.toml"],
             cwd: ".",
             steps: &[
                 Step::Run("bench experiments/team-sizes.toml --out team-sizes --threads 2 --quiet"),
@@ -855,7 +878,7 @@ pub static MEASURES: &[Measure] = &[
     Measure {
         name: "formations",
         source: Transcript {
-            files: &["experiments"],
+            files: &["experiments/formations.toml"],
             cwd: ".",
             steps: &[
                 Step::Run("bench experiments/formations.toml --out formations --threads 2 --quiet"),

@@ -10,6 +10,7 @@ pub mod cargo;
 pub mod cargo_test;
 pub mod convergence;
 pub mod criterion;
+pub mod edge_tables;
 pub mod freshness;
 pub mod header;
 pub mod measures;
