@@ -26,7 +26,8 @@
 //! - `ROWS spans LO..HI`: the same for the rows' figures themselves.
 //!
 //! `ROWS` selects rows by `COLUMN=VALUE`, `COLUMN!=VALUE`, `COLUMN^=PREFIX`, `COLUMN!^=PREFIX`
-//! and `nonzero` (the figure), joined by `,`. The paragraph is the paragraph or list item that
+//! and `nonzero` (the figure), joined by `,` (a comma inside braces, as in a planner's label,
+//! belongs to the value). The paragraph is the paragraph or list item that
 //! holds the marker: its lines between blank lines, list items and headings.
 
 use std::path::{Path, PathBuf};
@@ -473,13 +474,32 @@ fn claims(file: &str, text: &str) -> Vec<Claim> {
     found
 }
 
+/// The conditions of a row selection: `sel` split at the commas outside braces (a planner's
+/// label, `goal-zoom-rrt{aim=true,guide=true}`, is one value).
+fn conditions(sel: &str) -> Vec<&str> {
+    let (mut depth, mut start, mut out) = (0i32, 0, vec![]);
+    for (i, c) in sel.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                out.push(sel[start..i].trim());
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    out.push(sel[start..].trim());
+    out
+}
+
 impl Claim {
     /// The rows `sel` picks, with their figures (rows whose figure is `–` left out).
     fn select(&self, t: &Table, sel: &str) -> Result<Vec<(usize, f64, String)>, String> {
         let col = t.column(&self.column)?;
         let mut conds = vec![];
         let mut nonzero = false;
-        for c in sel.split(',').map(str::trim) {
+        for c in conditions(sel) {
             if c == "nonzero" {
                 nonzero = true;
                 continue;
@@ -655,4 +675,8 @@ fn the_claim_checker_catches_a_wrong_claim() {
     );
     assert_eq!(written("46k"), Ok((46000.0, 1000.0)));
     assert!(rounds_to(45676.0, 1000.0, 46000.0) && !rounds_to(45676.0, 1000.0, 45000.0));
+    assert_eq!(
+        conditions("planner=rrt{a=1,b=2},tracker=obc"),
+        ["planner=rrt{a=1,b=2}", "tracker=obc"]
+    );
 }
