@@ -833,6 +833,16 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
+        name: "sampling",
+        source: Sweep {
+            experiment: "experiments/sampling.toml",
+            quick_seeds: 2,
+            table: Runs(first_solution_work),
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
+    },
+    Measure {
         name: "aim-edge-length",
         source: Sweep {
             experiment: "experiments/aim-edge-length.toml",
