@@ -131,7 +131,7 @@ fn leave(p: &Problem, s: &[Vec2]) -> Option<Leave> {
         .map(|(i, j)| (s[i] - s[j]).norm())
         .fold(f64::INFINITY, f64::min);
     // a non-finite state comes from agents that met
-    Some(if !(closest > p.checker.r_min) {
+    Some(if closest.is_nan() || closest <= p.checker.r_min {
         Leave::Contact
     } else {
         Leave::Apart
