@@ -82,6 +82,9 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
         }
         ResultsCmd::Plot { dir, figures } => {
             count("--dpi", &DPI, u64::from(figures.dpi))?;
+            figures
+                .check_build()
+                .map_err(|(option, why)| CliError::arg(option, why))?;
             if !dir.is_dir() {
                 return Err(CliError::arg(
                     "DIR",

@@ -81,15 +81,31 @@ pub fn render_gif(
     let agents = frames.iter().map(|f| f.agents.len()).max().unwrap_or(0);
     let entries = legend_entries(agents);
     let lh = legend::height(&entries, opts.width_px);
-    let size = map_size(base.world, opts.width_px, true, lh);
-    let root = BitMapBackend::gif(path, size, opts.frame_delay_ms)
-        .map_err(|e| PlotError(format!("{}: {e}", path.display())))?
-        .into_drawing_area();
+    let (w, h) = map_size(base.world, opts.width_px, true, lh);
+    let gif_err = |e: gif::EncodingError| PlotError(format!("{}: {e}", path.display()));
+    let (gw, gh) = (gif_side(w)?, gif_side(h)?);
+    let mut gif = gif::Encoder::new(std::fs::File::create(path)?, gw, gh, &[]).map_err(gif_err)?;
+    gif.set_repeat(gif::Repeat::Infinite).map_err(gif_err)?;
+    // GIF delays are in hundredths of a second: the nearest one
+    let delay_cs = u16::try_from(opts.frame_delay_ms.saturating_add(5) / 10).unwrap_or(u16::MAX);
+    let mut rgb = vec![0u8; w as usize * h as usize * 3];
     for k in subsample(frames.len(), opts.max_frames) {
-        draw_frame(&root, base, frames, k, opts, &entries)?;
-        root.present()?;
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+            draw_frame(&root, base, frames, k, opts, &entries)?;
+            root.present()?;
+        }
+        // a 256-colour palette by NeuQuant at speed 10 (1 is the best palette, 30 the fastest)
+        let mut frame = gif::Frame::from_rgb_speed(gw, gh, &rgb, 10);
+        frame.delay = delay_cs;
+        gif.write_frame(&frame).map_err(gif_err)?;
     }
     Ok(path.to_path_buf())
+}
+
+/// A GIF's width or height: at most 65,535 px.
+fn gif_side(px: u32) -> Result<u16, PlotError> {
+    u16::try_from(px).map_err(|_| PlotError(format!("a GIF is at most 65535 px wide, not {px}")))
 }
 
 /// The legend of a GIF of `agents` agents: one filled disk per agent in its colour.

@@ -1,11 +1,13 @@
 //! Figure output options: the size preset (screen, one or two journal columns), the PNG's
 //! resolution, the axis scale and whether a PDF is written; and the conversions from the SVG
 //! every figure is drawn into: PNG at any DPI (resvg) and PDF (svg2pdf), both with the
-//! embedded font, so the three files show the same figure.
+//! embedded font, so the three files show the same figure. The conversions need the `print`
+//! feature; without it, [`FigureOptions::needs_print`] names the option that asks for one.
 
 use crate::units::Units;
 use magbench_env::check::Bound;
 use std::path::Path;
+#[cfg(feature = "print")]
 use std::sync::Arc;
 
 use super::PlotError;
@@ -115,6 +117,39 @@ impl Default for FigureOptions {
     }
 }
 
+impl FigureOptions {
+    /// The option that asks for a conversion of the `print` feature (a column size preset or
+    /// `--pdf`), if any.
+    pub fn needs_print(&self) -> Option<&'static str> {
+        if self.size.inches().is_some() {
+            Some("--figure-size")
+        } else if self.pdf {
+            Some("--pdf")
+        } else {
+            None
+        }
+    }
+
+    /// Refuses, naming the option, what this build cannot write: a column preset or a PDF
+    /// without the `print` feature.
+    pub fn check_build(&self) -> Result<(), (&'static str, String)> {
+        match self.needs_print() {
+            Some(option) if !cfg!(feature = "print") => Err((option, print_refusal())),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Why a print figure cannot be written by a build without the `print` feature, and how to
+/// get one that can.
+pub fn print_refusal() -> String {
+    "print figures (the column presets and PDF) need magbench built with the `print` feature: \
+     `cargo run --release -p magbench --features print -- …` or \
+     `cargo install --path harness --features print`"
+        .to_string()
+}
+
+#[cfg(feature = "print")]
 fn usvg_options() -> usvg::Options<'static> {
     let mut db = usvg::fontdb::Database::new();
     db.load_font_data(super::font::DEJAVU_SANS.to_vec());
@@ -127,6 +162,7 @@ fn usvg_options() -> usvg::Options<'static> {
     }
 }
 
+#[cfg(feature = "print")]
 fn parse(svg: &str) -> Result<usvg::Tree, PlotError> {
     usvg::Tree::from_str(svg, &usvg_options()).map_err(|e| PlotError(format!("SVG: {e}")))
 }
@@ -160,6 +196,7 @@ pub fn with_print_size(svg: &str, inches: f64) -> String {
 }
 
 /// Renders the SVG text into a PNG `width_px` wide.
+#[cfg(feature = "print")]
 pub fn svg_to_png(svg: &str, width_px: u32, out: &Path) -> Result<(), PlotError> {
     let tree = parse(svg)?;
     let size = tree.size();
@@ -180,6 +217,7 @@ pub fn svg_to_png(svg: &str, width_px: u32, out: &Path) -> Result<(), PlotError>
 
 /// Converts the SVG text into a PDF page `inches` wide (the SVG's own size at 72 user units
 /// per inch when `None`).
+#[cfg(feature = "print")]
 pub fn svg_to_pdf(svg: &str, inches: Option<f64>, out: &Path) -> Result<(), PlotError> {
     let tree = parse(svg)?;
     let dpi = match inches {
@@ -195,6 +233,18 @@ pub fn svg_to_pdf(svg: &str, inches: Option<f64>, out: &Path) -> Result<(), Plot
     std::fs::write(out, pdf).map_err(|e| PlotError(format!("{}: {e}", out.display())))
 }
 
+/// Without the `print` feature: refuses with [`print_refusal`].
+#[cfg(not(feature = "print"))]
+pub fn svg_to_png(_svg: &str, _width_px: u32, _out: &Path) -> Result<(), PlotError> {
+    Err(PlotError(print_refusal()))
+}
+
+/// Without the `print` feature: refuses with [`print_refusal`].
+#[cfg(not(feature = "print"))]
+pub fn svg_to_pdf(_svg: &str, _inches: Option<f64>, _out: &Path) -> Result<(), PlotError> {
+    Err(PlotError(print_refusal()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -206,6 +256,25 @@ mod tests {
         assert!(!AxisScale::Auto.is_log([0.0, f64::NAN]));
         assert!(AxisScale::Log.is_log([2.0, 3.0]));
         assert!(!AxisScale::Linear.is_log([1.0, 1e6]));
+    }
+
+    #[test]
+    fn the_options_that_need_print_are_named() {
+        let mut o = FigureOptions::default();
+        assert_eq!(o.needs_print(), None);
+        assert_eq!(o.check_build(), Ok(()));
+        o.pdf = true;
+        assert_eq!(o.needs_print(), Some("--pdf"));
+        o.size = SizePreset::OneColumn;
+        assert_eq!(o.needs_print(), Some("--figure-size"));
+        match o.check_build() {
+            Ok(()) => assert!(cfg!(feature = "print")),
+            Err((option, why)) => {
+                assert!(!cfg!(feature = "print"));
+                assert_eq!(option, "--figure-size");
+                assert!(why.contains("--features print"), "{why}");
+            }
+        }
     }
 
     #[test]

@@ -12,7 +12,8 @@
 //! - [`legend`]: a legend strip drawn under a chart;
 //! - [`palette`]: one colour per agent, and the planners' and trackers' colour families;
 //! - [`style`]: a series' colour, dash and marker;
-//! - [`export`]: size presets, axis scales, PNG at any DPI and PDF from the SVG.
+//! - [`export`]: size presets, axis scales, PNG at any DPI and PDF from the SVG;
+//! - [`png`]: a figure at its own size as a PNG.
 
 pub mod anim;
 pub mod bars;
@@ -22,6 +23,7 @@ pub mod font;
 pub mod grid;
 pub mod legend;
 pub mod palette;
+pub mod png;
 pub mod style;
 pub mod world;
 
@@ -81,7 +83,7 @@ pub fn save_with<F: Figure + ?Sized>(
         std::fs::create_dir_all(dir)?;
     }
     let svg_path = with_ext(out_stem, "svg");
-    let png = with_ext(out_stem, "png");
+    let png_path = with_ext(out_stem, "png");
     let size = fig.size();
     let mut svg = String::new();
     {
@@ -96,15 +98,10 @@ pub fn save_with<F: Figure + ?Sized>(
     }
     std::fs::write(&svg_path, &svg)?;
     match inches {
-        Some(i) => export::svg_to_png(&svg, (i * opts.dpi as f64).round() as u32, &png)?,
-        None => {
-            let root = BitMapBackend::new(&png, size).into_drawing_area();
-            root.fill(&WHITE)?;
-            fig.draw(&root)?;
-            root.present()?;
-        }
+        Some(i) => export::svg_to_png(&svg, (i * opts.dpi as f64).round() as u32, &png_path)?,
+        None => png::save_png(fig, &png_path)?,
     }
-    let mut files = vec![svg_path, png];
+    let mut files = vec![svg_path, png_path];
     if opts.pdf {
         let pdf = with_ext(out_stem, "pdf");
         export::svg_to_pdf(&svg, inches, &pdf)?;

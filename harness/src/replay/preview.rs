@@ -144,13 +144,7 @@ pub fn write(s: &Scenario, path: &Path, option: &str) -> Result<(), CliError> {
             root.present()?;
             Ok(())
         })(),
-        Some("png") => (|| {
-            let root = BitMapBackend::new(path, size).into_drawing_area();
-            root.fill(&WHITE)?;
-            fig.draw(&root)?;
-            root.present()?;
-            Ok(())
-        })(),
+        Some("png") => crate::plot::png::save_png(&fig, path),
         _ => {
             return Err(CliError::arg(
                 option,
