@@ -260,6 +260,29 @@ fn results_plot_shows_lengths_in_micrometres_on_request() {
     assert_eq!(code, 2, "{err}");
 }
 
+/// `results plot --figure-size one-column --dpi 200 --pdf` (the `print` feature, which the tests
+/// build) writes each figure's PDF and a PNG 3.5 in × 200 dpi = 700 px wide, and the SVG carries
+/// the printed width.
+#[test]
+fn results_plot_writes_print_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../results/baseline");
+    let copy = dir.path().join("baseline");
+    common::copy_dir(&src, &copy, &[]);
+    let dir_arg = copy.display().to_string();
+    let args = ["results", "plot", &dir_arg, "--figure-size", "one-column"];
+    let (code, _, err) = magbench(&[&args[..], &["--dpi", "200", "--pdf"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let stem = copy.join("plots/open-field/rms-error-cdf");
+    let pdf = std::fs::read(stem.with_extension("pdf")).unwrap();
+    assert!(pdf.starts_with(b"%PDF-") && pdf.len() > 5_000, "a PDF");
+    let png = std::fs::read(stem.with_extension("png")).unwrap();
+    let width = u32::from_be_bytes(png[16..20].try_into().unwrap());
+    assert_eq!(width, 700, "3.5 in at 200 dpi");
+    let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
+    assert!(svg.contains("width=\"3.500in\""), "the SVG's printed width");
+}
+
 /// `ablate` checks its options before it runs: a bad one exits 2 naming the option, and the
 /// results folder it made for the run is removed again.
 #[test]

@@ -152,7 +152,7 @@ fn track_and_rig_run_take_labels_for_the_tracker_and_the_planner() {
 }
 
 #[test]
-fn track_lists_the_registrys_trackers_with_their_parameters() {
+fn track_lists_the_registrys_trackers_with_their_parameters_and_the_rig_types() {
     let (code, stdout, stderr) = magbench(&["track", "--list"]);
     assert_eq!(code, 0, "{stderr}");
     for part in [
@@ -161,6 +161,9 @@ fn track_lists_the_registrys_trackers_with_their_parameters() {
         "open-loop\n",
         "time_slack",
         "replan_after",
+        "rig types",
+        "simulated\n",
+        "coil\n",
     ] {
         assert!(stdout.contains(part), "{part:?} missing from:\n{stdout}");
     }

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use magbench_drivers::rigs::Rigs;
 use magbench_env::Scenario;
 use magbench_trackers::Trackers;
 
@@ -66,7 +67,7 @@ pub struct TrackArgs {
     #[arg(long, requires = "out")]
     pub gif: bool,
     /// List the trackers (plugins' included) and their parameters with defaults, the loop's
-    /// after each tracker's own, and exit.
+    /// after each tracker's own, then the rig types, and exit.
     #[arg(long)]
     pub list: bool,
 }
@@ -75,6 +76,7 @@ pub struct TrackArgs {
 pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
     if a.list {
         out!("{}", tracker_list(registry.trackers()));
+        out!("{}", rig_type_list(registry.rigs()));
         return Ok(());
     }
     let (Some(scenario), Some(tracker)) = (a.scenario.as_deref(), a.tracker.as_deref()) else {
@@ -108,6 +110,15 @@ pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
         gif: a.gif,
         json: a.json,
     })
+}
+
+/// The rig types of `rigs` (the values of `--rig-type`) with their summaries, for `--list`.
+pub fn rig_type_list(rigs: &Rigs) -> String {
+    let mut s = String::from("\nrig types (--rig-type; each reads one argument, no parameters)\n");
+    for (name, summary) in rigs.list() {
+        s += &format!("{name}\n    {summary}\n");
+    }
+    s
 }
 
 /// The trackers of `trackers` and their parameters (each tracker's own, then the loop's) with
