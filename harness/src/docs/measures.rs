@@ -286,6 +286,8 @@ const CLI: &[&str] = &[
     ":!harness/src/replay/page.rs",
     ":!harness/src/replay/player.js",
 ];
+/// `magbench regress`'s analysis.
+const REGRESS: &[&str] = &["harness/src/regress"];
 /// The rig: drivers, emulator, calibration and the rig files.
 const RIG: &[&str] = &["drivers/src", "rigs"];
 /// The Python binding.
@@ -801,6 +803,18 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
         depends: &[PLANT, PLANNING],
+    },
+    Measure {
+        name: "regress-power",
+        source: Test {
+            package: "magbench",
+            target: Target::Example("regress_power"),
+            test: "",
+            ignored: false,
+            release: true,
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, REGRESS],
     },
     Measure {
         name: "edge-length",
