@@ -55,7 +55,11 @@ fn a_tiny_run_writes_a_row_per_rig_and_parameter_and_the_summary() {
     for r in 0..2 {
         let mine: Vec<_> = rows.iter().filter(|x| x[rig] == r.to_string()).collect();
         assert_eq!(mine.len(), PARAMS, "rig {r}");
-        for name in ["moment[1]", "coil_lag.field_tau_ms", "camera.latency.frames"] {
+        for name in [
+            "moment[1]",
+            "coil_lag.field_tau_ms",
+            "camera.latency.frames",
+        ] {
             assert!(mine.iter().any(|x| &x[param] == name), "rig {r}: {name}");
         }
     }
@@ -69,8 +73,14 @@ fn a_tiny_run_writes_a_row_per_rig_and_parameter_and_the_summary() {
         }
     }
     let md = std::fs::read_to_string(out.join("calibration-bench.md")).unwrap();
-    assert!(md.starts_with("| parameter | tolerance | within tolerance |"), "{md}");
-    assert_eq!(md.lines().filter(|l| l.starts_with("| ")).count(), 2 + PARAMS);
+    assert!(
+        md.starts_with("| parameter | tolerance | within tolerance |"),
+        "{md}"
+    );
+    assert_eq!(
+        md.lines().filter(|l| l.starts_with("| ")).count(),
+        2 + PARAMS
+    );
     assert!(stdout.contains(md.lines().nth(2).unwrap()), "{stdout}");
     assert!(out.join("calibration-bench.svg").is_file());
     assert!(out.join("calibration-bench.png").is_file());
@@ -93,9 +103,21 @@ fn a_bad_ranges_file_exits_2_naming_the_file_the_field_and_the_reason() {
     for (text, field, reason) in [
         ("noise_bl = [0.08, 0.005]\n", "noise_bl", "[low, high]"),
         ("moment = [0.0, 1.3]\n", "moment", "must be in [0.1, 10]"),
-        ("interface_share = 1.5\n", "interface_share", "must be in [0, 1]"),
-        ("latncy_frames = [0.0, 4.0]\n", "latncy_frames", "did you mean `latency_frames`"),
-        ("field_tau_ms = [0.0, 40.0]\n", "field_tau_ms", "must be in (0, 1000]"),
+        (
+            "interface_share = 1.5\n",
+            "interface_share",
+            "must be in [0, 1]",
+        ),
+        (
+            "latncy_frames = [0.0, 4.0]\n",
+            "latncy_frames",
+            "did you mean `latency_frames`",
+        ),
+        (
+            "field_tau_ms = [0.0, 40.0]\n",
+            "field_tau_ms",
+            "must be in (0, 1000]",
+        ),
     ] {
         let file = dir.path().join("ranges.toml");
         std::fs::write(&file, text).unwrap();

@@ -11,6 +11,7 @@ use magbench_env::check::Bound;
 use super::calibrate_plot::MotionFigure;
 use super::output::{outln, prepare_file};
 use crate::CliError;
+use crate::registry::Registry;
 
 /// `magbench calibrate`: a fit of logged runs, or `calibrate bench`.
 #[derive(Debug, Args)]
@@ -52,9 +53,9 @@ pub enum CalibrateCmd {
 }
 
 /// Runs `magbench calibrate` (or `calibrate bench`).
-pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
+pub fn run(a: CalibrateArgs, registry: &Registry) -> Result<(), CliError> {
     if let Some(CalibrateCmd::Bench(b)) = a.cmd {
-        return super::calibrate_bench::run(b);
+        return super::calibrate_bench::run(b, registry);
     }
     // clap requires both without a subcommand
     let scenario = a.scenario.as_deref().unwrap_or_default();

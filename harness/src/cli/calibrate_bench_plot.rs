@@ -44,7 +44,11 @@ fn padded(lo: f64, hi: f64) -> (f64, f64) {
     if !(lo.is_finite() && hi.is_finite()) {
         return (-1.0, 1.0);
     }
-    let pad = ((hi - lo) * 0.05).max(1e-3 * lo.abs().max(1.0));
+    let pad = if hi - lo > 1e-9 {
+        (hi - lo) * 0.05
+    } else {
+        0.1 * lo.abs().max(1.0)
+    };
     (lo - pad, hi + pad)
 }
 

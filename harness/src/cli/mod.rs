@@ -103,7 +103,7 @@ pub fn run(args: Args, registry: &Registry) -> Result<(), CliError> {
         Command::Track(a) => track::run(*a, registry),
         Command::Plan(a) => plan::run(a, registry),
         Command::Rig(c) => rig::run(c, registry),
-        Command::Calibrate(a) => calibrate::run(a),
+        Command::Calibrate(a) => calibrate::run(a, registry),
         Command::Docs(c) => docs::run(c, registry),
     }
 }

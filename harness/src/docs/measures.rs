@@ -1095,6 +1095,16 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, RIG],
     },
     Measure {
+        name: "calibration-bench",
+        source: Transcript {
+            files: &[],
+            cwd: ".",
+            steps: &[Step::Run("calibrate bench --out bench --threads 2")],
+        },
+        feature: None,
+        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI],
+    },
+    Measure {
         name: "detector-accuracy",
         source: Test {
             package: "magbench-drivers",

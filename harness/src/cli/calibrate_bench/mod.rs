@@ -5,7 +5,8 @@
 //! env's plant and camera, stepped frame by frame (`SimRig`) — is driven by `rig excite`'s
 //! trajectory and its log fitted by `calibrate` from a base that knows only the rig's medium
 //! and hydrodynamic switch ([`rig::base`]). Each fitted parameter is scored against its truth
-//! ([`score`]); the rows, a summary and a figure go to `--out` ([`report`]). Rigs run in
+//! ([`score`]), and OBC tracks one plan under the truth, the fitted preset and the base
+//! ([`tracking`]); the rows, a summary and a figure go to `--out` ([`report`]). Rigs run in
 //! parallel on `--threads` workers; every rig's draws depend on its index and the seed only,
 //! so the output does not depend on the number of threads.
 
@@ -13,6 +14,8 @@ pub mod ranges;
 pub mod report;
 pub mod rig;
 pub mod score;
+pub mod tracking;
+pub mod watch;
 
 use std::path::PathBuf;
 
@@ -27,10 +30,12 @@ use self::ranges::Ranges;
 use self::report::RigResult;
 use self::rig::Outcome;
 use self::score::Param;
+use self::tracking::Tracking;
 use super::calibrate_bench_plot::BenchFigure;
 use super::number::{checked, count};
 use super::output::{outln, prepare_dir};
 use crate::CliError;
+use crate::registry::Registry;
 
 /// `magbench calibrate bench`.
 #[derive(Debug, Args)]
@@ -78,7 +83,7 @@ const DURATION: Bound = Bound::above(
 );
 
 /// Runs `magbench calibrate bench`.
-pub fn run(a: BenchArgs) -> Result<(), CliError> {
+pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     count("--rigs", &RIGS, a.rigs as u64)?;
     checked("--duration", &DURATION, a.duration)?;
     let threads = super::number::threads(a.threads)?;
@@ -90,6 +95,7 @@ pub fn run(a: BenchArgs) -> Result<(), CliError> {
     prepare_dir(&a.out, "--out")?;
     let agents = scenario.agents();
     let rigs = rig::draw(&ranges, a.seed, a.rigs, agents);
+    let tracking = Tracking::plan(registry, &rig::interface())?;
     let opts = FitOptions {
         max_latency: ranges.max_latency(),
         ..FitOptions::default()
@@ -116,11 +122,15 @@ pub fn run(a: BenchArgs) -> Result<(), CliError> {
                 Ok(match outcome {
                     Outcome::Fitted(fit) => {
                         let (_, scale) = score::scale(&fit, &r.truth);
+                        let rms = |f: &str| tracking.rms(registry, &dir.join(f), r.interface());
+                        let tracked =
+                            (|| Ok([rms("truth.toml")?, rms("fitted.toml")?, rms("base.toml")?]))();
                         RigResult {
                             rig: r.clone(),
                             scores: score::scores(r, &fit, agents),
                             scale,
                             held_out: Some((fit.held_out.fitted_rms, fit.held_out.base_rms)),
+                            tracking: Some(tracked),
                         }
                     }
                     Outcome::Failed(why) => RigResult {
@@ -128,6 +138,7 @@ pub fn run(a: BenchArgs) -> Result<(), CliError> {
                         scores: score::failed(r, agents, &why),
                         scale: String::new(),
                         held_out: None,
+                        tracking: None,
                     },
                 })
             })

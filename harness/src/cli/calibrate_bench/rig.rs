@@ -14,6 +14,7 @@ use magbench_env::plant::{DisturbancePreset, Fitted, Medium};
 use magbench_trackers::SimRig;
 
 use super::ranges::Ranges;
+use super::watch::Watched;
 
 /// One drawn rig: its true preset and the seed of its plant, camera and excitation.
 #[derive(Debug, Clone)]
@@ -41,7 +42,7 @@ impl Rig {
 /// The `hardware` preset's interface (water–air, its contact angle), for rigs at one; its
 /// agent-to-agent spread of contact angles is left out (it acts through per-run draws the
 /// fit does not model).
-fn interface() -> Medium {
+pub fn interface() -> Medium {
     let hw = DisturbancePreset::by_name("hardware").expect("the hardware preset is built in");
     match hw.medium {
         Medium::Interface(mut i) => {
@@ -137,9 +138,11 @@ pub enum Outcome {
 }
 
 /// Excites `rig` for `duration` seconds on `scenario` (env's plant and camera, stepped frame
-/// by frame), logs it to `dir/rig-log.csv`, writes `dir/truth.toml` and, when the fit succeeds,
+/// by frame), logs it to `dir/rig-log.csv`, writes `dir/truth.toml`, `dir/base.toml` and, when
+/// the fit succeeds,
 /// `dir/fitted.toml`, and fits `base` to the log. I/O failures are errors; a failed
-/// excitation or a refused log is an [`Outcome::Failed`].
+/// excitation (an error, or agents that touched and stuck) or a refused log is an
+/// [`Outcome::Failed`] saying what `calibrate` made of the log.
 pub fn run(
     rig: &Rig,
     scenario: &Scenario,
@@ -161,28 +164,59 @@ pub fn run(
         alpha_max: rig.truth.coil.alpha_max_deg.to_radians(),
         world: scenario.world.clone(),
     };
-    let excited = excite(&mut sim, &setup, Some(&mut log));
+    let world = (scenario.world.width, scenario.world.height);
+    let mut watched = Watched::new(&mut sim, world);
+    let excited = excite(&mut watched, &setup, Some(&mut log));
+    let touched = watched.touched_at;
+    let left = watched.left_at;
     drop(log);
     if let Err(e) = excited {
         return Ok(Outcome::Failed(format!("excitation failed: {e}")));
     }
-    let run = match read_log(&path, n) {
-        Ok(r) => r,
-        Err(e) => return Ok(Outcome::Failed(format!("log refused: {}", e.reason))),
-    };
+    if let Some(t) = left {
+        return Ok(Outcome::Failed(format!(
+            "excitation failed: the plant's agents left the {} × {} BL workspace at {t:.2} s (true positions; the simulated plant diverged)",
+            world.0, world.1
+        )));
+    }
     let base = base(rig);
-    match calibrate(scenario, &base, vec![run], opts) {
+    std::fs::write(dir.join("base.toml"), base.to_toml()).map_err(io)?;
+    let fitted = read_log(&path, n)
+        .map_err(FitError::Input)
+        .and_then(|run| calibrate(scenario, &base, vec![run], opts));
+    let fit = match fitted {
         Ok(mut fit) => {
             fit.preset.name = "fitted".into();
             fit.preset.description = format!("base fitted to rig {}", rig.index);
             let text = fit.preset_file(&[path.display().to_string()]);
             std::fs::write(dir.join("fitted.toml"), text).map_err(io)?;
-            Ok(Outcome::Fitted(Box::new(fit)))
+            fit
         }
-        Err(FitError::Input(e)) => Ok(Outcome::Failed(format!(
-            "calibrate refused the log: {}",
-            e.reason
-        ))),
-        Err(e) => Ok(Outcome::Failed(format!("calibrate refused the log: {e}"))),
-    }
+        Err(e) => {
+            let why = match e {
+                FitError::Input(e) => e.reason,
+                e => e.to_string(),
+            };
+            let excitation = touched.map_or(String::new(), |t| stuck(t, duration) + "; ");
+            return Ok(Outcome::Failed(format!(
+                "{excitation}calibrate refused the log: {why}"
+            )));
+        }
+    };
+    Ok(match touched {
+        Some(t) => Outcome::Failed(format!(
+            "{}; calibrate accepted the log and fitted it (held-out RMS {:.4} BL fitted, {:.4} BL base)",
+            stuck(t, duration),
+            fit.held_out.fitted_rms,
+            fit.held_out.base_rms
+        )),
+        None => Outcome::Fitted(Box::new(fit)),
+    })
+}
+
+/// Why an excitation whose pair touched at `t` of `duration` seconds failed.
+fn stuck(t: f64, duration: f64) -> String {
+    format!(
+        "excitation failed: the agents touched at {t:.1} s of {duration} s (true positions) and stuck, so the rest of the log is a stuck team"
+    )
 }
