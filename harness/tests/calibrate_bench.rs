@@ -77,10 +77,18 @@ fn a_tiny_run_writes_a_row_per_rig_and_parameter_and_the_summary() {
         md.starts_with("| parameter | tolerance | within tolerance |"),
         "{md}"
     );
-    assert_eq!(
-        md.lines().filter(|l| l.starts_with("| ")).count(),
-        2 + PARAMS
-    );
+    let tables: Vec<Vec<&str>> = md
+        .split("\n\n")
+        .map(|b| {
+            b.lines()
+                .filter(|l| l.starts_with("| "))
+                .collect::<Vec<_>>()
+        })
+        .filter(|t| !t.is_empty())
+        .collect();
+    assert_eq!(tables[0].len(), 2 + PARAMS, "a row per parameter: {md}");
+    assert!(tables[1][0].contains("tracking RMS"), "{md}");
+    assert_eq!(tables[1].len(), 2 + 2, "a row per rig: {md}");
     assert!(stdout.contains(md.lines().nth(2).unwrap()), "{stdout}");
     assert!(out.join("calibration-bench.svg").is_file());
     assert!(out.join("calibration-bench.png").is_file());

@@ -285,6 +285,14 @@ const CLI: &[&str] = &[
     ":!harness/src/replay/pack.rs",
     ":!harness/src/replay/page.rs",
     ":!harness/src/replay/player.js",
+    // the calibration benchmark: only its own measurement runs it ([`CALIBRATION_BENCH`])
+    ":!harness/src/cli/calibrate_bench",
+    ":!harness/src/cli/calibrate_bench_plot.rs",
+];
+/// `magbench calibrate bench`, which the `calibration-bench` transcript runs.
+const CALIBRATION_BENCH: &[&str] = &[
+    "harness/src/cli/calibrate_bench",
+    "harness/src/cli/calibrate_bench_plot.rs",
 ];
 /// The rig: drivers, emulator, calibration and the rig files.
 const RIG: &[&str] = &["drivers/src", "rigs"];
@@ -1102,7 +1110,7 @@ pub static MEASURES: &[Measure] = &[
             steps: &[Step::Run("calibrate bench --out bench --threads 2")],
         },
         feature: None,
-        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI],
+        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH],
     },
     Measure {
         name: "detector-accuracy",
