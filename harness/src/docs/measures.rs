@@ -1113,6 +1113,18 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH],
     },
     Measure {
+        name: "calibration-bench-bulk-hydro",
+        source: Transcript {
+            files: &["docs/calibration/bench-bulk-hydro.toml"],
+            cwd: "docs/calibration",
+            steps: &[Step::Run(
+                "calibrate bench --out bench --threads 2 --ranges bench-bulk-hydro.toml",
+            )],
+        },
+        feature: None,
+        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH],
+    },
+    Measure {
         name: "detector-accuracy",
         source: Test {
             package: "magbench-drivers",
