@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use clap::Args;
+use clap::{Args, Subcommand};
 use magbench_drivers::fit::{FitError, FitOptions, calibrate, read_log};
 use magbench_drivers::rigs::preset_named;
 use magbench_env::Scenario;
@@ -11,23 +11,28 @@ use magbench_env::check::Bound;
 use super::calibrate_plot::MotionFigure;
 use super::output::{outln, prepare_file};
 use crate::CliError;
+use crate::registry::Registry;
 
-/// `magbench calibrate`.
+/// `magbench calibrate`: a fit of logged runs, or `calibrate bench`.
 #[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct CalibrateArgs {
+    /// `bench`: the fit evaluated over random rigs (a log folder named `bench` is `./bench`).
+    #[command(subcommand)]
+    pub cmd: Option<CalibrateCmd>,
     /// Logged runs: folders holding rig-log.csv (from `rig run` or `rig excite`) or the CSV
     /// files themselves.
     #[arg(required = true)]
     pub logs: Vec<PathBuf>,
     /// The scenario the runs were made on (physics, workspace, agent count).
-    #[arg(long)]
-    pub scenario: String,
+    #[arg(long, required = true)]
+    pub scenario: Option<String>,
     /// The preset fitted: a built-in name or a preset file; what is not fitted keeps its value.
     #[arg(long, default_value = "hardware")]
     pub base: String,
     /// The fitted preset file.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, required = true)]
+    pub out: Option<PathBuf>,
     /// Frames predicted from each observation.
     #[arg(long, default_value_t = 20)]
     pub segment_frames: usize,
@@ -39,9 +44,23 @@ pub struct CalibrateArgs {
     pub hold: Vec<String>,
 }
 
-/// Runs `magbench calibrate`.
-pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
-    let scenario = Scenario::load(&a.scenario)?;
+/// What `magbench calibrate` can do besides a fit.
+#[derive(Debug, Subcommand)]
+pub enum CalibrateCmd {
+    /// Evaluate `calibrate` over random rigs: excite and fit each, score every parameter
+    /// against its truth; write a CSV, a summary table and a figure.
+    Bench(super::calibrate_bench::BenchArgs),
+}
+
+/// Runs `magbench calibrate` (or `calibrate bench`).
+pub fn run(a: CalibrateArgs, registry: &Registry) -> Result<(), CliError> {
+    if let Some(CalibrateCmd::Bench(b)) = a.cmd {
+        return super::calibrate_bench::run(b, registry);
+    }
+    // clap requires both without a subcommand
+    let scenario = a.scenario.as_deref().unwrap_or_default();
+    let out = a.out.clone().unwrap_or_default();
+    let scenario = Scenario::load(scenario)?;
     let base = preset_named(&a.base, "--base")?;
     for (name, bound, v) in [
         ("--segment-frames", SEGMENT_FRAMES, a.segment_frames),
@@ -51,7 +70,7 @@ pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
             .check_count(name, v as u64)
             .map_err(|r| CliError::arg(name, r.reason))?;
     }
-    prepare_file(&a.out, "--out")?;
+    prepare_file(&out, "--out")?;
     let runs = a
         .logs
         .iter()
@@ -68,8 +87,7 @@ pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
         FitError::Input(i) => CliError::Input(i),
         e @ FitError::NoSegments(_) => CliError::arg("LOG_DIR", e.to_string()),
     })?;
-    fit.preset.name = a
-        .out
+    fit.preset.name = out
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "fitted".into());
@@ -77,10 +95,10 @@ pub fn run(a: CalibrateArgs) -> Result<(), CliError> {
     for l in fit.lines() {
         outln!("{l}");
     }
-    std::fs::write(&a.out, fit.preset_file(&sources))
-        .map_err(|e| CliError::Failed(format!("{}: {e}", a.out.display())))?;
-    outln!("preset       {}", a.out.display());
-    let stem = a.out.with_extension("motion");
+    std::fs::write(&out, fit.preset_file(&sources))
+        .map_err(|e| CliError::Failed(format!("{}: {e}", out.display())))?;
+    outln!("preset       {}", out.display());
+    let stem = out.with_extension("motion");
     let files = crate::plot::save(&MotionFigure::new(&fit.traces), &stem)?;
     for f in files {
         outln!("report       {}", f.display());

@@ -3,6 +3,8 @@
 mod ablate;
 mod bench;
 mod calibrate;
+mod calibrate_bench;
+mod calibrate_bench_plot;
 mod calibrate_plot;
 mod docs;
 mod figures;
@@ -77,7 +79,8 @@ pub enum Command {
     /// Physical runs: the rig emulator, rig bring-up checks and detection replay.
     #[command(subcommand)]
     Rig(rig::RigCmd),
-    /// Fit a preset's parameters to logged rig runs (`rig run`, `rig excite`).
+    /// Fit a preset's parameters to logged rig runs (`rig run`, `rig excite`); `calibrate
+    /// bench` evaluates the fit over random rigs.
     Calibrate(calibrate::CalibrateArgs),
     /// Regenerate the book's measured figures (`docs measure` writes `docs/measured/*.md`).
     #[command(subcommand)]
@@ -100,7 +103,7 @@ pub fn run(args: Args, registry: &Registry) -> Result<(), CliError> {
         Command::Track(a) => track::run(*a, registry),
         Command::Plan(a) => plan::run(a, registry),
         Command::Rig(c) => rig::run(c, registry),
-        Command::Calibrate(a) => calibrate::run(a),
+        Command::Calibrate(a) => calibrate::run(a, registry),
         Command::Docs(c) => docs::run(c, registry),
     }
 }

@@ -285,6 +285,14 @@ const CLI: &[&str] = &[
     ":!harness/src/replay/pack.rs",
     ":!harness/src/replay/page.rs",
     ":!harness/src/replay/player.js",
+    // the calibration benchmark: only its own measurement runs it ([`CALIBRATION_BENCH`])
+    ":!harness/src/cli/calibrate_bench",
+    ":!harness/src/cli/calibrate_bench_plot.rs",
+];
+/// `magbench calibrate bench`, which the `calibration-bench` transcript runs.
+const CALIBRATION_BENCH: &[&str] = &[
+    "harness/src/cli/calibrate_bench",
+    "harness/src/cli/calibrate_bench_plot.rs",
 ];
 /// `magbench regress`'s analysis.
 const REGRESS: &[&str] = &["harness/src/regress"];
@@ -1107,6 +1115,28 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
         depends: &[PLANT, RIG],
+    },
+    Measure {
+        name: "calibration-bench",
+        source: Transcript {
+            files: &[],
+            cwd: ".",
+            steps: &[Step::Run("calibrate bench --out bench --threads 2")],
+        },
+        feature: None,
+        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH],
+    },
+    Measure {
+        name: "calibration-bench-bulk-hydro",
+        source: Transcript {
+            files: &["docs/calibration/bench-bulk-hydro.toml"],
+            cwd: "docs/calibration",
+            steps: &[Step::Run(
+                "calibrate bench --out bench --threads 2 --ranges bench-bulk-hydro.toml",
+            )],
+        },
+        feature: None,
+        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH],
     },
     Measure {
         name: "detector-accuracy",

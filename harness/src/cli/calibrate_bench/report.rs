@@ -1,0 +1,212 @@
+//! The benchmark's outputs: `calibration-bench.csv` (one row per rig × parameter) and the
+//! Markdown summary (per parameter: rigs within tolerance, fitted, not identified, failed).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::rig::Rig;
+use super::score::{Param, Score, Verdict, shown};
+
+/// One rig's result: its scores and the fit's held-out check.
+pub struct RigResult {
+    /// The rig.
+    pub rig: Rig,
+    /// Every parameter scored.
+    pub scores: Vec<Score>,
+    /// How the moment/drag/gain scale was compared (empty when the rig failed).
+    pub scale: String,
+    /// Held-out prediction RMS (BL) of the fitted and the base preset, when fitted.
+    pub held_out: Option<(f64, f64)>,
+    /// Tracking RMS error (BL) under the truth, the fitted preset and the base, when fitted
+    /// (or why it could not be measured).
+    pub tracking: Option<Result<[f64; 3], String>>,
+}
+
+impl RigResult {
+    /// The tracking errors under the truth, the fitted preset and the base, when measured.
+    pub fn tracked(&self) -> Option<[f64; 3]> {
+        self.tracking
+            .as_ref()
+            .and_then(|t| t.as_ref().ok())
+            .copied()
+    }
+}
+
+/// Largest relative difference of the tracking error under the fitted preset from that under
+/// the truth.
+pub const TRACKING_TOLERANCE: f64 = 0.1;
+
+/// A number for the CSV: empty when absent, else full precision.
+fn cell(v: Option<f64>) -> String {
+    v.map_or(String::new(), |v| format!("{v}"))
+}
+
+/// Writes `calibration-bench.csv` into `dir`: rig, seed, medium, hydrodynamics, parameter,
+/// true value, the true value under the fit's scale convention, the fitted value, its error
+/// and the error's unit, the fit's standard error, status, reason, tolerance, within it,
+/// the scale convention, the held-out prediction RMS of the fitted and the base preset, and
+/// the tracking RMS error under the truth, the fitted preset and the base.
+pub fn write_csv(dir: &Path, results: &[RigResult]) -> Result<(), String> {
+    let path = dir.join("calibration-bench.csv");
+    let err = |e: csv::Error| format!("{}: {e}", path.display());
+    let mut w = csv::Writer::from_path(&path).map_err(err)?;
+    w.write_record([
+        "rig",
+        "seed",
+        "medium",
+        "hydrodynamics",
+        "parameter",
+        "true",
+        "true_compared",
+        "fitted",
+        "error",
+        "error_unit",
+        "standard_error",
+        "status",
+        "reason",
+        "tolerance",
+        "within_tolerance",
+        "scale",
+        "held_out_fitted_rms_bl",
+        "held_out_base_rms_bl",
+        "tracking_rms_truth_bl",
+        "tracking_rms_fitted_bl",
+        "tracking_rms_base_bl",
+    ])
+    .map_err(err)?;
+    for r in results {
+        for s in &r.scores {
+            let within = s.within.map_or(String::new(), |b| b.to_string());
+            w.write_record([
+                r.rig.index.to_string(),
+                r.rig.seed.to_string(),
+                if r.rig.interface() {
+                    "interface"
+                } else {
+                    "bulk"
+                }
+                .into(),
+                r.rig.hydrodynamics().to_string(),
+                s.param.name(),
+                format!("{}", s.truth),
+                format!("{}", s.compared),
+                cell(s.fitted),
+                cell(s.error),
+                s.param.unit().into(),
+                cell(s.se),
+                s.verdict.status().into(),
+                s.verdict.reason().into(),
+                format!("{}", s.param.tolerance()),
+                within,
+                r.scale.clone(),
+                cell(r.held_out.map(|h| h.0)),
+                cell(r.held_out.map(|h| h.1)),
+                cell(r.tracked().map(|t| t[0])),
+                cell(r.tracked().map(|t| t[1])),
+                cell(r.tracked().map(|t| t[2])),
+            ])
+            .map_err(err)?;
+        }
+    }
+    w.flush().map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The Markdown summary: one row per parameter with its tolerance, the rigs whose fitted value
+/// is within it, fitted, not identified and failed, and the largest error of a fitted value;
+/// then per rig the tracking errors under the truth, the fitted preset and the base; then one
+/// line per failed rig with its reason.
+pub fn summary(results: &[RigResult], params: &[Param]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| parameter | tolerance | within tolerance | fitted | not identified | rig failed | largest fitted error |"
+    );
+    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- |");
+    for (k, p) in params.iter().enumerate() {
+        let col: Vec<&Score> = results.iter().map(|r| &r.scores[k]).collect();
+        let count = |f: &dyn Fn(&Score) -> bool| col.iter().filter(|s| f(s)).count();
+        let fitted = count(&|s| s.verdict == Verdict::Fitted);
+        let within = count(&|s| s.within == Some(true));
+        let unident = count(&|s| matches!(s.verdict, Verdict::NotIdentified(_)));
+        let failed = count(&|s| matches!(s.verdict, Verdict::RigFailed(_)));
+        let worst = col
+            .iter()
+            .filter(|s| s.verdict == Verdict::Fitted)
+            .filter_map(|s| s.error)
+            .map(f64::abs)
+            .max_by(f64::total_cmp);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {within} of {} | {fitted} | {unident} | {failed} | {} |",
+            p.name(),
+            shown(*p, p.tolerance()),
+            col.len(),
+            worst.map_or("–".into(), |w| shown(*p, w)),
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n| rig | medium | hydrodynamics | tracking RMS, truth (BL) | fitted (BL) | base (BL) | fitted against truth |"
+    );
+    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- |");
+    let mut close = 0;
+    let mut tracked = 0;
+    for r in results {
+        let row = match &r.tracking {
+            None => "| – | – | – | rig failed |".to_string(),
+            Some(Err(e)) => format!("| – | – | – | {e} |"),
+            Some(Ok([t, f, b])) => {
+                tracked += 1;
+                let d = f / t - 1.0;
+                if d.abs() <= TRACKING_TOLERANCE {
+                    close += 1;
+                }
+                format!("| {t:.4} | {f:.4} | {b:.4} | {:+.1}% |", 100.0 * d)
+            }
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} {row}",
+            r.rig.index,
+            if r.rig.interface() {
+                "interface"
+            } else {
+                "bulk"
+            },
+            if r.rig.hydrodynamics() { "on" } else { "off" },
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nTracking error under the fitted preset within {:.0}% of the truth's: {close} of {tracked} rigs fitted ({} drawn).",
+        100.0 * TRACKING_TOLERANCE,
+        results.len()
+    );
+    let failed: Vec<&RigResult> = results
+        .iter()
+        .filter(|r| {
+            matches!(
+                r.scores.first().map(|s| &s.verdict),
+                Some(Verdict::RigFailed(_))
+            )
+        })
+        .collect();
+    if !failed.is_empty() {
+        let _ = writeln!(s, "\nRigs that failed:\n");
+    }
+    for r in failed {
+        let _ = writeln!(
+            s,
+            "- rig {} ({}, hydrodynamics {}): {}",
+            r.rig.index,
+            if r.rig.interface() {
+                "interface"
+            } else {
+                "bulk"
+            },
+            if r.rig.hydrodynamics() { "on" } else { "off" },
+            r.scores[0].verdict.reason()
+        );
+    }
+    s
+}

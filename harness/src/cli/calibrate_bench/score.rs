@@ -1,0 +1,301 @@
+//! A rig's fit scored against its truth: per parameter the error (relative for factors, τ and
+//! the noise; frames for the latency; degrees and BL/s for the bias and a drift), the fit's
+//! own standard error in the same unit, its status, and whether it is within the
+//! tolerance.
+//!
+//! Moments, drags and gradient gains share a scale symmetry (moments ×λ, drags ×λ², gains ×λ);
+//! when the data do not fix it the fit reports them under a convention, and the truth is
+//! scaled the same way before comparing: by the true moments' geometric mean under the fit's
+//! convention, by the true value of the parameter that fixed the scale when one was held.
+
+use magbench_drivers::fit::{FitReport, Kind, ScaleFit, Status};
+use magbench_env::plant::DisturbancePreset;
+
+use super::rig::Rig;
+
+/// A scored parameter: one of the fit's, or the detection noise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Param {
+    /// A parameter of the fit.
+    Fit(Kind),
+    /// The detection noise σ (from the residuals).
+    Noise,
+}
+
+impl Param {
+    /// Every parameter scored for a team of `agents`, in the CSV's order.
+    pub fn all(agents: usize) -> Vec<Param> {
+        let mut out = vec![];
+        for i in 0..agents {
+            out.push(Param::Fit(Kind::Moment(i)));
+            out.push(Param::Fit(Kind::Drag(i)));
+        }
+        out.extend(
+            [
+                Kind::GradientGain(0),
+                Kind::GradientGain(1),
+                Kind::FieldBias,
+                Kind::Drift(0),
+                Kind::Drift(1),
+                Kind::FieldTau,
+                Kind::GradientTau,
+                Kind::Latency,
+            ]
+            .map(Param::Fit),
+        );
+        out.push(Param::Noise);
+        out
+    }
+
+    /// The name in reports (the fit's own).
+    pub fn name(&self) -> String {
+        match self {
+            Param::Fit(k) => k.name(),
+            Param::Noise => "camera.noise.sigma_bl".into(),
+        }
+    }
+
+    /// Whether the error is relative (else absolute, in [`Param::unit`]).
+    pub fn relative(&self) -> bool {
+        match self {
+            Param::Fit(k) => k.is_log(),
+            Param::Noise => true,
+        }
+    }
+
+    /// The unit of the error.
+    pub fn unit(&self) -> &'static str {
+        match self {
+            Param::Fit(Kind::Latency) => "frames",
+            Param::Fit(Kind::FieldBias) => "deg",
+            Param::Fit(Kind::Drift(_)) => "BL/s",
+            _ => "relative",
+        }
+    }
+
+    /// The tolerance on the error: latency ½ frame, noise 20%, coil τ 30% (the field
+    /// coil's; the gradient coil's takes the same), gradient gains 5%,
+    /// moments and drags 10%; the bias 0.5° and a drift 0.005 BL/s (the tolerances of
+    /// `magbench calibrate`'s validation, harness/tests/calibrate.rs).
+    pub fn tolerance(&self) -> f64 {
+        match self {
+            Param::Fit(Kind::Latency) => 0.5,
+            Param::Noise => 0.2,
+            Param::Fit(Kind::FieldTau | Kind::GradientTau) => 0.3,
+            Param::Fit(Kind::GradientGain(_)) => 0.05,
+            Param::Fit(Kind::Moment(_) | Kind::Drag(_)) => 0.1,
+            Param::Fit(Kind::FieldBias) => 0.5,
+            Param::Fit(Kind::Drift(_)) => 0.005,
+        }
+    }
+
+    /// The rig's true value, before any scale convention.
+    pub fn truth(&self, p: &DisturbancePreset) -> f64 {
+        let f = &p.fitted;
+        match self {
+            Param::Fit(Kind::Moment(i)) => f.moment[*i],
+            Param::Fit(Kind::Drag(i)) => f.drag[*i],
+            Param::Fit(Kind::GradientGain(a)) => f.gradient_gain.map_or(1.0, |g| g[*a]),
+            Param::Fit(Kind::FieldBias) => f.field_bias_deg.unwrap_or(0.0),
+            Param::Fit(Kind::Drift(a)) => f.drift_bl_s.map_or(0.0, |d| d[*a]),
+            Param::Fit(Kind::FieldTau) => p.coil_lag.field_tau_ms,
+            Param::Fit(Kind::GradientTau) => p.coil_lag.gradient_tau_ms,
+            Param::Fit(Kind::Latency) => p.camera.nominal_latency_frames(),
+            Param::Noise => p.camera.noise.sigma_bl,
+        }
+    }
+
+    /// The power of the scale λ in this parameter (moments and gains 1, drags 2, else 0).
+    fn scale_power(&self) -> i32 {
+        match self {
+            Param::Fit(Kind::Moment(_) | Kind::GradientGain(_)) => 1,
+            Param::Fit(Kind::Drag(_)) => 2,
+            _ => 0,
+        }
+    }
+}
+
+/// What the rig's fit did with a parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Verdict {
+    /// Fitted.
+    Fitted,
+    /// Not identified by the data (the fit's reason).
+    NotIdentified(String),
+    /// The rig's excitation or fit failed (why).
+    RigFailed(String),
+}
+
+impl Verdict {
+    /// The status column.
+    pub fn status(&self) -> &'static str {
+        match self {
+            Verdict::Fitted => "fitted",
+            Verdict::NotIdentified(_) => "not identified",
+            Verdict::RigFailed(_) => "rig failed",
+        }
+    }
+
+    /// The reason column.
+    pub fn reason(&self) -> &str {
+        match self {
+            Verdict::Fitted => "",
+            Verdict::NotIdentified(r) | Verdict::RigFailed(r) => r,
+        }
+    }
+}
+
+/// One parameter of one rig, scored.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Score {
+    /// The parameter.
+    pub param: Param,
+    /// The true value.
+    pub truth: f64,
+    /// The true value under the fit's scale convention (what the fitted value estimates).
+    pub compared: f64,
+    /// The value the fit wrote (the base's when not identified), when it ran.
+    pub fitted: Option<f64>,
+    /// Error of the value written against `compared`, in [`Param::unit`].
+    pub error: Option<f64>,
+    /// The fit's standard error, in the same unit, when fitted.
+    pub se: Option<f64>,
+    /// Fitted, not identified, or the rig failed.
+    pub verdict: Verdict,
+    /// Whether a fitted value's error is within [`Param::tolerance`].
+    pub within: Option<bool>,
+}
+
+/// The scale λ the fit's moments, drags and gains are relative to, and how it was fixed.
+pub fn scale(fit: &FitReport, truth: &DisturbancePreset) -> (f64, String) {
+    let f = &truth.fitted;
+    match fit.scale {
+        ScaleFit::Identified(_) => (1.0, "absolute (scale identified)".into()),
+        ScaleFit::Convention(_) => {
+            let n = f.moment.len().max(1) as f64;
+            let g = (f.moment.iter().map(|m| m.ln()).sum::<f64>() / n).exp();
+            (g, "moments' geometric mean = 1".into())
+        }
+        ScaleFit::Held => {
+            let held = fit.params.iter().find(|p| {
+                matches!(
+                    p.kind,
+                    Kind::Moment(_) | Kind::Drag(_) | Kind::GradientGain(_)
+                ) && p.status != Status::Fitted
+            });
+            match held {
+                Some(p) => {
+                    let q = Param::Fit(p.kind);
+                    let v = q.truth(truth).powf(1.0 / q.scale_power() as f64);
+                    (v, format!("{} held at 1", p.name))
+                }
+                None => (1.0, "absolute".into()),
+            }
+        }
+    }
+}
+
+/// Every parameter of `rig` scored against its fit.
+pub fn scores(rig: &Rig, fit: &FitReport, agents: usize) -> Vec<Score> {
+    let (lambda, _) = scale(fit, &rig.truth);
+    Param::all(agents)
+        .into_iter()
+        .map(|param| {
+            let truth = param.truth(&rig.truth);
+            let compared = truth / lambda.powi(param.scale_power());
+            let (value, se, verdict) = match param {
+                Param::Noise => match fit.noise {
+                    Some(s) => (Some(s), fit.noise_se.map(|e| e / s), Verdict::Fitted),
+                    None => (
+                        Some(fit.preset.camera.noise.sigma_bl),
+                        None,
+                        Verdict::NotIdentified(
+                            "not seen in the residuals' lag-1 covariance".into(),
+                        ),
+                    ),
+                },
+                Param::Fit(kind) => match fit.params.iter().find(|p| p.kind == kind) {
+                    Some(p) => {
+                        let value = match kind {
+                            Kind::Latency => fit.latency,
+                            _ => p.value,
+                        };
+                        let verdict = match p.status {
+                            Status::Fitted => Verdict::Fitted,
+                            Status::Held => Verdict::NotIdentified("held".into()),
+                            Status::Unidentified(s) => Verdict::NotIdentified(format!(
+                                "standard error {} above the fit's threshold {}",
+                                shown(param, in_unit(kind, s)),
+                                shown(param, in_unit(kind, kind.identified_below()))
+                            )),
+                        };
+                        (Some(value), p.se, verdict)
+                    }
+                    None => (
+                        None,
+                        None,
+                        Verdict::NotIdentified("not a parameter of this fit".into()),
+                    ),
+                },
+            };
+            let error = value.map(|v| {
+                if param.relative() {
+                    v / compared - 1.0
+                } else {
+                    v - compared
+                }
+            });
+            let within = match (&verdict, error) {
+                (Verdict::Fitted, Some(e)) => Some(e.abs() <= param.tolerance()),
+                _ => None,
+            };
+            Score {
+                param,
+                truth,
+                compared,
+                fitted: value,
+                error,
+                se,
+                verdict,
+                within,
+            }
+        })
+        .collect()
+}
+
+/// Every parameter of a rig that failed, with the reason.
+pub fn failed(rig: &Rig, agents: usize, why: &str) -> Vec<Score> {
+    Param::all(agents)
+        .into_iter()
+        .map(|param| {
+            let truth = param.truth(&rig.truth);
+            Score {
+                param,
+                truth,
+                compared: truth,
+                fitted: None,
+                error: None,
+                se: None,
+                verdict: Verdict::RigFailed(why.to_string()),
+                within: None,
+            }
+        })
+        .collect()
+}
+
+/// An error or a standard error of `param` as text: a percentage when relative.
+pub fn shown(param: Param, v: f64) -> String {
+    if param.relative() {
+        format!("{:.1}%", 100.0 * v)
+    } else {
+        format!("{v:.3} {}", param.unit())
+    }
+}
+
+/// A value in the fit's coordinate (radians for the bias) in the preset's unit (degrees).
+fn in_unit(kind: Kind, v: f64) -> f64 {
+    match kind {
+        Kind::FieldBias => v.to_degrees(),
+        _ => v,
+    }
+}
