@@ -1,7 +1,7 @@
 //! CI's regression check: the small experiment `experiments/ci.toml` is run again and compared
 //! with the committed baseline `results/baseline/` by `magbench regress`'s statistics, paired by
 //! seed. A change that worsens tracking error, success, cost or iterations to a solution
-//! beyond the tolerances fails this test, and so does a change the 8 seeds cannot show to be
+//! beyond the tolerances fails this test, and so does a change the 32 seeds cannot show to be
 //! within them (inconclusive: the default of `magbench regress`). Wall-clock times are left
 //! out (CI machines differ). To update the baseline after an intended change, see docs/benchmarks.md
 //! ("Regression checks").

@@ -294,8 +294,8 @@ const CALIBRATION_BENCH: &[&str] = &[
     "harness/src/cli/calibrate_bench",
     "harness/src/cli/calibrate_bench_plot.rs",
 ];
-/// `magbench regress`'s analysis.
-const REGRESS: &[&str] = &["harness/src/regress"];
+/// `magbench regress`'s analysis, and the CI experiment it is sized for.
+const REGRESS: &[&str] = &["harness/src/regress", "experiments/ci.toml"];
 /// The rig: drivers, emulator, calibration and the rig files.
 const RIG: &[&str] = &["drivers/src", "rigs"];
 /// The Python binding.
