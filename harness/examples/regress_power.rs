@@ -18,7 +18,7 @@
 //! - **planted, new draws**: the planted pool on n other seeds, renumbered (the change also
 //!   gives every seed a new sample).
 //!
-//! Each row counts the draws with a gated REGRESSION (a false alarm in A/A; the planted
+//! Each row (n seeds per folder) counts the draws with a gated REGRESSION (a false alarm in A/A; the planted
 //! regression found otherwise), the draws that pass at `--inconclusive fail` (the default) and
 //! at `--inconclusive pass`, and the median number of gated inconclusive verdicts. Every run has
 //! an iteration limit, so the table is the same on every machine.
@@ -166,7 +166,7 @@ fn main() {
         .filter(|r| r.gated)
         .count();
     println!(
-        "| candidate | seeds | seeds per folder | draws | draws with a gated REGRESSION | pass (`--inconclusive fail`) | pass (`--inconclusive pass`) | median gated inconclusive (of {gated_metrics}) |"
+        "| candidate | seeds | n | draws | draws with a gated REGRESSION | pass (`--inconclusive fail`) | pass (`--inconclusive pass`) | median gated inconclusive (of {gated_metrics}) |"
     );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
     let mut rng = ChaCha8Rng::seed_from_u64(DRAW_SEED);
