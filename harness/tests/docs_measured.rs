@@ -166,9 +166,7 @@ fn every_measured_file_parses_and_belongs_to_a_measurement() {
 /// that is fresh: the list names exactly the files whose figures may not be today's.
 const AWAITING_REGENERATION: &[&str] = &[
     // transcripts whose magbench changed (the print feature's refusals, `track --list`'s rig
-    // types, `calibrate bench`): one long on 2 cores, the others needing OMPL's or Python's
-    // build
-    "scaling",
+    // types, `calibrate bench`), needing OMPL's or Python's build
     "pair-100-profile",
     "rig-latency",
     "scale",
