@@ -30,7 +30,8 @@ use std::path::Path;
 
 use magbench::Registry;
 use magbench::experiment::Experiment;
-use magbench::regress::{OnInconclusive, Tolerances, Verdict, compare, failures};
+use magbench::regress::report::{inconclusive, regressions};
+use magbench::regress::{OnInconclusive, Tolerances, compare, failures};
 use magbench::results::store::read_runs;
 use magbench::run::RunRecord;
 use magbench::run::real::RealExecutor;
@@ -119,8 +120,7 @@ struct Tally {
 impl Tally {
     fn add(&mut self, baseline: &[RunRecord], candidate: &[RunRecord]) {
         let rows = compare(baseline, candidate, &Tolerances::default());
-        let gated = |v: Verdict| rows.iter().filter(|r| r.gated && r.verdict == v).count();
-        if gated(Verdict::Regression) + gated(Verdict::Missing) > 0 {
+        if regressions(&rows) > 0 {
             self.regression += 1;
         }
         if failures(&rows, OnInconclusive::Fail) == 0 {
@@ -129,7 +129,7 @@ impl Tally {
         if failures(&rows, OnInconclusive::Pass) == 0 {
             self.pass_pass += 1;
         }
-        self.inconclusive.push(gated(Verdict::Inconclusive));
+        self.inconclusive.push(inconclusive(&rows));
     }
 
     fn row(&mut self, candidate: &str, seeds: &str, n: usize) -> String {

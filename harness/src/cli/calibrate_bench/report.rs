@@ -80,12 +80,7 @@ pub fn write_csv(dir: &Path, results: &[RigResult]) -> Result<(), String> {
             w.write_record([
                 r.rig.index.to_string(),
                 r.rig.seed.to_string(),
-                if r.rig.interface() {
-                    "interface"
-                } else {
-                    "bulk"
-                }
-                .into(),
+                r.rig.medium_name().into(),
                 r.rig.hydrodynamics().to_string(),
                 s.param.name(),
                 format!("{}", s.truth),
@@ -168,11 +163,7 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
             s,
             "| {} | {} | {} {row}",
             r.rig.index,
-            if r.rig.interface() {
-                "interface"
-            } else {
-                "bulk"
-            },
+            r.rig.medium_name(),
             if r.rig.hydrodynamics() { "on" } else { "off" },
         );
     }
@@ -199,11 +190,7 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
             s,
             "- rig {} ({}, hydrodynamics {}): {}",
             r.rig.index,
-            if r.rig.interface() {
-                "interface"
-            } else {
-                "bulk"
-            },
+            r.rig.medium_name(),
             if r.rig.hydrodynamics() { "on" } else { "off" },
             r.scores[0].verdict.reason()
         );

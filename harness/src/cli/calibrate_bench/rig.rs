@@ -37,6 +37,15 @@ impl Rig {
     pub fn hydrodynamics(&self) -> bool {
         self.truth.hydrodynamics.enabled
     }
+
+    /// The medium's name in the outputs: `interface` or `bulk`.
+    pub fn medium_name(&self) -> &'static str {
+        if self.interface() {
+            "interface"
+        } else {
+            "bulk"
+        }
+    }
 }
 
 /// The `hardware` preset's interface (water–air, its contact angle), for rigs at one; its
