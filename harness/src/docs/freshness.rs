@@ -137,28 +137,41 @@ pub fn staleness(
     if dirty {
         return Ok(Some(Staleness::Dirty { revision }));
     }
-    let mut args = vec![
-        "diff".to_string(),
-        "--name-only".into(),
-        revision.clone(),
-        "HEAD".into(),
-        "--".into(),
-    ];
-    args.extend(
-        pathspecs(m)
-            .into_iter()
-            .map(|p| match p.strip_prefix(":!") {
-                Some(excluded) => format!(":(top,exclude){excluded}"),
-                None => format!(":(top){p}"),
-            }),
-    );
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let files: Vec<String> = git(root, &args)?
+    let changed = git(root, &["diff", "--name-only", &revision, "HEAD"])?;
+    let files: Vec<String> = changed
         .lines()
-        .filter(|l| !l.is_empty())
+        .filter(|f| !f.is_empty() && depends_on(m, f))
         .map(str::to_string)
         .collect();
     Ok((!files.is_empty()).then_some(Staleness::Changed { revision, files }))
+}
+
+/// Whether the figures of `m` depend on the repository file `path`: its own files, or a group
+/// of [`Measure::depends`] that holds it. Within a group the longest path that covers `path`
+/// decides (`harness/src` with `:!harness/src/docs` and `harness/src/docs/transcript.rs`
+/// holds the last); each group decides alone, so one group's exclusion never hides a path
+/// another group declares.
+fn depends_on(m: &Measure, path: &str) -> bool {
+    let covers = |spec: &str| {
+        let spec = spec.trim_end_matches('/');
+        path == spec
+            || path
+                .strip_prefix(spec)
+                .is_some_and(|rest| rest.starts_with('/'))
+    };
+    let own = m.own_files();
+    own.iter().any(|f| covers(f))
+        || m.depends.iter().any(|group| {
+            group
+                .iter()
+                .map(|s| match s.strip_prefix(":!") {
+                    Some(excluded) => (excluded, false),
+                    None => (*s, true),
+                })
+                .filter(|(spec, _)| covers(spec))
+                .max_by_key(|(spec, _)| spec.len())
+                .is_some_and(|(_, included)| included)
+        })
 }
 
 /// Runs `git -C root ARGS` and returns its stdout.
@@ -253,6 +266,47 @@ mod tests {
         std::fs::write(dir.path().join("src/docs/b.rs"), "b2").unwrap();
         commit(dir.path(), "second");
         assert_eq!(staleness(dir.path(), &M, &version(&rev)), Ok(None));
+    }
+
+    /// Two groups: one that excludes `src/docs`, one that declares `src/docs/b.rs`.
+    const TWO: Measure = Measure {
+        name: "two",
+        source: Source::Sweep {
+            experiment: "exp.toml",
+            quick_seeds: 1,
+            table: Kind::Runs(planning),
+        },
+        feature: None,
+        depends: &[&["src", ":!src/docs"], &["src/docs/b.rs"]],
+    };
+
+    #[test]
+    fn one_groups_exclusion_does_not_hide_a_path_another_group_declares() {
+        let (dir, rev) = repo();
+        std::fs::write(dir.path().join("src/docs/b.rs"), "b2").unwrap();
+        commit(dir.path(), "second");
+        assert_eq!(
+            staleness(dir.path(), &TWO, &version(&rev)),
+            Ok(Some(Staleness::Changed {
+                revision: rev.clone(),
+                files: vec!["src/docs/b.rs".to_string()]
+            }))
+        );
+        assert_eq!(staleness(dir.path(), &M, &version(&rev)), Ok(None));
+    }
+
+    #[test]
+    fn within_a_group_the_longest_covering_path_decides() {
+        let group: &[&[&str]] = &[&["src", ":!src/docs", "src/docs/b.rs"]];
+        let m = Measure {
+            depends: group,
+            ..M
+        };
+        assert!(depends_on(&m, "src/a.rs"));
+        assert!(depends_on(&m, "src/docs/b.rs"));
+        assert!(!depends_on(&m, "src/docs/c.rs"));
+        assert!(!depends_on(&m, "srcx/a.rs"));
+        assert!(depends_on(&m, "exp.toml"));
     }
 
     #[test]
