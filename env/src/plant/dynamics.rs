@@ -18,7 +18,9 @@
 //! rotation time. With every
 //! term off this is exactly the planning model's kinematics. Integration: classic RK4, in
 //! `n` equal sub-steps of each plant step, `n` the smallest with a sub-step under the fastest
-//! rotation time at 1.5 B₀ (one sub-step without the magnet-lag term).
+//! rotation time at 1.5 B₀ (one sub-step without the magnet-lag term). A sub-step whose
+//! stages would carry a pair within contact is halved until the pair touches, where the plant
+//! leaves it stuck: the r⁻⁴ force is never evaluated at r ≤ 1.
 
 use std::sync::Arc;
 
@@ -62,6 +64,54 @@ impl State {
         }
         s
     }
+}
+
+/// How many times a sub-step is split in halves before a pair is taken to have touched: a
+/// plant step of 1/120 s ends in pieces of 1/(120·2¹⁰) s ≈ 8 µs, over which a nominal pair in
+/// the bulk with the default physics, approaching at its contact speed 2κ ≈ 48 BL/s
+/// ([`crate::physics::PhysicalParams::kappa`]), moves under 0.001 BL.
+pub const MAX_HALVINGS: u32 = 10;
+
+/// How an integration step ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Advance {
+    /// No pair reached contact.
+    Clear,
+    /// A pair reached contact (r ≤ 1 BL) during the step.
+    Contact,
+}
+
+/// What stays fixed over one plant step: its start time, the coil's outputs at its start, the
+/// target they follow and the coil's centre.
+struct Span<'a> {
+    t0: f64,
+    c0: &'a CoilOutput,
+    u: &'a CoilOutput,
+    centre: Vec2,
+}
+
+/// True when, moving in a straight line from `a` to `b`, some pair of the first `n` agents
+/// comes within contact (centre distance ≤ 1 BL), or `b` is not finite.
+fn reaches_contact(a: &State, b: &State, n: usize) -> bool {
+    for i in 0..n {
+        if !(b.p[i].x.is_finite() && b.p[i].y.is_finite()) {
+            return true;
+        }
+        for j in (i + 1)..n {
+            let (d0, d1) = (a.p[j] - a.p[i], b.p[j] - b.p[i]);
+            let seg = d1 - d0;
+            let len2 = seg.norm_squared();
+            let t = if len2 > 0.0 {
+                (-d0.dot(&seg) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            if (d0 + seg * t).norm_squared() <= 1.0 {
+                return true;
+            }
+        }
+    }
+    false
 }
 
 /// The drawn equations of motion of one run.
@@ -263,7 +313,10 @@ impl Dynamics {
     }
 
     /// Advances `s` by `h` seconds from time `t0` with the coil starting at `c0` under the
-    /// target `u`, in RK4 sub-steps.
+    /// target `u`, in RK4 sub-steps. A sub-step whose stages would carry a pair within contact
+    /// (r ≤ 1 BL, where the r⁻⁴ force has no meaning) is split in halves, down to
+    /// [`MAX_HALVINGS`] times; [`Advance::Contact`] when the pair still reaches contact, with `s`
+    /// at the last state before it.
     pub fn advance(
         &self,
         s: &mut State,
@@ -272,27 +325,69 @@ impl Dynamics {
         u: &CoilOutput,
         centre: Vec2,
         h: f64,
-    ) {
-        let n = self.n;
+    ) -> Advance {
         let k = self.substeps(h);
         let dh = h / k as f64;
+        let span = Span { t0, c0, u, centre };
         for q in 0..k {
-            let a = q as f64 * dh;
-            let at = |x: f64| self.coil_at(c0, u, x);
-            let (c_a, c_m, c_b) = (at(a), at(a + 0.5 * dh), at(a + dh));
-            let k1 = self.rates(t0 + a, &c_a, centre, s);
-            let k2 = self.rates(t0 + a + 0.5 * dh, &c_m, centre, &s.plus(&k1, 0.5 * dh, n));
-            let k3 = self.rates(t0 + a + 0.5 * dh, &c_m, centre, &s.plus(&k2, 0.5 * dh, n));
-            let k4 = self.rates(t0 + a + dh, &c_b, centre, &s.plus(&k3, dh, n));
-            let h6 = dh / 6.0;
-            for i in 0..n {
-                s.p[i] += (k1.p[i] + (k2.p[i] + k3.p[i]) * 2.0 + k4.p[i]) * h6;
-                s.m[i] += (k1.m[i] + (k2.m[i] + k3.m[i]) * 2.0 + k4.m[i]) * h6;
-            }
-            if self.tracks_moments() {
-                self.renormalise(s, &c_b, centre);
+            if self.advance_span(s, &span, q as f64 * dh, dh, 0) == Advance::Contact {
+                return Advance::Contact;
             }
         }
+        Advance::Clear
+    }
+
+    /// Advances `s` from `a` to `a + dh` seconds into the step: one RK4 sub-step, or two halves
+    /// when its stages reach contact.
+    fn advance_span(&self, s: &mut State, span: &Span, a: f64, dh: f64, depth: u32) -> Advance {
+        if let Some(next) = self.rk4(s, span, a, dh) {
+            *s = next;
+            return Advance::Clear;
+        }
+        if depth == MAX_HALVINGS {
+            return Advance::Contact;
+        }
+        let half = 0.5 * dh;
+        match self.advance_span(s, span, a, half, depth + 1) {
+            Advance::Clear => self.advance_span(s, span, a + half, half, depth + 1),
+            contact => contact,
+        }
+    }
+
+    /// One classic RK4 sub-step from `a` to `a + dh` seconds into the step; `None` when a
+    /// stage or the result reaches contact (or is not finite), before the rates are evaluated
+    /// there.
+    fn rk4(&self, s: &State, span: &Span, a: f64, dh: f64) -> Option<State> {
+        let n = self.n;
+        let at = |x: f64| self.coil_at(span.c0, span.u, x);
+        let (c_a, c_m, c_b) = (at(a), at(a + 0.5 * dh), at(a + dh));
+        let (t, centre) = (span.t0 + a, span.centre);
+        let clear = |x: State| (!reaches_contact(s, &x, n)).then_some(x);
+        let k1 = self.rates(t, &c_a, centre, s);
+        let k2 = self.rates(
+            t + 0.5 * dh,
+            &c_m,
+            centre,
+            &clear(s.plus(&k1, 0.5 * dh, n))?,
+        );
+        let k3 = self.rates(
+            t + 0.5 * dh,
+            &c_m,
+            centre,
+            &clear(s.plus(&k2, 0.5 * dh, n))?,
+        );
+        let k4 = self.rates(t + dh, &c_b, centre, &clear(s.plus(&k3, dh, n))?);
+        let h6 = dh / 6.0;
+        let mut next = *s;
+        for i in 0..n {
+            next.p[i] += (k1.p[i] + (k2.p[i] + k3.p[i]) * 2.0 + k4.p[i]) * h6;
+            next.m[i] += (k1.m[i] + (k2.m[i] + k3.m[i]) * 2.0 + k4.m[i]) * h6;
+        }
+        let mut next = clear(next)?;
+        if self.tracks_moments() {
+            self.renormalise(&mut next, &c_b, centre);
+        }
+        Some(next)
     }
 
     /// Sets every moment along the field its agent feels (a settled start).

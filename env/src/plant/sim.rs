@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use rand_chacha::ChaCha8Rng;
 
-use super::dynamics::{Dynamics, State};
+use super::dynamics::{Advance, Dynamics, State};
 use super::field::CoilOutput;
 use super::streams::{Stream, normal, stream};
 use super::{DisturbancePreset, Walls};
@@ -332,9 +332,14 @@ impl Plant {
         let n = self.n;
         let mut before = [Vec2::zeros(); MAX_AGENTS];
         before[..n].copy_from_slice(self.positions());
-        self.dynamics
+        let advance = self
+            .dynamics
             .advance(&mut self.state, t0, &c0, &target, self.centre, h);
         self.coil_out = Some(self.dynamics.coil_at(&c0, &target, h));
+        if advance == Advance::Contact {
+            self.stick_closest_pair();
+            return;
+        }
         if self.contact_during_step(&before[..n]) {
             return;
         }
@@ -350,6 +355,31 @@ impl Plant {
         }
         self.slide_along_walls();
         self.contact_during_step(&before[..n]);
+    }
+
+    /// Leaves the closest pair in contact about its midpoint, stuck: the end of a step whose
+    /// integration reached contact, with the state at the last instant before it.
+    fn stick_closest_pair(&mut self) {
+        let p = &mut self.state.p[..self.n];
+        let mut closest = (0, 1, f64::INFINITY);
+        for i in 0..p.len() {
+            for j in (i + 1)..p.len() {
+                let d = (p[j] - p[i]).norm();
+                if d < closest.2 {
+                    closest = (i, j, d);
+                }
+            }
+        }
+        let (i, j, d) = closest;
+        let mid = (p[i] + p[j]) * 0.5;
+        let dir = if d > 0.0 {
+            (p[j] - p[i]) / d
+        } else {
+            Vec2::new(1.0, 0.0)
+        };
+        p[i] = mid - dir * 0.5;
+        p[j] = mid + dir * 0.5;
+        self.stuck = true;
     }
 
     /// Detects agents touching during the last step: a pair whose relative position passed
@@ -454,6 +484,44 @@ mod tests {
         );
         plant.run(&Control::planar(0.0, 0.0, 0.0), 1.0);
         assert!(plant.stuck());
+    }
+
+    /// Pairs 1.02–1.6 BL apart in the bulk with the field 0–0.6 rad off their separation: a
+    /// plant step of 1/120 s can carry the r⁻⁴ attraction past contact. The integrated plant (a
+    /// lagging coil keeps it off the exact flow) must end each step apart or in contact, stuck,
+    /// never thrown across the workspace.
+    #[test]
+    fn a_fast_attraction_ends_in_contact_not_thrown_apart() {
+        let p = PhysicalParams::default();
+        let coil: Arc<dyn Coil> = Arc::new(crate::coil::TriaxialMaxwell::new(p.gradient_limit()));
+        let mut preset = DisturbancePreset::ideal();
+        preset.coil_lag.enabled = true;
+        preset.coil_lag.field_tau_ms = 25.0;
+        let centre = Vec2::new(20.0, 15.0);
+        let mut bad = vec![];
+        for r0 in (0..30).map(|k| 1.02 + 0.02 * k as f64) {
+            for psi in (0..13).map(|k| 0.05 * k as f64) {
+                let start = LocalView::new(centre.x, centre.y, r0, psi).to_pair();
+                let mut plant = Plant::new(&p, coil.clone(), open_world(), &preset, 1, &start);
+                assert!(!plant.is_exact());
+                plant.step(&Control::planar(0.0, 0.0, 0.0));
+                let q = plant.positions();
+                let r = (q[1] - q[0]).norm();
+                let moved = (q[0] - start[0]).norm().max((q[1] - start[1]).norm());
+                let ok = if plant.stuck() {
+                    (r - 1.0).abs() < 1e-9 && moved < 0.5
+                } else {
+                    r > 1.0 && moved < 0.5
+                };
+                if !ok {
+                    bad.push(format!(
+                        "r0 {r0:.2} ψ {psi:.2}: r {r:.3e}, moved {moved:.3e}, stuck {}",
+                        plant.stuck()
+                    ));
+                }
+            }
+        }
+        assert!(bad.is_empty(), "{}", bad.join("\n"));
     }
 
     /// A pair 2 BL from the left wall under `preset`, pulled toward it for 8 s (field along −x:
