@@ -19,8 +19,9 @@
 //! 60 fps. Gradient blocks pull along x or y at
 //! [`GRADIENT_FRACTION`] of the coil's limit, and with a z coil some blocks tilt the field by
 //! ±[`ALPHA_STEP_DEG`]°; the order of the blocks is drawn from the seed. Two closed loops keep
-//! the run usable: on the separation of agents 0 and 1 (below [`R_MIN`] BL the field turns to
-//! ψ = 90° and repels, beyond [`R_MAX`] it turns to ψ = 0 and attracts), and on the centre of
+//! the run usable: on the separation of agents 0 and 1 (below [`R_MIN`] BL, or when the pair
+//! approaches fast enough to touch within [`REACTION_S`] (the [`Approach`] guard), the field
+//! turns to ψ = 90° and repels; beyond [`R_MAX`] it turns to ψ = 0 and attracts), and on the centre of
 //! mass (a gradient never pulls it further from the workspace's centre once it is more than
 //! a quarter of the workspace away). Every observation and command goes to the rig's log as
 //! `rig run` writes it.
@@ -41,6 +42,15 @@ pub const BLOCK_S: f64 = 0.5;
 pub const R_MIN: f64 = 1.7;
 /// Beyond this separation (BL) the field attracts.
 pub const R_MAX: f64 = 3.2;
+/// The slowest reaction of a rig the separation loop allows for (s), from the ranges of the
+/// calibration benchmark's rigs: a frame seen up to 4 frames late at 60 fps (67 ms), the
+/// command sent after the frame (17 ms), and the field coil turned to within e⁻² of the new
+/// angle (2τ at τ = 40 ms: 80 ms).
+pub const REACTION_S: f64 = 4.0 / 60.0 + 1.0 / 60.0 + 2.0 * 0.040;
+/// Frames over which [`Approach`] measures the pair's approach: at 60 fps a tenth of a second,
+/// over which a detection noise of 0.08 BL gives κ̂ a standard deviation of about 20 BL⁵/s at
+/// 2.5 BL.
+pub const APPROACH_FRAMES: usize = 6;
 /// Gradient steps, as a fraction of the coil's gradient limit.
 pub const GRADIENT_FRACTION: f64 = 0.7;
 /// Elevation steps (degrees), where the coil can tilt the field.
@@ -113,6 +123,34 @@ pub struct ExciteReport {
     pub duration_s: f64,
 }
 
+/// The separation loop's guard against a fast approach. Under the strongest attraction (ψ = 0)
+/// a pair's separation follows `r⁵ = r₀⁵ − 10κt` (docs/physics.md), whatever the rig's moments
+/// and drags, which only scale κ. The guard estimates κ from the pair's last
+/// [`APPROACH_FRAMES`] observed separations, `κ̂ = (r_old⁵ − r_new⁵)/(10Δt)`, and reports a
+/// pair that at that rate would touch (r = 1) within [`REACTION_S`] of its last observation.
+#[derive(Debug, Clone, Default)]
+pub struct Approach {
+    /// The last observed separations, oldest first: (time s, separation BL).
+    seen: std::collections::VecDeque<(f64, f64)>,
+}
+
+impl Approach {
+    /// Records separation `r` observed at `t` and returns true when the pair would touch
+    /// within [`REACTION_S`] at the approach rate of the last [`APPROACH_FRAMES`] frames.
+    pub fn too_fast(&mut self, t: f64, r: f64) -> bool {
+        self.seen.push_back((t, r));
+        if self.seen.len() > APPROACH_FRAMES + 1 {
+            self.seen.pop_front();
+        }
+        let (&(t0, r0), &(t1, r1)) = match (self.seen.front(), self.seen.back()) {
+            (Some(a), Some(b)) if self.seen.len() == APPROACH_FRAMES + 1 && b.0 > a.0 => (a, b),
+            _ => return false,
+        };
+        let kappa = (r0.powi(5) - r1.powi(5)) / (10.0 * (t1 - t0));
+        kappa > 0.0 && (r1.powi(5) - 1.0) < 10.0 * kappa * REACTION_S
+    }
+}
+
 /// The block sequence of a run.
 fn blocks(setup: &ExciteSetup) -> Vec<Block> {
     let n = (setup.duration / BLOCK_S).ceil().max(1.0) as usize;
@@ -174,6 +212,7 @@ pub fn excite(
     let mut have_command = false;
     let (mut t0, mut t) = (None, 0.0);
     let mut frame = 0u64;
+    let mut approach = Approach::default();
     let result = (|| -> Result<(), RigError> {
         loop {
             let obs: Observation = rig.observe()?;
@@ -187,7 +226,12 @@ pub fn excite(
             if let Some(l) = log.as_deref_mut() {
                 l.observation(obs.t, frame, &obs.agents);
             }
-            if let Some(c) = next_command(&obs, t, &plan, setup, centre, reach, &mut rep) {
+            let loops = Loops {
+                centre,
+                reach,
+                approach: &mut approach,
+            };
+            if let Some(c) = next_command(&obs, t, &plan, setup, loops, &mut rep) {
                 u = c;
                 have_command = true;
             }
@@ -212,6 +256,14 @@ pub fn excite(
     Ok(rep)
 }
 
+/// What the two closed loops keep between frames: the workspace's centre and the reach of
+/// the centre-of-mass loop, and the separation loop's [`Approach`] guard.
+struct Loops<'a> {
+    centre: Vec2,
+    reach: Vec2,
+    approach: &'a mut Approach,
+}
+
 /// The command for the frame `obs` at time `t` of the run; `None` when agents 0 and 1 were not
 /// both found (the previous command holds).
 fn next_command(
@@ -219,10 +271,14 @@ fn next_command(
     t: f64,
     plan: &[Block],
     setup: &ExciteSetup,
-    centre: Vec2,
-    reach: Vec2,
+    loops: Loops,
     rep: &mut ExciteReport,
 ) -> Option<Control> {
+    let Loops {
+        centre,
+        reach,
+        approach,
+    } = loops;
     let (Some(a), Some(b)) = (obs.agents.first().copied()?, obs.agents.get(1).copied()?) else {
         return None;
     };
@@ -238,7 +294,8 @@ fn next_command(
         Some(p) => p,
         None => (s - 0.5) * std::f64::consts::PI,
     };
-    if r < R_MIN {
+    let too_fast = approach.too_fast(obs.t, r);
+    if r < R_MIN || too_fast {
         psi = std::f64::consts::FRAC_PI_2;
         rep.separation_overrides += 1;
     } else if r > R_MAX {
@@ -344,14 +401,66 @@ mod tests {
             agents: vec![Some(Vec2::new(20.0, 15.0)), Some(Vec2::new(20.0 + r, 15.0))],
         };
         let c = Vec2::new(20.0, 15.0);
-        let u = next_command(&obs(1.5), 0.0, &plan, &s, c, c, &mut rep).unwrap();
+        let mut approach = Approach::default();
+        fn loops(c: Vec2, approach: &mut Approach) -> Loops<'_> {
+            Loops {
+                centre: c,
+                reach: c,
+                approach,
+            }
+        }
+        let u = next_command(&obs(1.5), 0.0, &plan, &s, loops(c, &mut approach), &mut rep).unwrap();
         assert!(
             (u.theta - std::f64::consts::FRAC_PI_2).abs() < 1e-12,
             "repel"
         );
-        let u = next_command(&obs(2.5), 0.0, &plan, &s, c, c, &mut rep).unwrap();
+        let u = next_command(&obs(2.5), 0.0, &plan, &s, loops(c, &mut approach), &mut rep).unwrap();
         assert_eq!(u.theta, 0.0, "the block's ψ");
         assert_eq!(rep.separation_overrides, 1);
+    }
+}
+
+#[cfg(test)]
+mod approach_tests {
+    use super::*;
+
+    /// The first time (s) at which the guard reports a pair attracted at ψ = 0 from `r0` BL
+    /// with constant κ (BL⁵/s), seen at 60 fps, or `None` before contact.
+    fn first_alarm(r0: f64, kappa: f64) -> Option<f64> {
+        let mut a = Approach::default();
+        (0..)
+            .map(|k| k as f64 / 60.0)
+            .map(|t| (t, r0.powi(5) - 10.0 * kappa * t))
+            .take_while(|&(_, r5)| r5 > 1.0)
+            .find(|&(t, r5)| a.too_fast(t, r5.powf(0.2)))
+            .map(|(t, _)| t)
+    }
+
+    #[test]
+    fn a_fast_approach_is_reported_at_least_the_reaction_time_before_contact() {
+        for kappa in [24.0, 60.0, 120.0] {
+            let r0: f64 = 3.2;
+            let contact = (r0.powi(5) - 1.0) / (10.0 * kappa);
+            let alarm = first_alarm(r0, kappa).expect("reported before contact");
+            assert!(
+                contact - alarm >= REACTION_S - 1.0 / 60.0,
+                "κ {kappa}: alarm at {alarm:.3} s, contact at {contact:.3} s"
+            );
+        }
+    }
+
+    #[test]
+    fn a_slow_approach_and_a_separation_are_not_reported() {
+        let mut a = Approach::default();
+        // κ = 0.5 BL⁵/s from 2.5 BL: contact after 19 s
+        let slow = (0..20).any(|k| {
+            let t = k as f64 / 60.0;
+            a.too_fast(t, (2.5f64.powi(5) - 5.0 * t).powf(0.2))
+        });
+        assert!(!slow);
+        let mut a = Approach::default();
+        let apart = (0..20).any(|k| a.too_fast(k as f64 / 60.0, 1.8 + 0.1 * k as f64));
+        assert!(!apart);
     }
 }
 
