@@ -127,7 +127,9 @@ pub struct ExciteReport {
 /// a pair's separation follows `r⁵ = r₀⁵ − 10κt` (docs/physics.md), whatever the rig's moments
 /// and drags, which only scale κ. The guard estimates κ from the pair's last
 /// [`APPROACH_FRAMES`] observed separations, `κ̂ = (r_old⁵ − r_new⁵)/(10Δt)`, and reports a
-/// pair that at that rate would touch (r = 1) within [`REACTION_S`] of its last observation.
+/// pair that at that rate would touch (r = 1) within [`REACTION_S`] of its last observation;
+/// the run's first frames, before the rate is known, are reported too, so that a pair placed
+/// close under an attracting first block is pushed apart rather than left to touch.
 #[derive(Debug, Clone, Default)]
 pub struct Approach {
     /// The last observed separations, oldest first: (time s, separation BL).
@@ -136,7 +138,8 @@ pub struct Approach {
 
 impl Approach {
     /// Records separation `r` observed at `t` and returns true when the pair would touch
-    /// within [`REACTION_S`] at the approach rate of the last [`APPROACH_FRAMES`] frames.
+    /// within [`REACTION_S`] at the approach rate of the last [`APPROACH_FRAMES`] frames, and
+    /// while fewer frames have been seen (the rate is not known yet: the loop repels).
     pub fn too_fast(&mut self, t: f64, r: f64) -> bool {
         self.seen.push_back((t, r));
         if self.seen.len() > APPROACH_FRAMES + 1 {
@@ -144,7 +147,7 @@ impl Approach {
         }
         let (&(t0, r0), &(t1, r1)) = match (self.seen.front(), self.seen.back()) {
             (Some(a), Some(b)) if self.seen.len() == APPROACH_FRAMES + 1 && b.0 > a.0 => (a, b),
-            _ => return false,
+            _ => return true,
         };
         let kappa = (r0.powi(5) - r1.powi(5)) / (10.0 * (t1 - t0));
         kappa > 0.0 && (r1.powi(5) - 1.0) < 10.0 * kappa * REACTION_S
@@ -396,12 +399,7 @@ mod tests {
             alpha: 0.0,
         }];
         let mut rep = ExciteReport::default();
-        let obs = |r: f64| Observation {
-            t: 0.0,
-            agents: vec![Some(Vec2::new(20.0, 15.0)), Some(Vec2::new(20.0 + r, 15.0))],
-        };
         let c = Vec2::new(20.0, 15.0);
-        let mut approach = Approach::default();
         fn loops(c: Vec2, approach: &mut Approach) -> Loops<'_> {
             Loops {
                 centre: c,
@@ -409,13 +407,26 @@ mod tests {
                 approach,
             }
         }
-        let u = next_command(&obs(1.5), 0.0, &plan, &s, loops(c, &mut approach), &mut rep).unwrap();
+        // a guard that has seen the pair hold still at 2.5 BL
+        let mut approach = Approach::default();
+        for k in 0..APPROACH_FRAMES {
+            approach.too_fast(k as f64 / 60.0, 2.5);
+        }
+        let t = APPROACH_FRAMES as f64 / 60.0;
+        let mut command = |r: f64, t: f64| {
+            let obs = Observation {
+                t,
+                agents: vec![Some(c), Some(Vec2::new(c.x + r, c.y))],
+            };
+            next_command(&obs, 0.0, &plan, &s, loops(c, &mut approach), &mut rep).unwrap()
+        };
+        let u = command(2.5, t);
+        assert_eq!(u.theta, 0.0, "the block's ψ");
+        let u = command(1.5, t + 1.0 / 60.0);
         assert!(
             (u.theta - std::f64::consts::FRAC_PI_2).abs() < 1e-12,
             "repel"
         );
-        let u = next_command(&obs(2.5), 0.0, &plan, &s, loops(c, &mut approach), &mut rep).unwrap();
-        assert_eq!(u.theta, 0.0, "the block's ψ");
         assert_eq!(rep.separation_overrides, 1);
     }
 }
@@ -432,8 +443,9 @@ mod approach_tests {
             .map(|k| k as f64 / 60.0)
             .map(|t| (t, r0.powi(5) - 10.0 * kappa * t))
             .take_while(|&(_, r5)| r5 > 1.0)
-            .find(|&(t, r5)| a.too_fast(t, r5.powf(0.2)))
+            .filter(|&(t, r5)| a.too_fast(t, r5.powf(0.2)) && t > APPROACH_FRAMES as f64 / 60.0)
             .map(|(t, _)| t)
+            .next()
     }
 
     #[test]
@@ -453,14 +465,22 @@ mod approach_tests {
     fn a_slow_approach_and_a_separation_are_not_reported() {
         let mut a = Approach::default();
         // κ = 0.5 BL⁵/s from 2.5 BL: contact after 19 s
-        let slow = (0..20).any(|k| {
-            let t = k as f64 / 60.0;
-            a.too_fast(t, (2.5f64.powi(5) - 5.0 * t).powf(0.2))
+        let alarms = |a: &mut Approach, r: &dyn Fn(f64) -> f64| -> Vec<usize> {
+            (0..20)
+                .filter(|&k| {
+                    let t = k as f64 / 60.0;
+                    a.too_fast(t, r(t))
+                })
+                .collect()
+        };
+        let first: Vec<usize> = (0..APPROACH_FRAMES).collect();
+        // κ = 0.5 BL⁵/s from 2.5 BL: contact after 19 s
+        let slow = alarms(&mut Approach::default(), &|t| {
+            (2.5f64.powi(5) - 5.0 * t).powf(0.2)
         });
-        assert!(!slow);
-        let mut a = Approach::default();
-        let apart = (0..20).any(|k| a.too_fast(k as f64 / 60.0, 1.8 + 0.1 * k as f64));
-        assert!(!apart);
+        assert_eq!(slow, first, "only the frames before the rate is known");
+        let apart = alarms(&mut Approach::default(), &|t| 1.8 + 6.0 * t);
+        assert_eq!(apart, first);
     }
 }
 
