@@ -19,9 +19,11 @@
 //! 60 fps. Gradient blocks pull along x or y at
 //! [`GRADIENT_FRACTION`] of the coil's limit, and with a z coil some blocks tilt the field by
 //! ±[`ALPHA_STEP_DEG`]°; the order of the blocks is drawn from the seed. Two closed loops keep
-//! the run usable: on the separation of agents 0 and 1 (below [`R_MIN`] BL, or when the pair
-//! approaches fast enough to touch within [`REACTION_S`] (the [`Approach`] guard), the field
-//! turns to ψ = 90° and repels; beyond [`R_MAX`] it turns to ψ = 0 and attracts), and on the centre of
+//! the run usable: on the separation of agents 0 and 1 (below [`R_MIN`] BL, or the higher edge
+//! at which the rig's attraction seen so far would bring the pair to contact within
+//! [`REACTION_S`], or when the pair approaches fast enough to touch within it (the
+//! [`Approach`] guard), the field turns to ψ = 90° and repels; beyond the band's upper edge,
+//! [`R_MAX`] or as much above the raised lower edge, it turns to ψ = 0 and attracts), and on the centre of
 //! mass (a gradient never pulls it further from the workspace's centre once it is more than
 //! a quarter of the workspace away). Every observation and command goes to the rig's log as
 //! `rig run` writes it.
@@ -38,7 +40,8 @@ use crate::rig_log::RigLog;
 
 /// Length of one block of the trajectory (s).
 pub const BLOCK_S: f64 = 0.5;
-/// Below this separation (BL) the field repels.
+/// Below this separation (BL) the field repels (the lowest edge of the band; [`Approach`]
+/// raises it on a rig whose attraction is strong).
 pub const R_MIN: f64 = 1.7;
 /// Beyond this separation (BL) the field attracts.
 pub const R_MAX: f64 = 3.2;
@@ -127,14 +130,24 @@ pub struct ExciteReport {
 /// a pair's separation follows `r⁵ = r₀⁵ − 10κt` (docs/physics.md), whatever the rig's moments
 /// and drags, which only scale κ. The guard estimates κ from the pair's last
 /// [`APPROACH_FRAMES`] observed separations, `κ̂ = (r_old⁵ − r_new⁵)/(10Δt)`, and reports a
-/// pair that at that rate would touch (r = 1) within [`REACTION_S`] of its last observation;
-/// the run's first frames, before the rate is known, are reported too, so that a pair placed
-/// close under an attracting first block is pushed apart rather than left to touch.
+/// pair that at that rate would touch (r = 1) within [`REACTION_S`] of its last observation.
+/// It also keeps the largest κ̂ seen below [`KAPPA_WITHIN_BL`] (the rig's attraction at its
+/// strongest, where the detection noise matters least) and raises the band's lower edge to
+/// the separation from which that attraction needs [`REACTION_S`] to bring the pair to
+/// contact, `(1 + 10 κ_max REACTION_S)^{1/5}`, never below [`R_MIN`]; the upper edge keeps
+/// the band's width. The run's first frames, before the rate is known, are reported too, so
+/// that a pair placed close under an attracting first block is pushed apart.
 #[derive(Debug, Clone, Default)]
 pub struct Approach {
     /// The last observed separations, oldest first: (time s, separation BL).
     seen: std::collections::VecDeque<(f64, f64)>,
+    /// The largest κ̂ seen (BL⁵/s).
+    kappa_max: f64,
 }
+
+/// Separations (BL) below which both ends of a window must lie for its κ̂ to count toward
+/// the largest: the noise of κ̂ grows as r⁴ (5r⁴σ√2/(10Δt): 13 BL⁵/s at 2.2 BL for σ = 0.08 BL).
+pub const KAPPA_WITHIN_BL: f64 = 2.2;
 
 impl Approach {
     /// Records separation `r` observed at `t` and returns true when the pair would touch
@@ -150,7 +163,22 @@ impl Approach {
             _ => return true,
         };
         let kappa = (r0.powi(5) - r1.powi(5)) / (10.0 * (t1 - t0));
+        if r0 < KAPPA_WITHIN_BL && r1 < KAPPA_WITHIN_BL {
+            self.kappa_max = self.kappa_max.max(kappa);
+        }
         kappa > 0.0 && (r1.powi(5) - 1.0) < 10.0 * kappa * REACTION_S
+    }
+
+    /// Below this separation (BL) the loop repels.
+    pub fn r_min(&self) -> f64 {
+        (1.0 + 10.0 * self.kappa_max * REACTION_S)
+            .powf(0.2)
+            .max(R_MIN)
+    }
+
+    /// Beyond this separation (BL) the loop attracts.
+    pub fn r_max(&self) -> f64 {
+        self.r_min() + (R_MAX - R_MIN)
     }
 }
 
@@ -298,10 +326,10 @@ fn next_command(
         None => (s - 0.5) * std::f64::consts::PI,
     };
     let too_fast = approach.too_fast(obs.t, r);
-    if r < R_MIN || too_fast {
+    if r < approach.r_min() || too_fast {
         psi = std::f64::consts::FRAC_PI_2;
         rep.separation_overrides += 1;
-    } else if r > R_MAX {
+    } else if r > approach.r_max() {
         psi = 0.0;
         rep.separation_overrides += 1;
     }
@@ -459,6 +487,24 @@ mod approach_tests {
                 "κ {kappa}: alarm at {alarm:.3} s, contact at {contact:.3} s"
             );
         }
+    }
+
+    #[test]
+    fn a_strong_attraction_raises_the_band_to_where_it_needs_the_reaction_time() {
+        let mut a = Approach::default();
+        assert_eq!((a.r_min(), a.r_max()), (R_MIN, R_MAX));
+        // κ = 20 BL⁵/s from 2.15 BL, seen for a tenth of a second (to 1.92 BL)
+        let kappa = 20.0;
+        for k in 0..=APPROACH_FRAMES {
+            let t = k as f64 / 60.0;
+            a.too_fast(t, (2.15f64.powi(5) - 10.0 * kappa * t).powf(0.2));
+        }
+        let edge = (1.0 + 10.0 * kappa * REACTION_S).powf(0.2);
+        assert!((a.r_min() - edge).abs() < 1e-9, "{} vs {edge}", a.r_min());
+        assert!((a.r_max() - a.r_min() - (R_MAX - R_MIN)).abs() < 1e-12);
+        // contact from the raised edge takes the reaction time
+        let contact = (a.r_min().powi(5) - 1.0) / (10.0 * kappa);
+        assert!((contact - REACTION_S).abs() < 1e-9);
     }
 
     #[test]
