@@ -509,7 +509,6 @@ mod approach_tests {
 
     #[test]
     fn a_slow_approach_and_a_separation_are_not_reported() {
-        let mut a = Approach::default();
         // κ = 0.5 BL⁵/s from 2.5 BL: contact after 19 s
         let alarms = |a: &mut Approach, r: &dyn Fn(f64) -> f64| -> Vec<usize> {
             (0..20)
