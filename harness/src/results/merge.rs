@@ -1,4 +1,10 @@
 //! Merging shard folders into one results folder.
+//!
+//! The shards' `runs.csv` and `progress.csv` are read row by row and merged by run index (a
+//! k-way merge): a shard in run order holds one run in memory at a time, so the merge of the
+//! run files holds a run per shard, whatever the number of runs; a shard out of run order (a
+//! task at several threads that did not finish) is read whole and sorted first. The merged
+//! folder's derived files are then written by [`super::finalize`], which reads all its runs.
 
 use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
