@@ -155,6 +155,9 @@ ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
+# Start a pending job as soon as a CPU frees: no batching delay, the backfill pass every second
+# (defaults: 3 s and 30 s), so an array of short tasks is not paced by the scheduler.
+SchedulerParameters=batch_sched_delay=0,sched_min_interval=0,bf_interval=1
 JobAcctGatherType=jobacct_gather/none
 AccountingStorageType=accounting_storage/none
 JobCompType=jobcomp/none

@@ -9,14 +9,13 @@ mod common;
 mod slurm;
 
 use std::collections::BTreeSet;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 use common::{deterministic_runs, write};
 use magbench::results::Manifest;
-use slurm::{Cluster, Job, experiments};
+use slurm::{Cluster, Job, experiments, skip_or_fail};
 
 /// Real planners, iteration limits only (reproducible bit for bit): 32 runs, about 0.1 s each
 /// for goal-zoom-rrt and 0.6 s for sst, so a shard of 8 runs at one thread lasts about 3 s.
@@ -124,20 +123,6 @@ fn split(jobs: &[Job], job: &str) -> (Vec<(String, String)>, Vec<Job>) {
 
 fn merge_log(d: &Path, merge: &Job) -> String {
     std::fs::read_to_string(d.join(format!("magbench-merge-{}.out", merge.id))).unwrap()
-}
-
-fn skip_or_fail(why: &str) {
-    let bar = "!".repeat(78);
-    let msg = format!(
-        "\n{bar}\nSLURM TEST NOT RUN: no local Slurm cluster could be started, so \
-         experiments/slurm-array.sh was NOT tested under Slurm.\nInstall it with \
-         `apt-get install slurm-wlm munge` (daemon logs below).\n{why}\n{bar}\n"
-    );
-    if std::env::var("MAGBENCH_REQUIRE_SLURM").as_deref() == Ok("1") {
-        panic!("MAGBENCH_REQUIRE_SLURM=1 and {msg}");
-    }
-    // Straight to stderr: the test harness captures eprintln! of a passing test.
-    let _ = std::io::stderr().write_all(msg.as_bytes());
 }
 
 #[test]

@@ -259,37 +259,74 @@ pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, CliError> {
 
 /// Parses the complete rows `text` (header first) of the `runs.csv` at `path`.
 pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
-    let mut rd = csv::Reader::from_reader(text.as_bytes());
-    let bad = |row: usize, e: String| {
-        CliError::Input(magbench_env::InputError::new(
-            path.display().to_string(),
-            format!("row {row}"),
-            e,
-        ))
-    };
-    let headers = rd.headers().map_err(|e| bad(0, e.to_string()))?.clone();
-    let col = |name: &str| headers.iter().position(|h| h == name);
-    // the column of each metric the header has
-    let metrics: Vec<(Metric, usize)> = Metric::ALL
-        .iter()
-        .filter_map(|m| Some((*m, col(m.def().column)?)))
-        .collect();
-    // the column of each difficulty measure the header has (none in files of older versions)
-    let measures: Vec<(Measure, usize)> = Measure::ALL
-        .iter()
-        .filter_map(|m| Some((*m, col(m.def().column)?)))
-        .collect();
-    // the column of each per-agent value, for every agent the header has
-    let agents: Vec<[Option<usize>; 4]> = (0..)
-        .map(|a| agent_columns(a).map(|c| col(&c)))
-        .take_while(|c| c[0].is_some())
-        .collect();
-    let mut out = vec![];
-    for (i, row) in rd.records().enumerate() {
-        let row = row.map_err(|e| bad(i + 1, e.to_string()))?;
+    RunRows::new(path, text.as_bytes())?.collect()
+}
+
+fn bad_row(path: &Path, row: usize, e: String) -> CliError {
+    CliError::Input(magbench_env::InputError::new(
+        path.display().to_string(),
+        format!("row {row}"),
+        e,
+    ))
+}
+
+/// The rows of a `runs.csv`, read one at a time from `R` (complete lines only, header first):
+/// the serde columns, then the metric, difficulty and per-agent columns the header has.
+pub struct RunRows<R: std::io::Read> {
+    path: PathBuf,
+    reader: csv::Reader<R>,
+    headers: csv::StringRecord,
+    /// The column of each metric the header has.
+    metrics: Vec<(Metric, usize)>,
+    /// The column of each difficulty measure the header has (none in files of older versions).
+    measures: Vec<(Measure, usize)>,
+    /// The column of each per-agent value, for every agent the header has.
+    agents: Vec<[Option<usize>; 4]>,
+    /// Rows read so far.
+    row: usize,
+    record: csv::StringRecord,
+}
+
+impl<R: std::io::Read> RunRows<R> {
+    /// Reads the header of the `runs.csv` at `path` (named in errors) from `input`.
+    pub fn new(path: &Path, input: R) -> Result<RunRows<R>, CliError> {
+        let mut reader = csv::Reader::from_reader(input);
+        let headers = reader
+            .headers()
+            .map_err(|e| bad_row(path, 0, e.to_string()))?
+            .clone();
+        let col = |name: &str| headers.iter().position(|h| h == name);
+        let metrics = Metric::ALL
+            .iter()
+            .filter_map(|m| Some((*m, col(m.def().column)?)))
+            .collect();
+        let measures = Measure::ALL
+            .iter()
+            .filter_map(|m| Some((*m, col(m.def().column)?)))
+            .collect();
+        let agents = (0..)
+            .map(|a| agent_columns(a).map(|c| col(&c)))
+            .take_while(|c| c[0].is_some())
+            .collect();
+        Ok(RunRows {
+            path: path.to_path_buf(),
+            reader,
+            headers,
+            metrics,
+            measures,
+            agents,
+            row: 0,
+            record: csv::StringRecord::new(),
+        })
+    }
+
+    fn parse(&self) -> Result<RunRecord, CliError> {
+        let (row, i) = (&self.record, self.row);
+        let headers = &self.headers;
+        let bad = |e: String| bad_row(&self.path, i, e);
         let mut r: RunRecord = row
-            .deserialize(Some(&headers))
-            .map_err(|e| bad(i + 1, e.to_string()))?;
+            .deserialize(Some(headers))
+            .map_err(|e| bad(e.to_string()))?;
         let cell = |c: Option<usize>| -> Result<Option<f64>, CliError> {
             let Some(c) = c else { return Ok(None) };
             match row.get(c).filter(|v| !v.is_empty()) {
@@ -297,16 +334,16 @@ pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
                 Some(v) => v
                     .parse()
                     .map(Some)
-                    .map_err(|e| bad(i + 1, format!("{}: {v:?}: {e}", &headers[c]))),
+                    .map_err(|e| bad(format!("{}: {v:?}: {e}", &headers[c]))),
             }
         };
-        for &(m, c) in &metrics {
+        for &(m, c) in &self.metrics {
             r.set(m, cell(Some(c))?);
         }
-        for &(m, c) in &measures {
+        for &(m, c) in &self.measures {
             r.difficulty.set(m, cell(Some(c))?);
         }
-        for cols in &agents {
+        for cols in &self.agents {
             let mut v = [None; 4];
             for (v, &c) in v.iter_mut().zip(cols) {
                 *v = cell(c)?;
@@ -321,9 +358,100 @@ pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
         {
             r.per_agent.pop();
         }
-        out.push(r);
+        Ok(r)
     }
-    Ok(out)
+}
+
+impl<R: std::io::Read> Iterator for RunRows<R> {
+    type Item = Result<RunRecord, CliError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.row += 1;
+        match self.reader.read_record(&mut self.record) {
+            Ok(false) => None,
+            Ok(true) => Some(self.parse()),
+            Err(e) => Some(Err(bad_row(&self.path, self.row, e.to_string()))),
+        }
+    }
+}
+
+/// A CSV file that another process may still append to (or replace), opened once: its
+/// complete lines as they were when it was opened (up to its last line end outside quotes;
+/// what follows is a line cut short), which every [`Snapshot::reader`] reads again, whatever
+/// is written to the file later.
+pub struct Snapshot {
+    path: PathBuf,
+    file: File,
+    len: u64,
+}
+
+impl Snapshot {
+    /// Opens the file at `path` and finds the end of its complete lines (`None`: no file).
+    pub fn open(path: &Path) -> Result<Option<Snapshot>, CliError> {
+        use std::io::{BufRead, BufReader};
+        let file = match File::open(path) {
+            Ok(f) => f,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(failed(path, e)),
+        };
+        let mut r = BufReader::new(&file);
+        let (mut quoted, mut len, mut at) = (false, 0u64, 0u64);
+        loop {
+            let buf = r.fill_buf().map_err(|e| failed(path, e))?;
+            if buf.is_empty() {
+                break;
+            }
+            for &b in buf {
+                at += 1;
+                match b {
+                    b'"' => quoted = !quoted,
+                    b'\n' if !quoted => len = at,
+                    _ => {}
+                }
+            }
+            let n = buf.len();
+            r.consume(n);
+        }
+        Ok(Some(Snapshot {
+            path: path.to_path_buf(),
+            file,
+            len,
+        }))
+    }
+
+    /// The file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The complete lines, from the start; one reader at a time (they share the file offset).
+    pub fn reader(&self) -> Result<std::io::Take<std::io::BufReader<File>>, CliError> {
+        use std::io::{Read, Seek};
+        let mut f = self.file.try_clone().map_err(|e| failed(&self.path, e))?;
+        f.rewind().map_err(|e| failed(&self.path, e))?;
+        Ok(std::io::BufReader::new(f).take(self.len))
+    }
+
+    /// The rows of this `runs.csv`, read one at a time.
+    pub fn runs(&self) -> Result<RunRows<std::io::Take<std::io::BufReader<File>>>, CliError> {
+        RunRows::new(&self.path, self.reader()?)
+    }
+
+    /// The rows of this `progress.csv`, read one at a time.
+    pub fn progress(
+        &self,
+    ) -> Result<impl Iterator<Item = Result<ProgressRow, CliError>> + use<>, CliError> {
+        let path = self.path.clone();
+        Ok(csv::Reader::from_reader(self.reader()?)
+            .into_deserialize()
+            .enumerate()
+            .map(move |(i, r)| r.map_err(|e| bad_row(&path, i + 1, e.to_string()))))
+    }
+}
+
+/// `progress.csv` rows, without a header.
+pub fn progress_bytes(rows: &[ProgressRow]) -> Vec<u8> {
+    record_bytes(rows)
 }
 
 /// Reads the complete rows of `progress.csv`.
