@@ -135,15 +135,27 @@ pub struct ExciteReport {
 /// strongest, where the detection noise matters least) and raises the band's lower edge to
 /// the separation from which that attraction needs [`REACTION_S`] to bring the pair to
 /// contact, `(1 + 10 κ_max REACTION_S)^{1/5}`, never below [`R_MIN`]; the upper edge keeps
-/// the band's width. The run's first frames, before the rate is known, are reported too, so
-/// that a pair placed close under an attracting first block is pushed apart.
+/// the band's width. The run starts by repelling until the pair has reached the band's upper
+/// edge (and the guard has its frames), or for at most [`START_S`], so that the first
+/// attraction starts from the farthest separation and the guard sees the rig's attraction
+/// before the pair is close.
 #[derive(Debug, Clone, Default)]
 pub struct Approach {
     /// The last observed separations, oldest first: (time s, separation BL).
     seen: std::collections::VecDeque<(f64, f64)>,
     /// The largest κ̂ seen (BL⁵/s).
     kappa_max: f64,
+    /// Whether the pair has reached the band's upper edge once (or [`START_S`] has passed).
+    started: bool,
+    /// When the first separation was observed (s).
+    first: Option<f64>,
 }
+
+/// Longest repulsion at the run's start (s): two blocks. Repelling from 2 BL, a pair of the
+/// benchmark's strongest rigs (κ ≈ 58 BL⁵/s: moments +30%, drags −30% on the default physics'
+/// 24 BL⁵/s) reaches 3.2 BL in about 1 s (`r⁵ = r₀⁵ + 5κt`); a weaker pair, still closer by
+/// then, also attracts more slowly.
+pub const START_S: f64 = 2.0 * BLOCK_S;
 
 /// Separations (BL) below which both ends of a window must lie for its κ̂ to count toward
 /// the largest: the noise of κ̂ grows as r⁴ (5r⁴σ√2/(10Δt): 13 BL⁵/s at 2.2 BL for σ = 0.08 BL).
@@ -152,14 +164,18 @@ pub const KAPPA_WITHIN_BL: f64 = 2.2;
 impl Approach {
     /// Records separation `r` observed at `t` and returns true when the pair would touch
     /// within [`REACTION_S`] at the approach rate of the last [`APPROACH_FRAMES`] frames, and
-    /// while fewer frames have been seen (the rate is not known yet: the loop repels).
+    /// from the run's start until the pair first reaches the band's upper edge with the
+    /// guard's frames seen (the loop repels).
     pub fn too_fast(&mut self, t: f64, r: f64) -> bool {
         self.seen.push_back((t, r));
         if self.seen.len() > APPROACH_FRAMES + 1 {
             self.seen.pop_front();
         }
+        let full = self.seen.len() == APPROACH_FRAMES + 1;
+        let first = *self.first.get_or_insert(t);
+        self.started |= full && (r >= self.r_max() || t - first >= START_S);
         let (&(t0, r0), &(t1, r1)) = match (self.seen.front(), self.seen.back()) {
-            (Some(a), Some(b)) if self.seen.len() == APPROACH_FRAMES + 1 && b.0 > a.0 => (a, b),
+            (Some(a), Some(b)) if self.started && b.0 > a.0 => (a, b),
             _ => return true,
         };
         let kappa = (r0.powi(5) - r1.powi(5)) / (10.0 * (t1 - t0));
@@ -436,7 +452,7 @@ mod tests {
             }
         }
         // a guard that has seen the pair hold still at 2.5 BL
-        let mut approach = Approach::default();
+        let mut approach = approach_tests::running();
         for k in 0..APPROACH_FRAMES {
             approach.too_fast(k as f64 / 60.0, 2.5);
         }
@@ -463,10 +479,18 @@ mod tests {
 mod approach_tests {
     use super::*;
 
+    /// A guard past the run's start (the pair has reached the band's upper edge once).
+    pub(super) fn running() -> Approach {
+        Approach {
+            started: true,
+            ..Approach::default()
+        }
+    }
+
     /// The first time (s) at which the guard reports a pair attracted at ψ = 0 from `r0` BL
     /// with constant κ (BL⁵/s), seen at 60 fps, or `None` before contact.
     fn first_alarm(r0: f64, kappa: f64) -> Option<f64> {
-        let mut a = Approach::default();
+        let mut a = running();
         (0..)
             .map(|k| k as f64 / 60.0)
             .map(|t| (t, r0.powi(5) - 10.0 * kappa * t))
@@ -491,7 +515,7 @@ mod approach_tests {
 
     #[test]
     fn a_strong_attraction_raises_the_band_to_where_it_needs_the_reaction_time() {
-        let mut a = Approach::default();
+        let mut a = running();
         assert_eq!((a.r_min(), a.r_max()), (R_MIN, R_MAX));
         // κ = 20 BL⁵/s from 2.15 BL, seen for a tenth of a second (to 1.92 BL)
         let kappa = 20.0;
@@ -508,6 +532,16 @@ mod approach_tests {
     }
 
     #[test]
+    fn a_run_starts_by_repelling_until_the_pair_reaches_the_band_s_upper_edge() {
+        let mut a = Approach::default();
+        let r = |k: usize| 2.0 + 0.1 * k as f64;
+        let alarms: Vec<bool> = (0..16).map(|k| a.too_fast(k as f64 / 60.0, r(k))).collect();
+        let first_clear = alarms.iter().position(|x| !x).expect("released");
+        assert!(r(first_clear) >= R_MAX, "released at {} BL", r(first_clear));
+        assert!(r(first_clear - 1) < R_MAX);
+    }
+
+    #[test]
     fn a_slow_approach_and_a_separation_are_not_reported() {
         // κ = 0.5 BL⁵/s from 2.5 BL: contact after 19 s
         let alarms = |a: &mut Approach, r: &dyn Fn(f64) -> f64| -> Vec<usize> {
@@ -518,13 +552,12 @@ mod approach_tests {
                 })
                 .collect()
         };
-        let first: Vec<usize> = (0..APPROACH_FRAMES).collect();
+        // a running guard's first frame has no rate yet
+        let first = vec![0];
         // κ = 0.5 BL⁵/s from 2.5 BL: contact after 19 s
-        let slow = alarms(&mut Approach::default(), &|t| {
-            (2.5f64.powi(5) - 5.0 * t).powf(0.2)
-        });
-        assert_eq!(slow, first, "only the frames before the rate is known");
-        let apart = alarms(&mut Approach::default(), &|t| 1.8 + 6.0 * t);
+        let slow = alarms(&mut running(), &|t| (2.5f64.powi(5) - 5.0 * t).powf(0.2));
+        assert_eq!(slow, first, "only the frame before a rate is known");
+        let apart = alarms(&mut running(), &|t| 1.8 + 6.0 * t);
         assert_eq!(apart, first);
     }
 }
