@@ -246,7 +246,8 @@ pub fn calibrate(
             "frames",
             format!(
                 "too little usable data: {}; {} segments of up to {} frames remain, a fit needs {MIN_SEGMENTS} ({MIN_HELD_OUT} held out, {} fitted); excite again keeping the agents apart (at an interface, capillary attraction may beat the separation loop)",
-                stuck_summary(&stuck),
+                // the error names the file already; more than one run, each is named
+                stuck_summary(&stuck, stuck.len() > 1),
                 all.len(),
                 opts.segment_frames,
                 MIN_SEGMENTS - MIN_HELD_OUT
@@ -388,17 +389,22 @@ pub fn calibrate(
     ))
 }
 
-/// What was left out as stuck in contact, per run: seconds of seconds, stretches and the band.
-pub fn stuck_summary(stuck: &[StuckFrames]) -> String {
+/// What was left out as stuck in contact, per run: seconds of seconds (of which file, with
+/// `name_files`), stretches and the band.
+pub fn stuck_summary(stuck: &[StuckFrames], name_files: bool) -> String {
     stuck
         .iter()
         .filter(|s| s.stretches > 0)
         .map(|s| {
             format!(
-                "{:.1} s of {:.1} s of {} excluded, the agents stuck in contact ({} stretch{} of at least {} frames with an observed separation within {:.3} BL of contact and not rising)",
+                "{:.1} s of {:.1} s{} excluded, the agents stuck in contact ({} stretch{} of at least {} frames with an observed separation within {:.3} BL of contact and not rising)",
                 s.seconds,
                 s.run_seconds,
-                s.source,
+                if name_files {
+                    format!(" of {}", s.source)
+                } else {
+                    String::new()
+                },
                 s.stretches,
                 if s.stretches == 1 { "" } else { "es" },
                 contact::STUCK_FRAMES,

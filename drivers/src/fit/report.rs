@@ -404,7 +404,7 @@ impl FitReport {
         if self.excluded_seconds() > 0.0 {
             out.push(format!(
                 "excluded                 {}: left out of the fit and of the held-out check",
-                stuck_summary(&self.stuck)
+                stuck_summary(&self.stuck, true)
             ));
         }
         out.push(self.held_out.line());
