@@ -426,7 +426,7 @@ impl FitReport {
         let h = &self.held_out;
         match (h.undecided(), h.rms()) {
             (Some(why), _) => w.push(format!(
-                "the held-out check cannot tell the fitted preset from the base ({why}): nothing shows that the fit predicts better, do not use it; check that --scenario and --base match the rig, then excite longer or harder"
+                "the held-out check cannot tell the fitted preset from the base, so nothing shows that the fit predicts better; do not use it; check that --scenario and --base match the rig, then excite longer or harder. Why: {why}"
             )),
             (None, Some((f, b))) if !h.fitted_better() => w.push(format!(
                 "the fitted preset predicts the held-out segments no better than the base ({f:.4} against {b:.4} BL): do not use it; check that --scenario and --base match the rig, then excite longer or harder"
