@@ -285,3 +285,69 @@ fn calibrate_refuses_bad_options_and_logs_naming_them() {
     // a file that is not a rig log: its name, the header and why
     refused(&base, &[&log_s, "header", "no column `x0_bl`"]);
 }
+
+#[test]
+fn calibrate_refuses_a_log_of_a_stuck_team_naming_the_file_and_the_stuck_seconds() {
+    let scenario = Scenario::load("open-field").unwrap();
+    let n = scenario.agents();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let t = truth(11, n);
+    let mut rig = SimRig::new(&scenario, &t, 11);
+    let path = d.join("rig-log.csv");
+    let mut log = log_for(&path, n).unwrap();
+    let setup = ExciteSetup {
+        duration: 12.0,
+        seed: 11,
+        gradient_limit: scenario.physics.gradient_limit(),
+        alpha_max: std::f64::consts::FRAC_PI_2,
+        world: scenario.world.clone(),
+    };
+    excite(&mut rig, &setup, Some(&mut log)).unwrap();
+    drop(log);
+    // from 3 s on, agent 1 is seen touching agent 0 (1 BL along x): a stuck team
+    let text = std::fs::read_to_string(&path).unwrap();
+    let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let col = |c: &str| head.iter().position(|h| *h == c).unwrap();
+    let (t_s, x0, y0, x1, y1) = (
+        col("t_s"),
+        col("x0_bl"),
+        col("y0_bl"),
+        col("x1_bl"),
+        col("y1_bl"),
+    );
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            let mut c: Vec<String> = l.split(',').map(String::from).collect();
+            let late = c[t_s].parse::<f64>().is_ok_and(|t| t >= 3.0);
+            if l.contains(",observation,") && late && !c[x0].is_empty() && !c[x1].is_empty() {
+                let x: f64 = c[x0].parse().unwrap();
+                c[x1] = format!("{}", x + 1.0);
+                c[y1] = c[y0].clone();
+            }
+            c.join(",")
+        })
+        .collect();
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    let out = d.join("f.toml");
+    let log_s = path.display().to_string();
+    refused(
+        &[
+            "calibrate",
+            &log_s,
+            "--scenario",
+            "open-field",
+            "--out",
+            &out.display().to_string(),
+        ],
+        &[
+            &log_s,
+            "frames",
+            "too little usable data",
+            "stuck in contact",
+            "excluded",
+        ],
+    );
+    assert!(!out.exists(), "a preset was written for a refused log");
+}

@@ -29,10 +29,17 @@
 //! ([`model::Kind::identified_below`]) is not fitted to noise: the worst one is held at the
 //! base value and the fit repeated, until every parameter left is identified.
 //!
+//! Frames in which the team is stuck in contact (found from the observed positions, the
+//! [`contact`] module) are left out of the fit and of the held-out check, and the report says
+//! how many seconds; a log with too little left ([`MIN_SEGMENTS`]) is refused.
+//!
 //! Every fifth segment is held out of the fit; the report gives the prediction error of the
-//! fitted preset and of the base on them ([`HeldOut`]) and warns when the fit predicts no
-//! better than the base or left a parameter unidentified.
+//! fitted preset and of the base on those both predict ([`HeldOut`]), says so when the check
+//! cannot tell them apart (too few compared, or the same predictions), and warns when the fit
+//! predicts no better than the base, when the check cannot tell, or when it left a parameter
+//! unidentified.
 
+pub mod contact;
 pub mod error;
 pub mod log;
 pub mod model;
@@ -45,6 +52,7 @@ use magbench_env::{InputError, Scenario};
 
 use self::model::{Segment, frame_period};
 
+pub use self::contact::StuckFrames;
 pub use self::error::FitError;
 pub use self::log::{LoggedFrame, LoggedRun, read_log};
 pub use self::model::{Kind, Model, SegmentTrace};
@@ -86,25 +94,31 @@ pub const SCALE_IDENTIFIED_BELOW: f64 = 0.1;
 /// One segment in this many is held out of the fit for the check of its predictions.
 pub const HOLD_OUT_EVERY: usize = 5;
 
-/// Fewest segments a fit takes: 5 held out (a prediction error from fewer says little) and 20
-/// fitted (every one of the excitation's 4 field-angle blocks seen about 5 times).
-pub const MIN_SEGMENTS: usize = 25;
+/// Fewest held-out segments predicted under both the fitted preset and the base for the
+/// held-out check to compare them: a prediction error from fewer says little.
+pub const MIN_HELD_OUT: usize = 5;
+
+/// Fewest segments a fit takes: [`MIN_HELD_OUT`] held out and, with one in
+/// [`HOLD_OUT_EVERY`] held out, 20 fitted (every one of the excitation's 4 field-angle blocks
+/// seen about 5 times).
+pub const MIN_SEGMENTS: usize = MIN_HELD_OUT * HOLD_OUT_EVERY;
+
+/// Largest difference (BL) between the fitted preset's and the base's held-out residuals at
+/// which the two predict the same: a micro body length, far below any camera's detection
+/// noise.
+pub const SAME_PREDICTION_BL: f64 = 1e-6;
 
 /// Largest share of frames a log may lose in gaps: beyond it the consecutive stretches the fit
 /// predicts are the exception, not the run.
 pub const MAX_LOST_SHARE: f64 = 0.5;
-
-/// Largest share of frames in which two agents may touch: a pair in contact sticks (env's
-/// plant freezes it) and moves as one, which says nothing of the parameters; beyond half the
-/// run the log is of a stuck team.
-pub const MAX_CONTACT_SHARE: f64 = 0.5;
 
 /// Room (BL) around the scenario's workspace an observation may fall in (detection error and
 /// an agent's radius); beyond it the log is of another workspace.
 pub const WORKSPACE_MARGIN_BL: f64 = 1.0;
 
 /// Checks that every run can be a run of `scenario`: its agent count, positions within the
-/// workspace, time and frame order, not mostly agents in contact, not mostly gaps.
+/// workspace, time and frame order, not mostly gaps. Agents stuck in contact are not a reason
+/// to refuse a run: [`contact`] finds those frames and the fit leaves them out.
 fn check_runs(scenario: &Scenario, runs: &[LoggedRun]) -> Result<(), InputError> {
     let (w, h) = (scenario.world.width, scenario.world.height);
     let m = WORKSPACE_MARGIN_BL;
@@ -154,26 +168,6 @@ fn check_runs(scenario: &Scenario, runs: &[LoggedRun]) -> Result<(), InputError>
                 ),
             ));
         }
-        let contact = 2.0 * magbench_env::plant::AGENT_RADIUS_BL;
-        let touching = f
-            .iter()
-            .filter(|fr| {
-                let seen: Vec<_> = fr.agents.iter().flatten().collect();
-                seen.iter()
-                    .enumerate()
-                    .any(|(i, a)| seen[i + 1..].iter().any(|b| (**a - **b).norm() <= contact))
-            })
-            .count();
-        if touching as f64 > MAX_CONTACT_SHARE * f.len() as f64 {
-            return Err(InputError::new(
-                &run.source,
-                "frame",
-                format!(
-                    "agents in contact (within {contact} BL) in {touching} of {} frames: a stuck team says nothing of the parameters; excite again keeping them apart (at an interface, capillary attraction may beat the separation loop)",
-                    f.len()
-                ),
-            ));
-        }
         let span = f.last().map_or(0, |l| l.frame - f[0].frame) + 1;
         let lost = span.saturating_sub(f.len() as u64);
         if lost as f64 > MAX_LOST_SHARE * span as f64 {
@@ -215,6 +209,7 @@ pub fn calibrate(
     opts: &FitOptions,
 ) -> Result<FitReport, FitError> {
     check_runs(scenario, &runs)?;
+    let stuck: Vec<StuckFrames> = runs.iter().map(contact::stuck_frames).collect();
     let sources = runs
         .iter()
         .map(|r| r.source.as_str())
@@ -224,6 +219,18 @@ pub fn calibrate(
         .iter()
         .map(|r| r.frames.len() as f64 * frame_period(&r.frames))
         .sum();
+    let runs: Vec<LoggedRun> = runs
+        .into_iter()
+        .zip(&stuck)
+        .map(|(mut r, s)| {
+            let mut k = 0;
+            r.frames.retain(|_| {
+                k += 1;
+                !s.stuck[k - 1]
+            });
+            r
+        })
+        .collect();
     let model = Model::new(scenario, base, runs, opts.max_latency);
     let x0 = model.base_point(base);
     let mut free: Vec<bool> = model
@@ -232,6 +239,22 @@ pub fn calibrate(
         .map(|k| !opts.hold.contains(&k.name()))
         .collect();
     let all = model.segments(opts.segment_frames);
+    let excluded: f64 = stuck.iter().map(|s| s.seconds).sum();
+    if all.len() < MIN_SEGMENTS && excluded > 0.0 {
+        return Err(InputError::new(
+            &sources,
+            "frames",
+            format!(
+                "too little usable data: {}; {} segments of up to {} frames remain, a fit needs {MIN_SEGMENTS} ({MIN_HELD_OUT} held out, {} fitted); excite again keeping the agents apart (at an interface, capillary attraction may beat the separation loop)",
+                // the error names the file already; more than one run, each is named
+                stuck_summary(&stuck, stuck.len() > 1),
+                all.len(),
+                opts.segment_frames,
+                MIN_SEGMENTS - MIN_HELD_OUT
+            ),
+        )
+        .into());
+    }
     if all.is_empty() {
         return Err(FitError::NoSegments(sources));
     }
@@ -340,20 +363,16 @@ pub fn calibrate(
     };
     let noise = problem.detection_noise();
     let check = |x: &[f64]| {
-        let p = Problem::new(
+        Problem::new(
             &model,
             held.clone(),
             x.to_vec(),
             vec![false; x.len()],
             opts.free_starts,
-        );
-        p.mean_square().sqrt()
+        )
+        .segment_residuals()
     };
-    let held_out = HeldOut {
-        segments: held.len(),
-        fitted_rms: check(problem.x()),
-        base_rms: check(&x0),
-    };
+    let held_out = HeldOut::compare(&check(problem.x()), &check(&x0));
     Ok(report::build(
         &model,
         base,
@@ -366,5 +385,32 @@ pub fn calibrate(
         scale,
         held_out,
         seconds,
+        stuck,
     ))
+}
+
+/// What was left out as stuck in contact, per run: seconds of seconds (of which file, with
+/// `name_files`), stretches and the band.
+pub fn stuck_summary(stuck: &[StuckFrames], name_files: bool) -> String {
+    stuck
+        .iter()
+        .filter(|s| s.stretches > 0)
+        .map(|s| {
+            format!(
+                "{:.1} s of {:.1} s{} excluded, the agents stuck in contact ({} stretch{} of at least {} frames with an observed separation within {:.3} BL of contact and not rising)",
+                s.seconds,
+                s.run_seconds,
+                if name_files {
+                    format!(" of {}", s.source)
+                } else {
+                    String::new()
+                },
+                s.stretches,
+                if s.stretches == 1 { "" } else { "es" },
+                contact::STUCK_FRAMES,
+                s.margin_bl
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }

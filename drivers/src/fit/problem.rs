@@ -205,6 +205,19 @@ impl<'a> Problem<'a> {
         (r, j, used)
     }
 
+    /// Each segment's residuals at the current parameters (start states profiled out when
+    /// free), `None` for a segment whose prediction touched a wall or stuck.
+    pub fn segment_residuals(&self) -> Vec<Option<Vec<f64>>> {
+        let at = self.model.preset_at(&self.base, &self.x);
+        self.segs
+            .par_iter()
+            .map(|s| {
+                let b = self.block(s, &at, &[]);
+                b.used.then_some(b.r)
+            })
+            .collect()
+    }
+
     /// Mean squared residual (BL²) over the observed coordinates.
     pub fn mean_square(&self) -> f64 {
         let r = self.residuals_at(&self.x);

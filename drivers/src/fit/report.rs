@@ -5,8 +5,10 @@ use std::fmt::Write as _;
 
 use magbench_env::plant::DisturbancePreset;
 
+use super::contact::StuckFrames;
 use super::model::{Kind, Model, SegmentTrace};
 use super::problem::Problem;
+use super::{MIN_HELD_OUT, SAME_PREDICTION_BL, stuck_summary};
 
 /// Whether a parameter was fitted.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -47,15 +49,103 @@ pub enum ScaleFit {
 }
 
 /// The check on segments left out of the fit: prediction error (residual RMS per coordinate,
-/// each segment's start state fitted) under the fitted preset and under the base.
+/// each segment's start state fitted) under the fitted preset and under the base, over the
+/// held-out segments both predicted (a prediction that touched a wall or stuck is not
+/// compared).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HeldOut {
     /// Segments held out.
     pub segments: usize,
-    /// RMS error of the fitted preset's predictions (BL).
+    /// Held-out segments predicted under both presets, on which they are compared.
+    pub compared: usize,
+    /// RMS error of the fitted preset's predictions (BL); NaN when none was compared.
     pub fitted_rms: f64,
-    /// RMS error of the base preset's predictions (BL).
+    /// RMS error of the base preset's predictions (BL); NaN when none was compared.
     pub base_rms: f64,
+    /// Largest difference between the two presets' residuals (BL); NaN when none was compared.
+    pub max_difference: f64,
+}
+
+impl HeldOut {
+    /// The check from each held-out segment's residuals under the fitted preset and under the
+    /// base (`None`: the prediction touched a wall or stuck), in the same order.
+    pub fn compare(fitted: &[Option<Vec<f64>>], base: &[Option<Vec<f64>>]) -> Self {
+        let (mut sf, mut sb, mut n, mut diff, mut compared) = (0.0, 0.0, 0usize, 0.0f64, 0);
+        for (f, b) in fitted.iter().zip(base) {
+            let (Some(f), Some(b)) = (f, b) else {
+                continue;
+            };
+            compared += 1;
+            for (u, v) in f.iter().zip(b) {
+                // a missed detection is 0 under both
+                if *u != 0.0 || *v != 0.0 {
+                    sf += u * u;
+                    sb += v * v;
+                    n += 1;
+                    diff = diff.max((u - v).abs());
+                }
+            }
+        }
+        let nan = |v: f64| if n == 0 { f64::NAN } else { v };
+        Self {
+            segments: fitted.len(),
+            compared,
+            fitted_rms: nan((sf / n.max(1) as f64).sqrt()),
+            base_rms: nan((sb / n.max(1) as f64).sqrt()),
+            max_difference: nan(diff),
+        }
+    }
+
+    /// Why the check cannot tell the fitted preset from the base, when it cannot: fewer than
+    /// [`MIN_HELD_OUT`] segments compared, errors that are not finite, or predictions that
+    /// agree to within [`SAME_PREDICTION_BL`].
+    pub fn undecided(&self) -> Option<String> {
+        if self.compared < MIN_HELD_OUT {
+            return Some(format!(
+                "only {} of the {} held-out segments were predicted under both presets (a prediction that touches a wall or sticks is not compared); a comparison needs {MIN_HELD_OUT}",
+                self.compared, self.segments
+            ));
+        }
+        if !self.fitted_rms.is_finite() || !self.base_rms.is_finite() {
+            return Some(format!(
+                "the prediction errors are not finite numbers ({} fitted, {} base)",
+                self.fitted_rms, self.base_rms
+            ));
+        }
+        // NaN compares false: a NaN difference is not "the same"
+        (self.max_difference <= SAME_PREDICTION_BL).then(|| {
+            format!(
+                "the fitted preset and the base predict the {} compared segments alike (residuals within {SAME_PREDICTION_BL:e} BL, RMS {:.4} BL): the fit changed nothing they test",
+                self.compared, self.fitted_rms
+            )
+        })
+    }
+
+    /// The RMS errors (fitted, base) when the check can compare them.
+    pub fn rms(&self) -> Option<(f64, f64)> {
+        self.undecided()
+            .is_none()
+            .then_some((self.fitted_rms, self.base_rms))
+    }
+
+    /// Whether the fitted preset predicts the held-out segments better than the base (false
+    /// when the check cannot tell).
+    pub fn fitted_better(&self) -> bool {
+        self.rms().is_some_and(|(f, b)| f < b)
+    }
+
+    /// The check as one line of the report.
+    pub fn line(&self) -> String {
+        match self.undecided() {
+            Some(why) => format!(
+                "held-out check           cannot tell the fitted preset from the base: {why}"
+            ),
+            None => format!(
+                "held-out check           prediction RMS {:.4} BL fitted against {:.4} BL base, on {} of the {} segments left out of the fit",
+                self.fitted_rms, self.base_rms, self.compared, self.segments
+            ),
+        }
+    }
 }
 
 /// The result of `magbench calibrate`.
@@ -78,6 +168,9 @@ pub struct FitReport {
     pub held_out: HeldOut,
     /// Seconds of log.
     pub seconds: f64,
+    /// Per run, the frames found stuck in contact and left out of the fit and of the held-out
+    /// check.
+    pub stuck: Vec<StuckFrames>,
     /// Residual RMS per agent (BL) at the optimum.
     pub rms_per_agent: Vec<f64>,
     /// Segments and residuals fitted.
@@ -108,6 +201,7 @@ pub(super) fn build(
     scale: ScaleFit,
     held_out: HeldOut,
     seconds: f64,
+    stuck: Vec<StuckFrames>,
 ) -> FitReport {
     let x = p.x();
     let params: Vec<ParamFit> = model
@@ -191,6 +285,7 @@ pub(super) fn build(
         scale,
         held_out,
         seconds,
+        stuck,
         rms_per_agent: p.rms_per_agent(),
         segments: p.segments().len(),
         residuals: model.residual_count(p.segments()),
@@ -199,6 +294,11 @@ pub(super) fn build(
 }
 
 impl FitReport {
+    /// Seconds of the logs found stuck in contact and left out.
+    pub fn excluded_seconds(&self) -> f64 {
+        self.stuck.iter().map(|s| s.seconds).sum()
+    }
+
     /// The geometric mean of the fitted moment factors (the common-mode moment scale) and its
     /// standard error (relative), when every agent's moment was fitted.
     pub fn moment_scale(&self) -> Option<(f64, f64)> {
@@ -301,11 +401,13 @@ impl FitReport {
             self.segments,
             self.residuals
         ));
-        let h = &self.held_out;
-        out.push(format!(
-            "held-out check           prediction RMS {:.4} BL fitted against {:.4} BL base, on {} segments left out of the fit",
-            h.fitted_rms, h.base_rms, h.segments
-        ));
+        if self.excluded_seconds() > 0.0 {
+            out.push(format!(
+                "excluded                 {}: left out of the fit and of the held-out check",
+                stuck_summary(&self.stuck, true)
+            ));
+        }
+        out.push(self.held_out.line());
         out.push(
             "left at the base value, never fitted: camera.noise bias (absorbed in the positions), camera.latency jitter, misses and swaps, field jitter, axis gains and skew, cross-talk, ambient field, flow, Brownian motion, hydrodynamics and capillary (physics, not parameters), magnet lag (from the moments)"
                 .into(),
@@ -317,17 +419,19 @@ impl FitReport {
     }
 
     /// What the output cannot be trusted for, each with what to change: predictions on held-out
-    /// segments no better than the base's, parameters the data did not identify, a scale fixed
+    /// segments no better than the base's or a held-out check that cannot tell, parameters the data did not identify, a scale fixed
     /// by convention, a noise the residuals did not show.
     pub fn warnings(&self) -> Vec<String> {
         let mut w = vec![];
         let h = &self.held_out;
-        // a NaN (no held-out segment predicted) warns as well
-        if h.fitted_rms.partial_cmp(&h.base_rms) != Some(std::cmp::Ordering::Less) {
-            w.push(format!(
-                "the fitted preset predicts the held-out segments no better than the base ({:.4} against {:.4} BL): do not use it; check that --scenario and --base match the rig, then excite longer or harder",
-                h.fitted_rms, h.base_rms
-            ));
+        match (h.undecided(), h.rms()) {
+            (Some(why), _) => w.push(format!(
+                "the held-out check cannot tell the fitted preset from the base, so nothing shows that the fit predicts better; do not use it; check that --scenario and --base match the rig, then excite longer or harder. Why: {why}"
+            )),
+            (None, Some((f, b))) if !h.fitted_better() => w.push(format!(
+                "the fitted preset predicts the held-out segments no better than the base ({f:.4} against {b:.4} BL): do not use it; check that --scenario and --base match the rig, then excite longer or harder"
+            )),
+            _ => {}
         }
         for p in &self.params {
             if let Status::Unidentified(_) = p.status {

@@ -15,7 +15,8 @@ pub struct RigResult {
     pub scores: Vec<Score>,
     /// How the moment/drag/gain scale was compared (empty when the rig failed).
     pub scale: String,
-    /// Held-out prediction RMS (BL) of the fitted and the base preset, when fitted.
+    /// Held-out prediction RMS (BL) of the fitted and the base preset, when fitted and the
+    /// held-out check could compare them.
     pub held_out: Option<(f64, f64)>,
     /// Tracking RMS error (BL) under the truth, the fitted preset and the base, when fitted
     /// (or why it could not be measured).
@@ -44,7 +45,8 @@ fn cell(v: Option<f64>) -> String {
 /// Writes `calibration-bench.csv` into `dir`: rig, seed, medium, hydrodynamics, parameter,
 /// true value, the true value under the fit's scale convention, the fitted value, its error
 /// and the error's unit, the fit's standard error, status, reason, tolerance, within it,
-/// the scale convention, the held-out prediction RMS of the fitted and the base preset, and
+/// the scale convention, the held-out prediction RMS of the fitted and the base preset (empty
+/// when the held-out check cannot compare them), and
 /// the tracking RMS error under the truth, the fitted preset and the base.
 pub fn write_csv(dir: &Path, results: &[RigResult]) -> Result<(), String> {
     let path = dir.join("calibration-bench.csv");

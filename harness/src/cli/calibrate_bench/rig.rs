@@ -150,8 +150,9 @@ pub enum Outcome {
 /// by frame), logs it to `dir/rig-log.csv`, writes `dir/truth.toml`, `dir/base.toml` and, when
 /// the fit succeeds,
 /// `dir/fitted.toml`, and fits `base` to the log. I/O failures are errors; a failed
-/// excitation (an error, or agents that touched and stuck) or a refused log is an
-/// [`Outcome::Failed`] saying what `calibrate` made of the log.
+/// excitation (an error, agents that touched and stuck where `calibrate` did not find it) or a
+/// refused log is an [`Outcome::Failed`] saying what `calibrate` made of the log; a log whose
+/// stuck stretch `calibrate` found and left out is fitted on the rest.
 pub fn run(
     rig: &Rig,
     scenario: &Scenario,
@@ -212,14 +213,14 @@ pub fn run(
             )));
         }
     };
+    // a stuck stretch calibrate found and left out is a fit of the rest of the log
     Ok(match touched {
-        Some(t) => Outcome::Failed(format!(
-            "{}; calibrate accepted the log and fitted it (held-out RMS {:.4} BL fitted, {:.4} BL base)",
+        Some(t) if fit.excluded_seconds() == 0.0 => Outcome::Failed(format!(
+            "{}; calibrate found no stuck stretch in the log and fitted all of it ({})",
             stuck(t, duration),
-            fit.held_out.fitted_rms,
-            fit.held_out.base_rms
+            fit.held_out.line()
         )),
-        None => Outcome::Fitted(Box::new(fit)),
+        _ => Outcome::Fitted(Box::new(fit)),
     })
 }
 
