@@ -623,6 +623,24 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, RIG, CLI],
     },
     Measure {
+        name: "calibration-interface",
+        source: Transcript {
+            files: &["rigs", "scenarios", "docs/calibration/interface-truth.toml"],
+            cwd: "docs/calibration",
+            steps: &[
+                Step::Background {
+                    command: "rig emulate --rig ../../rigs/emulator.toml open-field --lockstep \
+                              --preset interface-truth.toml --preset-camera --write-rig live.toml --log emu.csv",
+                    ready: "live.toml",
+                },
+                Step::Run("rig excite --rig live.toml open-field --out exc --duration 90 --seed 2"),
+                Step::Run("calibrate exc --scenario open-field --base hardware --out fitted.toml"),
+            ],
+        },
+        feature: None,
+        depends: &[PLANT, RIG, CLI],
+    },
+    Measure {
         name: "scaling",
         source: Transcript {
             files: &["experiments/scaling.toml"],
