@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use common::{deterministic_runs, write};
 use magbench::results::Manifest;
-use slurm::{Cluster, Job, experiments, skip_or_fail};
+use slurm::{Cluster, Job, experiments, merge_log, skip_or_fail, split};
 
 /// Real planners, iteration limits only (reproducible bit for bit): 32 runs, about 0.1 s each
 /// for goal-zoom-rrt and 0.6 s for sst, so a shard of 8 runs at one thread lasts about 3 s.
@@ -103,28 +103,6 @@ fn job_ids(cluster: &Cluster) -> BTreeSet<String> {
     cluster.jobs().into_iter().map(|j| j.id).collect()
 }
 
-/// The tasks of array `job` with their states, and the merge jobs among `jobs`.
-fn split(jobs: &[Job], job: &str) -> (Vec<(String, String)>, Vec<Job>) {
-    let mut tasks: Vec<(String, String)> = jobs
-        .iter()
-        .filter_map(|j| match &j.array {
-            Some((a, t)) if a == job => Some((t.clone(), format!("{} {}", j.state, j.exit_code))),
-            _ => None,
-        })
-        .collect();
-    tasks.sort();
-    let merges = jobs
-        .iter()
-        .filter(|j| j.name == MERGE_JOB)
-        .cloned()
-        .collect();
-    (tasks, merges)
-}
-
-fn merge_log(d: &Path, merge: &Job) -> String {
-    std::fs::read_to_string(d.join(format!("magbench-merge-{}.out", merge.id))).unwrap()
-}
-
 #[test]
 fn a_job_array_under_real_slurm_merges_and_a_cancelled_task_resumes() {
     let t0 = Instant::now();
@@ -173,9 +151,9 @@ fn a_job_array_under_real_slurm_merges_and_a_cancelled_task_resumes() {
     let a = submit_dir(root, "a");
     let job = array(&a, "1-4");
     cluster.wait_idle(DEADLINE);
-    let (tasks, merges) = split(&cluster.jobs(), &job);
+    let (tasks, merges) = split(&cluster.jobs(), &job, MERGE_JOB);
     let done: Vec<_> = (1..=SHARDS)
-        .map(|t| (t.to_string(), "COMPLETED 0:0".to_string()))
+        .map(|t| (t, "COMPLETED 0:0".to_string()))
         .collect();
     assert_eq!(tasks, done);
     assert_eq!(merges.len(), 1, "{merges:?}");
@@ -209,8 +187,8 @@ fn a_job_array_under_real_slurm_merges_and_a_cancelled_task_resumes() {
         committed.len()
     );
     let jobs = new_jobs(&cluster, &before);
-    let (tasks, merges) = split(&jobs, &job);
-    assert_eq!(tasks[2].0, "3");
+    let (tasks, merges) = split(&jobs, &job, MERGE_JOB);
+    assert_eq!(tasks[2].0, 3);
     assert!(tasks[2].1.starts_with("CANCELLED"), "{tasks:?}");
     for t in [0, 1, 3] {
         assert_eq!(tasks[t].1, "COMPLETED 0:0", "{tasks:?}");
@@ -237,8 +215,8 @@ fn a_job_array_under_real_slurm_merges_and_a_cancelled_task_resumes() {
     let job = array(&b, "3");
     cluster.wait_idle(DEADLINE);
     stage("task 3 resubmitted and done");
-    let (tasks, merges) = split(&new_jobs(&cluster, &before), &job);
-    assert_eq!(tasks, vec![("3".to_string(), "COMPLETED 0:0".to_string())]);
+    let (tasks, merges) = split(&new_jobs(&cluster, &before), &job, MERGE_JOB);
+    assert_eq!(tasks, vec![(3, "COMPLETED 0:0".to_string())]);
     assert_eq!(merges.len(), 1, "{merges:?}");
     assert_eq!(
         (merges[0].state.as_str(), merges[0].exit_code.as_str()),

@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 
 use common::{deterministic_progress, deterministic_runs, write};
 use magbench::results::Manifest;
-use slurm::{Cluster, Job, experiments, skip_or_fail};
+use slurm::{Cluster, Job, experiments, merge_log, skip_or_fail, split};
 
 /// Real planners at 1000 iterations (reproducible bit for bit, a few milliseconds a run): 200
 /// runs, 2 a shard, no replay pages.
@@ -108,30 +108,6 @@ fn committed(dir: &Path) -> Vec<String> {
     complete.lines().skip(1).map(str::to_string).collect()
 }
 
-/// The tasks of array `job` with their states, and the merge jobs, among `jobs`.
-fn split(jobs: &[Job], job: &str) -> (Vec<(usize, String)>, Vec<Job>) {
-    let mut tasks: Vec<(usize, String)> = jobs
-        .iter()
-        .filter_map(|j| match &j.array {
-            Some((a, t)) if a == job => {
-                Some((t.parse().unwrap(), format!("{} {}", j.state, j.exit_code)))
-            }
-            _ => None,
-        })
-        .collect();
-    tasks.sort();
-    let merges = jobs
-        .iter()
-        .filter(|j| j.name == MERGE_JOB)
-        .cloned()
-        .collect();
-    (tasks, merges)
-}
-
-fn merge_log(d: &Path, merge: &Job) -> String {
-    std::fs::read_to_string(d.join(format!("magbench-merge-{}.out", merge.id))).unwrap()
-}
-
 fn assert_merged(d: &Path, merge: &Job) {
     assert_eq!(
         (merge.state.as_str(), merge.exit_code.as_str()),
@@ -210,7 +186,7 @@ fn an_array_of_100_shards_with_a_killed_and_resubmitted_task_merges_into_the_uns
     let before = committed(&shard);
     assert_eq!(before.len(), 1, "task {KILLED} killed after its first run");
     let jobs = cluster.jobs();
-    let (tasks, merges) = split(&jobs, &job);
+    let (tasks, merges) = split(&jobs, &job, MERGE_JOB);
     assert_eq!(tasks.len(), SHARDS, "{tasks:?}");
     for (t, state) in &tasks {
         if *t == KILLED {
@@ -239,7 +215,7 @@ fn an_array_of_100_shards_with_a_killed_and_resubmitted_task_merges_into_the_uns
         .into_iter()
         .filter(|j| !known.contains(&j.id))
         .collect();
-    let (tasks, merges) = split(&jobs, &job);
+    let (tasks, merges) = split(&jobs, &job, MERGE_JOB);
     assert_eq!(tasks, vec![(KILLED, "COMPLETED 0:0".to_string())]);
     assert_eq!(merges.len(), 1, "{merges:?}");
     assert_merged(&d, &merges[0]);

@@ -185,3 +185,29 @@ impl Drop for Cluster {
         }
     }
 }
+
+/// The tasks of array `job` with their states (`STATE EXIT`), by task number, and the jobs
+/// named `merge_job`, among `jobs`.
+pub fn split(jobs: &[Job], job: &str, merge_job: &str) -> (Vec<(usize, String)>, Vec<Job>) {
+    let mut tasks: Vec<(usize, String)> = jobs
+        .iter()
+        .filter_map(|j| match &j.array {
+            Some((a, t)) if a == job => {
+                Some((t.parse().unwrap(), format!("{} {}", j.state, j.exit_code)))
+            }
+            _ => None,
+        })
+        .collect();
+    tasks.sort();
+    let merges = jobs
+        .iter()
+        .filter(|j| j.name == merge_job)
+        .cloned()
+        .collect();
+    (tasks, merges)
+}
+
+/// What the merge job `merge` printed, from its output file in `d`.
+pub fn merge_log(d: &Path, merge: &Job) -> String {
+    std::fs::read_to_string(d.join(format!("magbench-merge-{}.out", merge.id))).unwrap()
+}
