@@ -89,6 +89,35 @@ fn a_tiny_run_writes_a_row_per_rig_and_parameter_and_the_summary() {
     assert_eq!(tables[0].len(), 2 + PARAMS, "a row per parameter: {md}");
     assert!(tables[1][0].contains("tracking RMS"), "{md}");
     assert_eq!(tables[1].len(), 2 + 2, "a row per rig: {md}");
+    // each rig's held-out check as the CSV's prediction errors say, and the fits calibrate
+    // warns not to use counted
+    let (fitted_rms, base_rms) = (col("held_out_fitted_rms_bl"), col("held_out_base_rms_bl"));
+    let mut warned = 0;
+    let mut fitted = 0;
+    for r in 0..2 {
+        let x = rows.iter().find(|x| x[rig] == r.to_string()).unwrap();
+        let expected = if &x[status] == "rig failed" {
+            "–"
+        } else if x[fitted_rms].is_empty() {
+            "cannot tell"
+        } else if x[fitted_rms].parse::<f64>().unwrap() < x[base_rms].parse::<f64>().unwrap() {
+            "better"
+        } else {
+            "no better"
+        };
+        if expected != "–" {
+            fitted += 1;
+        }
+        if expected == "cannot tell" || expected == "no better" {
+            warned += 1;
+        }
+        let cells: Vec<&str> = tables[1][2 + r].split(" | ").collect();
+        assert!(cells[3].starts_with(expected), "rig {r}: {expected}: {md}");
+    }
+    assert!(
+        md.contains(&format!("warns not to use (held-out predictions no better than the base's, or a check that cannot tell): {warned} of {fitted} rigs fitted")),
+        "{md}"
+    );
     assert!(stdout.contains(md.lines().nth(2).unwrap()), "{stdout}");
     assert!(out.join("calibration-bench.svg").is_file());
     assert!(out.join("calibration-bench.png").is_file());

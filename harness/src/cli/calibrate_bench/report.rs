@@ -108,10 +108,50 @@ pub fn write_csv(dir: &Path, results: &[RigResult]) -> Result<(), String> {
     w.flush().map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// What a rig's held-out check says of its fit, as `calibrate` reports it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum HeldOutCheck {
+    /// The rig failed: nothing was fitted.
+    RigFailed,
+    /// The fitted preset predicts the held-out segments better than the base.
+    Better,
+    /// The fitted preset predicts them no better than the base (`calibrate`: do not use it).
+    NoBetter,
+    /// Too few segments compared, or the same predictions (`calibrate`: do not use it).
+    CannotTell,
+}
+
+impl HeldOutCheck {
+    /// The per-rig table's cell: the verdict and, when compared, the two prediction RMS.
+    fn cell(self, held_out: Option<(f64, f64)>) -> String {
+        match (self, held_out) {
+            (HeldOutCheck::RigFailed, _) => "–".into(),
+            (HeldOutCheck::CannotTell, _) | (_, None) => "cannot tell".into(),
+            (HeldOutCheck::Better, Some((f, b))) => format!("better ({f:.4} < {b:.4} BL)"),
+            (HeldOutCheck::NoBetter, Some((f, b))) => format!("no better ({f:.4} ≥ {b:.4} BL)"),
+        }
+    }
+}
+
+/// The held-out check of rig result `r`.
+fn held_out_check(r: &RigResult) -> HeldOutCheck {
+    let failed = matches!(
+        r.scores.first().map(|s| &s.verdict),
+        Some(Verdict::RigFailed(_))
+    );
+    match r.held_out {
+        _ if failed => HeldOutCheck::RigFailed,
+        None => HeldOutCheck::CannotTell,
+        Some((f, b)) if f < b => HeldOutCheck::Better,
+        Some(_) => HeldOutCheck::NoBetter,
+    }
+}
+
 /// The Markdown summary: one row per parameter with its tolerance, the rigs whose fitted value
 /// is within it, fitted, not identified and failed, and the largest error of a fitted value;
-/// then per rig the tracking errors under the truth, the fitted preset and the base; then one
-/// line per failed rig with its reason.
+/// then per rig the held-out check and the tracking errors under the truth, the fitted preset
+/// and the base, with how many fits `calibrate` warns not to use; then one line per failed rig
+/// with its reason.
 pub fn summary(results: &[RigResult], params: &[Param]) -> String {
     let mut s = String::new();
     let _ = writeln!(
@@ -143,12 +183,17 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
     }
     let _ = writeln!(
         s,
-        "\n| rig | medium | hydrodynamics | tracking RMS, truth (BL) | fitted (BL) | base (BL) | fitted against truth |"
+        "\n| rig | medium | hydrodynamics | held-out check | tracking RMS, truth (BL) | fitted (BL) | base (BL) | fitted against truth |"
     );
-    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- |");
+    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- | --- |");
     let mut close = 0;
     let mut tracked = 0;
+    let mut warned = 0;
     for r in results {
+        let check = held_out_check(r);
+        if matches!(check, HeldOutCheck::NoBetter | HeldOutCheck::CannotTell) {
+            warned += 1;
+        }
         let row = match &r.tracking {
             None => "| – | – | – | rig failed |".to_string(),
             Some(Err(e)) => format!("| – | – | – | {e} |"),
@@ -163,10 +208,11 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
         };
         let _ = writeln!(
             s,
-            "| {} | {} | {} {row}",
+            "| {} | {} | {} | {} {row}",
             r.rig.index,
             r.rig.medium_name(),
             if r.rig.hydrodynamics() { "on" } else { "off" },
+            check.cell(r.held_out),
         );
     }
     let _ = writeln!(
@@ -174,6 +220,14 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
         "\nTracking error under the fitted preset within {:.0}% of the truth's: {close} of {tracked} rigs fitted ({} drawn).",
         100.0 * TRACKING_TOLERANCE,
         results.len()
+    );
+    let fitted = results
+        .iter()
+        .filter(|r| held_out_check(r) != HeldOutCheck::RigFailed)
+        .count();
+    let _ = writeln!(
+        s,
+        "Fits that `calibrate` warns not to use (held-out predictions no better than the base's, or a check that cannot tell): {warned} of {fitted} rigs fitted; their parameters are scored above like the others."
     );
     let failed: Vec<&RigResult> = results
         .iter()
