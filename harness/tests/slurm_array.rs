@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use common::{deterministic_runs, write};
 use magbench::results::Manifest;
-use slurm::{Cluster, Job, experiments, merge_log, skip_or_fail, split};
+use slurm::{Cluster, Job, experiments, merge_log, skip_or_fail, split, unsharded};
 
 /// Real planners, iteration limits only (reproducible bit for bit): 32 runs, about 0.1 s each
 /// for goal-zoom-rrt and 0.6 s for sst, so a shard of 8 runs at one thread lasts about 3 s.
@@ -114,23 +114,7 @@ fn a_job_array_under_real_slurm_merges_and_a_cancelled_task_resumes() {
     stage("cluster up");
     let root = tempfile::tempdir().unwrap();
     let root = root.path();
-    let bin = env!("CARGO_BIN_EXE_magbench");
-    write(root, "exp.toml", EXPERIMENT);
-    let o = Command::new(bin)
-        .args([
-            "bench",
-            "exp.toml",
-            "--threads",
-            "2",
-            "--quiet",
-            "--out",
-            "whole",
-        ])
-        .current_dir(root)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let whole = deterministic_runs(&root.join("whole"));
+    let whole = deterministic_runs(&unsharded(root, EXPERIMENT));
     assert_eq!(whole.len(), RUNS);
     stage("unsharded sweep done");
     let script = script();

@@ -14,12 +14,11 @@ mod slurm;
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 use common::{deterministic_progress, deterministic_runs, write};
 use magbench::results::Manifest;
-use slurm::{Cluster, Job, experiments, merge_log, skip_or_fail, split};
+use slurm::{Cluster, Job, experiments, merge_log, skip_or_fail, split, unsharded};
 
 /// Real planners at 1000 iterations (reproducible bit for bit, a few milliseconds a run): 200
 /// runs, 2 a shard, no replay pages.
@@ -133,22 +132,7 @@ fn an_array_of_100_shards_with_a_killed_and_resubmitted_task_merges_into_the_uns
     stage("cluster up");
     let root = tempfile::tempdir().unwrap();
     let root = root.path();
-    write(root, "exp.toml", EXPERIMENT);
-    let o = Command::new(env!("CARGO_BIN_EXE_magbench"))
-        .args([
-            "bench",
-            "exp.toml",
-            "--threads",
-            "2",
-            "--quiet",
-            "--out",
-            "whole",
-        ])
-        .current_dir(root)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let whole = root.join("whole");
+    let whole = unsharded(root, EXPERIMENT);
     let whole_runs = deterministic_runs(&whole);
     assert_eq!(whole_runs.len(), RUNS);
     stage("unsharded sweep done");

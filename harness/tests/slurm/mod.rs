@@ -11,6 +11,27 @@ pub fn experiments() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments")
 }
 
+/// Writes `experiment` to `root/exp.toml` and runs it unsharded in one process into
+/// `root/whole`: the folder an array's merge must equal.
+pub fn unsharded(root: &Path, experiment: &str) -> PathBuf {
+    crate::common::write(root, "exp.toml", experiment);
+    let o = Command::new(env!("CARGO_BIN_EXE_magbench"))
+        .args([
+            "bench",
+            "exp.toml",
+            "--threads",
+            "2",
+            "--quiet",
+            "--out",
+            "whole",
+        ])
+        .current_dir(root)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    root.join("whole")
+}
+
 /// Says loudly that no local cluster could be started (`why`: the reason and the daemons'
 /// logs) and returns, so that the calling test passes; panics instead when
 /// `MAGBENCH_REQUIRE_SLURM=1` (set by `.ci/run`).
