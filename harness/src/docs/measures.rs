@@ -926,6 +926,29 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR],
     },
     Measure {
+        name: "team-proximity",
+        source: Transcript {
+            files: &["docs/teams"],
+            cwd: ".",
+            steps: &[
+                Step::Run(
+                    "plan docs/teams/ring-of-eight.toml --planner formation-rrt --max-iters 40000 --seed 0 --out eight",
+                ),
+                Step::Run(
+                    "plan docs/teams/ring-of-ten.toml --planner formation-rrt --max-iters 40000 --seed 0 --out ten",
+                ),
+                Step::Run(
+                    "plan docs/teams/ring-of-ten-r-max-8.toml --planner formation-rrt --max-iters 40000 --seed 0 --out ten-r-max-8",
+                ),
+                Step::Run(
+                    "plan docs/teams/ring-of-ten-r-min-1.05.toml --planner formation-rrt --max-iters 40000 --seed 0 --out ten-r-min",
+                ),
+            ],
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, CLI],
+    },
+    Measure {
         name: "formations",
         source: Transcript {
             files: &["experiments/formations.toml"],
