@@ -623,6 +623,45 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, RIG, CLI],
     },
     Measure {
+        name: "calibration-runs",
+        source: Transcript {
+            files: &[
+                "rigs",
+                "scenarios",
+                "docs/calibration/truth.toml",
+                "docs/calibration/base.toml",
+            ],
+            cwd: "docs/calibration",
+            steps: &[
+                Step::Background {
+                    command: "rig emulate --rig ../../rigs/emulator.toml open-field --lockstep \
+                              --preset truth.toml --preset-camera --write-rig live.toml --log emu.csv",
+                    ready: "live.toml",
+                },
+                Step::Run(
+                    "rig run --rig live.toml open-field --planner goal-zoom-rrt --tracker obc --seed 0 --out run0",
+                ),
+                Step::Run(
+                    "rig run --rig live.toml open-field --planner goal-zoom-rrt --tracker obc --seed 1 --out run1",
+                ),
+                Step::Run(
+                    "rig run --rig live.toml open-field --planner goal-zoom-rrt --tracker obc --seed 2 --out run2",
+                ),
+                Step::Run(
+                    "rig run --rig live.toml open-field --planner goal-zoom-rrt --tracker obc --seed 3 --out run3",
+                ),
+                Step::Run(
+                    "calibrate run0 run1 run2 run3 --scenario open-field --base base.toml --out from-runs.toml",
+                ),
+                Step::Run(
+                    "track ../../scenarios/short-open.toml --tracker obc --preset from-runs.toml",
+                ),
+            ],
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, RIG, CLI],
+    },
+    Measure {
         name: "calibration-interface",
         source: Transcript {
             files: &["rigs", "scenarios", "docs/calibration/interface-truth.toml"],
