@@ -656,6 +656,21 @@ pub static MEASURES: &[Measure] = &[
                 Step::Run(
                     "track ../../scenarios/short-open.toml --tracker obc --preset from-runs.toml",
                 ),
+                Step::Run(
+                    "rig run --rig-type simulated --rig truth.toml open-field --planner goal-zoom-rrt --tracker obc --seed 0 --out sim0",
+                ),
+                Step::Run(
+                    "rig run --rig-type simulated --rig truth.toml open-field --planner goal-zoom-rrt --tracker obc --seed 1 --out sim1",
+                ),
+                Step::Run(
+                    "rig run --rig-type simulated --rig truth.toml open-field --planner goal-zoom-rrt --tracker obc --seed 2 --out sim2",
+                ),
+                Step::Run(
+                    "rig run --rig-type simulated --rig truth.toml open-field --planner goal-zoom-rrt --tracker obc --seed 3 --out sim3",
+                ),
+                Step::Run(
+                    "calibrate sim0 sim1 sim2 sim3 --scenario open-field --base base.toml --out from-simulated-runs.toml",
+                ),
             ],
         },
         feature: None,
