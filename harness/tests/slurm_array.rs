@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use common::{deterministic_runs, write};
 use magbench::results::Manifest;
-use slurm::{Cluster, Job, experiments, merge_log, skip_or_fail, split, unsharded};
+use slurm::{Cluster, Job, experiments, merge_log, run_ids, skip_or_fail, split, unsharded};
 
 /// Real planners, iteration limits only (reproducible bit for bit): 32 runs, about 0.1 s each
 /// for goal-zoom-rrt and 0.6 s for sst, so a shard of 8 runs at one thread lasts about 3 s.
@@ -60,14 +60,6 @@ fn run_lines(dir: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(dir.join("runs.csv")).unwrap_or_default();
     let complete = &text[..text.rfind('\n').map_or(0, |i| i + 1)];
     complete.lines().skip(1).map(str::to_string).collect()
-}
-
-fn run_ids(dir: &Path) -> Vec<String> {
-    let mut rd = csv::Reader::from_path(dir.join("runs.csv")).unwrap();
-    let col = rd.headers().unwrap().iter().position(|h| h == "run_id");
-    rd.records()
-        .map(|r| r.unwrap()[col.unwrap()].to_string())
-        .collect()
 }
 
 /// The merged folder has its report and its plots (SVG and PNG).

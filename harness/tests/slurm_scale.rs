@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 
 use common::{deterministic_progress, deterministic_runs, write};
 use magbench::results::Manifest;
-use slurm::{Cluster, Job, experiments, merge_log, skip_or_fail, split, unsharded};
+use slurm::{Cluster, Job, experiments, merge_log, run_ids, skip_or_fail, split, unsharded};
 
 /// Real planners at 1000 iterations (reproducible bit for bit, a few milliseconds a run): 200
 /// runs, 2 a shard, no replay pages.
@@ -90,14 +90,6 @@ fn submit_dir(root: &Path, stall_at: usize) -> PathBuf {
     std::fs::set_permissions(&wrapper, std::fs::Permissions::from_mode(0o755)).unwrap();
     write(&d, "exp.toml", EXPERIMENT);
     d
-}
-
-fn run_ids(dir: &Path) -> Vec<String> {
-    let mut rd = csv::Reader::from_path(dir.join("runs.csv")).unwrap();
-    let col = rd.headers().unwrap().iter().position(|h| h == "run_id");
-    rd.records()
-        .map(|r| r.unwrap()[col.unwrap()].to_string())
-        .collect()
 }
 
 /// The complete data lines of `runs.csv` in `dir`.

@@ -311,6 +311,22 @@ fn crate_dir(package: &str) -> &str {
 }
 
 /// Criterion's `--quick`: the `quick_args` of a criterion bench.
+/// The files of the calibration walkthrough's emulated rig: the rig files, the scenarios, and
+/// the truth and base presets.
+const WALKTHROUGH_FILES: &[&str] = &[
+    "rigs",
+    "scenarios",
+    "docs/calibration/truth.toml",
+    "docs/calibration/base.toml",
+];
+
+/// The walkthrough's rig: the emulator serving the truth preset with its camera, in lockstep.
+const WALKTHROUGH_EMULATOR: Step = Step::Background {
+    command: "rig emulate --rig ../../rigs/emulator.toml open-field --lockstep \
+              --preset truth.toml --preset-camera --write-rig live.toml --log emu.csv",
+    ready: "live.toml",
+};
+
 const QUICK: &[&str] = &["--quick"];
 
 /// Every measurement, in the order `docs measure` runs them.
@@ -595,19 +611,10 @@ pub static MEASURES: &[Measure] = &[
     Measure {
         name: "calibration-walkthrough",
         source: Transcript {
-            files: &[
-                "rigs",
-                "scenarios",
-                "docs/calibration/truth.toml",
-                "docs/calibration/base.toml",
-            ],
+            files: WALKTHROUGH_FILES,
             cwd: "docs/calibration",
             steps: &[
-                Step::Background {
-                    command: "rig emulate --rig ../../rigs/emulator.toml open-field --lockstep \
-                              --preset truth.toml --preset-camera --write-rig live.toml --log emu.csv",
-                    ready: "live.toml",
-                },
+                WALKTHROUGH_EMULATOR,
                 Step::Run("rig excite --rig live.toml open-field --out exc --duration 60 --seed 2"),
                 Step::Run("calibrate exc --scenario open-field --base base.toml --out fitted.toml"),
                 Step::Run(
@@ -625,19 +632,10 @@ pub static MEASURES: &[Measure] = &[
     Measure {
         name: "calibration-runs",
         source: Transcript {
-            files: &[
-                "rigs",
-                "scenarios",
-                "docs/calibration/truth.toml",
-                "docs/calibration/base.toml",
-            ],
+            files: WALKTHROUGH_FILES,
             cwd: "docs/calibration",
             steps: &[
-                Step::Background {
-                    command: "rig emulate --rig ../../rigs/emulator.toml open-field --lockstep \
-                              --preset truth.toml --preset-camera --write-rig live.toml --log emu.csv",
-                    ready: "live.toml",
-                },
+                WALKTHROUGH_EMULATOR,
                 Step::Run(
                     "rig run --rig live.toml open-field --planner goal-zoom-rrt --tracker obc --seed 0 --out run0",
                 ),

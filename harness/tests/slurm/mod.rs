@@ -11,6 +11,15 @@ pub fn experiments() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments")
 }
 
+/// The `run_id` column of the results folder `dir`'s `runs.csv`, in its order.
+pub fn run_ids(dir: &Path) -> Vec<String> {
+    let mut rd = csv::Reader::from_path(dir.join("runs.csv")).unwrap();
+    let col = rd.headers().unwrap().iter().position(|h| h == "run_id");
+    rd.records()
+        .map(|r| r.unwrap()[col.unwrap()].to_string())
+        .collect()
+}
+
 /// Writes `experiment` to `root/exp.toml` and runs it unsharded in one process into
 /// `root/whole`: the folder an array's merge must equal.
 pub fn unsharded(root: &Path, experiment: &str) -> PathBuf {
