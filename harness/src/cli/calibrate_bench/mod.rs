@@ -129,7 +129,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
                             rig: r.clone(),
                             scores: score::scores(r, &fit, agents),
                             scale,
-                            held_out: fit.held_out.rms(),
+                            held_out: Some(fit.held_out),
                             tracking: Some(tracked),
                         }
                     }

@@ -4,6 +4,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use magbench_drivers::fit::HeldOut;
+
 use super::rig::Rig;
 use super::score::{Param, Score, Verdict, shown};
 
@@ -15,15 +17,28 @@ pub struct RigResult {
     pub scores: Vec<Score>,
     /// How the moment/drag/gain scale was compared (empty when the rig failed).
     pub scale: String,
-    /// Held-out prediction RMS (BL) of the fitted and the base preset, when fitted and the
-    /// held-out check could compare them.
-    pub held_out: Option<(f64, f64)>,
+    /// The fit's held-out check, when fitted.
+    pub held_out: Option<HeldOut>,
     /// Tracking RMS error (BL) under the truth, the fitted preset and the base, when fitted
     /// (or why it could not be measured).
     pub tracking: Option<Result<[f64; 3], String>>,
 }
 
 impl RigResult {
+    /// Whether the rig failed: nothing was fitted.
+    pub fn failed(&self) -> bool {
+        matches!(
+            self.scores.first().map(|s| &s.verdict),
+            Some(Verdict::RigFailed(_))
+        )
+    }
+
+    /// The held-out prediction RMS (BL) of the fitted and the base preset, when fitted and the
+    /// held-out check could compare them.
+    pub fn held_out_rms(&self) -> Option<(f64, f64)> {
+        self.held_out.and_then(|h| h.rms())
+    }
+
     /// The tracking errors under the truth, the fitted preset and the base, when measured.
     pub fn tracked(&self) -> Option<[f64; 3]> {
         self.tracking
@@ -96,8 +111,8 @@ pub fn write_csv(dir: &Path, results: &[RigResult]) -> Result<(), String> {
                 format!("{}", s.param.tolerance()),
                 within,
                 r.scale.clone(),
-                cell(r.held_out.map(|h| h.0)),
-                cell(r.held_out.map(|h| h.1)),
+                cell(r.held_out_rms().map(|h| h.0)),
+                cell(r.held_out_rms().map(|h| h.1)),
                 cell(r.tracked().map(|t| t[0])),
                 cell(r.tracked().map(|t| t[1])),
                 cell(r.tracked().map(|t| t[2])),
@@ -108,42 +123,14 @@ pub fn write_csv(dir: &Path, results: &[RigResult]) -> Result<(), String> {
     w.flush().map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// What a rig's held-out check says of its fit, as `calibrate` reports it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum HeldOutCheck {
-    /// The rig failed: nothing was fitted.
-    RigFailed,
-    /// The fitted preset predicts the held-out segments better than the base.
-    Better,
-    /// The fitted preset predicts them no better than the base (`calibrate`: do not use it).
-    NoBetter,
-    /// Too few segments compared, or the same predictions (`calibrate`: do not use it).
-    CannotTell,
-}
-
-impl HeldOutCheck {
-    /// The per-rig table's cell: the verdict and, when compared, the two prediction RMS.
-    fn cell(self, held_out: Option<(f64, f64)>) -> String {
-        match (self, held_out) {
-            (HeldOutCheck::RigFailed, _) => "–".into(),
-            (HeldOutCheck::CannotTell, _) | (_, None) => "cannot tell".into(),
-            (HeldOutCheck::Better, Some((f, b))) => format!("better ({f:.4} < {b:.4} BL)"),
-            (HeldOutCheck::NoBetter, Some((f, b))) => format!("no better ({f:.4} ≥ {b:.4} BL)"),
-        }
-    }
-}
-
-/// The held-out check of rig result `r`.
-fn held_out_check(r: &RigResult) -> HeldOutCheck {
-    let failed = matches!(
-        r.scores.first().map(|s| &s.verdict),
-        Some(Verdict::RigFailed(_))
-    );
-    match r.held_out {
-        _ if failed => HeldOutCheck::RigFailed,
-        None => HeldOutCheck::CannotTell,
-        Some((f, b)) if f < b => HeldOutCheck::Better,
-        Some(_) => HeldOutCheck::NoBetter,
+/// The per-rig table's cell of a fit's held-out check, as `calibrate` reports it: better, no
+/// better (each with the two prediction RMS) or cannot tell; `–` when nothing was fitted.
+fn held_out_cell(h: Option<&HeldOut>) -> String {
+    match (h, h.and_then(HeldOut::rms)) {
+        (None, _) => "–".into(),
+        (Some(_), None) => "cannot tell".into(),
+        (Some(h), Some((f, b))) if h.fitted_better() => format!("better ({f:.4} < {b:.4} BL)"),
+        (Some(_), Some((f, b))) => format!("no better ({f:.4} ≥ {b:.4} BL)"),
     }
 }
 
@@ -190,8 +177,8 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
     let mut tracked = 0;
     let mut warned = 0;
     for r in results {
-        let check = held_out_check(r);
-        if matches!(check, HeldOutCheck::NoBetter | HeldOutCheck::CannotTell) {
+        // calibrate warns against a fit whose held-out predictions are no better, or untested
+        if r.held_out.is_some_and(|h| !h.fitted_better()) {
             warned += 1;
         }
         let row = match &r.tracking {
@@ -212,7 +199,7 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
             r.rig.index,
             r.rig.medium_name(),
             if r.rig.hydrodynamics() { "on" } else { "off" },
-            check.cell(r.held_out),
+            held_out_cell(r.held_out.as_ref()),
         );
     }
     let _ = writeln!(
@@ -221,23 +208,12 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
         100.0 * TRACKING_TOLERANCE,
         results.len()
     );
-    let fitted = results
-        .iter()
-        .filter(|r| held_out_check(r) != HeldOutCheck::RigFailed)
-        .count();
+    let fitted = results.iter().filter(|r| !r.failed()).count();
     let _ = writeln!(
         s,
         "Fits that `calibrate` warns not to use (held-out predictions no better than the base's, or a check that cannot tell): {warned} of {fitted} rigs fitted; their parameters are scored above like the others."
     );
-    let failed: Vec<&RigResult> = results
-        .iter()
-        .filter(|r| {
-            matches!(
-                r.scores.first().map(|s| &s.verdict),
-                Some(Verdict::RigFailed(_))
-            )
-        })
-        .collect();
+    let failed: Vec<&RigResult> = results.iter().filter(|r| r.failed()).collect();
     if !failed.is_empty() {
         let _ = writeln!(s, "\nRigs that failed:\n");
     }
