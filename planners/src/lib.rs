@@ -13,6 +13,8 @@
 //! - `sst`: Stable Sparse RRT ([`planners::Sst`]);
 //! - `formation-rrt`: for teams, shapes sampled apart from the centroid
 //!   ([`planners::FormationRrt`]);
+//! - `trajopt`: trajectory optimisation from a straight line by sequential convex programming
+//!   ([`planners::Trajopt`], [`trajopt`]);
 //! - `ompl:rrt`, `ompl:sst`, `ompl:kpiece`, `ompl:est`, `ompl:pdst`: OMPL's control planners on
 //!   this model (cargo feature `ompl`; [`ompl`]).
 //!
@@ -53,6 +55,7 @@ pub mod setup;
 pub mod shortcut;
 pub mod steer;
 pub mod straighten;
+pub mod trajopt;
 pub mod tree;
 pub mod validate;
 

@@ -1,5 +1,6 @@
 //! Post-processing: the passes a solved plan goes through after its planner returns it, the
-//! shortcut pass (crate::shortcut) and then straightening (crate::straighten), declared once.
+//! shortcut pass (crate::shortcut), straightening (crate::straighten) and then trajectory
+//! optimisation (crate::trajopt), declared once.
 //!
 //! The passes see only the plan, so they apply to any planner's solution alike, a plugin's
 //! included: [`crate::PostProcessed`] applies them to every planner the registry makes, from
@@ -13,6 +14,7 @@ use crate::objective::plan_cost;
 use crate::search_settings::{SearchSettings, to_periods};
 use crate::shortcut::Shortcut;
 use crate::straighten::straighten;
+use crate::trajopt::{self, refine};
 use crate::{Plan, PlannerResult, Problem, ProgressPoint};
 
 declare_params! {
@@ -28,6 +30,11 @@ declare_params! {
         /// straight).
         #[param("straighten")]
         pub straighten: bool = false,
+        /// Convex subproblems of trajectory optimisation spent on each window of a solution
+        /// after straightening (crate::trajopt: fields and gradients optimised window by
+        /// window, durations kept; 0 none).
+        #[param("trajopt", 0..=1_000_000)]
+        pub trajopt: usize = 0,
     }
 }
 
@@ -44,7 +51,7 @@ impl PostProcess {
     }
 
     /// `plan` after the passes, or `None` when no pass runs: the shortcut pass with steered
-    /// edges at most `max_duration` seconds, then straightening.
+    /// edges at most `max_duration` seconds, then straightening, then trajectory optimisation.
     pub fn plan(&self, problem: &Problem, plan: &Plan, max_duration: f64) -> Option<Plan> {
         if self.is_none() {
             return None;
@@ -56,6 +63,16 @@ impl PostProcess {
         }
         if self.straighten {
             plan = straighten(problem, &plan);
+        }
+        if self.trajopt > 0
+            && let Some(better) = refine(
+                problem,
+                &plan,
+                &trajopt::Settings::default(),
+                self.trajopt as u64,
+            )
+        {
+            plan = better;
         }
         Some(plan)
     }

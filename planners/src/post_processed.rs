@@ -9,7 +9,7 @@ use crate::tree::Tree;
 use crate::{Planner, PlannerResult, Problem};
 
 /// `inner`, its solved results passed through [`PostProcess`]. Its parameters are the inner
-/// planner's and the passes' `shortcut` and `straighten`, except a key the inner planner
+/// planner's and the passes' `shortcut`, `straighten` and `trajopt`, except a key the inner planner
 /// declares itself: that one stays the planner's, and its pass does not run.
 pub struct PostProcessed {
     inner: Box<dyn Planner>,
@@ -35,6 +35,7 @@ impl PostProcessed {
                 self.post.shortcut
             },
             straighten: !own("straighten") && self.post.straighten,
+            trajopt: if own("trajopt") { 0 } else { self.post.trajopt },
         }
     }
 

@@ -155,8 +155,13 @@ mod tests {
             assert!(!summary.is_empty() && !params.is_empty());
             let p = create(name, &[]).unwrap();
             assert_eq!(p.name(), name);
-            // every magbench planner takes the shared sampling settings, EXTEND's timing
-            // too (OMPL's planners take their own, under OMPL's names)
+            // every planner takes the post-processing passes
+            for key in ["shortcut", "straighten", "trajopt"] {
+                assert!(params.iter().any(|p| p.name == key), "{name} lacks {key}");
+            }
+            // every magbench sampling planner takes the shared sampling settings, EXTEND's
+            // timing too (OMPL's planners take their own, under OMPL's names; trajopt samples
+            // nothing)
             for key in [
                 "k",
                 "min_duration",
@@ -164,12 +169,10 @@ mod tests {
                 "goal_bias",
                 "zoom_radius",
                 "timing",
-                "shortcut",
-                "straighten",
                 "guide",
                 "aim",
             ] {
-                if name.starts_with("ompl:") {
+                if name.starts_with("ompl:") || name == "trajopt" {
                     break;
                 }
                 assert!(params.iter().any(|p| p.name == key), "{name} lacks {key}");

@@ -19,11 +19,12 @@ fn budget(name: &str) -> u64 {
 #[test]
 fn every_planner_solves_a_small_problem_with_a_valid_plan() {
     let s = scenario(SMALL);
-    // formation-rrt carries the centroid along a straight line: SMALL's block stands across it
+    // formation-rrt and trajopt carry the centroid along a straight line: SMALL's block stands
+    // across it
     for name in Planners::builtin()
         .names()
         .into_iter()
-        .filter(|n| *n != "formation-rrt")
+        .filter(|n| !["formation-rrt", "trajopt"].contains(n))
     {
         let p = problem(&s, 1, budget(name));
         let r = Planners::builtin().create(name, &[]).unwrap().solve(&p);
@@ -49,11 +50,12 @@ fn every_planner_solves_the_open_field() {
 #[test]
 fn same_seed_same_result_whatever_else_runs() {
     let s = scenario(SMALL);
-    // formation-rrt carries the centroid along a straight line: SMALL's block stands across it
+    // formation-rrt and trajopt carry the centroid along a straight line: SMALL's block stands
+    // across it
     for name in Planners::builtin()
         .names()
         .into_iter()
-        .filter(|n| *n != "formation-rrt")
+        .filter(|n| !["formation-rrt", "trajopt"].contains(n))
     {
         let p = problem(&s, 7, 800);
         let a = Planners::builtin().create(name, &[]).unwrap().solve(&p);
@@ -94,11 +96,12 @@ fn same_seed_same_result_whatever_else_runs() {
 #[test]
 fn progress_is_recorded_at_every_percent_and_best_cost_never_increases() {
     let s = scenario(SMALL);
-    // formation-rrt carries the centroid along a straight line: SMALL's block stands across it
+    // formation-rrt and trajopt carry the centroid along a straight line: SMALL's block stands
+    // across it
     for name in Planners::builtin()
         .names()
         .into_iter()
-        .filter(|n| *n != "formation-rrt")
+        .filter(|n| !["formation-rrt", "trajopt"].contains(n))
     {
         let p = problem(&s, 3, 2000);
         let r = Planners::builtin().create(name, &[]).unwrap().solve(&p);
@@ -174,7 +177,12 @@ fn unsolved_runs_return_the_closest_approach() {
             r.goal_distance < p.goal.distance(&p.start),
             "{name}: no progress toward the goal"
         );
-        assert_eq!(r.iterations, 100);
+        // trajopt stops early when every tail has converged
+        if name == "trajopt" {
+            assert!(r.iterations <= 100);
+        } else {
+            assert_eq!(r.iterations, 100);
+        }
     }
 }
 

@@ -45,6 +45,14 @@ def test_plan_params_and_time_limit(sc):
     assert t.info["time_s"] >= 0.2 and t.info["iterations"] < 200_000
 
 
+def test_trajopt_plans_and_refines(sc, plan):
+    # the optimiser as a planner, from its straight line, and as the pass after another's plan
+    t = mb.plan(sc, "trajopt", seed=0, params={"max_subproblems": 20})
+    assert t.solved is True and t.info["iterations"] <= 20
+    r = mb.plan(sc, "goal-zoom-rrt", seed=0, max_iterations=3000, params={"trajopt": 5})
+    assert r.solved is True and r.info["cost"] < plan.info["cost"]
+
+
 def test_unsolved_plan(sc):
     p = mb.plan(sc, "goal-zoom-rrt", seed=0, max_iterations=1)
     assert p.solved is False

@@ -839,6 +839,16 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
     },
     Measure {
+        name: "trajopt",
+        source: Sweep {
+            experiment: "experiments/trajopt.toml",
+            quick_seeds: 2,
+            table: Runs(improvement),
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP],
+    },
+    Measure {
         name: "straighten-teams",
         source: Sweep {
             experiment: "experiments/straighten-teams.toml",

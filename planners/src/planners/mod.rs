@@ -9,11 +9,13 @@ mod formation_rrt;
 mod goal_zoom_rrt;
 mod rrt_star;
 mod sst;
+mod trajopt;
 
 pub use formation_rrt::FormationRrt;
 pub use goal_zoom_rrt::GoalZoomRrt;
 pub use rrt_star::{LoggedSample, RrtStar, RrtStarStats};
 pub use sst::{Sst, SstStats};
+pub use trajopt::Trajopt;
 
 use crate::registry::Entry;
 
@@ -44,6 +46,11 @@ pub fn builtins() -> Vec<Entry> {
             "sst",
             "Stable Sparse RRT (Li, Littlefield & Bekris): selection and pruning radii, prunes dominated nodes",
             || Box::new(Sst::default()),
+        ),
+        Entry::new(
+            "trajopt",
+            "trajectory optimisation from a straight line: sequential convex programming (Clarabel) over fields and gradients",
+            || Box::new(Trajopt::default()),
         ),
         #[cfg(feature = "ompl")]
         Entry::new(

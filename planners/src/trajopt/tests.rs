@@ -1,0 +1,134 @@
+use super::*;
+use crate::planners::GoalZoomRrt;
+use crate::{Limits, Planner, validate_plan};
+use magbench_env::Scenario;
+
+fn problem(name: &str, seed: u64) -> Problem {
+    let sc = Scenario::load(name).expect("a built-in scenario");
+    let mut p = Problem::from_scenario(&sc, 0, None, seed);
+    p.limits = Limits {
+        max_iterations: Some(50_000),
+        time_limit: None,
+    };
+    p
+}
+
+/// The optimiser refines goal-zoom RRT's plan into a valid plan of the same timing that costs
+/// less, and never returns a plan that fails the validator.
+#[test]
+fn refining_a_plan_keeps_it_valid_and_lowers_its_cost() {
+    let p = problem("open-field", 1);
+    let r = GoalZoomRrt::default().solve(&p);
+    assert!(r.solved);
+    let before = crate::plan_cost(&p, &r.plan);
+    let better = refine(&p, &r.plan, &Settings::default(), 30).expect("a cheaper plan");
+    validate_plan(&p, &better).expect("the refined plan replays valid into the goal");
+    assert!(crate::plan_cost(&p, &better) < before);
+    assert!((better.duration() - r.plan.duration()).abs() < 1e-9);
+}
+
+/// An empty field where the pair moves 6 BL and keeps its shape.
+const SLIDE: &str = r#"
+name = "slide"
+description = "An empty field: carry the pair 6 BL to the right."
+[world]
+width = 20.0
+height = 12.0
+[start]
+agents = [[4.0, 6.0], [7.0, 6.0]]
+[goal]
+agents = [[10.0, 6.0], [13.0, 6.0]]
+tolerance = 0.5
+"#;
+
+/// From its straight line, the planner solves an open field, and its plan passes the
+/// validator.
+#[test]
+fn the_planner_solves_an_open_field_from_a_straight_line() {
+    let sc = magbench_env::scenario::parse_scenario(SLIDE, "slide").expect("a scenario");
+    let p = Problem::from_scenario(&sc, 0, None, 2);
+    let r = crate::planners::Trajopt::default().solve(&p);
+    assert!(r.solved, "ends {} BL from the goal", r.goal_distance);
+    validate_plan(&p, &r.plan).expect("valid");
+}
+
+/// In a maze whose straight line crosses walls, the planner stops within its subproblems and
+/// reports an approximate plan.
+#[test]
+fn the_planner_stops_and_reports_a_maze_it_cannot_solve() {
+    let p = problem("micro-factory", 4);
+    let mut planner = crate::planners::Trajopt {
+        max_subproblems: 20,
+        ..Default::default()
+    };
+    let r = planner.solve(&p);
+    assert!(r.iterations <= 20);
+    if !r.solved {
+        assert!(r.approximate && r.goal_distance > p.goal.tolerance);
+    }
+}
+
+/// A subproblem's linearisation predicts a small step: the rollout after the step lands where
+/// the linear model says, to second order.
+#[test]
+fn the_linearisation_predicts_a_small_step() {
+    let p = problem("open-field", 3);
+    let (mut controls, mut durations) = straight_line(&p, &Settings::default());
+    controls.truncate(8);
+    durations.truncate(8);
+    let r = Rollout::run(&p, &p.start, controls, durations, End::Goal, 0.0);
+    let jac = linearise::jacobians(&p, &r);
+    let n = p.agents();
+    let dim = 2 * n;
+    let h = 1e-6;
+    let delta: Vec<[f64; 3]> = (0..r.edges())
+        .map(|k| [h * ((k % 3) as f64 - 1.0), 0.0, 0.0])
+        .collect();
+    let moved = r.rerun(&p, r.stepped(&delta, 1e9), 0.0);
+    let mut dx = vec![0.0; dim];
+    for (k, jk) in jac.iter().enumerate() {
+        dx = (0..dim)
+            .map(|row| {
+                (0..dim).map(|c| jk.a[row * dim + c] * dx[c]).sum::<f64>()
+                    + jk.b[row * 3] * delta[k][0]
+            })
+            .collect();
+    }
+    let end = moved.states.last().unwrap();
+    let was = r.states.last().unwrap();
+    for c in 0..dim {
+        let actual = end[c / 2][c % 2] - was[c / 2][c % 2];
+        assert!(
+            (actual - dx[c]).abs() <= 1e-3 * actual.abs() + 1e-12,
+            "{c}: {actual} vs {}",
+            dx[c]
+        );
+    }
+}
+
+/// A rollout resumed from a waypoint with its own controls is the rollout itself, and with
+/// other controls it is the replay from the start under them.
+#[test]
+fn a_resumed_rollout_is_the_replay_from_the_start() {
+    let p = problem("open-field", 5);
+    let (controls, durations) = straight_line(&p, &Settings::default());
+    let r = Rollout::run(&p, &p.start, controls, durations, End::Goal, 0.02);
+    let k = r.edges() / 2;
+    let same = r.resumed(&p, k, r.controls[k..].to_vec(), 0.02);
+    assert_eq!(same.states, r.states);
+    assert_eq!(same.cost, r.cost);
+    let mut other = r.controls.clone();
+    for u in &mut other[k..] {
+        u.theta += 1e-3;
+    }
+    let resumed = r.resumed(&p, k, other[k..].to_vec(), 0.02);
+    let replayed = r.rerun(&p, other, 0.02);
+    assert_eq!(resumed.states, replayed.states);
+    assert_eq!(resumed.edge_costs, replayed.edge_costs);
+    assert_eq!(resumed.waypoint_violations, replayed.waypoint_violations);
+    assert_eq!(
+        (resumed.valid, resumed.valid_edges, resumed.feasible),
+        (replayed.valid, replayed.valid_edges, replayed.feasible)
+    );
+    assert!((resumed.cost - replayed.cost).abs() <= 1e-9 * replayed.cost);
+}
