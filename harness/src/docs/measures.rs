@@ -10,6 +10,7 @@ use super::ablation::ablation;
 pub use super::cargo_test::Target;
 use super::convergence::convergence;
 use super::edge_tables::edge_length;
+use super::family_tables::by_family;
 use super::planner_tables::{improvement, team_scaling};
 use super::replans::replan_latency;
 use super::table::Table;
@@ -269,6 +270,8 @@ const SWEEP: &[&str] = &[
 ];
 /// The edge-length study's table.
 const EDGE_TABLES: &[&str] = &["harness/src/docs/edge_tables.rs"];
+/// The table of a suite's families.
+const FAMILY_TABLES: &[&str] = &["harness/src/docs/family_tables.rs", "suites/pair-100"];
 /// The tracker comparison's table.
 const TRACKER_TABLES: &[&str] = &["harness/src/docs/tracker_tables.rs"];
 /// The magbench commands a transcript runs: the whole harness but the book's measurements and
@@ -847,6 +850,16 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
+    },
+    Measure {
+        name: "trajopt-pair-100",
+        source: Sweep {
+            experiment: "experiments/trajopt-pair-100.toml",
+            quick_seeds: 1,
+            table: Runs(by_family),
+        },
+        feature: Some("ompl"),
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, FAMILY_TABLES],
     },
     Measure {
         name: "straighten-teams",

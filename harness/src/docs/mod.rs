@@ -11,6 +11,7 @@ pub mod cargo_test;
 pub mod convergence;
 pub mod criterion;
 pub mod edge_tables;
+pub mod family_tables;
 pub mod freshness;
 pub mod header;
 pub mod measures;

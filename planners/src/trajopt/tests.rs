@@ -132,3 +132,23 @@ fn a_resumed_rollout_is_the_replay_from_the_start() {
     );
     assert!((resumed.cost - replayed.cost).abs() <= 1e-9 * replayed.cost);
 }
+
+/// A team of three under the RK4 flow: the held line is a guess whose every edge the flow
+/// solves, the optimiser stops within its subproblems, and an unsolved run returns a valid
+/// closest approach.
+#[test]
+fn a_team_of_three_is_optimised_within_its_subproblems() {
+    let p = problem("trio-row", 1);
+    assert_eq!(p.agents(), 3);
+    let mut planner = crate::planners::Trajopt {
+        max_subproblems: 10,
+        ..Default::default()
+    };
+    let r = planner.solve(&p);
+    assert!(r.iterations <= 10);
+    if r.solved {
+        validate_plan(&p, &r.plan).expect("valid");
+    } else {
+        crate::validate_path(&p, &r.plan).expect("a valid closest approach");
+    }
+}
