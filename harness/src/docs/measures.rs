@@ -9,6 +9,7 @@ use std::path::Path;
 use super::ablation::ablation;
 pub use super::cargo_test::Target;
 use super::convergence::convergence;
+use super::cost_at_time::cost_at_time;
 use super::edge_tables::edge_length;
 use super::family_tables::by_family;
 use super::planner_tables::{improvement, team_scaling};
@@ -270,6 +271,8 @@ const SWEEP: &[&str] = &[
 ];
 /// The edge-length study's table.
 const EDGE_TABLES: &[&str] = &["harness/src/docs/edge_tables.rs"];
+/// The table of best cost at fixed times.
+const COST_AT_TIME: &[&str] = &["harness/src/docs/cost_at_time.rs"];
 /// The table of a suite's families.
 const FAMILY_TABLES: &[&str] = &["harness/src/docs/family_tables.rs", "suites/pair-100"];
 /// The tracker comparison's table.
@@ -850,6 +853,16 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
+    },
+    Measure {
+        name: "cost-at-time",
+        source: Sweep {
+            experiment: "experiments/cost-at-time.toml",
+            quick_seeds: 2,
+            table: Folder(cost_at_time),
+        },
+        feature: Some("ompl"),
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, COST_AT_TIME],
     },
     Measure {
         name: "trajopt-pair-100",

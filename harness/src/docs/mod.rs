@@ -9,6 +9,7 @@ pub mod bench;
 pub mod cargo;
 pub mod cargo_test;
 pub mod convergence;
+pub mod cost_at_time;
 pub mod criterion;
 pub mod edge_tables;
 pub mod family_tables;
