@@ -18,7 +18,8 @@
 //! A sentence that compares figures of a measured table carries a claim marker, an HTML comment
 //! (invisible in the book) that the test reads back from the table; see [`Claim`]:
 //! `<!-- claim: measured/NAME.md | COLUMN | STAT | CLAIM -->`, with `STAT` one of `median`,
-//! `p90` (the two halves of a `median / p90` cell) or `value`, and `CLAIM` one of
+//! `p90` (the two halves of a `median / p90` cell; `median` also reads the figure of a
+//! `median [lo, hi]` cell) or `value`, and `CLAIM` one of
 //! - `ROWS < ROWS` (or `>`): the two rows' figures compare so; the paragraph quotes both;
 //! - `ROWS / ROWS per KEY spans LO..HI`: the ratios of the first rows' figures to the second
 //!   rows' with the same `KEY` column, lowest and highest rounded as `LO` and `HI` are written
@@ -430,7 +431,10 @@ impl Table {
 /// for an empty `–`.
 fn figure(cell: &str, stat: &str) -> Result<Option<(f64, String)>, String> {
     let part = match stat {
-        "median" => cell.split(" / ").next(),
+        "median" => cell
+            .split(" / ")
+            .next()
+            .map(|m| m.split(" [").next().unwrap_or(m)),
         "p90" => cell.split(" / ").nth(1),
         "value" => Some(cell),
         other => return Err(format!("unknown statistic {other:?}")),
