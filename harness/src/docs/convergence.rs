@@ -68,15 +68,40 @@ pub fn convergence(dir: &Path, runs: &[RunRecord]) -> Result<Table, CliError> {
     Ok(convergence_of(runs, &rows))
 }
 
+/// Each run's progress rows, in iteration order: also time order, since a trace records the
+/// clock as the iterations go (the later legs of a run after the earlier).
+pub struct Traces<'a>(HashMap<usize, Vec<&'a ProgressRow>>);
+
+impl<'a> Traces<'a> {
+    /// The traces of `rows`.
+    pub fn of(rows: &'a [ProgressRow]) -> Self {
+        let mut traces: HashMap<usize, Vec<&ProgressRow>> = HashMap::new();
+        for p in rows {
+            traces.entry(p.run).or_default().push(p);
+        }
+        for t in traces.values_mut() {
+            t.sort_by_key(|p| p.iteration);
+        }
+        Traces(traces)
+    }
+
+    /// The best costs of the runs of `group` as `best` reads them off each run's trace (a run
+    /// without a trace has none), the runs without one left out.
+    pub fn best_costs(
+        &self,
+        group: &[&RunRecord],
+        best: impl Fn(&[&ProgressRow]) -> Option<f64>,
+    ) -> Vec<f64> {
+        group
+            .iter()
+            .filter_map(|r| best(self.0.get(&r.run).map_or(&[], Vec::as_slice)))
+            .collect()
+    }
+}
+
 /// [`convergence`] of runs and their progress rows.
 pub fn convergence_of(runs: &[RunRecord], rows: &[ProgressRow]) -> Table {
-    let mut traces: HashMap<usize, Vec<&ProgressRow>> = HashMap::new();
-    for p in rows {
-        traces.entry(p.run).or_default().push(p);
-    }
-    for t in traces.values_mut() {
-        t.sort_by_key(|p| p.iteration);
-    }
+    let traces = Traces::of(rows);
     let last = rows.iter().map(|p| p.iteration).max().unwrap_or(0);
     let marks = checkpoints(last);
     let mut head: Vec<String> = vec!["scenario".into(), "planner".into()];
@@ -89,17 +114,13 @@ pub fn convergence_of(runs: &[RunRecord], rows: &[ProgressRow]) -> Table {
     head.push("tree nodes, median".into());
     let head: Vec<&str> = head.iter().map(String::as_str).collect();
     let mut t = Table::new(&head);
-    let none: Vec<&ProgressRow> = vec![];
     for g in groups(runs).into_iter().filter(|g| g[0].tracker.is_empty()) {
         let mut row = vec![
             super::tables::scenario(&g[0].scenario),
             g[0].planner.clone(),
         ];
         for &n in &marks {
-            let costs: Vec<f64> = g
-                .iter()
-                .filter_map(|r| best_at(traces.get(&r.run).unwrap_or(&none), n))
-                .collect();
+            let costs = traces.best_costs(&g, |trace| best_at(trace, n));
             row.push(match costs.is_empty() {
                 true => format!("– (0/{})", g.len()),
                 false => format!("{} ({}/{})", median(&costs), costs.len(), g.len()),

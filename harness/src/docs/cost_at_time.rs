@@ -1,11 +1,11 @@
 //! Best cost at fixed wall times, with intervals: each planner's anytime curve read at a few
 //! times from a sweep's progress traces (`progress.csv`).
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use statrs::distribution::{Binomial, DiscreteCDF};
 
+use super::convergence::Traces;
 use super::table::{Table, num};
 use super::tables::scenario;
 use crate::CliError;
@@ -65,13 +65,7 @@ pub fn cost_at_time(dir: &Path, runs: &[RunRecord]) -> Result<Table, CliError> {
 
 /// [`cost_at_time`] of runs and their progress rows.
 pub fn cost_at_time_of(runs: &[RunRecord], rows: &[ProgressRow]) -> Table {
-    let mut traces: HashMap<usize, Vec<&ProgressRow>> = HashMap::new();
-    for p in rows {
-        traces.entry(p.run).or_default().push(p);
-    }
-    for t in traces.values_mut() {
-        t.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
-    }
+    let traces = Traces::of(rows);
     let mut head: Vec<String> = vec!["scenario".into(), "planner".into()];
     for t in TIMES {
         head.push(format!("best cost at {} s, median [95% interval]", num(t)));
@@ -79,14 +73,10 @@ pub fn cost_at_time_of(runs: &[RunRecord], rows: &[ProgressRow]) -> Table {
     }
     let head: Vec<&str> = head.iter().map(String::as_str).collect();
     let mut table = Table::new(&head);
-    let none: Vec<&ProgressRow> = vec![];
     for g in groups(runs).into_iter().filter(|g| g[0].tracker.is_empty()) {
         let mut row = vec![scenario(&g[0].scenario), g[0].planner.clone()];
         for t in TIMES {
-            let costs: Vec<f64> = g
-                .iter()
-                .filter_map(|r| best_at_time(traces.get(&r.run).unwrap_or(&none), t))
-                .collect();
+            let costs = traces.best_costs(&g, |trace| best_at_time(trace, t));
             row.push(median_with_interval(&costs));
             row.push(format!("{}/{}", costs.len(), g.len()));
         }
