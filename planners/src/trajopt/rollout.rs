@@ -41,7 +41,7 @@ pub struct Rollout {
     /// The objective's cost of the edges.
     pub cost: f64,
     /// The violations at the waypoints (BL): walls and proximity range by the margin, the goal
-    /// by its tolerance less the margin.
+    /// by its tolerance less the margin; infinite when the rollout diverged.
     pub violation: f64,
     /// Every edge passes the checked propagation.
     pub valid: bool,
@@ -55,7 +55,9 @@ pub struct Rollout {
 impl Rollout {
     /// Replays `controls` held for `durations` from `start`. Each edge is solved and checked as
     /// EXTEND's are; an invalid edge is solved again without checks, so that the rollout goes
-    /// on to the end.
+    /// on to the end. Once a state is not finite (a pair the unchecked flow collapsed), the
+    /// rollout has diverged: its later waypoints repeat that state without solving the flow,
+    /// and its violation is infinite.
     pub fn run(
         problem: &Problem,
         start: &[Vec2],
@@ -71,17 +73,25 @@ impl Rollout {
         let mut edge_costs = Vec::with_capacity(controls.len());
         let mut valid = true;
         let mut valid_edges = 0;
+        let mut diverged = false;
         for (u, &d) in controls.iter().zip(&durations) {
             let from = states.last().expect("the start");
-            let path_length = match propagate_checked(problem, from, u, d, &mut out[..n]) {
-                Some(length) => {
-                    valid_edges += usize::from(valid);
-                    length
-                }
-                None => {
-                    valid = false;
-                    problem.model.propagate(from, u, d, &mut out[..n]);
-                    problem.model.path_length(from, u, d)
+            diverged |= !is_finite(from);
+            let path_length = if diverged {
+                valid = false;
+                out[..n].copy_from_slice(from);
+                f64::NAN
+            } else {
+                match propagate_checked(problem, from, u, d, &mut out[..n]) {
+                    Some(length) => {
+                        valid_edges += usize::from(valid);
+                        length
+                    }
+                    None => {
+                        valid = false;
+                        problem.model.propagate(from, u, d, &mut out[..n]);
+                        problem.model.path_length(from, u, d)
+                    }
                 }
             };
             edge_costs.push(problem.objective.motion_cost(&Motion {
@@ -92,6 +102,7 @@ impl Rollout {
             states.push(out[..n].to_vec());
         }
         let last = states.last().expect("the start");
+        diverged |= !is_finite(last);
         let arrived = match &end {
             End::Goal => problem.goal.contains(last),
             End::Land(target) => max_agent_distance(last, target) <= LANDING,
@@ -101,8 +112,11 @@ impl Rollout {
             .iter()
             .map(|s| state_violation(problem, s, margin))
             .collect();
-        let violation =
-            waypoint_violations.iter().sum::<f64>() + end_violation(problem, &end, last, margin);
+        let violation = if diverged {
+            f64::INFINITY
+        } else {
+            waypoint_violations.iter().sum::<f64>() + end_violation(problem, &end, last, margin)
+        };
         Rollout {
             end,
             controls,
@@ -186,16 +200,9 @@ impl Rollout {
             .collect()
     }
 
-    /// The same controls and durations with some controls moved, replayed from the same start.
+    /// The same durations under `controls`, replayed from the same start.
     pub fn rerun(&self, problem: &Problem, controls: Vec<Control>, margin: f64) -> Self {
-        Rollout::run(
-            problem,
-            &self.states[0],
-            controls,
-            self.durations.clone(),
-            self.end.clone(),
-            margin,
-        )
+        self.resumed(problem, 0, controls, margin)
     }
 
     /// The rollout as a plan of `problem`'s flow, its first `edges` edges.
@@ -223,6 +230,11 @@ impl Rollout {
             .unwrap_or(0);
         self.plan(problem, closest)
     }
+}
+
+/// Every coordinate of `s` is finite.
+fn is_finite(s: &[Vec2]) -> bool {
+    s.iter().all(|p| p.x.is_finite() && p.y.is_finite())
 }
 
 /// How far state `s` is inside a wall's margin or outside the proximity range less the margin,

@@ -92,7 +92,7 @@ impl Program {
     }
 
     /// Solves the program; `z` when Clarabel solves it.
-    fn solve(self) -> Option<Vec<f64>> {
+    fn solve(&self) -> Option<Vec<f64>> {
         let n = self.q.len();
         let mut rows = (Vec::new(), Vec::new(), Vec::new());
         let mut b = Vec::new();
@@ -160,9 +160,12 @@ pub fn solve_step(
     // δu_k = (δθ, δG_x, δG_y), then δx_1 … δx_K
     let du = |k: usize, j: usize| 3 * k + j;
     let dx = |k: usize, c: usize| 3 * k_edges + (k - 1) * dim + c;
+    // (variable, weight, gradient now) of each gradient command in the control effort
+    let mut weights = Vec::with_capacity(2 * k_edges);
     for k in 0..k_edges {
         let u = &rollout.controls[k];
         let effort = effort_weight(problem, rollout.durations[k]);
+        weights.extend([(du(k, 1), effort, u.grad[0]), (du(k, 2), effort, u.grad[1])]);
         for j in 0..3 {
             let v = prog.var(0.0);
             debug_assert_eq!(v, du(k, j));
@@ -292,14 +295,6 @@ pub fn solve_step(
         (model_violation - rollout.violation).abs() <= 1e-6 * (1.0 + rollout.violation),
         "the subproblem's violations at δ = 0 are the rollout's"
     );
-    let slacks = prog.slacks.clone();
-    let weights: Vec<(usize, f64, f64)> = (0..k_edges)
-        .flat_map(|k| {
-            let w = effort_weight(problem, rollout.durations[k]);
-            let u = rollout.controls[k];
-            [(du(k, 1), w, u.grad[0]), (du(k, 2), w, u.grad[1])]
-        })
-        .collect();
     let fixed = fixed_cost(problem, rollout);
     let chords_now: f64 = if chords.is_empty() {
         0.0
@@ -321,7 +316,7 @@ pub fn solve_step(
         .iter()
         .map(|&(v, w, g)| w * (g + z[v]) * (g + z[v]))
         .sum();
-    let slack: f64 = slacks.iter().map(|&s| z[s].max(0.0)).sum();
+    let slack: f64 = prog.slacks.iter().map(|&s| z[s].max(0.0)).sum();
     Some(Step {
         delta,
         now,
