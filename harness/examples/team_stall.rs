@@ -79,8 +79,10 @@ fn run(name: &str, tracker: &str, seed: u64) -> Figures {
         .planners()
         .create("goal-zoom-rrt", &[])
         .expect("a built-in planner");
-    let first =
-        plan_leg(&scenario, 0, None, planner.as_mut(), &setup, seed).expect("a checked plan");
+    let first = plan_leg(&scenario, 0, None, planner.as_mut(), &setup, seed)
+        .expect("a checked plan")
+        .checked
+        .result;
     let params = [("replan_stall".to_string(), "false".to_string())];
     let (tracker, options) = registry
         .trackers()

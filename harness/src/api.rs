@@ -4,18 +4,19 @@
 
 use magbench_env::Scenario;
 use magbench_env::plant::DisturbancePreset;
-use magbench_planners::{ElevationRefused, FirstPlan, Plan, Planner, PlannerResult, PlanningSetup};
+use magbench_planners::{ElevationRefused, FirstPlan, Plan, Planner, PlanningSetup};
 use magbench_trackers::{LoopOptions, TrackOutcome, Tracker, simulate};
 
 use crate::CliError;
 use crate::pipeline::start::check_given_plan;
-use crate::pipeline::{Failure, Pipeline};
+use crate::pipeline::{Failure, LegPlan, Pipeline};
 
 /// Plans leg `leg` of `scenario` from `start` (the scenario's start if `None`) with `planner`
 /// under `setup`, through the run's [`Pipeline`]: seeded by the seed rule (leg `leg` of a run
 /// of seed `seed`, as a sweep plans it), post-processed by the planner the registry made. A
 /// start that is invalid in the leg's map is bad input; a plan the validator refuses is a
-/// failure naming the planner (a plan without motion is returned, not solved).
+/// failure naming the planner (a plan without motion is returned, not solved). The leg carries
+/// the result and, when the planner stopped unsolved and said why, its reason.
 pub fn plan_leg(
     scenario: &Scenario,
     leg: usize,
@@ -23,7 +24,7 @@ pub fn plan_leg(
     planner: &mut dyn Planner,
     setup: &PlanningSetup,
     seed: u64,
-) -> Result<PlannerResult, CliError> {
+) -> Result<LegPlan, CliError> {
     if leg >= scenario.legs.len() {
         return Err(CliError::arg(
             "leg",
@@ -43,7 +44,7 @@ pub fn plan_leg(
         })?;
     let pipe = Pipeline::new(scenario, setup.clone(), seed);
     match pipe.plan_leg(planner, leg, start) {
-        Ok(planned) => Ok(planned.checked.result),
+        Ok(planned) => Ok(planned),
         Err(Failure::InvalidStart { leg }) => Err(CliError::arg(
             "start",
             format!(
@@ -163,7 +164,10 @@ mod tests {
         let other = Scenario::load("micro-factory").unwrap();
         let mut setup = PlanningSetup::default();
         setup.limits.max_iterations = Some(3000);
-        let r = plan_leg(&other, 0, None, planner().as_mut(), &setup, 0).unwrap();
+        let r = plan_leg(&other, 0, None, planner().as_mut(), &setup, 0)
+            .unwrap()
+            .checked
+            .result;
         let e = track_plan(request(&s, r.plan)).map(|_| ()).unwrap_err();
         assert_eq!(e.exit_code(), 2);
         // within the goal tolerance of the start (0.5 BL), and refused by its fit: it leaves the
@@ -181,7 +185,10 @@ mod tests {
         let s = Scenario::load("open-field").unwrap();
         let mut setup = PlanningSetup::default().in_frames_of(1.0 / 60.0);
         setup.limits.max_iterations = Some(3000);
-        let r = plan_leg(&s, 0, None, planner().as_mut(), &setup, 0).unwrap();
+        let r = plan_leg(&s, 0, None, planner().as_mut(), &setup, 0)
+            .unwrap()
+            .checked
+            .result;
         assert!(r.solved);
         let out = track_plan(request(&s, r.plan)).unwrap();
         assert!(!out.ticks.is_empty());

@@ -17,6 +17,12 @@ pub trait Planner: ParamSet + Send {
     fn tree(&self) -> Option<&Tree> {
         None
     }
+    /// Why the last `solve` ended without an exact solution, when the planner can say more
+    /// than that its limits ran out (the optimiser converged onto an infeasible plan, say);
+    /// `None` otherwise. A run writes it to its `error` column.
+    fn stop_reason(&self) -> Option<&str> {
+        None
+    }
 }
 
 /// One point of a planner's progress trace.

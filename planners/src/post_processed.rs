@@ -97,4 +97,8 @@ impl Planner for PostProcessed {
     fn tree(&self) -> Option<&Tree> {
         self.inner.tree()
     }
+
+    fn stop_reason(&self) -> Option<&str> {
+        self.inner.stop_reason()
+    }
 }

@@ -124,10 +124,12 @@ pub fn plan(
     let mut p = crate::registry::planner(py, planner, &params)?;
     let s = scenario.full(py)?.clone();
     let leg = scenario.leg;
-    let result = detached(py, "plan", || {
+    let planned = detached(py, "plan", || {
         plan_leg(&s, leg, start.as_deref(), p.as_mut(), &setup, seed)
     })?;
-    Ok(Plan::from_result(result, planner, &s.name))
+    let mut plan = Plan::from_result(planned.checked.result, planner, &s.name);
+    plan.stop_reason = planned.stopped;
+    Ok(plan)
 }
 
 /// Tracks `plan` in closed loop against the simulated plant under `preset` (`ideal`,
@@ -231,6 +233,7 @@ pub fn track<'py>(
             Plan {
                 plan: p.plan.clone(),
                 result: None,
+                stop_reason: None,
                 planner: planner.map(String::from),
                 scenario: Some(s.name.clone()),
             },

@@ -24,6 +24,8 @@ pub struct Plan {
     pub plan: magbench_planners::Plan,
     /// The planner's result (without its plan), when a planner made it.
     pub result: Option<PlannerResult>,
+    /// Why the planner stopped unsolved, when it said.
+    pub stop_reason: Option<String>,
     /// The planner's name, when a planner made it.
     pub planner: Option<String>,
     /// The scenario it was made for, when known.
@@ -37,6 +39,7 @@ impl Plan {
         Plan {
             plan,
             result: Some(result),
+            stop_reason: None,
             planner: Some(planner.to_string()),
             scenario: Some(scenario.to_string()),
         }
@@ -158,6 +161,7 @@ impl Plan {
         Ok(Plan {
             plan: Plan::from_arrays(py, states, controls, durations, flow, alpha_max)?,
             result: None,
+            stop_reason: None,
             planner: None,
             scenario: None,
         })
@@ -172,6 +176,7 @@ impl Plan {
         Ok(Plan {
             plan,
             result: None,
+            stop_reason: None,
             planner: None,
             scenario: None,
         })
@@ -227,7 +232,8 @@ impl Plan {
     }
 
     /// What the planner reported (iterations, nodes, time_s, cost, goal_distance,
-    /// first_solution_iteration, first_solution_time_s), or `None` for a plan built in Python.
+    /// first_solution_iteration, first_solution_time_s, and stop_reason: why it stopped
+    /// unsolved, when it said, else `None`), or `None` for a plan built in Python.
     #[getter]
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(r) = &self.result else {
@@ -243,6 +249,7 @@ impl Plan {
         d.set_item("goal_distance", r.goal_distance)?;
         d.set_item("first_solution_iteration", r.first_solution.map(|f| f.0))?;
         d.set_item("first_solution_time_s", r.first_solution.map(|f| f.1))?;
+        d.set_item("stop_reason", self.stop_reason.as_deref())?;
         Ok(Some(d))
     }
 

@@ -49,13 +49,21 @@ def test_trajopt_plans_and_refines(sc, plan):
     # the optimiser as a planner, from its straight line, and as the pass after another's plan
     t = mb.plan(sc, "trajopt", seed=0, params={"max_subproblems": 20})
     assert t.solved is True and t.info["iterations"] <= 20
+    assert t.info["stop_reason"] is None
     r = mb.plan(sc, "goal-zoom-rrt", seed=0, max_iterations=3000, params={"trajopt": 5})
     assert r.solved is True and r.info["cost"] < plan.info["cost"]
 
 
 def test_unsolved_plan(sc):
     p = mb.plan(sc, "goal-zoom-rrt", seed=0, max_iterations=1)
+    assert p.solved is False and p.info["stop_reason"] is None
+
+
+def test_unsolved_trajopt_says_why():
+    # its straight line crosses micro-factory's walls: the optimiser stops and says why
+    p = mb.plan(mb.Scenario.load("micro-factory"), "trajopt", seed=0, params={"max_subproblems": 5})
     assert p.solved is False
+    assert p.info["stop_reason"].startswith("trajopt: no feasible plan; ")
 
 
 def test_save_and_load(sc, plan, tmp_path):

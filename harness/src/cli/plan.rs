@@ -79,6 +79,8 @@ struct LegRun {
     tree: Vec<(Vec2, Vec2)>,
     /// The whole tree, when the planner keeps one.
     tree_data: Option<LegTree>,
+    /// Why the planner stopped unsolved, when it says.
+    stopped: Option<String>,
 }
 
 impl AsRef<PlannerResult> for LegRun {
@@ -156,6 +158,7 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
             problem: planned.problem,
             result: planned.checked.result,
             tree_data: planned.tree,
+            stopped: planned.stopped,
         })
     })?;
 
@@ -289,6 +292,7 @@ fn summary_json(s: &Scenario, planner: &str, a: &PlanArgs, runs: &[LegRun]) -> V
         "time_s": runs.iter().map(|r| r.result.time_s).sum::<f64>(),
         "cost": cost,
         "goal_distance": last.result.goal_distance,
+        "stop_reason": last.stopped,
     });
     if s.legs.len() > 1 {
         v["legs"] = runs
@@ -303,6 +307,7 @@ fn summary_json(s: &Scenario, planner: &str, a: &PlanArgs, runs: &[LegRun]) -> V
                     "time_s": r.result.time_s,
                     "cost": r.result.cost,
                     "goal_distance": r.result.goal_distance,
+                    "stop_reason": r.stopped,
                 })
             })
             .collect();
@@ -349,6 +354,9 @@ fn summary_text(v: &Value, runs: &[LegRun]) -> String {
             res.nodes,
             res.time_s,
         );
+        if let Some(why) = &r.stopped {
+            s += &format!("            stopped: {why}\n");
+        }
     }
     s
 }

@@ -53,6 +53,9 @@ pub struct LegPlan {
     pub checked: Checked,
     /// The search tree of the leg, when the planner keeps one.
     pub tree: Option<LegTree>,
+    /// Why the planner stopped without an exact solution, when it says
+    /// ([`Planner::stop_reason`]).
+    pub stopped: Option<String>,
 }
 
 impl AsRef<PlannerResult> for LegPlan {
@@ -97,11 +100,16 @@ impl<'a> Pipeline<'a> {
             });
         }
         let tree = LegTree::of_planner(planner, &problem, leg);
+        let stopped = planner
+            .stop_reason()
+            .filter(|_| !checked.result.solved)
+            .map(str::to_string);
         Ok(LegPlan {
             leg,
             problem,
             checked,
             tree,
+            stopped,
         })
     }
 

@@ -145,24 +145,25 @@ pub fn plan_legs(
     spec: &RunSpec,
     setup: &PlanningSetup,
 ) -> Result<Vec<PlannerResult>, RunError> {
-    plan_legs_with_trees(registry, spec, setup).map(|(r, _)| r)
+    let legs = planned_legs(registry, spec, setup)?;
+    Ok(legs.into_iter().map(|l| l.checked.result).collect())
 }
 
-/// [`plan_legs`], also returning the search tree of each leg whose planner keeps one.
-pub fn plan_legs_with_trees(
+/// [`plan_legs`], keeping each leg's [`LegPlan`] (its search tree and stop reason).
+fn planned_legs(
     registry: &Registry,
     spec: &RunSpec,
     setup: &PlanningSetup,
-) -> Result<(Vec<PlannerResult>, Vec<LegTree>), RunError> {
+) -> Result<Vec<LegPlan>, RunError> {
     let pipe = pipeline(spec, setup);
-    let legs = pipe.plan_legs(|leg, start| plan_leg(registry, spec, &pipe, leg, start))?;
-    let mut trees = vec![];
-    let mut out = vec![];
-    for l in legs {
-        trees.extend(l.tree);
-        out.push(l.checked.result);
+    pipe.plan_legs(|leg, start| plan_leg(registry, spec, &pipe, leg, start))
+}
+
+/// Writes why the planner of `leg` stopped unsolved, when it said, to the `error` column.
+fn record_stop(rec: &mut super::RunRecord, leg: &LegPlan) {
+    if let Some(why) = &leg.stopped {
+        rec.error = format!("leg {}: {why}", leg.leg + 1);
     }
-    Ok((out, trees))
 }
 
 /// The plan of all legs joined end to end.
@@ -317,7 +318,15 @@ impl Executor for RealExecutor {
         let setup = setup(spec)?;
         let Some(tv) = &spec.tracker else {
             let n = spec.scenario.legs.len();
-            let (legs, trees) = plan_legs_with_trees(&self.registry, spec, &setup)?;
+            let planned = planned_legs(&self.registry, spec, &setup)?;
+            if let Some(last) = planned.last() {
+                record_stop(&mut rec, last);
+            }
+            let (mut legs, mut trees) = (vec![], vec![]);
+            for l in planned {
+                legs.push(l.checked.result);
+                trees.extend(l.tree);
+            }
             let progress = fill_planning(&legs, n, spec, &mut rec);
             fill_path(&mut rec, &legs[0].plan, &setup, spec);
             let shown: Vec<&PlannerResult> = legs.iter().collect();
@@ -331,11 +340,13 @@ impl Executor for RealExecutor {
             });
         };
         let pipe = pipeline(spec, &setup);
+        let planned = plan_leg(&self.registry, spec, &pipe, 0, None)?;
+        record_stop(&mut rec, &planned);
         let LegPlan {
             checked: first,
             tree,
             ..
-        } = plan_leg(&self.registry, spec, &pipe, 0, None)?;
+        } = planned;
         let model = setup.model(&spec.scenario);
         let trees: Vec<LegTree> = tree.into_iter().collect();
         let progress = fill_planning(std::slice::from_ref(&first.result), 1, spec, &mut rec);
@@ -350,7 +361,11 @@ impl Executor for RealExecutor {
             Err(e) => {
                 // nothing to follow: the run ends before tracking
                 rec.track_status = RunStatus::PlanningFailed.as_str().to_string();
-                rec.error = e.to_string();
+                rec.error = if rec.error.is_empty() {
+                    e.to_string()
+                } else {
+                    format!("{e}; {}", rec.error)
+                };
                 return Ok(RunOutput {
                     record: rec,
                     progress,
@@ -435,5 +450,39 @@ presets = ["realistic"]
             planner_params(&runs[0].planner),
             [("k".to_string(), "3".to_string())]
         );
+    }
+
+    /// A planner that stops unsolved and says why leaves its reason in the `error` column,
+    /// planned only and tracked; a solved run leaves the column empty.
+    #[test]
+    fn an_unsolved_runs_stop_reason_is_its_error() {
+        let text = r#"
+scenarios = ["micro-factory", "open-field"]
+planners = ["trajopt{max_subproblems=5}"]
+seeds = 1
+[limits]
+iterations = 100
+[tracking]
+trackers = ["open-loop"]
+presets = ["ideal"]
+"#;
+        let ex = RealExecutor::default();
+        let e = Experiment::parse(text, "x.toml", Path::new("."), "x", &ex).unwrap();
+        let mut unsolved = 0;
+        for spec in e.runs() {
+            let rec = ex.execute(&spec).unwrap().record;
+            if rec.solved {
+                assert_eq!(rec.error, "", "{}", spec.id());
+            } else {
+                unsolved += 1;
+                assert!(
+                    rec.error.contains("leg 1: trajopt: no feasible plan; "),
+                    "{}: {}",
+                    spec.id(),
+                    rec.error
+                );
+            }
+        }
+        assert_eq!(unsolved, 2, "micro-factory, planned and tracked");
     }
 }

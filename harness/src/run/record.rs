@@ -97,7 +97,8 @@ pub struct RunRecord {
     /// Agents touched (they stick: a failure).
     pub agent_contact: Option<bool>,
 
-    /// Error message of a crashed run.
+    /// Error message of a crashed run; for a run whose planner stopped unsolved and said why
+    /// ([`magbench_planners::Planner::stop_reason`]), that reason.
     pub error: String,
 
     /// Every metric of the table ([`crate::metrics`]). Not a serde field: `runs.csv` writes

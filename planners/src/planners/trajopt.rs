@@ -26,7 +26,7 @@ use magbench_env::declare_params;
 
 use crate::progress::Progress;
 use crate::result::{Best, finish};
-use crate::trajopt::{End, PENALTY, Rollout, Settings, optimise, straight_line};
+use crate::trajopt::{End, PENALTY, Rollout, Settings, Stats, optimise, straight_line};
 use crate::{Planner, PlannerResult, Problem};
 
 declare_params! {
@@ -40,6 +40,8 @@ declare_params! {
         /// iteration and time limits.
         #[param("max_subproblems", 1..=1_000_000)]
         pub max_subproblems: usize = 200,
+        /// Why the last solve ended without a feasible plan (`None` when it found one).
+        pub last_stop: Option<String> = None,
     }
 }
 
@@ -63,6 +65,7 @@ impl Planner for Trajopt {
             margin,
         );
         let mut i = 0u64;
+        let mut stats = Stats::default();
         let mut tail = self.scp.window.min(whole.edges());
         // the subproblems shared evenly among the tails
         let tails = (whole.edges() as f64 / tail as f64).log2().ceil() as u64 + 1;
@@ -84,6 +87,12 @@ impl Planner for Trajopt {
                 j >= share || spent + j >= cap || progress.done(spent + j)
             });
             i += outcome.stats.iterations;
+            stats = Stats {
+                iterations: i,
+                accepted: stats.accepted + outcome.stats.accepted,
+                solver_failures: stats.solver_failures + outcome.stats.solver_failures,
+                stopped: outcome.stats.stopped,
+            };
             let next = whole.resumed(problem, k, outcome.rollout.controls, margin);
             if next.merit(PENALTY) < whole.merit(PENALTY) {
                 whole = next;
@@ -102,6 +111,7 @@ impl Planner for Trajopt {
         } else {
             whole.closest_approach(problem)
         };
+        self.last_stop = (!whole.feasible).then(|| stats.infeasible_reason());
         let best = Best {
             plan,
             solved: whole.feasible,
@@ -109,5 +119,9 @@ impl Planner for Trajopt {
         };
         let nodes = whole.edges() + 1;
         finish(problem, best, i, nodes, progress, first, None)
+    }
+
+    fn stop_reason(&self) -> Option<&str> {
+        self.last_stop.as_deref()
     }
 }

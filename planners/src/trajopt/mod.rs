@@ -83,6 +83,29 @@ const SMALLEST_TRUST: f64 = 1e-7;
 /// The largest trust region (the same units as [`Settings::trust`]).
 const LARGEST_TRUST: f64 = 1.0;
 
+/// Why a run of the optimiser stopped.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Stop {
+    /// The caller's limits (subproblems, time) ran out.
+    #[default]
+    Limits,
+    /// No step was predicted to lower the merit: a local minimum.
+    Converged,
+    /// The trust region shrank below its smallest size: no step the linearisation proposed
+    /// lowered the merit.
+    TrustRegion,
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Stop::Limits => "its subproblem or time limit ran out",
+            Stop::Converged => "it converged onto a local minimum of the penalised violations",
+            Stop::TrustRegion => "its trust region vanished (no step lowered the merit)",
+        })
+    }
+}
+
 /// Work counts of a run.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Stats {
@@ -92,8 +115,23 @@ pub struct Stats {
     pub accepted: u64,
     /// Subproblems the solver did not solve.
     pub solver_failures: u64,
-    /// Why the run stopped: `converged`, `trust region` or `limits`.
-    pub stopped: &'static str,
+    /// Why the run stopped.
+    pub stopped: Stop,
+}
+
+impl Stats {
+    /// Why an optimisation that ended infeasible stopped, with its work counts: the reason a
+    /// run gives in its `error` column.
+    pub fn infeasible_reason(&self) -> String {
+        let mut s = format!(
+            "trajopt: no feasible plan; {} after {} subproblems ({} steps taken",
+            self.stopped, self.iterations, self.accepted
+        );
+        if self.solver_failures > 0 {
+            s += &format!(", {} the solver did not solve", self.solver_failures);
+        }
+        s + ")"
+    }
 }
 
 /// The end of a run: the best iterate and its work counts.
@@ -116,13 +154,10 @@ pub fn optimise(
 ) -> Outcome {
     let mut current = start;
     let mut trust = settings.trust;
-    let mut stats = Stats {
-        stopped: "limits",
-        ..Stats::default()
-    };
+    let mut stats = Stats::default();
     while !stop(stats.iterations, &current) {
         if trust < SMALLEST_TRUST {
-            stats.stopped = "trust region";
+            stats.stopped = Stop::TrustRegion;
             break;
         }
         stats.iterations += 1;
@@ -143,7 +178,7 @@ pub fn optimise(
         };
         let expected = now - predicted;
         if expected <= 1e-9 * (1.0 + now.abs()) {
-            stats.stopped = "converged";
+            stats.stopped = Stop::Converged;
             break;
         }
         let stepped = current.stepped(&delta, region.gradient_limit);

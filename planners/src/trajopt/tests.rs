@@ -1,7 +1,7 @@
 use super::*;
 use crate::planners::GoalZoomRrt;
 use crate::{Limits, Planner, validate_plan};
-use magbench_env::Scenario;
+use magbench_env::{Scenario, Vec2};
 
 fn problem(name: &str, seed: u64) -> Problem {
     let sc = Scenario::load(name).expect("a built-in scenario");
@@ -63,9 +63,43 @@ fn the_planner_stops_and_reports_a_maze_it_cannot_solve() {
     };
     let r = planner.solve(&p);
     assert!(r.iterations <= 20);
-    if !r.solved {
-        assert!(r.approximate && r.goal_distance > p.goal.tolerance);
-    }
+    assert!(!r.solved && r.approximate && r.goal_distance > p.goal.tolerance);
+    let why = planner.stop_reason().expect("an unsolved run says why");
+    assert!(why.starts_with("trajopt: no feasible plan; "), "{why}");
+    assert!(
+        why.contains(&format!("after {} subproblems", r.iterations)),
+        "{why}"
+    );
+}
+
+/// A solved run has no stop reason, and a later unsolved one does not inherit it.
+#[test]
+fn only_an_unsolved_run_gives_a_stop_reason() {
+    let sc = magbench_env::scenario::parse_scenario(SLIDE, "slide").expect("a scenario");
+    let mut planner = crate::planners::Trajopt {
+        max_subproblems: 5,
+        ..Default::default()
+    };
+    planner.solve(&problem("micro-factory", 4));
+    assert!(planner.stop_reason().is_some());
+    let r = planner.solve(&Problem::from_scenario(&sc, 0, None, 2));
+    assert!(r.solved);
+    assert_eq!(planner.stop_reason(), None);
+}
+
+/// A rollout whose state is not finite has diverged: it stops solving the flow, is invalid,
+/// and its violation is infinite, so that no step to it is taken.
+#[test]
+fn a_diverged_rollout_is_invalid_with_an_infinite_violation() {
+    let p = problem("open-field", 5);
+    let (controls, durations) = straight_line(&p, &Settings::default());
+    let edges = controls.len();
+    let start = vec![Vec2::new(f64::NAN, 0.0); p.agents()];
+    let r = Rollout::run(&p, &start, controls, durations, End::Goal, 0.02);
+    assert_eq!(r.states.len(), edges + 1);
+    assert!(!r.valid && !r.feasible && r.valid_edges == 0);
+    assert_eq!(r.violation, f64::INFINITY);
+    assert!(r.merit(PENALTY).is_nan() || r.merit(PENALTY) == f64::INFINITY);
 }
 
 /// A subproblem's linearisation predicts a small step: the rollout after the step lands where

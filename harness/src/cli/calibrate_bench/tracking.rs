@@ -44,7 +44,9 @@ impl Tracking {
             let setup = PlanningSetup::default()
                 .in_frames_of(1.0 / 60.0)
                 .on_plant(medium, magbench_env::coil::COIL_ALPHA_MAX_DEG);
-            let r = plan_leg(&scenario, 0, None, planner.as_mut(), &setup, 0)?;
+            let r = plan_leg(&scenario, 0, None, planner.as_mut(), &setup, 0)?
+                .checked
+                .result;
             if !r.solved {
                 return Err(CliError::Failed(format!(
                     "{PLANNER} did not solve {SCENARIO} (seed 0)"
