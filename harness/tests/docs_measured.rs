@@ -192,7 +192,6 @@ const AWAITING_REGENERATION: &[&str] = &[
     "team-tracking",
     "trackers-50",
     "trackers-mpc",
-    "trajopt-pair-100",
     "trio-tracking",
     "vs-ompl",
 ];
