@@ -53,6 +53,7 @@ fn results_are_identical_at_one_and_two_threads() {
             "success-vs-iterations",
             "success-vs-time",
             "cost-vs-iterations",
+            "cost-vs-time",
             "time-to-first-solution",
             "final-cost",
             "rms-error",
@@ -79,8 +80,8 @@ fn results_are_identical_at_one_and_two_threads() {
     // The report is one self-contained page: inline SVG, inline script (table sorting), no
     // remote resources.
     let html = std::fs::read_to_string(a.join("report.html")).unwrap();
-    // per scenario its preview and 13 plots (two agents: no per-agent plot)
-    assert_eq!(html.matches("<svg").count(), 28);
+    // per scenario its preview and 14 plots (two agents: no per-agent plot)
+    assert_eq!(html.matches("<svg").count(), 30);
     let without_ns = html.replace("xmlns=\"http://www.w3.org/2000/svg\"", "");
     assert!(
         !html.contains("<script src")

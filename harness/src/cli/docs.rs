@@ -192,6 +192,7 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
     let opts = RunOptions {
         root: &root,
         work: &work,
+        out: &out,
         quick: a.quick,
         threads,
         progress: if a.quiet {

@@ -6,9 +6,11 @@ use std::path::Path;
 use statrs::distribution::{Binomial, DiscreteCDF};
 
 use super::convergence::Traces;
+use super::family_tables::{by_family, family};
 use super::table::{Table, num};
 use super::tables::scenario;
 use crate::CliError;
+use crate::results::manifest::Manifest;
 use crate::results::store::read_progress;
 use crate::results::summary::groups;
 use crate::run::{ProgressRow, RunRecord};
@@ -67,22 +69,66 @@ pub fn cost_at_time(dir: &Path, runs: &[RunRecord]) -> Result<Table, CliError> {
 pub fn cost_at_time_of(runs: &[RunRecord], rows: &[ProgressRow]) -> Table {
     let traces = Traces::of(rows);
     let mut head: Vec<String> = vec!["scenario".into(), "planner".into()];
-    for t in TIMES {
-        head.push(format!("best cost at {} s, median [95% interval]", num(t)));
-        head.push(format!("solved by {} s", num(t)));
-    }
+    head.extend(heads(&TIMES));
     let head: Vec<&str> = head.iter().map(String::as_str).collect();
     let mut table = Table::new(&head);
     for g in groups(runs).into_iter().filter(|g| g[0].tracker.is_empty()) {
         let mut row = vec![scenario(&g[0].scenario), g[0].planner.clone()];
-        for t in TIMES {
-            let costs = traces.best_costs(&g, |trace| best_at_time(trace, t));
-            row.push(median_with_interval(&costs));
-            row.push(format!("{}/{}", costs.len(), g.len()));
-        }
+        row.extend(cells(&traces, &g, &TIMES));
         table.row(row);
     }
     table
+}
+
+/// The column titles of [`cells`] at `times`.
+fn heads(times: &[f64]) -> Vec<String> {
+    times
+        .iter()
+        .flat_map(|&t| {
+            [
+                format!("best cost at {} s, median [95% interval]", num(t)),
+                format!("solved by {} s", num(t)),
+            ]
+        })
+        .collect()
+}
+
+/// At each of `times`: the median best cost of the runs of `group` solved by then, with its
+/// 95% interval, and how many had solved.
+fn cells(traces: &Traces, group: &[&RunRecord], times: &[f64]) -> Vec<String> {
+    times
+        .iter()
+        .flat_map(|&t| {
+            let costs = traces.best_costs(group, |trace| best_at_time(trace, t));
+            [
+                median_with_interval(&costs),
+                format!("{}/{}", costs.len(), group.len()),
+            ]
+        })
+        .collect()
+}
+
+/// [`by_family`] of a suite's sweep with [`cost_at_time`]'s columns after its own, at the
+/// [`TIMES`] within the experiment's time limit (a run stopped by it has no later cost).
+/// Reads `manifest.json` and `progress.csv` of `dir`.
+pub fn by_family_at_times(dir: &Path, runs: &[RunRecord]) -> Result<Table, CliError> {
+    let limit = Manifest::read(dir)?.experiment.time_limit_s;
+    let times: Vec<f64> = TIMES
+        .into_iter()
+        .filter(|&t| limit.is_none_or(|l| t <= l))
+        .collect();
+    let rows = read_progress(dir)?;
+    let traces = Traces::of(&rows);
+    let mut table = by_family(runs);
+    table.head.extend(heads(&times));
+    for row in &mut table.rows {
+        let group: Vec<&RunRecord> = runs
+            .iter()
+            .filter(|r| r.planner == row[1] && family(&scenario(&r.scenario)) == row[0])
+            .collect();
+        row.extend(cells(&traces, &group, &times));
+    }
+    Ok(table)
 }
 
 #[cfg(test)]

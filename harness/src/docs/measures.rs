@@ -9,9 +9,8 @@ use std::path::Path;
 use super::ablation::ablation;
 pub use super::cargo_test::Target;
 use super::convergence::convergence;
-use super::cost_at_time::cost_at_time;
+use super::cost_at_time::{by_family_at_times, cost_at_time};
 use super::edge_tables::edge_length;
-use super::family_tables::by_family;
 use super::planner_tables::{improvement, team_scaling};
 use super::replans::replan_latency;
 use super::table::Table;
@@ -48,6 +47,10 @@ pub enum Source {
         quick_seeds: usize,
         /// How the runs become the file's table.
         table: Kind,
+        /// Figures of the sweep's results folder shown under the table: the stems of its
+        /// `plots/SCENARIO/` files (`cost-vs-time`), each scenario's copied to
+        /// `docs/measured/NAME/SCENARIO-STEM.svg` (empty: none).
+        figures: &'static [&'static str],
     },
     /// A bench of crate `magbench-benches`, run from the repository root by
     /// `cargo bench -p magbench-benches --bench BENCH [--features F] -- --noplot ARGS`
@@ -259,6 +262,9 @@ const SWEEP: &[&str] = &[
     "harness/src/experiment",
     "harness/src/metrics",
     "harness/src/results",
+    // a results folder's figures: no table depends on them (a measurement that shows one
+    // declares FIGURES)
+    ":!harness/src/results/plots.rs",
     "harness/src/stats",
     "harness/src/registry.rs",
     "harness/src/docs/table.rs",
@@ -273,6 +279,8 @@ const SWEEP: &[&str] = &[
 const EDGE_TABLES: &[&str] = &["harness/src/docs/edge_tables.rs"];
 /// The table of best cost at fixed times.
 const COST_AT_TIME: &[&str] = &["harness/src/docs/cost_at_time.rs"];
+/// A results folder's figures, for a measurement that shows them (`figures` of a sweep).
+const FIGURES: &[&str] = &["harness/src/results/plots.rs", "harness/src/plot"];
 /// The table of a suite's families.
 const FAMILY_TABLES: &[&str] = &["harness/src/docs/family_tables.rs", "suites/pair-100"];
 /// The tracker comparison's table.
@@ -284,6 +292,9 @@ const CLI: &[&str] = &[
     ":!harness/src/docs",
     ":!harness/src/cli/docs.rs",
     "harness/src/docs/transcript.rs",
+    // a results folder's figures: no console line depends on them (drawing them is part of a
+    // `bench` command's wall time, a few milliseconds a figure)
+    ":!harness/src/results/plots.rs",
     // a replay page's data, packing and player (and the module's declarations): written into
     // pages, never printed
     ":!harness/src/replay/mod.rs",
@@ -343,6 +354,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/planners-success.toml",
             quick_seeds: 4,
             table: Runs(planning),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -353,6 +365,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trackers-50.toml",
             quick_seeds: 3,
             table: Runs(tracking),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -363,6 +376,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trackers-mpc.toml",
             quick_seeds: 2,
             table: Runs(comparison),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP, TRACKER_TABLES],
@@ -373,6 +387,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/cargo-delivery.toml",
             quick_seeds: 2,
             table: Runs(tracking),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -383,6 +398,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/seed-metric.toml",
             quick_seeds: 4,
             table: Runs(errors),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -393,6 +409,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/fidelity-hardware.toml",
             quick_seeds: 3,
             table: Runs(tracking),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -403,6 +420,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/fidelity-short.toml",
             quick_seeds: 4,
             table: Runs(tracking),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -413,6 +431,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trio-planning.toml",
             quick_seeds: 2,
             table: Runs(planning),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -423,6 +442,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trio-tracking.toml",
             quick_seeds: 1,
             table: Runs(tracking),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -433,6 +453,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/quad-tracking.toml",
             quick_seeds: 2,
             table: Runs(tracking),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -443,6 +464,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trio-stall.toml",
             quick_seeds: 1,
             table: Runs(team_runs),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -453,6 +475,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trio-open-loop.toml",
             quick_seeds: 2,
             table: Runs(team_runs),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -475,6 +498,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/extend.toml",
             quick_seeds: 2,
             table: Runs(first_solution_work),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -485,6 +509,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trio-alpha-max.toml",
             quick_seeds: 1,
             table: Runs(team_runs),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -495,6 +520,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/team-elevation.toml",
             quick_seeds: 1,
             table: Runs(first_solution_work),
+            figures: &[],
         },
         feature: Some("ompl"),
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -520,6 +546,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/planners-convergence.toml",
             quick_seeds: 2,
             table: Folder(convergence),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -530,6 +557,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/informed.toml",
             quick_seeds: 2,
             table: Folder(convergence),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -540,6 +568,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/replan.toml",
             quick_seeds: 2,
             table: Outputs(replan_latency),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -550,6 +579,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/replan-team.toml",
             quick_seeds: 1,
             table: Outputs(replan_latency),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -560,6 +590,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/vs-ompl.toml",
             quick_seeds: 2,
             table: Runs(first_solution),
+            figures: &[],
         },
         feature: Some("ompl"),
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -570,6 +601,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/ablation-obc.toml",
             quick_seeds: 1,
             table: Runs(ablation),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -580,6 +612,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/ablation-lookahead.toml",
             quick_seeds: 1,
             table: Runs(ablation),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -590,6 +623,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/ablation-open-loop.toml",
             quick_seeds: 2,
             table: Runs(ablation),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -600,6 +634,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/obc-grid.toml",
             quick_seeds: 2,
             table: Runs(loop_cost),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -610,6 +645,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trio-tracking.toml",
             quick_seeds: 1,
             table: Runs(loop_cost),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -820,6 +856,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/steering.toml",
             quick_seeds: 2,
             table: Runs(first_solution),
+            figures: &[],
         },
         feature: Some("ompl"),
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -830,6 +867,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/shortcut.toml",
             quick_seeds: 2,
             table: Runs(improvement),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -840,6 +878,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/shortcut-budget.toml",
             quick_seeds: 2,
             table: Runs(improvement),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -850,6 +889,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/trajopt.toml",
             quick_seeds: 2,
             table: Runs(improvement),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -860,19 +900,28 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/cost-at-time.toml",
             quick_seeds: 2,
             table: Folder(cost_at_time),
+            figures: &["cost-vs-time"],
         },
         feature: Some("ompl"),
-        depends: &[PLANT, PLANNING, TRACKING, SWEEP, COST_AT_TIME],
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, COST_AT_TIME, FIGURES],
     },
     Measure {
         name: "trajopt-pair-100",
         source: Sweep {
             experiment: "experiments/trajopt-pair-100.toml",
             quick_seeds: 1,
-            table: Runs(by_family),
+            table: Folder(by_family_at_times),
+            figures: &[],
         },
         feature: Some("ompl"),
-        depends: &[PLANT, PLANNING, TRACKING, SWEEP, FAMILY_TABLES],
+        depends: &[
+            PLANT,
+            PLANNING,
+            TRACKING,
+            SWEEP,
+            FAMILY_TABLES,
+            COST_AT_TIME,
+        ],
     },
     Measure {
         name: "straighten-teams",
@@ -880,6 +929,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/straighten-teams.toml",
             quick_seeds: 2,
             table: Runs(improvement),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -890,6 +940,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/shortcut-tracking.toml",
             quick_seeds: 2,
             table: Runs(team_runs),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -936,6 +987,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/edge-length.toml",
             quick_seeds: 2,
             table: Runs(edge_length),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP, EDGE_TABLES],
@@ -946,6 +998,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/guide.toml",
             quick_seeds: 2,
             table: Runs(planning),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -956,6 +1009,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/aim.toml",
             quick_seeds: 2,
             table: Runs(first_solution_work),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -966,6 +1020,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/sampling.toml",
             quick_seeds: 2,
             table: Runs(first_solution_work),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -976,6 +1031,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/aim-edge-length.toml",
             quick_seeds: 2,
             table: Runs(first_solution_work),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -986,6 +1042,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/aim-tracking.toml",
             quick_seeds: 2,
             table: Runs(team_runs),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -996,6 +1053,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/team-scaling.toml",
             quick_seeds: 2,
             table: Runs(team_scaling),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP],
@@ -1055,6 +1113,7 @@ pub static MEASURES: &[Measure] = &[
             experiment: "experiments/team-tracking.toml",
             quick_seeds: 2,
             table: Runs(tracking),
+            figures: &[],
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP, GENERATOR],

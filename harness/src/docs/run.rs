@@ -13,6 +13,7 @@ use super::transcript::{format_transcript, run_transcript};
 use crate::CliError;
 use crate::experiment::Experiment;
 use crate::results::manifest::{git_revision_outside, host, now};
+use crate::results::plots::slug;
 use crate::results::store::read_runs;
 use crate::run::{Executor, RunOutput, Status, execute_caught};
 use crate::sweep::{ProgressMode, SweepOptions, run_sweep};
@@ -24,6 +25,9 @@ pub struct RunOptions<'a> {
     pub root: &'a Path,
     /// Folder for the sweeps' results (`NAME/` in it is replaced).
     pub work: &'a Path,
+    /// Folder the measured files are written to: a sweep's figures go to `NAME/` in it
+    /// (replaced).
+    pub out: &'a Path,
     /// Keep only the measurement's `quick_seeds` seeds.
     pub quick: bool,
     /// Worker threads.
@@ -58,7 +62,8 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
             experiment,
             quick_seeds,
             table,
-        } => run_sweep_measure(m, experiment, quick_seeds, table, ex, o)?,
+            figures,
+        } => run_sweep_measure(m, experiment, (quick_seeds, table, figures), ex, o)?,
         Source::Bench {
             bench,
             ids,
@@ -237,12 +242,11 @@ fn run_python_measure(
 }
 
 /// Runs the experiment of sweep measurement `m`; returns the header's `runs` line and the
-/// table.
+/// table, followed by its figures (copied by [`copy_figures`]).
 fn run_sweep_measure(
     m: &Measure,
     experiment: &str,
-    quick_seeds: usize,
-    kind: Kind,
+    (quick_seeds, kind, figures): (usize, Kind, &[&str]),
     ex: &dyn Executor,
     o: &RunOptions,
 ) -> Result<(String, String), CliError> {
@@ -257,20 +261,21 @@ fn run_sweep_measure(
     }
     crate::cli::output::prepare_dir(&dir, "--work")?;
     let t0 = Instant::now();
-    let (count, table) = match kind {
+    let (count, table, scenarios) = match kind {
         Kind::Runs(f) => {
             let runs = sweep(m, &e, ex, o, &dir)?;
-            (runs.len(), f(&runs))
+            (runs.len(), f(&runs), scenarios_of(&runs))
         }
         Kind::Folder(f) => {
             let runs = sweep(m, &e, ex, o, &dir)?;
-            (runs.len(), f(&dir, &runs)?)
+            (runs.len(), f(&dir, &runs)?, scenarios_of(&runs))
         }
         Kind::Outputs(f) => {
             let outs = run_each(m, &e, ex, o.threads)?;
-            (outs.len(), f(&outs))
+            (outs.len(), f(&outs), vec![])
         }
     };
+    let shown = copy_figures(m.name, &dir, &scenarios, figures, o.out)?;
     let secs = t0.elapsed().as_secs_f64();
     let seeds = match o.quick {
         true => format!("the first {} of its {all} seeds (`--quick`)", e.seeds.len()),
@@ -281,7 +286,57 @@ fn run_sweep_measure(
         o.threads,
         build()
     );
-    Ok((runs, table.markdown()))
+    Ok((runs, format!("{}{shown}", table.markdown())))
+}
+
+/// The scenarios of `runs` as their plot folders are named, in the order they first appear.
+fn scenarios_of(runs: &[crate::run::RunRecord]) -> Vec<String> {
+    let mut v: Vec<String> = Vec::new();
+    for r in runs {
+        let s = slug(&r.scenario);
+        if !v.contains(&s) {
+            v.push(s);
+        }
+    }
+    v
+}
+
+/// Copies figure `STEM` of every scenario of the results folder `dir`
+/// (`plots/SCENARIO/STEM.svg`) to `out/NAME/SCENARIO-STEM.svg` (that folder replaced) and
+/// returns the Markdown that shows them, one image per line (paths relative to `docs/`, where
+/// the chapters that include the file are); nothing without `figures`. A figure missing from
+/// the folder is an error.
+fn copy_figures(
+    name: &str,
+    dir: &Path,
+    scenarios: &[String],
+    figures: &[&str],
+    out: &Path,
+) -> Result<String, CliError> {
+    if figures.is_empty() {
+        return Ok(String::new());
+    }
+    let to = out.join(name);
+    if to.exists() {
+        std::fs::remove_dir_all(&to)?;
+    }
+    std::fs::create_dir_all(&to)?;
+    let mut md = String::from("\n");
+    for sc in scenarios {
+        for stem in figures {
+            let from = dir.join("plots").join(sc).join(format!("{stem}.svg"));
+            if !from.is_file() {
+                return Err(CliError::Failed(format!(
+                    "{name}: figure {} was not drawn",
+                    from.display()
+                )));
+            }
+            let file = format!("{sc}-{stem}.svg");
+            std::fs::copy(&from, to.join(&file))?;
+            md.push_str(&format!("\n![{sc}: {stem}](measured/{name}/{file})\n"));
+        }
+    }
+    Ok(md)
 }
 
 /// Sweeps experiment `e` of `m` into `dir` and returns its runs; a crashed run is an error.
@@ -338,4 +393,38 @@ fn run_each(
         )));
     }
     Ok(outs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sweeps_figures_are_copied_beside_its_file_and_shown_under_the_table() {
+        let tmp = tempfile::tempdir().unwrap();
+        let (dir, out) = (tmp.path().join("sweep"), tmp.path().join("measured"));
+        for sc in ["open-field", "micro-factory"] {
+            let plots = dir.join("plots").join(sc);
+            std::fs::create_dir_all(&plots).unwrap();
+            std::fs::write(plots.join("cost-vs-time.svg"), format!("<svg>{sc}</svg>")).unwrap();
+        }
+        let scenarios = ["micro-factory".to_string(), "open-field".to_string()];
+        std::fs::create_dir_all(out.join("m")).unwrap();
+        std::fs::write(out.join("m/old.svg"), "stale").unwrap();
+        let md = copy_figures("m", &dir, &scenarios, &["cost-vs-time"], &out).unwrap();
+        assert_eq!(
+            md,
+            "\n\n![micro-factory: cost-vs-time](measured/m/micro-factory-cost-vs-time.svg)\n\
+             \n![open-field: cost-vs-time](measured/m/open-field-cost-vs-time.svg)\n"
+        );
+        let copied = std::fs::read_to_string(out.join("m/open-field-cost-vs-time.svg")).unwrap();
+        assert_eq!(copied, "<svg>open-field</svg>");
+        assert!(!out.join("m/old.svg").exists(), "the folder is replaced");
+        // none asked: nothing copied, nothing shown
+        assert_eq!(copy_figures("n", &dir, &scenarios, &[], &out).unwrap(), "");
+        assert!(!out.join("n").exists());
+        // a figure the sweep did not draw is an error naming it
+        let err = copy_figures("m", &dir, &scenarios, &["cost-vs-nothing"], &out).unwrap_err();
+        assert!(err.to_string().contains("cost-vs-nothing.svg"), "{err}");
+    }
 }

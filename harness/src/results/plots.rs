@@ -2,8 +2,10 @@
 //!
 //! - `success-vs-iterations`, `success-vs-time`: the fraction of runs with an exact solution
 //!   by then, per configuration, with the 95% Wilson interval as a band;
-//! - `cost-vs-iterations`: the median best cost with the interquartile band (unsolved runs
-//!   count as +∞, so the median shows once half the runs are solved);
+//! - `cost-vs-iterations`, `cost-vs-time`: the median best cost with the interquartile band
+//!   (unsolved runs count as +∞, so the median shows once half the runs are solved); against
+//!   planning time, planners whose iterations differ in cost (trajopt's convex subproblems,
+//!   RRT's extensions) are compared at equal time;
 //! - a box plot of every metric the table ([`crate::metrics::TABLE`]) gives one (`final-cost`,
 //!   `time-to-first-solution`, `path-length`, ...; with trackers `rms-error`, `max-error`, the
 //!   worst agent's, ...), one box per configuration;
@@ -161,10 +163,13 @@ fn success_chart(
     }
 }
 
+/// The median best cost of `runs` at each of `xs` (iterations or seconds, as `at` reads a
+/// progress row), with the interquartile band; a run unsolved by then counts as +∞.
 fn cost_curve(
     runs: &[&RunRecord],
-    progress: &BTreeMap<usize, Vec<&ProgressRow>>,
+    progress: &Traces,
     xs: &[f64],
+    at: fn(&ProgressRow) -> f64,
 ) -> Vec<BandPoint> {
     xs.iter()
         .map(|&x| {
@@ -175,7 +180,7 @@ fn cost_curve(
                         .get(&r.run)
                         .and_then(|p| {
                             p.iter()
-                                .take_while(|p| p.iteration as f64 <= x)
+                                .take_while(|p| at(p) <= x)
                                 .last()
                                 .and_then(|p| p.best_cost)
                         })
@@ -206,6 +211,58 @@ fn cost_curve(
         })
         .collect()
 }
+
+/// The median best cost of each planning configuration against `xs` (iterations or seconds,
+/// as the progress rows are read), with the interquartile band; `x_axis` is the x label and
+/// whether that axis is logarithmic.
+fn cost_chart(
+    planning: &[&Vec<&RunRecord>],
+    (by_run, at): (&Traces, fn(&ProgressRow) -> f64),
+    xs: &[f64],
+    x_axis: (&str, bool),
+    title: &str,
+    looks: &[Look],
+    width: u32,
+) -> LineBandChart {
+    let series: Vec<Series<Vec<BandPoint>>> = planning
+        .iter()
+        .map(|g| Series {
+            label: g[0].planner.clone(),
+            data: cost_curve(g, by_run, xs, at),
+        })
+        .collect();
+    let finite: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.data.iter())
+        .flat_map(|p| [p.y, p.lo, p.hi])
+        .filter(|v| v.is_finite() && *v < 1e299)
+        .collect();
+    let y_range = match (
+        finite.iter().copied().reduce(f64::min),
+        finite.iter().copied().reduce(f64::max),
+    ) {
+        (Some(a), Some(b)) if b > a => Some((a - 0.05 * (b - a), b + 0.05 * (b - a))),
+        (Some(a), Some(_)) => Some((a * 0.9 - 1e-9, a * 1.1 + 1e-9)),
+        _ => Some((0.0, 1.0)),
+    };
+    let planning_runs: Vec<&RunRecord> = planning.iter().flat_map(|g| g.iter().copied()).collect();
+    LineBandChart {
+        title: title.into(),
+        x_label: x_axis.0.into(),
+        y_label: cost_axis(&planning_runs, "best cost"),
+        series,
+        y_range,
+        steps: true,
+        band_label: "interquartile range (unsolved = +∞)".into(),
+        empty_note: "no configuration solved half of its runs: no median cost yet".into(),
+        looks: looks.to_vec(),
+        x_log: x_axis.1,
+        width,
+    }
+}
+
+/// Each run's progress rows, by run.
+type Traces<'a> = BTreeMap<usize, Vec<&'a ProgressRow>>;
 
 struct Writer<'a> {
     dir: &'a Path,
@@ -424,44 +481,30 @@ pub fn write_all_with(
         );
         w.save(sc, "success-vs-time", &fig, &title)?;
 
-        let series: Vec<Series<Vec<BandPoint>>> = planning
-            .iter()
-            .map(|g| Series {
-                label: g[0].planner.clone(),
-                data: cost_curve(g, &by_run, &xs),
-            })
-            .collect();
-        let finite: Vec<f64> = series
-            .iter()
-            .flat_map(|s| s.data.iter())
-            .flat_map(|p| [p.y, p.lo, p.hi])
-            .filter(|v| v.is_finite() && *v < 1e299)
-            .collect();
-        let y_range = match (
-            finite.iter().copied().reduce(f64::min),
-            finite.iter().copied().reduce(f64::max),
-        ) {
-            (Some(a), Some(b)) if b > a => Some((a - 0.05 * (b - a), b + 0.05 * (b - a))),
-            (Some(a), Some(_)) => Some((a * 0.9 - 1e-9, a * 1.1 + 1e-9)),
-            _ => Some((0.0, 1.0)),
-        };
+        let title = format!("{sc}: best cost vs iterations");
+        let fig = cost_chart(
+            &planning,
+            (&by_run, |p: &ProgressRow| p.iteration as f64),
+            &xs,
+            (it_label, it_log),
+            &title,
+            &looks,
+            width,
+        );
+        w.save(sc, "cost-vs-iterations", &fig, &title)?;
+        let title = format!("{sc}: best cost vs planning time");
+        let fig = cost_chart(
+            &planning,
+            (&by_run, |p: &ProgressRow| p.time_s),
+            &ts,
+            ("planning time (s)", t_log),
+            &title,
+            &looks,
+            width,
+        );
+        w.save(sc, "cost-vs-time", &fig, &title)?;
         let planning_runs: Vec<&RunRecord> =
             planning.iter().flat_map(|g| g.iter().copied()).collect();
-        let title = format!("{sc}: best cost vs iterations");
-        let fig = LineBandChart {
-            title: title.clone(),
-            x_label: it_label.into(),
-            y_label: cost_axis(&planning_runs, "best cost"),
-            series,
-            y_range,
-            steps: true,
-            band_label: "interquartile range (unsolved = +∞)".into(),
-            empty_note: "no configuration solved half of its runs: no median cost yet".into(),
-            looks,
-            x_log: it_log,
-            width,
-        };
-        w.save(sc, "cost-vs-iterations", &fig, &title)?;
 
         // one box per configuration of a per-run figure
         // `spans`: a quantity (times) that gets a log axis when it spans more than a decade
@@ -562,4 +605,53 @@ pub fn write_all_with(
         }
     }
     Ok(w.files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(run: usize, iteration: u64, time_s: f64, best_cost: Option<f64>) -> ProgressRow {
+        ProgressRow {
+            run,
+            run_id: format!("r{run}"),
+            iteration,
+            time_s,
+            best_cost,
+        }
+    }
+
+    #[test]
+    fn a_cost_curve_is_read_at_iterations_or_at_seconds() {
+        let mut a = RunRecord::example();
+        a.run = 0;
+        let mut b = RunRecord::example();
+        b.run = 1;
+        // run 0: 9 at iteration 10 (0.5 s), 5 at iteration 20 (3 s); run 1: 7 at iteration 30
+        // (0.2 s): its iterations are slow by the first run's clock, fast by the wall clock
+        let rows = [
+            point(0, 10, 0.5, Some(9.0)),
+            point(0, 20, 3.0, Some(5.0)),
+            point(1, 30, 0.2, Some(7.0)),
+        ];
+        let mut by_run: BTreeMap<usize, Vec<&ProgressRow>> = BTreeMap::new();
+        for p in &rows {
+            by_run.entry(p.run).or_default().push(p);
+        }
+        let runs = [&a, &b];
+        let medians = |xs: &[f64], at: fn(&ProgressRow) -> f64| -> Vec<f64> {
+            cost_curve(&runs, &by_run, xs, at)
+                .iter()
+                .map(|p| p.y)
+                .collect()
+        };
+        let by_iteration = medians(&[15.0, 25.0, 35.0], |p| p.iteration as f64);
+        let by_time = medians(&[0.3, 1.0, 5.0], |p| p.time_s);
+        // the median of two runs is their mean: one unsolved makes it +∞ (no line)
+        assert!(by_iteration[0].is_nan() && by_iteration[1].is_nan());
+        assert_eq!(by_iteration[2], 6.0);
+        assert!(by_time[0].is_nan());
+        assert_eq!(by_time[1], 8.0);
+        assert_eq!(by_time[2], 6.0);
+    }
 }
