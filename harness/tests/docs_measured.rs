@@ -167,33 +167,17 @@ fn every_measured_file_parses_and_belongs_to_a_measurement() {
 /// that is fresh: the list names exactly the files whose figures may not be today's.
 const AWAITING_REGENERATION: &[&str] = &[
     "ablation-lookahead",
-    "ablation-obc",
     "bench-obc-tick",
     "bench-ompl-abi",
-    "bench-planning",
     "bench-threads",
-    "calibration-bench",
-    "calibration-bench-bulk-hydro",
-    "cost-at-time",
-    "fidelity-hardware",
-    "formations",
-    "pair-100-profile",
     "python-overhead",
     "python-plugins",
     "python-rrt",
-    "regress-power",
     "scale",
     "scaling",
     "shortcut-plans",
     "sst-pruning",
-    "team-proximity",
     "team-sizes",
-    "team-stall",
-    "team-tracking",
-    "trackers-50",
-    "trackers-mpc",
-    "trio-tracking",
-    "vs-ompl",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).
