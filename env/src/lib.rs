@@ -16,7 +16,9 @@
 //! - [`registry`]: components by name (planners, trackers, rigs, scenario families), one
 //!   [`registry::Registry`] shape for all;
 //! - [`scenario`]: the TOML scenario format, its validation and the built-in scenarios;
-//! - [`controllability`]: the numerical Lie-bracket (LARC) tool.
+//! - [`controllability`]: the numerical Lie-bracket (LARC) tool;
+//! - [`team_symmetry`] and [`team_spin`]: the invariant set of every team, and the formations no
+//!   field turns.
 //!
 //! Lengths are in body lengths (BL = one agent diameter) and times in seconds everywhere.
 
@@ -35,6 +37,7 @@ pub mod plant;
 pub mod registry;
 pub mod scenario;
 pub mod team_controllability;
+pub mod team_spin;
 pub mod team_symmetry;
 pub mod world;
 

@@ -355,3 +355,41 @@ fn names_a_goal_outside_the_starts_invariant_set() {
         );
     }
 }
+
+#[test]
+fn names_a_goal_that_turns_a_start_no_field_turns() {
+    // a square has no spin moment; the goal is the square turned by 45° about its centre
+    let square = GOOD.replace(
+        "[[3.0, 5.0], [5.0, 5.0]]",
+        "[[3.0, 3.0], [5.0, 3.0], [5.0, 5.0], [3.0, 5.0]]",
+    );
+    let h = std::f64::consts::SQRT_2;
+    let turned = format!(
+        "[[21.0, {:.6}], [{:.6}, 14.0], [21.0, {:.6}], [{:.6}, 14.0]]",
+        14.0 - h,
+        21.0 + h,
+        14.0 + h,
+        21.0 - h
+    );
+    let load = |text: &str| parse_scenario(text, "t.toml").expect("a valid scenario");
+    let s = load(&square.replace("[[25.0, 15.0], [27.5, 15.0]]", &turned));
+    let (leg, field, reason) = s.turned_leg().expect("a turned square");
+    assert_eq!((leg, field.as_str()), (0, "goal.agents"));
+    assert!(reason.contains("turned by 45.0°"), "{reason}");
+    // the square moved without a turn, and a kite (which a field turns) turned, are not noted
+    let moved = "[[20.0, 13.0], [22.0, 13.0], [22.0, 15.0], [20.0, 15.0]]";
+    assert_eq!(
+        load(&square.replace("[[25.0, 15.0], [27.5, 15.0]]", moved)).turned_leg(),
+        None
+    );
+    let kite_start = GOOD.replace(
+        "[[3.0, 5.0], [5.0, 5.0]]",
+        "[[3.0, 4.0], [5.0, 5.0], [7.0, 4.0], [5.0, 1.5]]",
+    );
+    // the kite turned by 90° about its centroid
+    let kite_turned = "[[20.625, 12.0], [19.625, 14.0], [20.625, 16.0], [23.125, 14.0]]";
+    let kite = load(&kite_start.replace("[[25.0, 15.0], [27.5, 15.0]]", kite_turned));
+    let (angle, left) = magbench_env::team_spin::best_turn(&kite.start, &kite.legs[0].goal.agents);
+    assert!((angle.to_degrees() - 90.0).abs() < 1e-9 && left < 1e-9);
+    assert_eq!(kite.turned_leg(), None);
+}

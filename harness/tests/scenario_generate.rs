@@ -203,3 +203,46 @@ fn bench_runs_a_generated_grid_and_keeps_its_files() {
         assert_eq!(code, 0, "{name}: {err}");
     }
 }
+
+#[test]
+fn a_turned_ring_is_shown_spin_free_and_checked_with_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for (rotation, stem) in [("60", "turned"), ("0", "moved")] {
+        let out = dir.path().join(stem);
+        let (code, _, err) = magbench(&[
+            "scenario",
+            "generate",
+            "team",
+            "--set",
+            "agents=10",
+            "--set",
+            "spacing=1.8",
+            "--set",
+            &format!("rotation={rotation}"),
+            "--seed",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        files.push(out.join("team-s1-0.toml"));
+    }
+    let turned = files[0].to_str().unwrap();
+    let (code, show, err) = magbench(&["scenario", "show", turned]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        show.contains("spin        the start turns at most 0.0")
+            && show.contains("no field turns this formation"),
+        "{show}"
+    );
+    let (code, _, err) = magbench(&["scenario", "check", turned]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("goal.agents") && err.contains("turned by 60.0°"),
+        "{err}"
+    );
+    let (code, _, err) = magbench(&["scenario", "check", files[1].to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("turned by"), "{err}");
+}

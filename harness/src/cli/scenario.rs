@@ -7,7 +7,8 @@ use magbench_env::check::Bound;
 use magbench_env::params::split_all;
 use magbench_env::scenario::difficulty::measure;
 use magbench_env::scenario::{builtin_names, generate};
-use magbench_env::{Obstacle, Scenario};
+use magbench_env::team_spin::{fastest_spin, spin_free};
+use magbench_env::{Obstacle, PlanningModel, Scenario};
 use sha2::{Digest, Sha256};
 
 use super::number::count;
@@ -94,7 +95,7 @@ pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
         ScenarioCmd::Generate(a) => generate_files(a)?,
         ScenarioCmd::Check { file } => {
             let s = Scenario::load(&file)?;
-            if let Some((_, field, note)) = s.symmetric_leg() {
+            for (_, field, note) in [s.symmetric_leg(), s.turned_leg()].into_iter().flatten() {
                 eprintln!("note: {}: {field}: {note}", s.source);
             }
             outln!(
@@ -205,6 +206,29 @@ pub fn summary(s: &Scenario) -> String {
         p.r_min,
         p.r_max
     );
+    if s.agents() >= 3 {
+        out += &spin_line(s);
+    }
     out += &measure(s).summary();
     out
+}
+
+/// How fast the fastest field turns the start about its centroid, in the planning model at the
+/// scenario's medium, and whether no field turns it ([`magbench_env::team_spin`]).
+fn spin_line(s: &Scenario) -> String {
+    let mut model = PlanningModel::new(&s.physics);
+    if let Some(m) = &s.medium {
+        model = model.in_medium(&s.physics, m);
+    }
+    let (fastest, theta) = fastest_spin(&model, &s.start);
+    let free = if spin_free(&s.start) {
+        " (no field turns this formation: docs/physics.md, \"Formations no field turns\")"
+    } else {
+        ""
+    };
+    format!(
+        "spin        the start turns at most {:.3}°/s about its centroid (field at {:.1}°){free}\n",
+        fastest.to_degrees(),
+        theta.to_degrees()
+    )
 }
