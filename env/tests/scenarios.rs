@@ -364,7 +364,7 @@ fn names_a_goal_that_turns_a_start_no_field_turns() {
         "[[3.0, 3.0], [5.0, 3.0], [5.0, 5.0], [3.0, 5.0]]",
     );
     let h = std::f64::consts::SQRT_2;
-    let turned = format!(
+    let goal = format!(
         "[[21.0, {:.6}], [{:.6}, 14.0], [21.0, {:.6}], [{:.6}, 14.0]]",
         14.0 - h,
         21.0 + h,
@@ -372,14 +372,19 @@ fn names_a_goal_that_turns_a_start_no_field_turns() {
         21.0 - h
     );
     let load = |text: &str| parse_scenario(text, "t.toml").expect("a valid scenario");
-    let s = load(&square.replace("[[25.0, 15.0], [27.5, 15.0]]", &turned));
-    let (leg, field, reason) = s.turned_leg().expect("a turned square");
-    assert_eq!((leg, field.as_str()), (0, "goal.agents"));
+    let turned = |s: &Scenario| {
+        let goal = &s.legs[0].goal;
+        magbench_env::team_spin::turn_note(&s.start, &goal.agents, goal.tolerance)
+    };
+    let s = load(&square.replace("[[25.0, 15.0], [27.5, 15.0]]", &goal));
+    let reason = turned(&s).expect("a turned square");
     assert!(reason.contains("turned by 45.0°"), "{reason}");
     // the square moved without a turn, and a kite (which a field turns) turned, are not noted
     let moved = "[[20.0, 13.0], [22.0, 13.0], [22.0, 15.0], [20.0, 15.0]]";
     assert_eq!(
-        load(&square.replace("[[25.0, 15.0], [27.5, 15.0]]", moved)).turned_leg(),
+        turned(&load(
+            &square.replace("[[25.0, 15.0], [27.5, 15.0]]", moved)
+        )),
         None
     );
     let kite_start = GOOD.replace(
@@ -391,5 +396,5 @@ fn names_a_goal_that_turns_a_start_no_field_turns() {
     let kite = load(&kite_start.replace("[[25.0, 15.0], [27.5, 15.0]]", kite_turned));
     let (angle, left) = magbench_env::team_spin::best_turn(&kite.start, &kite.legs[0].goal.agents);
     assert!((angle.to_degrees() - 90.0).abs() < 1e-9 && left < 1e-9);
-    assert_eq!(kite.turned_leg(), None);
+    assert_eq!(turned(&kite), None);
 }

@@ -23,7 +23,6 @@ use crate::error::InputError;
 use crate::math::Vec2;
 use crate::physics::PhysicalParams;
 use crate::plant::{DisturbancePreset, Medium};
-use crate::team_spin::turn_note;
 use crate::team_symmetry::symmetry_note;
 use crate::world::{Obstacle, World};
 
@@ -147,23 +146,8 @@ impl Scenario {
     /// arithmetic no field leaves that set, so the goal is reached only through the growth of an
     /// asymmetry (every leg is checked against the scenario's start).
     pub fn symmetric_leg(&self) -> Option<(usize, String, String)> {
-        self.first_noted_leg(symmetry_note)
-    }
-
-    /// The first leg whose goal is the start's formation turned, from a start no field turns,
-    /// with its field and the note ([`crate::team_spin::turn_note`]): the team must be deformed
-    /// to turn.
-    pub fn turned_leg(&self) -> Option<(usize, String, String)> {
-        self.first_noted_leg(turn_note)
-    }
-
-    /// The first leg that `note` notes against the scenario's start, with its goal's field.
-    fn first_noted_leg(
-        &self,
-        note: fn(&[Vec2], &[Vec2], f64) -> Option<String>,
-    ) -> Option<(usize, String, String)> {
         self.legs.iter().enumerate().find_map(|(i, leg)| {
-            let reason = note(&self.start, &leg.goal.agents, leg.goal.tolerance)?;
+            let reason = symmetry_note(&self.start, &leg.goal.agents, leg.goal.tolerance)?;
             let field = if self.legs.len() == 1 {
                 "goal.agents".to_string()
             } else {

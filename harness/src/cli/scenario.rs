@@ -7,7 +7,8 @@ use magbench_env::check::Bound;
 use magbench_env::params::split_all;
 use magbench_env::scenario::difficulty::measure;
 use magbench_env::scenario::{builtin_names, generate};
-use magbench_env::team_spin::{fastest_spin, spin_free};
+use magbench_env::team_spin::{fastest_spin, spin_free, turn_note};
+use magbench_env::team_symmetry::symmetry_note;
 use magbench_env::{Obstacle, PlanningModel, Scenario};
 use sha2::{Digest, Sha256};
 
@@ -95,8 +96,18 @@ pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
         ScenarioCmd::Generate(a) => generate_files(a)?,
         ScenarioCmd::Check { file } => {
             let s = Scenario::load(&file)?;
-            for (_, field, note) in [s.symmetric_leg(), s.turned_leg()].into_iter().flatten() {
-                eprintln!("note: {}: {field}: {note}", s.source);
+            for (i, leg) in s.legs.iter().enumerate() {
+                let field = if s.legs.len() == 1 {
+                    "goal.agents".to_string()
+                } else {
+                    format!("legs[{i}].goal.agents")
+                };
+                let (start, goal) = (&s.start, &leg.goal);
+                for note in [symmetry_note, turn_note] {
+                    if let Some(note) = note(start, &goal.agents, goal.tolerance) {
+                        eprintln!("note: {}: {field}: {note}", s.source);
+                    }
+                }
             }
             outln!(
                 "{file}: ok ({} agents, {} leg(s), {} obstacles)",

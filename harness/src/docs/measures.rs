@@ -246,6 +246,12 @@ const PLANT: &[&str] = &[
     "presets",
     ":!env/src/scenario/generate",
     ":!env/src/team_controllability.rs",
+    // the spin of formations: only `magbench scenario show` and `check` print it, and no
+    // measurement runs them
+    ":!env/src/team_spin.rs",
+    // the crate's module declarations and re-exports, which change nothing by themselves (a
+    // test checks that the file holds nothing else)
+    ":!env/src/lib.rs",
 ];
 /// The scenario generator: measurements of experiments with `[[generated]]` tables or suites.
 const GENERATOR: &[&str] = &["env/src/scenario/generate"];
@@ -302,6 +308,8 @@ const CLI: &[&str] = &[
     ":!harness/src/replay/pack.rs",
     ":!harness/src/replay/page.rs",
     ":!harness/src/replay/player.js",
+    // `magbench scenario`: no transcript runs it (a test checks)
+    ":!harness/src/cli/scenario.rs",
     // the calibration benchmark: only its own measurement runs it ([`CALIBRATION_BENCH`])
     ":!harness/src/cli/calibrate_bench",
     ":!harness/src/cli/calibrate_bench_plot.rs",
@@ -1405,6 +1413,32 @@ pub fn find(name: &str) -> Option<&'static Measure> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn no_transcript_runs_the_scenario_command_that_cli_leaves_out() {
+        for m in MEASURES {
+            if let Transcript { steps, .. } = &m.source {
+                for step in *steps {
+                    let command = match step {
+                        Step::Run(c) | Step::Background { command: c, .. } => c,
+                    };
+                    assert!(!command.starts_with("scenario"), "{}: {command}", m.name);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn env_s_lib_rs_holds_only_declarations() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let text = std::fs::read_to_string(root.join("env/src/lib.rs")).unwrap();
+        for line in text.lines().map(str::trim) {
+            let declaration = ["//", "#![", "pub mod ", "pub use "]
+                .iter()
+                .any(|p| line.starts_with(p));
+            assert!(line.is_empty() || declaration, "env/src/lib.rs: {line}");
+        }
+    }
 
     #[test]
     fn names_are_unique_and_sources_exist() {
