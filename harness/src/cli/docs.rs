@@ -100,7 +100,7 @@ fn run_stale(a: StaleArgs) -> Result<(), CliError> {
             Err(e) => return Err(CliError::Failed(format!("{}: {e}", path.display()))),
         };
         if a.verbose {
-            outln!("{}: depends on {}", m.name, pathspecs(m).join(" "));
+            outln!("{}: depends on {}", m.name, pathspecs(&root, m).join(" "));
         }
         let file = path.display().to_string();
         match file_staleness(&root, m, &text).map_err(|e| match e {

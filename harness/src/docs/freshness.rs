@@ -96,9 +96,11 @@ pub fn revision(version: &str) -> Option<(String, bool)> {
 }
 
 /// The git pathspecs of the source a measurement's figures depend on: its own file (the
-/// experiment, bench, test, example or script) and its declared [`Measure::depends`].
-pub fn pathspecs(m: &Measure) -> Vec<String> {
+/// experiment, bench, test, example or script), its declared [`Measure::depends`] and the
+/// files of the planners it runs ([`Measure::planner_files`], read under `root`).
+pub fn pathspecs(root: &Path, m: &Measure) -> Vec<String> {
     let mut v: Vec<String> = m.own_files();
+    v.extend(m.planner_files(root).iter().map(|f| f.to_string()));
     v.extend(
         m.depends
             .iter()
@@ -138,20 +140,21 @@ pub fn staleness(
         return Ok(Some(Staleness::Dirty { revision }));
     }
     let changed = git(root, &["diff", "--name-only", &revision, "HEAD"])?;
+    let planners = m.planner_files(root);
     let files: Vec<String> = changed
         .lines()
-        .filter(|f| !f.is_empty() && depends_on(m, f))
+        .filter(|f| !f.is_empty() && depends_on(m, &planners, f))
         .map(str::to_string)
         .collect();
     Ok((!files.is_empty()).then_some(Staleness::Changed { revision, files }))
 }
 
-/// Whether the figures of `m` depend on the repository file `path`: its own files, or a group
-/// of [`Measure::depends`] that holds it. Within a group the longest path that covers `path`
+/// Whether the figures of `m` depend on the repository file `path`: its own files, the files of
+/// the planners it runs (`planners`), or a group of [`Measure::depends`] that holds it. Within a group the longest path that covers `path`
 /// decides (`harness/src` with `:!harness/src/docs` and `harness/src/docs/transcript.rs`
 /// holds the last); each group decides alone, so one group's exclusion never hides a path
 /// another group declares.
-fn depends_on(m: &Measure, path: &str) -> bool {
+fn depends_on(m: &Measure, planners: &[&str], path: &str) -> bool {
     let covers = |spec: &str| {
         let spec = spec.trim_end_matches('/');
         path == spec
@@ -161,6 +164,7 @@ fn depends_on(m: &Measure, path: &str) -> bool {
     };
     let own = m.own_files();
     own.iter().any(|f| covers(f))
+        || planners.iter().any(|f| covers(f))
         || m.depends.iter().any(|group| {
             group
                 .iter()
@@ -304,11 +308,13 @@ mod tests {
             depends: group,
             ..M
         };
-        assert!(depends_on(&m, "src/a.rs"));
-        assert!(depends_on(&m, "src/docs/b.rs"));
-        assert!(!depends_on(&m, "src/docs/c.rs"));
-        assert!(!depends_on(&m, "srcx/a.rs"));
-        assert!(depends_on(&m, "exp.toml"));
+        assert!(depends_on(&m, &[], "src/a.rs"));
+        assert!(depends_on(&m, &[], "src/docs/b.rs"));
+        assert!(!depends_on(&m, &[], "src/docs/c.rs"));
+        assert!(!depends_on(&m, &[], "srcx/a.rs"));
+        assert!(depends_on(&m, &[], "exp.toml"));
+        // a planner's file, excluded by the group, counts when the measurement runs it
+        assert!(depends_on(&m, &["src/docs"], "src/docs/c.rs"));
     }
 
     #[test]

@@ -187,6 +187,26 @@ impl Measure {
         }
     }
 
+    /// The files of [`PLANNER_FILES`] its figures depend on, as git pathspecs: none when it
+    /// does not declare [`PLANNING`]; for a sweep, those of the planners whose names its
+    /// experiment file (read under `root`) holds anywhere, so that a name in a label, a
+    /// parameter or another name counts (all of them if the file cannot be read); for anything
+    /// else, all of them.
+    pub fn planner_files(&self, root: &Path) -> Vec<&'static str> {
+        if !self.depends.iter().any(|g| *g == PLANNING) {
+            return Vec::new();
+        }
+        let text = match self.source {
+            Sweep { experiment, .. } => std::fs::read_to_string(root.join(experiment)).ok(),
+            Bench { .. } | Test { .. } | Python { .. } | Transcript { .. } => None,
+        };
+        PLANNER_FILES
+            .iter()
+            .filter(|(name, _)| text.as_ref().is_none_or(|t| t.contains(name)))
+            .map(|(_, file)| *file)
+            .collect()
+    }
+
     /// What runs and what `--quick` keeps, for `docs measure --list`.
     pub fn describe(&self) -> String {
         match self.source {
@@ -257,8 +277,28 @@ const PLANT: &[&str] = &[
 const GENERATOR: &[&str] = &["env/src/scenario/generate"];
 /// The Lie-bracket rank test of teams (`magbench stlc`, the formation study).
 const CONTROLLABILITY: &[&str] = &["env/src/team_controllability.rs"];
-/// The planners and the scenarios they plan on.
-const PLANNING: &[&str] = &["planners/src", "scenarios"];
+/// The planners and the scenarios they plan on. The own files of the planners in
+/// [`PLANNER_FILES`] count only for the measurements that run them ([`Measure::planner_files`]).
+const PLANNING: &[&str] = &[
+    "planners/src",
+    "scenarios",
+    ":!planners/src/planners/formation_rrt.rs",
+    ":!planners/src/planners/rrt_star",
+    ":!planners/src/planners/sst.rs",
+    ":!planners/src/planners/trajopt.rs",
+];
+/// Planners that run only where a measurement names them, by name, with their own files (left
+/// out of [`PLANNING`]). goal-zoom RRT is not among them: it is the default planner of `plan`,
+/// `track`, Python and the calibration bench, so any measurement may run it. The trajectory
+/// optimiser's pass (`trajopt=N`, planners/src/trajopt) stays in [`PLANNING`]: every planner
+/// takes it.
+const PLANNER_FILES: &[(&str, &str)] = &[
+    ("formation-rrt", "planners/src/planners/formation_rrt.rs"),
+    // also informed-rrt-star's, whose name holds this one
+    ("rrt-star", "planners/src/planners/rrt_star"),
+    ("sst", "planners/src/planners/sst.rs"),
+    ("trajopt", "planners/src/planners/trajopt.rs"),
+];
 /// The trackers.
 const TRACKING: &[&str] = &["trackers/src"];
 /// What turns an experiment into runs and its runs into a table.
@@ -1413,6 +1453,70 @@ pub fn find(name: &str) -> Option<&'static Measure> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn planner_files_are_left_out_of_planning_and_name_registered_planners() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let excluded: Vec<&str> = PLANNING
+            .iter()
+            .filter_map(|s| s.strip_prefix(":!"))
+            .collect();
+        let files: Vec<&str> = PLANNER_FILES.iter().map(|(_, f)| *f).collect();
+        assert_eq!(excluded, files);
+        let names = magbench_planners::planners::builtins();
+        for (name, file) in PLANNER_FILES {
+            assert!(root.join(file).exists(), "{file}");
+            assert!(names.iter().any(|e| e.name() == *name), "{name}");
+        }
+    }
+
+    #[test]
+    fn a_sweep_depends_on_the_files_of_the_planners_its_experiment_names() {
+        let dir = tempfile::tempdir().unwrap();
+        let sweep = |experiment: &'static str, depends| Measure {
+            name: "m",
+            source: Sweep {
+                experiment,
+                quick_seeds: 1,
+                table: Runs(planning),
+                figures: &[],
+            },
+            feature: None,
+            depends,
+        };
+        std::fs::write(
+            dir.path().join("a.toml"),
+            "planners = [\"goal-zoom-rrt{trajopt=5}\", \"informed-rrt-star\"]",
+        )
+        .unwrap();
+        let m = sweep("a.toml", &[PLANT, PLANNING]);
+        assert_eq!(
+            m.planner_files(dir.path()),
+            vec![
+                "planners/src/planners/rrt_star",
+                "planners/src/planners/trajopt.rs"
+            ]
+        );
+        // an experiment that cannot be read depends on all; no PLANNING, on none
+        assert_eq!(
+            sweep("missing.toml", &[PLANNING])
+                .planner_files(dir.path())
+                .len(),
+            PLANNER_FILES.len()
+        );
+        assert!(
+            sweep("a.toml", &[PLANT])
+                .planner_files(dir.path())
+                .is_empty()
+        );
+        let team_sizes = MEASURES.iter().find(|m| m.name == "team-sizes").unwrap();
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        assert!(
+            team_sizes
+                .planner_files(&root)
+                .contains(&"planners/src/planners/formation_rrt.rs")
+        );
+    }
 
     #[test]
     fn no_transcript_runs_the_scenario_command_that_cli_leaves_out() {
