@@ -97,10 +97,10 @@ pub fn revision(version: &str) -> Option<(String, bool)> {
 
 /// The git pathspecs of the source a measurement's figures depend on: its own file (the
 /// experiment, bench, test, example or script), its declared [`Measure::depends`] and the
-/// files of the planners it runs ([`Measure::planner_files`], read under `root`).
+/// files of the planners it runs ([`Measure::named_files`], read under `root`).
 pub fn pathspecs(root: &Path, m: &Measure) -> Vec<String> {
     let mut v: Vec<String> = m.own_files();
-    v.extend(m.planner_files(root).iter().map(|f| f.to_string()));
+    v.extend(m.named_files(root).iter().map(|f| f.to_string()));
     v.extend(
         m.depends
             .iter()
@@ -140,7 +140,7 @@ pub fn staleness(
         return Ok(Some(Staleness::Dirty { revision }));
     }
     let changed = git(root, &["diff", "--name-only", &revision, "HEAD"])?;
-    let planners = m.planner_files(root);
+    let planners = m.named_files(root);
     let files: Vec<String> = changed
         .lines()
         .filter(|f| !f.is_empty() && depends_on(m, &planners, f))
@@ -150,7 +150,7 @@ pub fn staleness(
 }
 
 /// Whether the figures of `m` depend on the repository file `path`: its own files, the files of
-/// the planners it runs (`planners`), or a group of [`Measure::depends`] that holds it. Within a group the longest path that covers `path`
+/// the planners and trackers it runs (`planners`), or a group of [`Measure::depends`] that holds it. Within a group the longest path that covers `path`
 /// decides (`harness/src` with `:!harness/src/docs` and `harness/src/docs/transcript.rs`
 /// holds the last); each group decides alone, so one group's exclusion never hides a path
 /// another group declares.

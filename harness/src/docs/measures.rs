@@ -187,23 +187,20 @@ impl Measure {
         }
     }
 
-    /// The files of [`PLANNER_FILES`] its figures depend on, as git pathspecs: none when it
-    /// does not declare [`PLANNING`]; for a sweep, those of the planners whose names its
-    /// experiment file (read under `root`) holds anywhere, so that a name in a label, a
-    /// parameter or another name counts (all of them if the file cannot be read); for anything
-    /// else, all of them.
-    pub fn planner_files(&self, root: &Path) -> Vec<&'static str> {
-        if !self.depends.iter().any(|g| *g == PLANNING) {
-            return Vec::new();
-        }
+    /// The files of [`NAMED_FILES`] its figures depend on, as git pathspecs: those of a group
+    /// it declares; for a sweep, only those whose names its experiment file (read under `root`)
+    /// holds anywhere, so that a name in a label, a parameter or another name counts (all of
+    /// them if the file cannot be read); for anything else, all of them.
+    pub fn named_files(&self, root: &Path) -> Vec<&'static str> {
         let text = match self.source {
             Sweep { experiment, .. } => std::fs::read_to_string(root.join(experiment)).ok(),
             Bench { .. } | Test { .. } | Python { .. } | Transcript { .. } => None,
         };
-        PLANNER_FILES
+        NAMED_FILES
             .iter()
-            .filter(|(name, _)| text.as_ref().is_none_or(|t| t.contains(name)))
-            .map(|(_, file)| *file)
+            .filter(|(group, _, _)| self.depends.contains(group))
+            .filter(|(_, name, _)| text.as_ref().is_none_or(|t| t.contains(name)))
+            .map(|(_, _, file)| *file)
             .collect()
     }
 
@@ -278,7 +275,7 @@ const GENERATOR: &[&str] = &["env/src/scenario/generate"];
 /// The Lie-bracket rank test of teams (`magbench stlc`, the formation study).
 const CONTROLLABILITY: &[&str] = &["env/src/team_controllability.rs"];
 /// The planners and the scenarios they plan on. The own files of the planners in
-/// [`PLANNER_FILES`] count only for the measurements that run them ([`Measure::planner_files`]).
+/// [`NAMED_FILES`] count only for the measurements that run them ([`Measure::named_files`]).
 const PLANNING: &[&str] = &[
     "planners/src",
     "scenarios",
@@ -287,20 +284,31 @@ const PLANNING: &[&str] = &[
     ":!planners/src/planners/sst.rs",
     ":!planners/src/planners/trajopt.rs",
 ];
-/// Planners that run only where a measurement names them, by name, with their own files (left
-/// out of [`PLANNING`]). goal-zoom RRT is not among them: it is the default planner of `plan`,
-/// `track`, Python and the calibration bench, so any measurement may run it. The trajectory
-/// optimiser's pass (`trajopt=N`, planners/src/trajopt) stays in [`PLANNING`]: every planner
-/// takes it.
-const PLANNER_FILES: &[(&str, &str)] = &[
-    ("formation-rrt", "planners/src/planners/formation_rrt.rs"),
+/// Planners and trackers that run only where a measurement names them: the group that leaves
+/// their files out, the name, and the files. goal-zoom RRT, OBC, lookahead and open-loop are not
+/// among them: they are defaults (of `plan`, `track`, Python, the figures and the calibration
+/// bench) or run inside others, so any measurement may run them. The trajectory optimiser's pass
+/// (`trajopt=N`, planners/src/trajopt) stays in [`PLANNING`]: every planner takes it.
+const NAMED_FILES: &[(&[&str], &str, &str)] = &[
+    (
+        PLANNING,
+        "formation-rrt",
+        "planners/src/planners/formation_rrt.rs",
+    ),
     // also informed-rrt-star's, whose name holds this one
-    ("rrt-star", "planners/src/planners/rrt_star"),
-    ("sst", "planners/src/planners/sst.rs"),
-    ("trajopt", "planners/src/planners/trajopt.rs"),
+    (PLANNING, "rrt-star", "planners/src/planners/rrt_star"),
+    (PLANNING, "sst", "planners/src/planners/sst.rs"),
+    (PLANNING, "trajopt", "planners/src/planners/trajopt.rs"),
+    (TRACKING, "formation", "trackers/src/trackers/formation.rs"),
+    (TRACKING, "mppi", "trackers/src/trackers/mppi.rs"),
 ];
-/// The trackers.
-const TRACKING: &[&str] = &["trackers/src"];
+/// The trackers. The own files of the trackers in [`NAMED_FILES`] count only for the
+/// measurements that run them ([`Measure::named_files`]).
+const TRACKING: &[&str] = &[
+    "trackers/src",
+    ":!trackers/src/trackers/formation.rs",
+    ":!trackers/src/trackers/mppi.rs",
+];
 /// What turns an experiment into runs and its runs into a table.
 const SWEEP: &[&str] = &[
     "harness/src/run",
@@ -1455,23 +1463,32 @@ mod tests {
     use super::*;
 
     #[test]
-    fn planner_files_are_left_out_of_planning_and_name_registered_planners() {
+    fn named_files_are_left_out_of_their_group_and_name_registered_components() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let excluded: Vec<&str> = PLANNING
-            .iter()
-            .filter_map(|s| s.strip_prefix(":!"))
-            .collect();
-        let files: Vec<&str> = PLANNER_FILES.iter().map(|(_, f)| *f).collect();
-        assert_eq!(excluded, files);
-        let names = magbench_planners::planners::builtins();
-        for (name, file) in PLANNER_FILES {
+        for group in [PLANNING, TRACKING] {
+            let excluded: Vec<&str> = group.iter().filter_map(|s| s.strip_prefix(":!")).collect();
+            let files: Vec<&str> = NAMED_FILES
+                .iter()
+                .filter(|(g, _, _)| *g == group)
+                .map(|(_, _, f)| *f)
+                .collect();
+            assert_eq!(excluded, files);
+        }
+        let planners = magbench_planners::planners::builtins();
+        let trackers = magbench_trackers::trackers::builtins();
+        for (group, name, file) in NAMED_FILES {
             assert!(root.join(file).exists(), "{file}");
-            assert!(names.iter().any(|e| e.name() == *name), "{name}");
+            let known = if *group == PLANNING {
+                planners.iter().any(|e| e.name() == *name)
+            } else {
+                trackers.iter().any(|e| e.name() == *name)
+            };
+            assert!(known, "{name}");
         }
     }
 
     #[test]
-    fn a_sweep_depends_on_the_files_of_the_planners_its_experiment_names() {
+    fn a_sweep_depends_on_the_files_of_the_components_its_experiment_names() {
         let dir = tempfile::tempdir().unwrap();
         let sweep = |experiment: &'static str, depends| Measure {
             name: "m",
@@ -1491,29 +1508,34 @@ mod tests {
         .unwrap();
         let m = sweep("a.toml", &[PLANT, PLANNING]);
         assert_eq!(
-            m.planner_files(dir.path()),
+            m.named_files(dir.path()),
             vec![
                 "planners/src/planners/rrt_star",
                 "planners/src/planners/trajopt.rs"
             ]
         );
-        // an experiment that cannot be read depends on all; no PLANNING, on none
+        // an experiment that cannot be read depends on all of its groups' files; a sweep that
+        // declares neither group, on none
         assert_eq!(
-            sweep("missing.toml", &[PLANNING])
-                .planner_files(dir.path())
-                .len(),
-            PLANNER_FILES.len()
+            sweep("missing.toml", &[PLANNING, TRACKING]).named_files(dir.path()),
+            NAMED_FILES.iter().map(|(_, _, f)| *f).collect::<Vec<_>>()
         );
-        assert!(
-            sweep("a.toml", &[PLANT])
-                .planner_files(dir.path())
-                .is_empty()
+        assert!(sweep("a.toml", &[PLANT]).named_files(dir.path()).is_empty());
+        // a tracker named in a sweep that plans only
+        std::fs::write(
+            dir.path().join("b.toml"),
+            "trackers = [\"mppi{horizon=8}\"]",
+        )
+        .unwrap();
+        assert_eq!(
+            sweep("b.toml", &[PLANNING, TRACKING]).named_files(dir.path()),
+            vec!["trackers/src/trackers/mppi.rs"]
         );
         let team_sizes = MEASURES.iter().find(|m| m.name == "team-sizes").unwrap();
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         assert!(
             team_sizes
-                .planner_files(&root)
+                .named_files(&root)
                 .contains(&"planners/src/planners/formation_rrt.rs")
         );
     }
