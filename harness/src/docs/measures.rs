@@ -1128,6 +1128,19 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR],
     },
     Measure {
+        name: "team-edge",
+        source: Transcript {
+            files: &["experiments/team-edge.toml"],
+            cwd: ".",
+            steps: &[
+                Step::Run("bench experiments/team-edge.toml --out team-edge --threads 2 --quiet"),
+                Step::Run("results scaling team-edge --family team --by agents"),
+            ],
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR],
+    },
+    Measure {
         name: "team-proximity",
         source: Transcript {
             files: &["docs/teams"],

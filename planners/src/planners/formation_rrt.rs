@@ -63,13 +63,16 @@ declare_params! {
     #[derive(Debug, Clone)]
     pub struct FormationRrt {
         /// EXTEND's tries and durations, the goal-zoom sampler (its zoom radius is about each
-        /// agent's goal position in the shape). Edges last one frame to a quarter second: at the
-        /// spacings of a team of ten (under 2 BL) a pair's separation changes by several BL/s.
-        /// Half the samples are the goal's shape (each then CONNECTs).
+        /// agent's goal position in the shape). Edges last one to four frames at 60 fps: at a
+        /// team's spacings (under 2 BL) a pair's separation changes by several BL/s, so a longer
+        /// edge mostly ends invalid. Four frames is the longest edge that found first plans
+        /// fastest among 2, 4, 6 and 15 frames on rings of five to eight agents
+        /// (`experiments/team-edge.toml`, docs/planners.md). Half the samples are the goal's
+        /// shape (each then CONNECTs).
         #[params]
         pub search: SearchSettings = SearchSettings {
             min_duration: 1.0 / 60.0,
-            max_duration: 0.25,
+            max_duration: 4.0 / 60.0,
             goal_bias: 0.5,
             ..SearchSettings::default()
         },
