@@ -232,7 +232,8 @@ fn a_turned_ring_is_shown_spin_free_and_checked_with_a_note() {
     let (code, show, err) = magbench(&["scenario", "show", turned]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        show.contains("spin        the start turns at most 0.0")
+        show.contains("medium      interface: 0.500 of the bulk's drag, so κ = 47.6")
+            && show.contains("spin        the start turns at most 0.0")
             && show.contains("no field turns this formation"),
         "{show}"
     );

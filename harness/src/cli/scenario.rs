@@ -217,6 +217,16 @@ pub fn summary(s: &Scenario) -> String {
         p.r_min,
         p.r_max
     );
+    if let Some(m) = &s.medium {
+        let drag = m.drag().translation;
+        out += &format!(
+            "medium      {}: {drag:.3} of the bulk's drag, so κ = {:.3} BL⁵/s and every pair and \
+             pull moves {:.3}× as fast\n",
+            m.kind(),
+            p.kappa() / drag,
+            1.0 / drag
+        );
+    }
     if s.agents() >= 3 {
         out += &spin_line(s);
     }

@@ -65,8 +65,8 @@ declare_params! {
         /// EXTEND's tries and durations, the goal-zoom sampler (its zoom radius is about each
         /// agent's goal position in the shape). Edges last one to four frames at 60 fps: at a
         /// team's spacings (under 2 BL) a pair's separation changes by several BL/s, so a longer
-        /// edge mostly ends invalid. Four frames is the longest edge that found first plans
-        /// fastest among 2, 4, 6 and 15 frames on rings of five to eight agents
+        /// edge mostly ends invalid. On rings of five to eight agents, longest edges of 2, 4 and
+        /// 6 frames find first plans in about the same time, and faster than a quarter second
         /// (`experiments/team-edge.toml`, docs/planners.md). Half the samples are the goal's
         /// shape (each then CONNECTs).
         #[params]
