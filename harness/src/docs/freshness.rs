@@ -97,7 +97,7 @@ pub fn revision(version: &str) -> Option<(String, bool)> {
 
 /// The git pathspecs of the source a measurement's figures depend on: its own file (the
 /// experiment, bench, test, example or script), its declared [`Measure::depends`] and the
-/// files of the planners it runs ([`Measure::named_files`], read under `root`).
+/// files of the planners and trackers it names ([`Measure::named_files`], read under `root`).
 pub fn pathspecs(root: &Path, m: &Measure) -> Vec<String> {
     let mut v: Vec<String> = m.own_files();
     v.extend(m.named_files(root).iter().map(|f| f.to_string()));
@@ -140,21 +140,21 @@ pub fn staleness(
         return Ok(Some(Staleness::Dirty { revision }));
     }
     let changed = git(root, &["diff", "--name-only", &revision, "HEAD"])?;
-    let planners = m.named_files(root);
+    let named = m.named_files(root);
     let files: Vec<String> = changed
         .lines()
-        .filter(|f| !f.is_empty() && depends_on(m, &planners, f))
+        .filter(|f| !f.is_empty() && depends_on(m, &named, f))
         .map(str::to_string)
         .collect();
     Ok((!files.is_empty()).then_some(Staleness::Changed { revision, files }))
 }
 
 /// Whether the figures of `m` depend on the repository file `path`: its own files, the files of
-/// the planners and trackers it runs (`planners`), or a group of [`Measure::depends`] that holds it. Within a group the longest path that covers `path`
-/// decides (`harness/src` with `:!harness/src/docs` and `harness/src/docs/transcript.rs`
-/// holds the last); each group decides alone, so one group's exclusion never hides a path
-/// another group declares.
-fn depends_on(m: &Measure, planners: &[&str], path: &str) -> bool {
+/// the planners and trackers it names (`named`), or a group of [`Measure::depends`] that holds
+/// it. Within a group the longest path that covers `path` decides (`harness/src` with
+/// `:!harness/src/docs` and `harness/src/docs/transcript.rs` holds the last); each group decides
+/// alone, so one group's exclusion never hides a path another group declares.
+fn depends_on(m: &Measure, named: &[&str], path: &str) -> bool {
     let covers = |spec: &str| {
         let spec = spec.trim_end_matches('/');
         path == spec
@@ -164,7 +164,7 @@ fn depends_on(m: &Measure, planners: &[&str], path: &str) -> bool {
     };
     let own = m.own_files();
     own.iter().any(|f| covers(f))
-        || planners.iter().any(|f| covers(f))
+        || named.iter().any(|f| covers(f))
         || m.depends.iter().any(|group| {
             group
                 .iter()
