@@ -13,7 +13,7 @@
 //! frames fitted jointly with the rest: frame `k` shows the plant `L` frame periods before
 //! its capture, so between two frames the prediction runs the command of `⌊L⌋ + 1` frames
 //! back for the fraction `L − ⌊L⌋` of the period and then that of `⌊L⌋` frames back (the
-//! frames interpolated). Its starting value is the best of quick fits at each whole frame.
+//! frames interpolated). Its starting value is the best of quick fits every half frame.
 //! The detection noise comes from the residuals: for one-frame predictions
 //! `e_k = n_{k+1} − n_k + w_k`, so white detection noise of σ gives consecutive residuals the
 //! covariance −σ² while the process noise `w` gives none.
@@ -65,8 +65,8 @@ use self::problem::{Problem, solve};
 pub struct FitOptions {
     /// Frames per segment.
     pub segment_frames: usize,
-    /// Largest latency (frames) the fit may take; quick fits start it at each whole frame
-    /// from 0 to this.
+    /// Largest latency (frames) the fit may take; quick fits start it every
+    /// [`LATENCY_START_STEP`] from 0 to this.
     pub max_latency: usize,
     /// Names of parameters held at the base value (e.g. `gradient_gain.x`).
     pub hold: Vec<String>,
@@ -201,6 +201,47 @@ fn scale_direction(kinds: &[Kind], free: &[bool]) -> Option<Vec<f64>> {
         .then_some(v)
 }
 
+/// Spacing of the latencies the quick fits start from (frames). A prediction depends on the
+/// latency through the moments its commands switch, so the cost has a kink at every whole
+/// frame where a local search can stop; starting at every half frame puts a start inside
+/// each whole frame's span as well as on its edges.
+pub const LATENCY_START_STEP: f64 = 0.5;
+
+/// The latencies the quick fits start from: 0 to `max_latency` frames every
+/// [`LATENCY_START_STEP`].
+fn latency_starts(max_latency: usize) -> Vec<f64> {
+    let n = (max_latency as f64 / LATENCY_START_STEP).round() as usize;
+    (0..=n).map(|k| k as f64 * LATENCY_START_STEP).collect()
+}
+
+/// The segments of `segs` that `x` predicts at every latency of `latencies` (parameter `lat`):
+/// a segment whose prediction touches a wall or sticks at one of them is left out, so that
+/// every start of the fit is compared on the same segments (a failed prediction costs
+/// [`problem::FAILED_PREDICTION_BL`] a row).
+fn usable_segments(
+    model: &Model,
+    segs: Vec<Segment>,
+    x: &[f64],
+    lat: usize,
+    latencies: &[f64],
+    free_starts: bool,
+) -> Vec<Segment> {
+    let mut keep = vec![true; segs.len()];
+    for &l in latencies {
+        let mut x = x.to_vec();
+        x[lat] = l;
+        let none = vec![false; x.len()];
+        let p = Problem::new(model, segs.clone(), x, none, free_starts);
+        for (k, r) in p.segment_residuals().iter().enumerate() {
+            keep[k] &= r.is_some();
+        }
+    }
+    segs.into_iter()
+        .zip(keep)
+        .filter_map(|(s, k)| k.then_some(s))
+        .collect()
+}
+
 /// Fits `base` to `runs` of `scenario`.
 pub fn calibrate(
     scenario: &Scenario,
@@ -276,25 +317,34 @@ pub fn calibrate(
         .filter(|(k, _)| k % HOLD_OUT_EVERY == HOLD_OUT_EVERY - 1)
         .map(|(_, s)| *s)
         .collect();
-    let segs: Vec<Segment> = all
-        .iter()
-        .enumerate()
-        .filter(|(k, _)| k % HOLD_OUT_EVERY != HOLD_OUT_EVERY - 1)
-        .map(|(_, s)| *s)
-        .collect();
     let lat = model
         .kinds
         .iter()
         .position(|k| *k == Kind::Latency)
         .expect("the latency is a parameter");
-    // the latency's start: a quick fit at each whole frame, least mean squared residual wins
+    let starts: Vec<f64> = if free[lat] {
+        latency_starts(opts.max_latency)
+    } else {
+        vec![x0[lat]]
+    };
+    let fitted: Vec<Segment> = all
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| k % HOLD_OUT_EVERY != HOLD_OUT_EVERY - 1)
+        .map(|(_, s)| *s)
+        .collect();
+    let segs = usable_segments(&model, fitted, &x0, lat, &starts, opts.free_starts);
+    if segs.is_empty() {
+        return Err(FitError::NoSegments(sources));
+    }
+    // the latency's start: a quick fit at each of `starts`, least mean squared residual wins
     let mut latency_table = vec![];
     let mut x_start = x0.clone();
     if free[lat] {
         let mut best = f64::INFINITY;
-        for l in 0..=opts.max_latency {
+        for &l in &starts {
             let mut x = x0.clone();
-            x[lat] = l as f64;
+            x[lat] = l;
             let mut quick = free.clone();
             quick[lat] = false;
             let p = Problem::new(&model, segs.clone(), x, quick, opts.free_starts);

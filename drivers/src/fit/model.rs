@@ -65,8 +65,26 @@ impl Kind {
             Kind::FieldBias => 1e-4,
             Kind::Drift(_) => 1e-4,
             Kind::FieldTau | Kind::GradientTau => 1e-2,
-            Kind::Latency => 1e-2,
+            Kind::Latency => 0.1,
             _ => 1e-4,
+        }
+    }
+
+    /// Whether its derivative is a central difference. The latency's is: the prediction's
+    /// slope in it jumps at every whole frame, and a forward difference taken at or just below
+    /// one sees only the slope beyond it, so the search stops there with a standard error
+    /// that measures one side's slope alone; a central difference a tenth of a frame each way
+    /// sees both.
+    pub fn central(&self) -> bool {
+        matches!(self, Kind::Latency)
+    }
+
+    /// The lowest value of the fitted coordinate (a central difference reaching below it is
+    /// taken forward instead).
+    pub fn lowest(&self) -> f64 {
+        match self {
+            Kind::Latency => 0.0,
+            _ => f64::NEG_INFINITY,
         }
     }
 

@@ -1,6 +1,7 @@
 //! The least-squares problem of one fit, for the `levenberg-marquardt` crate: free parameters
 //! in, residuals of every segment out (with the segments' start states profiled out, see
-//! [`super::starts`], or predicted from the observed starts), Jacobian by forward differences.
+//! [`super::starts`], or predicted from the observed starts), Jacobian by finite differences
+//! (forward, central where [`super::model::Kind::central`] asks).
 //! With a scale convention ([`Problem::pin_scale`]) one more residual row holds the geometric
 //! mean of the moment factors at 1.
 
@@ -30,11 +31,23 @@ pub struct Problem<'a> {
 /// a residual of 1 BL, far beyond what the data pull along a direction they do not see.
 const PIN_WEIGHT: f64 = 1e3;
 
+/// The residual (BL) of every row of a segment whose prediction touches a wall or sticks at
+/// the parameters tried. A fit starts from segments every start predicts
+/// ([`super::usable_segments`]); were a failed prediction to count as no error, a step that
+/// loses segments would lower the cost. One segment's rows at 1 BL each outweigh the whole
+/// data's residuals at the detection noise (≤ 0.08 BL), so such a step is refused.
+pub const FAILED_PREDICTION_BL: f64 = 1.0;
+
+/// A finite difference: the preset one step up, the preset one step down (central) or `None`
+/// (forward from the point itself), and the distance between the two.
+type Step = (DisturbancePreset, Option<DisturbancePreset>, f64);
+
 /// One segment's residual rows and their derivatives in some parameters.
 struct Block {
     r: Vec<f64>,
     cols: Vec<Vec<f64>>,
-    /// Whether the segment took part (its prediction touched no wall).
+    /// Whether the segment took part (its prediction touched no wall and did not stick); the
+    /// rows of one that did not are [`FAILED_PREDICTION_BL`] and its derivatives 0.
     used: bool,
 }
 
@@ -84,38 +97,37 @@ impl<'a> Problem<'a> {
             .collect()
     }
 
-    /// Residual rows of segment `s` at `x`, and their forward differences towards each of
-    /// `steps` (preset, step), all projected off the start-state directions when those are free.
-    fn block(
-        &self,
-        s: &Segment,
-        at: &DisturbancePreset,
-        steps: &[(DisturbancePreset, f64)],
-    ) -> Block {
+    /// Residual rows of segment `s` at `x`, and their differences along each of `steps`, all projected off the start-state directions when those are free.
+    fn block(&self, s: &Segment, at: &DisturbancePreset, steps: &[Step]) -> Block {
         let (mut r, bad) = self
             .model
             .segment_rows(at, s, &self.model.observed_start(s));
-        let zero = |r: &[f64]| Block {
-            r: vec![0.0; r.len()],
+        let failed = |r: &[f64]| Block {
+            r: vec![FAILED_PREDICTION_BL; r.len()],
             cols: vec![vec![0.0; r.len()]; steps.len()],
             used: false,
         };
         if bad {
-            return zero(&r);
+            return failed(&r);
         }
         let basis = if self.free_starts {
             match StartBasis::new(self.model, at, s, &r) {
                 Some(b) => Some(b),
-                None => return zero(&r),
+                None => return failed(&r),
             }
         } else {
             None
         };
         let cols = steps
             .iter()
-            .map(|(p, h)| {
-                let (rh, _) = self.model.segment_rows(p, s, &self.model.observed_start(s));
-                let mut c: Vec<f64> = rh.iter().zip(&r).map(|(a, b)| (a - b) / h).collect();
+            .map(|(plus, minus, h)| {
+                let start = self.model.observed_start(s);
+                let (rh, _) = self.model.segment_rows(plus, s, &start);
+                let below = minus
+                    .as_ref()
+                    .map(|m| self.model.segment_rows(m, s, &start).0);
+                let rl = below.as_ref().unwrap_or(&r);
+                let mut c: Vec<f64> = rh.iter().zip(rl).map(|(a, b)| (a - b) / h).collect();
                 if let Some(b) = &basis {
                     b.project(&mut c);
                 }
@@ -136,14 +148,24 @@ impl<'a> Problem<'a> {
     /// with the number of segments used.
     fn evaluate(&self, x: &[f64], jacobian: bool) -> (Vec<f64>, Option<DMatrix<f64>>, usize) {
         let at = self.model.preset_at(&self.base, x);
-        let steps: Vec<(DisturbancePreset, f64)> = if jacobian {
+        let steps: Vec<Step> = if jacobian {
             self.free
                 .iter()
                 .map(|&i| {
-                    let h = self.model.kinds[i].step();
+                    let kind = &self.model.kinds[i];
+                    let h = kind.step();
                     let mut xh = x.to_vec();
                     xh[i] += h;
-                    (self.model.preset_at(&self.base, &xh), h)
+                    let plus = self.model.preset_at(&self.base, &xh);
+                    // central where the kind asks for it and the point below is allowed
+                    let below = x[i] - h;
+                    if kind.central() && below >= kind.lowest() {
+                        xh[i] = below;
+                        let minus = self.model.preset_at(&self.base, &xh);
+                        (plus, Some(minus), 2.0 * h)
+                    } else {
+                        (plus, None, h)
+                    }
                 })
                 .collect()
         } else {
@@ -342,9 +364,12 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     type JacobianStorage = Owned<f64, Dyn, Dyn>;
     type ParameterStorage = Owned<f64, Dyn>;
 
+    /// Takes the solver's point, each coordinate raised to its lowest value (the latency's 0
+    /// frames): the solver has no bounds, and below 0 the prediction no longer changes, which
+    /// would leave the latency's derivative 0 and its standard error infinite.
     fn set_params(&mut self, p: &DVector<f64>) {
         for (c, &i) in self.free.iter().enumerate() {
-            self.x[i] = p[c];
+            self.x[i] = p[c].max(self.model.kinds[i].lowest());
         }
     }
 

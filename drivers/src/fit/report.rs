@@ -155,9 +155,9 @@ pub struct FitReport {
     pub params: Vec<ParamFit>,
     /// The latency written (frames): fitted, or the base's when not identified.
     pub latency: f64,
-    /// (latency, mean squared residual in BL²) of the quick fit at each whole frame that
-    /// started the latency.
-    pub latency_table: Vec<(usize, f64)>,
+    /// (latency in frames, mean squared residual in BL²) of the quick fit at each start of the
+    /// latency ([`super::LATENCY_START_STEP`] apart).
+    pub latency_table: Vec<(f64, f64)>,
     /// Detection noise σ (BL per coordinate), when the residuals show it.
     pub noise: Option<f64>,
     /// The standard error of [`FitReport::noise`] (BL).
@@ -196,7 +196,7 @@ pub(super) fn build(
     se: &[f64],
     free: &[bool],
     unidentified: &[(usize, f64)],
-    latency_table: Vec<(usize, f64)>,
+    latency_table: Vec<(f64, f64)>,
     noise: Option<(f64, f64)>,
     scale: ScaleFit,
     held_out: HeldOut,
@@ -353,7 +353,7 @@ impl FitReport {
         }
         if !self.latency_table.is_empty() {
             out.push(format!(
-                "{:<24} {:>10}  latency started from quick fits at whole frames, mean squared residual: {}",
+                "{:<24} {:>10}  latency started from quick fits every half frame, mean squared residual: {}",
                 "",
                 "",
                 self.latency_table

@@ -115,7 +115,7 @@ const SEGMENT_FRAMES: Bound = Bound::closed(
     "10 s at 60 fps; a longer prediction drifts beyond what one observation pins",
 );
 
-/// Latencies the fit may take: each whole frame up to it starts a quick fit of its own; 30
+/// Latencies the fit may take: every half frame up to it starts a quick fit of its own; 30
 /// frames is half a second at 60 fps, far beyond any camera pipeline.
 const MAX_LATENCY: Bound = Bound::closed(
     0.0,

@@ -358,6 +358,9 @@ const CLI: &[&str] = &[
     ":!harness/src/replay/player.js",
     // `magbench scenario`: no transcript runs it (a test checks)
     ":!harness/src/cli/scenario.rs",
+    // `magbench calibrate`: only the measurements that fit run it ([`FIT`])
+    ":!harness/src/cli/calibrate.rs",
+    ":!harness/src/cli/calibrate_plot.rs",
     // the calibration benchmark: only its own measurement runs it ([`CALIBRATION_BENCH`])
     ":!harness/src/cli/calibrate_bench",
     ":!harness/src/cli/calibrate_bench_plot.rs",
@@ -369,8 +372,16 @@ const CALIBRATION_BENCH: &[&str] = &[
 ];
 /// `magbench regress`'s analysis, and the CI experiment it is sized for.
 const REGRESS: &[&str] = &["harness/src/regress", "experiments/ci.toml"];
-/// The rig: drivers, emulator, calibration and the rig files.
-const RIG: &[&str] = &["drivers/src", "rigs"];
+/// The rig: drivers, emulator and the rig files; the calibration's fit is [`FIT`].
+const RIG: &[&str] = &["drivers/src", "rigs", ":!drivers/src/fit"];
+/// The calibration's fit and `magbench calibrate` (its report and figure): only the
+/// measurements that fit depend on them (a test checks every transcript that runs
+/// `calibrate` and every test target that calls the fit).
+const FIT: &[&str] = &[
+    "drivers/src/fit",
+    "harness/src/cli/calibrate.rs",
+    "harness/src/cli/calibrate_plot.rs",
+];
 /// The Python binding.
 const PYTHON: &[&str] = &["python/src"];
 
@@ -725,7 +736,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
-        depends: &[PLANT, RIG, CLI],
+        depends: &[PLANT, RIG, CLI, FIT],
     },
     Measure {
         name: "calibration-runs",
@@ -770,7 +781,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
-        depends: &[PLANT, PLANNING, TRACKING, RIG, CLI],
+        depends: &[PLANT, PLANNING, TRACKING, RIG, CLI, FIT],
     },
     Measure {
         name: "calibration-interface",
@@ -788,7 +799,7 @@ pub static MEASURES: &[Measure] = &[
             ],
         },
         feature: None,
-        depends: &[PLANT, RIG, CLI],
+        depends: &[PLANT, RIG, CLI, FIT],
     },
     Measure {
         name: "scaling",
@@ -1323,7 +1334,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
-        depends: &[PLANT, RIG],
+        depends: &[PLANT, RIG, FIT],
     },
     Measure {
         name: "calibration-draws",
@@ -1335,7 +1346,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
-        depends: &[PLANT, RIG],
+        depends: &[PLANT, RIG, FIT],
     },
     Measure {
         name: "calibration-emulator",
@@ -1347,7 +1358,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
-        depends: &[PLANT, RIG],
+        depends: &[PLANT, RIG, FIT],
     },
     Measure {
         name: "calibration-validation",
@@ -1359,7 +1370,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
-        depends: &[PLANT, RIG, CLI],
+        depends: &[PLANT, RIG, CLI, FIT],
     },
     Measure {
         name: "calibration-segments",
@@ -1371,7 +1382,7 @@ pub static MEASURES: &[Measure] = &[
             release: false,
         },
         feature: None,
-        depends: &[PLANT, RIG],
+        depends: &[PLANT, RIG, FIT],
     },
     Measure {
         name: "calibration-bench",
@@ -1381,7 +1392,7 @@ pub static MEASURES: &[Measure] = &[
             steps: &[Step::Run("calibrate bench --out bench --threads 2")],
         },
         feature: None,
-        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH],
+        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH, FIT],
     },
     Measure {
         name: "calibration-bench-bulk-hydro",
@@ -1393,7 +1404,7 @@ pub static MEASURES: &[Measure] = &[
             )],
         },
         feature: None,
-        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH],
+        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH, FIT],
     },
     Measure {
         name: "detector-accuracy",
@@ -1565,6 +1576,34 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn every_measurement_that_fits_depends_on_the_fit() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let mut fitting = 0;
+        for m in MEASURES {
+            let fits = match &m.source {
+                Transcript { steps, .. } => steps.iter().any(|step| match step {
+                    Step::Run(c) | Step::Background { command: c, .. } => {
+                        c.starts_with("calibrate")
+                    }
+                }),
+                Test { .. } => m.own_files().iter().any(|f| {
+                    std::fs::read_to_string(root.join(f)).is_ok_and(|t| {
+                        ["fit::", "calibrate(", "\"calibrate\""]
+                            .iter()
+                            .any(|call| t.contains(call))
+                    })
+                }),
+                _ => false,
+            };
+            if fits {
+                fitting += 1;
+                assert!(m.depends.contains(&FIT), "{} fits", m.name);
+            }
+        }
+        assert_eq!(fitting, 10);
     }
 
     #[test]
