@@ -419,8 +419,9 @@ impl FitReport {
     }
 
     /// What the output cannot be trusted for, each with what to change: predictions on held-out
-    /// segments no better than the base's or a held-out check that cannot tell, parameters the data did not identify, a scale fixed
-    /// by convention, a noise the residuals did not show.
+    /// segments no better than the base's or a held-out check that cannot tell, parameters the
+    /// data did not identify, a latency fitted at its bound, a scale fixed by convention, a
+    /// noise the residuals did not show.
     pub fn warnings(&self) -> Vec<String> {
         let mut w = vec![];
         let h = &self.held_out;
@@ -442,6 +443,7 @@ impl FitReport {
                 ));
             }
         }
+        w.extend(latency_at_bound(&self.params));
         if let ScaleFit::Convention(_) = self.scale {
             w.push("the common scale of moments, drags and gains is not in the data (no hydrodynamic interaction, capillary attraction or magnet lag strong enough to break it): the absolute values rest on the convention; measure one (a gradient gain with a gaussmeter) and --hold it".into());
         }
@@ -492,5 +494,42 @@ fn advice(k: Kind) -> &'static str {
         Kind::Latency => {
             "the excitation's steps must show when motion starts: a camera with less noise or more frames per second, a longer run"
         }
+    }
+}
+
+/// The warning for a latency fitted at its lower bound, 0 frames. There the data would take
+/// less latency than none, the standard error comes from one side only, and the latency
+/// trades off against the coils' τ (both delay the response), so neither is known as well as
+/// printed.
+fn latency_at_bound(params: &[ParamFit]) -> Option<String> {
+    let p = params.iter().find(|p| p.kind == Kind::Latency)?;
+    (p.status == Status::Fitted && p.value <= Kind::Latency.lowest()).then(|| {
+        format!(
+            "{} came out at its lower bound, 0 frames: its standard error is taken on one side only, and there the latency trades off against the coils' τ (both delay the response), so neither is known as well as printed; if the camera's delay is known (from its timestamps), --hold {} at it",
+            p.name, p.name
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn latency(value: f64, status: Status) -> ParamFit {
+        ParamFit {
+            kind: Kind::Latency,
+            name: Kind::Latency.name(),
+            value,
+            se: Some(0.04),
+            status,
+        }
+    }
+
+    #[test]
+    fn a_latency_fitted_at_zero_is_warned_of_and_one_above_it_is_not() {
+        let w = latency_at_bound(&[latency(0.0, Status::Fitted)]).unwrap();
+        assert!(w.contains("lower bound") && w.contains("--hold camera.latency.frames"));
+        assert!(latency_at_bound(&[latency(0.3, Status::Fitted)]).is_none());
+        assert!(latency_at_bound(&[latency(0.0, Status::Held)]).is_none());
     }
 }
