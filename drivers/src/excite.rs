@@ -22,7 +22,8 @@
 //! the run usable: on the separation of agents 0 and 1 (below [`R_MIN`] BL, or the higher edge
 //! at which the rig's attraction seen so far would bring the pair to contact within
 //! [`REACTION_S`], or when the pair approaches fast enough to touch within it (the
-//! [`Approach`] guard), the field turns to ψ = 90° and repels; beyond the band's upper edge,
+//! [`Approach`] guard), the field turns to ψ = 90° and repels, for at least [`REACTION_S`];
+//! beyond the band's upper edge,
 //! [`R_MAX`] or as much above the raised lower edge, it turns to ψ = 0 and attracts), and on the centre of
 //! mass (a gradient never pulls it further from the workspace's centre once it is more than
 //! a quarter of the workspace away). Every observation and command goes to the rig's log as
@@ -149,6 +150,9 @@ pub struct Approach {
     started: bool,
     /// When the first separation was observed (s).
     first: Option<f64>,
+    /// Until when the loop keeps repelling (s): [`REACTION_S`] after the last frame that
+    /// called for it.
+    repel_until: Option<f64>,
 }
 
 /// Longest repulsion at the run's start (s): two blocks. Repelling from 2 BL, a pair of the
@@ -183,6 +187,19 @@ impl Approach {
             self.kappa_max = self.kappa_max.max(kappa);
         }
         kappa > 0.0 && (r1.powi(5) - 1.0) < 10.0 * kappa * REACTION_S
+    }
+
+    /// Records separation `r` observed at `t` and returns whether the loop repels: below the
+    /// band's lower edge ([`Approach::r_min`]), when the pair approaches too fast
+    /// ([`Approach::too_fast`]), and for [`REACTION_S`] after the last frame that called for
+    /// either, because until then the rig has not yet acted on the repulsion and the pair's
+    /// observed separation says nothing of it.
+    pub fn repels(&mut self, t: f64, r: f64) -> bool {
+        let now = self.too_fast(t, r) || r < self.r_min();
+        if now {
+            self.repel_until = Some(t + REACTION_S);
+        }
+        now || self.repel_until.is_some_and(|until| t < until)
     }
 
     /// Below this separation (BL) the loop repels.
@@ -341,8 +358,7 @@ fn next_command(
         Some(p) => p,
         None => (s - 0.5) * std::f64::consts::PI,
     };
-    let too_fast = approach.too_fast(obs.t, r);
-    if r < approach.r_min() || too_fast {
+    if approach.repels(obs.t, r) {
         psi = std::f64::consts::FRAC_PI_2;
         rep.separation_overrides += 1;
     } else if r > approach.r_max() {
@@ -539,6 +555,32 @@ mod approach_tests {
         let first_clear = alarms.iter().position(|x| !x).expect("released");
         assert!(r(first_clear) >= R_MAX, "released at {} BL", r(first_clear));
         assert!(r(first_clear - 1) < R_MAX);
+    }
+
+    #[test]
+    fn a_repulsion_holds_for_the_reaction_time_after_the_last_frame_that_called_for_it() {
+        // a guard that has seen the pair hold still at 2.5 BL, in the band, for longer than
+        // the reaction time (its first frame, without a rate, repels)
+        let mut a = running();
+        let frame = 1.0 / 60.0;
+        let settled = 2 * (REACTION_S / frame) as usize;
+        for k in 0..settled {
+            a.repels(k as f64 * frame, 2.5);
+        }
+        assert!(!a.repels(settled as f64 * frame, 2.5));
+        // one frame below the band's lower edge, then back in the band
+        let t = (settled + 1) as f64 * frame;
+        assert!(a.repels(t, R_MIN - 0.1));
+        let held: Vec<bool> = (1..=12)
+            .map(|k| a.repels(t + k as f64 * frame, 2.5))
+            .collect();
+        let released = held.iter().position(|x| !x).expect("released") + 1;
+        assert!(held[..released - 1].iter().all(|&x| x));
+        assert!(
+            (released as f64 * frame - REACTION_S).abs() <= frame,
+            "released {released} frames after the call, {:.1} frames of reaction",
+            REACTION_S / frame
+        );
     }
 
     #[test]

@@ -12,6 +12,8 @@
 //! - [`clock`]: the time of the safety timers (wall, or a manual clock a test moves);
 //! - [`coil_session`] and [`hardware`]: the hardware rig, which zeroes the field on every exit;
 //! - [`rigs`]: the rigs by name (a simulated rig under a preset, a rig file, a plugin's), loaded and opened for a plan-track run;
+//! - [`excite`], [`fit`] and [`watch`]: the identification trajectory, the fit of a preset to
+//!   the logs, and a simulated rig watched for the moment its agents touch;
 //! - [`check`] and [`replay`]: rig bring-up and offline detection;
 //! - [`emulator`]: the device side — protocol, watchdog, env's plant, rendered frames, faults.
 //!
@@ -41,6 +43,7 @@ pub mod rigfile;
 pub mod rigs;
 pub mod stats;
 pub mod transport;
+pub mod watch;
 
 pub use calibration::Calibration;
 pub use camera::{Camera, CameraError};

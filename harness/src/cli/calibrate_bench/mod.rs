@@ -15,7 +15,6 @@ pub mod report;
 pub mod rig;
 pub mod score;
 pub mod tracking;
-pub mod watch;
 
 use std::path::PathBuf;
 

@@ -14,7 +14,7 @@ use magbench_env::plant::{DisturbancePreset, Fitted, Medium};
 use magbench_trackers::SimRig;
 
 use super::ranges::Ranges;
-use super::watch::Watched;
+use magbench_drivers::watch::Watched;
 
 /// One drawn rig: its true preset and the seed of its plant, camera and excitation.
 #[derive(Debug, Clone)]
