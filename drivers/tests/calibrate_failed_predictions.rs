@@ -8,42 +8,20 @@
 //! The rig is env's plant and camera (`SimRig`) stepped frame by frame, with the benchmark's
 //! seed: no sockets, no sleeps, no wall clock.
 
-use std::path::Path;
+mod common;
 
-use magbench_drivers::excite::{ExciteSetup, excite, log_for};
 use magbench_drivers::fit::{FitOptions, Kind, Status, calibrate, read_log};
-use magbench_env::Scenario;
-use magbench_env::plant::DisturbancePreset;
-use magbench_trackers::SimRig;
 
 /// The seed `calibrate bench` drew for its rig 13 (plant, camera and excitation).
 const SEED: u64 = 148_078_453;
 
-fn fixture(name: &str) -> DisturbancePreset {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures")
-        .join(name);
-    DisturbancePreset::load(&path).unwrap()
-}
-
 #[test]
 fn no_start_of_the_fit_wins_by_losing_segments() {
-    let truth = fixture("interface-rig-truth.toml");
-    let base = fixture("interface-rig-base.toml");
-    let scenario = Scenario::load("open-field").unwrap();
+    let truth = common::fixture("interface-rig-truth.toml");
+    let base = common::fixture("interface-rig-base.toml");
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("rig-log.csv");
-    let mut rig = SimRig::new(&scenario, &truth, SEED);
-    let mut log = log_for(&path, scenario.agents()).unwrap();
-    let setup = ExciteSetup {
-        duration: 90.0,
-        seed: SEED,
-        gradient_limit: scenario.physics.gradient_limit(),
-        alpha_max: truth.coil.alpha_max_deg.to_radians(),
-        world: scenario.world.clone(),
-    };
-    excite(&mut rig, &setup, Some(&mut log)).unwrap();
-    drop(log);
+    let alpha_max = truth.coil.alpha_max_deg.to_radians();
+    let (scenario, path) = common::excite_seeded(&truth, 90.0, SEED, alpha_max, dir.path());
     let run = read_log(&path, scenario.agents()).unwrap();
     let fit = calibrate(&scenario, &base, vec![run], &FitOptions::default()).unwrap();
     for (l, ms) in &fit.latency_table {

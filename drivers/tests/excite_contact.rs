@@ -9,12 +9,11 @@
 //! The rig is env's plant and camera (`SimRig`) stepped frame by frame, with the benchmark's
 //! seed: no sockets, no sleeps, no wall clock.
 
-use std::path::Path;
+mod common;
 
 use magbench_drivers::excite::{ExciteSetup, excite};
 use magbench_drivers::watch::Watched;
 use magbench_env::Scenario;
-use magbench_env::plant::DisturbancePreset;
 use magbench_trackers::SimRig;
 
 /// The seed `calibrate bench` drew for its rig 12 (plant, camera and excitation).
@@ -22,9 +21,7 @@ const SEED: u64 = 2_001_733_016;
 
 #[test]
 fn a_slow_rig_at_an_interface_is_excited_without_its_pair_touching() {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/capillary-rig-truth.toml");
-    let truth = DisturbancePreset::load(&path).unwrap();
+    let truth = common::fixture("capillary-rig-truth.toml");
     let scenario = Scenario::load("open-field").unwrap();
     let mut sim = SimRig::new(&scenario, &truth, SEED);
     let world = (scenario.world.width, scenario.world.height);

@@ -26,8 +26,12 @@
 //! by a stated convention — the geometric mean of the moment factors is the base's, 1 — and
 //! reports it ([`ScaleFit`]); the ratios `m_i/√d_i` and `g_a/√d_i` are what the data then
 //! identify. A parameter whose standard error exceeds its threshold
-//! ([`model::Kind::identified_below`]) is not fitted to noise: the worst one is held at the
-//! base value and the fit repeated, until every parameter left is identified.
+//! ([`model::Kind::identified_below`]) is not fitted to noise: the worst one is held and the
+//! fit repeated, until every parameter left is identified. It is held at the base value when
+//! the base lies within [`REJECTS_BASE_SE`] standard errors of its estimate, and otherwise at
+//! the estimate, reported imprecise: the data then reject the base's value, and holding it
+//! there would make the parameters it trades off against (the latency against the coils' τ)
+//! make up the difference.
 //!
 //! Frames in which the team is stuck in contact (found from the observed positions, the
 //! [`contact`] module) are left out of the fit and of the held-out check, and the report says
@@ -37,7 +41,7 @@
 //! fitted preset and of the base on those both predict ([`HeldOut`]), says so when the check
 //! cannot tell them apart (too few compared, or the same predictions), and warns when the fit
 //! predicts no better than the base, when the check cannot tell, or when it left a parameter
-//! unidentified.
+//! unidentified or imprecise.
 
 pub mod contact;
 pub mod error;
@@ -90,6 +94,11 @@ impl Default for FitOptions {
 /// the data fix it (as for any factor, [`model::Kind::identified_below`]); above it the
 /// convention holds the moments' geometric mean at 1.
 pub const SCALE_IDENTIFIED_BELOW: f64 = 0.1;
+
+/// Standard errors between a parameter's estimate and the base's value beyond which the data
+/// reject the base: an unidentified parameter is then held at its estimate (reported
+/// imprecise) rather than at the base. Two standard errors: a two-sided test at about 5%.
+pub const REJECTS_BASE_SE: f64 = 2.0;
 
 /// One segment in this many is held out of the fit for the check of its predictions.
 pub const HOLD_OUT_EVERY: usize = 5;
@@ -362,7 +371,8 @@ pub fn calibrate(
         .collect();
     let mut scale = ScaleFit::Held;
     let mut pinned = false;
-    let mut unidentified = vec![];
+    // the parameters held because their standard error exceeds the threshold, and how
+    let mut set_aside = vec![];
     let (problem, se) = loop {
         let mut p = Problem::new(
             &model,
@@ -405,8 +415,14 @@ pub fn calibrate(
             Some((i, _)) => {
                 free[i] = false;
                 x_start = p.x().to_vec();
-                x_start[i] = x0[i];
-                unidentified.push((i, se[i]));
+                let rejects_base =
+                    se[i].is_finite() && (x_start[i] - x0[i]).abs() > REJECTS_BASE_SE * se[i];
+                if rejects_base {
+                    set_aside.push((i, Status::Imprecise(se[i])));
+                } else {
+                    x_start[i] = x0[i];
+                    set_aside.push((i, Status::Unidentified(se[i])));
+                }
             }
             None => break (p, se),
         }
@@ -429,7 +445,7 @@ pub fn calibrate(
         &problem,
         &se,
         &free,
-        &unidentified,
+        &set_aside,
         latency_table,
         noise,
         scale,

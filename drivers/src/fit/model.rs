@@ -102,6 +102,15 @@ impl Kind {
         }
     }
 
+    /// [`Kind::identified_below`] in the preset's unit (degrees for the bias), as standard
+    /// errors are reported.
+    pub fn identified_below_in_unit(&self) -> f64 {
+        match self {
+            Kind::FieldBias => self.identified_below().to_degrees(),
+            _ => self.identified_below(),
+        }
+    }
+
     /// The value in the preset's unit, from the fitted coordinate.
     pub fn value(&self, x: f64) -> f64 {
         match self {

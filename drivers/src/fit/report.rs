@@ -17,8 +17,21 @@ pub enum Status {
     Fitted,
     /// Held at the base value by request (`--hold`).
     Held,
-    /// Held at the base value because the data do not identify it (standard error shown).
+    /// Held at the base value because the data do not identify it (standard error, in the
+    /// preset's unit as [`ParamFit::se`]) and do not reject the base's value.
     Unidentified(f64),
+    /// Held at its estimate, which is written: its standard error (as above) exceeds the
+    /// threshold, but the estimate lies more than [`super::REJECTS_BASE_SE`] standard errors
+    /// from the base's value.
+    Imprecise(f64),
+}
+
+impl Status {
+    /// Whether the preset carries the fit's value (fitted or imprecise) rather than the
+    /// base's.
+    pub fn is_written(&self) -> bool {
+        matches!(self, Status::Fitted | Status::Imprecise(_))
+    }
 }
 
 /// One parameter's result, in the preset's units.
@@ -28,9 +41,10 @@ pub struct ParamFit {
     pub kind: Kind,
     /// Its name in reports.
     pub name: String,
-    /// The value written (the base value when not fitted).
+    /// The value written (the base value when neither fitted nor imprecise).
     pub value: f64,
-    /// Standard error in the preset's unit (relative for factors and τ), when fitted.
+    /// Standard error in the preset's unit (relative for factors and τ), when fitted or
+    /// imprecise.
     pub se: Option<f64>,
     /// Fitted or why not.
     pub status: Status,
@@ -44,7 +58,7 @@ pub enum ScaleFit {
     /// The data do not (standard error of `ln λ` shown): the geometric mean of the moment
     /// factors is held at the base's, 1, and moments, drags and gains are relative to it.
     Convention(f64),
-    /// A moment, drag or gain was held (`--hold` or unidentified), which fixes it.
+    /// A moment, drag or gain was held (`--hold`, unidentified or imprecise), which fixes it.
     Held,
 }
 
@@ -153,7 +167,7 @@ impl HeldOut {
 pub struct FitReport {
     /// Every parameter.
     pub params: Vec<ParamFit>,
-    /// The latency written (frames): fitted, or the base's when not identified.
+    /// The latency written (frames): fitted or imprecise, else the base's.
     pub latency: f64,
     /// (latency in frames, mean squared residual in BL²) of the quick fit at each start of the
     /// latency ([`super::LATENCY_START_STEP`] apart).
@@ -195,7 +209,7 @@ pub(super) fn build(
     p: &Problem<'_>,
     se: &[f64],
     free: &[bool],
-    unidentified: &[(usize, f64)],
+    set_aside: &[(usize, Status)],
     latency_table: Vec<(f64, f64)>,
     noise: Option<(f64, f64)>,
     scale: ScaleFit,
@@ -209,18 +223,24 @@ pub(super) fn build(
         .iter()
         .enumerate()
         .map(|(i, k)| {
-            let status = if free[i] {
-                Status::Fitted
-            } else {
-                match unidentified.iter().find(|u| u.0 == i) {
-                    Some(u) => Status::Unidentified(u.1),
-                    None => Status::Held,
-                }
-            };
-            let fitted = status == Status::Fitted;
             let se_unit = |s: f64| match k {
                 Kind::FieldBias => s.to_degrees(),
                 _ => s,
+            };
+            // standard errors in the preset's unit
+            let status = if free[i] {
+                Status::Fitted
+            } else {
+                match set_aside.iter().find(|u| u.0 == i).map(|u| u.1) {
+                    Some(Status::Unidentified(s)) => Status::Unidentified(se_unit(s)),
+                    Some(Status::Imprecise(s)) => Status::Imprecise(se_unit(s)),
+                    _ => Status::Held,
+                }
+            };
+            let se_i = match status {
+                Status::Fitted => Some(se_unit(se[i])),
+                Status::Imprecise(s) => Some(s),
+                Status::Held | Status::Unidentified(_) => None,
             };
             let value = match k {
                 Kind::Latency => x[i].clamp(0.0, model.max_latency as f64),
@@ -230,7 +250,7 @@ pub(super) fn build(
                 kind: *k,
                 name: k.name(),
                 value,
-                se: fitted.then(|| se_unit(se[i])),
+                se: se_i,
                 status,
             }
         })
@@ -238,7 +258,7 @@ pub(super) fn build(
     let mut preset = base.clone();
     let fit = |pred: &dyn Fn(&Kind) -> bool| -> Option<Vec<f64>> {
         let sel: Vec<&ParamFit> = params.iter().filter(|q| pred(&q.kind)).collect();
-        (!sel.is_empty() && sel.iter().all(|q| q.status == Status::Fitted))
+        (!sel.is_empty() && sel.iter().all(|q| q.status.is_written()))
             .then(|| sel.iter().map(|q| q.value).collect())
     };
     let f = &mut preset.fitted;
@@ -341,6 +361,14 @@ impl FitReport {
                     "-",
                     se(s)
                 ),
+                Status::Imprecise(s) => format!(
+                    "{:<24} {:>10.4}  {}  imprecise: the standard error is above the fit's threshold ({}), but the data reject the base's value (more than {} standard errors away), so the estimate is written",
+                    p.name,
+                    p.value,
+                    se(s),
+                    se(p.kind.identified_below_in_unit()),
+                    super::REJECTS_BASE_SE
+                ),
             });
         }
         if let Some((g, s)) = self.moment_scale() {
@@ -435,12 +463,18 @@ impl FitReport {
             _ => {}
         }
         for p in &self.params {
-            if let Status::Unidentified(_) = p.status {
-                w.push(format!(
+            match p.status {
+                Status::Unidentified(_) => w.push(format!(
                     "{} was not identified and keeps the base value: {}",
                     p.name,
                     advice(p.kind)
-                ));
+                )),
+                Status::Imprecise(_) => w.push(format!(
+                    "{} is imprecise: the estimate written is less certain than the fit's threshold asks, though the data reject the base's value; to pin it down: {}",
+                    p.name,
+                    advice(p.kind)
+                )),
+                Status::Fitted | Status::Held => {}
             }
         }
         w.extend(latency_at_bound(&self.params));
@@ -503,7 +537,7 @@ fn advice(k: Kind) -> &'static str {
 /// printed.
 fn latency_at_bound(params: &[ParamFit]) -> Option<String> {
     let p = params.iter().find(|p| p.kind == Kind::Latency)?;
-    (p.status == Status::Fitted && p.value <= Kind::Latency.lowest()).then(|| {
+    (p.status.is_written() && p.value <= Kind::Latency.lowest()).then(|| {
         format!(
             "{} came out at its lower bound, 0 frames: its standard error is taken on one side only, and there the latency trades off against the coils' τ (both delay the response), so neither is known as well as printed; if the camera's delay is known (from its timestamps), --hold {} at it",
             p.name, p.name

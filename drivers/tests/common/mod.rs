@@ -42,23 +42,43 @@ pub fn noisy() -> DisturbancePreset {
     emulated("noisy", fitted, NOISY_LATENCY as f64, 0.03)
 }
 
-/// `seconds` of excitation on open-field under `truth` (rig and excitation seed 14), stepped
-/// frame by frame on env's plant and camera (`SimRig`: no sockets, no wall clock); the
-/// scenario and the rig log written in `dir`.
+/// A preset of `tests/fixtures`.
+pub fn fixture(name: &str) -> DisturbancePreset {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures")
+        .join(name);
+    DisturbancePreset::load(&path).unwrap()
+}
+
+/// `seconds` of excitation on open-field under `truth` (rig and excitation seed 14, the field
+/// tilted up to 90°), stepped frame by frame on env's plant and camera (`SimRig`: no sockets, no
+/// wall clock); the scenario and the rig log written in `dir`.
 pub fn excite_open_field(
     truth: &DisturbancePreset,
     seconds: f64,
     dir: &Path,
 ) -> (Scenario, PathBuf) {
+    excite_seeded(truth, seconds, 14, std::f64::consts::FRAC_PI_2, dir)
+}
+
+/// [`excite_open_field`] with the rig and the excitation seeded by `seed` and the field tilted
+/// up to `alpha_max` (radians).
+pub fn excite_seeded(
+    truth: &DisturbancePreset,
+    seconds: f64,
+    seed: u64,
+    alpha_max: f64,
+    dir: &Path,
+) -> (Scenario, PathBuf) {
     let scenario = Scenario::load("open-field").unwrap();
     let path = dir.join("rig-log.csv");
-    let mut rig = SimRig::new(&scenario, truth, 14);
+    let mut rig = SimRig::new(&scenario, truth, seed);
     let mut log = log_for(&path, scenario.agents()).unwrap();
     let setup = ExciteSetup {
         duration: seconds,
-        seed: 14,
+        seed,
         gradient_limit: scenario.physics.gradient_limit(),
-        alpha_max: std::f64::consts::FRAC_PI_2,
+        alpha_max,
         world: scenario.world.clone(),
     };
     excite(&mut rig, &setup, Some(&mut log)).unwrap();

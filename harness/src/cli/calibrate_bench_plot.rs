@@ -25,7 +25,7 @@ impl<'a> BenchFigure<'a> {
         Self { results, params }
     }
 
-    /// (true value, error, fitted) of parameter `k` on every rig that ran.
+    /// (true value, error, written: fitted or imprecise) of parameter `k` on every rig that ran.
     fn points(&self, k: usize) -> Vec<(f64, f64, bool)> {
         self.results
             .iter()
@@ -33,7 +33,8 @@ impl<'a> BenchFigure<'a> {
                 let s = &r.scores[k];
                 let e = s.error.filter(|e| e.is_finite())?;
                 let e = if s.param.relative() { 100.0 * e } else { e };
-                Some((s.compared, e, s.verdict == Verdict::Fitted))
+                let written = matches!(s.verdict, Verdict::Fitted | Verdict::Imprecise(_));
+                Some((s.compared, e, written))
             })
             .collect()
     }
@@ -61,7 +62,7 @@ impl Figure for BenchFigure<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         let (title, body) = root.split_vertically(60);
         title.titled(
-            "Error against true value per parameter (dots: fitted; rings: not identified, base value kept; dashes: tolerance)",
+            "Error against true value per parameter (dots: written by the fit, fitted or imprecise; rings: not identified, base value kept; dashes: tolerance)",
             title_font(),
         )?;
         let rows = self.params.len().div_ceil(COLUMNS).max(1);

@@ -1,5 +1,6 @@
 //! The benchmark's outputs: `calibration-bench.csv` (one row per rig × parameter) and the
-//! Markdown summary (per parameter: rigs within tolerance, fitted, not identified, failed).
+//! Markdown summary (per parameter: rigs within tolerance, fitted, imprecise, not identified,
+//! failed).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -134,8 +135,9 @@ fn held_out_cell(h: Option<&HeldOut>) -> String {
     }
 }
 
-/// The Markdown summary: one row per parameter with its tolerance, the rigs whose fitted value
-/// is within it, fitted, not identified and failed, and the largest error of a fitted value;
+/// The Markdown summary: one row per parameter with its tolerance, the rigs whose written value
+/// (fitted or imprecise) is within it, fitted, imprecise, not identified and failed, and the
+/// largest error of a fitted value;
 /// then per rig the held-out check and the tracking errors under the truth, the fitted preset
 /// and the base, with how many fits `calibrate` warns not to use; then one line per failed rig
 /// with its reason.
@@ -143,14 +145,15 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "| parameter | tolerance | within tolerance | fitted | not identified | rig failed | largest fitted error |"
+        "| parameter | tolerance | within tolerance | fitted | imprecise | not identified | rig failed | largest fitted error |"
     );
-    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- |");
+    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- | --- |");
     for (k, p) in params.iter().enumerate() {
         let col: Vec<&Score> = results.iter().map(|r| &r.scores[k]).collect();
         let count = |f: &dyn Fn(&Score) -> bool| col.iter().filter(|s| f(s)).count();
         let fitted = count(&|s| s.verdict == Verdict::Fitted);
         let within = count(&|s| s.within == Some(true));
+        let imprecise = count(&|s| matches!(s.verdict, Verdict::Imprecise(_)));
         let unident = count(&|s| matches!(s.verdict, Verdict::NotIdentified(_)));
         let failed = count(&|s| matches!(s.verdict, Verdict::RigFailed(_)));
         let worst = col
@@ -161,7 +164,7 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
             .max_by(f64::total_cmp);
         let _ = writeln!(
             s,
-            "| {} | {} | {within} of {} | {fitted} | {unident} | {failed} | {} |",
+            "| {} | {} | {within} of {} | {fitted} | {imprecise} | {unident} | {failed} | {} |",
             p.name(),
             shown(*p, p.tolerance()),
             col.len(),

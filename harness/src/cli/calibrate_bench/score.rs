@@ -120,6 +120,9 @@ impl Param {
 pub enum Verdict {
     /// Fitted.
     Fitted,
+    /// Written at an estimate whose standard error is above the fit's threshold, because the
+    /// data reject the base's value (the fit's reason).
+    Imprecise(String),
     /// Not identified by the data (the fit's reason).
     NotIdentified(String),
     /// The rig's excitation or fit failed (why).
@@ -131,6 +134,7 @@ impl Verdict {
     pub fn status(&self) -> &'static str {
         match self {
             Verdict::Fitted => "fitted",
+            Verdict::Imprecise(_) => "imprecise",
             Verdict::NotIdentified(_) => "not identified",
             Verdict::RigFailed(_) => "rig failed",
         }
@@ -140,7 +144,7 @@ impl Verdict {
     pub fn reason(&self) -> &str {
         match self {
             Verdict::Fitted => "",
-            Verdict::NotIdentified(r) | Verdict::RigFailed(r) => r,
+            Verdict::Imprecise(r) | Verdict::NotIdentified(r) | Verdict::RigFailed(r) => r,
         }
     }
 }
@@ -158,11 +162,12 @@ pub struct Score {
     pub fitted: Option<f64>,
     /// Error of the value written against `compared`, in [`Param::unit`].
     pub error: Option<f64>,
-    /// The fit's standard error, in the same unit, when fitted.
+    /// The fit's standard error, in the same unit, when fitted or imprecise.
     pub se: Option<f64>,
-    /// Fitted, not identified, or the rig failed.
+    /// Fitted, imprecise, not identified, or the rig failed.
     pub verdict: Verdict,
-    /// Whether a fitted value's error is within [`Param::tolerance`].
+    /// Whether the error of a value the fit wrote (fitted or imprecise) is within
+    /// [`Param::tolerance`].
     pub within: Option<bool>,
 }
 
@@ -186,8 +191,8 @@ pub fn scale(fit: &FitReport, truth: &DisturbancePreset) -> (f64, String) {
             match held {
                 Some(p) => {
                     let q = Param::Fit(p.kind);
-                    let v = q.truth(truth).powf(1.0 / q.scale_power() as f64);
-                    (v, format!("{} held at 1", p.name))
+                    let v = (q.truth(truth) / p.value).powf(1.0 / q.scale_power() as f64);
+                    (v, format!("{} held at {}", p.name, p.value))
                 }
                 None => (1.0, "absolute".into()),
             }
@@ -225,8 +230,13 @@ pub fn scores(rig: &Rig, fit: &FitReport, agents: usize) -> Vec<Score> {
                             Status::Held => Verdict::NotIdentified("held".into()),
                             Status::Unidentified(s) => Verdict::NotIdentified(format!(
                                 "standard error {} above the fit's threshold {}",
-                                shown(param, in_unit(kind, s)),
-                                shown(param, in_unit(kind, kind.identified_below()))
+                                shown(param, s),
+                                shown(param, kind.identified_below_in_unit())
+                            )),
+                            Status::Imprecise(s) => Verdict::Imprecise(format!(
+                                "standard error {} above the fit's threshold {}; the data reject the base's value",
+                                shown(param, s),
+                                shown(param, kind.identified_below_in_unit())
                             )),
                         };
                         (Some(value), p.se, verdict)
@@ -246,7 +256,9 @@ pub fn scores(rig: &Rig, fit: &FitReport, agents: usize) -> Vec<Score> {
                 }
             });
             let within = match (&verdict, error) {
-                (Verdict::Fitted, Some(e)) => Some(e.abs() <= param.tolerance()),
+                (Verdict::Fitted | Verdict::Imprecise(_), Some(e)) => {
+                    Some(e.abs() <= param.tolerance())
+                }
                 _ => None,
             };
             Score {
@@ -289,13 +301,5 @@ pub fn shown(param: Param, v: f64) -> String {
         format!("{:.1}%", 100.0 * v)
     } else {
         format!("{v:.3} {}", param.unit())
-    }
-}
-
-/// A value in the fit's coordinate (radians for the bias) in the preset's unit (degrees).
-fn in_unit(kind: Kind, v: f64) -> f64 {
-    match kind {
-        Kind::FieldBias => v.to_degrees(),
-        _ => v,
     }
 }
