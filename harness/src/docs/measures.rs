@@ -1139,6 +1139,19 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR],
     },
     Measure {
+        name: "team-large",
+        source: Transcript {
+            files: &["experiments/team-large.toml"],
+            cwd: ".",
+            steps: &[
+                Step::Run("bench experiments/team-large.toml --out team-large --threads 2 --quiet"),
+                Step::Run("results scaling team-large --family team --by agents"),
+            ],
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI, GENERATOR],
+    },
+    Measure {
         name: "team-edge",
         source: Transcript {
             files: &["experiments/team-edge.toml"],
