@@ -158,6 +158,41 @@ impl Carry {
     }
 }
 
+/// Nearest neighbours by the shape alone: each node's positions about its centroid, under the
+/// positions metric. Two such shapes are as far apart as their shape distance, and a query
+/// about another centroid shifts every squared distance by the same amount. Indexing the
+/// centroid itself, even with a small weight, gives the k-d tree a coordinate that is constant,
+/// or nearly so, whenever the centroid's line runs along an axis, and kiddo's rebuild of such a
+/// tree grew its stems without bound (33 GB asked for while planning a ring of nine for 60 s).
+struct ShapeIndex {
+    nn: NearestNeighbors,
+    about: Vec<Vec2>,
+}
+
+impl ShapeIndex {
+    /// An empty index for teams of `n`.
+    fn new(n: usize) -> Self {
+        ShapeIndex {
+            nn: NearestNeighbors::new(Metric::Positions, n),
+            about: vec![Vec2::zeros(); n],
+        }
+    }
+
+    /// Indexes the shape of state `s` of node `id`.
+    fn add(&mut self, s: &[Vec2], id: u32) {
+        let c = centroid(s);
+        for (a, p) in self.about.iter_mut().zip(s) {
+            *a = p - c;
+        }
+        self.nn.add(&self.about, id);
+    }
+
+    /// The node whose shape is nearest to `shape` (positions about the origin).
+    fn nearest(&self, shape: &[Vec2]) -> Option<u32> {
+        self.nn.nearest(shape).map(|(id, _)| id)
+    }
+}
+
 /// The largest agent distance between the shapes of `a` and `b`.
 fn shape_max_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
     let (ca, cb) = (centroid(a), centroid(b));
@@ -348,17 +383,12 @@ impl Planner for FormationRrt {
             goal: goal_c,
             fraction: self.speed,
         };
-        // shapes are compared about the centroid: the centroid's weight is negligible
-        let metric = Metric::CentroidShape {
-            centroid: 1e-3,
-            shape: 1.0,
-        };
         let fit = self.fit * goal.tolerance;
         // the radius within which a random shape's agents lie about its centroid
         let spread = 0.5 * problem.checker.r_max;
 
         let mut tree = Tree::new(&problem.start);
-        let mut nn = NearestNeighbors::new(metric, n);
+        let mut nn = ShapeIndex::new(n);
         nn.add(&problem.start, 0);
         let mut closest = (0u32, shape_max_distance(&problem.start, &goal.agents));
         let mut found: Option<(u32, Vec<HoldEdge>)> = None;
@@ -399,7 +429,7 @@ impl Planner for FormationRrt {
                     *s = Vec2::new(a.cos(), a.sin()) * r;
                 }
             }
-            let (mut near, _) = nn.nearest(&sample).expect("the tree has its root");
+            let mut near = nn.nearest(&sample).expect("the tree has its root");
             // EXTEND toward the sample; toward the goal's shape, CONNECT: again from each new
             // node while the shape comes closer, each extension an iteration (a tree gains at
             // most one node per iteration)
@@ -453,5 +483,51 @@ impl Planner for FormationRrt {
 
     fn tree(&self) -> Option<&Tree> {
         self.last_tree.as_ref()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_shape_index_holds_no_constant_coordinate_when_the_centroid_runs_along_an_axis() {
+        // a ring of nine carried along x, its shape jittered
+        let n = 9;
+        let mut rng = Rng::seed_from_u64(3);
+        let mut index = ShapeIndex::new(n);
+        let mut states = vec![];
+        let mut keys = vec![];
+        for k in 0..200u32 {
+            let s: Vec<Vec2> = (0..n)
+                .map(|i| {
+                    let a = TAU * i as f64 / n as f64;
+                    let jitter =
+                        Vec2::new(rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2));
+                    Vec2::new(10.0 + 0.05 * k as f64, 6.0)
+                        + Vec2::new(a.cos(), a.sin()) * 2.9
+                        + jitter
+                })
+                .collect();
+            index.add(&s, k);
+            keys.push(index.about.clone());
+            states.push(s);
+        }
+        for j in 0..2 * n {
+            let coordinate = |key: &Vec<Vec2>| key[j / 2][j % 2];
+            assert!(
+                keys.iter()
+                    .any(|key| coordinate(key) != coordinate(&keys[0])),
+                "coordinate {j} is the same in every key"
+            );
+        }
+        // a node is found by its shape, wherever the query's centroid lies
+        for k in [0usize, 57, 199] {
+            let far: Vec<Vec2> = states[k]
+                .iter()
+                .map(|p| p + Vec2::new(-40.0, 25.0))
+                .collect();
+            assert_eq!(index.nearest(&far), Some(k as u32));
+        }
     }
 }
