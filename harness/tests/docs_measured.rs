@@ -179,10 +179,8 @@ const AWAITING_REGENERATION: &[&str] = &[
     "shortcut-plans",
     "chaos",
     "regress-power",
-    "team-sizes",
     "team-edge",
     "team-proximity",
-    "formations",
     "team-tracking",
     "planner-figures",
     "bench-obc-tick",
@@ -192,7 +190,6 @@ const AWAITING_REGENERATION: &[&str] = &[
     "python-rrt",
     "sst-pruning",
     "calibration-bench",
-    "calibration-bench-bulk-hydro",
     "rig-replay",
 ];
 
