@@ -179,8 +179,11 @@ const AWAITING_REGENERATION: &[&str] = &[
     "shortcut-plans",
     "chaos",
     "regress-power",
+    "team-sizes",
+    "team-large",
     "team-edge",
     "team-proximity",
+    "formations",
     "team-tracking",
     "planner-figures",
     "bench-obc-tick",
@@ -190,6 +193,7 @@ const AWAITING_REGENERATION: &[&str] = &[
     "python-rrt",
     "sst-pruning",
     "calibration-bench",
+    "calibration-bench-bulk-hydro",
     "rig-replay",
 ];
 
