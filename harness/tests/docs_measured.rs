@@ -166,35 +166,14 @@ fn every_measured_file_parses_and_belongs_to_a_measurement() {
 /// what changed for each. A stale file missing from this list fails, and so does a listed file
 /// that is fresh: the list names exactly the files whose figures may not be today's.
 const AWAITING_REGENERATION: &[&str] = &[
-    "team-stall",
-    "stlc-teams",
-    "calibration-runs",
-    "scaling",
-    "pair-100-profile",
-    "bench-threads",
-    "main-job",
-    "replay-gif",
-    "rig-latency",
-    "bench-planning",
-    "shortcut-plans",
-    "chaos",
-    "regress-power",
     "team-sizes",
     "team-large",
     "team-edge",
     "team-proximity",
     "formations",
     "team-tracking",
-    "planner-figures",
     "bench-obc-tick",
-    "bench-ompl-abi",
-    "python-plugins",
-    "python-overhead",
-    "python-rrt",
     "sst-pruning",
-    "calibration-bench",
-    "calibration-bench-bulk-hydro",
-    "rig-replay",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).

@@ -188,20 +188,66 @@ impl Measure {
     }
 
     /// The files of [`NAMED_FILES`] its figures depend on, as git pathspecs: those of a group
-    /// it declares; for a sweep, only those whose names its experiment file (read under `root`)
-    /// holds anywhere, so that a name in a label, a parameter or another name counts (all of
-    /// them if the file cannot be read); for anything else, all of them.
+    /// it declares whose names the text of what it runs holds anywhere ([`Measure::run_text`]),
+    /// so that a name in a label, a parameter or another name counts; all of them if that text
+    /// cannot be read.
     pub fn named_files(&self, root: &Path) -> Vec<&'static str> {
-        let text = match self.source {
-            Sweep { experiment, .. } => std::fs::read_to_string(root.join(experiment)).ok(),
-            Bench { .. } | Test { .. } | Python { .. } | Transcript { .. } => None,
-        };
+        let text = self.run_text(root);
         NAMED_FILES
             .iter()
             .filter(|(group, _, _)| self.depends.contains(group))
             .filter(|(_, name, _)| text.as_ref().is_none_or(|t| t.contains(name)))
             .map(|(_, _, file)| *file)
             .collect()
+    }
+
+    /// The text that says which components it runs, read under `root`: a sweep's experiment; a
+    /// transcript's commands and the files and folders they read; a bench's file and the benches'
+    /// library; a test file or example with its test folder and common module; a Python script
+    /// and the modules beside it. `None` (it may run any) for a crate's unit tests, which live
+    /// among every component's files, or when its main file cannot be read. No measurement
+    /// picks components from the registry without naming them (a test checks the benches,
+    /// examples and scripts for a registry listing).
+    pub fn run_text(&self, root: &Path) -> Option<String> {
+        let mut text = String::new();
+        match self.source {
+            Sweep { experiment, .. } => {
+                text = std::fs::read_to_string(root.join(experiment)).ok()?;
+            }
+            Transcript { steps, files, .. } => {
+                for step in steps {
+                    let (Step::Run(c) | Step::Background { command: c, .. }) = step;
+                    text.push_str(c);
+                    text.push('\n');
+                }
+                for file in files {
+                    read_into(&root.join(file), &mut text);
+                }
+            }
+            Test {
+                target: Target::Lib,
+                ..
+            } => return None,
+            Python { script, .. } => {
+                let path = root.join(script);
+                text = std::fs::read_to_string(&path).ok()?;
+                let dir = path.parent()?;
+                for entry in std::fs::read_dir(dir).ok()?.flatten() {
+                    let p = entry.path();
+                    if p != path && p.extension().is_some_and(|e| e == "py") {
+                        read_into(&p, &mut text);
+                    }
+                }
+            }
+            Bench { .. } | Test { .. } => {
+                let own = self.own_files();
+                text = std::fs::read_to_string(root.join(&own[0])).ok()?;
+                for other in &own[1..] {
+                    read_into(&root.join(other), &mut text);
+                }
+            }
+        }
+        Some(text)
     }
 
     /// What runs and what `--quick` keeps, for `docs measure --list`.
@@ -252,6 +298,24 @@ impl Measure {
                 format!("{} magbench commands\t--quick: all of them", steps.len())
             }
         }
+    }
+}
+
+/// Appends the text of the file at `path`, or of every file under the folder at `path`, to
+/// `text`; a path that is missing or not text adds nothing.
+fn read_into(path: &Path, text: &mut String) {
+    if path.is_dir() {
+        let Ok(entries) = std::fs::read_dir(path) else {
+            return;
+        };
+        let mut paths: Vec<_> = entries.flatten().map(|e| e.path()).collect();
+        paths.sort();
+        for p in paths {
+            read_into(&p, text);
+        }
+    } else if let Ok(t) = std::fs::read_to_string(path) {
+        text.push_str(&t);
+        text.push('\n');
     }
 }
 
@@ -1575,6 +1639,79 @@ mod tests {
                 .named_files(&root)
                 .contains(&"planners/src/planners/formation_rrt.rs")
         );
+    }
+
+    #[test]
+    fn a_transcript_test_or_script_depends_on_the_files_of_the_components_it_names() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path();
+        std::fs::create_dir_all(root.join("x/tests/common")).unwrap();
+        std::fs::create_dir_all(root.join("py")).unwrap();
+        std::fs::write(root.join("e.toml"), "trackers = [\"formation\"]").unwrap();
+        std::fs::write(root.join("x/tests/t.rs"), "create(\"goal-zoom-rrt\")").unwrap();
+        std::fs::write(root.join("x/tests/common/mod.rs"), "create(\"sst\")").unwrap();
+        std::fs::write(root.join("py/main.py"), "import helper").unwrap();
+        std::fs::write(root.join("py/helper.py"), "mb.plan(sc, \"trajopt\")").unwrap();
+        let measure = |source| Measure {
+            name: "m",
+            source,
+            feature: None,
+            depends: &[PLANNING, TRACKING],
+        };
+        let transcript = measure(Transcript {
+            files: &["e.toml"],
+            cwd: ".",
+            steps: &[Step::Run("plan open-field --planner rrt-star")],
+        });
+        assert_eq!(
+            transcript.named_files(root),
+            vec![
+                "planners/src/planners/rrt_star",
+                "trackers/src/trackers/formation.rs"
+            ]
+        );
+        // a test's common module counts, and a test that cannot be read may run anything
+        let test = |target| {
+            measure(Test {
+                package: "x",
+                target,
+                test: "",
+                release: false,
+                ignored: false,
+            })
+        };
+        assert_eq!(
+            test(Target::Test("t")).named_files(root),
+            vec!["planners/src/planners/sst.rs"]
+        );
+        let every: Vec<&str> = NAMED_FILES.iter().map(|(_, _, f)| *f).collect();
+        assert_eq!(test(Target::Test("missing")).named_files(root), every);
+        assert_eq!(test(Target::Lib).named_files(root), every);
+        // a script's sibling modules count
+        let script = measure(Python {
+            script: "py/main.py",
+            args: &[],
+            quick_args: &[],
+        });
+        assert_eq!(
+            script.named_files(root),
+            vec!["planners/src/planners/trajopt.rs"]
+        );
+    }
+
+    #[test]
+    fn no_measurement_takes_its_components_from_a_registry_listing() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        for m in MEASURES {
+            let Some(text) = m.run_text(&root) else {
+                continue;
+            };
+            for listing in [".list()", "list_registry", "builtins()", "--list"] {
+                assert!(!text.contains(listing), "{}: {listing}", m.name);
+            }
+        }
+        let calibration = find("calibration-bench").unwrap();
+        assert!(calibration.named_files(&root).is_empty());
     }
 
     #[test]
