@@ -15,7 +15,7 @@ use magbench_env::plant::DisturbancePreset;
 use magbench_env::{Scenario, Vec2};
 
 /// Seconds of excitation of the shared log.
-const EXCITE_S: f64 = 20.0;
+const EXCITE_S: f64 = 30.0;
 
 /// The base of the fits: the hydrodynamic-only preset of the walkthrough.
 fn base() -> DisturbancePreset {

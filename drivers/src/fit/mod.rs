@@ -53,6 +53,7 @@ mod starts;
 
 use magbench_env::plant::DisturbancePreset;
 use magbench_env::{InputError, Scenario};
+use rayon::prelude::*;
 
 use self::model::{Segment, frame_period};
 
@@ -82,13 +83,31 @@ pub struct FitOptions {
 impl Default for FitOptions {
     fn default() -> Self {
         Self {
-            segment_frames: 20,
+            segment_frames: SEGMENT_FRAMES,
             max_latency: 4,
             hold: vec![],
             free_starts: true,
         }
     }
 }
+
+/// Frames per segment by default (two thirds of a second at 60 fps). A segment's start state
+/// is fitted with it, and what the linearisation in that start leaves is a bias of second
+/// order in the detection noise, about the same in every segment, while what a segment says
+/// of the parameters grows with its length. At 20 frames and the top of the calibration
+/// benchmark's noise range (0.045–0.08 BL) it made the pair's force 15–20% too strong and the
+/// gradient's pull 5–10% too weak; at 40 frames it is within a few per cent
+/// (`magbench docs measure --only calibration-segments`). Longer segments are not better
+/// still: at 60 frames predictions from a start the search has not yet fitted run further
+/// off, and fits of the same rigs came out no closer.
+pub const SEGMENT_FRAMES: usize = 40;
+
+/// Frames of each segment the latency's quick fits predict. They start from the base's coils
+/// and run 3 iterations; over whole segments a base whose coils are far from the rig's leaves
+/// errors that 3 iterations do not remove, and the quick fits then rank the latencies by those
+/// (on rig 7 of the calibration benchmark, 40-frame segments chose 2 frames, true 3.79;
+/// their first 20 frames chose 3.5).
+pub const QUICK_SEGMENT_FRAMES: usize = 20;
 
 /// Largest standard error of `ln λ`, the common scale of moments, drags and gains, at which
 /// the data fix it (as for any factor, [`model::Kind::identified_below`]); above it the
@@ -191,6 +210,61 @@ fn check_runs(scenario: &Scenario, runs: &[LoggedRun]) -> Result<(), InputError>
         }
     }
     Ok(())
+}
+
+/// `x` moved along the scale direction `dir` until the mean of the ln moment factors
+/// (`moments`) is 0, the convention's value; the same forces as `x`.
+fn onto_convention(x: &[f64], dir: &[f64], moments: &[usize]) -> Vec<f64> {
+    let mean = |v: &[f64]| moments.iter().map(|&i| v[i]).sum::<f64>() / moments.len() as f64;
+    let t = mean(x) / mean(dir);
+    x.iter().zip(dir).map(|(a, d)| a - t * d).collect()
+}
+
+/// Whether the fit holds the moment/drag/gain scale by the convention.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ScaleState {
+    /// Held for the first fit; not yet measured.
+    Undecided,
+    /// The data fix it: fitted without the convention.
+    Free,
+    /// The data do not fix it: held by the convention.
+    Held,
+    /// No term of the model breaks it ([`scale_is_symmetry`]): held by the convention.
+    Symmetry,
+}
+
+/// Largest change of a prediction (BL) under a step of [`SYMMETRY_STEP`] along the scale
+/// below which the scale is a symmetry of the model: a thousandth of the least detection
+/// noise of a rig (0.005 BL), so no data see it.
+const SYMMETRY_BL: f64 = 5e-6;
+
+/// The step along the scale (in ln λ) that [`scale_is_symmetry`] takes.
+const SYMMETRY_STEP: f64 = 0.1;
+
+/// Whether moving `x` by [`SYMMETRY_STEP`] along the scale direction `dir` changes no
+/// prediction of `segs` by more than [`SYMMETRY_BL`]: a model with no hydrodynamic
+/// interaction, capillary attraction or magnet lag has the scale as an exact symmetry, and a
+/// standard error computed along it measures only the finite differences' rounding and the
+/// integrator's tolerance.
+fn scale_is_symmetry(model: &model::Model, segs: &[Segment], x: &[f64], dir: &[f64]) -> bool {
+    let base = model.predict_base();
+    let moved: Vec<f64> = x
+        .iter()
+        .zip(dir)
+        .map(|(a, d)| a + SYMMETRY_STEP * d)
+        .collect();
+    let (a, b) = (model.preset_at(base, x), model.preset_at(base, &moved));
+    segs.par_iter().all(|s| {
+        let start = model.observed_start(s);
+        let (ra, bad_a) = model.segment_rows(&a, s, &start);
+        let (rb, bad_b) = model.segment_rows(&b, s, &start);
+        let worst = ra
+            .iter()
+            .zip(&rb)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
+        bad_a == bad_b && worst <= SYMMETRY_BL
+    })
 }
 
 /// The direction of the moment/drag/gain scale symmetry in the fitted coordinates (ln moment
@@ -347,6 +421,13 @@ pub fn calibrate(
         return Err(FitError::NoSegments(sources));
     }
     // the latency's start: a quick fit at each of `starts`, least mean squared residual wins
+    let quick_segs: Vec<Segment> = segs
+        .iter()
+        .map(|s| Segment {
+            len: s.len.min(QUICK_SEGMENT_FRAMES),
+            ..*s
+        })
+        .collect();
     let mut latency_table = vec![];
     let mut x_start = x0.clone();
     if free[lat] {
@@ -356,7 +437,7 @@ pub fn calibrate(
             x[lat] = l;
             let mut quick = free.clone();
             quick[lat] = false;
-            let p = Problem::new(&model, segs.clone(), x, quick, opts.free_starts);
+            let p = Problem::new(&model, quick_segs.clone(), x, quick, opts.free_starts);
             let (p, _) = solve(p, 3);
             let ms = p.mean_square();
             latency_table.push((l, ms));
@@ -369,11 +450,21 @@ pub fn calibrate(
     let moments: Vec<usize> = (0..model.kinds.len())
         .filter(|&i| matches!(model.kinds[i], Kind::Moment(_)))
         .collect();
-    let mut scale = ScaleFit::Held;
-    let mut pinned = false;
+    let mut scale;
+    // The convention holds the scale in the first fit, so that a search along a direction the
+    // data do not see cannot run off; the data alone then say whether they fix it there. If
+    // they do, the fit is redone without the convention (and falls back to it, from that
+    // fit moved back onto the convention, should the scale's standard error then exceed the
+    // threshold).
+    let mut scale_state = match scale_direction(&model.kinds, &free) {
+        Some(d) if scale_is_symmetry(&model, &segs, &x_start, &d) => ScaleState::Symmetry,
+        _ => ScaleState::Undecided,
+    };
     // the parameters held because their standard error exceeds the threshold, and how
     let mut set_aside = vec![];
     let (problem, se) = loop {
+        let dir = scale_direction(&model.kinds, &free);
+        let pinned = dir.is_some() && scale_state != ScaleState::Free;
         let mut p = Problem::new(
             &model,
             segs.clone(),
@@ -384,25 +475,35 @@ pub fn calibrate(
         if pinned {
             p.pin_scale(moments.clone());
         }
-        let (p, _) = solve(p, 20);
-        let dir = scale_direction(&model.kinds, &free);
-        let mut se = p.standard_errors_along(dir.as_deref());
-        let scale_se = if dir.is_some() { se.pop() } else { None };
-        if let Some(s) = scale_se {
+        let (mut p, _) = solve(p, 20);
+        if let Some(d) = dir.as_deref() {
+            let s = p.data_standard_error_along(d);
             // a NaN or infinite error is not identified either
             let identified = s.partial_cmp(&SCALE_IDENTIFIED_BELOW)
                 != Some(std::cmp::Ordering::Greater)
                 && s.is_finite();
-            if !pinned && !identified {
-                pinned = true;
-                scale = ScaleFit::Convention(s);
-                x_start = p.x().to_vec();
-                continue;
+            match (scale_state, identified) {
+                (ScaleState::Undecided, true) => {
+                    scale_state = ScaleState::Free;
+                    x_start = p.x().to_vec();
+                    continue;
+                }
+                (ScaleState::Free, false) => {
+                    scale_state = ScaleState::Held;
+                    x_start = onto_convention(p.x(), d, &moments);
+                    continue;
+                }
+                (ScaleState::Free, true) => scale = ScaleFit::Identified(s),
+                (ScaleState::Symmetry, _) => scale = ScaleFit::Convention(f64::INFINITY),
+                (_, _) => {
+                    scale_state = ScaleState::Held;
+                    scale = ScaleFit::Convention(s);
+                }
             }
-            if !pinned {
-                scale = ScaleFit::Identified(s);
-            }
+        } else {
+            scale = ScaleFit::Held;
         }
+        let se = p.standard_errors_along(None);
         let worst = model
             .kinds
             .iter()

@@ -307,6 +307,16 @@ impl<'a> Problem<'a> {
         se
     }
 
+    /// The standard error of the coordinate along `along` (a direction in every parameter, 0
+    /// on the held ones) from the data alone: [`Problem::standard_errors_along`] without the
+    /// scale convention's row.
+    pub fn data_standard_error_along(&mut self, along: &[f64]) -> f64 {
+        let pin = std::mem::take(&mut self.pin);
+        let se = self.standard_errors_along(Some(along)).pop();
+        self.pin = pin;
+        se.unwrap_or(f64::NAN)
+    }
+
     /// White detection noise σ (BL per coordinate) from one-frame residuals, −cov(e_k, e_k+1),
     /// with its standard error (the products taken as independent); `None` when the process
     /// noise hides it (the covariance is not negative).

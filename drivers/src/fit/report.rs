@@ -55,8 +55,9 @@ pub struct ParamFit {
 pub enum ScaleFit {
     /// The data identify it: the standard error of `ln λ`.
     Identified(f64),
-    /// The data do not (standard error of `ln λ` shown): the geometric mean of the moment
-    /// factors is held at the base's, 1, and moments, drags and gains are relative to it.
+    /// The data do not (standard error of `ln λ` shown; infinite when no term of the model
+    /// breaks the symmetry): the geometric mean of the moment factors is held at the base's,
+    /// 1, and moments, drags and gains are relative to it.
     Convention(f64),
     /// A moment, drag or gain was held (`--hold`, unidentified or imprecise), which fixes it.
     Held,
@@ -397,8 +398,14 @@ impl FitReport {
                 "scale λ", "1", 100.0 * s
             ),
             ScaleFit::Convention(s) => format!(
-                "{:<24} {:>10}  not identified by the data (± {:.0}%): fixed by convention, the moments' geometric mean = 1; moments, drags and gains are relative to it (identified: m_i/√d_i, g/√d_i)",
-                "scale λ", "-", 100.0 * s
+                "{:<24} {:>10}  {}: fixed by convention, the moments' geometric mean = 1; moments, drags and gains are relative to it (identified: m_i/√d_i, g/√d_i)",
+                "scale λ",
+                "-",
+                if s.is_finite() {
+                    format!("not identified by the data (± {:.0}%)", 100.0 * s)
+                } else {
+                    "a symmetry of the model (no hydrodynamic interaction, capillary attraction or magnet lag)".into()
+                }
             ),
             ScaleFit::Held => format!(
                 "{:<24} {:>10}  fixed by a held moment, drag or gain",

@@ -33,8 +33,8 @@ pub struct CalibrateArgs {
     /// The fitted preset file.
     #[arg(long, required = true)]
     pub out: Option<PathBuf>,
-    /// Frames predicted from each observation.
-    #[arg(long, default_value_t = 20)]
+    /// Frames per segment the fit predicts, each from a start state of its own.
+    #[arg(long, default_value_t = magbench_drivers::fit::SEGMENT_FRAMES)]
     pub segment_frames: usize,
     /// Largest camera latency the fit may take (frames, fitted as a continuous number).
     #[arg(long, default_value_t = 4)]

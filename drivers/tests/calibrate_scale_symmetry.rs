@@ -1,0 +1,45 @@
+//! On a rig whose plant has no hydrodynamic interaction, capillary attraction or magnet lag,
+//! moments ×λ, drags ×λ² and gradient gains ×λ leave every prediction the same: the fit holds
+//! the scale by the convention without testing it, and fits the rest. The rig is rig 7 of
+//! `magbench calibrate bench` at seed 0 (bulk liquid, 0.033 BL of detection noise, 3.79 frames
+//! of latency, a 3.7 ms gradient coil). Tested along the symmetry, its standard error measured
+//! only the integrator's tolerance and passed for identified, and the search ran the moments
+//! off to 10¹¹; and on whole 40-frame segments the latency's quick fits chose 2 frames.
+//!
+//! The rig is env's plant and camera (`SimRig`) stepped frame by frame, with the benchmark's
+//! seed: no sockets, no sleeps, no wall clock.
+
+mod common;
+
+use magbench_drivers::fit::{FitOptions, Kind, ScaleFit, calibrate, read_log};
+
+/// The seed `calibrate bench` drew for its rig 7 (plant, camera and excitation).
+const SEED: u64 = 24_044_858;
+
+#[test]
+fn a_scale_no_term_breaks_is_held_by_the_convention_and_the_rest_is_fitted() {
+    let truth = common::fixture("bulk-rig-truth.toml");
+    let base = common::fixture("bulk-rig-base.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let alpha_max = truth.coil.alpha_max_deg.to_radians();
+    let (scenario, path) = common::excite_seeded(&truth, 90.0, SEED, alpha_max, dir.path());
+    let run = read_log(&path, scenario.agents()).unwrap();
+    let fit = calibrate(&scenario, &base, vec![run], &FitOptions::default()).unwrap();
+    assert_eq!(fit.scale, ScaleFit::Convention(f64::INFINITY));
+    let true_latency = truth.camera.latency.frames;
+    assert!(
+        (fit.latency - true_latency).abs() < 0.5,
+        "latency {} frames, true {true_latency}",
+        fit.latency
+    );
+    // the truth under the convention: the true moments' geometric mean is 1
+    let f = &truth.fitted;
+    let lambda = (f.moment.iter().map(|m| m.ln()).sum::<f64>() / f.moment.len() as f64).exp();
+    let get = |k: Kind| fit.params.iter().find(|p| p.kind == k).unwrap().value;
+    for i in 0..2 {
+        let m = get(Kind::Moment(i)) / (f.moment[i] / lambda) - 1.0;
+        assert!(m.abs() < 0.10, "moment[{i}] off by {m}");
+        let g = get(Kind::GradientGain(i)) / (f.gradient_gain.unwrap()[i] / lambda) - 1.0;
+        assert!(g.abs() < 0.05, "gradient gain {i} off by {g}");
+    }
+}
