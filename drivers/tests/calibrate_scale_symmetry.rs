@@ -2,9 +2,10 @@
 //! moments ×λ, drags ×λ² and gradient gains ×λ leave every prediction the same: the fit holds
 //! the scale by the convention without testing it, and fits the rest. The rig is rig 7 of
 //! `magbench calibrate bench` at seed 0 (bulk liquid, 0.033 BL of detection noise, 3.79 frames
-//! of latency, a 3.7 ms gradient coil). Tested along the symmetry, its standard error measured
-//! only the integrator's tolerance and passed for identified, and the search ran the moments
-//! off to 10¹¹; and on whole 40-frame segments the latency's quick fits chose 2 frames.
+//! of latency, a 3.7 ms gradient coil). A standard error tested along an exact symmetry
+//! measures only the integrator's tolerance and can pass for identified, and with the scale
+//! left free the search runs the moments off (to 10¹¹ on this rig); the latency's quick fits,
+//! over whole 40-frame segments, choose 2 frames here.
 //!
 //! The rig is env's plant and camera (`SimRig`) stepped frame by frame, with the benchmark's
 //! seed: no sockets, no sleeps, no wall clock.
