@@ -60,14 +60,6 @@ pub struct SweepSummary {
     pub failed: usize,
 }
 
-/// The runs of shard `i` of `n` (1-based): those whose matrix index is `i − 1` modulo `n`.
-pub fn shard(runs: Vec<RunSpec>, shard: Option<(usize, usize)>) -> Vec<RunSpec> {
-    match shard {
-        Some((i, n)) => runs.into_iter().filter(|r| r.index % n == i - 1).collect(),
-        None => runs,
-    }
-}
-
 /// Parses `I/N` with 1 ≤ I ≤ N; a refusal's field is empty (the caller names the option).
 pub fn parse_shard(s: &str) -> Result<(usize, usize), Rejection> {
     let refuse = |reason: &str| Rejection::new("", format!("{s:?}: {reason}"));
@@ -174,7 +166,7 @@ pub fn run_sweep(
     ex: &dyn Executor,
     opts: &SweepOptions,
 ) -> Result<SweepSummary, CliError> {
-    let specs = shard(e.runs(), opts.shard);
+    let specs = e.runs_of(opts.shard);
     let out = &opts.out;
     let shard_arr = opts.shard.map(|(i, n)| [i, n]);
     let opened = resume::open_for_sweep(
@@ -220,7 +212,7 @@ pub fn run_sweep(
     manifest.write(out)?;
     // the sample is drawn from the whole matrix, so that every shard draws the same one
     let replays = e.replays;
-    let sampled = replays.sampled(&e.runs());
+    let sampled = replays.sampled(e.run_ids());
     if !replays.is_none() {
         crate::replay::files::write_player(out)?;
     }

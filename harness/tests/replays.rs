@@ -194,7 +194,7 @@ fn the_default_writes_the_failed_runs_and_a_sample() {
     )
     .unwrap();
     let want: BTreeSet<usize> = failed_runs(&out)
-        .union(&policy::sample(&e.runs(), p.sample))
+        .union(&policy::sample(e.run_ids(), p.sample))
         .copied()
         .collect();
     assert_eq!(pages(&out), want);

@@ -54,13 +54,14 @@ def run(args):
 
 
 def experiment(work, runs):
-    """An experiment file of ``runs`` fake runs."""
+    """An experiment file of ``runs`` fake runs: two planners, each run planning alone and
+    planned and tracked, so four runs a seed."""
     path = os.path.join(work, "scale.toml")
     with open(path, "w") as f:
         f.write(
             'name = "scale"\nscenarios = ["open-field"]\n'
             'planners = ["fake", "fake{p=0.5}"]\n'
-            f"seeds = {max(1, runs // 2)}\n"
+            f"seeds = {max(1, runs // 4)}\n"
             '[limits]\niterations = 1000\n[tracking]\ntrackers = ["fake"]\npresets = ["realistic"]\n'
         )
     return path

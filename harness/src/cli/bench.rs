@@ -132,7 +132,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
         Some((i, n)) => PathBuf::from("results").join(format!("{}-shard-{i}-of-{n}", e.name)),
         None => PathBuf::from("results").join(&e.name),
     });
-    let total = crate::sweep::shard(e.runs(), shard).len();
+    let total = e.runs_of(shard).len();
     if a.dry_run {
         let combos = e.trackers.len() * e.presets.len();
         let matrix = match &e.tracking {

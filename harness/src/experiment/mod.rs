@@ -128,28 +128,67 @@ impl Experiment {
     /// The full run matrix in a fixed order: scenario, planner, tracker, preset, seed (a
     /// planner's planning runs before its tracked runs).
     pub fn runs(&self) -> Vec<RunSpec> {
+        self.runs_of(None)
+    }
+
+    /// The runs of shard `k` of `n` (`Some((k, n))`, 1-based: the runs whose index is `k − 1`
+    /// modulo `n`) of the run matrix, or the whole matrix; only those runs are made.
+    pub fn runs_of(&self, shard: Option<(usize, usize)>) -> Vec<RunSpec> {
         let mut out = vec![];
+        let mut index = 0;
         for (label, sc) in &self.scenarios {
             for p in &self.planners {
                 for (t, pr) in self.tracking(p) {
                     for &seed in &self.seeds {
-                        out.push(RunSpec {
-                            index: out.len(),
-                            experiment: self.name.clone(),
-                            scenario_label: label.clone(),
-                            scenario: sc.clone(),
-                            planner: p.clone(),
-                            tracker: t.clone(),
-                            preset: pr.map(|(label, _)| label.clone()),
-                            plant: pr.map(|(_, p)| p.clone()),
-                            seed,
-                            limits: self.limits,
-                        });
+                        if shard.is_none_or(|(k, n)| index % n == k - 1) {
+                            out.push(RunSpec {
+                                index,
+                                experiment: self.name.clone(),
+                                scenario_label: label.clone(),
+                                scenario: sc.clone(),
+                                planner: p.clone(),
+                                tracker: t.clone(),
+                                preset: pr.map(|(label, _)| label.clone()),
+                                plant: pr.map(|(_, p)| p.clone()),
+                                seed,
+                                limits: self.limits,
+                            });
+                        }
+                        index += 1;
                     }
                 }
             }
         }
         out
+    }
+
+    /// The number of runs of the matrix.
+    pub fn run_count(&self) -> usize {
+        let per_scenario: usize = self.planners.iter().map(|p| self.tracking(p).len()).sum();
+        self.scenarios.len() * per_scenario * self.seeds.len()
+    }
+
+    /// The index and id (`scenario|planner|tracker|preset|seed`, as [`RunSpec::id`]) of every
+    /// run of the matrix, in order, without making the runs.
+    pub fn run_ids(&self) -> impl Iterator<Item = (usize, String)> + '_ {
+        self.scenarios
+            .iter()
+            .flat_map(move |(label, _)| {
+                self.planners.iter().flat_map(move |p| {
+                    self.tracking(p).into_iter().flat_map(move |(t, pr)| {
+                        let config = crate::run::spec::config_id(
+                            label,
+                            p,
+                            t.as_ref(),
+                            pr.map(|(l, _)| l.as_str()),
+                        );
+                        self.seeds
+                            .iter()
+                            .map(move |seed| format!("{config}|{seed}"))
+                    })
+                })
+            })
+            .enumerate()
     }
 }
 
@@ -289,7 +328,25 @@ mod tests {
         let example = doc_example("[tracking]` table");
         assert!(example.contains("[tracking]"), "{example}");
         // 3 planners × 10 planning runs + goal-zoom-rrt × 2 trackers × 2 presets × 10
-        assert_eq!(parse(&example).runs().len(), 30 + 40);
+        let e = parse(&example);
+        assert_eq!(e.runs().len(), 30 + 40);
+        // the matrix's count, ids and shards without making every run agree with the runs
+        let all = e.runs();
+        assert_eq!(e.run_count(), all.len());
+        let ids: Vec<(usize, String)> = all.iter().map(|r| (r.index, r.id())).collect();
+        assert_eq!(e.run_ids().collect::<Vec<_>>(), ids);
+        for n in [1, 3, 7] {
+            let mut shards: Vec<usize> = (1..=n)
+                .flat_map(|k| e.runs_of(Some((k, n))).into_iter().map(|r| r.index))
+                .collect();
+            assert!(
+                e.runs_of(Some((2.min(n), n)))
+                    .iter()
+                    .all(|r| r.index % n == 2.min(n) - 1)
+            );
+            shards.sort();
+            assert_eq!(shards, (0..all.len()).collect::<Vec<_>>());
+        }
     }
 
     #[test]

@@ -16,7 +16,7 @@ use std::str::FromStr;
 
 use crate::experiment::MAX_RUNS;
 use crate::run::fake::seed_of;
-use crate::run::{RunRecord, RunSpec, Status};
+use crate::run::{RunRecord, Status};
 
 /// The policy when neither `--replays` nor the experiment file names one: the failed runs,
 /// which are what one opens a replay for, and a sample of 30 for a look at every configuration
@@ -55,7 +55,7 @@ impl ReplayPolicy {
 
     /// The runs of `matrix` (an experiment's whole run matrix) this policy samples, by run
     /// index.
-    pub fn sampled(&self, matrix: &[RunSpec]) -> BTreeSet<usize> {
+    pub fn sampled(&self, matrix: impl IntoIterator<Item = (usize, String)>) -> BTreeSet<usize> {
         if self.all || self.sample == 0 {
             return BTreeSet::new();
         }
@@ -79,15 +79,15 @@ pub fn failed(r: &RunRecord) -> bool {
 /// id (`scenario|planner|tracker|preset|seed`) among the runs of its configuration; the runs
 /// are taken by rank, and within a rank by their hash. So the sample spreads over the
 /// configurations (one run of each before a second of any), and it depends only on the ids.
-pub fn sample(matrix: &[RunSpec], n: usize) -> BTreeSet<usize> {
+pub fn sample(matrix: impl IntoIterator<Item = (usize, String)>, n: usize) -> BTreeSet<usize> {
     let mut configs: BTreeMap<String, Vec<(u64, usize)>> = BTreeMap::new();
-    for s in matrix {
-        let id = s.id();
+    for (index, id) in matrix {
         let config = id.rsplit_once('|').map_or(id.as_str(), |(c, _)| c);
-        configs
-            .entry(config.to_string())
-            .or_default()
-            .push((seed_of(&id), s.index));
+        let entry = match configs.get_mut(config) {
+            Some(e) => e,
+            None => configs.entry(config.to_string()).or_default(),
+        };
+        entry.push((seed_of(&id), index));
     }
     let mut ranked: Vec<(usize, u64, usize)> = vec![];
     for runs in configs.values_mut() {

@@ -216,7 +216,7 @@ impl ExperimentInfo {
             seeds: e.seeds.clone(),
             max_iterations: e.limits.iterations,
             time_limit_s: e.limits.time_s,
-            runs_total: e.runs().len(),
+            runs_total: e.run_count(),
         }
     }
 }

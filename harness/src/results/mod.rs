@@ -23,8 +23,10 @@ pub mod plots;
 pub mod repair;
 pub mod report;
 pub mod resume;
+pub mod sort;
 pub mod store;
 pub mod summary;
+pub mod traces;
 pub mod verify;
 
 use std::path::Path;
@@ -35,7 +37,7 @@ use crate::CliError;
 use crate::run::Status;
 
 /// Writes the derived files of a results folder from its runs: sorts `runs.csv` and
-/// `progress.csv` into run order, writes `runs.parquet`, `ompl.log`, the plots and
+/// `progress.csv` into run order ([`sort`], on disk), writes `runs.parquet`, `ompl.log`, the plots and
 /// `report.html`, and records
 /// the counts, end time and every file's hash in the manifest.
 pub fn finalize(dir: &Path) -> Result<(), CliError> {
@@ -48,18 +50,18 @@ pub fn finalize_with(
     opts: &crate::plot::export::FigureOptions,
 ) -> Result<(), CliError> {
     let mut m = Manifest::read(dir)?;
+    sort::sort_files(dir)?;
     let runs = store::read_runs(dir)?;
-    let progress = store::read_progress(dir)?;
-    store::write_sorted(dir, runs, progress)?;
-    let runs = store::read_runs(dir)?;
-    let progress = store::read_progress(dir)?;
     parquet::write(&dir.join(parquet::PARQUET), store::file_agents(dir), &runs)?;
+    let progress = traces::Traces::read(dir)?;
     m.runs_done = runs.len();
     m.runs_failed = runs.iter().filter(|r| r.status == Status::Crash).count();
     m.finished = Some(manifest::now());
     ompl::write(dir, &m, &runs, &progress)?;
     let figures = plots::write_all_with(dir, &m, &runs, &progress, opts)?;
+    drop(progress);
     report::write(dir, &m, &runs, &figures, opts.units)?;
+    drop(runs);
     m.files = verify::file_hashes(dir)?;
     m.write(dir)
 }

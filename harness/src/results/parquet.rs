@@ -168,19 +168,33 @@ fn schema(cols: &[Column]) -> Result<Type, parquet::errors::ParquetError> {
     Type::group_type_builder("runs").with_fields(fields).build()
 }
 
-/// The cells of one column over `rows`: the serde columns from each row's serde form.
-fn cells<'a>(
-    rows: &'a [RunRecord],
-    serde: &'a [serde_json::Map<String, Value>],
-    col: &Column,
-    index: usize,
-) -> Vec<Value> {
+/// The serde columns of `rows`, a column at a time in the order of [`RECORD`], from each row's
+/// serde form.
+fn serde_columns(rows: &[RunRecord]) -> Vec<Vec<Value>> {
+    let mut out: Vec<Vec<Value>> = RECORD
+        .iter()
+        .map(|_| Vec::with_capacity(rows.len()))
+        .collect();
+    for r in rows {
+        let mut o = match serde_json::to_value(r) {
+            Ok(Value::Object(o)) => o,
+            _ => serde_json::Map::new(),
+        };
+        for (c, (name, _, _)) in out.iter_mut().zip(RECORD) {
+            c.push(o.remove(*name).unwrap_or(Value::Null));
+        }
+    }
+    out
+}
+
+/// The cells of one column over `rows`: a serde column taken from `serde` ([`serde_columns`]).
+fn cells(rows: &[RunRecord], serde: &mut [Vec<Value>], index: usize) -> Vec<Value> {
     let records = RECORD.len();
     let metrics = Metric::ALL.len();
     let measures = Measure::ALL.len();
     let num = |v: Option<f64>| v.map_or(Value::Null, |x| json!(x));
     match index {
-        i if i < records => serde.iter().map(|o| o[&col.name].clone()).collect(),
+        i if i < records => std::mem::take(&mut serde[i]),
         i if i < records + metrics => {
             let m = Metric::ALL[i - records];
             rows.iter().map(|r| num(r.get(m))).collect()
@@ -206,13 +220,6 @@ fn failed(path: &Path, e: impl std::fmt::Display) -> CliError {
 /// (a temporary file, then a rename).
 pub fn write(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), CliError> {
     let cols = columns(agents);
-    let serde: Vec<serde_json::Map<String, Value>> = rows
-        .iter()
-        .map(|r| match serde_json::to_value(r) {
-            Ok(Value::Object(o)) => o,
-            _ => serde_json::Map::new(),
-        })
-        .collect();
     let meta: serde_json::Map<String, Value> = cols
         .iter()
         .map(|c| (c.name.clone(), json!({"unit": c.unit, "label": c.label})))
@@ -234,12 +241,14 @@ pub fn write(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), CliEr
     let mut w =
         SerializedFileWriter::new(file, Arc::new(schema(&cols).map_err(pq)?), Arc::new(props))
             .map_err(pq)?;
-    for (group, serde) in rows.chunks(ROW_GROUP).zip(serde.chunks(ROW_GROUP)) {
+    for group in rows.chunks(ROW_GROUP) {
+        // the serde columns of one row group at a time
+        let mut serde = serde_columns(group);
         let mut g = w.next_row_group().map_err(pq)?;
         let mut index = 0;
         while let Some(mut cw) = g.next_column().map_err(pq)? {
             let col = &cols[index];
-            let cells = cells(group, serde, col, index);
+            let cells = cells(group, &mut serde, index);
             let defs: Vec<i16> = cells.iter().map(|v| i16::from(!v.is_null())).collect();
             let defs = col.nullable.then_some(defs.as_slice());
             let present = cells.iter().filter(|v| !v.is_null());

@@ -17,18 +17,18 @@
 //! they span more than a decade ([`FigureOptions::axes`]). docs/figures.md has the options.
 
 use crate::units::Shown;
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::manifest::Manifest;
 use super::summary::groups;
+use super::traces::{TracePoint, Traces};
 use crate::CliError;
 use crate::metrics::Metric;
 use crate::plot::charts::{BandPoint, BoxChart, CdfChart, LineBandChart, Series};
 use crate::plot::export::{AxisScale, FigureOptions};
 use crate::plot::style::{self, Family, Look};
 use crate::plot::{Figure, save_with};
-use crate::run::{ProgressRow, RunRecord};
+use crate::run::RunRecord;
 use crate::stats::quantile::quantile_sorted;
 use crate::stats::wilson;
 
@@ -169,7 +169,7 @@ fn cost_curve(
     runs: &[&RunRecord],
     progress: &Traces,
     xs: &[f64],
-    at: fn(&ProgressRow) -> f64,
+    at: fn(&TracePoint) -> f64,
 ) -> Vec<BandPoint> {
     xs.iter()
         .map(|&x| {
@@ -177,13 +177,11 @@ fn cost_curve(
                 .iter()
                 .map(|r| {
                     progress
-                        .get(&r.run)
-                        .and_then(|p| {
-                            p.iter()
-                                .take_while(|p| at(p) <= x)
-                                .last()
-                                .and_then(|p| p.best_cost)
-                        })
+                        .get(r.run)
+                        .iter()
+                        .take_while(|p| at(p) <= x)
+                        .last()
+                        .and_then(|p| p.best_cost)
                         .unwrap_or(f64::INFINITY)
                 })
                 .collect();
@@ -217,7 +215,7 @@ fn cost_curve(
 /// whether that axis is logarithmic.
 fn cost_chart(
     planning: &[&Vec<&RunRecord>],
-    (by_run, at): (&Traces, fn(&ProgressRow) -> f64),
+    (by_run, at): (&Traces, fn(&TracePoint) -> f64),
     xs: &[f64],
     x_axis: (&str, bool),
     title: &str,
@@ -260,9 +258,6 @@ fn cost_chart(
         width,
     }
 }
-
-/// Each run's progress rows, by run.
-type Traces<'a> = BTreeMap<usize, Vec<&'a ProgressRow>>;
 
 struct Writer<'a> {
     dir: &'a Path,
@@ -339,7 +334,7 @@ pub fn write_all(
     dir: &Path,
     m: &Manifest,
     runs: &[RunRecord],
-    progress: &[ProgressRow],
+    progress: &Traces,
 ) -> Result<Vec<PlotFile>, CliError> {
     write_all_with(dir, m, runs, progress, &FigureOptions::default())
 }
@@ -365,14 +360,10 @@ pub fn write_all_with(
     dir: &Path,
     m: &Manifest,
     runs: &[RunRecord],
-    progress: &[ProgressRow],
+    progress: &Traces,
     opts: &FigureOptions,
 ) -> Result<Vec<PlotFile>, CliError> {
     let width = opts.size.layout_width();
-    let mut by_run: BTreeMap<usize, Vec<&ProgressRow>> = BTreeMap::new();
-    for p in progress {
-        by_run.entry(p.run).or_default().push(p);
-    }
     let mut w = Writer {
         dir,
         opts,
@@ -484,7 +475,7 @@ pub fn write_all_with(
         let title = format!("{sc}: best cost vs iterations");
         let fig = cost_chart(
             &planning,
-            (&by_run, |p: &ProgressRow| p.iteration as f64),
+            (progress, |p: &TracePoint| p.iteration as f64),
             &xs,
             (it_label, it_log),
             &title,
@@ -495,7 +486,7 @@ pub fn write_all_with(
         let title = format!("{sc}: best cost vs planning time");
         let fig = cost_chart(
             &planning,
-            (&by_run, |p: &ProgressRow| p.time_s),
+            (progress, |p: &TracePoint| p.time_s),
             &ts,
             ("planning time (s)", t_log),
             &title,
@@ -610,6 +601,7 @@ pub fn write_all_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::run::ProgressRow;
 
     fn point(run: usize, iteration: u64, time_s: f64, best_cost: Option<f64>) -> ProgressRow {
         ProgressRow {
@@ -634,12 +626,9 @@ mod tests {
             point(0, 20, 3.0, Some(5.0)),
             point(1, 30, 0.2, Some(7.0)),
         ];
-        let mut by_run: BTreeMap<usize, Vec<&ProgressRow>> = BTreeMap::new();
-        for p in &rows {
-            by_run.entry(p.run).or_default().push(p);
-        }
+        let by_run = Traces::from_rows(&rows);
         let runs = [&a, &b];
-        let medians = |xs: &[f64], at: fn(&ProgressRow) -> f64| -> Vec<f64> {
+        let medians = |xs: &[f64], at: fn(&TracePoint) -> f64| -> Vec<f64> {
             cost_curve(&runs, &by_run, xs, at)
                 .iter()
                 .map(|p| p.y)

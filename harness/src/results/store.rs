@@ -32,7 +32,7 @@ pub const RUNS: &str = "runs.csv";
 /// `progress.csv`.
 pub const PROGRESS: &str = "progress.csv";
 
-fn failed(path: &Path, e: impl std::fmt::Display) -> CliError {
+pub(super) fn failed(path: &Path, e: impl std::fmt::Display) -> CliError {
     CliError::Failed(format!("{}: {e}", path.display()))
 }
 
@@ -245,16 +245,14 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, CliError> {
     Ok(f)
 }
 
-/// Reads the complete rows of `runs.csv` (a trailing partial line is ignored), with their
-/// difficulty and per-agent columns (a file without them, e.g. of an older version, gives
-/// none).
+/// Reads the complete rows of `runs.csv` (a trailing partial line is ignored), one at a time,
+/// with their difficulty and per-agent columns (a file without them, e.g. of an older
+/// version, gives none).
 pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, CliError> {
-    let path = dir.join(RUNS);
-    if !path.exists() {
-        return Ok(vec![]);
+    match Snapshot::open(&dir.join(RUNS))? {
+        Some(s) => s.runs()?.collect(),
+        None => Ok(vec![]),
     }
-    let text = std::fs::read_to_string(&path).map_err(|e| failed(&path, e))?;
-    parse_runs(&path, complete_part(&text))
 }
 
 /// Parses the complete rows `text` (header first) of the `runs.csv` at `path`.
@@ -262,7 +260,7 @@ pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
     RunRows::new(path, text.as_bytes())?.collect()
 }
 
-fn bad_row(path: &Path, row: usize, e: String) -> CliError {
+pub(super) fn bad_row(path: &Path, row: usize, e: String) -> CliError {
     CliError::Input(magbench_env::InputError::new(
         path.display().to_string(),
         format!("row {row}"),
@@ -383,6 +381,8 @@ pub struct Snapshot {
     path: PathBuf,
     file: File,
     len: u64,
+    /// The file's length when it was opened: more than `len` when its last line is cut short.
+    size: u64,
 }
 
 impl Snapshot {
@@ -416,7 +416,23 @@ impl Snapshot {
             path: path.to_path_buf(),
             file,
             len,
+            size: at,
         }))
+    }
+
+    /// The length of its complete lines (bytes).
+    pub fn complete_len(&self) -> u64 {
+        self.len
+    }
+
+    /// The file's length when it was opened (bytes).
+    pub fn size(&self) -> u64 {
+        self.size
+    }
+
+    /// Whether the file ended in a complete line when it was opened.
+    pub fn is_whole(&self) -> bool {
+        self.len == self.size
     }
 
     /// The file's path.
@@ -454,9 +470,12 @@ pub fn progress_bytes(rows: &[ProgressRow]) -> Vec<u8> {
     record_bytes(rows)
 }
 
-/// Reads the complete rows of `progress.csv`.
+/// Reads the complete rows of `progress.csv`, one at a time.
 pub fn read_progress(dir: &Path) -> Result<Vec<ProgressRow>, CliError> {
-    read_rows(&dir.join(PROGRESS))
+    match Snapshot::open(&dir.join(PROGRESS))? {
+        Some(s) => s.progress()?.collect(),
+        None => Ok(vec![]),
+    }
 }
 
 /// The length of the complete lines of CSV `text`: up to its last line end outside quotes
@@ -477,14 +496,6 @@ pub fn complete_len(text: &str) -> usize {
 /// The complete lines of CSV `text`.
 pub fn complete_part(text: &str) -> &str {
     &text[..complete_len(text)]
-}
-
-fn read_rows<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, CliError> {
-    if !path.exists() {
-        return Ok(vec![]);
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| failed(path, e))?;
-    parse_rows(path, complete_part(&text))
 }
 
 /// Parses the complete rows `text` (header first) of the `progress.csv` at `path`.
@@ -546,24 +557,6 @@ pub fn sync_dir(path: &Path) -> Result<(), CliError> {
         let _ = d.sync_all();
     }
     Ok(())
-}
-
-/// Rewrites `runs.csv` and `progress.csv` of `dir` with `runs` sorted by run index and
-/// `progress` by (run, iteration): the canonical order of a finished results folder.
-pub fn write_sorted(
-    dir: &Path,
-    mut runs: Vec<RunRecord>,
-    mut progress: Vec<ProgressRow>,
-) -> Result<(), CliError> {
-    runs.sort_by_key(|r| r.run);
-    progress.sort_by(|a, b| {
-        (a.run, a.iteration)
-            .cmp(&(b.run, b.iteration))
-            .then(a.time_s.total_cmp(&b.time_s))
-    });
-    let agents = file_agents(dir).max(tracked_agents(&runs));
-    write_runs_atomic(&dir.join(RUNS), agents, &runs)?;
-    write_atomic(&dir.join(PROGRESS), &progress_header(), &progress)
 }
 
 #[cfg(test)]
@@ -644,9 +637,9 @@ pub(crate) mod tests {
             assert_eq!(back[i], want);
         }
         assert!(back[3].per_agent.is_empty());
-        // resuming keeps the header; rewriting in run order keeps the columns
+        // resuming keeps the header; sorting into run order keeps the columns
         RunWriter::open(dir.path(), 4).unwrap();
-        write_sorted(dir.path(), back.clone(), vec![]).unwrap();
+        crate::results::sort::sort_files(dir.path()).unwrap();
         assert_eq!(read_runs(dir.path()).unwrap(), back);
         let again = std::fs::read_to_string(dir.path().join(RUNS)).unwrap();
         assert_eq!(again.lines().next().unwrap(), header);

@@ -9,7 +9,7 @@ use sha2::{Digest, Sha256};
 
 use super::manifest::{MANIFEST, Manifest};
 use super::parquet::PARQUET;
-use super::store::{self, PROGRESS, RUNS};
+use super::store::{self, PROGRESS, RUNS, Snapshot};
 use crate::CliError;
 use crate::run::{ProgressRow, RunRecord, Status};
 
@@ -54,6 +54,20 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// Hex SHA-256 of the file at `path`, read a block at a time.
+fn hash_file(path: &Path) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut f = std::fs::File::open(path)?;
+    let mut h = Sha256::new();
+    let mut buf = vec![0; 1 << 16];
+    loop {
+        match f.read(&mut buf)? {
+            0 => return Ok(hex(&h.finalize())),
+            n => h.update(&buf[..n]),
+        }
+    }
+}
+
 /// Hex SHA-256 of files, by path relative to their folder with `/` separators.
 pub type FileHashes = BTreeMap<String, String>;
 
@@ -72,8 +86,10 @@ pub fn file_hashes(dir: &Path) -> Result<FileHashes, CliError> {
             if kind.is_dir() {
                 stack.push((entry.path(), format!("{rel}/")));
             } else if kind.is_file() && hashed(&rel) {
-                let bytes = std::fs::read(entry.path()).map_err(|e| io(&entry.path(), e))?;
-                out.insert(rel, hex(&Sha256::digest(&bytes)));
+                out.insert(
+                    rel,
+                    hash_file(&entry.path()).map_err(|e| io(&entry.path(), e))?,
+                );
             }
         }
     }
@@ -84,6 +100,7 @@ pub fn file_hashes(dir: &Path) -> Result<FileHashes, CliError> {
 struct Kind {
     what: String,
     items: Vec<String>,
+    count: usize,
 }
 
 const SHOWN: usize = 5;
@@ -93,40 +110,29 @@ impl Kind {
         Kind {
             what: what.to_string(),
             items: vec![],
+            count: 0,
         }
     }
 
+    /// Counts `item`, keeping the first [`SHOWN`] (a folder of another experiment has a
+    /// problem in every row).
     fn push(&mut self, item: String) {
-        self.items.push(item);
+        if self.items.len() < SHOWN {
+            self.items.push(item);
+        }
+        self.count += 1;
     }
 
     fn report(self, problems: &mut Vec<String>) {
-        if self.items.is_empty() {
+        if self.count == 0 {
             return;
         }
-        let n = self.items.len();
-        let mut line = format!("{}: {}", self.what, self.items[..n.min(SHOWN)].join("; "));
+        let n = self.count;
+        let mut line = format!("{}: {}", self.what, self.items.join("; "));
         if n > SHOWN {
             line += &format!("; and {} more", n - SHOWN);
         }
         problems.push(line);
-    }
-}
-
-fn read_text(path: &Path, problems: &mut Vec<String>) -> Option<String> {
-    match std::fs::read(path) {
-        Ok(b) => match String::from_utf8(b) {
-            Ok(t) => Some(t),
-            Err(_) => {
-                problems.push(format!("{}: not UTF-8 text", name(path)));
-                None
-            }
-        },
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
-        Err(e) => {
-            problems.push(format!("{}: cannot read: {e}", name(path)));
-            None
-        }
     }
 }
 
@@ -136,42 +142,88 @@ fn name(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// The complete rows of a run file, with problems for a cut header and a line cut short at
-/// the end, and a note for another version's header.
-fn rows<T>(
+/// Longest first line read to tell a cut header from another version's (bytes).
+const FIRST_LINE_MAX: u64 = 1 << 16;
+
+/// The file's first line (at most [`FIRST_LINE_MAX`] bytes of it), lossily decoded.
+fn first_line(snap: &Snapshot) -> String {
+    use std::io::{BufRead, Read};
+    let mut buf = vec![];
+    if let Ok(f) = std::fs::File::open(snap.path()) {
+        let _ = std::io::BufReader::new(f)
+            .take(FIRST_LINE_MAX)
+            .read_until(b'\n', &mut buf);
+    }
+    let text = String::from_utf8_lossy(&buf);
+    text.trim_end_matches('\n').to_string()
+}
+
+/// A run file opened for its rows, with problems for a file that cannot be read, a cut header
+/// and a line cut short at the end, and a note for another version's header; `None` when it
+/// has no rows to read (no file, or a header cut short).
+fn open_rows(
     path: &Path,
-    text: Option<String>,
     torn_header: impl Fn(&str) -> bool,
     header_ok: impl Fn(&str) -> bool,
-    parse: impl Fn(&Path, &str) -> Result<Vec<T>, CliError>,
     problems: &mut Vec<String>,
     notes: &mut Vec<String>,
-) -> Option<Vec<T>> {
+) -> Option<Snapshot> {
     let file = name(path);
-    let text = text?;
-    if text.is_empty() || torn_header(&text) {
+    let snap = match Snapshot::open(path) {
+        Ok(Some(s)) => s,
+        Ok(None) => return None,
+        Err(e) => {
+            problems.push(format!("{file}: cannot read: {e}"));
+            return None;
+        }
+    };
+    let first = first_line(&snap);
+    if snap.complete_len() == 0 && (snap.size() == 0 || torn_header(&first)) {
         problems.push(format!("{file}: the header is cut short"));
-        return Some(vec![]);
+        return None;
     }
-    let n = store::complete_len(&text);
-    if !header_ok(text.split('\n').next().unwrap_or_default()) {
+    if !header_ok(&first) {
         notes.push(format!(
             "{file}: the columns of another version of magbench (read by name)"
         ));
     }
-    if n < text.len() {
+    if !snap.is_whole() {
         problems.push(format!(
             "{file}: ends in a line cut short ({} bytes): `bench --resume` repairs it",
-            text.len() - n
+            snap.size() - snap.complete_len()
         ));
     }
-    match parse(path, &text[..n]) {
-        Ok(r) => Some(r),
+    Some(snap)
+}
+
+/// Reads every row of `rows` into `visit`; on a row that does not parse, the problem and
+/// `false` (what was visited is then to be dropped).
+fn each_row<T>(
+    file: &str,
+    rows: Result<impl Iterator<Item = Result<T, CliError>>, CliError>,
+    problems: &mut Vec<String>,
+    mut visit: impl FnMut(T),
+) -> bool {
+    let run = || -> Result<(), CliError> {
+        for r in rows? {
+            visit(r?);
+        }
+        Ok(())
+    };
+    match run() {
+        Ok(()) => true,
         Err(e) => {
             problems.push(format!("{file}: {e}"));
-            None
+            false
         }
     }
+}
+
+/// What the checks keep of a row of `runs.csv`.
+struct Row {
+    run: usize,
+    run_id: String,
+    progress_rows: Option<u64>,
 }
 
 /// Checks the results folder `dir`: the manifest reads; `runs.csv` has one row per run id and
@@ -206,41 +258,76 @@ pub fn verify(dir: &Path) -> Result<Verified, CliError> {
             None
         }
     };
-    let runs_text = read_text(&dir.join(RUNS), p);
-    if runs_text.is_none() && !p.iter().any(|l| l.starts_with(RUNS)) {
+    let runs_path = dir.join(RUNS);
+    if !runs_path.exists() {
         p.push(format!("{RUNS}: missing"));
     }
-    let runs: Vec<RunRecord> = rows(
-        &dir.join(RUNS),
-        runs_text,
+    // the rows' own checks as they are read: crashes, and rows of another experiment
+    let mut rows: Vec<Row> = vec![];
+    let mut crashed = 0;
+    let mut foreign = manifest.as_ref().map(|m| {
+        let kind = Kind::new(&format!(
+            "{RUNS}: rows that are not runs of experiment {:?}{}",
+            m.experiment.name,
+            m.shard
+                .map(|[k, n]| format!(" shard {k}/{n}"))
+                .unwrap_or_default()
+        ));
+        (m, kind)
+    });
+    if let Some(snap) = open_rows(
+        &runs_path,
         store::is_torn_runs_header,
         |h| store::header_agents(h).is_some(),
-        store::parse_runs,
         p,
         &mut v.notes,
-    )
-    .unwrap_or_default();
-    let progress_text = read_text(&dir.join(PROGRESS), p);
-    let traced = runs.iter().any(|r| r.progress_rows != Some(0));
-    if progress_text.is_none() && traced && !p.iter().any(|l| l.starts_with(PROGRESS)) {
+    ) {
+        let whole = each_row(RUNS, snap.runs(), p, |r: RunRecord| {
+            crashed += usize::from(r.status == Status::Crash);
+            if let Some((m, kind)) = foreign.as_mut()
+                && (r.experiment != m.experiment.name || !in_slice(m, r.run))
+            {
+                kind.push(format!(
+                    "{} (index {}, experiment {:?})",
+                    r.run_id, r.run, r.experiment
+                ));
+            }
+            rows.push(Row {
+                run: r.run,
+                run_id: r.run_id,
+                progress_rows: r.progress_rows,
+            });
+        });
+        if !whole {
+            (rows, crashed) = (vec![], 0);
+            foreign = None;
+        }
+    }
+    let progress_path = dir.join(PROGRESS);
+    let traced = rows.iter().any(|r| r.progress_rows != Some(0));
+    if !progress_path.exists() && traced {
         p.push(format!("{PROGRESS}: missing"));
     }
-    let progress: Vec<ProgressRow> = rows(
-        &dir.join(PROGRESS),
-        progress_text,
+    v.runs = rows.len();
+    v.incomplete = check_rows(&rows, crashed, foreign.map(|f| f.1), manifest.as_ref(), p);
+    let mut traces = TraceCount::new(&rows);
+    if let Some(snap) = open_rows(
+        &progress_path,
         store::is_torn_progress_header,
         |h| h == store::progress_header(),
-        store::parse_progress,
         p,
         &mut v.notes,
-    )
-    .unwrap_or_default();
-    v.runs = runs.len();
-    v.trace_points = progress.len();
-
-    v.incomplete = check_rows(&runs, manifest.as_ref(), p);
-    check_traces(&runs, &progress, p, &mut v.notes);
-    check_parquet(dir, &runs, p);
+    ) {
+        let whole = each_row(PROGRESS, snap.progress(), p, |t: ProgressRow| {
+            traces.add(&t)
+        });
+        if !whole {
+            traces = TraceCount::new(&rows);
+        }
+    }
+    v.trace_points = traces.points;
+    traces.report(&rows, p, &mut v.notes);
+    check_parquet(dir, &rows, p);
     if let Some(m) = &manifest {
         v.files_hashed = check_hashes(dir, m, p, &mut v.notes)?;
     }
@@ -249,17 +336,17 @@ pub fn verify(dir: &Path) -> Result<Verified, CliError> {
 
 /// `runs.parquet`, when the folder has one: a whole Parquet file holding the runs of
 /// `runs.csv`, in its order.
-fn check_parquet(dir: &Path, runs: &[RunRecord], p: &mut Vec<String>) {
+fn check_parquet(dir: &Path, rows: &[Row], p: &mut Vec<String>) {
     let path = dir.join(PARQUET);
     if !path.exists() {
         return;
     }
     match super::parquet::check(&path) {
         Err(e) => p.push(format!("{PARQUET}: {e}")),
-        Ok(s) if !s.run_ids.iter().eq(runs.iter().map(|r| &r.run_id)) => p.push(format!(
+        Ok(s) if !s.run_ids.iter().eq(rows.iter().map(|r| &r.run_id)) => p.push(format!(
             "{PARQUET}: {} runs, not the {} runs of {RUNS} in their order",
             s.rows,
-            runs.len()
+            rows.len()
         )),
         Ok(_) => {}
     }
@@ -285,15 +372,23 @@ pub fn require_sound(dir: &Path, complete: bool) -> Result<(), CliError> {
     )))
 }
 
-/// Checks the rows against each other and the manifest; returns what is missing.
+/// Whether run index `i` is a run of the manifest's experiment (and of its shard).
+fn in_slice(m: &Manifest, i: usize) -> bool {
+    i < m.experiment.runs_total && m.shard.is_none_or(|[k, n]| i % n == k - 1)
+}
+
+/// Checks the rows against each other and the manifest (`crashed` of them crashed, `foreign`
+/// the rows of another experiment found as they were read); returns what is missing.
 fn check_rows(
-    runs: &[RunRecord],
+    rows: &[Row],
+    crashed: usize,
+    foreign: Option<Kind>,
     manifest: Option<&Manifest>,
     p: &mut Vec<String>,
 ) -> Option<String> {
     let mut by_id: BTreeMap<&str, usize> = BTreeMap::new();
     let mut by_index: BTreeMap<usize, usize> = BTreeMap::new();
-    for r in runs {
+    for r in rows {
         *by_id.entry(&r.run_id).or_default() += 1;
         *by_index.entry(r.run).or_default() += 1;
     }
@@ -312,51 +407,31 @@ fn check_rows(
     }
     doubled.report(p);
     let m = manifest?;
-    let total = m.experiment.runs_total;
-    let in_slice = |i: usize| i < total && m.shard.is_none_or(|[k, n]| i % n == k - 1);
-    let mut foreign = Kind::new(&format!(
-        "{RUNS}: rows that are not runs of experiment {:?}{}",
-        m.experiment.name,
-        m.shard
-            .map(|[k, n]| format!(" shard {k}/{n}"))
-            .unwrap_or_default()
-    ));
-    for r in runs {
-        if r.experiment != m.experiment.name || !in_slice(r.run) {
-            foreign.push(format!(
-                "{} (index {}, experiment {:?})",
-                r.run_id, r.run, r.experiment
-            ));
-        }
+    if let Some(f) = foreign {
+        f.report(p);
     }
-    foreign.report(p);
-    let expected = (0..total).filter(|&i| in_slice(i)).count();
+    let total = m.experiment.runs_total;
+    let expected = (0..total).filter(|&i| in_slice(m, i)).count();
     if m.finished.is_none() {
         return Some(format!(
             "not finished: {} of {expected} runs done (`bench --resume` completes it)",
             by_index.len()
         ));
     }
-    let lacking: Vec<usize> = (0..total)
-        .filter(|&i| in_slice(i) && !by_index.contains_key(&i))
-        .collect();
     let mut missing = vec![];
-    let mut kind = Kind::new(&format!(
-        "{RUNS}: {} of {expected} runs missing, indices",
-        lacking.len()
-    ));
-    for i in &lacking {
+    let mut kind = Kind::new("");
+    for i in (0..total).filter(|&i| in_slice(m, i) && !by_index.contains_key(&i)) {
         kind.push(i.to_string());
     }
+    kind.what = format!("{RUNS}: {} of {expected} runs missing, indices", kind.count);
     kind.report(&mut missing);
-    if m.runs_done != runs.len() {
+    if m.runs_done != rows.len() {
         p.push(format!(
             "{MANIFEST}: runs_done is {}, {RUNS} has {} rows",
             m.runs_done,
-            runs.len()
+            rows.len()
         ));
     }
-    let crashed = runs.iter().filter(|r| r.status == Status::Crash).count();
     if m.runs_failed != crashed {
         p.push(format!(
             "{MANIFEST}: runs_failed is {}, {RUNS} has {crashed} crashed runs",
@@ -366,51 +441,85 @@ fn check_rows(
     missing.pop()
 }
 
-fn check_traces(
-    runs: &[RunRecord],
-    progress: &[ProgressRow],
-    p: &mut Vec<String>,
-    notes: &mut Vec<String>,
-) {
-    let index: BTreeMap<&str, usize> = runs.iter().map(|r| (&*r.run_id, r.run)).collect();
-    let mut count: BTreeMap<&str, u64> = BTreeMap::new();
-    let mut orphans = Kind::new(&format!(
-        "{PROGRESS}: trace points of runs without a row in {RUNS}"
-    ));
-    let mut misplaced = Kind::new(&format!(
-        "{PROGRESS}: trace points whose run index differs from their run's row"
-    ));
-    for (i, t) in progress.iter().enumerate() {
-        match index.get(&*t.run_id) {
-            None => orphans.push(format!("row {} ({})", i + 1, t.run_id)),
-            Some(&k) if k != t.run => misplaced.push(format!(
-                "row {} ({}: index {}, its row says {k})",
-                i + 1,
-                t.run_id,
-                t.run
+/// The trace points of `progress.csv` counted by run id as they are read, with the points of
+/// runs without a row and those whose run index differs from their run's row.
+struct TraceCount<'a> {
+    /// Each run id's index (its last row's) and its counter.
+    index: std::collections::HashMap<&'a str, (usize, usize)>,
+    counts: Vec<u64>,
+    orphans: Kind,
+    misplaced: Kind,
+    /// Trace points read.
+    points: usize,
+}
+
+impl<'a> TraceCount<'a> {
+    fn new(rows: &'a [Row]) -> Self {
+        let mut index = std::collections::HashMap::with_capacity(rows.len());
+        let mut slots = 0;
+        for r in rows {
+            let slot = index
+                .get(r.run_id.as_str())
+                .map_or(slots, |v: &(usize, usize)| v.1);
+            if slot == slots {
+                slots += 1;
+            }
+            index.insert(r.run_id.as_str(), (r.run, slot));
+        }
+        TraceCount {
+            index,
+            counts: vec![0; slots],
+            orphans: Kind::new(&format!(
+                "{PROGRESS}: trace points of runs without a row in {RUNS}"
             )),
-            Some(_) => {}
-        }
-        *count.entry(&t.run_id).or_default() += 1;
-    }
-    orphans.report(p);
-    misplaced.report(p);
-    let mut wrong = Kind::new("runs whose trace in progress.csv is not as long as their row says");
-    let mut unknown = 0;
-    for r in runs {
-        let n = count.get(&*r.run_id).copied().unwrap_or(0);
-        match r.progress_rows {
-            Some(k) if k != n => wrong.push(format!("{}: {n} points, its row says {k}", r.run_id)),
-            Some(_) => {}
-            None => unknown += 1,
+            misplaced: Kind::new(&format!(
+                "{PROGRESS}: trace points whose run index differs from their run's row"
+            )),
+            points: 0,
         }
     }
-    wrong.report(p);
-    if unknown > 0 {
-        notes.push(format!(
-            "{unknown} rows of {RUNS} have no progress_rows (an older version): their trace \
-             lengths are not checked"
-        ));
+
+    fn add(&mut self, t: &ProgressRow) {
+        self.points += 1;
+        let row = self.points;
+        match self.index.get(t.run_id.as_str()) {
+            None => self.orphans.push(format!("row {row} ({})", t.run_id)),
+            Some(&(k, slot)) => {
+                if k != t.run {
+                    self.misplaced.push(format!(
+                        "row {row} ({}: index {}, its row says {k})",
+                        t.run_id, t.run
+                    ));
+                }
+                self.counts[slot] += 1;
+            }
+        }
+    }
+
+    fn report(self, rows: &[Row], p: &mut Vec<String>, notes: &mut Vec<String>) {
+        self.orphans.report(p);
+        self.misplaced.report(p);
+        let mut wrong =
+            Kind::new("runs whose trace in progress.csv is not as long as their row says");
+        let mut unknown = 0;
+        for r in rows {
+            let n = self.index[r.run_id.as_str()].1;
+            let n = self.counts[n];
+            match r.progress_rows {
+                Some(k) if k != n => {
+                    wrong.push(format!("{}: {n} points, its row says {k}", r.run_id))
+                }
+                Some(_) => {}
+                None => unknown += 1,
+            }
+        }
+        wrong.report(p);
+        if unknown > 0 {
+            notes.push(format!(
+                "{unknown} rows of {RUNS} have no progress_rows (an older version): their trace \
+                 lengths are not checked"
+            ));
+        }
     }
 }
 

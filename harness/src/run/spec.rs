@@ -90,24 +90,33 @@ pub struct RunSpec {
     pub limits: RunLimits,
 }
 
+/// The id of a run's configuration, `scenario|planner|tracker|preset` (`-` for none): a run's
+/// id less its seed.
+pub fn config_id(
+    scenario_label: &str,
+    planner: &Variant,
+    tracker: Option<&Variant>,
+    preset: Option<&str>,
+) -> String {
+    let t = tracker.map(|t| t.label()).unwrap_or_else(|| "-".into());
+    format!(
+        "{scenario_label}|{}|{t}|{}",
+        planner.label(),
+        preset.unwrap_or("-")
+    )
+}
+
 impl RunSpec {
     /// The run's identity: `scenario|planner|tracker|preset|seed` (`-` for none). Two runs with
     /// the same id have the same inputs.
     pub fn id(&self) -> String {
-        let t = self
-            .tracker
-            .as_ref()
-            .map(|t| t.label())
-            .unwrap_or_else(|| "-".into());
-        let p = self.preset.clone().unwrap_or_else(|| "-".into());
-        format!(
-            "{}|{}|{}|{}|{}",
-            self.scenario_label,
-            self.planner.label(),
-            t,
-            p,
-            self.seed
-        )
+        let config = config_id(
+            &self.scenario_label,
+            &self.planner,
+            self.tracker.as_ref(),
+            self.preset.as_deref(),
+        );
+        format!("{config}|{}", self.seed)
     }
 
     /// The comparison group of the run: everything but the seed.

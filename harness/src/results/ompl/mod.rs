@@ -22,14 +22,15 @@
 
 pub mod parse;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::manifest::Manifest;
+use super::traces::{TracePoint, Traces};
 use crate::CliError;
 use crate::metrics::Metric;
-use crate::run::{ProgressRow, RunRecord};
+use crate::run::RunRecord;
 
 /// The values of OMPL's `PlannerStatus` enum, in order (`status ENUM` indexes this list).
 pub const STATUS_ENUM: [&str; 9] = [
@@ -177,22 +178,28 @@ fn blocks<'a>(runs: &[&'a RunRecord], qualify_scenario: bool) -> Vec<Block<'a>> 
 
 /// Whether a planner configuration tracks a best cost: some run has a cost at more than one
 /// point of its progress trace (a planner that stops at its first solution has one at most).
-fn tracks_cost(runs: &[&RunRecord], progress: &BTreeMap<usize, Vec<&ProgressRow>>) -> bool {
+fn tracks_cost(runs: &[&RunRecord], progress: &Traces) -> bool {
     runs.iter().any(|r| {
         progress
-            .get(&r.run)
-            .is_some_and(|v| v.iter().filter(|p| p.best_cost.is_some()).count() > 1)
+            .get(r.run)
+            .iter()
+            .filter(|p| p.best_cost.is_some())
+            .count()
+            > 1
     })
 }
 
-/// The text of one OMPL benchmark log holding `runs` as experiment `name`.
-pub fn log_text(
+/// Writes one OMPL benchmark log holding `runs` as experiment `name` to `w`, a run's line at a
+/// time.
+pub fn write_log(
+    w: &mut impl std::io::Write,
     name: &str,
     m: &Manifest,
     runs: &[&RunRecord],
-    progress: &BTreeMap<usize, Vec<&ProgressRow>>,
+    progress: &Traces,
     qualify_scenario: bool,
-) -> String {
+) -> std::io::Result<()> {
+    // the text so far, written out and cleared after the head and after each run's line
     let mut o = String::new();
     let e = &m.experiment;
     let _ = writeln!(o, "magbench version {}", m.magbench_version);
@@ -228,26 +235,32 @@ pub fn log_text(
     let _ = writeln!(o, "1 enum type");
     let _ = writeln!(o, "status|{}", STATUS_ENUM.join("|"));
     let _ = writeln!(o, "{} planners", bl.len());
+    w.write_all(o.as_bytes())?;
+    o.clear();
     for b in &bl {
         let _ = writeln!(o, "{}", b.name);
         let _ = writeln!(o, "{} common properties", b.settings.len());
         for (k, v) in &b.settings {
             let _ = writeln!(o, "{} = {}", single_line(k), single_line(v));
         }
-        let props: Vec<BTreeMap<&str, String>> = b.runs.iter().map(|r| properties(r)).collect();
-        let mut names: Vec<&str> = props.iter().flat_map(|p| p.keys().copied()).collect();
-        names.sort();
-        names.dedup();
+        let names: BTreeSet<&str> = b
+            .runs
+            .iter()
+            .flat_map(|r| properties(r).into_keys())
+            .collect();
         let _ = writeln!(o, "{} properties for each run", names.len());
         for n in &names {
             let _ = writeln!(o, "{n}");
         }
         let _ = writeln!(o, "{} runs", b.runs.len());
-        for p in &props {
+        for r in &b.runs {
+            let p = properties(r);
             for n in &names {
                 let _ = write!(o, "{}; ", p.get(n).map(String::as_str).unwrap_or(""));
             }
             o.push('\n');
+            w.write_all(o.as_bytes())?;
+            o.clear();
         }
         // OMPL writes progress only for planners that declare progress properties, which
         // its non-optimizing planners (RRT, KPIECE, ...) do not.
@@ -258,9 +271,9 @@ pub fn log_text(
             let _ = writeln!(o, "{} runs", b.runs.len());
             for r in &b.runs {
                 // OMPL's progress table is keyed by (run, time): keep the last sample per time.
-                let mut by_time: BTreeMap<String, &ProgressRow> = BTreeMap::new();
+                let mut by_time: BTreeMap<String, &TracePoint> = BTreeMap::new();
                 let mut order = vec![];
-                for p in progress.get(&r.run).map(Vec::as_slice).unwrap_or(&[]) {
+                for p in progress.get(r.run) {
                     let t = num(p.time_s);
                     if by_time.insert(t.clone(), p).is_none() {
                         order.push(t);
@@ -272,11 +285,28 @@ pub fn log_text(
                     let _ = write!(o, "{c},{},{t},;", p.iteration);
                 }
                 o.push('\n');
+                w.write_all(o.as_bytes())?;
+                o.clear();
             }
         }
         o.push_str(".\n");
     }
-    o
+    w.write_all(o.as_bytes())?;
+    w.flush()
+}
+
+/// Writes the log of [`write_log`] to the file at `path`.
+fn write_file(
+    path: &Path,
+    name: &str,
+    m: &Manifest,
+    runs: &[&RunRecord],
+    progress: &Traces,
+    qualify_scenario: bool,
+) -> Result<(), CliError> {
+    let failed = |e: std::io::Error| CliError::Failed(format!("{}: {e}", path.display()));
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(failed)?);
+    write_log(&mut w, name, m, runs, progress, qualify_scenario).map_err(failed)
 }
 
 /// Writes `ompl.log` (and `ompl/<scenario>.log` for several scenarios) into `dir`.
@@ -284,12 +314,8 @@ pub fn write(
     dir: &Path,
     m: &Manifest,
     runs: &[RunRecord],
-    progress: &[ProgressRow],
+    progress: &Traces,
 ) -> Result<Vec<PathBuf>, CliError> {
-    let mut by_run: BTreeMap<usize, Vec<&ProgressRow>> = BTreeMap::new();
-    for p in progress {
-        by_run.entry(p.run).or_default().push(p);
-    }
     let all: Vec<&RunRecord> = runs.iter().collect();
     let mut scenarios: Vec<&str> = vec![];
     for r in runs {
@@ -300,8 +326,7 @@ pub fn write(
     let many = scenarios.len() > 1;
     let mut files = vec![];
     let path = dir.join("ompl.log");
-    std::fs::write(&path, log_text(&m.experiment.name, m, &all, &by_run, many))
-        .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+    write_file(&path, &m.experiment.name, m, &all, progress, many)?;
     files.push(path);
     if many {
         let sub = dir.join("ompl");
@@ -312,8 +337,7 @@ pub fn write(
             let stem = token(&s.replace(['/', '\\'], "_"));
             let path = sub.join(format!("{}.log", stem.trim_end_matches(".toml")));
             let name = format!("{}-{}", m.experiment.name, stem.trim_end_matches(".toml"));
-            std::fs::write(&path, log_text(&name, m, &these, &by_run, false))
-                .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+            write_file(&path, &name, m, &these, progress, false)?;
             files.push(path);
         }
     }
