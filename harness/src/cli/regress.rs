@@ -12,8 +12,7 @@ use super::output::out;
 use crate::CliError;
 use crate::regress::manifests::check;
 use crate::regress::report::regressions;
-use crate::regress::{OnInconclusive, Tolerances, compare, failures, footer, table};
-use crate::results::store::read_runs;
+use crate::regress::{OnInconclusive, Runs, Tolerances, compare_runs, failures, footer, table};
 
 /// Arguments of `magbench regress`.
 #[derive(Debug, Args)]
@@ -121,7 +120,7 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
         gate_time: a.gate_time,
     };
     // analysis, then report
-    let rows = compare(&read_runs(&a.baseline)?, &read_runs(&a.current)?, &tol);
+    let rows = compare_runs(&Runs::read(&a.baseline)?, &Runs::read(&a.current)?, &tol);
     if let Some(b) = &m.builds {
         out!("{b}\n\n");
     }

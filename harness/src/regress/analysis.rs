@@ -2,9 +2,9 @@
 //! change with its interval and the verdict, as plain numbers.
 
 use super::metric::{self, Change, Sides};
+use super::runs::{Config, Runs};
 use super::verdict::{Test, Verdict, adjust, seeds_needed, verdict_of};
 use crate::metrics::{Direction, Metric, Regress};
-use crate::results::summary::{groups, key};
 use crate::run::RunRecord;
 use crate::stats::median;
 
@@ -151,14 +151,11 @@ fn decide(rows: &mut [Comparison], alpha: f64) {
     }
 }
 
-/// A metric's value in a run.
-type ValueOf = Box<dyn Fn(&RunRecord) -> Option<f64>>;
-
-/// A metric compared: its name, its value in a run (boxed: per-agent metrics are made at run
-/// time), which way is better and how `regress` treats it.
+/// A metric compared: its name, its column in [`Runs`], which way is better and how `regress`
+/// treats it.
 struct Compared {
     name: String,
-    value: ValueOf,
+    column: usize,
     direction: Direction,
     regress: Regress,
 }
@@ -172,69 +169,48 @@ pub fn table_metrics() -> Vec<Metric> {
         .collect()
 }
 
-/// Each agent's RMS path error, observed and true (`rms_error_agent{i}_bl`,
-/// `rms_error_true_agent{i}_bl`), for the agents of the largest team in `runs`.
-fn agent_metrics<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> Vec<Compared> {
-    let n = runs
-        .into_iter()
-        .map(|r| r.per_agent.len())
-        .max()
-        .unwrap_or(0);
-    let mut out = vec![];
-    for i in 0..n {
+/// The compared metrics of a configuration: the table's, then each agent's RMS path error,
+/// observed and true (`rms_error_agent{i}_bl`, `rms_error_true_agent{i}_bl`), for the agents of
+/// the larger team of the two sides.
+fn compared(metrics: &[Metric], agents: usize) -> Vec<Compared> {
+    let table = metrics.iter().enumerate().map(|(column, m)| Compared {
+        name: m.def().column.to_string(),
+        column,
+        direction: m.def().direction,
+        regress: m.def().regress,
+    });
+    let agent = (0..agents).flat_map(|i| {
         let [rms, _, rms_true, _] = crate::run::record::agent_columns(i);
-        let compared = |name, value: ValueOf| Compared {
+        [(rms, 0), (rms_true, 1)].map(|(name, k)| Compared {
             name,
-            value,
+            column: metrics.len() + 2 * i + k,
             direction: Direction::Lower,
             regress: Regress::Gated,
-        };
-        out.push(compared(
-            rms,
-            Box::new(move |r: &RunRecord| r.per_agent.get(i).and_then(|a| a.rms_bl)),
-        ));
-        out.push(compared(
-            rms_true,
-            Box::new(move |r: &RunRecord| r.per_agent.get(i).and_then(|a| a.rms_true_bl)),
-        ));
-    }
-    out
-}
-
-fn config_label(r: &RunRecord) -> String {
-    let mut s = format!("{} / {}", r.scenario, r.planner);
-    if !r.tracker.is_empty() {
-        s += &format!(" / {} ({})", r.tracker, r.preset);
-    }
-    s
+        })
+    });
+    table.chain(agent).collect()
 }
 
 /// The two sides of a configuration: paired by seed when both hold the same seeds, each once.
-pub fn sides<'a>(b: &[&'a RunRecord], c: &[&'a RunRecord]) -> Sides<'a> {
-    let seeds = |g: &[&RunRecord]| {
-        let mut s: Vec<u64> = g.iter().map(|r| r.seed).collect();
+pub fn sides(b: &Config, c: &Config) -> Sides {
+    let sorted = |g: &Config| {
+        let mut s: Vec<(u64, usize)> = g.seeds.iter().copied().zip(0..).collect();
         s.sort_unstable();
         s
     };
-    let (sb, sc) = (seeds(b), seeds(c));
-    if sb == sc && sb.windows(2).all(|w| w[0] != w[1]) {
-        let by_seed: std::collections::BTreeMap<u64, &RunRecord> =
-            c.iter().map(|r| (r.seed, *r)).collect();
-        let mut pairs: Vec<(&RunRecord, &RunRecord)> = b
-            .iter()
-            .filter_map(|x| by_seed.get(&x.seed).map(|y| (*x, *y)))
-            .collect();
-        pairs.sort_by_key(|(x, _)| x.seed);
-        Sides::Paired(pairs)
+    let (sb, sc) = (sorted(b), sorted(c));
+    let same = sb.len() == sc.len() && sb.iter().zip(&sc).all(|(x, y)| x.0 == y.0);
+    if same && sb.windows(2).all(|w| w[0].0 != w[1].0) {
+        Sides::Paired(sb.iter().zip(&sc).map(|(x, y)| (x.1, y.1)).collect())
     } else {
-        Sides::Unpaired(b.to_vec(), c.to_vec())
+        Sides::Unpaired(b.len(), c.len())
     }
 }
 
-/// Finite values of `f` over `runs`.
-fn values(runs: &[&RunRecord], f: &dyn Fn(&RunRecord) -> Option<f64>) -> Vec<f64> {
-    runs.iter()
-        .filter_map(|r| f(r))
+/// Finite values of column `k` over `g`'s runs.
+fn values(g: &Config, k: usize) -> Vec<f64> {
+    (0..g.len())
+        .filter_map(|i| g.value(k, i))
         .filter(|v| v.is_finite())
         .collect()
 }
@@ -248,11 +224,16 @@ fn median_value(v: &[f64]) -> Value {
 
 /// Compares `current` (the candidate) against `baseline`.
 pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) -> Vec<Comparison> {
-    let cur_groups = groups(current);
+    compare_runs(&Runs::of(baseline), &Runs::of(current), tol)
+}
+
+/// Compares `current` (the candidate) against `baseline`, each read by [`Runs::read`].
+pub fn compare_runs(baseline: &Runs, current: &Runs, tol: &Tolerances) -> Vec<Comparison> {
     let mut rows = vec![];
-    for b in groups(baseline) {
-        let config = config_label(b[0]);
-        let Some(c) = cur_groups.iter().find(|g| key(g[0]) == key(b[0])) else {
+    let m = baseline.metrics.len();
+    for b in &baseline.configs {
+        let config = b.label();
+        let Some(c) = current.get(&b.key) else {
             let mut r = Comparison::new(
                 &config,
                 Design::Missing,
@@ -264,41 +245,31 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             rows.push(r);
             continue;
         };
-        let s = sides(&b, c);
+        let s = sides(b, c);
         let design = match &s {
             Sides::Paired(p) => Design::Paired(p.len()),
             Sides::Unpaired(..) => Design::Unpaired(b.len(), c.len()),
         };
-        let rate = |g: &[&RunRecord]| Value::Rate {
-            successes: g.iter().filter(|r| r.success()).count() as u64,
+        let rate = |g: &Config| Value::Rate {
+            successes: g.success.iter().filter(|&&x| x).count() as u64,
             runs: g.len() as u64,
         };
-        let mut row = Comparison::new(&config, design, "success_rate", rate(&b), rate(c));
-        let (test, change) = metric::success(&s, tol.success, tol.alpha);
+        let mut row = Comparison::new(&config, design, "success_rate", rate(b), rate(c));
+        let (test, change) = metric::success(&s, &b.success, &c.success, tol.success, tol.alpha);
         (row.test, row.change) = (Some(test), change);
         rows.push(row);
-        let metrics: Vec<Compared> = table_metrics()
-            .into_iter()
-            .map(|m| Compared {
-                name: m.def().column.to_string(),
-                value: Box::new(move |r: &RunRecord| r.get(m)),
-                direction: m.def().direction,
-                regress: m.def().regress,
-            })
-            .chain(agent_metrics(b.iter().chain(c.iter()).copied()))
-            .collect();
         for Compared {
             name,
-            value: f,
+            column: k,
             direction,
             regress,
-        } in metrics
+        } in compared(&baseline.metrics, b.agents(m).max(c.agents(m)))
         {
             let wall = regress == Regress::WallClock;
             if wall && !tol.wall_clock {
                 continue;
             }
-            let (xb, xc) = (values(&b, &*f), values(c, &*f));
+            let (xb, xc) = (values(b, k), values(c, k));
             if xb.is_empty() && xc.is_empty() {
                 continue;
             }
@@ -314,7 +285,9 @@ pub fn compare(baseline: &[RunRecord], current: &[RunRecord], tol: &Tolerances) 
             } else {
                 let rel = if wall { tol.time } else { tol.relative };
                 let mb = median(&xb).unwrap_or(0.0);
-                if let Some((test, change)) = metric::shift(&s, &*f, direction, rel, mb, tol.alpha)
+                let (fb, fc) = (|i| b.value(k, i), |j| c.value(k, j));
+                if let Some((test, change)) =
+                    metric::shift(&s, &fb, &fc, direction, rel, mb, tol.alpha)
                 {
                     (row.test, row.change) = (Some(test), change);
                 }

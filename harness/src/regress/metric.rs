@@ -5,18 +5,17 @@
 
 use super::verdict::Test;
 use crate::metrics::Direction;
-use crate::run::RunRecord;
 use crate::stats::normal_quantile;
 use crate::stats::rate_diff::{newcombe, newcombe_p_above, tango, tango_p_above};
 use crate::stats::shift::{paired_p_above, paired_shift, unpaired_p_above, unpaired_shift};
 
-/// The runs of one configuration on both sides.
+/// The runs of one configuration on both sides, by their indices in each side.
 #[derive(Debug, Clone)]
-pub enum Sides<'a> {
+pub enum Sides {
     /// The same seeds on both sides: (baseline, candidate) runs of each seed.
-    Paired(Vec<(&'a RunRecord, &'a RunRecord)>),
-    /// Different seeds: the baseline's runs and the candidate's.
-    Unpaired(Vec<&'a RunRecord>, Vec<&'a RunRecord>),
+    Paired(Vec<(usize, usize)>),
+    /// Different seeds: every run of each side, (baseline runs, candidate runs).
+    Unpaired(usize, usize),
 }
 
 /// The change from the baseline to the candidate, with its interval (each end a one-sided
@@ -57,12 +56,12 @@ pub enum Change {
 
 /// The success rate's test: the drop (baseline − candidate) against the tolerance `tol`
 /// (points, as a fraction) by Tango's paired or Newcombe's unpaired score interval.
-pub fn success(s: &Sides, tol: f64, alpha: f64) -> (Test, Change) {
+pub fn success(s: &Sides, b: &[bool], c: &[bool], tol: f64, alpha: f64) -> (Test, Change) {
     let z = normal_quantile(1.0 - alpha);
     let (d, p, n) = match s {
         Sides::Paired(pairs) => {
-            let drop = pairs.iter().filter(|(b, c)| b.success() && !c.success());
-            let gain = pairs.iter().filter(|(b, c)| !b.success() && c.success());
+            let drop = pairs.iter().filter(|&&(i, j)| b[i] && !c[j]);
+            let gain = pairs.iter().filter(|&&(i, j)| !b[i] && c[j]);
             let (n12, n21, n) = (drop.count() as u64, gain.count() as u64, pairs.len() as u64);
             (
                 tango(n12, n21, n, z),
@@ -70,9 +69,9 @@ pub fn success(s: &Sides, tol: f64, alpha: f64) -> (Test, Change) {
                 n as f64,
             )
         }
-        Sides::Unpaired(b, c) => {
-            let sb = b.iter().filter(|r| r.success()).count() as u64;
-            let sc = c.iter().filter(|r| r.success()).count() as u64;
+        Sides::Unpaired(..) => {
+            let sb = b.iter().filter(|&&x| x).count() as u64;
+            let sc = c.iter().filter(|&&x| x).count() as u64;
             let (nb, nc) = (b.len() as u64, c.len() as u64);
             (
                 newcombe(sb, nb, sc, nc, z),
@@ -123,21 +122,22 @@ fn se_of(v: &[f64]) -> Option<(f64, usize)> {
 /// both sides).
 pub fn shift(
     s: &Sides,
-    f: &dyn Fn(&RunRecord) -> Option<f64>,
+    fb: &dyn Fn(usize) -> Option<f64>,
+    fc: &dyn Fn(usize) -> Option<f64>,
     direction: Direction,
     rel: f64,
     base_median: f64,
     alpha: f64,
 ) -> Option<(Test, Change)> {
-    let val = |r: &RunRecord| f(r).filter(|v| v.is_finite());
+    let finite = |v: Option<f64>| v.filter(|v| v.is_finite());
     let (b, c): (Vec<f64>, Vec<f64>) = match s {
         Sides::Paired(pairs) => pairs
             .iter()
-            .filter_map(|(b, c)| Some((val(b)?, val(c)?)))
+            .filter_map(|&(i, j)| Some((finite(fb(i))?, finite(fc(j))?)))
             .unzip(),
-        Sides::Unpaired(b, c) => (
-            b.iter().filter_map(|r| val(r)).collect(),
-            c.iter().filter_map(|r| val(r)).collect(),
+        Sides::Unpaired(nb, nc) => (
+            (0..*nb).filter_map(|i| finite(fb(i))).collect(),
+            (0..*nc).filter_map(|j| finite(fc(j))).collect(),
         ),
     };
     if b.is_empty() || c.is_empty() {

@@ -25,12 +25,14 @@ pub mod analysis;
 pub mod manifests;
 pub mod metric;
 pub mod report;
+pub mod runs;
 pub mod verdict;
 
 pub use crate::stats::holm;
-pub use analysis::{Comparison, Design, Tolerances, Value, compare, table_metrics};
+pub use analysis::{Comparison, Design, Tolerances, Value, compare, compare_runs, table_metrics};
 pub use metric::Change;
 pub use report::{OnInconclusive, failures, footer, new_metrics, table};
+pub use runs::Runs;
 pub use verdict::Verdict;
 
 #[cfg(test)]
