@@ -428,14 +428,21 @@ const CLI: &[&str] = &[
     // the calibration benchmark: only its own measurement runs it ([`CALIBRATION_BENCH`])
     ":!harness/src/cli/calibrate_bench",
     ":!harness/src/cli/calibrate_bench_plot.rs",
+    // `magbench regress`: only the measurements that compare folders run it ([`REGRESS`])
+    ":!harness/src/regress",
+    ":!harness/src/cli/regress.rs",
 ];
 /// `magbench calibrate bench`, which the `calibration-bench` transcript runs.
 const CALIBRATION_BENCH: &[&str] = &[
     "harness/src/cli/calibrate_bench",
     "harness/src/cli/calibrate_bench_plot.rs",
 ];
-/// `magbench regress`'s analysis, and the CI experiment it is sized for.
-const REGRESS: &[&str] = &["harness/src/regress", "experiments/ci.toml"];
+/// `magbench regress`, its analysis, and the CI experiment it is sized for.
+const REGRESS: &[&str] = &[
+    "harness/src/regress",
+    "harness/src/cli/regress.rs",
+    "experiments/ci.toml",
+];
 /// The rig: drivers, emulator and the rig files; the calibration's fit is [`FIT`].
 const RIG: &[&str] = &["drivers/src", "rigs", ":!drivers/src/fit"];
 /// The calibration's fit and `magbench calibrate` (its report and figure): only the
@@ -1367,7 +1374,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: &["--runs", "1000"],
         },
         feature: None,
-        depends: &[CLI],
+        depends: &[CLI, REGRESS],
     },
     Measure {
         name: "python-overhead",
@@ -1726,6 +1733,29 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// CLI leaves `magbench regress` out: a transcript or a script that runs it depends on
+    /// [`REGRESS`].
+    #[test]
+    fn every_measurement_that_runs_regress_depends_on_it() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let mut running = 0;
+        for m in MEASURES {
+            let runs = match &m.source {
+                Transcript { steps, .. } => steps.iter().any(|step| match step {
+                    Step::Run(c) | Step::Background { command: c, .. } => c.starts_with("regress"),
+                }),
+                Python { script, .. } => std::fs::read_to_string(root.join(script))
+                    .is_ok_and(|t| t.contains("\"regress\"")),
+                _ => false,
+            };
+            if runs {
+                running += 1;
+                assert!(m.depends.contains(&REGRESS), "{} runs regress", m.name);
+            }
+        }
+        assert_eq!(running, 1);
     }
 
     #[test]
