@@ -1,7 +1,7 @@
 //! One folder's runs as `regress` compares them: per configuration, each run's seed, whether it
-//! succeeded and each compared metric's value, in columns. A run costs 9 bytes and 8 a compared
-//! value, so the rows of `runs.csv` stream through and are not kept (a row held whole costs
-//! about 1.3 kB).
+//! succeeded and each compared metric's value, in columns. The rows of `runs.csv` stream
+//! through and are not kept (a row held whole costs about 1.3 kB); a run costs 9 bytes and 8 a
+//! compared value, and 8 more while the folder is read (its index, to put it in run order).
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -99,7 +99,7 @@ impl Config {
         self.columns.get(k).map(|c| c[i]).filter(|v| !v.is_nan())
     }
 
-    /// `planner`, or `scenario / planner / tracker (preset)` for tracked runs.
+    /// `scenario / planner`, or `scenario / planner / tracker (preset)` for tracked runs.
     pub fn label(&self) -> String {
         let (scenario, planner, tracker, preset) = &self.key;
         let mut s = format!("{scenario} / {planner}");
