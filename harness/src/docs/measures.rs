@@ -437,6 +437,12 @@ const CALIBRATION_BENCH: &[&str] = &[
     "harness/src/cli/calibrate_bench",
     "harness/src/cli/calibrate_bench_plot.rs",
 ];
+/// The presets of the team-tracking diagnosis: the realistic preset without its agent
+/// heterogeneity, and that heterogeneity alone.
+const TEAM_PRESETS: &[&str] = &[
+    "docs/teams/realistic-without-heterogeneity.toml",
+    "docs/teams/heterogeneity-alone.toml",
+];
 /// `magbench regress`, its analysis, and the CI experiment it is sized for.
 const REGRESS: &[&str] = &[
     "harness/src/regress",
@@ -1281,6 +1287,17 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, SWEEP, GENERATOR],
+    },
+    Measure {
+        name: "team-heterogeneity",
+        source: Sweep {
+            experiment: "experiments/team-heterogeneity.toml",
+            quick_seeds: 2,
+            table: Runs(tracking),
+            figures: &[],
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, SWEEP, GENERATOR, TEAM_PRESETS],
     },
     Measure {
         name: "bench-team-flows",
