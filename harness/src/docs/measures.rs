@@ -440,8 +440,8 @@ const CALIBRATION_BENCH: &[&str] = &[
 /// The presets of the team-tracking diagnosis: the realistic preset without its agent
 /// heterogeneity, and that heterogeneity alone.
 const TEAM_PRESETS: &[&str] = &[
-    "docs/teams/realistic-without-heterogeneity.toml",
-    "docs/teams/heterogeneity-alone.toml",
+    "docs/presets/realistic-without-heterogeneity.toml",
+    "docs/presets/heterogeneity-alone.toml",
 ];
 /// `magbench regress`, its analysis, and the CI experiment it is sized for.
 const REGRESS: &[&str] = &[
