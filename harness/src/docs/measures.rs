@@ -1738,17 +1738,21 @@ mod tests {
         assert!(calibration.named_files(&root).is_empty());
     }
 
+    /// Whether `m` is a transcript with a step that runs `magbench COMMAND`.
+    fn transcript_runs(m: &Measure, command: &str) -> bool {
+        match &m.source {
+            Transcript { steps, .. } => steps.iter().any(|step| {
+                let (Step::Run(c) | Step::Background { command: c, .. }) = step;
+                c.starts_with(command)
+            }),
+            _ => false,
+        }
+    }
+
     #[test]
     fn no_transcript_runs_the_scenario_command_that_cli_leaves_out() {
         for m in MEASURES {
-            if let Transcript { steps, .. } = &m.source {
-                for step in *steps {
-                    let command = match step {
-                        Step::Run(c) | Step::Background { command: c, .. } => c,
-                    };
-                    assert!(!command.starts_with("scenario"), "{}: {command}", m.name);
-                }
-            }
+            assert!(!transcript_runs(m, "scenario"), "{}", m.name);
         }
     }
 
@@ -1759,14 +1763,9 @@ mod tests {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let mut running = 0;
         for m in MEASURES {
-            let runs = match &m.source {
-                Transcript { steps, .. } => steps.iter().any(|step| match step {
-                    Step::Run(c) | Step::Background { command: c, .. } => c.starts_with("regress"),
-                }),
-                Python { script, .. } => std::fs::read_to_string(root.join(script))
-                    .is_ok_and(|t| t.contains("\"regress\"")),
-                _ => false,
-            };
+            let runs = transcript_runs(m, "regress")
+                || matches!(&m.source, Python { script, .. } if std::fs::read_to_string(root.join(script))
+                    .is_ok_and(|t| t.contains("\"regress\"")));
             if runs {
                 running += 1;
                 assert!(m.depends.contains(&REGRESS), "{} runs regress", m.name);
@@ -1781,11 +1780,7 @@ mod tests {
         let mut fitting = 0;
         for m in MEASURES {
             let fits = match &m.source {
-                Transcript { steps, .. } => steps.iter().any(|step| match step {
-                    Step::Run(c) | Step::Background { command: c, .. } => {
-                        c.starts_with("calibrate")
-                    }
-                }),
+                Transcript { .. } => transcript_runs(m, "calibrate"),
                 Test { .. } => m.own_files().iter().any(|f| {
                     std::fs::read_to_string(root.join(f)).is_ok_and(|t| {
                         ["fit::", "calibrate(", "\"calibrate\""]

@@ -117,8 +117,6 @@ pub struct Runs {
     pub metrics: Vec<Metric>,
     /// The configurations.
     pub configs: Vec<Config>,
-    /// Index of each configuration's first run, while the folder is read.
-    first: Vec<usize>,
     index: HashMap<Key, usize>,
 }
 
@@ -127,13 +125,12 @@ impl Runs {
         Runs {
             metrics: super::analysis::table_metrics(),
             configs: vec![],
-            first: vec![],
             index: HashMap::new(),
         }
     }
 
     /// Adds run `r`.
-    fn push(&mut self, r: RunRecord) {
+    fn push(&mut self, r: &RunRecord) {
         let key = (
             r.scenario.clone(),
             r.planner.clone(),
@@ -144,21 +141,17 @@ impl Runs {
             Some(&c) => c,
             None => {
                 self.configs.push(Config::new(key.clone()));
-                self.first.push(r.run);
                 self.index.insert(key, self.configs.len() - 1);
                 self.configs.len() - 1
             }
         };
-        self.first[c] = self.first[c].min(r.run);
-        self.configs[c].push(&r, &self.metrics);
+        self.configs[c].push(r, &self.metrics);
     }
 
     /// Orders the configurations by their first runs and each one's runs by index.
     fn finish(mut self) -> Self {
-        let mut order: Vec<usize> = (0..self.configs.len()).collect();
-        order.sort_by_key(|&c| self.first[c]);
-        let mut configs: Vec<Option<Config>> = self.configs.into_iter().map(Some).collect();
-        self.configs = order.iter().filter_map(|&c| configs[c].take()).collect();
+        self.configs
+            .sort_by_cached_key(|c| c.runs.iter().min().copied().unwrap_or(usize::MAX));
         self.configs.iter_mut().for_each(Config::finish);
         self.index = self
             .configs
@@ -166,7 +159,6 @@ impl Runs {
             .enumerate()
             .map(|(i, c)| (c.key.clone(), i))
             .collect();
-        self.first = vec![];
         self
     }
 
@@ -174,7 +166,7 @@ impl Runs {
     pub fn of<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> Runs {
         let mut out = Runs::new();
         for r in runs {
-            out.push(r.clone());
+            out.push(r);
         }
         out.finish()
     }
@@ -184,7 +176,7 @@ impl Runs {
         let mut out = Runs::new();
         if let Some(s) = Snapshot::open(&dir.join(RUNS))? {
             for r in s.runs()? {
-                out.push(r?);
+                out.push(&r?);
             }
         }
         Ok(out.finish())
