@@ -13,7 +13,7 @@ iterations) and the tracking error.
                                           [--json OUT.json]
 
 The book's figures (docs/measured/replan-latency.md) come from the same loop settings run as
-`experiments/replan.toml` by `magbench docs measure --only replan-latency`; this script is for
+`experiments/replan.toml` by `cargo xtask measure --only replan-latency`; this script is for
 a look at single runs (`--json` keeps each run's replan log) and at `magbench track`'s
 defaults.
 """

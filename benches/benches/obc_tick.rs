@@ -6,7 +6,7 @@
 //! tick (ten agents)`).
 //! After the criterion
 //! groups, whole simulated runs give the median and 99th percentile of the per-tick time,
-//! printed as a Markdown table (`magbench docs measure --only bench-obc-tick` keeps it).
+//! printed as a Markdown table (`cargo xtask measure --only bench-obc-tick` keeps it).
 //!
 //! Run: `cargo bench -p magbench-benches --bench obc_tick`.
 

@@ -9,7 +9,7 @@
 //!   growth slack, k-d tree, buffers, the plan; a counting global allocator) divided by the
 //!   tree's nodes.
 //!
-//! The figures are printed as a Markdown table (`magbench docs measure --only planner-figures`
+//! The figures are printed as a Markdown table (`cargo xtask measure --only planner-figures`
 //! keeps it).
 //!
 //! ```sh

@@ -1,5 +1,5 @@
 //! Times the detector on emulated frames of a pair turning in place (tracking windows on).
-//! `cargo run --release -p magbench-drivers --example detect_timing` (`magbench docs measure
+//! `cargo run --release -p magbench-drivers --example detect_timing` (`cargo xtask measure
 //! --only detect-timing` runs it), printing a Markdown table.
 
 use std::time::Instant;

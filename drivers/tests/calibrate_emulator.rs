@@ -184,7 +184,7 @@ fn excite_on_the_emulator_then_calibrate_recovers_its_preset() {
 }
 
 /// The same run fitted from the observed starts and with the start states free, both fits'
-/// values and errors printed as a Markdown table, which `magbench docs measure --only
+/// values and errors printed as a Markdown table, which `cargo xtask measure --only
 /// calibration-emulator` keeps for docs/calibration.md; the free-start fit is held to the
 /// tolerances of the module doc. A second fit on top of the default test's run.
 #[test]

@@ -8,7 +8,7 @@
 //! fits are in docs/measured/calibration-noise-bias.md.
 //!
 //! The rig is env's plant and camera (`SimRig`) stepped frame by frame: no sockets, no sleeps,
-//! no wall clock. It prints the errors of both fits as a Markdown table, which `magbench docs
+//! no wall clock. It prints the errors of both fits as a Markdown table, which `cargo xtask
 //! measure --only calibration-noise-bias` keeps for docs/calibration.md.
 
 mod common;

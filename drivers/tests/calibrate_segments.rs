@@ -7,8 +7,8 @@
 //! shrinks as the segments grow.
 //!
 //! The rig is env's plant and camera (`SimRig`) stepped frame by frame: no sockets, no sleeps,
-//! no wall clock. It prints each fit's latency and errors as a Markdown table, which `magbench
-//! docs measure --only calibration-segments` keeps for docs/calibration.md.
+//! no wall clock. It prints each fit's latency and errors as a Markdown table, which `cargo
+//! xtask measure --only calibration-segments` keeps for docs/calibration.md.
 
 mod common;
 

@@ -2,7 +2,7 @@
 //! image scales: the RMS error per coordinate of a thresholded blob's centroid, and of a Hough
 //! detector reporting centres on a 1-px grid (`centre_step_px = 1`), over agent centres spread
 //! across a pixel; then the distance below which a pair merges into one blob at a 1-px merge
-//! gap. `magbench docs measure --only pixel-quantisation` keeps the table in
+//! gap. `cargo xtask measure --only pixel-quantisation` keeps the table in
 //! `docs/measured/pixel-quantisation.md`.
 //!
 //! `cargo run -p magbench-env --example pixel_quantisation`

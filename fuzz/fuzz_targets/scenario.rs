@@ -2,7 +2,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use magbench::fuzz::Target;
+use xtask::fuzz::Target;
 
 fuzz_target!(|data: &[u8]| {
     // an `Err` is a fine answer; a panic, an abort or a hang is a bug

@@ -24,7 +24,7 @@
 //! an iteration limit, so the table is the same on every machine.
 //!
 //! `cargo run --release -p magbench --example regress_power` (docs/regress.md, "At how many
-//! seeds"); `magbench docs measure --only regress-power` keeps the table.
+//! seeds"); `cargo xtask measure --only regress-power` keeps the table.
 
 use std::path::Path;
 

@@ -52,14 +52,7 @@ macro_rules! failed_from {
     )*};
 }
 
-failed_from!(
-    std::io::Error,
-    HardwareError,
-    StartError,
-    RegistryError,
-    crate::docs::bench::BenchError,
-    crate::docs::cargo_test::TestError,
-);
+failed_from!(std::io::Error, HardwareError, StartError, RegistryError,);
 
 impl From<OpenError> for CliError {
     fn from(e: OpenError) -> Self {

@@ -116,7 +116,7 @@ impl Reporter {
             }
             Reporter::Lines { done, total } => {
                 let k = done.fetch_add(1, Ordering::SeqCst) + 1;
-                let _ = crate::cli::output::emit(&format!("[{k}/{total}] {}\n", line(out)));
+                let _ = crate::output::emit(&format!("[{k}/{total}] {}\n", line(out)));
             }
             Reporter::Quiet => {}
         }
@@ -126,7 +126,7 @@ impl Reporter {
         if let Reporter::Bar(b) = self {
             // the bar stays on its line; what follows starts on the next
             b.finish();
-            let _ = crate::cli::output::emit("\n");
+            let _ = crate::output::emit("\n");
         }
     }
 }

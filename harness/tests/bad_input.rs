@@ -643,27 +643,6 @@ fn the_stall_replan_rule_names_its_bad_values() {
     );
 }
 
-#[test]
-fn docs_stale_refuses_a_file_that_is_not_a_generated_file() {
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("guide.md");
-    std::fs::write(&file, "a table typed by hand\n").unwrap();
-    let out = Command::new(BIN)
-        .args(["docs", "stale", "--dir"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        stderr.contains(&format!(
-            "{}: header: line 1: expected the mark",
-            file.display()
-        )),
-        "{stderr}"
-    );
-}
-
 /// A bad replay policy is refused before any run, naming `--replays` (of `bench` and `ablate`)
 /// or the experiment file and its `replays` field, and the reason.
 #[test]

@@ -762,26 +762,10 @@ fn toml_files_beyond_4_mib_are_refused_before_parsing() {
     }
 }
 
-/// Names refused by this stop's options: `docs measure --only`, and the loop's `replan_mode`,
-/// `repair_iterations` and `replan_iterations` (exit 2 naming the option or parameter and the
-/// reason).
+/// Names refused by the tracking loop's options: `replan_mode`, `repair_iterations` and
+/// `replan_iterations` (exit 2 naming the parameter and the reason).
 #[test]
-fn unknown_measurements_and_replan_modes_are_refused_by_name() {
-    refused(
-        &["docs", "measure", "--only", "nope"],
-        &[
-            "<command line>",
-            "--only: ",
-            "no measurement \"nope\"",
-            "seed-metric",
-        ],
-    );
-    if !cfg!(feature = "ompl") {
-        refused(
-            &["docs", "measure", "--only", "vs-ompl"],
-            &["--only: ", "vs-ompl needs a build with --features ompl"],
-        );
-    }
+fn unknown_replan_modes_are_refused_by_name() {
     let track = [
         "track",
         "open-field",

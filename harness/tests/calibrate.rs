@@ -5,7 +5,7 @@
 //!
 //! The rig is [`SimRig`] stepped frame by frame: no sockets, no sleeps, no wall clock. The
 //! validation prints every parameter's true and fitted value and the tracking errors as a
-//! Markdown table, which `magbench docs measure --only calibration-validation` keeps for
+//! Markdown table, which `cargo xtask measure --only calibration-validation` keeps for
 //! docs/calibration.md.
 
 use std::path::Path;

@@ -1,6 +1,6 @@
 //! The deterministic mutation test of the input parsers and validators (stable Rust, run by
 //! CI): 100 000 mutated inputs per format (scenario, experiment, rig, plan, preset), the same
-//! inputs on every run, each parsed and validated by `magbench::fuzz::Target::run`.
+//! inputs on every run, each parsed and validated by `xtask::fuzz::Target::run`.
 //!
 //! The inputs run in a child process (this test binary again, the ignored test `child`, under
 //! an address-space cap of [`MEMORY_CAP_KIB`]), which reports each input's number before trying
@@ -13,7 +13,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use magbench::fuzz::{Target, mutate};
+use xtask::fuzz::{Target, mutate};
 
 /// Inputs per format.
 const INPUTS: u64 = 100_000;

@@ -1,6 +1,6 @@
 //! The deterministic mutation test of the commands that *use* accepted inputs: mutants of every
 //! format (the same as `mutation.rs` draws) that the checker accepts are written to a file and
-//! run by `plan`, `track`, `rig emulate` and `bench` (see `magbench::fuzz::Target::commands`),
+//! run by `plan`, `track`, `rig emulate` and `bench` (see `xtask::fuzz::Target::commands`),
 //! and `stlc` runs with mutated numbers. Each command is a child process under a memory cap
 //! (`ulimit -v`, [`MEMORY_CAP_KIB`]) and a deadline ([`DEADLINE`]): a panic, an abort (a
 //! failed allocation under the cap), a signal or a command still running at the deadline fails
@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use magbench::fuzz::{Target, mutate, stlc_command};
+use xtask::fuzz::{Target, mutate, stlc_command};
 
 const BIN: &str = env!("CARGO_BIN_EXE_magbench");
 

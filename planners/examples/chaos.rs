@@ -6,7 +6,7 @@
 //! time along the plan, at an edge's end, when the two replays are first more than 0.1 BL apart
 //! (the larger of the agents' distances; median over the replays that get so far apart); and
 //! how far apart they end (median and maximum over the replays that stay in range). `cargo run
-//! --release -p magbench-planners --example chaos` (`magbench docs measure --only chaos` runs
+//! --release -p magbench-planners --example chaos` (`cargo xtask measure --only chaos` runs
 //! it), printing a Markdown table.
 
 use magbench_env::{Scenario, Vec2};

@@ -6,7 +6,7 @@
 //! the coil's gradient (the time-weighted mean of `max(|g_x|, |g_y|)` over the limit, and the
 //! share of the plan's time at the limit), which is the headroom a tracker has left to correct
 //! with. `cargo run --release -p magbench-planners --example shortcut_plans`
-//! (`magbench docs measure --only shortcut-plans` runs it), printing a Markdown table.
+//! (`cargo xtask measure --only shortcut-plans` runs it), printing a Markdown table.
 
 use magbench_env::Vec2;
 use magbench_planners::registry::Planners;

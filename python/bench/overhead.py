@@ -11,7 +11,7 @@ Measures, with time.perf_counter over many calls, and prints as Markdown tables:
 
 Usage: python python/bench/overhead.py [--quick] [--only calls|rrt]
 
-`magbench docs measure --only python-overhead` and `--only python-rrt` keep these tables.
+`cargo xtask measure --only python-overhead` and `--only python-rrt` keep these tables.
 """
 
 import argparse

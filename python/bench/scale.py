@@ -13,13 +13,13 @@ resident memory read from ``os.wait4``:
 - ``results plot``: the merged folder's derived files (plots, report, ompl.log, runs.parquet);
 - ``regress``: the merged folder against the unsharded one.
 
-Each process is the magbench binary that ``$MAGBENCH_BIN`` names (``magbench docs measure`` sets
+Each process is the magbench binary that ``$MAGBENCH_BIN`` names (``cargo xtask measure`` sets
 it to itself), else ``python -c "import magbench; magbench.main([...])"``, whose interpreter with
 numpy (the row ``import magbench``) is then part of every figure.
 
 Usage: python python/bench/scale.py [--runs N ...] [--work DIR]
 
-`magbench docs measure --only scale` keeps the table.
+`cargo xtask measure --only scale` keeps the table.
 """
 
 import argparse

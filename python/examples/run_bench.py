@@ -4,7 +4,7 @@
 
 Registers ``py-rrt`` (py_rrt.PyRrt) and ``py-pd`` (py_pd.PyPd), runs bench.toml with
 ``magbench.bench`` and prints, as a Markdown table, one row per planner and tracker from the
-results (`magbench docs measure --only python-plugins` keeps that table). The results folder
+results (`cargo xtask measure --only python-plugins` keeps that table). The results folder
 has the plugins' rows in runs.csv, their curves in progress.csv and their series in the plots,
 like any built-in's. A crashed run is an error (exit code 1, its message on stderr).
 """

@@ -97,7 +97,7 @@ impl Default for FitOptions {
 /// of the parameters grows with its length. At 20 frames and the top of the calibration
 /// benchmark's noise range (0.045–0.08 BL) it made the pair's force 15–20% too strong and the
 /// gradient's pull 5–10% too weak; at 40 frames it is within a few per cent
-/// (`magbench docs measure --only calibration-segments`). 60 frames did as well on that
+/// (`cargo xtask measure --only calibration-segments`). 60 frames did as well on that
 /// measurement's run, but on eight of the benchmark's rigs no better than 40 and worse on two,
 /// and a longer segment needs a longer log ([`MIN_SEGMENTS`] of them).
 pub const SEGMENT_FRAMES: usize = 40;

@@ -13,10 +13,10 @@ use clap::Args;
 use magbench_drivers::rigs::preset_named;
 
 use super::number::count;
-use super::output::{outln, prepare_dir};
 use crate::CliError;
 use crate::ablation::{TermRow, contributions, label, terms_on, variant_medians, variants};
 use crate::experiment::{Experiment, SEED_COUNT};
+use crate::output::{outln, prepare_dir};
 use crate::plot::bars::BarChart;
 use crate::plot::charts::Series;
 use crate::registry::Registry;

@@ -6,9 +6,9 @@ use clap::{Args, ValueEnum};
 use magbench_env::check::{Bound, Rejection};
 
 use super::number::count;
-use super::output::outln;
 use crate::CliError;
 use crate::experiment::{Experiment, MAX_RUNS, Tracking};
+use crate::output::outln;
 use crate::registry::Registry;
 use crate::replay::ReplayPolicy;
 use crate::run::Executor;
@@ -161,7 +161,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
         );
         return Ok(());
     }
-    super::output::prepare_dir(&out, "--out")?;
+    crate::output::prepare_dir(&out, "--out")?;
     crate::experiment::generated::keep_files(&e.text, &e.source, &out)?;
     let progress = if a.quiet {
         ProgressMode::Quiet

@@ -9,8 +9,8 @@ use magbench_env::Scenario;
 use magbench_env::check::Bound;
 
 use super::calibrate_plot::MotionFigure;
-use super::output::{outln, prepare_file};
 use crate::CliError;
+use crate::output::{outln, prepare_file};
 use crate::registry::Registry;
 
 /// `magbench calibrate`: a fit of logged runs, or `calibrate bench`.

@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::number::count;
-use super::output::outln;
 use crate::CliError;
 use crate::figures::{svgs, write_all};
+use crate::output::outln;
 use crate::registry::Registry;
 use crate::run::spec::ITERATIONS;
 
@@ -27,7 +27,7 @@ pub fn run(a: FiguresArgs, registry: &Registry) -> Result<(), CliError> {
     if let Some(n) = a.maze_iterations {
         count("--maze-iterations", &ITERATIONS, n)?;
     }
-    super::output::prepare_dir(&a.out, "--out")?;
+    crate::output::prepare_dir(&a.out, "--out")?;
     let files = write_all(&a.out, a.maze_iterations, registry, &|m| eprintln!("{m}"))?;
     for f in svgs(&files) {
         outln!("{}  (+ .png)", f.display());

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::output::outln;
 use crate::CliError;
+use crate::output::outln;
 use crate::results::merge::merge;
 
 /// Arguments of `magbench merge`.
@@ -21,7 +21,7 @@ pub struct MergeArgs {
 
 /// Runs `magbench merge`.
 pub fn run(a: MergeArgs) -> Result<(), CliError> {
-    super::output::prepare_dir(&a.out, "--out")?;
+    crate::output::prepare_dir(&a.out, "--out")?;
     let m = merge(&a.dirs, &a.out)?;
     outln!(
         "{}: merged {} folders into {}: {} of {} runs",

@@ -6,12 +6,10 @@ mod calibrate;
 mod calibrate_bench;
 mod calibrate_bench_plot;
 mod calibrate_plot;
-mod docs;
 mod figures;
 mod label;
 mod merge;
 mod number;
-pub(crate) mod output;
 mod plan;
 mod plan_and_track;
 mod preset;
@@ -82,9 +80,6 @@ pub enum Command {
     /// Fit a preset's parameters to logged rig runs (`rig run`, `rig excite`); `calibrate
     /// bench` evaluates the fit over random rigs.
     Calibrate(calibrate::CalibrateArgs),
-    /// Regenerate the book's measured figures (`docs measure` writes `docs/measured/*.md`).
-    #[command(subcommand)]
-    Docs(docs::DocsCmd),
 }
 
 /// Runs a parsed command line; planners and trackers are resolved by name in `registry`.
@@ -104,6 +99,5 @@ pub fn run(args: Args, registry: &Registry) -> Result<(), CliError> {
         Command::Plan(a) => plan::run(a, registry),
         Command::Rig(c) => rig::run(c, registry),
         Command::Calibrate(a) => calibrate::run(a, registry),
-        Command::Docs(c) => docs::run(c, registry),
     }
 }

@@ -21,9 +21,9 @@ use magbench_planners::{Plan, Planner, PlannerResult, Planners, PlanningSetup, P
 use serde_json::{Value, json};
 
 use super::number::checked;
-use super::output::{out, outln};
 use super::setup::{SetupArgs, check_elevation};
 use crate::CliError;
+use crate::output::{out, outln};
 use crate::pipeline::{Failure, Pipeline};
 use crate::plot::world::{WorldPlot, render};
 use crate::registry::Registry;
@@ -116,7 +116,7 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     )?;
     let elevation = elevation_json(&setup, &scenario, &elevation_params(&planner.params()).0);
     if let Some(dir) = &a.out {
-        super::output::prepare_dir(dir, "--out")?;
+        crate::output::prepare_dir(dir, "--out")?;
     }
     if let Some(file) = &a.tree {
         let dir = file.parent().filter(|d| !d.as_os_str().is_empty());

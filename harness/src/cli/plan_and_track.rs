@@ -17,8 +17,8 @@ use magbench_trackers::{
 };
 use serde_json::{Value, json};
 
-use super::output::{emit, prepare_dir};
 use crate::CliError;
+use crate::output::{emit, prepare_dir};
 use crate::pipeline::{Failure, Pipeline};
 use crate::plot::anim::{Frame, GifOptions, render_gif};
 use crate::plot::world::{WorldPlot, render};

@@ -3,8 +3,8 @@
 use clap::Subcommand;
 use magbench_env::plant::DisturbancePreset;
 
-use super::output::{out, outln};
 use crate::CliError;
+use crate::output::{out, outln};
 
 /// Preset subcommands.
 #[derive(Debug, Subcommand)]

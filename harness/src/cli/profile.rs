@@ -12,8 +12,8 @@ use crate::CliError;
 use crate::compare::instances::Instances;
 use crate::compare::paired::paired;
 use crate::compare::profile::profile;
-use crate::docs::table::Table;
 use crate::results::{lock, store};
+use crate::table::Table;
 
 /// The τ of `--tau`.
 pub const TAU: Bound = Bound::closed(

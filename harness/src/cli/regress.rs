@@ -8,8 +8,8 @@ use clap::Args;
 use magbench_env::check::Bound;
 
 use super::number::checked;
-use super::output::out;
 use crate::CliError;
+use crate::output::out;
 use crate::regress::manifests::check;
 use crate::regress::report::regressions;
 use crate::regress::{OnInconclusive, Runs, Tolerances, compare_runs, failures, footer, table};

@@ -9,8 +9,8 @@ use std::path::PathBuf;
 use clap::Subcommand;
 
 use super::number::count;
-use super::output::{out, outln};
 use crate::CliError;
+use crate::output::{out, outln};
 use crate::plot::export::{DPI, FigureOptions};
 use crate::results::{lock, verify};
 

@@ -15,10 +15,10 @@ use magbench_drivers::rigs::preset_named;
 use magbench_drivers::{HardwareError, HardwareRig, check, interrupt, replay};
 use magbench_env::Scenario;
 
-use super::output::{emit, outln, prepare_dir, prepare_file};
 use super::plan_and_track::{TrackRun, tracker_spec};
 use super::setup::SetupArgs;
 use crate::CliError;
+use crate::output::{emit, outln, prepare_dir, prepare_file};
 use crate::registry::Registry;
 
 /// Rig subcommands.

@@ -13,8 +13,8 @@ use magbench_env::{Obstacle, PlanningModel, Scenario};
 use sha2::{Digest, Sha256};
 
 use super::number::count;
-use super::output::{out, outln};
 use crate::CliError;
+use crate::output::{out, outln};
 
 /// Scenario subcommands.
 #[derive(Debug, Subcommand)]
@@ -134,7 +134,7 @@ fn generate_files(a: GenerateArgs) -> Result<(), CliError> {
     let params =
         split_all("<command line>", &a.set).map_err(|e| CliError::arg("--set", e.reason))?;
     generate::family("<command line>", family, &params)?;
-    super::output::prepare_dir(dir, "--out")?;
+    crate::output::prepare_dir(dir, "--out")?;
     for index in 0..a.count {
         let g = generate::generate("<command line>", family, &params, a.seed, index)?;
         let path = dir.join(&g.file_name);

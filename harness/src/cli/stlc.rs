@@ -11,8 +11,8 @@ use magbench_env::model::Kinematics;
 use magbench_env::team_controllability::{FieldSet, TeamReport, formations, team_report};
 
 use super::number::{checked, count};
-use super::output::outln;
 use crate::CliError;
+use crate::output::outln;
 
 /// Largest separation of the rank test (BL): at 50 BL the finite differences already miss the
 /// rank drop at ψ = ±90°.

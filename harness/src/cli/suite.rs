@@ -3,9 +3,9 @@
 
 use clap::Subcommand;
 
-use super::output::outln;
 use crate::CliError;
 use crate::experiment::Experiment;
+use crate::output::outln;
 use crate::registry::Registry;
 use crate::run::Executor;
 use crate::suite::{Suite, locate};

@@ -7,10 +7,10 @@ use magbench_drivers::rigs::Rigs;
 use magbench_env::Scenario;
 use magbench_trackers::Trackers;
 
-use super::output::out;
 use super::plan_and_track::{TrackRun, tracker_spec};
 use super::setup::SetupArgs;
 use crate::CliError;
+use crate::output::out;
 use crate::registry::Registry;
 
 /// Arguments of `magbench track`.

@@ -156,7 +156,7 @@ pub fn git_revision() -> String {
 }
 
 /// The git revision, `+dirty` only when a tracked file outside the `excluded` folders (relative
-/// to the repository root) differs from it: `docs measure` excludes the files it writes.
+/// to the repository root) differs from it: `cargo xtask measure` excludes the files it writes.
 pub fn git_revision_outside(excluded: &[&str]) -> String {
     let dir = env!("CARGO_MANIFEST_DIR");
     let run = |args: &[&str]| {

@@ -266,7 +266,7 @@ fn a_time_limit_stops_ompl() {
 }
 
 /// The figures of the SST defect for docs/ompl-planners.md (not part of the suite), printed as
-/// a Markdown table: `magbench docs measure --only sst-pruning` runs
+/// a Markdown table: `cargo xtask measure --only sst-pruning` runs
 /// `cargo test -p magbench-planners --features ompl --lib -- --ignored --exact
 /// ompl::tests::sst_node_counts --nocapture`.
 #[test]

@@ -32,8 +32,8 @@ use self::score::Param;
 use self::tracking::Tracking;
 use super::calibrate_bench_plot::BenchFigure;
 use super::number::{checked, count};
-use super::output::{outln, prepare_dir};
 use crate::CliError;
+use crate::output::{outln, prepare_dir};
 use crate::registry::Registry;
 
 /// `magbench calibrate bench`.
