@@ -7,7 +7,7 @@ use magbench_env::plant::DisturbancePreset;
 use magbench_planners::{ElevationRefused, FirstPlan, Plan, Planner, PlanningSetup};
 use magbench_trackers::{LoopOptions, TrackOutcome, Tracker, simulate};
 
-use crate::CliError;
+use crate::Error;
 use crate::pipeline::start::check_given_plan;
 use crate::pipeline::{Failure, LegPlan, Pipeline};
 
@@ -24,9 +24,9 @@ pub fn plan_leg(
     planner: &mut dyn Planner,
     setup: &PlanningSetup,
     seed: u64,
-) -> Result<LegPlan, CliError> {
+) -> Result<LegPlan, Error> {
     if leg >= scenario.legs.len() {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "leg",
             format!(
                 "scenario {} has {} leg(s)",
@@ -38,14 +38,14 @@ pub fn plan_leg(
     setup
         .check_settings(scenario, &planner.params())
         .map_err(|e| match e {
-            ElevationRefused::Planar(r) => CliError::arg("param.planar", r.to_string()),
-            ElevationRefused::AlphaMax(r) => CliError::arg("param.alpha_max", r.to_string()),
-            ElevationRefused::SetupAlphaMax(r) => CliError::arg("alpha_max", r.to_string()),
+            ElevationRefused::Planar(r) => Error::arg("param.planar", r.to_string()),
+            ElevationRefused::AlphaMax(r) => Error::arg("param.alpha_max", r.to_string()),
+            ElevationRefused::SetupAlphaMax(r) => Error::arg("alpha_max", r.to_string()),
         })?;
     let pipe = Pipeline::new(scenario, setup.clone(), seed);
     match pipe.plan_leg(planner, leg, start) {
         Ok(planned) => Ok(planned),
-        Err(Failure::InvalidStart { leg }) => Err(CliError::arg(
+        Err(Failure::InvalidStart { leg }) => Err(Error::arg(
             "start",
             format!(
                 "the start is invalid in leg {} of {}",
@@ -53,7 +53,7 @@ pub fn plan_leg(
                 scenario.name
             ),
         )),
-        Err(Failure::InvalidPlan { error, .. }) => Err(CliError::Failed(format!(
+        Err(Failure::InvalidPlan { error, .. }) => Err(Error::Failed(format!(
             "{} returned an invalid plan: {error}",
             planner.name()
         ))),
@@ -86,12 +86,12 @@ pub struct TrackRequest<'a> {
 /// The plan is checked first as `magbench track --plan` checks a plan file, by the start rule
 /// ([`check_given_plan`]: its origin, then its fit under the preset's frames, medium and coil);
 /// a plan that does not fit is an [`magbench_env::InputError`] naming `r.plan_source`.
-pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, CliError> {
+pub fn track_plan(r: TrackRequest) -> Result<TrackOutcome, Error> {
     let preset = DisturbancePreset::resolve(r.preset).map_err(|e| {
         if e.file == r.preset {
-            CliError::arg("preset", e.to_string())
+            Error::arg("preset", e.to_string())
         } else {
-            CliError::Input(e)
+            Error::Input(e)
         }
     })?;
     let setup = r

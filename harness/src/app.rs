@@ -25,7 +25,7 @@ use magbench_env::InputError;
 use magbench_planners::Planner;
 use magbench_trackers::Tracker;
 
-use crate::CliError;
+use crate::Error;
 use crate::cli::{self, Args};
 use crate::registry::Registry;
 
@@ -139,7 +139,7 @@ impl Cli {
 
     /// Runs the command line `args` (`args[0]` is the program name). `--help` and `--version`
     /// print and succeed; a usage error is an input error on the field `arguments`.
-    pub fn run_args<I, S>(&self, args: I) -> Result<(), CliError>
+    pub fn run_args<I, S>(&self, args: I) -> Result<(), Error>
     where
         I: IntoIterator<Item = S>,
         S: Into<OsString> + Clone,

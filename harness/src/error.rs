@@ -1,6 +1,8 @@
-//! Command errors and their exit codes: 2 for bad input, 1 for anything else. The libraries'
-//! typed errors become a [`CliError`] here, by their kind: bad input keeps its file, field and
-//! reason; every other failure becomes its message.
+//! The library's error: bad input (file, field, reason) or a failure that is not the input's.
+//! The crates' typed errors become an [`Error`] here, by their kind: bad input keeps its file,
+//! field and reason; every other failure becomes its message. The command line exits 2 on bad
+//! input and 1 on anything else ([`Error::exit_code`]); Python raises `magbench.InputError` (a
+//! `ValueError`) or `magbench.MagbenchError` (a `RuntimeError`).
 
 use magbench_drivers::hardware::HardwareError;
 use magbench_drivers::replay::ReplayError;
@@ -9,9 +11,9 @@ use magbench_env::InputError;
 use magbench_env::check::Rejection;
 use magbench_env::registry::RegistryError;
 
-/// An error that ends a `magbench` command.
+/// An error of a magbench library call or command.
 #[derive(Debug, thiserror::Error)]
-pub enum CliError {
+pub enum Error {
     /// Bad input (file, field, reason); exit code 2.
     #[error("{0}")]
     Input(#[from] InputError),
@@ -20,33 +22,33 @@ pub enum CliError {
     Failed(String),
 }
 
-impl CliError {
+impl Error {
     /// The process exit code for this error.
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Input(_) => 2,
-            CliError::Failed(_) => 1,
+            Error::Input(_) => 2,
+            Error::Failed(_) => 1,
         }
     }
 
     /// A bad command-line value.
     pub fn arg(field: impl Into<String>, reason: impl Into<String>) -> Self {
-        CliError::Input(InputError::new("<command line>", field, reason))
+        Error::Input(InputError::new("<command line>", field, reason))
     }
 
     /// A command-line value refused by a check that does not know the option: the
     /// rejection's field goes under `option` (an empty field becomes `option`).
     pub fn rejected(option: &str, r: Rejection) -> Self {
-        CliError::Input(r.under(option).in_file("<command line>"))
+        Error::Input(r.under(option).in_file("<command line>"))
     }
 }
 
 /// Failures that are never the user's input: exit code 1 with their message.
 macro_rules! failed_from {
     ($($t:ty),* $(,)?) => {$(
-        impl From<$t> for CliError {
+        impl From<$t> for Error {
             fn from(e: $t) -> Self {
-                CliError::Failed(e.to_string())
+                Error::Failed(e.to_string())
             }
         }
     )*};
@@ -54,24 +56,24 @@ macro_rules! failed_from {
 
 failed_from!(std::io::Error, HardwareError, StartError, RegistryError,);
 
-impl From<OpenError> for CliError {
+impl From<OpenError> for Error {
     fn from(e: OpenError) -> Self {
         match e {
-            OpenError::Input(e) => CliError::Input(e),
-            e @ (OpenError::Hardware(_) | OpenError::Failed(_)) => CliError::Failed(e.to_string()),
+            OpenError::Input(e) => Error::Input(e),
+            e @ (OpenError::Hardware(_) | OpenError::Failed(_)) => Error::Failed(e.to_string()),
         }
     }
 }
 
-impl From<ReplayError> for CliError {
+impl From<ReplayError> for Error {
     fn from(e: ReplayError) -> Self {
         match e {
-            ReplayError::NoStart { ref dir } => CliError::Input(InputError::new(
+            ReplayError::NoStart { ref dir } => Error::Input(InputError::new(
                 dir.display().to_string(),
                 "",
                 "the recording has no true positions; give --scenario for the agents' start",
             )),
-            e => CliError::Failed(e.to_string()),
+            e => Error::Failed(e.to_string()),
         }
     }
 }
@@ -82,17 +84,17 @@ mod tests {
 
     #[test]
     fn exit_codes_come_from_the_error_kind() {
-        let input: CliError = OpenError::Input(InputError::new("r.toml", "coil", "bad")).into();
+        let input: Error = OpenError::Input(InputError::new("r.toml", "coil", "bad")).into();
         assert_eq!(
             (input.exit_code(), input.to_string().as_str()),
             (2, "r.toml: coil: bad")
         );
-        let failed: CliError = OpenError::Failed("no link".into()).into();
+        let failed: Error = OpenError::Failed("no link".into()).into();
         assert_eq!(failed.exit_code(), 1);
-        let start: CliError = StartError::InvalidStart.into();
+        let start: Error = StartError::InvalidStart.into();
         assert_eq!(start.exit_code(), 1);
         let dir = std::path::PathBuf::from("frames");
-        let replay: CliError = ReplayError::NoStart { dir: dir.clone() }.into();
+        let replay: Error = ReplayError::NoStart { dir: dir.clone() }.into();
         assert_eq!(replay.exit_code(), 2);
         assert_eq!(
             replay.to_string(),

@@ -35,6 +35,6 @@ pub mod table;
 pub mod units;
 
 pub use app::Cli;
-pub use error::CliError;
+pub use error::Error;
 pub use magbench_env::registry::RegistryError;
 pub use registry::Registry;

@@ -5,14 +5,14 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::CliError;
+use crate::Error;
 
 /// Set once stdout's reader has gone (`magbench … | head`): later output is dropped.
 static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
 
 /// Writes `text` to stdout. A closed pipe is not an error: the command goes on (a sweep keeps
 /// running and writing its results) and prints nothing more.
-pub fn emit(text: &str) -> Result<(), CliError> {
+pub fn emit(text: &str) -> Result<(), Error> {
     if STDOUT_CLOSED.load(Ordering::Relaxed) {
         return Ok(());
     }
@@ -22,7 +22,7 @@ pub fn emit(text: &str) -> Result<(), CliError> {
             STDOUT_CLOSED.store(true, Ordering::Relaxed);
             Ok(())
         }
-        Err(e) => Err(CliError::Failed(format!("writing to stdout: {e}"))),
+        Err(e) => Err(Error::Failed(format!("writing to stdout: {e}"))),
         Ok(()) => Ok(()),
     }
 }
@@ -43,8 +43,8 @@ pub(crate) use {out, outln};
 
 /// Makes sure `dir` (given by command-line `option`) is a folder magbench can write into,
 /// creating it if needed; otherwise exit 2 naming the option, the path and why.
-pub fn prepare_dir(dir: &Path, option: &str) -> Result<(), CliError> {
-    let bad = |reason: String| CliError::arg(option, format!("{}: {reason}", dir.display()));
+pub fn prepare_dir(dir: &Path, option: &str) -> Result<(), Error> {
+    let bad = |reason: String| Error::arg(option, format!("{}: {reason}", dir.display()));
     if dir.exists() && !dir.is_dir() {
         return Err(bad("is a file, not a folder".into()));
     }
@@ -70,9 +70,9 @@ pub fn prepare_dir(dir: &Path, option: &str) -> Result<(), CliError> {
 }
 
 /// Makes sure the folder that will hold `file` (given by `option`) exists and is writable.
-pub fn prepare_file(file: &Path, option: &str) -> Result<(), CliError> {
+pub fn prepare_file(file: &Path, option: &str) -> Result<(), Error> {
     if file.is_dir() {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             option,
             format!("{}: is a folder, not a file", file.display()),
         ));

@@ -123,7 +123,7 @@ impl Suite {
     }
 
     /// Writes the recipe's files, `SHA256SUMS` and the manifest's `sha256`; returns the hash.
-    pub fn freeze(&mut self) -> Result<String, crate::CliError> {
+    pub fn freeze(&mut self) -> Result<String, crate::Error> {
         let files = self.regenerate()?;
         let folder = self.dir.join("scenarios");
         if folder.exists() {

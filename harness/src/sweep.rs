@@ -14,7 +14,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use magbench_env::check::Rejection;
 use rayon::prelude::*;
 
-use crate::CliError;
+use crate::Error;
 use crate::experiment::Experiment;
 use crate::results::manifest::{Session, host, now};
 use crate::results::store::RunWriter;
@@ -165,7 +165,7 @@ pub fn run_sweep(
     e: &Experiment,
     ex: &dyn Executor,
     opts: &SweepOptions,
-) -> Result<SweepSummary, CliError> {
+) -> Result<SweepSummary, Error> {
     let specs = e.runs_of(opts.shard);
     let out = &opts.out;
     let shard_arr = opts.shard.map(|(i, n)| [i, n]);
@@ -238,7 +238,7 @@ pub fn run_sweep(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.max(1))
         .build()
-        .map_err(|err| CliError::Failed(format!("thread pool: {err}")))?;
+        .map_err(|err| Error::Failed(format!("thread pool: {err}")))?;
     // each scenario's difficulty measures, once, for the rows of all its runs
     let mut scenarios: Vec<&RunSpec> = vec![];
     for s in &todo {
@@ -255,7 +255,7 @@ pub fn run_sweep(
             .map(|s| (s.scenario_label.as_str(), Measures::of(&s.scenario)))
             .collect()
     });
-    let result: Result<(), CliError> = pool.install(|| {
+    let result: Result<(), Error> = pool.install(|| {
         todo.par_iter().with_max_len(1).try_for_each(|spec| {
             let mut o = if ex.one_at_a_time(spec).is_empty() {
                 execute_caught(ex, spec)

@@ -4,7 +4,7 @@
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
-use magbench::CliError;
+use magbench::Error;
 use magbench::api::{TrackRequest, plan_leg, track_plan};
 use magbench_env::{MAX_AGENTS, Vec2};
 use magbench_planners::Limits;
@@ -24,7 +24,7 @@ use crate::scenario::Scenario;
 pub fn detached<T: Send>(
     py: Python<'_>,
     what: &str,
-    f: impl FnOnce() -> Result<T, CliError> + Send,
+    f: impl FnOnce() -> Result<T, Error> + Send,
 ) -> PyResult<T> {
     let r = py.detach(|| {
         catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|payload| {
@@ -33,7 +33,7 @@ pub fn detached<T: Send>(
                 .map(String::as_str)
                 .or_else(|| payload.downcast_ref::<&str>().copied())
                 .unwrap_or("unknown panic");
-            Err(CliError::Failed(format!("internal error in {what}: {msg}")))
+            Err(Error::Failed(format!("internal error in {what}: {msg}")))
         })
     });
     r.map_err(|e| cli_error(py, e))

@@ -2,7 +2,7 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use magbench::CliError;
+use magbench::Error;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
@@ -39,10 +39,10 @@ pub fn bad_arg(py: Python<'_>, field: &str, reason: impl Into<String>) -> PyErr 
 }
 
 /// The Python exception of a command error.
-pub fn cli_error(py: Python<'_>, e: CliError) -> PyErr {
+pub fn cli_error(py: Python<'_>, e: Error) -> PyErr {
     match e {
-        CliError::Input(e) => input_error(py, &e),
-        CliError::Failed(m) => MagbenchError::new_err(m),
+        Error::Input(e) => input_error(py, &e),
+        Error::Failed(m) => MagbenchError::new_err(m),
     }
 }
 

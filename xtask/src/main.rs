@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
-use magbench::CliError;
+use magbench::Error;
 use magbench::output::prepare_dir;
 use magbench::registry::Registry;
 use magbench::run::real::RealExecutor;
@@ -101,7 +101,7 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-fn run_stale(a: StaleArgs) -> Result<(), CliError> {
+fn run_stale(a: StaleArgs) -> Result<(), Error> {
     let root = root();
     let dir = a.dir.unwrap_or_else(|| root.join("docs/measured"));
     let mut stale = 0;
@@ -114,7 +114,7 @@ fn run_stale(a: StaleArgs) -> Result<(), CliError> {
                 stale += 1;
                 continue;
             }
-            Err(e) => return Err(CliError::Failed(format!("{}: {e}", path.display()))),
+            Err(e) => return Err(Error::Failed(format!("{}: {e}", path.display()))),
         };
         if a.verbose {
             println!("{}: depends on {}", m.name, pathspecs(&root, m).join(" "));
@@ -122,9 +122,9 @@ fn run_stale(a: StaleArgs) -> Result<(), CliError> {
         let file = path.display().to_string();
         match file_staleness(&root, m, &text).map_err(|e| match e {
             FreshnessError::Header(e) => {
-                CliError::Input(InputError::new(file.clone(), "header", e.to_string()))
+                Error::Input(InputError::new(file.clone(), "header", e.to_string()))
             }
-            e => CliError::Failed(format!("{file}: {e}")),
+            e => Error::Failed(format!("{file}: {e}")),
         })? {
             Some(why) => {
                 println!("{}: stale: {why}", m.name);
@@ -136,14 +136,14 @@ fn run_stale(a: StaleArgs) -> Result<(), CliError> {
     }
     match stale {
         0 => Ok(()),
-        n => Err(CliError::Failed(format!(
+        n => Err(Error::Failed(format!(
             "{n} of {} measured files are stale; regenerate each with `cargo xtask measure --only NAME` on an idle machine at a clean commit",
             MEASURES.len()
         ))),
     }
 }
 
-fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
+fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), Error> {
     if a.list {
         for m in MEASURES {
             let needs = match m.feature {
@@ -181,14 +181,14 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
                 .map(|n| {
                     find(n).ok_or_else(|| {
                         let known = names.join(", ");
-                        CliError::arg("--only", format!("no measurement {n:?} (known: {known})"))
+                        Error::arg("--only", format!("no measurement {n:?} (known: {known})"))
                     })
                 })
                 .collect::<Result<Vec<_>, _>>()?
         }
     };
     if let Some(m) = chosen.iter().find(|m| !m.runnable()) {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "--only",
             format!(
                 "{} needs a build with --features {} (`cargo run --release -p xtask --features {} -- measure --only {}`)",
@@ -231,10 +231,10 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), CliError> {
 
 /// The worker threads of `--threads`: the given number within the machine's bound, else one
 /// per core.
-fn threads(given: Option<usize>) -> Result<usize, CliError> {
+fn threads(given: Option<usize>) -> Result<usize, Error> {
     match given {
         Some(n) => magbench_env::check::bounds::threads("--threads", n)
-            .map_err(|r| CliError::arg("--threads", r.reason)),
+            .map_err(|r| Error::arg("--threads", r.reason)),
         None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
     }
 }

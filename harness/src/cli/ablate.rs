@@ -13,7 +13,7 @@ use clap::Args;
 use magbench_drivers::rigs::preset_named;
 
 use super::number::count;
-use crate::CliError;
+use crate::Error;
 use crate::ablation::{TermRow, contributions, label, terms_on, variant_medians, variants};
 use crate::experiment::{Experiment, SEED_COUNT};
 use crate::output::{outln, prepare_dir};
@@ -65,7 +65,7 @@ pub struct AblateArgs {
 }
 
 /// Runs `magbench ablate` with the planners and trackers of `registry`.
-pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
+pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), Error> {
     let base = preset_named(&a.preset, "--preset")?;
     let replays = a
         .replays
@@ -76,7 +76,7 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
     count("--max-iters", &ITERATIONS, a.max_iters)?;
     let terms = terms_on(&base);
     if terms.is_empty() {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "--preset",
             format!("{}: no term is on: nothing to ablate", a.preset),
         ));
@@ -144,7 +144,7 @@ pub fn run(a: AblateArgs, registry: &Registry) -> Result<(), CliError> {
                 Some("seeds") => "--seeds",
                 _ => return Err(err.into()),
             };
-            return Err(CliError::arg(option, err.reason));
+            return Err(Error::arg(option, err.reason));
         }
     };
     if let Some(p) = replays {
@@ -180,12 +180,11 @@ fn write_tables(
     out: &std::path::Path,
     rows: &[TermRow],
     medians: &[(String, f64, usize)],
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     let mut w = csv::Writer::from_path(out.join("ablation.csv"))
-        .map_err(|e| CliError::Failed(e.to_string()))?;
+        .map_err(|e| Error::Failed(e.to_string()))?;
     for r in rows {
-        w.serialize(r)
-            .map_err(|e| CliError::Failed(e.to_string()))?;
+        w.serialize(r).map_err(|e| Error::Failed(e.to_string()))?;
     }
     w.flush()?;
     let mut text = "variant,median_rms_error_bl,runs\n".to_string();

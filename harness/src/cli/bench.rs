@@ -6,7 +6,7 @@ use clap::{Args, ValueEnum};
 use magbench_env::check::{Bound, Rejection};
 
 use super::number::count;
-use crate::CliError;
+use crate::Error;
 use crate::experiment::{Experiment, MAX_RUNS, Tracking};
 use crate::output::outln;
 use crate::registry::Registry;
@@ -94,9 +94,9 @@ pub fn default_experiment() -> PathBuf {
 }
 
 /// Parses `--replays`.
-pub fn replay_policy(text: &str) -> Result<ReplayPolicy, CliError> {
+pub fn replay_policy(text: &str) -> Result<ReplayPolicy, Error> {
     text.parse()
-        .map_err(|why: String| CliError::rejected("--replays", Rejection::new("", why)))
+        .map_err(|why: String| Error::rejected("--replays", Rejection::new("", why)))
 }
 
 /// `--shard I/N`: N shards, at most one run each.
@@ -108,7 +108,7 @@ const SHARDS: Bound = Bound::closed(
 );
 
 /// Runs `magbench bench` with the planners and trackers of `registry`.
-pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
+pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), Error> {
     let executor = a.executor.executor(registry);
     let ex = executor.as_ref();
     let mut e = match &a.suite {
@@ -123,7 +123,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
         .as_deref()
         .map(parse_shard)
         .transpose()
-        .map_err(|r| CliError::rejected("--shard", r))?;
+        .map_err(|r| Error::rejected("--shard", r))?;
     if let Some((_, n)) = shard {
         count("--shard", &SHARDS, n as u64)?;
     }
@@ -190,7 +190,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
         t0.elapsed().as_secs_f64()
     );
     if s.failed > 0 {
-        return Err(CliError::Failed(format!(
+        return Err(Error::Failed(format!(
             "{} runs crashed: see the `error` column of {}",
             s.failed,
             out.join("runs.csv").display()

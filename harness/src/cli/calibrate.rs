@@ -9,7 +9,7 @@ use magbench_env::Scenario;
 use magbench_env::check::Bound;
 
 use super::calibrate_plot::MotionFigure;
-use crate::CliError;
+use crate::Error;
 use crate::output::{outln, prepare_file};
 use crate::registry::Registry;
 
@@ -53,7 +53,7 @@ pub enum CalibrateCmd {
 }
 
 /// Runs `magbench calibrate` (or `calibrate bench`).
-pub fn run(a: CalibrateArgs, registry: &Registry) -> Result<(), CliError> {
+pub fn run(a: CalibrateArgs, registry: &Registry) -> Result<(), Error> {
     if let Some(CalibrateCmd::Bench(b)) = a.cmd {
         return super::calibrate_bench::run(b, registry);
     }
@@ -68,13 +68,13 @@ pub fn run(a: CalibrateArgs, registry: &Registry) -> Result<(), CliError> {
     ] {
         bound
             .check_count(name, v as u64)
-            .map_err(|r| CliError::arg(name, r.reason))?;
+            .map_err(|r| Error::arg(name, r.reason))?;
     }
     prepare_file(&out, "--out")?;
     let runs = a
         .logs
         .iter()
-        .map(|p| read_log(p, scenario.agents()).map_err(CliError::Input))
+        .map(|p| read_log(p, scenario.agents()).map_err(Error::Input))
         .collect::<Result<Vec<_>, _>>()?;
     let sources: Vec<String> = runs.iter().map(|r| r.source.clone()).collect();
     let opts = FitOptions {
@@ -84,8 +84,8 @@ pub fn run(a: CalibrateArgs, registry: &Registry) -> Result<(), CliError> {
         ..FitOptions::default()
     };
     let mut fit = calibrate(&scenario, &base, runs, &opts).map_err(|e| match e {
-        FitError::Input(i) => CliError::Input(i),
-        e @ FitError::NoSegments(_) => CliError::arg("LOG_DIR", e.to_string()),
+        FitError::Input(i) => Error::Input(i),
+        e @ FitError::NoSegments(_) => Error::arg("LOG_DIR", e.to_string()),
     })?;
     fit.preset.name = out
         .file_stem()
@@ -96,7 +96,7 @@ pub fn run(a: CalibrateArgs, registry: &Registry) -> Result<(), CliError> {
         outln!("{l}");
     }
     std::fs::write(&out, fit.preset_file(&sources))
-        .map_err(|e| CliError::Failed(format!("{}: {e}", out.display())))?;
+        .map_err(|e| Error::Failed(format!("{}: {e}", out.display())))?;
     outln!("preset       {}", out.display());
     let stem = out.with_extension("motion");
     let files = crate::plot::save(&MotionFigure::new(&fit.traces), &stem)?;

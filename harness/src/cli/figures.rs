@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::number::count;
-use crate::CliError;
+use crate::Error;
 use crate::figures::{svgs, write_all};
 use crate::output::outln;
 use crate::registry::Registry;
@@ -23,7 +23,7 @@ pub struct FiguresArgs {
 }
 
 /// Runs `magbench figures`.
-pub fn run(a: FiguresArgs, registry: &Registry) -> Result<(), CliError> {
+pub fn run(a: FiguresArgs, registry: &Registry) -> Result<(), Error> {
     if let Some(n) = a.maze_iterations {
         count("--maze-iterations", &ITERATIONS, n)?;
     }

@@ -5,7 +5,7 @@
 
 use magbench_env::params::split_all;
 
-use crate::CliError;
+use crate::Error;
 use crate::run::Variant;
 
 /// The component `label` of option `option` (e.g. `--planner`) with the `key=value` texts
@@ -17,12 +17,12 @@ pub fn named(
     label: &str,
     param_option: &str,
     params: &[String],
-) -> Result<(String, Vec<(String, String)>), CliError> {
-    let v = Variant::parse(label).map_err(|r| CliError::rejected(option, r))?;
+) -> Result<(String, Vec<(String, String)>), Error> {
+    let v = Variant::parse(label).map_err(|r| Error::rejected(option, r))?;
     let mut all = v.params_as_strings();
     for (k, value) in split_all("<command line>", params)? {
         if v.params.contains_key(&k) {
-            return Err(CliError::arg(
+            return Err(Error::arg(
                 param_option,
                 format!(
                     "{k} is given both in {option} {label} and in {param_option} {k}={value}; give it once"

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::CliError;
+use crate::Error;
 use crate::output::outln;
 use crate::results::merge::merge;
 
@@ -20,7 +20,7 @@ pub struct MergeArgs {
 }
 
 /// Runs `magbench merge`.
-pub fn run(a: MergeArgs) -> Result<(), CliError> {
+pub fn run(a: MergeArgs) -> Result<(), Error> {
     crate::output::prepare_dir(&a.out, "--out")?;
     let m = merge(&a.dirs, &a.out)?;
     outln!(

@@ -26,7 +26,7 @@ mod track;
 
 use clap::{Parser, Subcommand};
 
-use crate::CliError;
+use crate::Error;
 use crate::registry::Registry;
 
 /// magbench: plan, track and benchmark paths for teams of magnetic microrobots steered by one
@@ -83,7 +83,7 @@ pub enum Command {
 }
 
 /// Runs a parsed command line; planners and trackers are resolved by name in `registry`.
-pub fn run(args: Args, registry: &Registry) -> Result<(), CliError> {
+pub fn run(args: Args, registry: &Registry) -> Result<(), Error> {
     match args.command {
         Command::Scenario(c) => scenario::run(c),
         Command::Preset(c) => preset::run(c),

@@ -4,28 +4,26 @@
 
 use magbench_env::check::Bound;
 
-use crate::CliError;
+use crate::Error;
 
 /// `v` given to option `name`, within `bound`.
-pub(crate) fn checked(name: &str, bound: &Bound, v: f64) -> Result<f64, CliError> {
-    bound
-        .check(name, v)
-        .map_err(|r| CliError::arg(name, r.reason))
+pub(crate) fn checked(name: &str, bound: &Bound, v: f64) -> Result<f64, Error> {
+    bound.check(name, v).map_err(|r| Error::arg(name, r.reason))
 }
 
 /// The whole number `n` given to option `name`, within `bound`.
-pub(crate) fn count(name: &str, bound: &Bound, n: u64) -> Result<u64, CliError> {
+pub(crate) fn count(name: &str, bound: &Bound, n: u64) -> Result<u64, Error> {
     bound
         .check_count(name, n)
-        .map_err(|r| CliError::arg(name, r.reason))
+        .map_err(|r| Error::arg(name, r.reason))
 }
 
 /// The worker threads of `--threads`: the given number within the machine's bound, else one
 /// per core.
-pub(crate) fn threads(given: Option<usize>) -> Result<usize, CliError> {
+pub(crate) fn threads(given: Option<usize>) -> Result<usize, Error> {
     match given {
         Some(n) => magbench_env::check::bounds::threads("--threads", n)
-            .map_err(|r| CliError::arg("--threads", r.reason)),
+            .map_err(|r| Error::arg("--threads", r.reason)),
         None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
     }
 }

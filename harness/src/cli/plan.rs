@@ -22,7 +22,7 @@ use serde_json::{Value, json};
 
 use super::number::checked;
 use super::setup::{SetupArgs, check_elevation};
-use crate::CliError;
+use crate::Error;
 use crate::output::{out, outln};
 use crate::pipeline::{Failure, Pipeline};
 use crate::plot::world::{WorldPlot, render};
@@ -90,13 +90,13 @@ impl AsRef<PlannerResult> for LegRun {
 }
 
 /// Runs `magbench plan` with the planners of `registry`.
-pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
+pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), Error> {
     if a.list {
         out!("{}", planner_list(registry.planners()));
         return Ok(());
     }
     let (Some(scenario_name), Some(label)) = (a.scenario.as_deref(), a.planner.as_deref()) else {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "SCENARIO",
             "a scenario and --planner are required",
         ));
@@ -121,7 +121,7 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
     if let Some(file) = &a.tree {
         let dir = file.parent().filter(|d| !d.as_os_str().is_empty());
         if dir.is_some_and(|d| !d.is_dir()) {
-            return Err(CliError::arg(
+            return Err(Error::arg(
                 "--tree",
                 format!("{}: its folder does not exist", file.display()),
             ));
@@ -143,17 +143,17 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), CliError> {
             pipe.plan_leg(planner.as_mut(), leg, start)
         })
         .map_err(|f| match f {
-            Failure::InvalidStart { leg } => CliError::Failed(format!(
+            Failure::InvalidStart { leg } => Error::Failed(format!(
                 "leg {}: the previous leg ends in a state that is invalid in this leg's map",
                 leg + 1
             )),
             // never hand out a plan the validator refuses (a plan without motion is reported)
-            Failure::InvalidPlan { leg, error } => CliError::Failed(format!(
+            Failure::InvalidPlan { leg, error } => Error::Failed(format!(
                 "leg {}: {planner_name} returned an invalid plan: {error}",
                 leg + 1
             )),
         })?;
-        Ok::<_, CliError>(LegRun {
+        Ok::<_, Error>(LegRun {
             tree: tree_edges(&*planner),
             problem: planned.problem,
             result: planned.checked.result,
@@ -380,7 +380,7 @@ fn agent_paths(problem: &Problem, plan: &Plan) -> Vec<Vec<Vec2>> {
 }
 
 /// Writes the tree file `file` and its picture(s) next to it.
-fn write_tree(file: &Path, s: &Scenario, planner: &str, runs: &[LegRun]) -> Result<(), CliError> {
+fn write_tree(file: &Path, s: &Scenario, planner: &str, runs: &[LegRun]) -> Result<(), Error> {
     let trees: Vec<LegTree> = runs.iter().filter_map(|r| r.tree_data.clone()).collect();
     if trees.is_empty() {
         eprintln!(
@@ -418,7 +418,7 @@ fn write_outputs(
     planner: &str,
     summary: &Value,
     runs: &[LegRun],
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     let results: Vec<&PlannerResult> = runs.iter().map(|r| &r.result).collect();
     let trees: Vec<LegTree> = runs.iter().filter_map(|r| r.tree_data.clone()).collect();
     page::write(
@@ -431,9 +431,8 @@ fn write_outputs(
             model,
         ),
     )?;
-    let fail = |what: &Path, e: &dyn std::fmt::Display| {
-        CliError::Failed(format!("{}: {e}", what.display()))
-    };
+    let fail =
+        |what: &Path, e: &dyn std::fmt::Display| Error::Failed(format!("{}: {e}", what.display()));
     let multi = s.legs.len() > 1;
     let mut result = summary.clone();
     result["progress"] = runs

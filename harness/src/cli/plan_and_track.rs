@@ -17,7 +17,7 @@ use magbench_trackers::{
 };
 use serde_json::{Value, json};
 
-use crate::CliError;
+use crate::Error;
 use crate::output::{emit, prepare_dir};
 use crate::pipeline::{Failure, Pipeline};
 use crate::plot::anim::{Frame, GifOptions, render_gif};
@@ -62,14 +62,14 @@ pub fn tracker_spec(
     registry: &Registry,
     label: &str,
     params: &[String],
-) -> Result<TrackerSpec, CliError> {
+) -> Result<TrackerSpec, Error> {
     let (name, params) = super::label::named("--tracker", label, "--param", params)?;
     Ok(registry.trackers().spec(&name, &params, "<command line>")?)
 }
 
 /// Runs it: open the rig, find the start, make (or read) the first plan, track it, stop the
 /// rig, write the outputs and print the summary.
-pub fn run(r: TrackRun) -> Result<(), CliError> {
+pub fn run(r: TrackRun) -> Result<(), Error> {
     let s = r.scenario;
     let named = match &r.planner {
         Some(label) => Some(super::label::named(
@@ -123,7 +123,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
     // the start: the scenario's, or as the rig observes it (the field is zero meanwhile)
     let observed = rig.observe_start(s).map_err(|e| {
         let _ = rig.stop();
-        CliError::from(e)
+        Error::from(e)
     })?;
     if let Some(start) = &observed {
         eprintln!("observed start: {}", describe_start(start, &s.start));
@@ -135,7 +135,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         }
         (None, None) => {
             let _ = rig.stop();
-            return Err(CliError::arg(
+            return Err(Error::arg(
                 "--planner",
                 "a planner or a plan file (--plan) is needed",
             ));
@@ -155,7 +155,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
                 Err(f) => {
                     let _ = rig.stop();
                     let name = planner.name();
-                    return Err(CliError::Failed(match f {
+                    return Err(Error::Failed(match f {
                         Failure::InvalidStart { .. } => format!(
                             "{name}: the {} start is invalid in the first leg's map (collision or proximity range)",
                             if observed.is_some() {
@@ -198,7 +198,7 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
                     } else {
                         "scenario's"
                     };
-                    return Err(CliError::Failed(match e {
+                    return Err(Error::Failed(match e {
                         Unusable::NoMotion => format!(
                             "{name} found no plan from the {from} start{}",
                             if setup.limits == Limits::default() {
@@ -267,13 +267,13 @@ pub fn run(r: TrackRun) -> Result<(), CliError> {
         }
     }
     if outcome.metrics.status == RunStatus::RigFault {
-        return Err(CliError::Failed(format!(
+        return Err(Error::Failed(format!(
             "rig fault: {}",
             outcome.message.unwrap_or_else(|| "unknown".into())
         )));
     }
     if let Err(e) = stopped {
-        return Err(CliError::Failed(format!("stopping the rig: {e}")));
+        return Err(Error::Failed(format!("stopping the rig: {e}")));
     }
     Ok(())
 }
@@ -453,8 +453,8 @@ fn rig_text(st: &RigStats) -> String {
 }
 
 /// Writes `what` to `path`, naming the path on failure.
-fn write(path: &Path, what: impl AsRef<[u8]>) -> Result<(), CliError> {
-    std::fs::write(path, what).map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
+fn write(path: &Path, what: impl AsRef<[u8]>) -> Result<(), Error> {
+    std::fs::write(path, what).map_err(|e| Error::Failed(format!("{}: {e}", path.display())))
 }
 
 /// Writes ticks.csv, metrics.json, plans.json, plan.json, replay.html (with `trees`), the
@@ -467,7 +467,7 @@ fn write_outputs(
     planner: &str,
     tracker: &str,
     (trees, gif): (&[LegTree], bool),
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     let title = format!("{} · {planner} + {tracker}", s.name);
     page::write(
         &dir.join("replay.html"),
@@ -475,9 +475,9 @@ fn write_outputs(
     )?;
     let ticks = dir.join("ticks.csv");
     let csv_file = std::fs::File::create(&ticks)
-        .map_err(|e| CliError::Failed(format!("{}: {e}", ticks.display())))?;
+        .map_err(|e| Error::Failed(format!("{}: {e}", ticks.display())))?;
     write_ticks_csv(std::io::BufWriter::new(csv_file), &out.ticks)
-        .map_err(|e| CliError::Failed(format!("{}: {e}", ticks.display())))?;
+        .map_err(|e| Error::Failed(format!("{}: {e}", ticks.display())))?;
     write(
         &dir.join("metrics.json"),
         serde_json::to_string_pretty(summary).expect("json"),

@@ -3,7 +3,7 @@
 use clap::Subcommand;
 use magbench_env::plant::DisturbancePreset;
 
-use crate::CliError;
+use crate::Error;
 use crate::output::{out, outln};
 
 /// Preset subcommands.
@@ -24,7 +24,7 @@ pub enum PresetCmd {
 }
 
 /// Runs a preset subcommand.
-pub fn run(cmd: PresetCmd) -> Result<(), CliError> {
+pub fn run(cmd: PresetCmd) -> Result<(), Error> {
     match cmd {
         PresetCmd::List => {
             for name in DisturbancePreset::NAMES {

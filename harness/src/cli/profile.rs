@@ -8,7 +8,7 @@ use std::path::Path;
 use magbench_env::check::Bound;
 
 use super::number::checked;
-use crate::CliError;
+use crate::Error;
 use crate::compare::instances::Instances;
 use crate::compare::paired::paired;
 use crate::compare::profile::profile;
@@ -27,12 +27,12 @@ pub const TAU: Bound = Bound::closed(
 pub const DEFAULT_TAUS: &[f64] = &[1.0, 2.0, 10.0];
 
 /// Prints the Markdown of results folder `dir` at each τ of `taus` (`--tau`).
-pub fn run(dir: &Path, taus: &[f64]) -> Result<String, CliError> {
+pub fn run(dir: &Path, taus: &[f64]) -> Result<String, Error> {
     for &tau in taus {
         checked("--tau", &TAU, tau)?;
     }
     if !dir.is_dir() {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "DIR",
             format!("{}: not a folder", dir.display()),
         ));
@@ -41,7 +41,7 @@ pub fn run(dir: &Path, taus: &[f64]) -> Result<String, CliError> {
     let runs = store::read_runs(dir)?;
     let t = Instances::of(&runs);
     if t.problems.len() < 2 || t.planners.is_empty() {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "DIR",
             format!(
                 "{}: runs.csv: planning runs of {} problems and {} planners; a profile needs \

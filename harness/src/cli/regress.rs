@@ -8,7 +8,7 @@ use clap::Args;
 use magbench_env::check::Bound;
 
 use super::number::checked;
-use crate::CliError;
+use crate::Error;
 use crate::output::out;
 use crate::regress::manifests::check;
 use crate::regress::report::regressions;
@@ -75,7 +75,7 @@ const TOLERANCE: Bound = Bound::closed(
 );
 
 /// Runs `magbench regress`.
-pub fn run(a: RegressArgs) -> Result<(), CliError> {
+pub fn run(a: RegressArgs) -> Result<(), Error> {
     checked("--alpha", &ALPHA, a.alpha)?;
     checked(
         "--success-tolerance",
@@ -86,7 +86,7 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
     checked("--time-tolerance", &TOLERANCE, a.time_tolerance)?;
     for d in [&a.baseline, &a.current] {
         if !d.join("runs.csv").is_file() {
-            return Err(CliError::Input(magbench_env::InputError::new(
+            return Err(Error::Input(magbench_env::InputError::new(
                 d.display().to_string(),
                 "runs.csv",
                 "no such file: not a results folder",
@@ -97,7 +97,7 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
     if !m.differences.is_empty() {
         let list: String = m.differences.iter().map(|d| format!("\n  - {d}")).collect();
         if a.strict {
-            return Err(CliError::Input(magbench_env::InputError::new(
+            return Err(Error::Input(magbench_env::InputError::new(
                 a.current.display().to_string(),
                 "manifest.json",
                 format!(
@@ -132,7 +132,7 @@ pub fn run(a: RegressArgs) -> Result<(), CliError> {
     let bad = failures(&rows, a.inconclusive);
     if bad > 0 {
         let reg = regressions(&rows);
-        return Err(CliError::Failed(if reg > 0 {
+        return Err(Error::Failed(if reg > 0 {
             format!("{reg} regression(s) against {}", a.baseline.display())
         } else {
             format!(

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use clap::Subcommand;
 
 use super::number::count;
-use crate::CliError;
+use crate::Error;
 use crate::output::{out, outln};
 use crate::plot::export::{DPI, FigureOptions};
 use crate::results::{lock, verify};
@@ -71,7 +71,7 @@ pub enum ResultsCmd {
 }
 
 /// Runs a results subcommand.
-pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
+pub fn run(cmd: ResultsCmd) -> Result<(), Error> {
     match cmd {
         ResultsCmd::Scaling { dir, by, family } => scaling(&dir, &by, family.as_deref()),
         ResultsCmd::Formations { dir } => formations(&dir),
@@ -84,9 +84,9 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
             count("--dpi", &DPI, u64::from(figures.dpi))?;
             figures
                 .check_build()
-                .map_err(|(option, why)| CliError::arg(option, why))?;
+                .map_err(|(option, why)| Error::arg(option, why))?;
             if !dir.is_dir() {
-                return Err(CliError::arg(
+                return Err(Error::arg(
                     "DIR",
                     format!("{}: not a folder", dir.display()),
                 ));
@@ -124,7 +124,7 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
             for p in &problems {
                 outln!("{}: {p}", dir.display());
             }
-            Err(CliError::Failed(format!(
+            Err(Error::Failed(format!(
                 "{}: {} problems found",
                 dir.display(),
                 problems.len()
@@ -133,7 +133,7 @@ pub fn run(cmd: ResultsCmd) -> Result<(), CliError> {
     }
 }
 
-fn formations(dir: &std::path::Path) -> Result<(), CliError> {
+fn formations(dir: &std::path::Path) -> Result<(), Error> {
     use crate::compare::formations::{figure, markdown, study};
     let _lock = lock::shared(dir, "DIR")?;
     let runs = crate::results::store::read_runs(dir)?;
@@ -153,14 +153,14 @@ fn formations(dir: &std::path::Path) -> Result<(), CliError> {
     Ok(())
 }
 
-fn scaling(dir: &std::path::Path, by: &str, family: Option<&str>) -> Result<(), CliError> {
+fn scaling(dir: &std::path::Path, by: &str, family: Option<&str>) -> Result<(), Error> {
     use crate::compare::study::{Quantity, fit_text, plot, study};
     let _lock = lock::shared(dir, "DIR")?;
     let runs = crate::results::store::read_runs(dir)?;
     for q in Quantity::ALL {
         let s = study(&runs, family, by, q);
         if s.is_empty() {
-            return Err(CliError::arg(
+            return Err(Error::arg(
                 "--by",
                 format!(
                     "no planning run of {} has a size `{by}` (a label parameter or `agents`)",

@@ -17,7 +17,7 @@ use magbench_env::Scenario;
 
 use super::plan_and_track::{TrackRun, tracker_spec};
 use super::setup::SetupArgs;
-use crate::CliError;
+use crate::Error;
 use crate::output::{emit, outln, prepare_dir, prepare_file};
 use crate::registry::Registry;
 
@@ -196,7 +196,7 @@ pub struct ReplayArgs {
 }
 
 /// Runs a rig subcommand (`rig run` with the planners and trackers of `registry`).
-pub fn run(cmd: RigCmd, registry: &Registry) -> Result<(), CliError> {
+pub fn run(cmd: RigCmd, registry: &Registry) -> Result<(), Error> {
     match cmd {
         RigCmd::Emulate(a) => emulate(*a),
         RigCmd::Check(a) => check_cmd(a),
@@ -206,7 +206,7 @@ pub fn run(cmd: RigCmd, registry: &Registry) -> Result<(), CliError> {
     }
 }
 
-fn excite_cmd(a: ExciteArgs) -> Result<(), CliError> {
+fn excite_cmd(a: ExciteArgs) -> Result<(), Error> {
     use magbench_drivers::excite::{ExciteSetup, excite, log_for};
     let scenario = Scenario::load(&a.scenario)?;
     option("--duration", RUN_DURATION, a.duration)?;
@@ -231,12 +231,12 @@ fn excite_cmd(a: ExciteArgs) -> Result<(), CliError> {
             setup.alpha_max = preset.coil.alpha_max_deg.to_radians();
             let mut sim = magbench_trackers::SimRig::new(&scenario, &preset, a.seed);
             let mut l = log_for(&log, scenario.agents())
-                .map_err(|e| CliError::Failed(format!("{}: {e}", log.display())))?;
+                .map_err(|e| Error::Failed(format!("{}: {e}", log.display())))?;
             excite(&mut sim, &setup, Some(&mut l))
         }
-        (None, None) => return Err(CliError::arg("--rig", "give --rig or --preset")),
+        (None, None) => return Err(Error::arg("--rig", "give --rig or --preset")),
     }
-    .map_err(|e| CliError::Failed(e.to_string()))?;
+    .map_err(|e| Error::Failed(e.to_string()))?;
     outln!(
         "frames       {} over {:.2} s ({} detections missed)",
         rep.frames,
@@ -255,12 +255,12 @@ fn excite_cmd(a: ExciteArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn emulate(a: EmulateArgs) -> Result<(), CliError> {
+fn emulate(a: EmulateArgs) -> Result<(), Error> {
     let rig = RigConfig::load(&a.rig)?;
     let rig_text = std::fs::read_to_string(&a.rig)?;
     let scenario = Scenario::load(&a.scenario)?;
     let faults = FaultPlan::parse(&a.faults)
-        .map_err(|r| CliError::Input(r.under("--faults").in_file("<command line>")))?;
+        .map_err(|r| Error::Input(r.under("--faults").in_file("<command line>")))?;
     let preset = preset_named(&a.preset, "--preset")?;
     option(
         "--speed",
@@ -279,7 +279,7 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
     )?;
     magbench_drivers::rigfile::BLUR_PX
         .check("--blur", a.blur)
-        .map_err(|r| CliError::arg("--blur", r.reason))?;
+        .map_err(|r| Error::arg("--blur", r.reason))?;
     if let Some(d) = a.duration {
         option("--duration", RUN_DURATION, d)?;
     }
@@ -348,14 +348,14 @@ fn emulate(a: EmulateArgs) -> Result<(), CliError> {
         record: a.record,
         on_ready,
     };
-    emulator::run(cfg, stop).map_err(|e| CliError::Failed(e.to_string()))
+    emulator::run(cfg, stop).map_err(|e| Error::Failed(e.to_string()))
 }
 
 fn open_rig(
     rig_path: &Path,
     scenario: &Scenario,
     log: Option<&Path>,
-) -> Result<(RigConfig, HardwareRig), CliError> {
+) -> Result<(RigConfig, HardwareRig), Error> {
     let rig = RigConfig::load(rig_path)?;
     let field = rig.coil.field_mt.unwrap_or(scenario.physics.field_mt);
     let abort = interrupt::interrupt_flag().map_err(HardwareError::from)?;
@@ -363,7 +363,7 @@ fn open_rig(
     Ok((rig, hw))
 }
 
-fn check_cmd(a: CheckArgs) -> Result<(), CliError> {
+fn check_cmd(a: CheckArgs) -> Result<(), Error> {
     let scenario = Scenario::load(&a.scenario)?;
     option("--duration", RUN_DURATION, a.duration)?;
     let log = match &a.out {
@@ -403,7 +403,7 @@ fn check_cmd(a: CheckArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
+fn replay_cmd(a: ReplayArgs) -> Result<(), Error> {
     let rig = RigConfig::load(&a.rig)?;
     if let Some(f) = &a.out {
         prepare_file(f, "--out")?;
@@ -425,7 +425,7 @@ fn replay_cmd(a: ReplayArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), CliError> {
+fn run_cmd(a: RunArgs, registry: &Registry) -> Result<(), Error> {
     let scenario = Scenario::load(&a.scenario)?;
     let tracker = tracker_spec(registry, &a.tracker, &a.params)?;
     let setup = a.setup.setup()?;
@@ -456,8 +456,6 @@ const RUN_DURATION: Bound = Bound::above(
 );
 
 /// A command-line number checked against its bound, refused naming the option.
-fn option(name: &str, bound: Bound, v: f64) -> Result<f64, CliError> {
-    bound
-        .check(name, v)
-        .map_err(|r| CliError::arg(name, r.reason))
+fn option(name: &str, bound: Bound, v: f64) -> Result<f64, Error> {
+    bound.check(name, v).map_err(|r| Error::arg(name, r.reason))
 }

@@ -13,7 +13,7 @@ use magbench_env::{Obstacle, PlanningModel, Scenario};
 use sha2::{Digest, Sha256};
 
 use super::number::count;
-use crate::CliError;
+use crate::Error;
 use crate::output::{out, outln};
 
 /// Scenario subcommands.
@@ -75,7 +75,7 @@ const COUNT: Bound = Bound::closed(
 );
 
 /// Runs a scenario subcommand.
-pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
+pub fn run(cmd: ScenarioCmd) -> Result<(), Error> {
     match cmd {
         ScenarioCmd::List => {
             for name in builtin_names() {
@@ -122,24 +122,23 @@ pub fn run(cmd: ScenarioCmd) -> Result<(), CliError> {
 
 /// Runs `magbench scenario generate`: checks every parameter before writing anything, then
 /// writes the files and prints one line per file (name, SHA-256, a difficulty summary).
-fn generate_files(a: GenerateArgs) -> Result<(), CliError> {
+fn generate_files(a: GenerateArgs) -> Result<(), Error> {
     if a.list {
         out!("{}", generate::list());
         return Ok(());
     }
     let (Some(family), Some(dir)) = (a.family.as_deref(), a.out.as_ref()) else {
-        return Err(CliError::arg("FAMILY", "a family and --out are required"));
+        return Err(Error::arg("FAMILY", "a family and --out are required"));
     };
     count("--count", &COUNT, a.count)?;
-    let params =
-        split_all("<command line>", &a.set).map_err(|e| CliError::arg("--set", e.reason))?;
+    let params = split_all("<command line>", &a.set).map_err(|e| Error::arg("--set", e.reason))?;
     generate::family("<command line>", family, &params)?;
     crate::output::prepare_dir(dir, "--out")?;
     for index in 0..a.count {
         let g = generate::generate("<command line>", family, &params, a.seed, index)?;
         let path = dir.join(&g.file_name);
         std::fs::write(&path, &g.text)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+            .map_err(|e| Error::Failed(format!("{}: {e}", path.display())))?;
         let d = measure(&g.scenario);
         let hash = Sha256::digest(g.text.as_bytes());
         outln!(

@@ -8,7 +8,7 @@ use magbench_env::params::ParamInfo;
 use magbench_planners::{ElevationRefused, Limits, PlanningSetup};
 
 use super::number::count;
-use crate::CliError;
+use crate::Error;
 use crate::run::spec::{DEFAULT_TIME_LIMIT_S, ITERATIONS, time_limit};
 
 /// The planning setup options.
@@ -39,7 +39,7 @@ pub struct SetupArgs {
 impl SetupArgs {
     /// The planning setup (default control period; a rig sets its own); exit 2 on a bad value,
     /// naming the option.
-    pub fn setup(&self) -> Result<PlanningSetup, CliError> {
+    pub fn setup(&self) -> Result<PlanningSetup, Error> {
         let mut setup = PlanningSetup {
             limits: self.limits.limits()?,
             ..PlanningSetup::default()
@@ -52,7 +52,7 @@ impl SetupArgs {
         ] {
             setup
                 .set("<command line>", key, value)
-                .map_err(|e| CliError::arg(format!("--{}", key.replace('_', "-")), e.reason))?;
+                .map_err(|e| Error::arg(format!("--{}", key.replace('_', "-")), e.reason))?;
         }
         Ok(setup)
     }
@@ -69,20 +69,20 @@ pub fn check_elevation(
     scenario: &Scenario,
     sets: &[(&str, Vec<ParamInfo>)],
     coil: &str,
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     for (prefix, params) in sets {
         setup
             .check_settings(scenario, params)
             .map_err(|e| match e {
                 ElevationRefused::Planar(r) => {
-                    CliError::arg(format!("{prefix}.planar"), r.to_string())
+                    Error::arg(format!("{prefix}.planar"), r.to_string())
                 }
-                ElevationRefused::AlphaMax(r) => CliError::arg(
+                ElevationRefused::AlphaMax(r) => Error::arg(
                     format!("{prefix}.alpha_max"),
                     format!("{r} ({coil}); or set planar=true"),
                 ),
                 ElevationRefused::SetupAlphaMax(r) => {
-                    CliError::arg("--alpha-max", format!("{r} ({coil}); or set planar=true"))
+                    Error::arg("--alpha-max", format!("{r} ({coil}); or set planar=true"))
                 }
             })?;
     }
@@ -106,12 +106,12 @@ impl LimitArgs {
     /// The limits: `--max-iters` (200 000 iterations when neither option is given, no
     /// iteration limit when only `--time-limit` is) and `--time-limit` (or
     /// [`DEFAULT_TIME_LIMIT_S`]); exit 2 on a bad value.
-    pub fn limits(&self) -> Result<Limits, CliError> {
+    pub fn limits(&self) -> Result<Limits, Error> {
         if let Some(n) = self.max_iters {
             count("--max-iters", &ITERATIONS, n)?;
         }
         let t = self.time_limit.unwrap_or(DEFAULT_TIME_LIMIT_S);
-        let time = time_limit(t).map_err(|r| CliError::rejected("--time-limit", r))?;
+        let time = time_limit(t).map_err(|r| Error::rejected("--time-limit", r))?;
         let max_iterations = match (self.max_iters, self.time_limit) {
             (None, None) => Limits::default().max_iterations,
             (n, _) => n,

@@ -11,7 +11,7 @@ use magbench_env::model::Kinematics;
 use magbench_env::team_controllability::{FieldSet, TeamReport, formations, team_report};
 
 use super::number::{checked, count};
-use crate::CliError;
+use crate::Error;
 use crate::output::outln;
 
 /// Largest separation of the rank test (BL): at 50 BL the finite differences already miss the
@@ -72,7 +72,7 @@ pub struct StlcArgs {
 }
 
 /// Prints the rank table.
-pub fn run(a: StlcArgs) -> Result<(), CliError> {
+pub fn run(a: StlcArgs) -> Result<(), Error> {
     checked("--r", &R, a.r)?;
     checked("--step", &STEP, a.step)?;
     count("--agents", &AGENTS, a.agents as u64)?;
@@ -139,7 +139,7 @@ pub fn run(a: StlcArgs) -> Result<(), CliError> {
 }
 
 /// The team tables: sample formations, then (three agents) a sweep of the isosceles apex angle.
-fn team(a: &StlcArgs) -> Result<(), CliError> {
+fn team(a: &StlcArgs) -> Result<(), Error> {
     let kin = Kinematics::nominal(&PhysicalParams::default());
     let elevated = FieldSet::Elevated {
         alpha_max: a.alpha_max.to_radians(),
@@ -199,7 +199,7 @@ fn subscript(k: usize) -> char {
 }
 
 /// What the offset column means.
-fn footer() -> Result<(), CliError> {
+fn footer() -> Result<(), Error> {
     outln!(
         "offset: distance of the origin from the velocity set's affine hull (BL/s); > 0 means no mix of field"
     );
@@ -208,7 +208,7 @@ fn footer() -> Result<(), CliError> {
 }
 
 /// The team table's header, its first column titled `first`.
-fn header(first: &str) -> Result<(), CliError> {
+fn header(first: &str) -> Result<(), Error> {
     outln!(
         "{first:<14} {:<9} {:>5} {:>5} {:>5} {:>5} {:>12} {:>10}",
         "field",
@@ -223,7 +223,7 @@ fn header(first: &str) -> Result<(), CliError> {
 }
 
 /// One row of the team table.
-fn row(name: &str, field: &str, r: &TeamReport) -> Result<(), CliError> {
+fn row(name: &str, field: &str, r: &TeamReport) -> Result<(), Error> {
     let yes = |b: bool| if b { "yes" } else { "no" };
     outln!(
         "{name:<14} {field:<9} {:>5} {:>5} {:>5} {:>5} {:>12} {:>10.2e}",

@@ -3,7 +3,7 @@
 
 use clap::Subcommand;
 
-use crate::CliError;
+use crate::Error;
 use crate::experiment::Experiment;
 use crate::output::outln;
 use crate::registry::Registry;
@@ -28,7 +28,7 @@ pub enum SuiteCmd {
 }
 
 /// Runs a suite subcommand.
-pub fn run(cmd: SuiteCmd) -> Result<(), CliError> {
+pub fn run(cmd: SuiteCmd) -> Result<(), Error> {
     match cmd {
         SuiteCmd::Check { suite } => {
             let s = Suite::load(&locate(&suite))?;
@@ -46,7 +46,7 @@ pub fn run(cmd: SuiteCmd) -> Result<(), CliError> {
             for p in &problems {
                 outln!("{}: {p}", s.file());
             }
-            Err(CliError::Failed(format!(
+            Err(Error::Failed(format!(
                 "{}: {} problems",
                 s.file(),
                 problems.len()
@@ -68,14 +68,10 @@ pub fn run(cmd: SuiteCmd) -> Result<(), CliError> {
 
 /// The experiment `bench --suite NAME` runs: the suite's stored files (checked against their
 /// hashes; a mismatch is bad input) with its planners, seeds and limits.
-pub fn experiment(
-    name: &str,
-    registry: &Registry,
-    ex: &dyn Executor,
-) -> Result<Experiment, CliError> {
+pub fn experiment(name: &str, registry: &Registry, ex: &dyn Executor) -> Result<Experiment, Error> {
     let s = Suite::load(&locate(name))?;
     if let Some(p) = s.check(false)?.first() {
-        return Err(CliError::Input(magbench_env::InputError::new(
+        return Err(Error::Input(magbench_env::InputError::new(
             s.file(),
             "sha256",
             format!("{p} (`magbench suite check {name}`)"),

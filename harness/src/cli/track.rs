@@ -9,7 +9,7 @@ use magbench_trackers::Trackers;
 
 use super::plan_and_track::{TrackRun, tracker_spec};
 use super::setup::SetupArgs;
-use crate::CliError;
+use crate::Error;
 use crate::output::out;
 use crate::registry::Registry;
 
@@ -73,14 +73,14 @@ pub struct TrackArgs {
 }
 
 /// Runs `magbench track` with the planners, trackers and rigs of `registry`.
-pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), CliError> {
+pub fn run(a: TrackArgs, registry: &Registry) -> Result<(), Error> {
     if a.list {
         out!("{}", tracker_list(registry.trackers()));
         out!("{}", rig_type_list(registry.rigs()));
         return Ok(());
     }
     let (Some(scenario), Some(tracker)) = (a.scenario.as_deref(), a.tracker.as_deref()) else {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "SCENARIO",
             "a scenario and --tracker are required",
         ));

@@ -27,7 +27,7 @@ use magbench_env::team_symmetry::{SYMMETRY_EPS, central_pairing, symmetric_gap};
 use magbench_env::{Scenario, Vec2};
 
 use super::instances::median_inf;
-use crate::CliError;
+use crate::Error;
 use crate::metrics::Metric;
 use crate::plot::grid::{Cell, CellGrid, Panel};
 use crate::run::RunRecord;
@@ -110,7 +110,7 @@ fn physics_of(s: &Scenario) -> (Option<f64>, Ranks) {
 /// The study of the planning runs of `runs` whose scenarios are of the `team` family, with the
 /// scenario files in `scenarios` (a results folder's `scenarios/`); pairs in increasing N, then
 /// start and goal by name. Refused when no run is of the family or a scenario file is missing.
-pub fn study(runs: &[RunRecord], scenarios: &Path) -> Result<Vec<Pair>, CliError> {
+pub fn study(runs: &[RunRecord], scenarios: &Path) -> Result<Vec<Pair>, Error> {
     type Key = (usize, String, String);
     let mut groups: BTreeMap<Key, Vec<&RunRecord>> = BTreeMap::new();
     for r in runs.iter().filter(|r| r.tracker.is_empty()) {
@@ -129,7 +129,7 @@ pub fn study(runs: &[RunRecord], scenarios: &Path) -> Result<Vec<Pair>, CliError
             .push(r);
     }
     if groups.is_empty() {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "DIR",
             format!(
                 "no planning run of a `{FAMILY}` scenario with `start` and `goal` in its label \
@@ -149,7 +149,7 @@ pub fn study(runs: &[RunRecord], scenarios: &Path) -> Result<Vec<Pair>, CliError
             if !cache.contains_key(*name) {
                 let path = scenarios.join(format!("{name}.toml"));
                 let s = Scenario::load(&path.to_string_lossy()).map_err(|e| {
-                    CliError::arg(
+                    Error::arg(
                         "DIR",
                         format!(
                             "{}: the generated scenario of runs on {name}: {e}",

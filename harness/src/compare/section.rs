@@ -9,7 +9,7 @@ use super::by_difficulty::{bins, success, time};
 use super::instances::Instances;
 use super::paired::paired;
 use super::profile::{profile, tau_grid};
-use crate::CliError;
+use crate::Error;
 use crate::metrics::difficulty::Measure;
 use crate::plot::charts::{BandPoint, LineBandChart, Series, W};
 use crate::plot::style::{self, Family};
@@ -23,12 +23,12 @@ pub const FOLDER: &str = "across-problems";
 /// Measures with fewer distinct values than this over the problems are not plotted.
 const MIN_DISTINCT: usize = 3;
 
-fn figure(dir: &Path, name: &str, fig: &LineBandChart, caption: &str) -> Result<String, CliError> {
+fn figure(dir: &Path, name: &str, fig: &LineBandChart, caption: &str) -> Result<String, Error> {
     let stem = dir.join("plots").join(FOLDER).join(name);
     save(fig, &stem)?;
     let path = with_ext(&stem, "svg");
     let text = std::fs::read_to_string(&path)
-        .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+        .map_err(|e| Error::Failed(format!("{}: {e}", path.display())))?;
     let svg = &text[text.find("<svg").unwrap_or(0)..];
     let rel = format!("plots/{FOLDER}/{name}");
     Ok(format!(
@@ -78,7 +78,7 @@ fn paired_table(o: &mut String, t: &Instances) {
 
 /// Draws the section's plots into `dir/plots/across-problems/` and returns its HTML (empty
 /// when the runs span fewer than two problems).
-pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, CliError> {
+pub fn html(dir: &Path, runs: &[RunRecord]) -> Result<String, Error> {
     let t = Instances::of(runs);
     if t.problems.len() < 2 || t.planners.is_empty() {
         return Ok(String::new());

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use super::instances::median_inf;
 use super::scaling::{PowerFit, fit, label_param};
-use crate::CliError;
+use crate::Error;
 use crate::plot::charts::{BandPoint, LineBandChart, Series, W};
 use crate::plot::save;
 use crate::plot::style::{self, Dash, Family, Look};
@@ -155,7 +155,7 @@ pub fn plot(
     family: Option<&str>,
     by: &str,
     q: Quantity,
-) -> Result<PathBuf, CliError> {
+) -> Result<PathBuf, Error> {
     let mut series = vec![];
     let mut looks = vec![];
     for (i, p) in s.iter().enumerate() {

@@ -151,7 +151,7 @@ pub fn scenarios(
 
 /// Writes the generated scenario files of experiment text `text` (read from `file`) into
 /// `dir/scenarios/`; nothing when it has no `[[generated]]` table.
-pub fn keep_files(text: &str, file: &str, dir: &Path) -> Result<(), crate::CliError> {
+pub fn keep_files(text: &str, file: &str, dir: &Path) -> Result<(), crate::Error> {
     let tables = match toml::from_str::<toml::Table>(text) {
         Ok(mut t) => match t.remove("generated") {
             Some(toml::Value::Array(a)) => a,
@@ -164,7 +164,7 @@ pub fn keep_files(text: &str, file: &str, dir: &Path) -> Result<(), crate::CliEr
     for (_, g) in expand(&tables, file)? {
         let path = folder.join(&g.file_name);
         std::fs::write(&path, &g.text)
-            .map_err(|e| crate::CliError::Failed(format!("{}: {e}", path.display())))?;
+            .map_err(|e| crate::Error::Failed(format!("{}: {e}", path.display())))?;
     }
     Ok(())
 }

@@ -5,7 +5,7 @@ use magbench_env::{Scenario, Vec2};
 use magbench_planners::{Limits, PlannerResult, PlanningSetup, solve_checked};
 use magbench_trackers::{Mission, Reference, track};
 
-use crate::error::CliError;
+use crate::error::Error;
 use crate::registry::Registry;
 
 /// A planned and tracked run of a scenario's first leg.
@@ -43,7 +43,7 @@ pub struct RunSpec<'a> {
 }
 
 /// Plans and tracks, with the planner, tracker and `simulated` rig of `registry`.
-pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, CliError> {
+pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, Error> {
     let scenario = Scenario::load(s.scenario)?;
     let params = magbench_env::params::owned(s.planner.1);
     let mut planner = registry.planners().create(s.planner.0, &params)?;
@@ -62,7 +62,7 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, Cl
     let planned = checked.result.clone();
     let first = checked
         .followable()
-        .map_err(|e| CliError::Failed(format!("{} seed {}: {e}", s.planner.0, s.seed)))?;
+        .map_err(|e| Error::Failed(format!("{} seed {}: {e}", s.planner.0, s.seed)))?;
     let reference = Reference::from_plan(&planned.plan, &problem.model);
     let plan_samples = (0..reference.len())
         .map(|k| (reference.time(k), reference.state(k).to_vec()))

@@ -20,7 +20,7 @@ pub mod team;
 
 use std::path::{Path, PathBuf};
 
-use crate::CliError;
+use crate::Error;
 use crate::plot::world::WorldPlot;
 use crate::plot::{save, with_ext};
 use data::{RunSpec, TrackedRun, plan_and_track};
@@ -63,7 +63,7 @@ pub fn write_all(
     maze_iterations: Option<u64>,
     registry: &Registry,
     log: &dyn Fn(&str),
-) -> Result<Vec<PathBuf>, CliError> {
+) -> Result<Vec<PathBuf>, Error> {
     let mut files = vec![];
     let mut add = |v: Vec<PathBuf>| files.extend(v);
     log("force-ellipse, larc-margin");

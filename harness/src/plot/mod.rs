@@ -50,9 +50,9 @@ impl From<std::io::Error> for PlotError {
     }
 }
 
-impl From<PlotError> for crate::CliError {
+impl From<PlotError> for crate::Error {
     fn from(e: PlotError) -> Self {
-        crate::CliError::Failed(e.to_string())
+        crate::Error::Failed(e.to_string())
     }
 }
 

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use crate::CliError;
+use crate::Error;
 use crate::results::{MANIFEST, Manifest};
 
 /// What the manifests say about the comparison.
@@ -89,8 +89,8 @@ pub fn differences(b: &Manifest, c: &Manifest) -> Vec<String> {
 
 /// Reads and compares the manifests of the `baseline` and `candidate` folders. A missing
 /// manifest is a difference (nothing can be checked); an unreadable one is bad input.
-pub fn check(baseline: &Path, candidate: &Path) -> Result<ManifestCheck, CliError> {
-    let read = |d: &Path| -> Result<Option<Manifest>, CliError> {
+pub fn check(baseline: &Path, candidate: &Path) -> Result<ManifestCheck, Error> {
+    let read = |d: &Path| -> Result<Option<Manifest>, Error> {
         if d.join(MANIFEST).exists() {
             Manifest::read(d).map(Some)
         } else {

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use crate::CliError;
+use crate::Error;
 use crate::metrics::Metric;
 use crate::results::store::{RUNS, Snapshot};
 use crate::run::RunRecord;
@@ -172,7 +172,7 @@ impl Runs {
     }
 
     /// The complete rows of `dir`'s `runs.csv`, read one at a time.
-    pub fn read(dir: &Path) -> Result<Runs, CliError> {
+    pub fn read(dir: &Path) -> Result<Runs, Error> {
         let mut out = Runs::new();
         if let Some(s) = Snapshot::open(&dir.join(RUNS))? {
             for r in s.runs()? {

@@ -7,7 +7,7 @@ use std::path::Path;
 use magbench_env::Scenario;
 
 use super::data::ReplayData;
-use crate::CliError;
+use crate::Error;
 use crate::results::summary::GroupSummary;
 use crate::run::RunRecord;
 
@@ -86,13 +86,13 @@ pub fn with_replay(dir: &Path, runs: &[RunRecord]) -> usize {
 }
 
 /// Writes the player the replays of results folder `dir` share.
-pub fn write_player(dir: &Path) -> Result<(), CliError> {
+pub fn write_player(dir: &Path) -> Result<(), Error> {
     super::page::write_player(&dir.join(REPLAYS))
 }
 
 /// Writes run `index`'s replay into results folder `dir`; it loads the folder's player
 /// ([`write_player`]).
-pub fn write_replay(dir: &Path, index: usize, data: &ReplayData) -> Result<(), CliError> {
+pub fn write_replay(dir: &Path, index: usize, data: &ReplayData) -> Result<(), Error> {
     super::page::write_with(
         &dir.join(replay_file(index)),
         data,
@@ -101,11 +101,11 @@ pub fn write_replay(dir: &Path, index: usize, data: &ReplayData) -> Result<(), C
 }
 
 /// Removes run `index`'s replay from results folder `dir`, if it has one.
-pub fn remove_replay(dir: &Path, index: usize) -> Result<(), CliError> {
+pub fn remove_replay(dir: &Path, index: usize) -> Result<(), Error> {
     let path = dir.join(replay_file(index));
     match std::fs::remove_file(&path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-            Err(CliError::Failed(format!("{}: {e}", path.display())))
+            Err(Error::Failed(format!("{}: {e}", path.display())))
         }
         _ => Ok(()),
     }
@@ -113,7 +113,7 @@ pub fn remove_replay(dir: &Path, index: usize) -> Result<(), CliError> {
 
 /// Copies run `index`'s replay (if it has one) with the player it loads, and the scenario
 /// previews, from results folder `from` into `to` (merging shards); a file `to` has is kept.
-pub fn copy_run(from: &Path, to: &Path, index: usize) -> Result<(), CliError> {
+pub fn copy_run(from: &Path, to: &Path, index: usize) -> Result<(), Error> {
     let mut files = vec![replay_file(index)];
     if from.join(replay_file(index)).is_file() {
         files.extend(player_files());
@@ -129,7 +129,7 @@ pub fn copy_run(from: &Path, to: &Path, index: usize) -> Result<(), CliError> {
         if !src.is_file() || dst.exists() {
             continue;
         }
-        let fail = |e: std::io::Error| CliError::Failed(format!("{}: {e}", dst.display()));
+        let fail = |e: std::io::Error| Error::Failed(format!("{}: {e}", dst.display()));
         std::fs::create_dir_all(dst.parent().expect("a folder")).map_err(fail)?;
         std::fs::copy(&src, &dst).map_err(fail)?;
     }
@@ -140,7 +140,7 @@ pub fn copy_run(from: &Path, to: &Path, index: usize) -> Result<(), CliError> {
 pub fn write_previews<'a>(
     dir: &Path,
     scenarios: impl Iterator<Item = (&'a str, &'a Scenario)>,
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     let mut done: Vec<&str> = vec![];
     for (label, s) in scenarios {
         if !done.contains(&label) {

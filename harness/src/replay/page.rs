@@ -9,7 +9,7 @@ use std::path::Path;
 use serde_json::json;
 
 use super::data::ReplayData;
-use crate::CliError;
+use crate::Error;
 use crate::results::report::esc;
 
 /// The player script ([`ReplayData`] in, SVG out).
@@ -114,8 +114,8 @@ pub fn html_with(data: &ReplayData, player: Player) -> String {
 }
 
 /// Writes `text` to `path`, creating its folder.
-fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
-    let fail = |e: std::io::Error| CliError::Failed(format!("{}: {e}", path.display()));
+fn write_file(path: &Path, text: &str) -> Result<(), Error> {
+    let fail = |e: std::io::Error| Error::Failed(format!("{}: {e}", path.display()));
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(fail)?;
     }
@@ -123,19 +123,19 @@ fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
 }
 
 /// Writes the page of `data` to `path` (creating its folder), with its player inside.
-pub fn write(path: &Path, data: &ReplayData) -> Result<(), CliError> {
+pub fn write(path: &Path, data: &ReplayData) -> Result<(), Error> {
     write_with(path, data, Player::Inline)
 }
 
 /// Writes the page of `data` to `path` (creating its folder), with its player where `player`
 /// says.
-pub fn write_with(path: &Path, data: &ReplayData, player: Player) -> Result<(), CliError> {
+pub fn write_with(path: &Path, data: &ReplayData, player: Player) -> Result<(), Error> {
     write_file(path, &html_with(data, player))
 }
 
 /// Writes the shared player script and style into `dir`, for the pages written there with
 /// [`Player::Shared`].
-pub fn write_player(dir: &Path) -> Result<(), CliError> {
+pub fn write_player(dir: &Path) -> Result<(), Error> {
     write_file(&dir.join(PLAYER_FILE), PLAYER)?;
     write_file(&dir.join(STYLE_FILE), STYLE)
 }

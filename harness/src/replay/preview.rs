@@ -7,7 +7,7 @@ use magbench_env::{Scenario, Vec2};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::CliError;
+use crate::Error;
 use crate::plot::legend::{self, Entry, Symbol};
 use crate::plot::world::{chart, circle_points, draw_goals, draw_world, map_size};
 use crate::plot::{Figure, PlotError, font, palette};
@@ -124,7 +124,7 @@ impl Figure for ScenarioPreview<'_> {
 
 /// Writes the preview of `s` to `path`: SVG or PNG by its extension (`option` names the
 /// command-line option in errors).
-pub fn write(s: &Scenario, path: &Path, option: &str) -> Result<(), CliError> {
+pub fn write(s: &Scenario, path: &Path, option: &str) -> Result<(), Error> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -133,7 +133,7 @@ pub fn write(s: &Scenario, path: &Path, option: &str) -> Result<(), CliError> {
     font::ensure_registered();
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", dir.display())))?;
+            .map_err(|e| Error::Failed(format!("{}: {e}", dir.display())))?;
     }
     let size = fig.size();
     let drawn: Result<(), PlotError> = match ext.as_deref() {
@@ -146,11 +146,11 @@ pub fn write(s: &Scenario, path: &Path, option: &str) -> Result<(), CliError> {
         })(),
         Some("png") => crate::plot::png::save_png(&fig, path),
         _ => {
-            return Err(CliError::arg(
+            return Err(Error::arg(
                 option,
                 format!("{}: the file must end in .svg or .png", path.display()),
             ));
         }
     };
-    drawn.map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
+    drawn.map_err(|e| Error::Failed(format!("{}: {e}", path.display())))
 }

@@ -127,10 +127,10 @@ impl TreeFile {
     }
 
     /// Writes it as JSON to `path`.
-    pub fn write(&self, path: &Path) -> Result<(), crate::CliError> {
+    pub fn write(&self, path: &Path) -> Result<(), crate::Error> {
         let text = serde_json::to_string(self).expect("a tree serializes");
         std::fs::write(path, text)
-            .map_err(|e| crate::CliError::Failed(format!("{}: {e}", path.display())))
+            .map_err(|e| crate::Error::Failed(format!("{}: {e}", path.display())))
     }
 }
 

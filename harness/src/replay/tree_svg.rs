@@ -7,7 +7,7 @@ use magbench_env::{Goal, Vec2, World};
 use plotters::prelude::*;
 
 use super::tree::LegTree;
-use crate::CliError;
+use crate::Error;
 use crate::plot::world::WorldPlot;
 use crate::plot::{Figure, font};
 
@@ -50,7 +50,7 @@ pub fn svg_paths(file: &Path, legs: usize) -> Vec<PathBuf> {
 }
 
 /// Writes `pic` as SVG to `path`.
-pub fn write(pic: &TreePicture, path: &Path) -> Result<(), CliError> {
+pub fn write(pic: &TreePicture, path: &Path) -> Result<(), Error> {
     font::ensure_registered();
     let mut plot = WorldPlot::new(pic.world);
     plot.tree = pic
@@ -66,7 +66,7 @@ pub fn write(pic: &TreePicture, path: &Path) -> Result<(), CliError> {
         .collect();
     plot.goals = vec![pic.goal.clone()];
     plot.title = Some(pic.title.clone());
-    let fail = |e: String| CliError::Failed(format!("{}: {e}", path.display()));
+    let fail = |e: String| Error::Failed(format!("{}: {e}", path.display()));
     let root = SVGBackend::new(path, plot.size()).into_drawing_area();
     root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
     plot.draw(&root).map_err(|e| fail(e.to_string()))?;

@@ -14,8 +14,6 @@ use fs4::TryLockError;
 use magbench_env::InputError;
 use serde::{Deserialize, Serialize};
 
-use crate::CliError;
-
 /// The lock file of a results folder.
 pub const LOCK: &str = ".magbench.lock";
 
@@ -77,11 +75,11 @@ fn read_holder(f: &mut File) -> Option<Holder> {
     serde_json::from_str(&text).ok()
 }
 
-fn in_use(dir: &Path, option: &str, holder: Option<Holder>) -> CliError {
+fn in_use(dir: &Path, option: &str, holder: Option<Holder>) -> crate::Error {
     let who = holder
         .map(|h| h.describe())
         .unwrap_or_else(|| "another magbench process (no details in the lock file yet)".into());
-    CliError::Input(InputError::new(
+    crate::Error::Input(InputError::new(
         dir.display().to_string(),
         option,
         format!(
@@ -90,8 +88,8 @@ fn in_use(dir: &Path, option: &str, holder: Option<Holder>) -> CliError {
     ))
 }
 
-fn no_flock(path: &Path, e: std::io::Error) -> CliError {
-    CliError::Failed(format!(
+fn no_flock(path: &Path, e: std::io::Error) -> crate::Error {
+    crate::Error::Failed(format!(
         "{}: cannot lock the results folder: {e} (the file system may not support flock, \
          e.g. Lustre without `-o flock` or NFS with `nolock`: see docs/results.md; \
          {NO_LOCK_ENV}=1 runs without the lock, at your own risk)",
@@ -102,7 +100,7 @@ fn no_flock(path: &Path, e: std::io::Error) -> CliError {
 /// Takes the exclusive lock of the results folder `dir` (which must exist) for `command`, or
 /// fails with exit 2 naming the folder and the holder's pid and host. `option` names the
 /// command-line option that gave `dir` (for the message).
-pub fn exclusive(dir: &Path, command: &str, option: &str) -> Result<DirLock, CliError> {
+pub fn exclusive(dir: &Path, command: &str, option: &str) -> Result<DirLock, crate::Error> {
     if std::env::var(NO_LOCK_ENV).is_ok_and(|v| v == "1") {
         eprintln!(
             "warning: {NO_LOCK_ENV}=1: {} is not locked; make sure no other process writes it",
@@ -120,7 +118,7 @@ pub fn exclusive(dir: &Path, command: &str, option: &str) -> Result<DirLock, Cli
         .create(true)
         .truncate(false)
         .open(&path)
-        .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+        .map_err(|e| crate::Error::Failed(format!("{}: {e}", path.display())))?;
     match fs4::FileExt::try_lock(&f) {
         Ok(()) => {}
         Err(TryLockError::WouldBlock) => return Err(in_use(dir, option, read_holder(&mut f))),
@@ -143,13 +141,13 @@ pub fn exclusive(dir: &Path, command: &str, option: &str) -> Result<DirLock, Cli
             old.describe()
         );
     }
-    let text = serde_json::to_string(&me).map_err(|e| CliError::Failed(e.to_string()))? + "\n";
+    let text = serde_json::to_string(&me).map_err(|e| crate::Error::Failed(e.to_string()))? + "\n";
     let written = f
         .set_len(0)
         .and_then(|()| f.rewind())
         .and_then(|()| f.write_all(text.as_bytes()))
         .and_then(|()| f.sync_data());
-    written.map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+    written.map_err(|e| crate::Error::Failed(format!("{}: {e}", path.display())))?;
     Ok(DirLock {
         file: Some(f),
         exclusive: true,
@@ -159,7 +157,7 @@ pub fn exclusive(dir: &Path, command: &str, option: &str) -> Result<DirLock, Cli
 /// Takes a shared lock of `dir` for reading it whole (`results verify`): fails with exit 2 if
 /// a `bench` or `merge` holds it. A folder whose lock file cannot be opened (read-only, no
 /// lock file) is read without a lock.
-pub fn shared(dir: &Path, option: &str) -> Result<DirLock, CliError> {
+pub fn shared(dir: &Path, option: &str) -> Result<DirLock, crate::Error> {
     let path = dir.join(LOCK);
     let Ok(mut f) = File::open(&path) else {
         return Ok(DirLock {

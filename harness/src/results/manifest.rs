@@ -6,7 +6,7 @@ use std::time::SystemTime;
 
 use serde::{Deserialize, Serialize};
 
-use crate::CliError;
+use crate::Error;
 use crate::experiment::{Experiment, Tracking};
 
 /// `manifest.json`.
@@ -253,17 +253,17 @@ impl Manifest {
     }
 
     /// Reads `dir/manifest.json`.
-    pub fn read(dir: &Path) -> Result<Manifest, CliError> {
+    pub fn read(dir: &Path) -> Result<Manifest, Error> {
         let path = dir.join(MANIFEST);
         let text = std::fs::read_to_string(&path).map_err(|e| {
-            CliError::Input(magbench_env::InputError::new(
+            Error::Input(magbench_env::InputError::new(
                 path.display().to_string(),
                 "",
                 format!("cannot read: {e}"),
             ))
         })?;
         serde_json::from_str(&text).map_err(|e| {
-            CliError::Input(magbench_env::InputError::new(
+            Error::Input(magbench_env::InputError::new(
                 path.display().to_string(),
                 "",
                 format!("not a magbench manifest: {e}"),
@@ -272,18 +272,18 @@ impl Manifest {
     }
 
     /// Writes `dir/manifest.json` atomically.
-    pub fn write(&self, dir: &Path) -> Result<(), CliError> {
+    pub fn write(&self, dir: &Path) -> Result<(), Error> {
         let path = dir.join(MANIFEST);
         let tmp = dir.join("manifest.json.tmp");
         let text =
-            serde_json::to_string_pretty(self).map_err(|e| CliError::Failed(e.to_string()))? + "\n";
+            serde_json::to_string_pretty(self).map_err(|e| Error::Failed(e.to_string()))? + "\n";
         let written = std::fs::File::create(&tmp).and_then(|mut f| {
             std::io::Write::write_all(&mut f, text.as_bytes())?;
             f.sync_all()
         });
-        written.map_err(|e| CliError::Failed(format!("{}: {e}", tmp.display())))?;
+        written.map_err(|e| Error::Failed(format!("{}: {e}", tmp.display())))?;
         std::fs::rename(&tmp, &path)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+            .map_err(|e| Error::Failed(format!("{}: {e}", path.display())))?;
         super::store::sync_dir(&path)
     }
 }

@@ -15,25 +15,24 @@ use magbench_env::InputError;
 
 use super::manifest::{Manifest, Session, host, now};
 use super::store;
-use crate::CliError;
+use crate::Error;
 use crate::run::{ProgressRow, RunRecord};
 
 /// Merges the results folders `shards` (of the same experiment) into `out`, which must not
 /// hold results, and writes its derived files, holding `out`'s lock throughout (exit 2 if
 /// another process holds it). Only whole runs are taken (one row, and exactly the trace
 /// points the row records); a run found in several folders is taken from the first.
-pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, CliError> {
+pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
     if shards.is_empty() {
-        return Err(CliError::arg(
+        return Err(Error::arg(
             "DIR",
             "give at least one results folder to merge",
         ));
     }
-    std::fs::create_dir_all(out)
-        .map_err(|e| CliError::Failed(format!("{}: {e}", out.display())))?;
+    std::fs::create_dir_all(out).map_err(|e| Error::Failed(format!("{}: {e}", out.display())))?;
     let _lock = super::lock::exclusive(out, "merge", "--out")?;
     if out.join(super::MANIFEST).exists() {
-        return Err(CliError::Input(InputError::new(
+        return Err(Error::Input(InputError::new(
             out.display().to_string(),
             "--out",
             "already holds results; choose another --out",
@@ -47,7 +46,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, CliError> {
     let first = manifests[0].clone();
     for (s, m) in shards.iter().zip(&manifests) {
         if m.experiment.sha256 != first.experiment.sha256 {
-            return Err(CliError::Input(InputError::new(
+            return Err(Error::Input(InputError::new(
                 s.display().to_string(),
                 "manifest.json",
                 format!(
@@ -160,7 +159,7 @@ impl Source {
     /// Opens the run files of `dir` (`runs.csv` first: a run's progress rows are written before
     /// its row, so every row read has its trace in the `progress.csv` opened after it) and reads
     /// them once, row by row, for their order and teams.
-    fn open(dir: &Path) -> Result<Source, CliError> {
+    fn open(dir: &Path) -> Result<Source, Error> {
         let runs = store::Snapshot::open(&dir.join(store::RUNS))?;
         let progress = store::Snapshot::open(&dir.join(store::PROGRESS))?;
         let (mut sorted, mut agents, mut prev) = (true, 0, None);
@@ -192,7 +191,7 @@ impl Source {
 
     /// The folder's whole runs in run order: streamed from files already in order, else read
     /// whole and sorted (one folder's runs: a task that ran several threads and did not finish).
-    fn whole_runs(&self) -> Result<WholeRuns, CliError> {
+    fn whole_runs(&self) -> Result<WholeRuns, Error> {
         let (runs, progress): (RowIter<RunRecord>, RowIter<ProgressRow>) = if self.sorted {
             (
                 match &self.runs {
@@ -228,7 +227,7 @@ impl Source {
     }
 }
 
-type RowIter<T> = Box<dyn Iterator<Item = Result<T, CliError>>>;
+type RowIter<T> = Box<dyn Iterator<Item = Result<T, Error>>>;
 
 /// One run's row and its trace.
 pub struct WholeRun {
@@ -249,7 +248,7 @@ pub struct WholeRuns {
 }
 
 impl Iterator for WholeRuns {
-    type Item = Result<WholeRun, CliError>;
+    type Item = Result<WholeRun, Error>;
 
     fn next(&mut self) -> Option<Self::Item> {
         loop {
@@ -301,9 +300,9 @@ struct Output {
 }
 
 impl Output {
-    fn create(path: &Path, header: &str) -> Result<Output, CliError> {
+    fn create(path: &Path, header: &str) -> Result<Output, Error> {
         let file = std::fs::File::create(path)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+            .map_err(|e| Error::Failed(format!("{}: {e}", path.display())))?;
         let mut o = Output {
             path: path.to_path_buf(),
             file: std::io::BufWriter::new(file),
@@ -312,15 +311,15 @@ impl Output {
         Ok(o)
     }
 
-    fn write(&mut self, bytes: &[u8]) -> Result<(), CliError> {
+    fn write(&mut self, bytes: &[u8]) -> Result<(), Error> {
         self.file
             .write_all(bytes)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", self.path.display())))
+            .map_err(|e| Error::Failed(format!("{}: {e}", self.path.display())))
     }
 
     /// Syncs the file and renames it to `to`.
-    fn finish(self, to: &Path) -> Result<(), CliError> {
-        let fail = |e: std::io::Error| CliError::Failed(format!("{}: {e}", self.path.display()));
+    fn finish(self, to: &Path) -> Result<(), Error> {
+        let fail = |e: std::io::Error| Error::Failed(format!("{}: {e}", self.path.display()));
         let file = self.file.into_inner().map_err(|e| fail(e.into_error()))?;
         file.sync_all().map_err(fail)?;
         std::fs::rename(&self.path, to).map_err(fail)?;

@@ -33,22 +33,19 @@ use std::path::Path;
 
 pub use manifest::{MANIFEST, Manifest};
 
-use crate::CliError;
+use crate::Error;
 use crate::run::Status;
 
 /// Writes the derived files of a results folder from its runs: sorts `runs.csv` and
 /// `progress.csv` into run order ([`sort`], on disk), writes `runs.parquet`, `ompl.log`, the plots and
 /// `report.html`, and records
 /// the counts, end time and every file's hash in the manifest.
-pub fn finalize(dir: &Path) -> Result<(), CliError> {
+pub fn finalize(dir: &Path) -> Result<(), Error> {
     finalize_with(dir, &crate::plot::export::FigureOptions::default())
 }
 
 /// [`finalize`] with figure options (size preset, DPI, axes, PDF).
-pub fn finalize_with(
-    dir: &Path,
-    opts: &crate::plot::export::FigureOptions,
-) -> Result<(), CliError> {
+pub fn finalize_with(dir: &Path, opts: &crate::plot::export::FigureOptions) -> Result<(), Error> {
     let mut m = Manifest::read(dir)?;
     sort::sort_files(dir)?;
     let runs = store::read_runs(dir)?;

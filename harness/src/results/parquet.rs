@@ -23,7 +23,7 @@ use parquet::record::RowAccessor;
 use parquet::schema::types::Type;
 use serde_json::{Value, json};
 
-use crate::CliError;
+use crate::Error;
 use crate::metrics::Metric;
 use crate::metrics::difficulty::Measure;
 use crate::run::RunRecord;
@@ -212,13 +212,13 @@ fn cells(rows: &[RunRecord], serde: &mut [Vec<Value>], index: usize) -> Vec<Valu
     }
 }
 
-fn failed(path: &Path, e: impl std::fmt::Display) -> CliError {
-    CliError::Failed(format!("{}: {e}", path.display()))
+fn failed(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Failed(format!("{}: {e}", path.display()))
 }
 
 /// Writes `rows` (with per-agent columns for `agents` agents) to `path` as Parquet, atomically
 /// (a temporary file, then a rename).
-pub fn write(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), CliError> {
+pub fn write(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), Error> {
     let cols = columns(agents);
     let meta: serde_json::Map<String, Value> = cols
         .iter()

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use super::manifest::Manifest;
 use super::summary::groups;
 use super::traces::{TracePoint, Traces};
-use crate::CliError;
+use crate::Error;
 use crate::metrics::Metric;
 use crate::plot::charts::{BandPoint, BoxChart, CdfChart, LineBandChart, Series};
 use crate::plot::export::{AxisScale, FigureOptions};
@@ -272,7 +272,7 @@ impl Writer<'_> {
         name: &str,
         fig: &F,
         title: &str,
-    ) -> Result<(), CliError> {
+    ) -> Result<(), Error> {
         let stem = self.dir.join("plots").join(slug(scenario)).join(name);
         save_with(fig, &stem, self.opts)?;
         self.files.push(PlotFile {
@@ -335,7 +335,7 @@ pub fn write_all(
     m: &Manifest,
     runs: &[RunRecord],
     progress: &Traces,
-) -> Result<Vec<PlotFile>, CliError> {
+) -> Result<Vec<PlotFile>, Error> {
     write_all_with(dir, m, runs, progress, &FigureOptions::default())
 }
 
@@ -362,7 +362,7 @@ pub fn write_all_with(
     runs: &[RunRecord],
     progress: &Traces,
     opts: &FigureOptions,
-) -> Result<Vec<PlotFile>, CliError> {
+) -> Result<Vec<PlotFile>, Error> {
     let width = opts.size.layout_width();
     let mut w = Writer {
         dir,
@@ -505,7 +505,7 @@ pub fn write_all_with(
                             f: &dyn Fn(&RunRecord) -> Option<f64>,
                             groups: &[&Vec<&RunRecord>],
                             spans: bool|
-         -> Result<(), CliError> {
+         -> Result<(), Error> {
             let title = format!("{sc}: {what}");
             let colors = groups.iter().map(|g| look_of(m, g).color).collect();
             let groups: Vec<Series<Vec<f64>>> = groups

@@ -18,7 +18,7 @@ use std::path::Path;
 use magbench_env::InputError;
 
 use super::store::{self, PROGRESS, RUNS};
-use crate::CliError;
+use crate::Error;
 use crate::run::{ProgressRow, RunRecord};
 
 /// The runs a folder may hold: those of one experiment (or shard of it).
@@ -39,22 +39,22 @@ pub struct Repaired {
     pub notes: Vec<String>,
 }
 
-fn read_opt(path: &Path) -> Result<Option<String>, CliError> {
+fn read_opt(path: &Path) -> Result<Option<String>, Error> {
     match std::fs::read(path) {
         Ok(b) => String::from_utf8(b).map(Some).map_err(|_| {
-            CliError::Input(InputError::new(
+            Error::Input(InputError::new(
                 path.display().to_string(),
                 "",
                 "not UTF-8 text: the file is damaged; write to a new --out folder",
             ))
         }),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        Err(e) => Err(CliError::Failed(format!("{}: {e}", path.display()))),
+        Err(e) => Err(Error::Failed(format!("{}: {e}", path.display()))),
     }
 }
 
-fn other_version(path: &Path) -> CliError {
-    CliError::Input(InputError::new(
+fn other_version(path: &Path) -> Error {
+    Error::Input(InputError::new(
         path.display().to_string(),
         "header",
         "the columns differ from this version of magbench; write to a new --out folder",
@@ -75,8 +75,8 @@ fn load<T>(
     text: Option<String>,
     torn_header: impl Fn(&str) -> bool,
     header_ok: impl Fn(&str) -> bool,
-    parse: impl Fn(&Path, &str) -> Result<Vec<T>, CliError>,
-) -> Result<Loaded<T>, CliError> {
+    parse: impl Fn(&Path, &str) -> Result<Vec<T>, Error>,
+) -> Result<Loaded<T>, Error> {
     let Some(text) = text else {
         return Ok(Loaded {
             rows: vec![],
@@ -131,7 +131,7 @@ impl Tally {
 /// Makes the run files of `dir` consistent after an interruption (see the module doc) and
 /// returns the ids of the finished runs it kept. With `expected`, a row of a run that is not
 /// in it (another experiment's results) is an error (exit 2).
-pub fn repair(dir: &Path, expected: Option<&Expected>) -> Result<Repaired, CliError> {
+pub fn repair(dir: &Path, expected: Option<&Expected>) -> Result<Repaired, Error> {
     let runs_path = dir.join(RUNS);
     let progress_path = dir.join(PROGRESS);
     let runs = load(
@@ -152,7 +152,7 @@ pub fn repair(dir: &Path, expected: Option<&Expected>) -> Result<Repaired, CliEr
     if let Some(exp) = expected {
         for (i, r) in runs.rows.iter().enumerate() {
             if exp.runs.get(&r.run_id) != Some(&r.run) || r.experiment != exp.experiment {
-                return Err(CliError::Input(InputError::new(
+                return Err(Error::Input(InputError::new(
                     runs_path.display().to_string(),
                     format!("row {}", i + 1),
                     format!(
@@ -260,7 +260,7 @@ pub fn repair(dir: &Path, expected: Option<&Expected>) -> Result<Repaired, CliEr
     }
     if runs.torn_header {
         std::fs::remove_file(&runs_path)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", runs_path.display())))?;
+            .map_err(|e| Error::Failed(format!("{}: {e}", runs_path.display())))?;
     } else if runs.torn_tail > 0 || kept_runs.len() != runs.rows.len() {
         let agents = store::file_agents(dir);
         let kept: Vec<RunRecord> = kept_runs.into_iter().cloned().collect();

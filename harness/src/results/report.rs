@@ -10,7 +10,7 @@ use std::path::Path;
 use super::manifest::Manifest;
 use super::plots::PlotFile;
 use super::summary::{GroupSummary, summaries};
-use crate::CliError;
+use crate::Error;
 use crate::metrics::{Aggregation, Compute, Metric};
 use crate::run::RunRecord;
 use crate::stats::Summary;
@@ -187,10 +187,10 @@ fn agent_table(o: &mut String, rows: &[&GroupSummary], shown: Shown) {
     o.push_str("</tbody></table>\n<p class=\"note\">Agents numbered from 1 as in the plots (column <code>rms_error_agent0_bl</code> of runs.csv is agent 1). Medians with [first quartile, third quartile] over the tracked runs. The worst agent of a run is the one with the largest observed RMS error; its row is the median of that per-run worst, its max the largest error of any agent. docs/tracking.md, \"Metrics\".</p>\n");
 }
 
-fn inline_svg(stem: &Path) -> Result<String, CliError> {
+fn inline_svg(stem: &Path) -> Result<String, Error> {
     let path = crate::plot::with_ext(stem, "svg");
     let text = std::fs::read_to_string(&path)
-        .map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))?;
+        .map_err(|e| Error::Failed(format!("{}: {e}", path.display())))?;
     let start = text.find("<svg").unwrap_or(0);
     Ok(text[start..].to_string())
 }
@@ -220,7 +220,7 @@ pub fn write(
     runs: &[RunRecord],
     plots: &[PlotFile],
     units: Units,
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     let e = &m.experiment;
     let mut o = String::new();
     let _ = write!(
@@ -367,5 +367,5 @@ pub fn write(
     let _ = writeln!(o, "<script>{SORT_SCRIPT}</script>");
     o.push_str("</body></html>\n");
     let path = dir.join("report.html");
-    std::fs::write(&path, o).map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
+    std::fs::write(&path, o).map_err(|e| Error::Failed(format!("{}: {e}", path.display())))
 }

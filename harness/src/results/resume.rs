@@ -10,7 +10,7 @@ use super::lock::{self, DirLock};
 use super::manifest::{MANIFEST, Manifest};
 use super::repair::{Expected, repair};
 use super::store::{PROGRESS, RUNS};
-use crate::CliError;
+use crate::Error;
 use crate::experiment::Experiment;
 use crate::run::RunSpec;
 
@@ -44,7 +44,7 @@ fn short(h: &str) -> &str {
 
 /// The manifest of `out` for resuming `e`: read and checked; rebuilt from `e` (with a note) if
 /// it is missing or cut short.
-fn resumed_manifest(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Manifest, CliError> {
+fn resumed_manifest(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Manifest, Error> {
     let path = out.join(MANIFEST);
     let text = std::fs::read_to_string(&path).ok();
     let cut = text
@@ -65,7 +65,7 @@ fn resumed_manifest(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Manif
     }
     let m = Manifest::read(out)?;
     if m.experiment.sha256 != e.hash() {
-        return Err(CliError::Input(InputError::new(
+        return Err(Error::Input(InputError::new(
             out.display().to_string(),
             "--resume",
             format!(
@@ -76,7 +76,7 @@ fn resumed_manifest(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Manif
         )));
     }
     if m.shard != o.shard {
-        return Err(CliError::Input(InputError::new(
+        return Err(Error::Input(InputError::new(
             out.display().to_string(),
             "--shard",
             format!("the results are of shard {:?}, not {:?}", m.shard, o.shard),
@@ -98,15 +98,15 @@ pub fn open_for_sweep(
     e: &Experiment,
     specs: &[RunSpec],
     o: &OpenOptions,
-) -> Result<Opened, CliError> {
+) -> Result<Opened, Error> {
     std::fs::create_dir_all(out)
-        .map_err(|err| CliError::Failed(format!("{}: {err}", out.display())))?;
+        .map_err(|err| Error::Failed(format!("{}: {err}", out.display())))?;
     let lock = lock::exclusive(out, "bench", "--out")?;
     let holds = [MANIFEST, RUNS, PROGRESS]
         .iter()
         .any(|f| out.join(f).exists());
     if holds && !o.resume {
-        return Err(CliError::Input(InputError::new(
+        return Err(Error::Input(InputError::new(
             out.display().to_string(),
             "--out",
             "already holds results: pass --resume to complete them, or choose another --out",

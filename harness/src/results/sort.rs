@@ -14,7 +14,7 @@ use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use super::store::{self, PROGRESS, RUNS, Snapshot, bad_row, failed};
-use crate::CliError;
+use crate::Error;
 
 /// A byte range of a file.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,7 +49,7 @@ struct Stretch {
 
 /// Sorts `runs.csv` and `progress.csv` of `dir` (writing each with this version's header
 /// when it is missing or has no complete line).
-pub fn sort_files(dir: &Path) -> Result<(), CliError> {
+pub fn sort_files(dir: &Path) -> Result<(), Error> {
     sort_runs(&dir.join(RUNS))?;
     sort_progress(&dir.join(PROGRESS))
 }
@@ -67,7 +67,7 @@ fn records<K>(
     snap: &Snapshot,
     key: impl Fn(&csv::StringRecord, &csv::StringRecord) -> Result<K, String>,
     mut visit: impl FnMut(K, Range),
-) -> Result<Option<Head>, CliError> {
+) -> Result<Option<Head>, Error> {
     let path = snap.path();
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(false)
@@ -78,7 +78,7 @@ fn records<K>(
         let more = rd
             .read_record(rec)
             .map_err(|e| bad_row(path, row, e.to_string()))?;
-        Ok::<_, CliError>(more.then(|| Range {
+        Ok::<_, Error>(more.then(|| Range {
             start,
             end: rd.position().byte(),
         }))
@@ -114,7 +114,7 @@ where
     v.parse().map_err(|e| format!("{name}: {v:?}: {e}"))
 }
 
-fn sort_runs(path: &Path) -> Result<(), CliError> {
+fn sort_runs(path: &Path) -> Result<(), Error> {
     let Some(snap) = Snapshot::open(path)? else {
         return replace(path, |w| write_line(w, &store::runs_header(0)));
     };
@@ -138,7 +138,7 @@ fn sort_runs(path: &Path) -> Result<(), CliError> {
     })
 }
 
-fn sort_progress(path: &Path) -> Result<(), CliError> {
+fn sort_progress(path: &Path) -> Result<(), Error> {
     let header = store::progress_header();
     let Some(snap) = Snapshot::open(path)? else {
         return replace(path, |w| write_line(w, &header));
@@ -207,7 +207,7 @@ fn write_run_sorted(
     header: &csv::StringRecord,
     group: &[Stretch],
     w: &mut dyn Write,
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     let mut rows: Vec<(Point, Vec<u8>)> = vec![];
     for s in group {
         let bytes = read_range(src, s.range, path)?;
@@ -238,11 +238,7 @@ fn write_run_sorted(
     Ok(())
 }
 
-fn read_range(
-    src: &mut std::io::BufReader<File>,
-    r: Range,
-    path: &Path,
-) -> Result<Vec<u8>, CliError> {
+fn read_range(src: &mut std::io::BufReader<File>, r: Range, path: &Path) -> Result<Vec<u8>, Error> {
     let mut buf = vec![0; (r.end - r.start) as usize];
     src.seek(SeekFrom::Start(r.start))
         .and_then(|_| src.read_exact(&mut buf))
@@ -255,21 +251,21 @@ fn copy(
     path: &Path,
     r: Range,
     w: &mut dyn Write,
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     let buf = read_range(src, r, path)?;
     w.write_all(&buf).map_err(|e| failed(path, e))
 }
 
-fn write_line(w: &mut dyn Write, line: &str) -> Result<(), CliError> {
-    writeln!(w, "{line}").map_err(|e| CliError::Failed(format!("writing a header: {e}")))
+fn write_line(w: &mut dyn Write, line: &str) -> Result<(), Error> {
+    writeln!(w, "{line}").map_err(|e| Error::Failed(format!("writing a header: {e}")))
 }
 
 /// Replaces the file at `path` with what `write` writes, atomically: a temporary file beside
 /// it, synced, then renamed over it.
 fn replace(
     path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> Result<(), CliError>,
-) -> Result<(), CliError> {
+    write: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
+) -> Result<(), Error> {
     let tmp = path.with_extension("csv.tmp");
     {
         let f = File::create(&tmp).map_err(|e| failed(&tmp, e))?;

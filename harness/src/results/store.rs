@@ -21,7 +21,7 @@ use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::CliError;
+use crate::Error;
 use crate::metrics::Metric;
 use crate::metrics::difficulty::Measure;
 use crate::run::record::{AgentErrors, agent_columns};
@@ -32,8 +32,8 @@ pub const RUNS: &str = "runs.csv";
 /// `progress.csv`.
 pub const PROGRESS: &str = "progress.csv";
 
-pub(super) fn failed(path: &Path, e: impl std::fmt::Display) -> CliError {
-    CliError::Failed(format!("{}: {e}", path.display()))
+pub(super) fn failed(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Failed(format!("{}: {e}", path.display()))
 }
 
 fn header_line<T: serde::Serialize>(example: &T) -> String {
@@ -171,7 +171,7 @@ impl RunWriter {
     /// Opens (creating with headers if needed) the run files of `dir` for appending, with
     /// per-agent columns for `agents` agents (the largest team the experiment tracks). Call
     /// [`super::repair::repair`] first on a folder that may hold an interrupted sweep.
-    pub fn open(dir: &Path, agents: usize) -> Result<RunWriter, CliError> {
+    pub fn open(dir: &Path, agents: usize) -> Result<RunWriter, Error> {
         std::fs::create_dir_all(dir).map_err(|e| failed(dir, e))?;
         let runs = open_with_header(&dir.join(RUNS), &runs_header(agents))?;
         let progress = open_with_header(&dir.join(PROGRESS), &progress_header())?;
@@ -186,7 +186,7 @@ impl RunWriter {
 
     /// Writes one finished run: progress rows first, then the run's row (the commit mark, with
     /// the number of progress rows), then syncs both files.
-    pub fn write(&mut self, out: &RunOutput) -> Result<(), CliError> {
+    pub fn write(&mut self, out: &RunOutput) -> Result<(), Error> {
         let mut record = out.record.clone();
         record.progress_rows = Some(out.progress.len() as u64);
         if let Some(r) = &out.replay {
@@ -202,7 +202,7 @@ impl RunWriter {
         Ok(())
     }
 
-    fn append(&mut self, name: &str, bytes: &[u8]) -> Result<(), CliError> {
+    fn append(&mut self, name: &str, bytes: &[u8]) -> Result<(), Error> {
         let f = if name == RUNS {
             &mut self.runs
         } else {
@@ -224,7 +224,7 @@ impl RunWriter {
     }
 }
 
-fn open_with_header(path: &Path, header: &str) -> Result<File, CliError> {
+fn open_with_header(path: &Path, header: &str) -> Result<File, Error> {
     let existing = std::fs::read_to_string(path).unwrap_or_default();
     let mut f = OpenOptions::new()
         .create(true)
@@ -236,7 +236,7 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, CliError> {
             .map_err(|e| failed(path, e))?;
         f.sync_data().map_err(|e| failed(path, e))?;
     } else if existing.lines().next() != Some(header) {
-        return Err(CliError::Input(magbench_env::InputError::new(
+        return Err(Error::Input(magbench_env::InputError::new(
             path.display().to_string(),
             "header",
             "the columns differ from this version of magbench; write to a new --out folder",
@@ -248,7 +248,7 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, CliError> {
 /// Reads the complete rows of `runs.csv` (a trailing partial line is ignored), one at a time,
 /// with their difficulty and per-agent columns (a file without them, e.g. of an older
 /// version, gives none).
-pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, CliError> {
+pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, Error> {
     match Snapshot::open(&dir.join(RUNS))? {
         Some(s) => s.runs()?.collect(),
         None => Ok(vec![]),
@@ -256,12 +256,12 @@ pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, CliError> {
 }
 
 /// Parses the complete rows `text` (header first) of the `runs.csv` at `path`.
-pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, CliError> {
+pub fn parse_runs(path: &Path, text: &str) -> Result<Vec<RunRecord>, Error> {
     RunRows::new(path, text.as_bytes())?.collect()
 }
 
-pub(super) fn bad_row(path: &Path, row: usize, e: String) -> CliError {
-    CliError::Input(magbench_env::InputError::new(
+pub(super) fn bad_row(path: &Path, row: usize, e: String) -> Error {
+    Error::Input(magbench_env::InputError::new(
         path.display().to_string(),
         format!("row {row}"),
         e,
@@ -287,7 +287,7 @@ pub struct RunRows<R: std::io::Read> {
 
 impl<R: std::io::Read> RunRows<R> {
     /// Reads the header of the `runs.csv` at `path` (named in errors) from `input`.
-    pub fn new(path: &Path, input: R) -> Result<RunRows<R>, CliError> {
+    pub fn new(path: &Path, input: R) -> Result<RunRows<R>, Error> {
         let mut reader = csv::Reader::from_reader(input);
         let headers = reader
             .headers()
@@ -318,14 +318,14 @@ impl<R: std::io::Read> RunRows<R> {
         })
     }
 
-    fn parse(&self) -> Result<RunRecord, CliError> {
+    fn parse(&self) -> Result<RunRecord, Error> {
         let (row, i) = (&self.record, self.row);
         let headers = &self.headers;
         let bad = |e: String| bad_row(&self.path, i, e);
         let mut r: RunRecord = row
             .deserialize(Some(headers))
             .map_err(|e| bad(e.to_string()))?;
-        let cell = |c: Option<usize>| -> Result<Option<f64>, CliError> {
+        let cell = |c: Option<usize>| -> Result<Option<f64>, Error> {
             let Some(c) = c else { return Ok(None) };
             match row.get(c).filter(|v| !v.is_empty()) {
                 None => Ok(None),
@@ -361,7 +361,7 @@ impl<R: std::io::Read> RunRows<R> {
 }
 
 impl<R: std::io::Read> Iterator for RunRows<R> {
-    type Item = Result<RunRecord, CliError>;
+    type Item = Result<RunRecord, Error>;
 
     fn next(&mut self) -> Option<Self::Item> {
         self.row += 1;
@@ -387,7 +387,7 @@ pub struct Snapshot {
 
 impl Snapshot {
     /// Opens the file at `path` and finds the end of its complete lines (`None`: no file).
-    pub fn open(path: &Path) -> Result<Option<Snapshot>, CliError> {
+    pub fn open(path: &Path) -> Result<Option<Snapshot>, Error> {
         use std::io::{BufRead, BufReader};
         let file = match File::open(path) {
             Ok(f) => f,
@@ -441,7 +441,7 @@ impl Snapshot {
     }
 
     /// The complete lines, from the start; one reader at a time (they share the file offset).
-    pub fn reader(&self) -> Result<std::io::Take<std::io::BufReader<File>>, CliError> {
+    pub fn reader(&self) -> Result<std::io::Take<std::io::BufReader<File>>, Error> {
         use std::io::{Read, Seek};
         let mut f = self.file.try_clone().map_err(|e| failed(&self.path, e))?;
         f.rewind().map_err(|e| failed(&self.path, e))?;
@@ -449,14 +449,14 @@ impl Snapshot {
     }
 
     /// The rows of this `runs.csv`, read one at a time.
-    pub fn runs(&self) -> Result<RunRows<std::io::Take<std::io::BufReader<File>>>, CliError> {
+    pub fn runs(&self) -> Result<RunRows<std::io::Take<std::io::BufReader<File>>>, Error> {
         RunRows::new(&self.path, self.reader()?)
     }
 
     /// The rows of this `progress.csv`, read one at a time.
     pub fn progress(
         &self,
-    ) -> Result<impl Iterator<Item = Result<ProgressRow, CliError>> + use<>, CliError> {
+    ) -> Result<impl Iterator<Item = Result<ProgressRow, Error>> + use<>, Error> {
         let path = self.path.clone();
         Ok(csv::Reader::from_reader(self.reader()?)
             .into_deserialize()
@@ -471,7 +471,7 @@ pub fn progress_bytes(rows: &[ProgressRow]) -> Vec<u8> {
 }
 
 /// Reads the complete rows of `progress.csv`, one at a time.
-pub fn read_progress(dir: &Path) -> Result<Vec<ProgressRow>, CliError> {
+pub fn read_progress(dir: &Path) -> Result<Vec<ProgressRow>, Error> {
     match Snapshot::open(&dir.join(PROGRESS))? {
         Some(s) => s.progress()?.collect(),
         None => Ok(vec![]),
@@ -499,16 +499,16 @@ pub fn complete_part(text: &str) -> &str {
 }
 
 /// Parses the complete rows `text` (header first) of the `progress.csv` at `path`.
-pub fn parse_progress(path: &Path, text: &str) -> Result<Vec<ProgressRow>, CliError> {
+pub fn parse_progress(path: &Path, text: &str) -> Result<Vec<ProgressRow>, Error> {
     parse_rows(path, text)
 }
 
-fn parse_rows<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<Vec<T>, CliError> {
+fn parse_rows<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<Vec<T>, Error> {
     let mut rd = csv::Reader::from_reader(text.as_bytes());
     let mut out = vec![];
     for (i, r) in rd.deserialize().enumerate() {
         out.push(r.map_err(|e| {
-            CliError::Input(magbench_env::InputError::new(
+            Error::Input(magbench_env::InputError::new(
                 path.display().to_string(),
                 format!("row {}", i + 1),
                 e.to_string(),
@@ -523,17 +523,17 @@ pub fn write_atomic<T: serde::Serialize>(
     path: &Path,
     header: &str,
     rows: &[T],
-) -> Result<(), CliError> {
+) -> Result<(), Error> {
     replace_atomic(path, header, record_bytes(rows))
 }
 
 /// Replaces the `runs.csv` at `path` with `rows` and per-agent columns for `agents` agents,
 /// atomically.
-pub fn write_runs_atomic(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), CliError> {
+pub fn write_runs_atomic(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), Error> {
     replace_atomic(path, &runs_header(agents), run_bytes(rows, agents))
 }
 
-fn replace_atomic(path: &Path, header: &str, rows: Vec<u8>) -> Result<(), CliError> {
+fn replace_atomic(path: &Path, header: &str, rows: Vec<u8>) -> Result<(), Error> {
     let tmp = path.with_extension("csv.tmp");
     let mut bytes = format!("{header}\n").into_bytes();
     bytes.extend(rows);
@@ -547,7 +547,7 @@ fn replace_atomic(path: &Path, header: &str, rows: Vec<u8>) -> Result<(), CliErr
 }
 
 /// Syncs the folder holding `path`, so that a rename into it is durable.
-pub fn sync_dir(path: &Path) -> Result<(), CliError> {
+pub fn sync_dir(path: &Path) -> Result<(), Error> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::store::{PROGRESS, Snapshot};
-use crate::CliError;
+use crate::Error;
 use crate::run::ProgressRow;
 
 /// One point of a run's progress trace.
@@ -35,7 +35,7 @@ impl Traces {
 
     /// The traces of the complete rows of the `progress.csv` of `dir`, read one row at a time
     /// (none without the file).
-    pub fn read(dir: &Path) -> Result<Self, CliError> {
+    pub fn read(dir: &Path) -> Result<Self, Error> {
         let mut t = Traces::default();
         if let Some(s) = Snapshot::open(&dir.join(PROGRESS))? {
             for r in s.progress()? {

@@ -10,7 +10,7 @@ use sha2::{Digest, Sha256};
 use super::manifest::{MANIFEST, Manifest};
 use super::parquet::PARQUET;
 use super::store::{self, PROGRESS, RUNS, Snapshot};
-use crate::CliError;
+use crate::Error;
 use crate::run::{ProgressRow, RunRecord, Status};
 
 /// What [`verify`] found.
@@ -73,10 +73,10 @@ pub type FileHashes = BTreeMap<String, String>;
 
 /// SHA-256 of every file under `dir` (but the manifest, the lock and temporary files), by path
 /// relative to `dir` with `/` separators.
-pub fn file_hashes(dir: &Path) -> Result<FileHashes, CliError> {
+pub fn file_hashes(dir: &Path) -> Result<FileHashes, Error> {
     let mut out = BTreeMap::new();
     let mut stack = vec![(dir.to_path_buf(), String::new())];
-    let io = |p: &Path, e: std::io::Error| CliError::Failed(format!("{}: {e}", p.display()));
+    let io = |p: &Path, e: std::io::Error| Error::Failed(format!("{}: {e}", p.display()));
     while let Some((d, prefix)) = stack.pop() {
         for entry in std::fs::read_dir(&d).map_err(|e| io(&d, e))? {
             let entry = entry.map_err(|e| io(&d, e))?;
@@ -200,11 +200,11 @@ fn open_rows(
 /// `false` (what was visited is then to be dropped).
 fn each_row<T>(
     file: &str,
-    rows: Result<impl Iterator<Item = Result<T, CliError>>, CliError>,
+    rows: Result<impl Iterator<Item = Result<T, Error>>, Error>,
     problems: &mut Vec<String>,
     mut visit: impl FnMut(T),
 ) -> bool {
-    let run = || -> Result<(), CliError> {
+    let run = || -> Result<(), Error> {
         for r in rows? {
             visit(r?);
         }
@@ -231,9 +231,9 @@ struct Row {
 /// finished, every run and the manifest's counts; `progress.csv` holds exactly each run's
 /// `progress_rows` trace points and none of runs without a row; and the files hash as the
 /// manifest records. Errors only for bad input (no such folder, not a results folder).
-pub fn verify(dir: &Path) -> Result<Verified, CliError> {
+pub fn verify(dir: &Path) -> Result<Verified, Error> {
     if !dir.is_dir() {
-        return Err(CliError::Input(InputError::new(
+        return Err(Error::Input(InputError::new(
             dir.display().to_string(),
             "DIR",
             "not a folder",
@@ -243,7 +243,7 @@ pub fn verify(dir: &Path) -> Result<Verified, CliError> {
         .iter()
         .any(|f| dir.join(f).exists())
     {
-        return Err(CliError::Input(InputError::new(
+        return Err(Error::Input(InputError::new(
             dir.display().to_string(),
             "DIR",
             format!("not a results folder: no {MANIFEST}, {RUNS} or {PROGRESS}"),
@@ -354,7 +354,7 @@ fn check_parquet(dir: &Path, rows: &[Row], p: &mut Vec<String>) {
 
 /// Runs [`verify`] on `dir` and fails (exit 1) listing the problems if it finds any; missing
 /// runs count only if `complete` is asked.
-pub fn require_sound(dir: &Path, complete: bool) -> Result<(), CliError> {
+pub fn require_sound(dir: &Path, complete: bool) -> Result<(), Error> {
     let v = verify(dir)?;
     let problems = if complete {
         v.all_problems()
@@ -364,7 +364,7 @@ pub fn require_sound(dir: &Path, complete: bool) -> Result<(), CliError> {
     if problems.is_empty() {
         return Ok(());
     }
-    Err(CliError::Failed(format!(
+    Err(Error::Failed(format!(
         "results verify {} found {} problems:\n  {}",
         dir.display(),
         problems.len(),
@@ -528,7 +528,7 @@ fn check_hashes(
     m: &Manifest,
     p: &mut Vec<String>,
     notes: &mut Vec<String>,
-) -> Result<usize, CliError> {
+) -> Result<usize, Error> {
     if m.files.is_empty() {
         if m.finished.is_none() {
             // an unfinished folder has no hashes yet; that is reported as unfinished

@@ -31,9 +31,9 @@ pub enum BenchError {
     },
 }
 
-impl From<BenchError> for magbench::CliError {
+impl From<BenchError> for magbench::Error {
     fn from(e: BenchError) -> Self {
-        magbench::CliError::Failed(e.to_string())
+        magbench::Error::Failed(e.to_string())
     }
 }
 

@@ -29,9 +29,9 @@ pub enum TestError {
     },
 }
 
-impl From<TestError> for magbench::CliError {
+impl From<TestError> for magbench::Error {
     fn from(e: TestError) -> Self {
-        magbench::CliError::Failed(e.to_string())
+        magbench::Error::Failed(e.to_string())
     }
 }
 

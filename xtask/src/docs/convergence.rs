@@ -8,7 +8,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use magbench::CliError;
+use magbench::Error;
 use magbench::metrics::Metric;
 use magbench::results::store::read_progress;
 use magbench::results::summary::groups;
@@ -63,7 +63,7 @@ fn iterations(n: u64) -> String {
 /// Per scenario and planner: the median best cost after each of [`checkpoints`] iterations over
 /// the runs solved by then (with how many), the median planning time and tree nodes. Reads
 /// `progress.csv` of `dir`.
-pub fn convergence(dir: &Path, runs: &[RunRecord]) -> Result<Table, CliError> {
+pub fn convergence(dir: &Path, runs: &[RunRecord]) -> Result<Table, Error> {
     let rows = read_progress(dir)?;
     Ok(convergence_of(runs, &rows))
 }

@@ -8,7 +8,7 @@ use statrs::distribution::{Binomial, DiscreteCDF};
 use super::convergence::Traces;
 use super::family_tables::{by_family, family};
 use super::tables::scenario;
-use magbench::CliError;
+use magbench::Error;
 use magbench::results::manifest::Manifest;
 use magbench::results::store::read_progress;
 use magbench::results::summary::groups;
@@ -60,7 +60,7 @@ fn median_with_interval(v: &[f64]) -> String {
 
 /// Per scenario and planner: at each of [`TIMES`], the median best cost over the runs solved by
 /// then with its 95% interval, and how many runs had solved. Reads `progress.csv` of `dir`.
-pub fn cost_at_time(dir: &Path, runs: &[RunRecord]) -> Result<Table, CliError> {
+pub fn cost_at_time(dir: &Path, runs: &[RunRecord]) -> Result<Table, Error> {
     let rows = read_progress(dir)?;
     Ok(cost_at_time_of(runs, &rows))
 }
@@ -111,7 +111,7 @@ fn cells(traces: &Traces, group: &[&RunRecord], times: &[f64]) -> Vec<String> {
 /// [`by_family`] of a suite's sweep with [`cost_at_time`]'s columns after its own, at the
 /// [`TIMES`] within the experiment's time limit (a run stopped by it has no later cost).
 /// Reads `manifest.json` and `progress.csv` of `dir`.
-pub fn by_family_at_times(dir: &Path, runs: &[RunRecord]) -> Result<Table, CliError> {
+pub fn by_family_at_times(dir: &Path, runs: &[RunRecord]) -> Result<Table, Error> {
     let limit = Manifest::read(dir)?.experiment.time_limit_s;
     let times: Vec<f64> = TIMES
         .into_iter()

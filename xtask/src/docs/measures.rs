@@ -19,7 +19,7 @@ use super::tracker_tables::comparison;
 use super::transcript::Step;
 use Kind::{Folder, Outputs, Runs};
 use Source::{Bench, Python, Sweep, Test, Transcript};
-use magbench::CliError;
+use magbench::Error;
 use magbench::run::{RunOutput, RunRecord};
 use magbench::table::Table;
 
@@ -30,7 +30,7 @@ pub enum Kind {
     Runs(fn(&[RunRecord]) -> Table),
     /// A sweep of the experiment; the table comes from its results folder (`progress.csv` as
     /// well as the `runs.csv` rows, given).
-    Folder(fn(&Path, &[RunRecord]) -> Result<Table, CliError>),
+    Folder(fn(&Path, &[RunRecord]) -> Result<Table, Error>),
     /// The experiment's runs, each run's whole output kept (its replan log too); no results
     /// folder is written.
     Outputs(fn(&[RunOutput]) -> Table),

@@ -10,7 +10,6 @@ use magbench_env::InputError;
 use thiserror::Error;
 
 use super::cargo::table_text;
-use magbench::CliError;
 
 /// The environment variable naming the Python interpreter.
 pub const PYTHON_VAR: &str = "MAGBENCH_PYTHON";
@@ -60,11 +59,11 @@ pub enum PythonError {
     },
 }
 
-impl From<PythonError> for CliError {
+impl From<PythonError> for magbench::Error {
     fn from(e: PythonError) -> Self {
         match e {
-            PythonError::Interpreter(e) => CliError::Input(e),
-            e => CliError::Failed(e.to_string()),
+            PythonError::Interpreter(e) => magbench::Error::Input(e),
+            e => magbench::Error::Failed(e.to_string()),
         }
     }
 }
@@ -240,7 +239,7 @@ mod tests {
             "echo 'Traceback (most recent call last):' >&2\n\
              echo \"ModuleNotFoundError: No module named 'magbench'\" >&2\nexit 1",
         );
-        let e = CliError::from(probe(&lacking, dir.path()).unwrap_err());
+        let e = magbench::Error::from(probe(&lacking, dir.path()).unwrap_err());
         assert_eq!(e.exit_code(), 2);
         let text = e.to_string();
         assert!(
@@ -252,12 +251,12 @@ mod tests {
         assert!(text.contains("pip install ./python"), "{text}");
 
         let missing = dir.path().join("no-such-python").display().to_string();
-        let e = CliError::from(probe(&missing, dir.path()).unwrap_err());
+        let e = magbench::Error::from(probe(&missing, dir.path()).unwrap_err());
         assert_eq!(e.exit_code(), 2);
         assert!(e.to_string().contains("cannot be started"), "{e}");
 
         let not_python = script(dir.path(), "echo", "echo hello");
-        let e = CliError::from(probe(&not_python, dir.path()).unwrap_err());
+        let e = magbench::Error::from(probe(&not_python, dir.path()).unwrap_err());
         assert_eq!(e.exit_code(), 2);
         assert!(e.to_string().contains("is not a Python interpreter"), "{e}");
     }
@@ -313,7 +312,7 @@ mod tests {
         );
         let none = run_python(&sh, &run("none.sh")).unwrap_err();
         assert!(matches!(none, PythonError::NoTable { .. }), "{none}");
-        let fails = CliError::from(run_python(&sh, &run("fails.sh")).unwrap_err());
+        let fails = magbench::Error::from(run_python(&sh, &run("fails.sh")).unwrap_err());
         assert_eq!(fails.exit_code(), 1);
         assert!(fails.to_string().contains("failed"), "{fails}");
     }

@@ -11,7 +11,7 @@ use super::header::{Header, parse};
 use super::measures::{Kind, Measure, Source};
 use super::python::{PythonRun, interpreter_program, probe, run_python};
 use super::transcript::{format_transcript, run_transcript};
-use magbench::CliError;
+use magbench::Error;
 use magbench::experiment::Experiment;
 use magbench::results::manifest::{git_revision_outside, host, now};
 use magbench::results::plots::slug;
@@ -58,7 +58,7 @@ fn build() -> &'static str {
 }
 
 /// Runs measurement `m` with executor `ex` and returns the text of `docs/measured/NAME.md`.
-pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String, CliError> {
+pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String, Error> {
     let load = load_average();
     let (runs, body) = match m.source {
         Source::Sweep {
@@ -105,10 +105,10 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
             let magbench = o
                 .magbench
                 .path(o.root, echo)
-                .map_err(|e| CliError::Failed(format!("{}: {e}", m.name)))?;
+                .map_err(|e| Error::Failed(format!("{}: {e}", m.name)))?;
             let t0 = Instant::now();
             let entries = run_transcript(o.root, magbench, files, cwd, steps)
-                .map_err(|e| CliError::Failed(format!("{}: {e}", m.name)))?;
+                .map_err(|e| Error::Failed(format!("{}: {e}", m.name)))?;
             let runs = format!(
                 "{} magbench commands in a temporary folder, in {:.0} s, release build",
                 steps.len(),
@@ -142,7 +142,7 @@ pub fn measure(m: &Measure, ex: &dyn Executor, o: &RunOptions) -> Result<String,
         ),
     };
     let text = format!("{}\n{}", header.render(), body);
-    parse(&text).map_err(|err| CliError::Failed(format!("{}: generated file: {err}", m.name)))?;
+    parse(&text).map_err(|err| Error::Failed(format!("{}: generated file: {err}", m.name)))?;
     Ok(text)
 }
 
@@ -154,7 +154,7 @@ fn run_bench_measure(
     ids: &[&str],
     args: &[&str],
     o: &RunOptions,
-) -> Result<(String, String), CliError> {
+) -> Result<(String, String), Error> {
     let t0 = Instant::now();
     let r = BenchRun {
         bench,
@@ -180,7 +180,7 @@ fn run_bench_measure(
 }
 
 /// Runs the cargo test or example `r`; returns the header's `runs` line and the file's body.
-fn run_test_measure(r: &TestRun) -> Result<(String, String), CliError> {
+fn run_test_measure(r: &TestRun) -> Result<(String, String), Error> {
     let t0 = Instant::now();
     let body = run_test(r)?;
     let build = match r.release {
@@ -204,7 +204,7 @@ fn run_python_measure(
     args: &[&str],
     quick_args: &[&str],
     o: &RunOptions,
-) -> Result<(String, String), CliError> {
+) -> Result<(String, String), Error> {
     let interpreter = probe(&interpreter_program(), o.root)?;
     let dir = o.work.join(m.name);
     if args.iter().any(|a| a.contains("{work}")) {
@@ -229,7 +229,7 @@ fn run_python_measure(
     let magbench = o
         .magbench
         .path(o.root, echo)
-        .map_err(|e| CliError::Failed(format!("{}: {e}", m.name)))?;
+        .map_err(|e| Error::Failed(format!("{}: {e}", m.name)))?;
     let mut r = PythonRun {
         script,
         args: with(&dir.display().to_string()),
@@ -262,7 +262,7 @@ fn run_sweep_measure(
     (quick_seeds, kind, figures): (usize, Kind, &[&str]),
     ex: &dyn Executor,
     o: &RunOptions,
-) -> Result<(String, String), CliError> {
+) -> Result<(String, String), Error> {
     let mut e = Experiment::load(&o.root.join(experiment), ex)?;
     let all = e.seeds.len();
     if o.quick {
@@ -325,7 +325,7 @@ fn copy_figures(
     scenarios: &[String],
     figures: &[&str],
     out: &Path,
-) -> Result<String, CliError> {
+) -> Result<String, Error> {
     if figures.is_empty() {
         return Ok(String::new());
     }
@@ -339,7 +339,7 @@ fn copy_figures(
         for stem in figures {
             let from = dir.join("plots").join(sc).join(format!("{stem}.svg"));
             if !from.is_file() {
-                return Err(CliError::Failed(format!(
+                return Err(Error::Failed(format!(
                     "{name}: figure {} was not drawn",
                     from.display()
                 )));
@@ -359,7 +359,7 @@ fn sweep(
     ex: &dyn Executor,
     o: &RunOptions,
     dir: &Path,
-) -> Result<Vec<magbench::run::RunRecord>, CliError> {
+) -> Result<Vec<magbench::run::RunRecord>, Error> {
     let opts = SweepOptions {
         out: dir.to_path_buf(),
         threads: o.threads,
@@ -369,7 +369,7 @@ fn sweep(
     };
     let s = run_sweep(e, ex, &opts)?;
     if s.failed > 0 {
-        return Err(CliError::Failed(format!(
+        return Err(Error::Failed(format!(
             "{}: {} runs crashed: see the `error` column of {}",
             m.name,
             s.failed,
@@ -386,13 +386,13 @@ fn run_each(
     e: &Experiment,
     ex: &dyn Executor,
     threads: usize,
-) -> Result<Vec<RunOutput>, CliError> {
+) -> Result<Vec<RunOutput>, Error> {
     use rayon::prelude::*;
     let specs = e.runs();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|err| CliError::Failed(format!("{}: thread pool: {err}", m.name)))?;
+        .map_err(|err| Error::Failed(format!("{}: thread pool: {err}", m.name)))?;
     let outs: Vec<RunOutput> = pool.install(|| {
         specs
             .par_iter()
@@ -400,7 +400,7 @@ fn run_each(
             .collect()
     });
     if let Some(c) = outs.iter().find(|o| o.record.status == Status::Crash) {
-        return Err(CliError::Failed(format!(
+        return Err(Error::Failed(format!(
             "{}: run {} crashed: {}",
             m.name, c.record.run_id, c.record.error
         )));

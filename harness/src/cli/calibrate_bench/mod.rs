@@ -32,7 +32,7 @@ use self::score::Param;
 use self::tracking::Tracking;
 use super::calibrate_bench_plot::BenchFigure;
 use super::number::{checked, count};
-use crate::CliError;
+use crate::Error;
 use crate::output::{outln, prepare_dir};
 use crate::registry::Registry;
 
@@ -82,7 +82,7 @@ const DURATION: Bound = Bound::above(
 );
 
 /// Runs `magbench calibrate bench`.
-pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
+pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), Error> {
     count("--rigs", &RIGS, a.rigs as u64)?;
     checked("--duration", &DURATION, a.duration)?;
     let threads = super::number::threads(a.threads)?;
@@ -102,7 +102,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| CliError::Failed(format!("thread pool: {e}")))?;
+        .map_err(|e| Error::Failed(format!("thread pool: {e}")))?;
     let started = std::time::Instant::now();
     let results: Vec<Result<RigResult, String>> = pool.install(|| {
         rigs.par_iter()
@@ -146,12 +146,12 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), CliError> {
     let results = results
         .into_iter()
         .collect::<Result<Vec<_>, _>>()
-        .map_err(CliError::Failed)?;
+        .map_err(Error::Failed)?;
     let params = Param::all(agents);
-    report::write_csv(&a.out, &results).map_err(CliError::Failed)?;
+    report::write_csv(&a.out, &results).map_err(Error::Failed)?;
     let table = report::summary(&results, &params);
     let md = a.out.join("calibration-bench.md");
-    std::fs::write(&md, &table).map_err(|e| CliError::Failed(format!("{}: {e}", md.display())))?;
+    std::fs::write(&md, &table).map_err(|e| Error::Failed(format!("{}: {e}", md.display())))?;
     outln!(
         "{} rigs of {} s on {}, seed {}, {threads} threads, in {:.0} s",
         a.rigs,

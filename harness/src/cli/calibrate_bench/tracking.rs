@@ -9,7 +9,7 @@ use magbench_env::Scenario;
 use magbench_env::plant::Medium;
 use magbench_planners::{Plan, PlanningSetup};
 
-use crate::CliError;
+use crate::Error;
 use crate::api::{TrackRequest, plan_leg, track_plan};
 use crate::registry::Registry;
 
@@ -37,9 +37,9 @@ pub struct Tracking {
 
 impl Tracking {
     /// Plans [`SCENARIO`] once in bulk liquid and once at `interface` (the rigs' interface).
-    pub fn plan(registry: &Registry, interface: &Medium) -> Result<Self, CliError> {
+    pub fn plan(registry: &Registry, interface: &Medium) -> Result<Self, Error> {
         let scenario = magbench_env::scenario::parse_scenario(SHORT_OPEN, SCENARIO)?;
-        let plan = |medium: &Medium| -> Result<Plan, CliError> {
+        let plan = |medium: &Medium| -> Result<Plan, Error> {
             let mut planner = registry.planners().create(PLANNER, &[])?;
             let setup = PlanningSetup::default()
                 .in_frames_of(1.0 / 60.0)
@@ -48,7 +48,7 @@ impl Tracking {
                 .checked
                 .result;
             if !r.solved {
-                return Err(CliError::Failed(format!(
+                return Err(Error::Failed(format!(
                     "{PLANNER} did not solve {SCENARIO} (seed 0)"
                 )));
             }

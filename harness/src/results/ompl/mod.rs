@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 
 use super::manifest::Manifest;
 use super::traces::{TracePoint, Traces};
-use crate::CliError;
+use crate::Error;
 use crate::metrics::Metric;
 use crate::run::RunRecord;
 
@@ -303,8 +303,8 @@ fn write_file(
     runs: &[&RunRecord],
     progress: &Traces,
     qualify_scenario: bool,
-) -> Result<(), CliError> {
-    let failed = |e: std::io::Error| CliError::Failed(format!("{}: {e}", path.display()));
+) -> Result<(), Error> {
+    let failed = |e: std::io::Error| Error::Failed(format!("{}: {e}", path.display()));
     let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(failed)?);
     write_log(&mut w, name, m, runs, progress, qualify_scenario).map_err(failed)
 }
@@ -315,7 +315,7 @@ pub fn write(
     m: &Manifest,
     runs: &[RunRecord],
     progress: &Traces,
-) -> Result<Vec<PathBuf>, CliError> {
+) -> Result<Vec<PathBuf>, Error> {
     let all: Vec<&RunRecord> = runs.iter().collect();
     let mut scenarios: Vec<&str> = vec![];
     for r in runs {
@@ -331,7 +331,7 @@ pub fn write(
     if many {
         let sub = dir.join("ompl");
         std::fs::create_dir_all(&sub)
-            .map_err(|e| CliError::Failed(format!("{}: {e}", sub.display())))?;
+            .map_err(|e| Error::Failed(format!("{}: {e}", sub.display())))?;
         for s in scenarios {
             let these: Vec<&RunRecord> = runs.iter().filter(|r| r.scenario == s).collect();
             let stem = token(&s.replace(['/', '\\'], "_"));
