@@ -29,7 +29,7 @@ use magbench_env::model::Flow;
 use magbench_env::{Control, LocalView, Scenario, Vec2};
 use magbench_planners::extend::{Extend, Timing};
 use magbench_planners::nn::NearestNeighbors;
-use magbench_planners::{Limits, Metric, Planner, Planners, Problem, Rng};
+use magbench_planners::{Distance, Limits, Planner, Planners, Problem, Rng};
 use rand::{RngExt, SeedableRng};
 
 fn problem() -> Problem {
@@ -152,7 +152,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| k12.run_scalar(&p, &mut rng, black_box(&x), &target))
     });
 
-    let mut nn = NearestNeighbors::new(Metric::Positions, 2);
+    let mut nn = NearestNeighbors::new(Distance::Positions, 2);
     let mut rng = Rng::seed_from_u64(2);
     let team = |rng: &mut Rng| {
         LocalView {

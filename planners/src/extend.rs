@@ -26,7 +26,7 @@ use magbench_env::params::{BadValue, ParamType, Value, choose};
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 use rand::RngExt;
 
-use crate::metric::floor_exceeds;
+use crate::distance::floor_exceeds;
 use crate::motion::{aimed, random_control, random_elevated_control};
 use crate::{Problem, Rng};
 
@@ -365,7 +365,7 @@ impl Extend {
 }
 
 /// Solves the tries `integrated` (those without a closed form) from `near` into `ends`, in
-/// order of their centroid floors ([`crate::metric::Metric::centroid_floor`]; the centroid of a
+/// order of their centroid floors ([`crate::distance::Distance::centroid_floor`]; the centroid of a
 /// team of equally mobile agents moves in a straight line,
 /// [`magbench_env::model::Kinematics::centroid_velocity`]), and drops a try, before or while it
 /// is solved, once its floor exceeds the smallest squared distance to `target` so far (starting
@@ -421,7 +421,7 @@ const CLOSEST_GRID: u32 = 12;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::metric::Metric;
+    use crate::distance::Distance;
     use crate::sampler::{StateSampler, valid_sample};
     use crate::search_settings::SearchSettings;
     use magbench_env::model::Flow;
@@ -432,7 +432,7 @@ mod tests {
     /// dropped) is the try a plain scan of every try's one-at-a-time end chooses, bit for bit.
     #[test]
     fn team_extend_chooses_the_closest_try_of_all() {
-        let weighted = Metric::CentroidShape {
+        let weighted = Distance::CentroidShape {
             centroid: 2.0,
             shape: 0.5,
         };
@@ -442,10 +442,10 @@ mod tests {
             let base = Problem::from_scenario(&s, 0, None, 0);
             assert_eq!(base.start.len(), agents);
             for (metric, unequal, flow) in [
-                (Metric::Positions, false, Flow::PairAdaptive),
+                (Distance::Positions, false, Flow::PairAdaptive),
                 (weighted, false, Flow::PairAdaptive),
-                (Metric::Positions, true, Flow::PairAdaptive),
-                (Metric::Positions, false, Flow::PairExact),
+                (Distance::Positions, true, Flow::PairAdaptive),
+                (Distance::Positions, false, Flow::PairExact),
             ] {
                 let mut p = base.clone();
                 p.metric = metric;

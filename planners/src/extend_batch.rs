@@ -19,8 +19,8 @@ use magbench_env::math::centroid;
 use magbench_env::model::pair_flow::PairStart;
 use magbench_env::{Actuation, Control, MAX_AGENTS, Vec2};
 
+use crate::distance::floor_exceeds;
 use crate::extend::{Extend, Extension, Timing};
-use crate::metric::floor_exceeds;
 use crate::motion::random_control;
 use crate::{Problem, Rng};
 
@@ -160,7 +160,7 @@ impl Extend {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::metric::Metric;
+    use crate::distance::Distance;
     use crate::sampler::{StateSampler, valid_sample};
     use crate::search_settings::SearchSettings;
     use rand::{RngExt, SeedableRng};
@@ -169,13 +169,13 @@ mod tests {
     /// stream in the same place.
     #[test]
     fn batch_equals_scalar_bit_for_bit() {
-        let weighted = Metric::CentroidShape {
+        let weighted = Distance::CentroidShape {
             centroid: 2.0,
             shape: 0.5,
         };
         for (name, metric) in [
-            ("micro-factory", Metric::Positions),
-            ("narrow-passage", Metric::Positions),
+            ("micro-factory", Distance::Positions),
+            ("narrow-passage", Distance::Positions),
             ("micro-factory", weighted),
         ] {
             let s = magbench_env::Scenario::load(name).unwrap();

@@ -26,13 +26,14 @@
 
 #![warn(missing_docs)]
 
+pub mod connect;
+pub mod distance;
 pub mod extend;
 pub mod extend_batch;
 pub mod first_plan;
 pub mod goal_connect;
 pub mod guide;
 pub mod informed;
-pub mod metric;
 pub mod motion;
 pub mod nn;
 pub mod objective;
@@ -53,14 +54,13 @@ pub mod search_settings;
 pub mod seeds;
 pub mod setup;
 pub mod shortcut;
-pub mod steer;
 pub mod straighten;
 pub mod trajopt;
 pub mod tree;
 pub mod validate;
 
+pub use distance::{Distance, DistanceError};
 pub use first_plan::{Checked, FirstPlan, solve_checked};
-pub use metric::{Metric, MetricError};
 pub use objective::{Objective, plan_cost};
 pub use plan::{MadeFor, Plan};
 pub use planner::{Planner, PlannerResult, ProgressPoint};

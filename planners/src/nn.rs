@@ -20,12 +20,12 @@ const BUCKET: usize = 128;
 type Kd<const K: usize> = KdTree<f64, u32, Eytzinger, VecOfArrays<f64, u32, K, BUCKET>, K, BUCKET>;
 use magbench_env::{MAX_AGENTS, Vec2};
 
-use crate::metric::{MAX_DIMS, Metric};
+use crate::distance::{Distance, MAX_DIMS};
 
 /// A k-d tree of the states of one tree's nodes, keyed by node id.
 #[derive(Debug)]
 pub struct NearestNeighbors {
-    metric: Metric,
+    metric: Distance,
     dims: usize,
     weights: [f64; MAX_DIMS],
     index: Index,
@@ -70,7 +70,7 @@ macro_rules! with_index {
 
 impl NearestNeighbors {
     /// An empty structure for teams of `agents` agents under `metric`.
-    pub fn new(metric: Metric, agents: usize) -> Self {
+    pub fn new(metric: Distance, agents: usize) -> Self {
         let dims = 2 * agents;
         assert!((4..=MAX_DIMS).contains(&dims), "2 to {MAX_AGENTS} agents");
         let (index, k) = match dims {
@@ -94,7 +94,7 @@ impl NearestNeighbors {
     }
 
     /// The metric.
-    pub fn metric(&self) -> Metric {
+    pub fn metric(&self) -> Distance {
         self.metric
     }
 
@@ -178,7 +178,7 @@ impl NearestNeighbors {
 /// The tree point of state `s`: the embedding, its first coordinates repeated up to K.
 #[inline]
 fn point_of<const K: usize>(
-    metric: Metric,
+    metric: Distance,
     dims: usize,
     weights: &[f64; MAX_DIMS],
     s: &[Vec2],
@@ -215,8 +215,8 @@ mod tests {
         let mut rng = Rng::seed_from_u64(3);
         for n in 2..=MAX_AGENTS {
             for metric in [
-                Metric::Positions,
-                Metric::CentroidShape {
+                Distance::Positions,
+                Distance::CentroidShape {
                     centroid: 1.0,
                     shape: 2.5,
                 },

@@ -6,7 +6,7 @@ use std::time::Duration;
 use magbench_env::model::SteerLimits;
 use magbench_env::{Goal, PlanningModel, Scenario, ValidityChecker, Vec2, World};
 
-use crate::metric::Metric;
+use crate::distance::Distance;
 use crate::objective::Objective;
 use crate::setup::PlanningSetup;
 
@@ -54,7 +54,7 @@ pub struct Problem {
     /// The cost to minimise (sum of agent path lengths by default).
     pub objective: Arc<dyn Objective>,
     /// The distance of nearest-neighbour queries and EXTEND (agent positions by default).
-    pub metric: Metric,
+    pub metric: Distance,
     /// The largest field elevation |α| a plan may command (rad); the validator enforces it.
     pub alpha_max: f64,
 }

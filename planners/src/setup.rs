@@ -23,7 +23,7 @@ use magbench_env::params::ParamInfo;
 use magbench_env::plant::Medium;
 use magbench_env::{InputError, PlanningModel, Scenario, Vec2};
 
-use crate::metric::Metric;
+use crate::distance::Distance;
 use crate::objective::{OBJECTIVES, objective_by_name};
 use crate::validate::{PlanError, validate_path, validate_plan};
 use crate::{Limits, PlannerResult, Problem};
@@ -41,7 +41,7 @@ pub struct PlanningSetup {
     /// The cost to minimise: `path-length` (default), `duration` or `control-effort`.
     pub objective: &'static str,
     /// The distance of nearest-neighbour queries and EXTEND.
-    pub metric: Metric,
+    pub metric: Distance,
     /// When each planning call stops.
     pub limits: Limits,
     /// Every edge lasts a whole number of these (s): the frame period of the rig (or preset)
@@ -64,7 +64,7 @@ impl Default for PlanningSetup {
     fn default() -> Self {
         PlanningSetup {
             objective: OBJECTIVES[0],
-            metric: Metric::Positions,
+            metric: Distance::Positions,
             limits: Limits::default(),
             control_period: DEFAULT_CONTROL_PERIOD,
             flow: Flow::default(),
@@ -206,7 +206,7 @@ impl PlanningSetup {
                         ))
                     })?;
             }
-            "metric" => self.metric = Metric::parse(value).map_err(|e| bad(e.to_string()))?,
+            "metric" => self.metric = Distance::parse(value).map_err(|e| bad(e.to_string()))?,
             "flow" => {
                 self.flow = Flow::from_name(value).ok_or_else(|| {
                     let known: Vec<_> = Flow::ALL.iter().map(|f| f.name()).collect();
@@ -334,7 +334,7 @@ mod tests {
             assert_eq!(p.objective.name(), "duration");
             assert_eq!(
                 p.metric,
-                Metric::CentroidShape {
+                Distance::CentroidShape {
                     centroid: 1.0,
                     shape: 2.0
                 }

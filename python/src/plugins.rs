@@ -19,7 +19,7 @@ use magbench_env::{Control, Vec2};
 use magbench_planners::objective::objective_by_name;
 use magbench_planners::registry::Entry as PlannerEntry;
 use magbench_planners::{
-    Limits, Metric, Planner, PlannerResult, PlanningSetup, Problem, ProgressPoint, plan_cost,
+    Limits, Distance, Planner, PlannerResult, PlanningSetup, Problem, ProgressPoint, plan_cost,
 };
 use magbench_trackers::registry::Entry as TrackerEntry;
 use magbench_trackers::{Tick, Tracker, TrackerContext, TrackerStatus};
@@ -511,7 +511,7 @@ fn tracker_problem(ctx: &TrackerContext) -> Problem {
         control_period: ctx.period,
         limits: Limits::default(),
         seed: 0,
-        metric: Metric::Positions,
+        metric: Distance::Positions,
         alpha_max: PlanningSetup::default().alpha_max_deg.to_radians(),
     }
 }

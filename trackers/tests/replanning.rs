@@ -301,7 +301,7 @@ fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
         assert_eq!(p.objective.name(), "duration");
         assert_eq!(
             p.metric,
-            magbench_planners::Metric::CentroidShape {
+            magbench_planners::Distance::CentroidShape {
                 centroid: 1.0,
                 shape: 1.0
             }

@@ -47,8 +47,8 @@ use magbench_env::{Control, MAX_AGENTS, Vec2, declare_params};
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
 
+use crate::distance::Distance;
 use crate::extend::Extend;
-use crate::metric::Metric;
 use crate::motion::{aimed, centroid_map, propagate, propagate_valid};
 use crate::nn::NearestNeighbors;
 use crate::objective::plan_cost;
@@ -173,7 +173,7 @@ impl ShapeIndex {
     /// An empty index for teams of `n`.
     fn new(n: usize) -> Self {
         ShapeIndex {
-            nn: NearestNeighbors::new(Metric::Positions, n),
+            nn: NearestNeighbors::new(Distance::Positions, n),
             about: vec![Vec2::zeros(); n],
         }
     }

@@ -21,7 +21,7 @@
 //! ```
 //!
 //! **The approximation.** No exact steering function exists for this system (underactuated,
-//! with drift). CONNECT shoots ([`crate::steer`]): the EXTEND optimiser's random (control,
+//! with drift). CONNECT shoots ([`crate::connect`]): the EXTEND optimiser's random (control,
 //! duration) tries (`connect_tries`) seed a damped Gauss–Newton refinement of the control
 //! (`connect_iterations`, only when the best seed ends within `connect_basin`), and the
 //! connection is accepted only when its end lies within `connect_tolerance` ε (metric distance,

@@ -5,6 +5,7 @@ use magbench_env::{MAX_AGENTS, Vec2};
 use rand::SeedableRng;
 
 use super::{LoggedSample, RrtStar};
+use crate::connect::Connect;
 use crate::extend::{Extend, Extension};
 use crate::informed::InformedSet;
 use crate::motion::propagate_checked;
@@ -13,7 +14,6 @@ use crate::objective::Motion;
 use crate::progress::Progress;
 use crate::result::{Best, finish};
 use crate::sampler::StateSampler;
-use crate::steer::Connect;
 use crate::tree::Tree;
 use crate::{PlannerResult, Problem, Rng};
 

@@ -19,8 +19,8 @@
 use magbench_env::math::wrap_angle;
 use magbench_env::{Control, MAX_AGENTS, Vec2};
 
+use crate::distance::MAX_DIMS;
 use crate::extend::{Extend, Extension};
-use crate::metric::MAX_DIMS;
 use crate::{Problem, Rng};
 
 /// The shooting steer's settings.

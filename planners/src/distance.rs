@@ -1,11 +1,11 @@
 //! The distance between team states: what nearest-neighbour queries and EXTEND minimise.
 //!
 //! Every metric here is a Euclidean distance after a linear map of the stacked agent positions
-//! into `R^{2N}` ([`Metric::embed`]), so a k-d tree answers its queries exactly.
+//! into `R^{2N}` ([`Distance::embed`]), so a k-d tree answers its queries exactly.
 
 use magbench_env::{MAX_AGENTS, Vec2};
 
-/// Relative and absolute margin (BL²) by which a bound from [`Metric::centroid_floor`] must
+/// Relative and absolute margin (BL²) by which a bound from [`Distance::centroid_floor`] must
 /// exceed a squared distance before a state is ruled out by it; rounding of either is below
 /// 1e-12 for any state the planners reach.
 pub const FLOOR_MARGIN: f64 = 1e-9;
@@ -32,13 +32,13 @@ pub const MAX_DIMS: usize = 2 * MAX_AGENTS;
 
 /// A distance on team states `(P_1, …, P_N)`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum Metric {
+pub enum Distance {
     /// The seed's DISTANCE ρ: Euclidean distance on the stacked agent positions,
     /// `‖P̃‖ = (Σ_i ‖P_i − Q_i‖²)^{1/2}`. EXTEND minimises its square, as in Algorithm 3.
     #[default]
     Positions,
     /// Centroid and shape weighted apart: `(w_c² N ‖Δc‖² + w_s² Σ_i ‖Δ(P_i − c)‖²)^{1/2}`,
-    /// with `c` the centroid. Equal to [`Metric::Positions`] when both weights are 1; a larger
+    /// with `c` the centroid. Equal to [`Distance::Positions`] when both weights are 1; a larger
     /// shape weight makes separation and heading count more (the seed's remark on weighting
     /// separation and pair heading in the distance).
     CentroidShape {
@@ -51,7 +51,7 @@ pub enum Metric {
 
 /// Why a metric's text was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum MetricError {
+pub enum DistanceError {
     /// A weight is not a number.
     #[error("bad {which} weight {text:?}")]
     BadWeight {
@@ -80,32 +80,32 @@ pub enum MetricError {
     Unknown(String),
 }
 
-impl Metric {
+impl Distance {
     /// Parses `positions` or `centroid-shape:W_C:W_S` (e.g. `centroid-shape:1:2`).
-    pub fn parse(s: &str) -> Result<Metric, MetricError> {
+    pub fn parse(s: &str) -> Result<Distance, DistanceError> {
         if s == "positions" {
-            return Ok(Metric::Positions);
+            return Ok(Distance::Positions);
         }
         if let Some(rest) = s.strip_prefix("centroid-shape") {
             let parts: Vec<&str> = rest.split(':').skip(1).collect();
             let (wc, ws) = match parts.as_slice() {
                 [] => (1.0, 1.0),
                 [a, b] => (weight("centroid", a)?, weight("shape", b)?),
-                _ => return Err(MetricError::WeightCount),
+                _ => return Err(DistanceError::WeightCount),
             };
-            return Ok(Metric::CentroidShape {
+            return Ok(Distance::CentroidShape {
                 centroid: wc,
                 shape: ws,
             });
         }
-        Err(MetricError::Unknown(s.to_string()))
+        Err(DistanceError::Unknown(s.to_string()))
     }
 
-    /// The metric's name as [`Metric::parse`] reads it.
+    /// The metric's name as [`Distance::parse`] reads it.
     pub fn name(&self) -> String {
         match self {
-            Metric::Positions => "positions".into(),
-            Metric::CentroidShape { centroid, shape } => {
+            Distance::Positions => "positions".into(),
+            Distance::CentroidShape { centroid, shape } => {
                 format!("centroid-shape:{centroid}:{shape}")
             }
         }
@@ -117,13 +117,13 @@ impl Metric {
     pub fn embed(&self, s: &[Vec2], out: &mut [f64]) {
         let n = s.len();
         match *self {
-            Metric::Positions => {
+            Distance::Positions => {
                 for (i, p) in s.iter().enumerate() {
                     out[2 * i] = p.x;
                     out[2 * i + 1] = p.y;
                 }
             }
-            Metric::CentroidShape { centroid, shape } => {
+            Distance::CentroidShape { centroid, shape } => {
                 // An orthonormal (Helmert) basis: √N·c, then h_k = (Σ_{i<k} P_i − (k−1) P_k)/√(k(k−1)).
                 let mut sum = Vec2::zeros();
                 for (k, p) in s.iter().enumerate() {
@@ -146,7 +146,7 @@ impl Metric {
     #[inline]
     pub fn distance_squared(&self, a: &[Vec2], b: &[Vec2]) -> f64 {
         match self {
-            Metric::Positions => a.iter().zip(b).map(|(p, q)| (p - q).norm_squared()).sum(),
+            Distance::Positions => a.iter().zip(b).map(|(p, q)| (p - q).norm_squared()).sum(),
             _ => {
                 let n = 2 * a.len();
                 let (mut ea, mut eb) = ([0.0; MAX_DIMS], [0.0; MAX_DIMS]);
@@ -161,14 +161,14 @@ impl Metric {
         }
     }
 
-    /// A lower bound of [`Metric::distance_squared`] between two states of `n` agents from
+    /// A lower bound of [`Distance::distance_squared`] between two states of `n` agents from
     /// their centroids `a` and `b` alone: the centroid term `w_c² N ‖Δc‖²` (`w_c = 1` for
     /// positions), the shape term being at least zero.
     #[inline]
     pub fn centroid_floor(&self, n: usize, a: Vec2, b: Vec2) -> f64 {
         let w = match *self {
-            Metric::Positions => 1.0,
-            Metric::CentroidShape { centroid, .. } => centroid * centroid,
+            Distance::Positions => 1.0,
+            Distance::CentroidShape { centroid, .. } => centroid * centroid,
         };
         w * n as f64 * (a - b).norm_squared()
     }
@@ -182,13 +182,13 @@ impl Metric {
 
 /// The `which` weight of `centroid-shape` written `text`: a number in
 /// [[`MIN_WEIGHT`], [`MAX_WEIGHT`]].
-fn weight(which: &'static str, text: &str) -> Result<f64, MetricError> {
-    let w = text.parse::<f64>().map_err(|_| MetricError::BadWeight {
+fn weight(which: &'static str, text: &str) -> Result<f64, DistanceError> {
+    let w = text.parse::<f64>().map_err(|_| DistanceError::BadWeight {
         which,
         text: text.to_string(),
     })?;
     if !(MIN_WEIGHT..=MAX_WEIGHT).contains(&w) {
-        return Err(MetricError::WeightOutOfRange {
+        return Err(DistanceError::WeightOutOfRange {
             which,
             text: text.to_string(),
         });
@@ -208,13 +208,13 @@ mod tests {
     fn centroid_shape_with_unit_weights_is_positions() {
         let a = team(&[(1.0, 2.0), (3.0, 1.5), (0.2, -1.0), (4.0, 4.0)]);
         let b = team(&[(1.5, 2.5), (2.0, 1.0), (0.7, -0.2), (3.0, 5.0)]);
-        let cs = Metric::CentroidShape {
+        let cs = Distance::CentroidShape {
             centroid: 1.0,
             shape: 1.0,
         };
         for n in 2..=4 {
             let (p, q) = (
-                Metric::Positions.distance(&a[..n], &b[..n]),
+                Distance::Positions.distance(&a[..n], &b[..n]),
                 cs.distance(&a[..n], &b[..n]),
             );
             assert!((p - q).abs() < 1e-12, "n = {n}: {p} vs {q}");
@@ -226,13 +226,14 @@ mod tests {
         let a = team(&[(1.0, 2.0), (3.0, 2.0)]);
         let moved = team(&[(2.0, 2.0), (4.0, 2.0)]); // pure translation by 1
         let spread = team(&[(0.5, 2.0), (3.5, 2.0)]); // pure widening
-        let m = Metric::CentroidShape {
+        let m = Distance::CentroidShape {
             centroid: 1.0,
             shape: 3.0,
         };
-        assert!((m.distance(&a, &moved) - Metric::Positions.distance(&a, &moved)).abs() < 1e-12);
+        assert!((m.distance(&a, &moved) - Distance::Positions.distance(&a, &moved)).abs() < 1e-12);
         assert!(
-            (m.distance(&a, &spread) - 3.0 * Metric::Positions.distance(&a, &spread)).abs() < 1e-12
+            (m.distance(&a, &spread) - 3.0 * Distance::Positions.distance(&a, &spread)).abs()
+                < 1e-12
         );
     }
 
@@ -244,12 +245,12 @@ mod tests {
             "centroid-shape:1e-300:1",
             "centroid-shape:1:1e7",
         ] {
-            let e = Metric::parse(text).unwrap_err().to_string();
+            let e = Distance::parse(text).unwrap_err().to_string();
             assert!(e.contains("must be in [1e-6, 1e6]"), "{text}: {e}");
         }
         // the largest weights accepted keep the largest distance of any scenario finite: two
         // teams of the most agents at opposite corners of the largest world
-        let m = Metric::parse("centroid-shape:1e6:1e6").unwrap();
+        let m = Distance::parse("centroid-shape:1e6:1e6").unwrap();
         let side = magbench_env::scenario::MAX_WORLD_BL;
         let a = vec![Vec2::new(0.0, 0.0); MAX_AGENTS];
         let b: Vec<Vec2> = (0..MAX_AGENTS)
@@ -261,20 +262,20 @@ mod tests {
 
     #[test]
     fn parses_names() {
-        assert_eq!(Metric::parse("positions"), Ok(Metric::Positions));
+        assert_eq!(Distance::parse("positions"), Ok(Distance::Positions));
         assert_eq!(
-            Metric::parse("centroid-shape:1:2"),
-            Ok(Metric::CentroidShape {
+            Distance::parse("centroid-shape:1:2"),
+            Ok(Distance::CentroidShape {
                 centroid: 1.0,
                 shape: 2.0
             })
         );
-        assert!(Metric::parse("centroid-shape:0:2").is_err());
-        assert!(Metric::parse("manhattan").is_err());
-        let m = Metric::CentroidShape {
+        assert!(Distance::parse("centroid-shape:0:2").is_err());
+        assert!(Distance::parse("manhattan").is_err());
+        let m = Distance::CentroidShape {
             centroid: 0.5,
             shape: 2.0,
         };
-        assert_eq!(Metric::parse(&m.name()), Ok(m));
+        assert_eq!(Distance::parse(&m.name()), Ok(m));
     }
 }
