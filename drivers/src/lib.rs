@@ -14,7 +14,7 @@
 //! - [`rigs`]: the rigs by name (a simulated rig under a preset, a rig file, a plugin's), loaded and opened for a plan-track run;
 //! - [`excite`], [`fit`] and [`watch`]: the identification trajectory, the fit of a preset to
 //!   the logs, and a simulated rig watched for the moment its agents touch;
-//! - [`check`] and [`replay`]: rig bring-up and offline detection;
+//! - [`check`] and [`redetect`]: rig bring-up and offline detection;
 //! - [`emulator`]: the device side — protocol, watchdog, env's plant, rendered frames, faults.
 //!
 //! Lengths are in body lengths (BL) and times in seconds unless a name says otherwise.
@@ -37,7 +37,7 @@ pub mod interrupt;
 pub mod link;
 pub mod pixel_map;
 pub mod protocol;
-pub mod replay;
+pub mod redetect;
 pub mod rig_log;
 pub mod rigfile;
 pub mod rigs;

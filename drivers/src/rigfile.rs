@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use magbench_env::InputError;
-use magbench_env::check::bounds::number;
-use magbench_env::check::{Bound, Checker, Fixed, parse_toml, read_text};
+use magbench_env::input::bounds::number;
+use magbench_env::input::{Bound, Checker, Fixed, parse_toml, read_text};
 use serde::Deserialize;
 
 use crate::calibration::Calibration;
@@ -720,7 +720,7 @@ fn camera(ck: Checker, c: CameraFile) -> Result<CameraConfig, InputError> {
                 "camera.size_px",
                 format!(
                     "a frame has at most {MAX_FRAME_PIXELS} pixels (32 Mpx: an emulated frame takes 16 bytes a pixel, a quarter of the {} GiB memory budget), got {w} x {h}",
-                    magbench_env::check::MEMORY_BUDGET_BYTES >> 30
+                    magbench_env::input::MEMORY_BUDGET_BYTES >> 30
                 ),
             ));
     }

@@ -10,7 +10,7 @@
 //!   magnet lag, field errors and non-uniformity, heterogeneity, hydrodynamic interaction,
 //!   capillarity, flow, Brownian motion) and the camera;
 //! - [`world`] and [`collision`]: maps, parry2d collision and the validity checker;
-//! - [`check`]: the one input checker (regular files, bounded reads, TOML and JSON with field
+//! - [`input`]: the one input checker (regular files, bounded reads, TOML and JSON with field
 //!   path and line, did-you-mean, exact-size arrays, bounds with their reasons);
 //! - [`params`]: parameters declared once ([`declare_params!`]), for planners and trackers;
 //! - [`registry`]: components by name (planners, trackers, rigs, scenario families), one
@@ -24,11 +24,11 @@
 
 #![warn(missing_docs)]
 
-pub mod check;
 pub mod coil;
 pub mod collision;
 pub mod controllability;
 pub mod error;
+pub mod input;
 pub mod math;
 pub mod model;
 pub mod params;

@@ -11,7 +11,7 @@ use std::fmt;
 use std::sync::Arc;
 
 use crate::InputError;
-use crate::check::Rejection;
+use crate::input::Rejection;
 use crate::params::{ParamError, ParamInfo, ParamSet};
 
 /// A constructor of a component of type `T` with its defaults, shareable between threads.

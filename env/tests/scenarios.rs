@@ -275,7 +275,7 @@ fn a_missing_field_is_not_blamed_on_a_field_beside_it() {
             !(section == "[camera.misses]" && l.starts_with("close_prob"))
         })
         .collect();
-    let e = magbench_env::check::parse_toml::<magbench_env::plant::DisturbancePreset>(
+    let e = magbench_env::input::parse_toml::<magbench_env::plant::DisturbancePreset>(
         &cut.join("\n"),
         "p.toml",
     )

@@ -81,7 +81,7 @@ fn run(name: &str, tracker: &str, seed: u64) -> Figures {
         .expect("a built-in planner");
     let first = plan_leg(&scenario, 0, None, planner.as_mut(), &setup, seed)
         .expect("a checked plan")
-        .checked
+        .validated
         .result;
     let params = [("replan_stall".to_string(), "false".to_string())];
     let (tracker, options) = registry

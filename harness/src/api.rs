@@ -166,7 +166,7 @@ mod tests {
         setup.limits.max_iterations = Some(3000);
         let r = plan_leg(&other, 0, None, planner().as_mut(), &setup, 0)
             .unwrap()
-            .checked
+            .validated
             .result;
         let e = track_plan(request(&s, r.plan)).map(|_| ()).unwrap_err();
         assert_eq!(e.exit_code(), 2);
@@ -187,7 +187,7 @@ mod tests {
         setup.limits.max_iterations = Some(3000);
         let r = plan_leg(&s, 0, None, planner().as_mut(), &setup, 0)
             .unwrap()
-            .checked
+            .validated
             .result;
         assert!(r.solved);
         let out = track_plan(request(&s, r.plan)).unwrap();

@@ -5,10 +5,10 @@
 //! `ValueError`) or `magbench.MagbenchError` (a `RuntimeError`).
 
 use magbench_drivers::hardware::HardwareError;
-use magbench_drivers::replay::ReplayError;
+use magbench_drivers::redetect::RedetectError;
 use magbench_drivers::rigs::{OpenError, StartError};
 use magbench_env::InputError;
-use magbench_env::check::Rejection;
+use magbench_env::input::Rejection;
 use magbench_env::registry::RegistryError;
 
 /// An error of a magbench library call or command.
@@ -65,10 +65,10 @@ impl From<OpenError> for Error {
     }
 }
 
-impl From<ReplayError> for Error {
-    fn from(e: ReplayError) -> Self {
+impl From<RedetectError> for Error {
+    fn from(e: RedetectError) -> Self {
         match e {
-            ReplayError::NoStart { ref dir } => Error::Input(InputError::new(
+            RedetectError::NoStart { ref dir } => Error::Input(InputError::new(
                 dir.display().to_string(),
                 "",
                 "the recording has no true positions; give --scenario for the agents' start",
@@ -94,11 +94,11 @@ mod tests {
         let start: Error = StartError::InvalidStart.into();
         assert_eq!(start.exit_code(), 1);
         let dir = std::path::PathBuf::from("frames");
-        let replay: Error = ReplayError::NoStart { dir: dir.clone() }.into();
-        assert_eq!(replay.exit_code(), 2);
+        let redetect: Error = RedetectError::NoStart { dir: dir.clone() }.into();
+        assert_eq!(redetect.exit_code(), 2);
         assert_eq!(
-            replay.to_string(),
-            ReplayError::NoStart { dir }.to_string(),
+            redetect.to_string(),
+            RedetectError::NoStart { dir }.to_string(),
             "the same text as the library's"
         );
     }

@@ -18,7 +18,7 @@
 //! - bookkeeping: [`Progress`] (limits and the cost-versus-iteration trace of the plots),
 //!   [`plan_cost`] (the problem's objective), [`Rng`] seeded by `problem.seed`.
 //!
-//! Every plan is checked by the harness ([`check_result`], [`validate_plan`]) before it is
+//! Every plan is checked by the harness ([`validate_result`], [`validate_plan`]) before it is
 //! scored or followed: edges of whole control periods, controls within the coil's limits,
 //! every motion valid.
 //!
@@ -44,7 +44,7 @@ pub use magbench_planners::sampler::{StateSampler, valid_sample};
 pub use magbench_planners::search_settings::SearchSettings;
 pub use magbench_planners::{
     Limits, Plan, PlanError, Planner, PlannerResult, Problem, ProgressPoint, Rng, Unusable,
-    check_result, plan_cost, validate_plan,
+    plan_cost, validate_plan, validate_result,
 };
 pub use magbench_trackers::{
     GroundTruth, LoopOptions, Reference, Rig, RigError, SimRig, Tick, Tracker, TrackerContext,

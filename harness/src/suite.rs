@@ -90,7 +90,7 @@ impl Suite {
     pub fn load(dir: &Path) -> Result<Suite, InputError> {
         let path = dir.join(MANIFEST);
         let file = path.display().to_string();
-        let text = magbench_env::check::read_text(&path, &file)?;
+        let text = magbench_env::input::read_text(&path, &file)?;
         let mut s: Suite = toml::from_str(&text).map_err(|e: toml::de::Error| {
             InputError::new(&file, "suite", e.message().to_string())
         })?;

@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use magbench_env::check::Rejection;
+use magbench_env::input::Rejection;
 use rayon::prelude::*;
 
 use crate::Error;

@@ -175,7 +175,7 @@ fn nan_truth_in_a_recording_is_refused() {
         "index,t_s,file,x0_bl,y0_bl,x1_bl,y1_bl\n0,0.0,f0.pgm,NaN,4.0,6.0,4.0\n",
     );
     refused(
-        &["rig", "replay", "--rig", &r, frames.to_str().unwrap()],
+        &["rig", "redetect", "--rig", &r, frames.to_str().unwrap()],
         &["frames.csv", "line 2: x0_bl", "must be finite"],
     );
 }

@@ -1,5 +1,5 @@
 //! `magbench rig` command-line behaviour that needs no host loop: rig-file validation exit codes,
-//! and `rig replay` on frames the emulator recorded (with the truth).
+//! and `rig redetect` on frames the emulator recorded (with the truth).
 
 use std::path::Path;
 use std::process::Command;
@@ -48,7 +48,7 @@ fn a_bad_rig_file_exits_2_naming_file_field_and_reason() {
 }
 
 #[test]
-fn replay_reruns_detection_on_recorded_frames() {
+fn redetect_reruns_detection_on_recorded_frames() {
     let dir = tempfile::tempdir().unwrap();
     let frames = dir.path().join("frames");
     // one second of frames, no host: the emulator records and stops by itself
@@ -75,7 +75,7 @@ fn replay_reruns_detection_on_recorded_frames() {
     );
     let det = dir.path().join("det.csv");
     let out = Command::new(BIN)
-        .args(["rig", "replay", "--rig"])
+        .args(["rig", "redetect", "--rig"])
         .arg(rig_file())
         .arg(&frames)
         .arg("--out")

@@ -1,10 +1,10 @@
-//! The one path to a plan a tracker can follow: [`solve_checked`] solves a problem and checks
-//! the result with [`check_result`]; only a result that passed becomes a [`FirstPlan`].
+//! The one path to a plan a tracker can follow: [`solve_validated`] solves a problem and checks
+//! the result with [`validate_result`]; only a result that passed becomes a [`FirstPlan`].
 
-use crate::{Plan, Planner, PlannerResult, Problem, Unusable, check_result};
+use crate::{Plan, Planner, PlannerResult, Problem, Unusable, validate_result};
 
-/// A plan to follow and how it was made: a planner's plan that passed [`check_result`] (from
-/// [`Checked::followable`]) or a plan file that passed its check ([`FirstPlan::given`]).
+/// A plan to follow and how it was made: a planner's plan that passed [`validate_result`] (from
+/// [`Validated::followable`]) or a plan file that passed its check ([`FirstPlan::given`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FirstPlan {
     /// The plan.
@@ -27,16 +27,16 @@ impl FirstPlan {
     }
 }
 
-/// A planner's result with the verdict of [`check_result`] on it.
+/// A planner's result with the verdict of [`validate_result`] on it.
 #[derive(Debug, Clone)]
-pub struct Checked {
+pub struct Validated {
     /// The planner's result, as a planning-only run records it.
     pub result: PlannerResult,
     /// `Ok` when its plan can be followed, else why not.
     pub verdict: Result<(), Unusable>,
 }
 
-impl Checked {
+impl Validated {
     /// The plan to follow, or why there is none.
     pub fn followable(self) -> Result<FirstPlan, Unusable> {
         self.verdict?;
@@ -56,9 +56,9 @@ impl Checked {
     }
 }
 
-/// Solves `problem` with `planner` and checks the result ([`check_result`]).
-pub fn solve_checked(planner: &mut dyn Planner, problem: &Problem) -> Checked {
+/// Solves `problem` with `planner` and checks the result ([`validate_result`]).
+pub fn solve_validated(planner: &mut dyn Planner, problem: &Problem) -> Validated {
     let result = planner.solve(problem);
-    let verdict = check_result(problem, &result);
-    Checked { result, verdict }
+    let verdict = validate_result(problem, &result);
+    Validated { result, verdict }
 }

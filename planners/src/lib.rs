@@ -21,7 +21,7 @@
 //! The physics is env's: planners propagate with `PlanningModel::propagate_with` and check with
 //! `ValidityChecker`; every edge lasts a whole number of control periods (the camera frames of
 //! the rig that will run the plan). A run's [`PlanningSetup`] (objective, metric, limits,
-//! control period, flow) makes every problem it plans, and [`check_result`] is the one rule for
+//! control period, flow) makes every problem it plans, and [`validate_result`] is the one rule for
 //! whether a result can be followed.
 
 #![warn(missing_docs)]
@@ -60,7 +60,7 @@ pub mod tree;
 pub mod validate;
 
 pub use distance::{Distance, DistanceError};
-pub use first_plan::{Checked, FirstPlan, solve_checked};
+pub use first_plan::{FirstPlan, Validated, solve_validated};
 pub use objective::{Objective, plan_cost};
 pub use plan::{MadeFor, Plan};
 pub use planner::{Planner, PlannerResult, ProgressPoint};
@@ -68,7 +68,7 @@ pub use post_process::PostProcess;
 pub use post_processed::PostProcessed;
 pub use problem::{Limits, Problem};
 pub use registry::Planners;
-pub use setup::{ElevationError, ElevationRefused, PlanningSetup, Unusable, check_result};
+pub use setup::{ElevationError, ElevationRefused, PlanningSetup, Unusable, validate_result};
 pub use validate::{PlanError, validate_path, validate_plan};
 
 /// The planners' random stream: portable and seedable (ChaCha8), never a thread or OS RNG.

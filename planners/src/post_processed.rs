@@ -1,7 +1,7 @@
 //! A planner followed by the run's post-processing: what the registry makes of every planner,
 //! a plugin's included, so that no planner calls the passes itself.
 
-use magbench_env::check::Rejection;
+use magbench_env::input::Rejection;
 use magbench_env::params::{ParamError, ParamInfo, ParamSet, Value};
 
 use crate::post_process::{PostProcess, default_max_duration};

@@ -17,7 +17,7 @@
 //! A candidate is accepted only when each of its edges passes EXTEND's checked propagation
 //! ([`propagate_valid`]) and the replay ends in the problem's goal region, so the spliced plan
 //! replays bit for bit like any plan; the caller still puts it through
-//! [`crate::check_result`]. Repair draws from the problem's seed only: with no time limit it is
+//! [`crate::validate_result`]. Repair draws from the problem's seed only: with no time limit it is
 //! deterministic.
 
 use std::time::Instant;

@@ -1,6 +1,6 @@
 use super::*;
 use crate::search_settings::SearchSettings;
-use crate::{Planners, check_result};
+use crate::{Planners, validate_result};
 use magbench_env::Scenario;
 
 /// A solved plan of micro-factory (seed 2) and its problem.
@@ -9,7 +9,7 @@ fn planned() -> (Scenario, Problem, Plan) {
     let problem = Problem::from_scenario(&s, 0, None, 2);
     let mut planner = Planners::builtin().create("goal-zoom-rrt", &[]).unwrap();
     let result = planner.solve(&problem);
-    assert!(result.solved && check_result(&problem, &result).is_ok());
+    assert!(result.solved && validate_result(&problem, &result).is_ok());
     (s, problem, result.plan)
 }
 
@@ -47,7 +47,7 @@ fn a_state_near_the_plan_is_repaired_into_a_valid_plan_to_the_goal() {
         }
         let r = repair(&problem, 200).run(&problem, &plan);
         let (result, _) = r.found.expect("a state near the plan is repaired");
-        assert_eq!(check_result(&problem, &result), Ok(()));
+        assert_eq!(validate_result(&problem, &result), Ok(()));
         assert!(result.solved && problem.goal.contains(result.plan.end()));
         assert_eq!(result.plan.start(), &start[..]);
         assert!(result.iterations >= 1);
@@ -76,7 +76,7 @@ fn a_pair_turned_off_its_plan_rejoins_by_steering() {
         let r = repair(&problem, 0).run(&problem, &plan);
         if let Some((result, how)) = r.found {
             assert_eq!(how, RepairHow::Rejoin);
-            assert_eq!(check_result(&problem, &result), Ok(()));
+            assert_eq!(validate_result(&problem, &result), Ok(()));
             steered += usize::from(r.rejoins >= 2);
         }
     }

@@ -12,9 +12,9 @@
 //! Durations are given in seconds and used in whole control periods of the problem (the
 //! camera frames of the rig that will run the plan): the nearest whole number, at least one.
 
-use magbench_env::check::Rejection;
 use magbench_env::coil::Planar;
 use magbench_env::declare_params;
+use magbench_env::input::Rejection;
 use magbench_env::params::Reals;
 
 use crate::Problem;

@@ -303,7 +303,7 @@ pub enum Unusable {
 /// The one rule for a planner's result: the plan passes the independent validator (and a
 /// solved one ends in the goal region), and it has at least one edge to follow. Planning-only
 /// runs record a result without motion (a timeout); a tracking run cannot follow one.
-pub fn check_result(problem: &Problem, result: &PlannerResult) -> Result<(), Unusable> {
+pub fn validate_result(problem: &Problem, result: &PlannerResult) -> Result<(), Unusable> {
     let verdict = if result.solved {
         validate_plan(problem, &result.plan)
     } else {

@@ -9,7 +9,7 @@ use magbench_env::math::centroid;
 use magbench_env::{Control, MAX_AGENTS, Scenario, Vec2};
 use magbench_planners::motion::{aimed, propagate_valid, random_control};
 use magbench_planners::sampler::{StateSampler, valid_sample};
-use magbench_planners::{Problem, Rng, check_result, registry::Planners, validate_plan};
+use magbench_planners::{Problem, Rng, registry::Planners, validate_plan, validate_result};
 use rand::{RngExt, SeedableRng};
 
 use common::BUILTIN_PLANNERS as PLANNERS;
@@ -108,7 +108,7 @@ fn aimed_plans_validate_and_change_the_search() {
             let aimed = create("true").solve(&p);
             assert!(aimed.solved, "{planner} on {name}");
             validate_plan(&p, &aimed.plan).unwrap_or_else(|e| panic!("{planner} on {name}: {e}"));
-            check_result(&p, &aimed).unwrap();
+            validate_result(&p, &aimed).unwrap();
             let plain = create("false").solve(&p);
             assert_ne!(
                 (plain.iterations, plain.cost),

@@ -9,7 +9,7 @@ use magbench_env::{Scenario, Vec2};
 use magbench_planners::goal_connect::GoalConnect;
 use magbench_planners::search_settings::to_periods;
 use magbench_planners::tree::Tree;
-use magbench_planners::{Limits, Problem, check_result, registry::Planners, validate_plan};
+use magbench_planners::{Limits, Problem, registry::Planners, validate_plan, validate_result};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -50,7 +50,7 @@ fn steered_plans_pass_the_validator_and_end_on_the_goal_centres() {
         for seed in 0..4 {
             let (p, r) = solve(&s, seed, "3");
             assert!(r.solved, "{}: seed {seed} not solved", s.name);
-            check_result(&p, &r).unwrap_or_else(|e| panic!("{}: {e:?}", s.name));
+            validate_result(&p, &r).unwrap_or_else(|e| panic!("{}: {e:?}", s.name));
             assert_solution(&p, &r);
             if p.goal.distance(r.plan.end()) < 1e-6 {
                 exact += 1;
@@ -66,7 +66,7 @@ fn without_steering_no_plan_ends_on_the_goal_centres() {
     let s = short("turn");
     let (p, r) = solve(&s, 0, "0");
     assert!(r.solved);
-    check_result(&p, &r).unwrap();
+    validate_result(&p, &r).unwrap();
     assert!(p.goal.distance(r.plan.end()) > 1e-6);
 }
 
@@ -86,7 +86,7 @@ fn shortcut_plans_pass_the_validator_and_cost_no_more() {
             .create("goal-zoom-rrt", &params)
             .unwrap()
             .solve(&p);
-        check_result(&p, &r).unwrap();
+        validate_result(&p, &r).unwrap();
         let (a, b) = (before.cost.unwrap(), r.cost.unwrap());
         eprintln!(
             "seed {seed}: cost {a:.1} -> {b:.1}, {} -> {} edges",

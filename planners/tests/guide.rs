@@ -7,7 +7,7 @@ use magbench_env::Scenario;
 use magbench_env::math::centroid;
 use magbench_planners::guide::{Guide, SPACING};
 use magbench_planners::{
-    Limits, PlannerResult, Problem, check_result, registry::Planners, validate_plan,
+    Limits, PlannerResult, Problem, registry::Planners, validate_plan, validate_result,
 };
 
 fn problem(name: &str, seed: u64) -> Problem {
@@ -77,7 +77,7 @@ fn guided_plans_on_micro_factory_validate_and_change_the_search() {
         let guided = solve(&p, "true");
         assert!(guided.solved, "seed {seed}");
         validate_plan(&p, &guided.plan).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
-        check_result(&p, &guided).unwrap();
+        validate_result(&p, &guided).unwrap();
         let plain = solve(&p, "false");
         differ += usize::from(plain.iterations != guided.iterations);
     }

@@ -6,7 +6,7 @@ mod common;
 use magbench_env::Scenario;
 use magbench_planners::search_settings::to_periods;
 use magbench_planners::shortcut::Shortcut;
-use magbench_planners::{Limits, PlannerResult, Problem, check_result, validate_plan};
+use magbench_planners::{Limits, PlannerResult, Problem, validate_plan, validate_result};
 
 use common::{BUILTIN_PLANNERS as PLANNERS, first_solution};
 
@@ -29,7 +29,7 @@ fn every_planners_shortcut_plans_validate_and_cost_no_more() {
             let after = solve(planner, &p, "100");
             assert!(before.solved && after.solved, "{planner}, seed {seed}");
             validate_plan(&p, &after.plan).unwrap_or_else(|e| panic!("{planner}: {e}"));
-            check_result(&p, &after).unwrap();
+            validate_result(&p, &after).unwrap();
             let (a, b) = (before.cost.unwrap(), after.cost.unwrap());
             eprintln!("{planner}, seed {seed}: cost {a:.1} -> {b:.1}");
             assert!(b <= a + 1e-9, "{planner}, seed {seed}: {a} -> {b}");

@@ -8,7 +8,7 @@ mod common;
 use magbench_env::math::centroid;
 use magbench_env::{Scenario, Vec2};
 use magbench_planners::straighten::{line_commands, straighten, straighten_with_stats};
-use magbench_planners::{PlannerResult, Problem, check_result, plan_cost, validate_plan};
+use magbench_planners::{PlannerResult, Problem, plan_cost, validate_plan, validate_result};
 
 use common::{BUILTIN_PLANNERS as PLANNERS, first_solution};
 
@@ -34,7 +34,7 @@ fn every_planners_straightened_plans_validate_and_cost_no_more() {
                     "{planner}, {name}, seed {seed}"
                 );
                 validate_plan(&p, &after.plan).unwrap_or_else(|e| panic!("{planner}: {e}"));
-                check_result(&p, &after).unwrap();
+                validate_result(&p, &after).unwrap();
                 let (a, b) = (before.cost.unwrap(), after.cost.unwrap());
                 eprintln!("{planner}, {name}, seed {seed}: cost {a:.1} -> {b:.1}");
                 assert!(b <= a + 1e-9, "{planner}, {name}, seed {seed}: {a} -> {b}");

@@ -127,7 +127,7 @@ pub fn plan(
     let planned = detached(py, "plan", || {
         plan_leg(&s, leg, start.as_deref(), p.as_mut(), &setup, seed)
     })?;
-    let mut plan = Plan::from_result(planned.checked.result, planner, &s.name);
+    let mut plan = Plan::from_result(planned.validated.result, planner, &s.name);
     plan.stop_reason = planned.stopped;
     Ok(plan)
 }

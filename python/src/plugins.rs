@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 use magbench::Registry;
-use magbench_env::check::Rejection;
+use magbench_env::input::Rejection;
 use magbench_env::coil::Planar;
 use magbench_env::params::{BadValue, ParamError, ParamInfo, ParamSet, Value};
 use magbench_env::{Control, Vec2};

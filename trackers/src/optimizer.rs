@@ -41,8 +41,8 @@
 //! gradient takes α's pull axes; the smoothness term adds the change of α. Planar solves (α = 0)
 //! are the planar arithmetic, bit for bit.
 
-use magbench_env::check::Rejection;
 use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};
+use magbench_env::input::Rejection;
 use magbench_env::math::centroid;
 use magbench_env::model::pair_flow::PairStart;
 use magbench_env::params::Reals;

@@ -17,7 +17,7 @@ pub const MAX_PLAN_DURATION_S: f64 = 3600.0;
 /// Reads and checks a plan file for a team of `agents` (its form only).
 pub fn read_plan(path: &Path, agents: usize) -> Result<Plan, InputError> {
     let file = path.display().to_string();
-    let text = magbench_env::check::read_text(path, &file)?;
+    let text = magbench_env::input::read_text(path, &file)?;
     parse_plan(&text, &file, agents)
 }
 
@@ -150,7 +150,7 @@ pub fn plan_json_for(plan: &Plan, scenario: &Scenario, leg: usize) -> String {
 /// Parses and checks plan JSON `text` (`file` names it in errors, with the field path of
 /// a malformed value; unknown keys are refused).
 pub fn parse_plan(text: &str, file: &str, agents: usize) -> Result<Plan, InputError> {
-    let plan: Plan = magbench_env::check::parse_json(text, file)?;
+    let plan: Plan = magbench_env::input::parse_json(text, file)?;
     let bad = |field: &str, reason: String| InputError::new(file, field, reason);
     if plan.states.is_empty() || plan.states.len() != plan.controls.len() + 1 {
         return Err(bad(

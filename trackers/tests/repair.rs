@@ -4,7 +4,7 @@
 
 use magbench_env::Scenario;
 use magbench_env::plant::DisturbancePreset;
-use magbench_planners::{Planner, Planners, PlanningSetup, solve_checked, validate_plan};
+use magbench_planners::{Planner, Planners, PlanningSetup, solve_validated, validate_plan};
 use magbench_trackers::{Mission, PlanReason, ReplanHow, TrackOutcome, Trackers, simulate};
 
 /// A run of lookahead on micro-factory (hardware preset, seed `seed`), replanning when the
@@ -16,7 +16,7 @@ fn run(seed: u64, mode: &str) -> (Scenario, PlanningSetup, TrackOutcome) {
         .in_frames_of(1.0 / preset.camera.fps)
         .on_plant(&preset.medium, preset.coil.alpha_max_deg);
     let mut planner = Planners::builtin().create("goal-zoom-rrt", &[]).unwrap();
-    let first = solve_checked(planner.as_mut(), &setup.problem(&s, 0, None, seed))
+    let first = solve_validated(planner.as_mut(), &setup.problem(&s, 0, None, seed))
         .followable()
         .unwrap();
     let spec = Trackers::builtin()

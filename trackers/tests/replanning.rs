@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use magbench_env::Vec2;
 use magbench_env::plant::DisturbancePreset;
-use magbench_planners::{FirstPlan, Limits, Planner, PlanningSetup, Problem, solve_checked};
+use magbench_planners::{FirstPlan, Limits, Planner, PlanningSetup, Problem, solve_validated};
 use magbench_trackers::{Mission, PlanReason, RunStatus, Trackers, simulate};
 
 #[test]
@@ -19,7 +19,7 @@ fn cargo_delivery_completes_both_legs_with_replanning() {
         };
         let spec = Trackers::builtin().spec(name, &[], "test").unwrap();
         let setup = PlanningSetup::default();
-        let first = solve_checked(&mut planner, &setup.problem(&s, 0, None, 3))
+        let first = solve_validated(&mut planner, &setup.problem(&s, 0, None, 3))
             .followable()
             .unwrap();
         let mission = Mission {
@@ -266,7 +266,7 @@ fn every_plan_of_a_run_is_made_under_its_setup_in_the_rigs_frames() {
     let mut preset = DisturbancePreset::ideal();
     preset.camera.fps = 30.0;
     let spec = Trackers::builtin().spec("obc", &[], "test").unwrap();
-    let first = solve_checked(
+    let first = solve_validated(
         &mut planner,
         &setup
             .clone()

@@ -233,7 +233,7 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), Error> {
 /// per core.
 fn threads(given: Option<usize>) -> Result<usize, Error> {
     match given {
-        Some(n) => magbench_env::check::bounds::threads("--threads", n)
+        Some(n) => magbench_env::input::bounds::threads("--threads", n)
             .map_err(|r| Error::arg("--threads", r.reason)),
         None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
     }

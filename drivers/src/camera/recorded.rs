@@ -26,7 +26,7 @@ pub struct RecordedEntry {
 pub fn read_index(dir: &Path) -> Result<Vec<RecordedEntry>, InputError> {
     let path = dir.join("frames.csv");
     let file = path.display().to_string();
-    let text = magbench_env::check::read_text(&path, &file)?;
+    let text = magbench_env::input::read_text(&path, &file)?;
     let mut rd = csv::Reader::from_reader(text.as_bytes());
     let mut v = Vec::new();
     for (line, rec) in rd.records().enumerate() {

@@ -1,4 +1,4 @@
-//! Writes frames to a folder (binary PGM files plus `frames.csv`) for `magbench rig replay`.
+//! Writes frames to a folder (binary PGM files plus `frames.csv`) for `magbench rig redetect`.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};

@@ -6,7 +6,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::log::EventLog;
 use magbench_env::Vec2;
-use magbench_env::check::Rejection;
+use magbench_env::input::Rejection;
 
 /// Which link a disconnect cuts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

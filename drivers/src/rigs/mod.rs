@@ -139,7 +139,7 @@ pub enum StartError {
     Hardware(#[from] HardwareError),
     /// The detector did not find every agent in enough of the first frames.
     #[error(
-        "the detector found every agent in only {found} of {frames} frames at the start; check the rig's [detector] and [pixels] calibration (magbench rig replay helps)"
+        "the detector found every agent in only {found} of {frames} frames at the start; check the rig's [detector] and [pixels] calibration (magbench rig redetect helps)"
     )]
     Undetected {
         /// Frames in which every agent was found.

@@ -131,7 +131,7 @@ macro_rules! declare_params {
                 Err($crate::params::ParamError::Unknown(key.to_string()))
             }
 
-            fn check_params(&self) -> ::core::result::Result<(), $crate::check::Rejection> {
+            fn check_params(&self) -> ::core::result::Result<(), $crate::input::Rejection> {
                 $($crate::__declared!(@check self $entry);)*
                 $(($check)(self)?;)?
                 Ok(())

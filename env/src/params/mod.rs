@@ -19,7 +19,7 @@ pub use types::{BadValue, ParamType, Reals, Value, choose};
 use std::borrow::Cow;
 
 use crate::InputError;
-use crate::check::Rejection;
+use crate::input::Rejection;
 
 /// One parameter as listed: its key, help line, allowed values and current value.
 #[derive(Debug, Clone, PartialEq)]
@@ -124,7 +124,7 @@ pub fn apply<P: ParamSet + ?Sized>(
                     format!(
                         "{owner} has no parameter {key:?} (known: {}){}",
                         known.join(", "),
-                        crate::check::suggest::hint(key, known.iter().map(String::as_str))
+                        crate::input::suggest::hint(key, known.iter().map(String::as_str))
                     )
                 }
                 ParamError::BadValue(r) => r.to_string(),

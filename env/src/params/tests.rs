@@ -34,7 +34,7 @@ crate::declare_params! {
         pub hi: f64 = 2.0,
     }
     check(|s: &Inner| if s.lo > s.hi {
-        Err(crate::check::Rejection::new("", format!("lo {} exceeds hi {}", s.lo, s.hi)))
+        Err(crate::input::Rejection::new("", format!("lo {} exceeds hi {}", s.lo, s.hi)))
     } else {
         Ok(())
     });

@@ -182,7 +182,7 @@ impl PhysicalParams {
     }
 
     /// Checks that every value is finite and physically meaningful; returns (field, reason).
-    pub fn check(&self) -> Result<(), crate::check::Rejection> {
+    pub fn check(&self) -> Result<(), crate::input::Rejection> {
         let positive = [
             ("diameter_um", self.diameter_um),
             ("viscosity_mpa_s", self.viscosity_mpa_s),
@@ -194,26 +194,26 @@ impl PhysicalParams {
         ];
         for (name, v) in positive {
             if !v.is_finite() || v <= 0.0 {
-                return Err(crate::check::Rejection::new(
+                return Err(crate::input::Rejection::new(
                     name,
                     format!("must be a finite number > 0, got {v}"),
                 ));
             }
         }
         if !self.r_min.is_finite() || self.r_min <= 1.0 {
-            return Err(crate::check::Rejection::new(
+            return Err(crate::input::Rejection::new(
                 "r_min",
                 format!("must be > 1 BL (agents touch at 1 BL), got {}", self.r_min),
             ));
         }
         if !self.r_max.is_finite() || self.r_max <= self.r_min {
-            return Err(crate::check::Rejection::new(
+            return Err(crate::input::Rejection::new(
                 "r_max",
                 format!("must be > r_min = {}, got {}", self.r_min, self.r_max),
             ));
         }
         if self.field_mt > MAX_FIELD_MT {
-            return Err(crate::check::Rejection::new(
+            return Err(crate::input::Rejection::new(
                 "field_mt",
                 format!(
                     "must be at most {MAX_FIELD_MT} mT (1 T: beyond what coil systems for microrobots make), got {}",
@@ -226,7 +226,7 @@ impl PhysicalParams {
             / (self.moment() * self.field_mt * 1e-3);
         let substeps = 1.5 * self.dt_s / tau;
         if substeps.is_nan() || substeps > MAX_ROTATION_SUBSTEPS {
-            return Err(crate::check::Rejection::new(
+            return Err(crate::input::Rejection::new(
                 "field_mt",
                 format!(
                     "with these values a moment turns to the field in τ = {tau:.3e} s; the plant integrates that in {substeps:.3e} sub-steps per step of dt_s = {} s, at most {MAX_ROTATION_SUBSTEPS} are allowed (so that a simulated second stays under a minute): lower field_mt or magnetization_ka_per_m, or raise viscosity_mpa_s",
@@ -235,7 +235,7 @@ impl PhysicalParams {
             ));
         }
         if !(MIN_DT_S..=0.05).contains(&self.dt_s) {
-            return Err(crate::check::Rejection::new(
+            return Err(crate::input::Rejection::new(
                 "dt_s",
                 format!(
                     "must be in [{MIN_DT_S}, 0.05] s (≤ 0.05 s for an accurate integration, ≥ {MIN_DT_S} s so that a plan is not millions of steps), got {}",

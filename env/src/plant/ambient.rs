@@ -3,8 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::term::Term;
-use crate::check::Rejection;
-use crate::check::bounds::within;
+use crate::input::Rejection;
+use crate::input::bounds::within;
 
 /// The ambient-field term of a preset: a constant in-plane field of this magnitude, in a
 /// direction drawn per run (the rig's orientation to north is arbitrary).

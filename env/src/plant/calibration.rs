@@ -10,8 +10,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::term::Term;
-use crate::check::bounds::within;
-use crate::check::{Bound, Rejection};
+use crate::input::bounds::within;
+use crate::input::{Bound, Rejection};
 
 /// The fixed gradient gain offsets a preset accepts.
 const GAIN_OFFSET: Bound = Bound::closed(

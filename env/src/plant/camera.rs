@@ -21,8 +21,8 @@ use serde::{Deserialize, Serialize};
 
 use super::pixels::Pixels;
 use super::streams::{Stream, normal, stream};
-use crate::check::Rejection;
-use crate::check::bounds::{non_negative, positive, probability, within};
+use crate::input::Rejection;
+use crate::input::bounds::{non_negative, positive, probability, within};
 use crate::math::Vec2;
 
 /// The camera of a disturbance preset.

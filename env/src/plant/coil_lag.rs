@@ -10,8 +10,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::term::Term;
-use crate::check::Rejection;
-use crate::check::bounds::{non_negative, within};
+use crate::input::Rejection;
+use crate::input::bounds::{non_negative, within};
 
 /// The coil-dynamics term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

@@ -3,8 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::term::Term;
-use crate::check::Rejection;
-use crate::check::bounds::within;
+use crate::input::Rejection;
+use crate::input::bounds::within;
 
 /// The uniform-drift term of a preset: one steady, uniform flow per run.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

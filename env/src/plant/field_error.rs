@@ -4,8 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::term::Term;
-use crate::check::Rejection;
-use crate::check::bounds::non_negative;
+use crate::input::Rejection;
+use crate::input::bounds::non_negative;
 
 /// The field-angle-error term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

@@ -10,8 +10,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::Rejection;
-use crate::check::bounds::within;
+use crate::input::Rejection;
+use crate::input::bounds::within;
 
 /// The `[fitted]` table of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

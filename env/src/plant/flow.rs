@@ -13,8 +13,8 @@ use serde::{Deserialize, Serialize};
 use super::drift::Drift;
 use super::streams::{Stream, stream};
 use super::term::Term;
-use crate::check::Rejection;
-use crate::check::bounds::{positive, within};
+use crate::input::Rejection;
+use crate::input::bounds::{positive, within};
 use crate::math::Vec2;
 
 /// The varying-flow term of a preset.

@@ -18,8 +18,8 @@ use serde::{Deserialize, Serialize};
 use super::medium::{Interface, Medium};
 use super::streams::{Stream, normal, stream};
 use super::term::Term;
-use crate::check::bounds::within;
-use crate::check::{Bound, Rejection};
+use crate::input::bounds::within;
+use crate::input::{Bound, Rejection};
 use crate::math::MAX_AGENTS;
 
 /// How a per-agent factor is drawn.

@@ -22,8 +22,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::Rejection;
-use crate::check::bounds::{positive, within};
+use crate::input::Rejection;
+use crate::input::bounds::{positive, within};
 use crate::physics::{DragFactors, PhysicalParams};
 
 /// Standard gravity (m/s²).

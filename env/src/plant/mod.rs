@@ -60,7 +60,7 @@ mod streams;
 mod term;
 mod walls;
 
-pub use crate::check::Rejection;
+pub use crate::input::Rejection;
 pub use camera::{Camera, CameraParams, DetectionNoise, Latency, Misses, Observation, Swaps};
 pub use capillary::CapillaryLaw;
 pub use coil_lag::AxisResponse;

@@ -9,8 +9,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::term::Term;
-use crate::check::Rejection;
-use crate::check::bounds::within;
+use crate::input::Rejection;
+use crate::input::bounds::within;
 
 /// The field-non-uniformity term of a preset.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

@@ -17,7 +17,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::{Bound, Rejection};
+use crate::input::{Bound, Rejection};
 use crate::math::Vec2;
 
 /// The image scales a preset accepts (px per BL).

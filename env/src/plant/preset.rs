@@ -10,11 +10,11 @@ use serde::{Deserialize, Serialize};
 
 use super::term::{Contribution, RunContext, Term};
 use super::{AgentFactors, CameraParams, Fitted, Medium, Walls};
-use crate::check;
-use crate::check::Rejection;
-use crate::check::bounds::within;
 use crate::coil::COIL_ALPHA_MAX_DEG;
 use crate::error::InputError;
+use crate::input;
+use crate::input::Rejection;
+use crate::input::bounds::within;
 use crate::physics::PhysicalParams;
 
 /// The preset struct, its term names, switches, checks and draws, from the term table.
@@ -230,10 +230,10 @@ impl DisturbancePreset {
         }
     }
 
-    /// Reads and validates a preset file (through the shared loader, [`crate::check`]).
+    /// Reads and validates a preset file (through the shared loader, [`crate::input`]).
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let file = path.display().to_string();
-        let text = check::read_text(path, &file).map_err(|e| {
+        let text = input::read_text(path, &file).map_err(|e| {
             InputError::new(
                 &file,
                 "",
@@ -246,9 +246,9 @@ impl DisturbancePreset {
     /// Parses and validates preset TOML `text`; `file` names it in errors, which give the
     /// field and its line.
     pub fn parse(text: &str, file: &str) -> Result<Self, InputError> {
-        let preset: Self = check::parse_toml(text, file)?;
+        let preset: Self = input::parse_toml(text, file)?;
         preset.check().map_err(|r| {
-            let line = check::field_line(text, &r.field);
+            let line = input::field_line(text, &r.field);
             InputError::new(file, &r.field, format!("{}{line}", r.reason))
         })?;
         Ok(preset)

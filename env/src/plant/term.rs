@@ -17,7 +17,7 @@ use serde::de::DeserializeOwned;
 use super::heterogeneity::AgentFactors;
 use super::medium::Medium;
 use super::streams::named_stream;
-use crate::check::Rejection;
+use crate::input::Rejection;
 use crate::math::Vec2;
 use crate::physics::PhysicalParams;
 

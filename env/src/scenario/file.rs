@@ -5,9 +5,9 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 use super::{Goal, Leg, Scenario};
-use crate::check::{Checker, Fixed, parse_toml};
 use crate::collision::{CollisionWorld, ValidityChecker};
 use crate::error::InputError;
+use crate::input::{Checker, Fixed, parse_toml};
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::{PhysicalOverrides, PhysicalParams};
 use crate::plant::Medium;
@@ -99,7 +99,7 @@ pub fn parse_scenario(text: &str, file: &str) -> Result<Scenario, InputError> {
     scenario(Checker::new(file), raw).map_err(|mut e| {
         // a medium out of range: point at its line, as the preset loader does
         if e.field.starts_with("medium.") {
-            e.reason += &crate::check::field_line(text, &e.field);
+            e.reason += &crate::input::field_line(text, &e.field);
         }
         e
     })

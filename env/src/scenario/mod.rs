@@ -120,7 +120,7 @@ impl Scenario {
             ));
         }
         let text =
-            crate::check::file::read_text_at_most(path, name_or_path, file::MAX_SCENARIO_BYTES)?;
+            crate::input::file::read_text_at_most(path, name_or_path, file::MAX_SCENARIO_BYTES)?;
         parse_scenario(&text, name_or_path)
     }
 

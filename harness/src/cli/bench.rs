@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use magbench_env::check::{Bound, Rejection};
+use magbench_env::input::{Bound, Rejection};
 
 use super::number::count;
 use crate::Error;

@@ -6,7 +6,7 @@ use clap::{Args, Subcommand};
 use magbench_drivers::fit::{FitError, FitOptions, calibrate, read_log};
 use magbench_drivers::rigs::preset_named;
 use magbench_env::Scenario;
-use magbench_env::check::Bound;
+use magbench_env::input::Bound;
 
 use super::calibrate_plot::MotionFigure;
 use crate::Error;

@@ -2,7 +2,7 @@
 //! interval, its unit and why (`<command line>: --max-iters: must be in [1, 2097152]
 //! iterations: …, got 1e19`).
 
-use magbench_env::check::Bound;
+use magbench_env::input::Bound;
 
 use crate::Error;
 
@@ -22,7 +22,7 @@ pub(crate) fn count(name: &str, bound: &Bound, n: u64) -> Result<u64, Error> {
 /// per core.
 pub(crate) fn threads(given: Option<usize>) -> Result<usize, Error> {
     match given {
-        Some(n) => magbench_env::check::bounds::threads("--threads", n)
+        Some(n) => magbench_env::input::bounds::threads("--threads", n)
             .map_err(|r| Error::arg("--threads", r.reason)),
         None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
     }

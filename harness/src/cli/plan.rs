@@ -156,7 +156,7 @@ pub fn run(a: PlanArgs, registry: &Registry) -> Result<(), Error> {
         Ok::<_, Error>(LegRun {
             tree: tree_edges(&*planner),
             problem: planned.problem,
-            result: planned.checked.result,
+            result: planned.validated.result,
             tree_data: planned.tree,
             stopped: planned.stopped,
         })

@@ -170,7 +170,7 @@ pub fn run(r: TrackRun) -> Result<(), Error> {
                     }));
                 }
             };
-            let checked = planned.checked;
+            let checked = planned.validated;
             let result = &checked.result;
             if rig.describe().is_some() {
                 eprintln!(

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use magbench_env::check::Bound;
+use magbench_env::input::Bound;
 
 use super::number::checked;
 use crate::Error;

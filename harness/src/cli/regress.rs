@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use magbench_env::check::Bound;
+use magbench_env::input::Bound;
 
 use super::number::checked;
 use crate::Error;

@@ -1,7 +1,7 @@
-//! `magbench rig emulate|check|replay|run`: physical runs on a coil-and-camera rig, and the
+//! `magbench rig emulate|check|redetect|run`: physical runs on a coil-and-camera rig, and the
 //! emulator that stands in for one.
 
-use magbench_env::check::Bound;
+use magbench_env::input::Bound;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -12,7 +12,7 @@ use magbench_drivers::emulator::render::RenderParams;
 use magbench_drivers::emulator::{self, DeviceEndpoint, EmulatorConfig};
 use magbench_drivers::rigfile::{CoilEndpoint, RigConfig};
 use magbench_drivers::rigs::preset_named;
-use magbench_drivers::{HardwareError, HardwareRig, check, interrupt, replay};
+use magbench_drivers::{HardwareError, HardwareRig, check, interrupt, redetect};
 use magbench_env::Scenario;
 
 use super::plan_and_track::{TrackRun, tracker_spec};
@@ -30,7 +30,7 @@ pub enum RigCmd {
     /// detections and control-loop latency.
     Check(CheckArgs),
     /// Rerun the detector on recorded frames (and report its error when the truth is recorded).
-    Replay(ReplayArgs),
+    Redetect(RedetectArgs),
     /// Run a scenario on the rig: observe the start, plan from it, track in closed loop at the
     /// camera rate, log everything, stop with zero field, print the metrics of `magbench track`.
     Run(Box<RunArgs>),
@@ -179,9 +179,9 @@ pub struct CheckArgs {
     pub out: Option<PathBuf>,
 }
 
-/// `magbench rig replay`.
+/// `magbench rig redetect`.
 #[derive(Debug, Args)]
-pub struct ReplayArgs {
+pub struct RedetectArgs {
     /// The rig file (pixel map and detector parameters).
     #[arg(long)]
     pub rig: PathBuf,
@@ -200,7 +200,7 @@ pub fn run(cmd: RigCmd, registry: &Registry) -> Result<(), Error> {
     match cmd {
         RigCmd::Emulate(a) => emulate(*a),
         RigCmd::Check(a) => check_cmd(a),
-        RigCmd::Replay(a) => replay_cmd(a),
+        RigCmd::Redetect(a) => redetect_cmd(a),
         RigCmd::Run(a) => run_cmd(*a, registry),
         RigCmd::Excite(a) => excite_cmd(a),
     }
@@ -403,7 +403,7 @@ fn check_cmd(a: CheckArgs) -> Result<(), Error> {
     Ok(())
 }
 
-fn replay_cmd(a: ReplayArgs) -> Result<(), Error> {
+fn redetect_cmd(a: RedetectArgs) -> Result<(), Error> {
     let rig = RigConfig::load(&a.rig)?;
     if let Some(f) = &a.out {
         prepare_file(f, "--out")?;
@@ -415,7 +415,7 @@ fn replay_cmd(a: ReplayArgs) -> Result<(), Error> {
     if a.frames.join("frames.csv").exists() {
         magbench_drivers::camera::read_index(&a.frames)?;
     }
-    let r = replay::replay(&rig, &a.frames, prior.as_deref(), a.out.as_deref())?;
+    let r = redetect::redetect(&rig, &a.frames, prior.as_deref(), a.out.as_deref())?;
     outln!("frames       {}", r.frames);
     outln!("detections   {} ({} missed)", r.detections, r.missed);
     if let Some((rms, max)) = r.error_px {

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
-use magbench_env::check::Bound;
+use magbench_env::input::Bound;
 use magbench_env::params::split_all;
 use magbench_env::scenario::difficulty::measure;
 use magbench_env::scenario::{builtin_names, generate};

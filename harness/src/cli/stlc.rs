@@ -5,8 +5,8 @@
 use clap::Args;
 use magbench_env::PhysicalParams;
 use magbench_env::Vec2;
-use magbench_env::check::Bound;
 use magbench_env::controllability::{closed_form, larc, velocity_ellipse};
+use magbench_env::input::Bound;
 use magbench_env::model::Kinematics;
 use magbench_env::team_controllability::{FieldSet, TeamReport, formations, team_report};
 

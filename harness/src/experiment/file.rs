@@ -5,7 +5,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use magbench_env::InputError;
-use magbench_env::check::{Bound, Rejection, parse_toml};
+use magbench_env::input::{Bound, Rejection, parse_toml};
 use magbench_env::plant::DisturbancePreset;
 use serde::Deserialize;
 
@@ -97,7 +97,7 @@ fn components(
     list: &[toml::Value],
     file: &str,
     key: &str,
-    check: &dyn Fn(&Variant) -> Result<(), magbench_env::check::Rejection>,
+    check: &dyn Fn(&Variant) -> Result<(), magbench_env::input::Rejection>,
 ) -> Result<Vec<Variant>, InputError> {
     let mut out: Vec<Variant> = vec![];
     for (i, v) in list.iter().enumerate() {

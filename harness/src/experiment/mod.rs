@@ -83,7 +83,7 @@ impl Experiment {
     /// (or to the working directory).
     pub fn load(path: &Path, ex: &dyn Executor) -> Result<Experiment, InputError> {
         let file = path.display().to_string();
-        let text = magbench_env::check::read_text(path, &file)?;
+        let text = magbench_env::input::read_text(path, &file)?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let stem = path
             .file_stem()

@@ -2,7 +2,7 @@
 //! track the plan in closed loop against the simulated plant, keeping every tick.
 
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{Limits, PlannerResult, PlanningSetup, solve_checked};
+use magbench_planners::{Limits, PlannerResult, PlanningSetup, solve_validated};
 use magbench_trackers::{Mission, Reference, track};
 
 use crate::error::Error;
@@ -58,7 +58,7 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, Er
     }
     .in_frames_of(period);
     let problem = setup.problem(&scenario, 0, None, s.seed);
-    let checked = solve_checked(planner.as_mut(), &problem);
+    let checked = solve_validated(planner.as_mut(), &problem);
     let planned = checked.result.clone();
     let first = checked
         .followable()

@@ -6,7 +6,7 @@
 //!   scenario's start, or a given start) with a fresh planner, seeded by the seed rule
 //!   ([`magbench_planners::seeds::leg_seed`]); planning stops at the first unsolved leg.
 //! - **Check.** The start rule ([`start`]) before the planner runs, the independent validator
-//!   ([`magbench_planners::solve_checked`]) after: a refused plan is a [`Failure`].
+//!   ([`magbench_planners::solve_validated`]) after: a refused plan is a [`Failure`].
 //! - **Post-process.** The passes of the run's `shortcut` and `straighten` parameters, applied
 //!   to every planner the registry makes ([`magbench_planners::PostProcessed`]), so a plugin's
 //!   plans get them with no code of its own; the validator checks the processed plan.
@@ -22,7 +22,7 @@ pub mod start;
 use magbench_env::{Scenario, Vec2};
 use magbench_planners::seeds::leg_seed;
 use magbench_planners::{
-    Checked, FirstPlan, Planner, PlannerResult, PlanningSetup, Problem, solve_checked,
+    FirstPlan, Planner, PlannerResult, PlanningSetup, Problem, Validated, solve_validated,
 };
 use magbench_trackers::Mission;
 
@@ -50,7 +50,7 @@ pub struct LegPlan {
     /// The problem it was planned for.
     pub problem: Problem,
     /// The result and its verdict.
-    pub checked: Checked,
+    pub validated: Validated,
     /// The search tree of the leg, when the planner keeps one.
     pub tree: Option<LegTree>,
     /// Why the planner stopped without an exact solution, when it says
@@ -60,7 +60,7 @@ pub struct LegPlan {
 
 impl AsRef<PlannerResult> for LegPlan {
     fn as_ref(&self) -> &PlannerResult {
-        &self.checked.result
+        &self.validated.result
     }
 }
 
@@ -92,8 +92,8 @@ impl<'a> Pipeline<'a> {
     ) -> Result<LegPlan, Failure> {
         let problem = self.problem(leg, start);
         start::check_leg_start(&problem, leg)?;
-        let checked = solve_checked(planner, &problem);
-        if let Some(error) = checked.invalid() {
+        let validated = solve_validated(planner, &problem);
+        if let Some(error) = validated.invalid() {
             return Err(Failure::InvalidPlan {
                 leg,
                 error: error.clone(),
@@ -102,12 +102,12 @@ impl<'a> Pipeline<'a> {
         let tree = LegTree::of_planner(planner, &problem, leg);
         let stopped = planner
             .stop_reason()
-            .filter(|_| !checked.result.solved)
+            .filter(|_| !validated.result.solved)
             .map(str::to_string);
         Ok(LegPlan {
             leg,
             problem,
-            checked,
+            validated,
             tree,
             stopped,
         })

@@ -5,7 +5,7 @@
 //! feature; without it, [`FigureOptions::needs_print`] names the option that asks for one.
 
 use crate::units::Units;
-use magbench_env::check::Bound;
+use magbench_env::input::Bound;
 use std::path::Path;
 #[cfg(feature = "print")]
 use std::sync::Arc;

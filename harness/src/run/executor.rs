@@ -4,7 +4,7 @@ use std::cell::RefCell;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Once;
 
-use magbench_env::check::Rejection;
+use magbench_env::input::Rejection;
 
 use super::{ProgressRow, RunError, RunRecord, RunSpec, Status, Variant};
 

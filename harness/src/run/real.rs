@@ -22,7 +22,7 @@ use std::time::Duration;
 
 use std::time::Instant;
 
-use magbench_env::check::Rejection;
+use magbench_env::input::Rejection;
 use magbench_env::plant::DisturbancePreset;
 use magbench_planners::ElevationRefused;
 use magbench_planners::setup::SETUP_KEYS;
@@ -146,7 +146,7 @@ pub fn plan_legs(
     setup: &PlanningSetup,
 ) -> Result<Vec<PlannerResult>, RunError> {
     let legs = planned_legs(registry, spec, setup)?;
-    Ok(legs.into_iter().map(|l| l.checked.result).collect())
+    Ok(legs.into_iter().map(|l| l.validated.result).collect())
 }
 
 /// [`plan_legs`], keeping each leg's [`LegPlan`] (its search tree and stop reason).
@@ -324,7 +324,7 @@ impl Executor for RealExecutor {
             }
             let (mut legs, mut trees) = (vec![], vec![]);
             for l in planned {
-                legs.push(l.checked.result);
+                legs.push(l.validated.result);
                 trees.extend(l.tree);
             }
             let progress = fill_planning(&legs, n, spec, &mut rec);
@@ -343,7 +343,7 @@ impl Executor for RealExecutor {
         let planned = plan_leg(&self.registry, spec, &pipe, 0, None)?;
         record_stop(&mut rec, &planned);
         let LegPlan {
-            checked: first,
+            validated: first,
             tree,
             ..
         } = planned;

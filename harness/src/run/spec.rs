@@ -4,7 +4,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use magbench_env::Scenario;
-use magbench_env::check::{Bound, MEMORY_BUDGET_BYTES, Rejection};
+use magbench_env::input::{Bound, MEMORY_BUDGET_BYTES, Rejection};
 use magbench_env::plant::DisturbancePreset;
 
 use super::Variant;

@@ -8,7 +8,7 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
-use magbench_env::check::Rejection;
+use magbench_env::input::Rejection;
 
 /// A parameter value.
 #[derive(Debug, Clone, PartialEq)]

@@ -3,8 +3,9 @@
 //! OMPL calls back into magbench through [`Callbacks`]: one propagation step through the
 //! problem's `PlanningModel` checked by magbench's continuous edge check, the state check, the
 //! goal, a tick per planner iteration (limits and progress) and SST's improved solutions. The
-//! context behind `ctx` is a [`Run`]; every callback takes it shared, and what changes during a
-//! run sits in a `RefCell` (OMPL calls back from the solving thread only, never reentrantly).
+//! context behind `ctx` is a [`SolveContext`]; every callback takes it shared, and what changes
+//! during a run sits in a `RefCell` (OMPL calls back from the solving thread only, never
+//! reentrantly).
 
 use std::cell::RefCell;
 use std::ffi::{c_char, c_int, c_void};
@@ -27,7 +28,7 @@ pub const ELEVATED_DIMS: usize = 4;
 /// magbench's side of the ABI (`struct mb_callbacks`).
 #[repr(C)]
 pub struct Callbacks {
-    /// The [`Run`].
+    /// The [`SolveContext`].
     pub ctx: *mut c_void,
     /// One propagation step; 0 when magbench's edge check refuses it.
     pub propagate: extern "C" fn(*mut c_void, *const f64, *const f64, f64, *mut f64) -> c_int,
@@ -136,7 +137,7 @@ pub struct Live {
 }
 
 /// The context of one OMPL run.
-pub struct Run<'a> {
+pub struct SolveContext<'a> {
     /// The problem.
     pub problem: &'a Problem,
     /// Control dimensions: [`PLANAR_DIMS`] or [`ELEVATED_DIMS`].
@@ -145,10 +146,10 @@ pub struct Run<'a> {
     pub live: RefCell<Live>,
 }
 
-impl<'a> Run<'a> {
+impl<'a> SolveContext<'a> {
     /// A run of `problem` with `dims`-dimensional controls whose clock starts now.
     pub fn new(problem: &'a Problem, dims: usize) -> Self {
-        Run {
+        SolveContext {
             problem,
             dims,
             live: RefCell::new(Live {
@@ -183,9 +184,9 @@ pub fn control(u: &[f64]) -> Control {
 }
 
 /// # Safety
-/// `ctx` is the `Run` the callbacks were made for.
-unsafe fn run<'a>(ctx: *mut c_void) -> &'a Run<'a> {
-    unsafe { &*(ctx as *const Run) }
+/// `ctx` is the `SolveContext` the callbacks were made for.
+unsafe fn run<'a>(ctx: *mut c_void) -> &'a SolveContext<'a> {
+    unsafe { &*(ctx as *const SolveContext) }
 }
 
 extern "C" fn propagate(
@@ -282,9 +283,9 @@ extern "C" fn solution(ctx: *mut c_void, edges: usize, controls: *const f64, ste
 
 impl Callbacks {
     /// The callbacks of `run`.
-    pub fn of(run: &Run) -> Self {
+    pub fn of(run: &SolveContext) -> Self {
         Callbacks {
-            ctx: run as *const Run as *mut c_void,
+            ctx: run as *const SolveContext as *mut c_void,
             propagate,
             valid,
             goal_distance,

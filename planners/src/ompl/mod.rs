@@ -50,7 +50,7 @@ use crate::{Planner, PlannerResult, Problem, plan_cost};
 
 pub use params::{Durations, Est, Kpiece, OmplParams, Pdst, Rrt, Sst};
 
-use ffi::{CProblem, CResult, Callbacks, Run, mb_ompl_free, mb_ompl_solve};
+use ffi::{CProblem, CResult, Callbacks, SolveContext, mb_ompl_free, mb_ompl_solve};
 
 /// OMPL's counts at the end of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -91,7 +91,7 @@ impl<P: OmplParams> Ompl<P> {
         } else {
             ffi::PLANAR_DIMS
         };
-        let run = Run::new(problem, dims);
+        let run = SolveContext::new(problem, dims);
         let callbacks = Callbacks::of(&run);
         let (min_steps, max_steps) = self.params.durations().steps(problem);
         let owned = Owned::new(
@@ -240,7 +240,7 @@ pub fn propagate_through_ompl(
     u: &magbench_env::Control,
     repeats: u64,
 ) -> Option<(Vec<magbench_env::Vec2>, std::time::Duration)> {
-    let run = Run::new(problem, ffi::ELEVATED_DIMS);
+    let run = SolveContext::new(problem, ffi::ELEVATED_DIMS);
     let callbacks = Callbacks::of(&run);
     let owned = Owned::new(problem, "rrt", &[], (1, 1));
     let cproblem = owned.c_problem(problem, ffi::ELEVATED_DIMS);
@@ -272,7 +272,7 @@ impl<P: OmplParams> ParamSet for Ompl<P> {
     fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
         self.params.set_param(key, value)
     }
-    fn check_params(&self) -> Result<(), magbench_env::check::Rejection> {
+    fn check_params(&self) -> Result<(), magbench_env::input::Rejection> {
         self.params.check_params()
     }
 }

@@ -49,7 +49,7 @@ impl Durations {
         .then_some(problem.alpha_max)
     }
 
-    fn check(&self) -> Result<(), magbench_env::check::Rejection> {
+    fn check(&self) -> Result<(), magbench_env::input::Rejection> {
         check_durations(self.min_duration, self.max_duration)
     }
 }

@@ -6,7 +6,7 @@ use magbench_env::params::owned;
 use super::*;
 use crate::planners::Sst as MagbenchSst;
 use crate::registry::Planners;
-use crate::{Limits, Plan, check_result, validate_plan};
+use crate::{Limits, Plan, validate_plan, validate_result};
 
 const OMPL: [&str; 5] = [
     "ompl:rrt",
@@ -93,7 +93,7 @@ fn every_ompl_planner_makes_valid_plans_on_open_field() {
                 assert_eq!(r.progress.last().unwrap().best_cost, r.cost);
             }
             if r.plan.edges() > 0 {
-                check_result(&p, &r).unwrap_or_else(|e| panic!("{name} seed {seed}: {e}"));
+                validate_result(&p, &r).unwrap_or_else(|e| panic!("{name} seed {seed}: {e}"));
             }
         }
         if ["ompl:rrt", "ompl:sst", "ompl:kpiece"].contains(&name) {
@@ -113,7 +113,7 @@ fn ompl_solutions_go_through_the_shortcut_pass() {
         .solve(&p);
     assert!(plain.solved && short.solved);
     validate_plan(&p, &short.plan).unwrap();
-    check_result(&p, &short).unwrap();
+    validate_result(&p, &short).unwrap();
     assert!(
         short.cost.unwrap() < 0.95 * plain.cost.unwrap(),
         "{:?} against {:?}",
@@ -138,7 +138,7 @@ fn ompl_solutions_are_straightened_too() {
         .solve(&p);
     assert!(plain.solved && straight.solved);
     validate_plan(&p, &straight.plan).unwrap();
-    check_result(&p, &straight).unwrap();
+    validate_result(&p, &straight).unwrap();
     assert!(
         straight.cost.unwrap() < 0.95 * plain.cost.unwrap(),
         "{:?} against {:?}",
@@ -312,7 +312,7 @@ fn ompl_plans_with_the_elevation_on_trio_triangle() {
                 "{name}"
             );
             assert!(r.plan.controls.iter().any(|u| u.alpha > 0.0), "{name}");
-            check_result(&p, &r).unwrap_or_else(|e| panic!("{name} seed {seed}: {e}"));
+            validate_result(&p, &r).unwrap_or_else(|e| panic!("{name} seed {seed}: {e}"));
             if r.solved {
                 validate_plan(&p, &r.plan).unwrap_or_else(|e| panic!("{name} seed {seed}: {e}"));
                 solved += 1;

@@ -16,7 +16,7 @@
 //! stays above `replan_error` for longer than `replan_after`; such a replan first repairs the
 //! plan being followed (`replan_mode`, [`replanner`]). Every plan is made under the
 //! mission's [`PlanningSetup`] (`setup.problem(scenario, leg, Some(start), seed)`) in whole
-//! frames of the rig, and followed only if [`magbench_planners::check_result`] accepts it.
+//! frames of the rig, and followed only if [`magbench_planners::validate_result`] accepts it.
 
 pub mod contact;
 pub mod course;
@@ -119,7 +119,7 @@ declare_params! {
 pub struct Mission<'a> {
     /// The scenario (legs, goals, maps, physics).
     pub scenario: &'a Scenario,
-    /// The first leg's plan ([`magbench_planners::solve_checked`], or a checked plan file).
+    /// The first leg's plan ([`magbench_planners::solve_validated`], or a checked plan file).
     pub first: FirstPlan,
     /// The planner for new legs and replans.
     pub planner: Option<&'a mut dyn Planner>,
@@ -205,7 +205,7 @@ pub fn track(
     opts: &LoopOptions,
 ) -> TrackOutcome {
     let guard = StopGuard { rig };
-    let mut run = Run::new(mission, opts, &*guard.rig, tracker);
+    let mut run = ClosedLoop::new(mission, opts, &*guard.rig, tracker);
     while run.status.is_none() {
         run.tick(&mut *guard.rig, tracker);
     }
@@ -245,7 +245,7 @@ impl Since {
 
 /// One run: the planner side ([`Replanner`], the [`Course`] of legs, the plan followed), the
 /// feedback side ([`Feedback`], [`ContactDetector`]) and the [`Recorder`].
-struct Run<'a> {
+struct ClosedLoop<'a> {
     opts: LoopOptions,
     model: PlanningModel,
     course: Course<'a>,
@@ -259,7 +259,7 @@ struct Run<'a> {
     seed: u64,
 }
 
-impl<'a> Run<'a> {
+impl<'a> ClosedLoop<'a> {
     /// The run of `mission`, following its first plan from the first tick (`tracker` is reset
     /// on it).
     fn new(
@@ -274,7 +274,7 @@ impl<'a> Run<'a> {
         let first = mission.first;
         let reference = reference_for(&first.plan, &model, course.goal());
         let allowance = opts.time_factor * reference.duration() + opts.time_slack;
-        let mut run = Run {
+        let mut run = ClosedLoop {
             course,
             replanner: Replanner::new(
                 mission.planner,

@@ -16,7 +16,7 @@
 //! observed state, else grows a small tree from it onto the plan's remaining waypoints, and
 //! only then plans from scratch with the mission's planner. A new leg is always planned from
 //! scratch (its goal and map are new). Every plan, repaired or not, is followed only when
-//! [`check_result`] accepts it; every replan's wall time and work go to the run's log.
+//! [`validate_result`] accepts it; every replan's wall time and work go to the run's log.
 
 use std::time::Instant;
 
@@ -26,7 +26,7 @@ use magbench_planners::repair::{Repair, RepairHow};
 use magbench_planners::search_settings::SearchSettings;
 use magbench_planners::seeds::replan_seed;
 use magbench_planners::{
-    Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, check_result,
+    Plan, Planner, PlannerResult, PlanningSetup, Problem, Unusable, validate_result,
 };
 
 use super::cpu_clock::thread_cpu_s;
@@ -325,7 +325,7 @@ impl<'a> Replanner<'a> {
         let seed = replan_seed(self.seed, k);
         let mut problem = self.setup.problem(scenario, leg, Some(&start), seed);
         if !problem.checker.is_valid(&problem.start) {
-            // the validator (`check_result`) refuses every plan from an invalid start (agents too close or too
+            // the validator (`validate_result`) refuses every plan from an invalid start (agents too close or too
             // far apart): the planner is not called
             rec.note(format!(
                 "{} planning for leg {}: the observed state is not valid (the validator refuses every plan from it)",
@@ -353,7 +353,7 @@ impl<'a> Replanner<'a> {
         let planner = self.planner.as_deref_mut()?;
         let result = planner.solve(&problem);
         record.planner_iterations = result.iterations;
-        match check_result(&problem, &result) {
+        match validate_result(&problem, &result) {
             Ok(()) => {
                 record.how = ReplanHow::Full;
                 Some(result)
@@ -374,7 +374,7 @@ impl<'a> Replanner<'a> {
         }
     }
 
-    /// A repair of `plan` for `problem` that passes [`check_result`], and how it was found;
+    /// A repair of `plan` for `problem` that passes [`validate_result`], and how it was found;
     /// its work goes to `record`. A repaired plan the validator refuses (a bug) is noted.
     fn repair(
         &self,
@@ -395,7 +395,7 @@ impl<'a> Replanner<'a> {
         record.tree_iterations = r.iterations;
         record.repair_edges = r.edges;
         let (result, how) = r.found?;
-        if let Err(e) = check_result(problem, &result) {
+        if let Err(e) = validate_result(problem, &result) {
             rec.note(format!("a repaired plan was refused: {e}"));
             return None;
         }
@@ -531,7 +531,7 @@ mod tests {
         assert_eq!((log[2].how, log[2].rejoins), (ReplanHow::Full, 0));
         for ((x, _), result) in cases.iter().zip(&results) {
             let problem = setup.problem(&s, 0, Some(x), 0);
-            assert_eq!(check_result(&problem, result), Ok(()));
+            assert_eq!(validate_result(&problem, result), Ok(()));
             assert_eq!(result.plan.start(), &x[..]);
         }
         assert!(log.iter().all(|l| l.wall_s > 0.0 && l.t_s == 1.0));

@@ -36,8 +36,8 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use magbench_env::check::Rejection;
 use magbench_env::coil::{DEFAULT_ALPHA_MAX_DEG, Planar};
+use magbench_env::input::Rejection;
 use magbench_env::math::wrap_angle;
 use magbench_env::params::Reals;
 use magbench_env::{Control, MAX_AGENTS, Vec2, declare_params};

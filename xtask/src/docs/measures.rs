@@ -1530,7 +1530,7 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, RIG],
     },
     Measure {
-        name: "rig-replay",
+        name: "rig-redetect",
         source: Transcript {
             files: &["rigs"],
             cwd: ".",
@@ -1541,7 +1541,7 @@ pub static MEASURES: &[Measure] = &[
                     ready: "lockstep.toml",
                 },
                 Step::Run("rig check --rig lockstep.toml micro-factory --duration 10"),
-                Step::Run("rig replay --rig rigs/emulator.toml rec --out detections.csv"),
+                Step::Run("rig redetect --rig rigs/emulator.toml rec --out detections.csv"),
             ],
         },
         feature: None,

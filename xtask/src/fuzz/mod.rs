@@ -71,7 +71,7 @@ impl Target {
             "fuzz.{}",
             if self == Target::Plan { "json" } else { "toml" }
         );
-        let max = magbench_env::check::file::MAX_INPUT_BYTES;
+        let max = magbench_env::input::file::MAX_INPUT_BYTES;
         if data.len() as u64 > max {
             return Err(InputError::new(
                 file,

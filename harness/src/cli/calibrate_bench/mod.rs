@@ -23,7 +23,7 @@ use rayon::prelude::*;
 
 use magbench_drivers::fit::FitOptions;
 use magbench_env::Scenario;
-use magbench_env::check::Bound;
+use magbench_env::input::Bound;
 
 use self::ranges::Ranges;
 use self::report::RigResult;

@@ -6,7 +6,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use magbench_env::InputError;
-use magbench_env::check::{self, Bound, Rejection};
+use magbench_env::input::{self, Bound, Rejection};
 
 /// Where the rigs' values are drawn from: `[low, high]` for each number (drawn uniformly), a
 /// share of rigs for each switch.
@@ -88,10 +88,10 @@ impl Ranges {
     /// reason (with its line).
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let file = path.display().to_string();
-        let text = check::read_text(path, &file)?;
-        let r: Self = check::parse_toml(&text, &file)?;
+        let text = input::read_text(path, &file)?;
+        let r: Self = input::parse_toml(&text, &file)?;
         r.check().map_err(|e| {
-            let line = check::field_line(&text, &e.field);
+            let line = input::field_line(&text, &e.field);
             InputError::new(&file, &e.field, format!("{}{line}", e.reason))
         })?;
         Ok(r)

@@ -45,7 +45,7 @@ impl Tracking {
                 .in_frames_of(1.0 / 60.0)
                 .on_plant(medium, magbench_env::coil::COIL_ALPHA_MAX_DEG);
             let r = plan_leg(&scenario, 0, None, planner.as_mut(), &setup, 0)?
-                .checked
+                .validated
                 .result;
             if !r.solved {
                 return Err(Error::Failed(format!(

@@ -1,4 +1,4 @@
-//! `magbench rig replay`: the detector rerun on recorded frames, with the error against the
+//! `magbench rig redetect`: the detector rerun on recorded frames, with the error against the
 //! truth when the recording has it (emulator recordings do).
 
 use std::io::Write;
@@ -11,9 +11,9 @@ use crate::camera::{Camera, CameraError, RecordedCamera};
 use crate::detector::Detector;
 use crate::rigfile::RigConfig;
 
-/// What a replay found.
+/// What a detection rerun found.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ReplayReport {
+pub struct RedetectReport {
     /// Frames processed.
     pub frames: usize,
     /// Agent detections made.
@@ -26,9 +26,9 @@ pub struct ReplayReport {
     pub mean_detect_ms: f64,
 }
 
-/// Why a replay stopped.
+/// Why a detection rerun stopped.
 #[derive(Debug, thiserror::Error)]
-pub enum ReplayError {
+pub enum RedetectError {
     /// The recorded frames cannot be read.
     #[error(transparent)]
     Camera(#[from] CameraError),
@@ -52,8 +52,8 @@ pub enum ReplayError {
 }
 
 /// The error of writing `path`.
-fn write_err(path: &Path) -> impl Fn(std::io::Error) -> ReplayError + '_ {
-    move |source| ReplayError::Write {
+fn write_err(path: &Path) -> impl Fn(std::io::Error) -> RedetectError + '_ {
+    move |source| RedetectError::Write {
         path: path.to_path_buf(),
         source,
     }
@@ -61,19 +61,19 @@ fn write_err(path: &Path) -> impl Fn(std::io::Error) -> ReplayError + '_ {
 
 /// Detects the agents in every frame of `dir`; `prior` primes identities (default: the truth
 /// of the first frame). Writes `index,t_s,x0_bl,y0_bl,...` lines to `out` when given.
-pub fn replay(
+pub fn redetect(
     rig: &RigConfig,
     dir: &Path,
     prior: Option<&[Vec2]>,
     out: Option<&Path>,
-) -> Result<ReplayReport, ReplayError> {
+) -> Result<RedetectReport, RedetectError> {
     let mut cam = RecordedCamera::open(dir, rig.camera.fps)?;
     let entries = cam.entries().to_vec();
     let prior: Vec<Vec2> = match prior {
         Some(p) => p.to_vec(),
         None if !entries[0].truth.is_empty() => entries[0].truth.clone(),
         None => {
-            return Err(ReplayError::NoStart {
+            return Err(RedetectError::NoStart {
                 dir: dir.to_path_buf(),
             });
         }
@@ -128,7 +128,7 @@ pub fn replay(
             writeln!(w, "{},{}{}", f.index, f.t, cols.concat()).map_err(write_err(p))?;
         }
     }
-    Ok(ReplayReport {
+    Ok(RedetectReport {
         frames,
         detections,
         missed,
