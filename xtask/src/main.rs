@@ -1,5 +1,6 @@
 //! `cargo xtask measure`: regenerate the measured figures of the book in `docs/measured/`;
-//! `cargo xtask stale`: name the ones whose source changed since they were measured.
+//! `cargo xtask stale`: name the ones whose source changed since they were measured;
+//! `cargo xtask lines`: each crate's share of the project's non-test lines.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -35,6 +36,8 @@ enum Command {
     /// measurement's source paths changed in git after the revision it names; exit 1 when any
     /// is stale.
     Stale(StaleArgs),
+    /// Print each crate's non-test lines and share of the project's, as a Markdown table.
+    Lines,
 }
 
 fn main() -> ExitCode {
@@ -42,6 +45,9 @@ fn main() -> ExitCode {
     let done = match cli.command {
         Command::Measure(a) => run_measure(a, &Registry::builtin()),
         Command::Stale(a) => run_stale(a),
+        Command::Lines => xtask::lines::table(&root())
+            .map(|t| print!("{}", t.markdown()))
+            .map_err(|e| Error::Failed(format!("counting lines: {e}"))),
     };
     match done {
         Ok(()) => ExitCode::SUCCESS,

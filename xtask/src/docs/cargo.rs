@@ -110,12 +110,7 @@ impl MagbenchBinary {
         }
         args.push("--message-format=json-render-diagnostics".into());
         let stdout = run_cargo(root, &args, &[], false)?;
-        let found = stdout
-            .lines()
-            .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
-            .filter(|m| m["reason"] == "compiler-artifact" && m["target"]["name"] == "magbench")
-            .find_map(|m| m["executable"].as_str().map(PathBuf::from));
-        let path = found.ok_or_else(|| CargoError::NoExecutable {
+        let path = executable(&stdout, "magbench").ok_or_else(|| CargoError::NoExecutable {
             command: command_line(&args),
             binary: "magbench".into(),
         })?;
@@ -124,6 +119,16 @@ impl MagbenchBinary {
         }
         Ok(self.path.get_or_init(|| path))
     }
+}
+
+/// The executable of binary `name` among the messages of `cargo build
+/// --message-format=json` (one JSON object a line), if it was built.
+pub fn executable(messages: &str, name: &str) -> Option<PathBuf> {
+    messages
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter(|m| m["reason"] == "compiler-artifact" && m["target"]["name"] == name)
+        .find_map(|m| m["executable"].as_str().map(PathBuf::from))
 }
 
 /// The lines of `stdout` that are Markdown table lines (`| … |`), trimmed.
@@ -145,6 +150,27 @@ pub fn table_text(stdout: &str) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_executable_is_read_from_cargos_messages() {
+        let messages = concat!(
+            r#"{"reason":"compiler-artifact","target":{"name":"magbench","kind":["lib"]},"executable":null}"#,
+            "\n",
+            "a line that is not JSON\n",
+            r#"{"reason":"compiler-artifact","target":{"name":"other"},"executable":"/t/other"}"#,
+            "\n",
+            r#"{"reason":"compiler-artifact","target":{"name":"magbench","kind":["bin"]},"executable":"/t/release/magbench"}"#,
+            "\n",
+            r#"{"reason":"build-finished","success":true}"#,
+            "\n",
+        );
+        assert_eq!(
+            executable(messages, "magbench"),
+            Some(PathBuf::from("/t/release/magbench"))
+        );
+        assert_eq!(executable(messages, "absent"), None);
+        assert_eq!(executable("", "magbench"), None);
+    }
 
     #[test]
     fn only_table_lines_of_the_stdout_are_kept() {
