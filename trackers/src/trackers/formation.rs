@@ -3,11 +3,21 @@
 //! Every agent feels the same pull, so the field decides the team's shape and the gradients
 //! its centroid. Each tick the tracker predicts one control period of the planning model from
 //! the estimate under the plan's own field and under a fixed set of fields (in-plane angles at
-//! the plane, at the elevation whose three angles 120° apart cancel every pair force on average,
-//! and at `alpha_max`), each with the gradients that carry the centroid onto the reference's
-//! next sample; it commands the one whose predicted shape is closest to the reference's, among
-//! those that keep every pair at least `keep_apart` beyond the proximity range's inner edge, or
-//! as far apart as the reference's sample does where that is less (all of them when none does). The plan's own field wins ties and is preferred by `prefer`.
+//! the elevation whose three angles 120° apart cancel every pair force on average and at
+//! `alpha_max`, and in the plane itself where the field must stay there or `in_plane` allows),
+//! each with the gradients that carry the centroid onto the reference's next sample; it commands
+//! the one whose predicted shape is closest to the reference's, among those that keep every pair
+//! at least `keep_apart` beyond the proximity range's inner edge, or as far apart as the
+//! reference's sample does where that is less, for `horizon` periods under the field held (all
+//! of them when none does). The plan's own field wins ties and is preferred by `prefer`.
+//!
+//! Why the fixed set leaves the plane out when it may, and why the pairs are checked over two
+//! periods: a pair at angle `φ` to a field of elevation `α` is pulled together in proportion to
+//! `3 cos²α cos²φ − 1`, which reaches 2 in the plane but only 1 at the cancelling elevation
+//! (`cos²α = 2/3`). In the plane, a pair 1.5 BL apart along the field closes within a frame, so a
+//! command that the estimate shows safe ends in contact whenever the true state is a little
+//! nearer, and a tracker works from an estimate one frame late. Measured on the team-tracking
+//! rings under the `realistic` preset, `docs/planners.md` ("What brings a team into contact").
 //!
 //! ```text
 //! FORMATION(x̂, t)
@@ -16,7 +26,8 @@
 //!     u ← u with the gradients that move centroid(x̂) to centroid(x_ref) in one period
 //!     x ← f(x̂, u, one period)                        the planning model
 //!     score(u) ← ‖shape(x) − shape(x_ref)‖²  (× prefer for the plan's field)
-//!                last if a pair of x is nearer than min(r_min + keep_apart, the sample's)
+//!                last if within `horizon` periods of u a pair is nearer than
+//!                min(r_min + keep_apart, the sample's)
 //!   return argmin score
 //! ```
 
@@ -51,6 +62,14 @@ declare_params! {
         /// The largest elevation commanded (degrees) when the field may leave the plane.
         #[param("alpha_max", Reals::closed(0.0, 90.0))]
         pub alpha_max: f64 = DEFAULT_ALPHA_MAX_DEG,
+        /// Whether the fixed field set holds in-plane fields when the field may leave the plane
+        /// (where it must stay in the plane, they are the whole set).
+        #[param("in_plane")]
+        pub in_plane: bool = false,
+        /// Control periods over which a candidate field, held, must keep the pairs apart: the
+        /// period commanded and the one the estimate may lag by.
+        #[param("horizon", 1..=10)]
+        pub horizon: usize = 2,
         progress: usize = 0,
         targets: Vec<Vec2> = Vec::new(),
     }
@@ -70,7 +89,10 @@ fn least_separation(s: &[Vec2]) -> f64 {
 impl Formation {
     /// The fields tried besides the plan's: `angles` in-plane angles at each elevation.
     fn field_set(&self, elevated: bool, coil_alpha_max: f64) -> Vec<Control> {
-        let mut alphas = vec![0.0];
+        let mut alphas = vec![];
+        if !elevated || self.in_plane {
+            alphas.push(0.0);
+        }
         if elevated {
             let top = self.alpha_max.to_radians().min(coil_alpha_max);
             let hold = sweep_cancelling_elevation();
@@ -157,6 +179,7 @@ impl Tracker for Formation {
         let floor = (ctx.checker.r_min + self.keep_apart).min(least_separation(target) - 1e-9);
         let mut best: Option<(bool, f64, Control)> = None;
         let mut out = [Vec2::zeros(); MAX_AGENTS];
+        let mut later = [Vec2::zeros(); MAX_AGENTS];
         let candidates = own.into_iter().map(|u| (true, u)).chain(
             self.field_set(elevated, ctx.model.coil.alpha_max())
                 .into_iter()
@@ -165,7 +188,17 @@ impl Tracker for Formation {
         for (is_own, u) in candidates {
             let u = aim(ctx, u, n, shift, ctx.period);
             ctx.model.propagate(est, &u, ctx.period, &mut out[..n]);
-            let apart = least_separation(&out[..n]) >= floor;
+            let mut apart = least_separation(&out[..n]) >= floor;
+            let mut from = out;
+            for _ in 1..self.horizon {
+                if !apart {
+                    break;
+                }
+                ctx.model
+                    .propagate(&from[..n], &u, ctx.period, &mut later[..n]);
+                apart = least_separation(&later[..n]) >= floor;
+                from = later;
+            }
             let mut score = shape_distance(&out[..n], target);
             if is_own {
                 score *= self.prefer;
