@@ -18,24 +18,30 @@ fn ring(agents: &str) -> magbench_env::Scenario {
     generate("<test>", "team", &params, 1, 0).unwrap().scenario
 }
 
-#[test]
-fn ten_agents_are_tracked_into_the_goal_under_the_ideal_preset() {
-    let s = ring("10");
+/// formation-rrt's plan of `s` within `iterations`, seed 1.
+fn plan(s: &magbench_env::Scenario, iterations: u64) -> magbench_planners::Plan {
     let setup = PlanningSetup {
         limits: Limits {
-            max_iterations: Some(2_000),
+            max_iterations: Some(iterations),
             time_limit: None,
         },
         ..PlanningSetup::default()
     };
-    let p = setup.problem(&s, 0, None, 1);
+    let p = setup.problem(s, 0, None, 1);
     let r = Planners::builtin()
         .create("formation-rrt", &[])
         .unwrap()
         .solve(&p);
     assert!(r.solved, "goal distance {}", r.goal_distance);
+    r.plan
+}
+
+#[test]
+fn ten_agents_are_tracked_into_the_goal_under_the_ideal_preset() {
+    let s = ring("10");
+    let plan = plan(&s, 2_000);
     let out = simulate(
-        Mission::with_plan(&s, r.plan.clone()),
+        Mission::with_plan(&s, plan.clone()),
         &mut Formation::default(),
         &DisturbancePreset::ideal(),
         &LoopOptions::default(),
@@ -51,23 +57,11 @@ fn ten_agents_are_tracked_into_the_goal_under_the_ideal_preset() {
 #[test]
 fn a_ring_of_six_is_kept_apart_under_the_realistic_preset() {
     let s = ring("6");
-    let setup = PlanningSetup {
-        limits: Limits {
-            max_iterations: Some(20_000),
-            time_limit: None,
-        },
-        ..PlanningSetup::default()
-    };
-    let p = setup.problem(&s, 0, None, 1);
-    let r = Planners::builtin()
-        .create("formation-rrt", &[])
-        .unwrap()
-        .solve(&p);
-    assert!(r.solved, "goal distance {}", r.goal_distance);
+    let plan = plan(&s, 20_000);
     let run = |tracker: &mut Formation, seed: u64| {
         let mission = Mission {
             seed,
-            ..Mission::with_plan(&s, r.plan.clone())
+            ..Mission::with_plan(&s, plan.clone())
         };
         let opts = LoopOptions {
             record_ticks: false,
