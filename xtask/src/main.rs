@@ -18,6 +18,13 @@ use xtask::docs::freshness::{FreshnessError, file_staleness, pathspecs};
 use xtask::docs::measures::{MEASURES, Measure, find};
 use xtask::docs::run::{RunOptions, measure};
 
+/// `println!` that survives a closed pipe (`cargo xtask stale | head`), as magbench's commands do.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        magbench::output::emit(&format!("{}\n", format_args!($($arg)*)))?
+    };
+}
+
 /// `cargo xtask …`: the project's own maintenance.
 #[derive(Debug, Parser)]
 #[command(name = "cargo xtask", version)]
@@ -45,9 +52,7 @@ fn main() -> ExitCode {
     let done = match cli.command {
         Command::Measure(a) => run_measure(a, &Registry::builtin()),
         Command::Stale(a) => run_stale(a),
-        Command::Lines => xtask::lines::table(&root())
-            .map(|t| print!("{}", t.markdown()))
-            .map_err(|e| Error::Failed(format!("counting lines: {e}"))),
+        Command::Lines => run_lines(),
     };
     match done {
         Ok(()) => ExitCode::SUCCESS,
@@ -107,6 +112,12 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
+fn run_lines() -> Result<(), Error> {
+    let t = xtask::lines::table(&root())
+        .map_err(|e| Error::Failed(format!("counting lines: {e}")))?;
+    magbench::output::emit(&t.markdown())
+}
+
 fn run_stale(a: StaleArgs) -> Result<(), Error> {
     let root = root();
     let dir = a.dir.unwrap_or_else(|| root.join("docs/measured"));
@@ -116,14 +127,14 @@ fn run_stale(a: StaleArgs) -> Result<(), Error> {
         let text = match std::fs::read_to_string(&path) {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                println!("{}: not measured yet", m.name);
+                outln!("{}: not measured yet", m.name);
                 stale += 1;
                 continue;
             }
             Err(e) => return Err(Error::Failed(format!("{}: {e}", path.display()))),
         };
         if a.verbose {
-            println!("{}: depends on {}", m.name, pathspecs(&root, m).join(" "));
+            outln!("{}: depends on {}", m.name, pathspecs(&root, m).join(" "));
         }
         let file = path.display().to_string();
         match file_staleness(&root, m, &text).map_err(|e| match e {
@@ -133,10 +144,10 @@ fn run_stale(a: StaleArgs) -> Result<(), Error> {
             e => Error::Failed(format!("{file}: {e}")),
         })? {
             Some(why) => {
-                println!("{}: stale: {why}", m.name);
+                outln!("{}: stale: {why}", m.name);
                 stale += 1;
             }
-            None if a.verbose => println!("{}: fresh", m.name),
+            None if a.verbose => outln!("{}: fresh", m.name),
             None => {}
         }
     }
@@ -161,7 +172,7 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), Error> {
                 }
                 _ => String::new(),
             };
-            println!("{}\t{}{needs}", m.name, m.describe());
+            outln!("{}\t{}{needs}", m.name, m.describe());
         }
         return Ok(());
     }
@@ -230,7 +241,7 @@ fn run_measure(a: MeasureArgs, registry: &Registry) -> Result<(), Error> {
         let text = measure(m, &ex, &opts)?;
         let file = out.join(format!("{}.md", m.name));
         std::fs::write(&file, text)?;
-        println!("{}: wrote {}", m.name, file.display());
+        outln!("{}: wrote {}", m.name, file.display());
     }
     Ok(())
 }
