@@ -113,8 +113,8 @@ fn root() -> PathBuf {
 }
 
 fn run_lines() -> Result<(), Error> {
-    let t = xtask::lines::table(&root())
-        .map_err(|e| Error::Failed(format!("counting lines: {e}")))?;
+    let t =
+        xtask::lines::table(&root()).map_err(|e| Error::Failed(format!("counting lines: {e}")))?;
     magbench::output::emit(&t.markdown())
 }
 

@@ -1,9 +1,13 @@
 //! Whether a file in `docs/measured/` still measures the current code: its header names the git
 //! revision it was measured at, its [`Measure`] names the source paths its figures depend on,
-//! and git says whether any of those paths changed since.
+//! and git says whether any of those paths changed since. A file whose every changed line is
+//! blank or a comment where it stands ([`is_comment`]), or that moved whole, changed no figure
+//! and does not count.
 
-use std::path::Path;
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use thiserror::Error;
 
@@ -141,12 +145,78 @@ pub fn staleness(
     }
     let changed = git(root, &["diff", "--name-only", &revision, "HEAD"])?;
     let named = m.named_files(root);
-    let files: Vec<String> = changed
+    let mut files: Vec<String> = changed
         .lines()
         .filter(|f| !f.is_empty() && depends_on(m, &named, f))
         .map(str::to_string)
         .collect();
+    if !files.is_empty() {
+        let code = code_changes(root, &revision)?;
+        files.retain(|f| code.contains(f));
+    }
     Ok((!files.is_empty()).then_some(Staleness::Changed { revision, files }))
+}
+
+/// Whether `line` of file `path` is blank or a comment where it stands: `//` (doc comments
+/// included) in Rust, `#` in TOML, Python and shell. A line inside a string literal that begins
+/// like a comment would be misread; in any other kind of file no line is a comment.
+pub fn is_comment(path: &str, line: &str) -> bool {
+    let t = line.trim();
+    if t.is_empty() {
+        return true;
+    }
+    match path.rsplit_once('.').map(|(_, ext)| ext) {
+        Some("rs") => t.starts_with("//"),
+        Some("toml" | "py" | "sh") => t.starts_with('#'),
+        _ => false,
+    }
+}
+
+/// The files changed between `revision` and `HEAD` (by their names at `HEAD`) in a line that is
+/// not blank and not a comment ([`is_comment`]), or as binary files; read once per repository
+/// and pair of revisions. A file moved whole, under git's rename detection, has no such line.
+fn code_changes(root: &Path, revision: &str) -> Result<Arc<HashSet<String>>, FreshnessError> {
+    type Cache = Mutex<HashMap<(PathBuf, String, String), Arc<HashSet<String>>>>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    let head = git(root, &["rev-parse", "HEAD"])?.trim().to_string();
+    let key = (root.to_path_buf(), revision.to_string(), head.clone());
+    let cache = CACHE.get_or_init(Cache::default);
+    if let Some(hit) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return Ok(hit);
+    }
+    let diff = git(
+        root,
+        &[
+            "diff",
+            "-U0",
+            "-M",
+            "--no-color",
+            "--no-ext-diff",
+            revision,
+            &head,
+        ],
+    )?;
+    let mut code = HashSet::new();
+    let mut current: Option<String> = None;
+    for line in diff.lines() {
+        if let Some(rest) = line.strip_prefix("diff --git ") {
+            current = rest.rsplit_once(" b/").map(|(_, b)| b.to_string());
+            continue;
+        }
+        let Some(file) = &current else { continue };
+        if line.starts_with("+++ ") || line.starts_with("--- ") {
+            continue;
+        }
+        let changed = line.strip_prefix('+').or_else(|| line.strip_prefix('-'));
+        if line.starts_with("Binary files ") || changed.is_some_and(|t| !is_comment(file, t)) {
+            code.insert(file.clone());
+        }
+    }
+    let code = Arc::new(code);
+    if let Ok(mut c) = cache.lock() {
+        c.insert(key, code.clone());
+    }
+    Ok(code)
 }
 
 /// Whether the figures of `m` depend on the repository file `path`: its own files, the files of
@@ -332,6 +402,67 @@ mod tests {
                 "{changed}"
             );
         }
+    }
+
+    #[test]
+    fn a_change_to_comments_only_keeps_it_fresh_and_one_line_of_code_makes_it_stale() {
+        let (dir, rev) = repo();
+        let root = dir.path();
+        // "a" stays the file's last line, without a newline, so only comment lines change
+        std::fs::write(root.join("src/a.rs"), "/// what a does\n\n// why\na").unwrap();
+        std::fs::write(root.join("exp.toml"), "# the experiment\nx").unwrap();
+        commit(root, "comments");
+        assert_eq!(staleness(root, &M, &version(&rev)), Ok(None));
+        std::fs::write(root.join("src/a.rs"), "/// what a does\na2\n").unwrap();
+        commit(root, "code");
+        assert_eq!(
+            staleness(root, &M, &version(&rev)),
+            Ok(Some(Staleness::Changed {
+                revision: rev.clone(),
+                files: vec!["src/a.rs".to_string()]
+            }))
+        );
+    }
+
+    #[test]
+    fn a_file_moved_whole_keeps_it_fresh_and_a_moved_file_edited_makes_it_stale() {
+        let (dir, rev) = repo();
+        let root = dir.path();
+        std::fs::create_dir_all(root.join("src/moved")).unwrap();
+        std::fs::rename(root.join("src/a.rs"), root.join("src/moved/a.rs")).unwrap();
+        commit(root, "moved");
+        assert_eq!(staleness(root, &M, &version(&rev)), Ok(None));
+        std::fs::write(root.join("src/moved/a.rs"), "a\nb").unwrap();
+        commit(root, "edited");
+        // a one-line file edited is no longer git's rename of the old one: both names count
+        match staleness(root, &M, &version(&rev)) {
+            Ok(Some(Staleness::Changed { files, .. })) => {
+                assert!(files.contains(&"src/moved/a.rs".to_string()), "{files:?}")
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_comment_is_known_by_the_files_kind_and_a_binary_change_counts() {
+        assert!(is_comment("x.rs", "  //! doc"));
+        assert!(is_comment("x.rs", ""));
+        assert!(!is_comment("x.rs", "# not rust"));
+        assert!(is_comment("x.toml", "# note"));
+        assert!(is_comment("x.py", "#!/usr/bin/env python3"));
+        assert!(!is_comment("x.toml", "seeds = 5 # a note after a value"));
+        assert!(!is_comment("x.md", "<!-- no comment rule for Markdown -->"));
+        assert!(!is_comment("Makefile", "# no extension"));
+        let (dir, rev) = repo();
+        std::fs::write(dir.path().join("src/data.bin"), [0u8, 159, 146, 150]).unwrap();
+        commit(dir.path(), "binary");
+        assert_eq!(
+            staleness(dir.path(), &M, &version(&rev)),
+            Ok(Some(Staleness::Changed {
+                revision: rev.clone(),
+                files: vec!["src/data.bin".to_string()]
+            }))
+        );
     }
 
     #[test]
