@@ -176,10 +176,6 @@ const AWAITING_REGENERATION: &[&str] = &[
     "team-sizes",
     "team-large",
     "bench-ompl-abi",
-    "python-plugins",
-    "scale",
-    "python-overhead",
-    "python-rrt",
     "sst-pruning",
 ];
 
