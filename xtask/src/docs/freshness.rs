@@ -4,7 +4,7 @@
 //! blank or a comment where it stands ([`is_comment`]), or that moved whole, changed no figure
 //! and does not count.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -143,17 +143,12 @@ pub fn staleness(
     if dirty {
         return Ok(Some(Staleness::Dirty { revision }));
     }
-    let changed = git(root, &["diff", "--name-only", &revision, "HEAD"])?;
     let named = m.named_files(root);
-    let mut files: Vec<String> = changed
-        .lines()
-        .filter(|f| !f.is_empty() && depends_on(m, &named, f))
-        .map(str::to_string)
+    let files: Vec<String> = code_changes(root, &revision)?
+        .iter()
+        .filter(|f| depends_on(m, &named, f))
+        .cloned()
         .collect();
-    if !files.is_empty() {
-        let code = code_changes(root, &revision)?;
-        files.retain(|f| code.contains(f));
-    }
     Ok((!files.is_empty()).then_some(Staleness::Changed { revision, files }))
 }
 
@@ -172,11 +167,11 @@ pub fn is_comment(path: &str, line: &str) -> bool {
     }
 }
 
-/// The files changed between `revision` and `HEAD` (by their names at `HEAD`) in a line that is
-/// not blank and not a comment ([`is_comment`]), or as binary files; read once per repository
-/// and pair of revisions. A file moved whole, under git's rename detection, has no such line.
-fn code_changes(root: &Path, revision: &str) -> Result<Arc<HashSet<String>>, FreshnessError> {
-    type Cache = Mutex<HashMap<(PathBuf, String, String), Arc<HashSet<String>>>>;
+/// The files changed between `revision` and `HEAD` (by their names at `HEAD`, in path order) in
+/// a line that is not blank and not a comment ([`is_comment`]), or as binary files; read once
+/// per repository and pair of revisions. A file moved whole, under git's rename detection, has no such line.
+fn code_changes(root: &Path, revision: &str) -> Result<Arc<BTreeSet<String>>, FreshnessError> {
+    type Cache = Mutex<HashMap<(PathBuf, String, String), Arc<BTreeSet<String>>>>;
     static CACHE: OnceLock<Cache> = OnceLock::new();
     let head = git(root, &["rev-parse", "HEAD"])?.trim().to_string();
     let key = (root.to_path_buf(), revision.to_string(), head.clone());
@@ -196,7 +191,7 @@ fn code_changes(root: &Path, revision: &str) -> Result<Arc<HashSet<String>>, Fre
             &head,
         ],
     )?;
-    let mut code = HashSet::new();
+    let mut code = BTreeSet::new();
     let mut current: Option<String> = None;
     for line in diff.lines() {
         if let Some(rest) = line.strip_prefix("diff --git ") {
@@ -324,6 +319,14 @@ mod tests {
             .to_string()
     }
 
+    /// The staleness of a file measured at `rev` when `file` changed since.
+    fn changed(rev: &str, file: &str) -> Result<Option<Staleness>, FreshnessError> {
+        Ok(Some(Staleness::Changed {
+            revision: rev.to_string(),
+            files: vec![file.to_string()],
+        }))
+    }
+
     fn version(rev: &str) -> String {
         format!("0.1.0 (git {rev})")
     }
@@ -363,10 +366,7 @@ mod tests {
         commit(dir.path(), "second");
         assert_eq!(
             staleness(dir.path(), &TWO, &version(&rev)),
-            Ok(Some(Staleness::Changed {
-                revision: rev.clone(),
-                files: vec!["src/docs/b.rs".to_string()]
-            }))
+            changed(&rev, "src/docs/b.rs")
         );
         assert_eq!(staleness(dir.path(), &M, &version(&rev)), Ok(None));
     }
@@ -389,17 +389,14 @@ mod tests {
 
     #[test]
     fn a_change_to_a_declared_path_or_its_own_file_makes_it_stale() {
-        for changed in ["src/a.rs", "exp.toml"] {
+        for file in ["src/a.rs", "exp.toml"] {
             let (dir, rev) = repo();
-            std::fs::write(dir.path().join(changed), "changed").unwrap();
+            std::fs::write(dir.path().join(file), "changed").unwrap();
             commit(dir.path(), "second");
             assert_eq!(
                 staleness(dir.path(), &M, &version(&rev)),
-                Ok(Some(Staleness::Changed {
-                    revision: rev.clone(),
-                    files: vec![changed.to_string()]
-                })),
-                "{changed}"
+                changed(&rev, file),
+                "{file}"
             );
         }
     }
@@ -417,10 +414,7 @@ mod tests {
         commit(root, "code");
         assert_eq!(
             staleness(root, &M, &version(&rev)),
-            Ok(Some(Staleness::Changed {
-                revision: rev.clone(),
-                files: vec!["src/a.rs".to_string()]
-            }))
+            changed(&rev, "src/a.rs")
         );
     }
 
@@ -458,10 +452,7 @@ mod tests {
         commit(dir.path(), "binary");
         assert_eq!(
             staleness(dir.path(), &M, &version(&rev)),
-            Ok(Some(Staleness::Changed {
-                revision: rev.clone(),
-                files: vec!["src/data.bin".to_string()]
-            }))
+            changed(&rev, "src/data.bin")
         );
     }
 
