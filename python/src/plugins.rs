@@ -12,14 +12,14 @@ use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 use magbench::Registry;
-use magbench_env::input::Rejection;
 use magbench_env::coil::Planar;
+use magbench_env::input::Rejection;
 use magbench_env::params::{BadValue, ParamError, ParamInfo, ParamSet, Value};
 use magbench_env::{Control, Vec2};
 use magbench_planners::objective::objective_by_name;
 use magbench_planners::registry::Entry as PlannerEntry;
 use magbench_planners::{
-    Limits, Distance, Planner, PlannerResult, PlanningSetup, Problem, ProgressPoint, plan_cost,
+    Distance, Limits, Planner, PlannerResult, PlanningSetup, Problem, ProgressPoint, plan_cost,
 };
 use magbench_trackers::registry::Entry as TrackerEntry;
 use magbench_trackers::{Tick, Tracker, TrackerContext, TrackerStatus};

@@ -88,9 +88,9 @@ impl Planner for PlainRrt {
                     let u = random_control(&mut rng, gradient_limit);
                     let d = problem.periods(rng.random_range(1..=max_periods));
                     if propagate_valid(problem, &tree[near].state, &u, d, &mut end)
-                        && best.as_ref().is_none_or(|b| {
-                            distance(&end, &target) < distance(&b.state, &target)
-                        })
+                        && best
+                            .as_ref()
+                            .is_none_or(|b| distance(&end, &target) < distance(&b.state, &target))
                     {
                         let node = Node {
                             state: end.clone(),
