@@ -1,6 +1,6 @@
 //! How the segment length weighs on the fit at strong detection noise: one excitation run
 //! under a preset with 3 frames of latency at each of two detection noises, 0.03 BL and the
-//! calibration benchmark's top, 0.08 BL, fitted with segments of 20, 40 and 60 frames, each
+//! calibration benchmark's top, 0.08 BL, fitted with segments of 20, 40, 60 and 80 frames, each
 //! from the observed starts and with the start states free. Predicting from a noisy first
 //! observation biases the fit by an amount that grows with the segment's length; the free
 //! start states remove that first-order bias, and what remains, of second order in the noise,
@@ -23,7 +23,7 @@ const EXCITE_S: f64 = 240.0;
 /// `magbench calibrate bench`'s range.
 const NOISES: [f64; 2] = [0.03, 0.08];
 
-/// Two runs, twelve fits (segments of 20, 40 and 60 frames, observed and free starts).
+/// Two runs, sixteen fits (segments of 20, 40, 60 and 80 frames, observed and free starts).
 #[test]
 #[ignore = "several minutes in a debug build; run with --ignored"]
 fn segment_length_from_the_observed_starts_and_with_free_starts() {
@@ -42,7 +42,7 @@ fn segment_length_from_the_observed_starts_and_with_free_starts() {
     );
 }
 
-/// The six fits of one excitation run under `t`, printed as table rows (after the header
+/// The eight fits of one excitation run under `t`, printed as table rows (after the header
 /// unless `header` says it is out); the worst error of the default fit.
 fn fits(t: &DisturbancePreset, header: &mut bool) -> f64 {
     let noise = t.camera.noise.sigma_bl;
@@ -53,7 +53,7 @@ fn fits(t: &DisturbancePreset, header: &mut bool) -> f64 {
     base.hydrodynamics.enabled = true;
     let f = &t.fitted;
     let mut worst_free_default = f64::INFINITY;
-    for segment_frames in [20, SEGMENT_FRAMES, 60] {
+    for segment_frames in [20, 40, 60, SEGMENT_FRAMES] {
         for free_starts in [false, true] {
             let run = read_log(&path, n).unwrap();
             let opts = FitOptions {

@@ -14,8 +14,9 @@ use magbench_drivers::fit::{FitError, FitOptions, HeldOut, LoggedRun, calibrate,
 use magbench_env::plant::DisturbancePreset;
 use magbench_env::{Scenario, Vec2};
 
-/// Seconds of excitation of the shared log.
-const EXCITE_S: f64 = 30.0;
+/// Seconds of excitation of the shared log: with 6 s stuck, enough for the 25 segments of 80
+/// frames a fit takes.
+const EXCITE_S: f64 = 60.0;
 
 /// The base of the fits: the hydrodynamic-only preset of the walkthrough.
 fn base() -> DisturbancePreset {

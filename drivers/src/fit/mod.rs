@@ -91,16 +91,17 @@ impl Default for FitOptions {
     }
 }
 
-/// Frames per segment by default (two thirds of a second at 60 fps). A segment's start state
-/// is fitted with it, and what the linearisation in that start leaves is a bias of second
-/// order in the detection noise, about the same in every segment, while what a segment says
-/// of the parameters grows with its length. At 20 frames and the top of the calibration
-/// benchmark's noise range (0.045–0.08 BL) it made the pair's force 15–20% too strong and the
-/// gradient's pull 5–10% too weak; at 40 frames it is within a few per cent
-/// (`cargo xtask measure --only calibration-segments`). 60 frames did as well on that
-/// measurement's run, but on eight of the benchmark's rigs no better than 40 and worse on two,
-/// and a longer segment needs a longer log ([`MIN_SEGMENTS`] of them).
-pub const SEGMENT_FRAMES: usize = 40;
+/// Frames per segment by default (1.33 s at 60 fps). A segment's start state is fitted with
+/// it, and what the linearisation in that start leaves is a bias of second order in the
+/// detection noise, about the same in every segment, while what a segment says of the
+/// parameters grows with its length; a longer segment also has fewer start states (2 per agent
+/// each) to share the data with. With 40 frames the gradient gains came out 5–11% low on 4 of
+/// the calibration benchmark's 20 rigs of seed 0, all with 0.047–0.073 BL of noise (32 of the
+/// 40 gains within 5%); with 80, 37 of 40. On seed 1, drawn after that choice, 80 frames scored
+/// more rigs within tolerance than 40 on six of the thirteen parameters, as many on five, and
+/// fewer on the two drags (`magbench calibrate bench --seed 0|1`; docs/calibration.md). A longer
+/// segment needs a longer log ([`MIN_SEGMENTS`] of them: 33 s at 60 fps).
+pub const SEGMENT_FRAMES: usize = 80;
 
 /// Frames of each segment the latency's quick fits predict. They start from the base's coils
 /// and run 3 iterations; over whole segments a base whose coils are far from the rig's leaves

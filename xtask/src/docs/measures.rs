@@ -1494,6 +1494,18 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH, FIT],
     },
     Measure {
+        name: "calibration-bench-seed-1",
+        source: Transcript {
+            files: &[],
+            cwd: ".",
+            steps: &[Step::Run(
+                "calibrate bench --out bench --threads 2 --seed 1",
+            )],
+        },
+        feature: None,
+        depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH, FIT],
+    },
+    Measure {
         name: "calibration-bench-bulk-hydro",
         source: Transcript {
             files: &["docs/calibration/bench-bulk-hydro.toml"],
