@@ -1805,7 +1805,7 @@ mod tests {
                 assert!(m.depends.contains(&FIT), "{} fits", m.name);
             }
         }
-        assert_eq!(fitting, 10);
+        assert_eq!(fitting, 11);
     }
 
     #[test]
