@@ -1,23 +1,25 @@
 """What a results folder costs as it grows: wall time and peak memory of the harness's
 commands against the number of runs.
 
-For each size N, with the harness's fake executor (synthetic runs through the whole sweep
-machinery: two planners tracked by one tracker, 51 progress points per run; no planning),
-each command runs in its own process, started by this script, and is timed with its peak
-resident memory read from ``os.wait4``:
+For each size N (``N`` or ``N/S``: N runs in S shards, 10 unless given), with the harness's
+fake executor (synthetic runs through the whole sweep machinery: two planners tracked by one
+tracker, 51 progress points per run; no planning), each command runs in its own process,
+started by this script, and is timed with its peak resident memory read from ``os.wait4``:
 
-- ``bench``: the N runs in one folder (``--replays none``, 2 threads);
-- ``bench (10 shards)``: the same experiment as 10 shards, one after another (the largest);
-- ``merge``: the 10 shards into one folder;
+- ``bench``: the N runs in one folder (``--replays none``, 2 threads), for N up to
+  ``--whole-up-to``;
+- ``bench (S shards)``: the same experiment as S shards, one after another (the largest);
+- ``merge``: the S shards into one folder;
 - ``results verify``: the merged folder;
 - ``results plot``: the merged folder's derived files (plots, report, ompl.log, runs.parquet);
-- ``regress``: the merged folder against the unsharded one.
+- ``regress``: the merged folder against the unsharded one (against itself above
+  ``--whole-up-to``: both folders are read all the same).
 
 Each process is the magbench binary that ``$MAGBENCH_BIN`` names (``cargo xtask measure`` sets
 it to itself), else ``python -c "import magbench; magbench.main([...])"``, whose interpreter with
 numpy (the row ``import magbench``) is then part of every figure.
 
-Usage: python python/bench/scale.py [--runs N ...] [--work DIR]
+Usage: python python/bench/scale.py [--runs N[/S] ...] [--whole-up-to N] [--work DIR]
 
 `cargo xtask measure --only scale` keeps the table.
 """
@@ -31,6 +33,7 @@ import tempfile
 import time
 
 SHARDS = 10
+WHOLE_UP_TO = 100_000
 
 
 BIN = os.environ.get("MAGBENCH_BIN")
@@ -67,25 +70,33 @@ def experiment(work, runs):
     return path
 
 
-def measure(work, runs):
-    """The table rows of size ``runs``."""
+def measure(work, runs, shard_count, whole_up_to):
+    """The table rows of size ``runs`` in ``shard_count`` shards."""
     exp = experiment(work, runs)
     fake = ["--executor", "fake", "--quiet", "--replays", "none", "--threads", "2"]
-    whole = os.path.join(work, "whole")
-    rows = [("bench", *run(["bench", exp, "--out", whole, *fake]))]
+    rows = []
+    whole = None
+    if runs <= whole_up_to:
+        whole = os.path.join(work, "whole")
+        rows.append(("bench", *run(["bench", exp, "--out", whole, *fake])))
     shards = []
     wall, peak = 0.0, 0.0
-    for k in range(1, SHARDS + 1):
+    for k in range(1, shard_count + 1):
         out = os.path.join(work, f"shard-{k}")
-        w, m = run(["bench", exp, "--out", out, "--shard", f"{k}/{SHARDS}", *fake])
+        w, m = run(["bench", exp, "--out", out, "--shard", f"{k}/{shard_count}", *fake])
         wall, peak = wall + w, max(peak, m)
         shards.append(out)
-    rows.append((f"bench ({SHARDS} shards, one after another)", wall, peak))
+    rows.append((f"bench ({shard_count} shards, one after another)", wall, peak))
     merged = os.path.join(work, "merged")
     rows.append(("merge", *run(["merge", "--out", merged, *shards])))
+    for s in shards:
+        shutil.rmtree(s, ignore_errors=True)
     rows.append(("results verify", *run(["results", "verify", merged])))
     rows.append(("results plot", *run(["results", "plot", merged])))
-    rows.append(("regress", *run(["regress", whole, merged])))
+    if whole:
+        rows.append(("regress", *run(["regress", whole, merged])))
+    else:
+        rows.append(("regress (the merged folder against itself)", *run(["regress", merged, merged])))
     size = sum(
         os.path.getsize(os.path.join(merged, f)) for f in ("runs.csv", "runs.parquet", "progress.csv")
     )
@@ -95,7 +106,8 @@ def measure(work, runs):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--runs", type=int, nargs="+", default=[10_000, 100_000])
+    ap.add_argument("--runs", nargs="+", default=["10000", "100000"], help="N or N/S: N runs in S shards")
+    ap.add_argument("--whole-up-to", type=int, default=WHOLE_UP_TO, help="largest N also run unsharded")
     ap.add_argument("--work", default=None)
     a = ap.parse_args()
     work = a.work or tempfile.mkdtemp(prefix="magbench-scale-")
@@ -104,11 +116,13 @@ def main():
     print("| --- | --- | --- | --- | --- |")
     start = "magbench --version" if BIN else "import magbench (in every row)"
     print(f"| – | {start} | {base_wall:.2f} | {base_peak:.0f} | – |")
-    for n in a.runs:
+    for spec in a.runs:
+        n, _, s = spec.partition("/")
+        n, s = int(n), int(s or SHARDS)
         d = os.path.join(work, str(n))
         shutil.rmtree(d, ignore_errors=True)
         os.makedirs(d)
-        for what, wall, peak in measure(d, n):
+        for what, wall, peak in measure(d, n, s, a.whole_up_to):
             if wall is None:
                 print(f"| {n} | {what} | – | {peak:.1f} MB on disk | {1e3 * peak / n:.2f} kB on disk |")
             else:

@@ -5,6 +5,7 @@
 //! copies its [`Measures`] into every run of it; `runs.csv` writes them after the metric
 //! columns (see `results::store`).
 
+use super::slot::Slot;
 use magbench_env::scenario::Scenario;
 use magbench_env::scenario::difficulty::{Difficulty, measure};
 
@@ -124,11 +125,11 @@ impl Measure {
 /// The value of every difficulty measure of a run's scenario (`None`: an empty CSV cell,
 /// undefined or not recorded, as in files of versions without these columns).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Measures([Option<f64>; Measure::ALL.len()]);
+pub struct Measures([Slot; Measure::ALL.len()]);
 
 impl Default for Measures {
     fn default() -> Self {
-        Measures([None; Measure::ALL.len()])
+        Measures([Slot::EMPTY; Measure::ALL.len()])
     }
 }
 
@@ -149,17 +150,17 @@ impl Measures {
 
     /// The value of `k`.
     pub fn get(&self, k: Measure) -> Option<f64> {
-        self.0[k as usize]
+        self.0[k as usize].get()
     }
 
     /// Sets the value of `k`.
     pub fn set(&mut self, k: Measure, v: Option<f64>) {
-        self.0[k as usize] = v;
+        self.0[k as usize] = Slot::new(v);
     }
 
     /// True when no measure has a value (a run of a file without the columns).
     pub fn is_empty(&self) -> bool {
-        self.0.iter().all(Option::is_none)
+        self.0.iter().all(|s| s.get().is_none())
     }
 }
 

@@ -12,6 +12,7 @@
 
 pub mod difficulty;
 pub mod path;
+pub mod slot;
 mod table;
 mod values;
 

@@ -5,6 +5,7 @@ use magbench_env::collision::ValidityChecker;
 use magbench_planners::{Plan, PlannerResult};
 use magbench_trackers::TrackMetrics;
 
+use super::slot::Slot;
 use super::{Compute, Metric};
 
 /// What the planning of a run produced: each leg's result and the run's first solution.
@@ -38,23 +39,23 @@ pub struct TrackFacts<'a> {
 
 /// The value of every metric of one run (`None`: the run has none, an empty CSV cell).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Values([Option<f64>; Metric::ALL.len()]);
+pub struct Values([Slot; Metric::ALL.len()]);
 
 impl Default for Values {
     fn default() -> Self {
-        Values([None; Metric::ALL.len()])
+        Values([Slot::EMPTY; Metric::ALL.len()])
     }
 }
 
 impl Values {
     /// The value of `m`.
     pub fn get(&self, m: Metric) -> Option<f64> {
-        self.0[m as usize]
+        self.0[m as usize].get()
     }
 
     /// Sets the value of `m`.
     pub fn set(&mut self, m: Metric, v: Option<f64>) {
-        self.0[m as usize] = v;
+        self.0[m as usize] = Slot::new(v);
     }
 
     /// Sets every planning metric from `f`.

@@ -357,7 +357,8 @@ impl Figure for LineBandChart {
 }
 
 /// Horizontal box plots, one per group: box = quartiles, line = median, whiskers to the most
-/// extreme values within 1.5 IQR, and every value as a dot (jittered across the row).
+/// extreme values within 1.5 IQR, and every value as a dot (jittered across the row); a group
+/// of more than [`BOX_DOTS`] values draws that many of them, at evenly spread ranks.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BoxChart {
     /// Title.
@@ -398,6 +399,23 @@ impl BoxChart {
             })
             .collect()
     }
+}
+
+/// A box plot's group of more values than this draws this many as dots, at ranks spread evenly
+/// from the smallest to the largest, so that a figure's size does not grow with its runs.
+pub const BOX_DOTS: usize = 2_000;
+
+/// The ranks of the values of a sorted group of `n` drawn as dots: all of them, or
+/// [`BOX_DOTS`] spread evenly from the first to the last.
+fn dot_ranks(n: usize) -> impl Iterator<Item = usize> {
+    let drawn = n.min(BOX_DOTS);
+    (0..drawn).map(move |i| {
+        if drawn == n {
+            i
+        } else {
+            i * (n - 1) / (drawn - 1)
+        }
+    })
 }
 
 /// A deterministic jitter in [-1, 1] for the `k`-th dot of a row (a golden-ratio sequence).
@@ -473,8 +491,9 @@ where
                 col.stroke_width(2),
             )))?;
         }
-        // Every run as a dot: filled inside the whiskers, hollow beyond them.
-        c.draw_series(s.iter().enumerate().map(|(k, v)| {
+        // Every run as a dot (or BOX_DOTS of them): filled inside the whiskers, hollow beyond.
+        c.draw_series(dot_ranks(s.len()).enumerate().map(|(k, rank)| {
+            let v = &s[rank];
             let style = if *v < lo || *v > hi {
                 col.stroke_width(1)
             } else {
@@ -503,10 +522,15 @@ impl Figure for BoxChart {
             .zip(&sorted)
             .map(|(g, s)| {
                 let missing = g.data.len() - s.len();
-                if missing > 0 {
-                    format!("{} (n={}, {missing} none)", g.label, s.len())
+                let drawn = if s.len() > BOX_DOTS {
+                    format!(", {BOX_DOTS} dots")
                 } else {
-                    format!("{} (n={})", g.label, s.len())
+                    String::new()
+                };
+                if missing > 0 {
+                    format!("{} (n={}, {missing} none{drawn})", g.label, s.len())
+                } else {
+                    format!("{} (n={}{drawn})", g.label, s.len())
                 }
             })
             .collect();
@@ -605,7 +629,18 @@ impl Figure for CdfChart {
 
 #[cfg(test)]
 mod tests {
-    use super::span_tick_label;
+    use super::{BOX_DOTS, dot_ranks, span_tick_label};
+
+    #[test]
+    fn a_large_box_draws_its_extremes_and_evenly_spread_ranks() {
+        assert_eq!(dot_ranks(5).collect::<Vec<_>>(), [0, 1, 2, 3, 4]);
+        let r: Vec<usize> = dot_ranks(1_000_000).collect();
+        assert_eq!(r.len(), BOX_DOTS);
+        assert_eq!((r[0], r[BOX_DOTS - 1]), (0, 999_999));
+        assert!(r.windows(2).all(|w| w[1] > w[0]));
+        let gaps: Vec<usize> = r.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!(gaps.iter().max().unwrap() - gaps.iter().min().unwrap() <= 1);
+    }
 
     #[test]
     fn ticks_of_a_narrow_range_differ() {

@@ -163,28 +163,50 @@ fn success_chart(
     }
 }
 
-/// The median best cost of `runs` at each of `xs` (iterations or seconds, as `at` reads a
-/// progress row), with the interquartile band; a run unsolved by then counts as +∞.
+/// Configurations with more runs than this draw their cost curves from this many of their
+/// runs, spread evenly over them in run order (every k-th run): the curves' quantiles are then
+/// those of a sample of this size, and their memory does not grow with the number of runs.
+pub const COST_CURVE_RUNS: usize = 10_000;
+
+/// At most `most` of `runs`, spread evenly over them in their order (all of them if no more).
+fn spread<'a>(runs: &[&'a RunRecord], most: usize) -> Vec<&'a RunRecord> {
+    if runs.len() <= most {
+        return runs.to_vec();
+    }
+    (0..most).map(|i| runs[i * runs.len() / most]).collect()
+}
+
+/// The median best cost of `runs` at each of `xs` (ascending; iterations or seconds, as `at`
+/// reads a progress row), with the interquartile band; a run unsolved by then counts as +∞.
+/// A run's cost at `x` is that of the last point of its trace's longest prefix with `at` at
+/// most `x`. Configurations of more than [`COST_CURVE_RUNS`] runs are read from that many.
 fn cost_curve(
     runs: &[&RunRecord],
     progress: &Traces,
     xs: &[f64],
     at: fn(&TracePoint) -> f64,
-) -> Vec<BandPoint> {
-    xs.iter()
-        .map(|&x| {
-            let mut costs: Vec<f64> = runs
-                .iter()
-                .map(|r| {
-                    progress
-                        .get(r.run)
-                        .iter()
-                        .take_while(|p| at(p) <= x)
-                        .last()
-                        .and_then(|p| p.best_cost)
-                        .unwrap_or(f64::INFINITY)
-                })
-                .collect();
+) -> Result<Vec<BandPoint>, Error> {
+    let sample = spread(runs, COST_CURVE_RUNS);
+    // costs[k]: each sampled run's best cost by xs[k]
+    let mut costs: Vec<Vec<f64>> = vec![Vec::with_capacity(sample.len()); xs.len()];
+    for r in &sample {
+        let trace = progress.get(r.run)?;
+        let mut seen = 0;
+        for (k, &x) in xs.iter().enumerate() {
+            while seen < trace.len() && at(&trace[seen]) <= x {
+                seen += 1;
+            }
+            let cost = seen
+                .checked_sub(1)
+                .and_then(|i| trace[i].best_cost)
+                .unwrap_or(f64::INFINITY);
+            costs[k].push(cost);
+        }
+    }
+    Ok(xs
+        .iter()
+        .zip(costs.iter_mut())
+        .map(|(&x, costs)| {
             costs.sort_by(f64::total_cmp);
             if costs.is_empty() {
                 return BandPoint {
@@ -195,7 +217,7 @@ fn cost_curve(
                 };
             }
             let q = |p: f64| {
-                let v = quantile_sorted(&costs, p);
+                let v = quantile_sorted(costs, p);
                 if v.is_nan() { f64::INFINITY } else { v }
             };
             let (q1, med, q3) = (q(0.25), q(0.5), q(0.75));
@@ -207,7 +229,7 @@ fn cost_curve(
                 hi: if q3.is_finite() { q3 } else { 1e300 },
             }
         })
-        .collect()
+        .collect())
 }
 
 /// The median best cost of each planning configuration against `xs` (iterations or seconds,
@@ -221,14 +243,17 @@ fn cost_chart(
     title: &str,
     looks: &[Look],
     width: u32,
-) -> LineBandChart {
+) -> Result<LineBandChart, Error> {
     let series: Vec<Series<Vec<BandPoint>>> = planning
         .iter()
-        .map(|g| Series {
-            label: g[0].planner.clone(),
-            data: cost_curve(g, by_run, xs, at),
+        .map(|g| {
+            Ok(Series {
+                label: g[0].planner.clone(),
+                data: cost_curve(g, by_run, xs, at)?,
+            })
         })
-        .collect();
+        .collect::<Result<_, Error>>()?;
+    let sampled = planning.iter().any(|g| g.len() > COST_CURVE_RUNS);
     let finite: Vec<f64> = series
         .iter()
         .flat_map(|s| s.data.iter())
@@ -244,19 +269,26 @@ fn cost_chart(
         _ => Some((0.0, 1.0)),
     };
     let planning_runs: Vec<&RunRecord> = planning.iter().flat_map(|g| g.iter().copied()).collect();
-    LineBandChart {
+    let band_label = if sampled {
+        format!(
+            "interquartile range (unsolved = +∞; of {COST_CURVE_RUNS} runs spread evenly over a configuration's runs where it has more)"
+        )
+    } else {
+        "interquartile range (unsolved = +∞)".into()
+    };
+    Ok(LineBandChart {
         title: title.into(),
         x_label: x_axis.0.into(),
         y_label: cost_axis(&planning_runs, "best cost"),
         series,
         y_range,
         steps: true,
-        band_label: "interquartile range (unsolved = +∞)".into(),
+        band_label,
         empty_note: "no configuration solved half of its runs: no median cost yet".into(),
         looks: looks.to_vec(),
         x_log: x_axis.1,
         width,
-    }
+    })
 }
 
 struct Writer<'a> {
@@ -481,7 +513,7 @@ pub fn write_all_with(
             &title,
             &looks,
             width,
-        );
+        )?;
         w.save(sc, "cost-vs-iterations", &fig, &title)?;
         let title = format!("{sc}: best cost vs planning time");
         let fig = cost_chart(
@@ -492,7 +524,7 @@ pub fn write_all_with(
             &title,
             &looks,
             width,
-        );
+        )?;
         w.save(sc, "cost-vs-time", &fig, &title)?;
         let planning_runs: Vec<&RunRecord> =
             planning.iter().flat_map(|g| g.iter().copied()).collect();
@@ -614,6 +646,21 @@ mod tests {
     }
 
     #[test]
+    fn a_sample_is_spread_evenly_over_the_runs_in_their_order() {
+        let runs: Vec<RunRecord> = (0..10)
+            .map(|i| RunRecord {
+                run: i,
+                ..RunRecord::example()
+            })
+            .collect();
+        let refs: Vec<&RunRecord> = runs.iter().collect();
+        let picked = |most| -> Vec<usize> { spread(&refs, most).iter().map(|r| r.run).collect() };
+        assert_eq!(picked(4), [0, 2, 5, 7]);
+        assert_eq!(picked(10), (0..10).collect::<Vec<_>>());
+        assert_eq!(picked(20), (0..10).collect::<Vec<_>>());
+    }
+
+    #[test]
     fn a_cost_curve_is_read_at_iterations_or_at_seconds() {
         let mut a = RunRecord::example();
         a.run = 0;
@@ -630,6 +677,7 @@ mod tests {
         let runs = [&a, &b];
         let medians = |xs: &[f64], at: fn(&TracePoint) -> f64| -> Vec<f64> {
             cost_curve(&runs, &by_run, xs, at)
+                .unwrap()
                 .iter()
                 .map(|p| p.y)
                 .collect()

@@ -249,10 +249,15 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, Error> {
 /// with their difficulty and per-agent columns (a file without them, e.g. of an older
 /// version, gives none).
 pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, Error> {
-    match Snapshot::open(&dir.join(RUNS))? {
-        Some(s) => s.runs()?.collect(),
-        None => Ok(vec![]),
+    let Some(s) = Snapshot::open(&dir.join(RUNS))? else {
+        return Ok(vec![]);
+    };
+    // as many as the file has rows: a vector that grows by doubling would hold up to twice
+    let mut runs = Vec::with_capacity(s.lines().saturating_sub(1) as usize);
+    for r in s.runs()? {
+        runs.push(r?);
     }
+    Ok(runs)
 }
 
 /// Parses the complete rows `text` (header first) of the `runs.csv` at `path`.
@@ -341,6 +346,7 @@ impl<R: std::io::Read> RunRows<R> {
         for &(m, c) in &self.measures {
             r.difficulty.set(m, cell(Some(c))?);
         }
+        r.per_agent.reserve_exact(self.agents.len());
         for cols in &self.agents {
             let mut v = [None; 4];
             for (v, &c) in v.iter_mut().zip(cols) {
@@ -356,6 +362,7 @@ impl<R: std::io::Read> RunRows<R> {
         {
             r.per_agent.pop();
         }
+        r.per_agent.shrink_to_fit();
         Ok(r)
     }
 }
@@ -383,6 +390,8 @@ pub struct Snapshot {
     len: u64,
     /// The file's length when it was opened: more than `len` when its last line is cut short.
     size: u64,
+    /// Its complete lines.
+    lines: u64,
 }
 
 impl Snapshot {
@@ -395,7 +404,7 @@ impl Snapshot {
             Err(e) => return Err(failed(path, e)),
         };
         let mut r = BufReader::new(&file);
-        let (mut quoted, mut len, mut at) = (false, 0u64, 0u64);
+        let (mut quoted, mut len, mut at, mut lines) = (false, 0u64, 0u64, 0u64);
         loop {
             let buf = r.fill_buf().map_err(|e| failed(path, e))?;
             if buf.is_empty() {
@@ -405,7 +414,10 @@ impl Snapshot {
                 at += 1;
                 match b {
                     b'"' => quoted = !quoted,
-                    b'\n' if !quoted => len = at,
+                    b'\n' if !quoted => {
+                        len = at;
+                        lines += 1;
+                    }
                     _ => {}
                 }
             }
@@ -417,12 +429,18 @@ impl Snapshot {
             file,
             len,
             size: at,
+            lines,
         }))
     }
 
     /// The length of its complete lines (bytes).
     pub fn complete_len(&self) -> u64 {
         self.len
+    }
+
+    /// The number of its complete lines (the header is one).
+    pub fn lines(&self) -> u64 {
+        self.lines
     }
 
     /// The file's length when it was opened (bytes).

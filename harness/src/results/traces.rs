@@ -1,10 +1,14 @@
-//! Every run's progress trace in memory, without the columns that repeat the run: what the
-//! plots and the OMPL log read from `progress.csv`, at a third of its rows' size.
+//! The runs' progress traces, as the plots and the OMPL log read them from `progress.csv`:
+//! an index of where each run's rows are in the file (16 bytes a stretch of rows), each trace
+//! read from the file when asked for, so that the memory they take does not grow with the
+//! number of points.
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::fs::File;
+use std::io::{BufReader, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
 
-use super::store::{PROGRESS, Snapshot};
+use super::store::{PROGRESS, Snapshot, bad_row, failed};
 use crate::Error;
 use crate::run::ProgressRow;
 
@@ -19,48 +23,196 @@ pub struct TracePoint {
     pub best_cost: Option<f64>,
 }
 
-/// The progress traces of a results folder, by run index, each in the order of its rows.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Traces(BTreeMap<usize, Vec<TracePoint>>);
-
-impl Traces {
-    /// The traces of `rows`.
-    pub fn from_rows<'a>(rows: impl IntoIterator<Item = &'a ProgressRow>) -> Self {
-        let mut t = Traces::default();
-        for r in rows {
-            t.push(r);
-        }
-        t
-    }
-
-    /// The traces of the complete rows of the `progress.csv` of `dir`, read one row at a time
-    /// (none without the file).
-    pub fn read(dir: &Path) -> Result<Self, Error> {
-        let mut t = Traces::default();
-        if let Some(s) = Snapshot::open(&dir.join(PROGRESS))? {
-            for r in s.progress()? {
-                t.push(&r?);
-            }
-        }
-        t.0.values_mut().for_each(|v| v.shrink_to_fit());
-        Ok(t)
-    }
-
-    fn push(&mut self, r: &ProgressRow) {
-        self.0.entry(r.run).or_default().push(TracePoint {
+impl From<&ProgressRow> for TracePoint {
+    fn from(r: &ProgressRow) -> Self {
+        TracePoint {
             iteration: r.iteration,
             time_s: r.time_s,
             best_cost: r.best_cost,
-        });
+        }
+    }
+}
+
+/// A stretch of consecutive rows of one run in `progress.csv`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Stretch {
+    run: usize,
+    /// Byte offset of its first row.
+    offset: u64,
+    /// Rows.
+    rows: u64,
+}
+
+/// Where the traces are.
+#[derive(Debug, Default)]
+enum Source {
+    /// No traces (a folder without `progress.csv`).
+    #[default]
+    None,
+    /// Every trace in memory, by run.
+    Memory(BTreeMap<usize, Vec<TracePoint>>),
+    /// The stretches of a `progress.csv`, by run and then by place in the file.
+    File {
+        path: PathBuf,
+        file: File,
+        stretches: Vec<Stretch>,
+    },
+}
+
+/// The progress traces of a results folder, by run index, each in the order of its rows.
+#[derive(Debug, Default)]
+pub struct Traces(Source);
+
+impl Traces {
+    /// The traces of `rows`, held in memory.
+    pub fn from_rows<'a>(rows: impl IntoIterator<Item = &'a ProgressRow>) -> Self {
+        let mut t: BTreeMap<usize, Vec<TracePoint>> = BTreeMap::new();
+        for r in rows {
+            t.entry(r.run).or_default().push(r.into());
+        }
+        Traces(Source::Memory(t))
+    }
+
+    /// The index of the complete rows of the `progress.csv` of `dir` (none without the file),
+    /// read one row at a time; every row is checked here, so that [`Traces::get`] only reads.
+    pub fn read(dir: &Path) -> Result<Self, Error> {
+        let path = dir.join(PROGRESS);
+        let Some(s) = Snapshot::open(&path)? else {
+            return Ok(Traces::default());
+        };
+        let mut reader = csv::Reader::from_reader(s.reader()?);
+        let headers = reader
+            .headers()
+            .map_err(|e| bad_row(&path, 0, e.to_string()))?
+            .clone();
+        let mut stretches: Vec<Stretch> = vec![];
+        let mut record = csv::StringRecord::new();
+        let mut row = 0;
+        while reader
+            .read_record(&mut record)
+            .map_err(|e| bad_row(&path, row + 1, e.to_string()))?
+        {
+            row += 1;
+            let p: ProgressRow = record
+                .deserialize(Some(&headers))
+                .map_err(|e| bad_row(&path, row, e.to_string()))?;
+            let offset = record.position().map_or(0, |p| p.byte());
+            match stretches.last_mut() {
+                Some(s) if s.run == p.run => s.rows += 1,
+                _ => stretches.push(Stretch {
+                    run: p.run,
+                    offset,
+                    rows: 1,
+                }),
+            }
+        }
+        // a run's stretches stay in file order (the sort is stable)
+        stretches.sort_by_key(|s| s.run);
+        stretches.shrink_to_fit();
+        let file = File::open(&path).map_err(|e| failed(&path, e))?;
+        Ok(Traces(Source::File {
+            path,
+            file,
+            stretches,
+        }))
     }
 
     /// The trace of run `run` (empty without one).
-    pub fn get(&self, run: usize) -> &[TracePoint] {
-        self.0.get(&run).map(Vec::as_slice).unwrap_or(&[])
+    pub fn get(&self, run: usize) -> Result<Vec<TracePoint>, Error> {
+        match &self.0 {
+            Source::None => Ok(vec![]),
+            Source::Memory(t) => Ok(t.get(&run).cloned().unwrap_or_default()),
+            Source::File {
+                path,
+                file,
+                stretches,
+            } => {
+                let from = stretches.partition_point(|s| s.run < run);
+                let mut out = vec![];
+                for s in stretches[from..].iter().take_while(|s| s.run == run) {
+                    read_stretch(path, file, s, &mut out)?;
+                }
+                Ok(out)
+            }
+        }
+    }
+}
+
+/// Appends the points of stretch `s` of the file `file` (at `path`) to `out`.
+fn read_stretch(
+    path: &Path,
+    file: &File,
+    s: &Stretch,
+    out: &mut Vec<TracePoint>,
+) -> Result<(), Error> {
+    let mut f = file.try_clone().map_err(|e| failed(path, e))?;
+    f.seek(SeekFrom::Start(s.offset))
+        .map_err(|e| failed(path, e))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(BufReader::new(f));
+    let mut rows = reader.deserialize::<ProgressRow>();
+    for _ in 0..s.rows {
+        match rows.next() {
+            Some(Ok(r)) => out.push((&r).into()),
+            Some(Err(e)) => return Err(failed(path, e)),
+            None => return Err(failed(path, "the file is shorter than when it was read")),
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(run: usize, iteration: u64, best_cost: Option<f64>) -> ProgressRow {
+        ProgressRow {
+            run,
+            run_id: format!("r{run}"),
+            iteration,
+            time_s: iteration as f64 / 10.0,
+            best_cost,
+        }
     }
 
-    /// Trace points in all.
-    pub fn points(&self) -> usize {
-        self.0.values().map(Vec::len).sum()
+    #[test]
+    fn a_trace_read_from_the_file_is_the_trace_in_memory() {
+        let dir = tempfile::tempdir().unwrap();
+        // run 1's rows in two stretches, with run 0's between them
+        let rows = [
+            row(1, 1, None),
+            row(1, 2, Some(5.0)),
+            row(0, 1, Some(3.0)),
+            row(1, 3, Some(4.5)),
+            row(2, 7, None),
+        ];
+        let mut text = super::super::store::progress_header();
+        text.push('\n');
+        text.push_str(std::str::from_utf8(&super::super::store::progress_bytes(&rows)).unwrap());
+        std::fs::write(dir.path().join(PROGRESS), text).unwrap();
+        let file = Traces::read(dir.path()).unwrap();
+        let memory = Traces::from_rows(&rows);
+        for run in 0..4 {
+            assert_eq!(
+                file.get(run).unwrap(),
+                memory.get(run).unwrap(),
+                "run {run}"
+            );
+        }
+        assert_eq!(file.get(1).unwrap().len(), 3);
+        assert!(file.get(3).unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_bad_row_is_named_when_the_index_is_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = format!(
+            "{}\n0,r0,1,0.1,\n0,r0,two,0.2,\n",
+            super::super::store::progress_header()
+        );
+        std::fs::write(dir.path().join(PROGRESS), text).unwrap();
+        let e = Traces::read(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("progress.csv") && e.contains("row 2"), "{e}");
     }
 }

@@ -1385,7 +1385,7 @@ pub static MEASURES: &[Measure] = &[
         name: "scale",
         source: Python {
             script: "python/bench/scale.py",
-            args: &["--runs", "10000", "100000"],
+            args: &["--runs", "10000", "100000", "1000000/100"],
             quick_args: &["--runs", "1000"],
         },
         feature: None,

@@ -178,15 +178,25 @@ fn blocks<'a>(runs: &[&'a RunRecord], qualify_scenario: bool) -> Vec<Block<'a>> 
 
 /// Whether a planner configuration tracks a best cost: some run has a cost at more than one
 /// point of its progress trace (a planner that stops at its first solution has one at most).
-fn tracks_cost(runs: &[&RunRecord], progress: &Traces) -> bool {
-    runs.iter().any(|r| {
-        progress
-            .get(r.run)
+fn tracks_cost(runs: &[&RunRecord], progress: &Traces) -> std::io::Result<bool> {
+    for r in runs {
+        if trace(progress, r)?
             .iter()
             .filter(|p| p.best_cost.is_some())
             .count()
             > 1
-    })
+        {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// The progress trace of run `r`, a failure to read it as an I/O error of the log.
+fn trace(progress: &Traces, r: &RunRecord) -> std::io::Result<Vec<TracePoint>> {
+    progress
+        .get(r.run)
+        .map_err(|e| std::io::Error::other(e.to_string()))
 }
 
 /// Writes one OMPL benchmark log holding `runs` as experiment `name` to `w`, a run's line at a
@@ -264,16 +274,17 @@ pub fn write_log(
         }
         // OMPL writes progress only for planners that declare progress properties, which
         // its non-optimizing planners (RRT, KPIECE, ...) do not.
-        let cost = tracks_cost(&b.runs, progress);
+        let cost = tracks_cost(&b.runs, progress)?;
         if cost {
             let _ = writeln!(o, "3 progress properties for each run");
             let _ = writeln!(o, "best cost REAL\niterations INTEGER\ntime REAL");
             let _ = writeln!(o, "{} runs", b.runs.len());
             for r in &b.runs {
                 // OMPL's progress table is keyed by (run, time): keep the last sample per time.
+                let points = trace(progress, r)?;
                 let mut by_time: BTreeMap<String, &TracePoint> = BTreeMap::new();
                 let mut order = vec![];
-                for p in progress.get(r.run) {
+                for p in &points {
                     let t = num(p.time_s);
                     if by_time.insert(t.clone(), p).is_none() {
                         order.push(t);
