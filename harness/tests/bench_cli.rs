@@ -187,6 +187,34 @@ fn dry_run_counts_the_matrix_and_merge_rejects_mixed_experiments() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("differs"), "{err}");
+    // a shard of another magbench version is refused, naming its manifest and the versions
+    let c = dir.path().join("c");
+    std::fs::create_dir(&c).unwrap();
+    for f in std::fs::read_dir(&a).unwrap() {
+        let f = f.unwrap().path();
+        if f.is_file() {
+            std::fs::copy(&f, c.join(f.file_name().unwrap())).unwrap();
+        }
+    }
+    let manifest = c.join("manifest.json");
+    let mut m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&manifest).unwrap()).unwrap();
+    m["magbench_version"] = "0.0.1".into();
+    std::fs::write(&manifest, m.to_string()).unwrap();
+    let out = dir.path().join("m2");
+    let (code, _, err) = magbench(&[
+        "merge",
+        a.to_str().unwrap(),
+        c.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(&manifest.display().to_string()) && err.contains("magbench 0.0.1"),
+        "{err}"
+    );
+    assert!(!out.join("runs.csv").exists(), "nothing merged");
 }
 
 /// On a terminal (a real PTY, from util-linux `script`) the progress bar ends its line, so the

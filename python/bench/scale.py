@@ -2,7 +2,7 @@
 commands against the number of runs.
 
 For each size N (``N`` or ``N/S``: N runs in S shards, 10 unless given), with the harness's
-fake executor (synthetic runs through the whole sweep machinery: two planners tracked by one
+fake executor (synthetic runs through the whole sweep machinery: five planners tracked by one
 tracker, 51 progress points per run; no planning), each command runs in its own process,
 started by this script, and is timed with its peak resident memory read from ``os.wait4``:
 
@@ -57,14 +57,15 @@ def run(args):
 
 
 def experiment(work, runs):
-    """An experiment file of ``runs`` fake runs: two planners, each run planning alone and
-    planned and tracked, so four runs a seed."""
+    """An experiment file of ``runs`` fake runs: five planners, each run planning alone and
+    planned and tracked, so ten runs a seed (a million runs are 100,000 seeds, the most an
+    experiment file takes)."""
     path = os.path.join(work, "scale.toml")
     with open(path, "w") as f:
         f.write(
             'name = "scale"\nscenarios = ["open-field"]\n'
-            'planners = ["fake", "fake{p=0.5}"]\n'
-            f"seeds = {max(1, runs // 4)}\n"
+            'planners = ["fake", "fake{p=0.5}", "fake{p=0.7}", "fake{p=0.9}", "fake{cost=20}"]\n'
+            f"seeds = {max(1, runs // 10)}\n"
             '[limits]\niterations = 1000\n[tracking]\ntrackers = ["fake"]\npresets = ["realistic"]\n'
         )
     return path

@@ -45,6 +45,18 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
     }
     let first = manifests[0].clone();
     for (s, m) in shards.iter().zip(&manifests) {
+        let this = env!("CARGO_PKG_VERSION");
+        if m.magbench_version != this {
+            return Err(Error::Input(InputError::new(
+                s.join(super::MANIFEST).display().to_string(),
+                "magbench_version",
+                format!(
+                    "written by magbench {}, and this is magbench {this}: merge shards with the \
+                     version that ran them",
+                    m.magbench_version
+                ),
+            )));
+        }
         if m.experiment.sha256 != first.experiment.sha256 {
             return Err(Error::Input(InputError::new(
                 s.display().to_string(),
@@ -58,6 +70,18 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
                 ),
             )));
         }
+    }
+    let mut revisions: Vec<&str> = manifests.iter().map(|m| m.git_revision.as_str()).collect();
+    revisions.sort();
+    revisions.dedup();
+    if revisions.len() > 1 {
+        eprintln!(
+            "note: the shards were run by {} builds of magbench {} (git revisions {}): their runs \
+             may differ by more than their seeds",
+            revisions.len(),
+            first.magbench_version,
+            revisions.join(", ")
+        );
     }
     // Each shard's files are opened once, up to their complete lines: a task may still be
     // writing them, and every pass reads the same rows.
