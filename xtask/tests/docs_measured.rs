@@ -231,6 +231,7 @@ const AWAITING_REGENERATION: &[&str] = &[
     "calibration-bench-seed-1",
     "calibration-bench-bulk-hydro",
     "rig-redetect",
+    "scale",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).

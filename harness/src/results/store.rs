@@ -245,6 +245,10 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, Error> {
     Ok(f)
 }
 
+/// Fewer bytes than any `runs.csv` row has: one separator per column (the serde, metric and
+/// difficulty columns alone are more than 70).
+const MIN_ROW_BYTES: u64 = 64;
+
 /// Reads the complete rows of `runs.csv` (a trailing partial line is ignored), one at a time,
 /// with their difficulty and per-agent columns (a file without them, e.g. of an older
 /// version, gives none).
@@ -252,8 +256,14 @@ pub fn read_runs(dir: &Path) -> Result<Vec<RunRecord>, Error> {
     let Some(s) = Snapshot::open(&dir.join(RUNS))? else {
         return Ok(vec![]);
     };
-    // as many as the file has rows: a vector that grows by doubling would hold up to twice
-    let mut runs = Vec::with_capacity(s.lines().saturating_sub(1) as usize);
+    // as many as the file has rows (a vector that grows by doubling would hold up to twice),
+    // but no more than its bytes allow: a row has a cell per column, so at least
+    // `MIN_ROW_BYTES` bytes of separators, whatever blank lines the file holds
+    let rows = s
+        .lines()
+        .saturating_sub(1)
+        .min(s.complete_len() / MIN_ROW_BYTES);
+    let mut runs = Vec::with_capacity(rows as usize);
     for r in s.runs()? {
         runs.push(r?);
     }
@@ -663,6 +673,23 @@ pub(crate) mod tests {
         assert_eq!(again.lines().next().unwrap(), header);
         // another team size on resume is another version of the file
         assert!(RunWriter::open(dir.path(), 3).is_err());
+    }
+
+    #[test]
+    fn blank_lines_reserve_no_more_rows_than_the_bytes_allow() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut text = runs_header(0);
+        text.push_str(&"\n".repeat(1_000_000));
+        let bytes = text.len();
+        std::fs::write(dir.path().join(RUNS), text).unwrap();
+        let runs = read_runs(dir.path()).unwrap();
+        assert!(runs.is_empty());
+        assert!(
+            runs.capacity() <= bytes / MIN_ROW_BYTES as usize,
+            "{}",
+            runs.capacity()
+        );
+        assert!(runs_header(0).split(',').count() as u64 > MIN_ROW_BYTES);
     }
 
     #[test]
