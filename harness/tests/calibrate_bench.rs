@@ -118,6 +118,21 @@ fn a_tiny_run_writes_a_row_per_rig_and_parameter_and_the_summary() {
         md.contains(&format!("warns not to use (held-out predictions no better than the base's, or a check that cannot tell): {warned} of {fitted} rigs fitted")),
         "{md}"
     );
+    // the errors within two of their own standard errors, as the CSV's error_in_se says
+    let z = col("error_in_se");
+    let with_se: Vec<f64> = rows
+        .iter()
+        .filter(|x| !x[z].is_empty())
+        .map(|x| x[z].parse::<f64>().unwrap())
+        .collect();
+    let covered = with_se.iter().filter(|z| z.abs() <= 2.0).count();
+    assert!(
+        md.contains(&format!(
+            "within 2 of the fit's own standard errors: {covered} of {} values",
+            with_se.len()
+        )),
+        "{md}"
+    );
     assert!(stdout.contains(md.lines().nth(2).unwrap()), "{stdout}");
     assert!(out.join("calibration-bench.svg").is_file());
     assert!(out.join("calibration-bench.png").is_file());

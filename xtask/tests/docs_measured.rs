@@ -186,6 +186,7 @@ const AWAITING_REGENERATION: &[&str] = &[
     "python-plugins",
     "calibration-bench",
     "calibration-bench-seed-1",
+    "calibration-bench-bulk-hydro",
     "scale",
 ];
 

@@ -8,7 +8,7 @@ use std::path::Path;
 use magbench_drivers::fit::HeldOut;
 
 use super::rig::Rig;
-use super::score::{Param, Score, Verdict, shown};
+use super::score::{COVERAGE_SE, Param, Score, Verdict, shown};
 
 /// One rig's result: its scores and the fit's held-out check.
 pub struct RigResult {
@@ -60,7 +60,8 @@ fn cell(v: Option<f64>) -> String {
 
 /// Writes `calibration-bench.csv` into `dir`: rig, seed, medium, hydrodynamics, parameter,
 /// true value, the true value under the fit's scale convention, the fitted value, its error
-/// and the error's unit, the fit's standard error, status, reason, tolerance, within it,
+/// and the error's unit, the fit's standard error, the error in standard errors, status,
+/// reason, tolerance, within it,
 /// the scale convention, the held-out prediction RMS of the fitted and the base preset (empty
 /// when the held-out check cannot compare them), and
 /// the tracking RMS error under the truth, the fitted preset and the base.
@@ -80,6 +81,7 @@ pub fn write_csv(dir: &Path, results: &[RigResult]) -> Result<(), String> {
         "error",
         "error_unit",
         "standard_error",
+        "error_in_se",
         "status",
         "reason",
         "tolerance",
@@ -107,6 +109,7 @@ pub fn write_csv(dir: &Path, results: &[RigResult]) -> Result<(), String> {
                 cell(s.error),
                 s.param.unit().into(),
                 cell(s.se),
+                cell(s.error_in_se()),
                 s.verdict.status().into(),
                 s.verdict.reason().into(),
                 format!("{}", s.param.tolerance()),
@@ -136,8 +139,9 @@ fn held_out_cell(h: Option<&HeldOut>) -> String {
 }
 
 /// The Markdown summary: one row per parameter with its tolerance, the rigs whose written value
-/// (fitted or imprecise) is within it, fitted, imprecise, not identified and failed, and the
-/// largest error of a fitted value;
+/// (fitted or imprecise) is within it, fitted, imprecise, not identified and failed, the
+/// largest error of a fitted value, and the written values whose error is within
+/// [`COVERAGE_SE`] of their own standard errors (of those with one);
 /// then per rig the held-out check and the tracking errors under the truth, the fitted preset
 /// and the base, with how many fits `calibrate` warns not to use; then one line per failed rig
 /// with its reason.
@@ -145,9 +149,10 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "| parameter | tolerance | within tolerance | fitted | imprecise | not identified | rig failed | largest fitted error |"
+        "| parameter | tolerance | within tolerance | fitted | imprecise | not identified | rig failed | largest fitted error | error within {COVERAGE_SE} SE |"
     );
-    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let (mut covered, mut with_se) = (0, 0);
     for (k, p) in params.iter().enumerate() {
         let col: Vec<&Score> = results.iter().map(|r| &r.scores[k]).collect();
         let count = |f: &dyn Fn(&Score) -> bool| col.iter().filter(|s| f(s)).count();
@@ -162,15 +167,23 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
             .filter_map(|s| s.error)
             .map(f64::abs)
             .max_by(f64::total_cmp);
+        let cov = count(&|s| s.covered() == Some(true));
+        let se = count(&|s| s.covered().is_some());
+        covered += cov;
+        with_se += se;
         let _ = writeln!(
             s,
-            "| {} | {} | {within} of {} | {fitted} | {imprecise} | {unident} | {failed} | {} |",
+            "| {} | {} | {within} of {} | {fitted} | {imprecise} | {unident} | {failed} | {} | {cov} of {se} |",
             p.name(),
             shown(*p, p.tolerance()),
             col.len(),
             worst.map_or("–".into(), |w| shown(*p, w)),
         );
     }
+    let _ = writeln!(
+        s,
+        "\nErrors within {COVERAGE_SE} of the fit's own standard errors: {covered} of {with_se} values written with one (about 95% if the standard errors are right).",
+    );
     let _ = writeln!(
         s,
         "\n| rig | medium | hydrodynamics | held-out check | tracking RMS, truth (BL) | fitted (BL) | base (BL) | fitted against truth |"

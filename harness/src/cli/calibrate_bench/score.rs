@@ -171,6 +171,29 @@ pub struct Score {
     pub within: Option<bool>,
 }
 
+/// Standard errors within which an error counts as covered by the fit's own uncertainty: the
+/// half-width of a two-sided 95% interval of a normal estimate (1.96), rounded to 2.
+pub const COVERAGE_SE: f64 = 2.0;
+
+impl Score {
+    /// The error in units of the fit's own standard error, for a value the fit wrote (fitted
+    /// or imprecise) with a positive standard error.
+    pub fn error_in_se(&self) -> Option<f64> {
+        match (&self.verdict, self.error, self.se) {
+            (Verdict::Fitted | Verdict::Imprecise(_), Some(e), Some(se)) if se > 0.0 => {
+                Some(e / se)
+            }
+            _ => None,
+        }
+    }
+
+    /// Whether the error is within [`COVERAGE_SE`] of the fit's standard errors: what an
+    /// honest standard error gives on about 95% of values.
+    pub fn covered(&self) -> Option<bool> {
+        self.error_in_se().map(|z| z.abs() <= COVERAGE_SE)
+    }
+}
+
 /// The scale λ the fit's moments, drags and gains are relative to, and how it was fixed.
 pub fn scale(fit: &FitReport, truth: &DisturbancePreset) -> (f64, String) {
     let f = &truth.fitted;
@@ -301,5 +324,38 @@ pub fn shown(param: Param, v: f64) -> String {
         format!("{:.1}%", 100.0 * v)
     } else {
         format!("{v:.3} {}", param.unit())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn score(verdict: Verdict, error: f64, se: f64) -> Score {
+        Score {
+            param: Param::Fit(Kind::Drag(0)),
+            truth: 1.0,
+            compared: 1.0,
+            fitted: Some(1.0 + error),
+            error: Some(error),
+            se: Some(se),
+            verdict,
+            within: Some(error.abs() <= 0.1),
+        }
+    }
+
+    #[test]
+    fn an_error_is_covered_within_two_of_its_own_standard_errors() {
+        let s = score(Verdict::Fitted, -0.05, 0.02);
+        assert_eq!(s.error_in_se(), Some(-2.5));
+        assert_eq!(s.covered(), Some(false));
+        let s = score(Verdict::Imprecise("wide".into()), 0.05, 0.03);
+        assert_eq!(s.covered(), Some(true));
+        // a value the fit did not write, or one without a standard error, is not counted
+        assert_eq!(
+            score(Verdict::NotIdentified("held".into()), 0.5, 0.1).covered(),
+            None
+        );
+        assert_eq!(score(Verdict::Fitted, 0.01, 0.0).covered(), None);
     }
 }
