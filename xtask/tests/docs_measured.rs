@@ -166,27 +166,8 @@ fn every_measured_file_parses_and_belongs_to_a_measurement() {
 /// what changed for each. A stale file missing from this list fails, and so does a listed file
 /// that is fresh: the list names exactly the files whose figures may not be today's.
 const AWAITING_REGENERATION: &[&str] = &[
-    "trackers-50",
-    "trackers-mpc",
-    "team-stall",
-    "team-elevation",
-    "vs-ompl",
-    "ablation-obc",
-    "ablation-lookahead",
-    "trio-loop-cost",
-    "scaling",
-    "pair-100-profile",
-    "steering",
     "cost-at-time",
     "trajopt-pair-100",
-    "team-sizes",
-    "team-large",
-    "team-edge",
-    "formations",
-    "python-plugins",
-    "calibration-bench",
-    "calibration-bench-seed-1",
-    "calibration-bench-bulk-hydro",
     "scale",
 ];
 
