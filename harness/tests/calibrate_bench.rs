@@ -193,6 +193,7 @@ fn a_bad_option_exits_2_naming_the_option_and_the_reason() {
         ("--duration", "nan", "must be in (0, 3600]"),
         ("--duration", "0", "must be in (0, 3600]"),
         ("--threads", "0", "must be in [1,"),
+        ("--segment-frames", "0", "must be in [1, 600]"),
     ] {
         let (code, _, err) = magbench(&["calibrate", "bench", "--out", &out, opt, value]);
         assert_eq!(code, 2, "{opt} {value}: {err}");

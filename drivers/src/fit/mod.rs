@@ -18,7 +18,10 @@
 //! `e_k = n_{k+1} − n_k + w_k`, so white detection noise of σ gives consecutive residuals the
 //! covariance −σ² while the process noise `w` gives none.
 //!
-//! Standard errors come from the Jacobian at the optimum, `σ_r² (JᵀJ)⁻¹`. Moment, drag and
+//! Standard errors come from the Jacobian and the residuals at the optimum: the larger of
+//! `σ_r² (JᵀJ)⁻¹` and the same clustered by segment (`(JᵀJ)⁻¹ (Σ_s J_sᵀ r_s r_sᵀ J_s)
+//! (JᵀJ)⁻¹`), since a segment's prediction errors share the process noise and any model error
+//! since its start, so they are not white. Moment, drag and
 //! gradient gain share one scale symmetry (moments ×λ, drags ×λ², gains ×λ leave every force
 //! the same) that only the terms which do not scale with the agent's own drag or moment break
 //! (hydrodynamic interaction, capillary attraction, the magnet's rotation lag). The fit

@@ -108,7 +108,7 @@ pub fn run(a: CalibrateArgs, registry: &Registry) -> Result<(), Error> {
 
 /// Frames one prediction may span: 10 s of a 60 fps camera (a longer prediction from one
 /// observation drifts beyond what the fit can follow).
-const SEGMENT_FRAMES: Bound = Bound::closed(
+pub(super) const SEGMENT_FRAMES: Bound = Bound::closed(
     1.0,
     600.0,
     " frames",

@@ -449,6 +449,8 @@ const REGRESS: &[&str] = &[
 ];
 /// The rig: drivers, emulator and the rig files; the calibration's fit is [`FIT`].
 const RIG: &[&str] = &["drivers/src", "rigs", ":!drivers/src/fit"];
+/// The ranges of the calibration benchmark in bulk with hydrodynamic interaction.
+const BULK_HYDRO_RANGES: &[&str] = &["docs/calibration/bench-bulk-hydro.toml"];
 /// The calibration's fit and `magbench calibrate` (its report and figure): only the
 /// measurements that fit depend on them (a test checks every transcript that runs
 /// `calibrate` and every test target that calls the fit).
@@ -1518,6 +1520,27 @@ pub static MEASURES: &[Measure] = &[
         depends: &[PLANT, RIG, PLANNING, TRACKING, CLI, CALIBRATION_BENCH, FIT],
     },
     Measure {
+        name: "calibration-bench-segments",
+        source: Test {
+            package: "magbench",
+            target: Target::Test("calibrate_bench_segments"),
+            test: "segment_lengths_on_the_three_benchmarks",
+            ignored: true,
+            release: true,
+        },
+        feature: None,
+        depends: &[
+            PLANT,
+            RIG,
+            PLANNING,
+            TRACKING,
+            CLI,
+            CALIBRATION_BENCH,
+            FIT,
+            BULK_HYDRO_RANGES,
+        ],
+    },
+    Measure {
         name: "detector-accuracy",
         source: Test {
             package: "magbench-drivers",
@@ -1805,7 +1828,7 @@ mod tests {
                 assert!(m.depends.contains(&FIT), "{} fits", m.name);
             }
         }
-        assert_eq!(fitting, 11);
+        assert_eq!(fitting, 12);
     }
 
     #[test]

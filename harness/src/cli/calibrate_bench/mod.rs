@@ -30,6 +30,7 @@ use self::report::RigResult;
 use self::rig::Outcome;
 use self::score::Param;
 use self::tracking::Tracking;
+use super::calibrate::SEGMENT_FRAMES;
 use super::calibrate_bench_plot::BenchFigure;
 use super::number::{checked, count};
 use crate::Error;
@@ -63,6 +64,9 @@ pub struct BenchArgs {
     /// dropped).
     #[arg(long, default_value = "open-field")]
     pub scenario: String,
+    /// Frames per segment each fit predicts (`calibrate --segment-frames`).
+    #[arg(long, default_value_t = magbench_drivers::fit::SEGMENT_FRAMES)]
+    pub segment_frames: usize,
 }
 
 /// Rigs one benchmark may draw.
@@ -85,6 +89,7 @@ const DURATION: Bound = Bound::above(
 pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), Error> {
     count("--rigs", &RIGS, a.rigs as u64)?;
     checked("--duration", &DURATION, a.duration)?;
+    count("--segment-frames", &SEGMENT_FRAMES, a.segment_frames as u64)?;
     let threads = super::number::threads(a.threads)?;
     let ranges = match &a.ranges {
         Some(p) => Ranges::load(p)?,
@@ -96,6 +101,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), Error> {
     let rigs = rig::draw(&ranges, a.seed, a.rigs, agents);
     let tracking = Tracking::plan(registry, &rig::interface())?;
     let opts = FitOptions {
+        segment_frames: a.segment_frames,
         max_latency: ranges.max_latency(),
         ..FitOptions::default()
     };
@@ -153,11 +159,12 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), Error> {
     let md = a.out.join("calibration-bench.md");
     std::fs::write(&md, &table).map_err(|e| Error::Failed(format!("{}: {e}", md.display())))?;
     outln!(
-        "{} rigs of {} s on {}, seed {}, {threads} threads, in {:.0} s",
+        "{} rigs of {} s on {}, seed {}, segments of {} frames, {threads} threads, in {:.0} s",
         a.rigs,
         a.duration,
         scenario.name,
         a.seed,
+        a.segment_frames,
         started.elapsed().as_secs_f64()
     );
     outln!();
