@@ -19,25 +19,43 @@ use magbench_env::plant::{DisturbancePreset, Fitted};
 /// Seconds of excitation.
 const EXCITE_S: f64 = 240.0;
 
-/// The relative error of each fitted moment, drag and gradient gain: (name, error).
-fn errors(fit: &FitReport, t: &Fitted, label: &str) -> Vec<(String, f64)> {
+/// The relative error of each moment, drag and gradient gain: (name, error), `None` for one
+/// the fit did not fit (its standard error above the threshold). With `all_fitted`, every
+/// parameter must be fitted.
+fn errors(
+    fit: &FitReport,
+    t: &Fitted,
+    label: &str,
+    all_fitted: bool,
+) -> Vec<(String, Option<f64>)> {
     let mut v = vec![];
     for p in &fit.params {
-        assert_eq!(p.status, Status::Fitted, "{label}: {} not fitted", p.name);
+        if all_fitted {
+            assert_eq!(p.status, Status::Fitted, "{label}: {} not fitted", p.name);
+        }
         let truth = match p.kind {
             Kind::Moment(i) => t.moment[i],
             Kind::Drag(i) => t.drag[i],
             Kind::GradientGain(a) => t.gradient_gain.unwrap()[a],
             _ => continue,
         };
-        v.push((p.name.clone(), p.value / truth - 1.0));
+        let fitted = p.status == Status::Fitted;
+        v.push((p.name.clone(), fitted.then(|| p.value / truth - 1.0)));
     }
     v
 }
 
-/// The largest magnitude of `errors`.
-fn worst(errors: &[(String, f64)]) -> f64 {
-    errors.iter().map(|(_, e)| e.abs()).fold(0.0, f64::max)
+/// The largest magnitude of the fitted `errors`.
+fn worst(errors: &[(String, Option<f64>)]) -> f64 {
+    errors
+        .iter()
+        .filter_map(|(_, e)| e.map(f64::abs))
+        .fold(0.0, f64::max)
+}
+
+/// A table cell: the error in per cent, or "not fitted".
+fn cell(e: Option<f64>) -> String {
+    e.map_or("not fitted".into(), |e| format!("{:+.1}%", 100.0 * e))
 }
 
 /// One run and two fits: about 130 s.
@@ -58,17 +76,19 @@ fn free_start_states_remove_the_detection_noise_bias() {
         };
         calibrate(&scenario, &base, vec![run], &opts).unwrap()
     };
-    let observed = errors(&fit(false), &t.fitted, "observed starts");
-    let free = errors(&fit(true), &t.fitted, "free starts");
+    // from the observed starts a segment's residuals share its start's detection error, and
+    // the standard errors clustered by segment may leave a factor not fitted
+    let observed = errors(&fit(false), &t.fitted, "observed starts", false);
+    let free = errors(&fit(true), &t.fitted, "free starts", true);
     println!("| parameter | error from the observed starts | error with the start states free |");
     println!("| --- | --- | --- |");
     for ((name, o), (name_free, f)) in observed.iter().zip(&free) {
         assert_eq!(name, name_free);
-        println!("| {name} | {:+.1}% | {:+.1}% |", 100.0 * o, 100.0 * f);
+        println!("| {name} | {} | {} |", cell(*o), cell(*f));
     }
     let (observed, free) = (worst(&observed), worst(&free));
     println!(
-        "| worst | {:.1}% | {:.1}% |",
+        "| worst fitted | {:.1}% | {:.1}% |",
         100.0 * observed,
         100.0 * free
     );
