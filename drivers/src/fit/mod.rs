@@ -28,7 +28,16 @@
 //! measures the standard error of `ln λ`; above [`SCALE_IDENTIFIED_BELOW`] it fixes the scale
 //! by a stated convention — the geometric mean of the moment factors is the base's, 1 — and
 //! reports it ([`ScaleFit`]); the ratios `m_i/√d_i` and `g_a/√d_i` are what the data then
-//! identify. A parameter whose standard error exceeds its threshold
+//! identify. The scale's uncertainty reaches the moments, drags and gains' standard errors
+//! both ways. With the scale fitted, one above its threshold only through the scale's (its
+//! contrast with the moments' geometric mean identified) is kept at its estimate and reported
+//! imprecise through the scale ([`Status::ScaleImprecise`]), not held at the base, which would
+//! fix the scale by an unmeasured value. With the scale held by an anchor (the convention, or
+//! a moment, drag or gain set aside), a term that breaks the symmetry only weakly bends the
+//! direction the data do not see away from the scale alone, so the anchor, held where the data
+//! do not confirm it, moves the other values with it: their standard errors are then at least
+//! those of their contrasts with the anchor from the data alone, and one above its threshold is
+//! reported imprecise through the scale. A parameter whose standard error exceeds its threshold
 //! ([`model::Kind::identified_below`]) is not fitted to noise: the worst one is held and the
 //! fit repeated, until every parameter left is identified. It is held at the base value when
 //! the base lies within [`REJECTS_BASE_SE`] standard errors of its estimate, and otherwise at
@@ -46,6 +55,7 @@
 //! predicts no better than the base, when the check cannot tell, or when it left a parameter
 //! unidentified or imprecise.
 
+mod anchor;
 pub mod contact;
 pub mod error;
 pub mod log;
@@ -66,6 +76,7 @@ pub use self::log::{LoggedFrame, LoggedRun, read_log};
 pub use self::model::{Kind, Model, SegmentTrace};
 pub use self::report::{FitReport, HeldOut, ParamFit, ScaleFit, Status, TRACE_S};
 
+use self::anchor::{Anchor, contrasts, relative_standard_errors, scale_power};
 use self::problem::{Problem, solve};
 
 /// Options of a fit.
@@ -277,14 +288,7 @@ fn scale_is_symmetry(model: &model::Model, segs: &[Segment], x: &[f64], dir: &[f
 /// The direction of the moment/drag/gain scale symmetry in the fitted coordinates (ln moment
 /// +1, ln drag +2, ln gain +1 per unit of ln λ), or `None` when one of them is held.
 fn scale_direction(kinds: &[Kind], free: &[bool]) -> Option<Vec<f64>> {
-    let v: Vec<f64> = kinds
-        .iter()
-        .map(|k| match k {
-            Kind::Moment(_) | Kind::GradientGain(_) => 1.0,
-            Kind::Drag(_) => 2.0,
-            _ => 0.0,
-        })
-        .collect();
+    let v: Vec<f64> = kinds.iter().map(scale_power).collect();
     v.iter()
         .zip(free)
         .all(|(v, f)| *v == 0.0 || *f)
@@ -511,12 +515,25 @@ pub fn calibrate(
             scale = ScaleFit::Held;
         }
         let se = p.standard_errors_along(None);
+        // with the scale fitted, a moment, drag or gain is judged by its standard error
+        // relative to the others: one above its threshold only through the scale's is kept
+        // and reported imprecise through the scale
+        let relative: Vec<(usize, f64)> = if matches!(scale, ScaleFit::Identified(_)) {
+            let (fitted, combos) = contrasts(&model.kinds, &free, &Anchor::Convention);
+            fitted
+                .into_iter()
+                .zip(p.combination_standard_errors(&combos))
+                .collect()
+        } else {
+            vec![]
+        };
+        let judged = |i: usize| relative.iter().find(|r| r.0 == i).map_or(se[i], |r| r.1);
         let worst = model
             .kinds
             .iter()
             .enumerate()
             .filter(|(i, _)| free[*i])
-            .map(|(i, k)| (i, se[i] / k.identified_below()))
+            .map(|(i, k)| (i, judged(i) / k.identified_below()))
             .filter(|(_, ratio)| ratio.is_nan() || *ratio > 1.0)
             .max_by(|a, b| a.1.total_cmp(&b.1));
         match worst {
@@ -532,9 +549,43 @@ pub fn calibrate(
                     set_aside.push((i, Status::Unidentified(se[i])));
                 }
             }
-            None => break (p, se),
+            None => {
+                for (i, _) in relative {
+                    let identified = se[i] <= model.kinds[i].identified_below();
+                    if !identified {
+                        free[i] = false;
+                        set_aside.push((i, Status::ScaleImprecise(se[i])));
+                    }
+                }
+                break (p, se);
+            }
         }
     };
+    let mut se = se;
+    let user_held: Vec<bool> = model
+        .kinds
+        .iter()
+        .map(|k| opts.hold.contains(&k.name()))
+        .collect();
+    let anchor = match scale {
+        ScaleFit::Convention(s) if s.is_finite() => Some(Anchor::Convention),
+        ScaleFit::Held => Anchor::set_aside(&model.kinds, &user_held, &set_aside),
+        _ => None,
+    };
+    if let Some(anchor) = anchor {
+        let relative =
+            relative_standard_errors(&model, &segs, &problem, &free, &anchor, opts.free_starts);
+        for (i, s) in relative {
+            if s > se[i] || s.is_nan() {
+                se[i] = s;
+            }
+            let identified = se[i] <= model.kinds[i].identified_below();
+            if !identified {
+                free[i] = false;
+                set_aside.push((i, Status::ScaleImprecise(se[i])));
+            }
+        }
+    }
     let noise = problem.detection_noise();
     let check = |x: &[f64]| {
         Problem::new(

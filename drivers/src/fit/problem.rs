@@ -272,20 +272,11 @@ impl<'a> Problem<'a> {
         self.evaluate_all(&self.x, true).j.expect("asked for")
     }
 
-    /// Standard error of every parameter (fitted coordinates): the larger of the white-residual
-    /// one and the one robust to residuals correlated within a segment
-    /// ([`parameter_variances`]; the degrees of freedom discount the free start states, 2 per
-    /// agent per segment; the scale convention's row is in `JᵀJ` but not among the segments); infinite for a free parameter along a singular direction,
-    /// NaN for a held one. With `along`, a direction in every parameter (0 on the held ones),
-    /// the last entry is the standard error of the coordinate along it when it replaces the
-    /// free parameter it moves most (the other free ones free as well).
-    pub fn standard_errors_along(&self, along: Option<&[f64]>) -> Vec<f64> {
-        let mut se = vec![f64::NAN; self.x.len() + usize::from(along.is_some())];
-        if self.free.is_empty() {
-            return se;
-        }
+    /// The data's residuals and Jacobian at the current parameters, the observed residuals'
+    /// count and their degrees of freedom (the free parameters' and, when free, the segments'
+    /// start states, 2 per agent per segment, discounted).
+    fn variance_inputs(&self) -> (Evaluation, usize, usize) {
         let e = self.evaluate_all(&self.x, true);
-        let mut j = e.j.expect("asked for");
         let observed = e.r.iter().filter(|v| **v != 0.0).count();
         let starts = if self.free_starts {
             e.segments.len() * 2 * self.model.n
@@ -293,23 +284,68 @@ impl<'a> Problem<'a> {
             0
         };
         let dof = observed.saturating_sub(self.free.len() + starts).max(1);
-        let var = parameter_variances(&j, &e.r, &e.segments, observed, dof);
+        (e, observed, dof)
+    }
+
+    /// Standard error of every parameter (fitted coordinates): the larger of the white-residual
+    /// one and the one robust to residuals correlated within a segment ([`variances`]; the
+    /// scale convention's row is in `JᵀJ` but not among the segments); infinite for a free
+    /// parameter along a singular direction, NaN for a held one. With `along`, a direction in
+    /// every parameter (0 on the held ones), the last entry is the standard error of the
+    /// coordinate along it when it replaces the free parameter it moves most (the other free
+    /// ones free as well).
+    pub fn standard_errors_along(&self, along: Option<&[f64]>) -> Vec<f64> {
+        let mut se = vec![f64::NAN; self.x.len() + usize::from(along.is_some())];
+        if self.free.is_empty() {
+            return se;
+        }
+        let (e, observed, dof) = self.variance_inputs();
+        let mut j = e.j.expect("asked for");
+        let k = self.free.len();
+        let var = variances(
+            &j,
+            &e.r,
+            &e.segments,
+            observed,
+            dof,
+            &DMatrix::identity(k, k),
+        );
         for (c, &i) in self.free.iter().enumerate() {
             se[i] = var[c].sqrt();
         }
         // the direction replaces the free column it moves most: J·B, B = I with that column v
         let swap = along.and_then(|v| {
-            let c = (0..self.free.len())
-                .max_by(|a, b| v[self.free[*a]].abs().total_cmp(&v[self.free[*b]].abs()))?;
+            let c =
+                (0..k).max_by(|a, b| v[self.free[*a]].abs().total_cmp(&v[self.free[*b]].abs()))?;
             (v[self.free[c]] != 0.0).then_some(c)
         });
         if let (Some(v), Some(c)) = (along, swap) {
-            let vf = DVector::from_iterator(self.free.len(), self.free.iter().map(|&i| v[i]));
+            let vf = DVector::from_iterator(k, self.free.iter().map(|&i| v[i]));
             let col = &j * vf;
             j.set_column(c, &col);
-            se[self.x.len()] = parameter_variances(&j, &e.r, &e.segments, observed, dof)[c].sqrt();
+            let unit = DMatrix::from_fn(k, 1, |r, _| f64::from(u8::from(r == c)));
+            se[self.x.len()] = variances(&j, &e.r, &e.segments, observed, dof, &unit)[0].sqrt();
         }
         se
+    }
+
+    /// The standard error of each combination `Σ_i a_i x_i` of the parameters in `combos`
+    /// (each a vector over every parameter; its entries on held parameters are not used),
+    /// computed as [`Problem::standard_errors_along`] computes a parameter's: infinite for a
+    /// combination with weight on a direction the data do not see, NaN with no free parameter.
+    pub fn combination_standard_errors(&self, combos: &[Vec<f64>]) -> Vec<f64> {
+        if self.free.is_empty() {
+            return vec![f64::NAN; combos.len()];
+        }
+        let (e, observed, dof) = self.variance_inputs();
+        let a = DMatrix::from_fn(self.free.len(), combos.len(), |c, m| {
+            combos[m][self.free[c]]
+        });
+        let j = e.j.expect("asked for");
+        variances(&j, &e.r, &e.segments, observed, dof, &a)
+            .into_iter()
+            .map(f64::sqrt)
+            .collect()
     }
 
     /// The standard error of the coordinate along `along` (a direction in every parameter, 0
@@ -365,96 +401,127 @@ struct Evaluation {
     segments: Vec<Range<usize>>,
 }
 
-/// The variance of each column's coefficient: the larger of the white-residual one
-/// ([`white_variances`], `dof` degrees of freedom) and the segment-clustered one
-/// ([`segment_robust_variances`]). The clustered one is right when residuals within a segment
-/// are correlated, but with a few tens of segments it is itself noisy and on average low
-/// (Angrist and Pischke, "Mostly Harmless Econometrics", 2009, §8.2.3, take the larger of the
-/// two for that reason).
-fn parameter_variances(
+/// The variance of each combination `aᵀβ` of the columns' coefficients `β` (`a` a column of
+/// `combos`): the larger of the white-residual one ([`white_variances`], `dof` degrees of
+/// freedom) and the segment-clustered one ([`segment_robust_variances`]). The clustered one is
+/// right when residuals within a segment are correlated, but with a few tens of segments it is
+/// itself noisy and on average low (Angrist and Pischke, "Mostly Harmless Econometrics", 2009,
+/// §8.2.3, take the larger of the two for that reason).
+fn variances(
     j: &DMatrix<f64>,
     r: &[f64],
     clusters: &[Range<usize>],
     observed: usize,
     dof: usize,
+    combos: &DMatrix<f64>,
 ) -> Vec<f64> {
-    let white = white_variances(j, r, dof);
-    let robust = segment_robust_variances(j, r, clusters, observed);
+    let inverse = InformationInverse::new(j);
+    let white = white_variances(&inverse, r, dof, combos);
+    let robust = segment_robust_variances(&inverse, j, r, clusters, observed, combos);
     white.iter().zip(&robust).map(|(a, b)| a.max(*b)).collect()
 }
 
-/// `(JᵀJ)⁻¹` over the directions the rows see (its eigenpairs with `λ > 10⁻¹⁴ λ_max`), and
-/// for each column whether it has weight on a direction they do not.
-fn information_inverse(j: &DMatrix<f64>) -> (DMatrix<f64>, Vec<bool>) {
-    let k = j.ncols();
-    let eig = (j.transpose() * j).symmetric_eigen();
-    let lmax = eig.eigenvalues.max().max(0.0);
-    let mut b = DMatrix::<f64>::zeros(k, k);
-    let mut unseen = vec![false; k];
-    for (l, &lambda) in eig.eigenvalues.iter().enumerate() {
-        let v = eig.eigenvectors.column(l);
-        if lambda <= lmax * 1e-14 {
-            for (c, u) in unseen.iter_mut().enumerate() {
-                *u |= v[c].powi(2) > 1e-12;
-            }
-        } else {
-            b += v * v.transpose() / lambda;
-        }
-    }
-    (b, unseen)
+/// `(JᵀJ)⁻¹` over the directions the rows of `J` see (its eigenpairs with
+/// `λ > 10⁻¹⁴ λ_max`), and the directions they do not.
+struct InformationInverse {
+    /// `Σ v vᵀ / λ` over the seen eigenpairs.
+    b: DMatrix<f64>,
+    /// The unseen eigenvectors.
+    unseen: Vec<DVector<f64>>,
 }
 
-/// The variance of each column's coefficient were the residuals independent with one variance:
-/// `σ² ((JᵀJ)⁻¹)_cc`, `σ²` the residuals' sum of squares over `dof`; infinite for a column
-/// along a direction the rows do not see.
-fn white_variances(j: &DMatrix<f64>, r: &[f64], dof: usize) -> Vec<f64> {
-    let (b, unseen) = information_inverse(j);
+impl InformationInverse {
+    fn new(j: &DMatrix<f64>) -> Self {
+        let k = j.ncols();
+        let eig = (j.transpose() * j).symmetric_eigen();
+        let lmax = eig.eigenvalues.max().max(0.0);
+        let mut b = DMatrix::<f64>::zeros(k, k);
+        let mut unseen = vec![];
+        for (l, &lambda) in eig.eigenvalues.iter().enumerate() {
+            let v = eig.eigenvectors.column(l);
+            if lambda <= lmax * 1e-14 {
+                unseen.push(v.into_owned());
+            } else {
+                b += v * v.transpose() / lambda;
+            }
+        }
+        Self { b, unseen }
+    }
+
+    /// Whether the combination `a` has weight on a direction the rows do not see (more than
+    /// 10⁻¹² of its squared length).
+    fn blind_to(&self, a: &DVector<f64>) -> bool {
+        let aa = a.norm_squared();
+        self.unseen.iter().any(|v| v.dot(a).powi(2) > 1e-12 * aa)
+    }
+}
+
+/// The variance of each combination (a column of `combos`) were the residuals independent with
+/// one variance: `σ² aᵀ(JᵀJ)⁻¹a`, `σ²` the residuals' sum of squares over `dof`; infinite for a
+/// combination along a direction the rows do not see.
+fn white_variances(
+    inverse: &InformationInverse,
+    r: &[f64],
+    dof: usize,
+    combos: &DMatrix<f64>,
+) -> Vec<f64> {
     let s2 = r.iter().map(|v| v * v).sum::<f64>() / dof.max(1) as f64;
-    (0..j.ncols())
-        .map(|c| {
-            if unseen[c] {
+    combos
+        .column_iter()
+        .map(|a| {
+            let a = a.into_owned();
+            if inverse.blind_to(&a) {
                 f64::INFINITY
             } else {
-                b[(c, c)] * s2
+                (a.transpose() * &inverse.b * &a)[0] * s2
             }
         })
         .collect()
 }
 
-/// The variance of each column's coefficient, robust to any correlation of the residuals
-/// within a cluster of rows and to a variance that differs between clusters: the sandwich
-/// `B M B` with `B = (JᵀJ)⁻¹` over every row and `M = Σ_s J_sᵀ r_s r_sᵀ J_s` over the
-/// clusters' rows (rows in no cluster, the scale convention's, shape `B` only), times
-/// `G/(G−1) · (N−1)/(N−K)` for `G` clusters, `N` observed rows and `K` columns (the CR1
-/// estimator of Cameron & Miller, "A Practitioner's Guide to Cluster-Robust Inference",
-/// J. Human Resources 50(2), 2015). A segment's prediction errors share the process noise
-/// since its start, so they are not independent, but segments are, their start states
-/// fitted. Infinite for a column along a direction the rows do not see, and when fewer than
-/// two clusters leave nothing to compare.
+/// The variance of each combination (a column `a` of `combos`) of the columns' coefficients,
+/// robust to any correlation of the residuals within a cluster of rows and to a variance that
+/// differs between clusters: `aᵀ B M B a`, the sandwich with `B = (JᵀJ)⁻¹` over every row and
+/// `M = Σ_s J_sᵀ r_s r_sᵀ J_s` over the clusters' rows (rows in no cluster, the scale
+/// convention's, shape `B` only), times `G/(G−1) · (N−1)/(N−K)` for `G` clusters, `N` observed
+/// rows and `K` columns (the CR1 estimator of Cameron & Miller, "A Practitioner's Guide to
+/// Cluster-Robust Inference", J. Human Resources 50(2), 2015). A segment's prediction errors
+/// share the process noise since its start, so they are not independent, but segments are,
+/// their start states fitted. Infinite for a combination along a direction the rows do not
+/// see, and when fewer than two clusters leave nothing to compare.
 fn segment_robust_variances(
+    inverse: &InformationInverse,
     j: &DMatrix<f64>,
     r: &[f64],
     clusters: &[Range<usize>],
     observed: usize,
+    combos: &DMatrix<f64>,
 ) -> Vec<f64> {
-    let k = j.ncols();
+    let (k, m) = (j.ncols(), combos.ncols());
     let (g, n) = (clusters.len(), observed);
     if g < 2 || n <= k {
-        return vec![f64::INFINITY; k];
+        return vec![f64::INFINITY; m];
     }
-    let (b, unseen) = information_inverse(j);
-    let mut var = vec![0.0; k];
+    // each combination's weights on the rows' scores: aᵀB
+    let ab = combos.transpose() * &inverse.b;
+    let mut var = vec![0.0; m];
     for rows in clusters {
         let score = j.rows(rows.start, rows.len()).transpose()
             * DVector::from_column_slice(&r[rows.clone()]);
-        for (c, u) in (&b * score).iter().enumerate() {
+        for (c, u) in (&ab * score).iter().enumerate() {
             var[c] += u * u;
         }
     }
     let small_sample = g as f64 / (g - 1) as f64 * (n - 1) as f64 / (n - k) as f64;
     var.iter()
-        .zip(&unseen)
-        .map(|(v, &u)| if u { f64::INFINITY } else { v * small_sample })
+        .zip(combos.column_iter())
+        .map(|(v, a)| {
+            if inverse.blind_to(&a.into_owned()) {
+                f64::INFINITY
+            } else {
+                v * small_sample
+            }
+        })
         .collect()
 }
 
@@ -516,12 +583,19 @@ mod tests {
     use rand::SeedableRng;
     use rand_distr::{Distribution, StandardNormal};
 
+    /// The segment-clustered variance of each column's coefficient.
+    fn clustered(j: &DMatrix<f64>, r: &[f64], clusters: &[Range<usize>], n: usize) -> Vec<f64> {
+        let k = j.ncols();
+        let inverse = InformationInverse::new(j);
+        segment_robust_variances(&inverse, j, r, clusters, n, &DMatrix::identity(k, k))
+    }
+
     #[test]
     fn one_column_s_variance_is_its_scores_squared_over_the_squared_information() {
         // rows x = (1, 2 | 3), residuals (1, −1 | 2), clusters {0, 1} and {2}
         let j = DMatrix::from_column_slice(3, 1, &[1.0, 2.0, 3.0]);
         let r = [1.0, -1.0, 2.0];
-        let v = segment_robust_variances(&j, &r, &[0..2, 2..3], 3);
+        let v = clustered(&j, &r, &[0..2, 2..3], 3);
         // scores −1 and 6; information 14; G/(G−1) = 2, (N−1)/(N−K) = 1
         let want = 2.0 * (1.0 + 36.0) / (14.0 * 14.0);
         assert!((v[0] - want).abs() < 1e-12, "{} against {want}", v[0]);
@@ -530,15 +604,26 @@ mod tests {
     #[test]
     fn a_column_no_row_sees_is_infinite_and_a_row_outside_the_clusters_only_shapes_the_bread() {
         let j = DMatrix::from_row_slice(3, 2, &[1.0, 0.0, 2.0, 0.0, 1.0, 0.0]);
-        let v = segment_robust_variances(&j, &[1.0, -1.0, 0.5], &[0..1, 1..3], 3);
+        let v = clustered(&j, &[1.0, -1.0, 0.5], &[0..1, 1..3], 3);
         assert!(v[0].is_finite() && v[1].is_infinite(), "{v:?}");
         // a convention's row on the second column makes it finite and, with no residual of its
         // own, certain
-        let pinned = j.insert_row(3, 0.0);
-        let mut pinned = pinned;
+        let mut pinned = j.insert_row(3, 0.0);
         pinned[(3, 1)] = 1e3;
-        let v = segment_robust_variances(&pinned, &[1.0, -1.0, 0.5, 0.0], &[0..1, 1..3], 3);
+        let v = clustered(&pinned, &[1.0, -1.0, 0.5, 0.0], &[0..1, 1..3], 3);
         assert!(v[1] == 0.0, "{v:?}");
+    }
+
+    #[test]
+    fn a_combination_the_rows_see_is_finite_though_its_parameters_are_not() {
+        // two columns the rows only ever see summed: the sum's coefficient has the regressor
+        // (1, 2, 1), information 6; either column alone, or their difference, is unseen
+        let j = DMatrix::from_row_slice(3, 2, &[1.0, 1.0, 2.0, 2.0, 1.0, 1.0]);
+        let combos = DMatrix::from_column_slice(2, 3, &[1.0, 1.0, 1.0, 0.0, 1.0, -1.0]);
+        let v = white_variances(&InformationInverse::new(&j), &[1.0, -1.0, 1.0], 2, &combos);
+        // σ² = 3/2 over 2 degrees of freedom, times 1/6
+        assert!((v[0] - 0.25).abs() < 1e-12, "{v:?}");
+        assert!(v[1].is_infinite() && v[2].is_infinite(), "{v:?}");
     }
 
     #[test]
@@ -548,8 +633,8 @@ mod tests {
         let j = DMatrix::from_column_slice(4, 1, &[1.0; 4]);
         let r = [1.0, -1.0, 1.0, -1.0];
         let clusters = [0..2, 2..4];
-        assert_eq!(segment_robust_variances(&j, &r, &clusters, 4), vec![0.0]);
-        let v = parameter_variances(&j, &r, &clusters, 4, 3);
+        assert_eq!(clustered(&j, &r, &clusters, 4), vec![0.0]);
+        let v = variances(&j, &r, &clusters, 4, 3, &DMatrix::identity(1, 1));
         assert!((v[0] - 1.0 / 3.0).abs() < 1e-12, "{v:?}");
     }
 
@@ -580,7 +665,7 @@ mod tests {
             let r: Vec<f64> = x.iter().zip(&y).map(|(a, c)| c - b * a).collect();
             let j = DMatrix::from_column_slice(g * m, 1, &x);
             let clusters: Vec<Range<usize>> = (0..g).map(|s| s * m..(s + 1) * m).collect();
-            let se = segment_robust_variances(&j, &r, &clusters, g * m)[0].sqrt();
+            let se = clustered(&j, &r, &clusters, g * m)[0].sqrt();
             let s2 = r.iter().map(|v| v * v).sum::<f64>() / (g * m - 1) as f64;
             let se_white = (s2 / sxx).sqrt();
             robust += usize::from((b - 1.0).abs() <= 2.0 * se);

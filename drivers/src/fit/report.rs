@@ -24,13 +24,31 @@ pub enum Status {
     /// threshold, but the estimate lies more than [`super::REJECTS_BASE_SE`] standard errors
     /// from the base's value.
     Imprecise(f64),
+    /// A moment, drag or gain fitted and written whose standard error (as above) exceeds the
+    /// threshold only through the uncertainty of the moment/drag/gain scale: the scale fitted,
+    /// the parameter identified relative to the others but not absolutely; or the scale held
+    /// by an anchor (the convention, or a value the fit set aside), the parameter identified
+    /// with the anchor held but not relative to it.
+    ScaleImprecise(f64),
 }
 
 impl Status {
     /// Whether the preset carries the fit's value (fitted or imprecise) rather than the
     /// base's.
     pub fn is_written(&self) -> bool {
-        matches!(self, Status::Fitted | Status::Imprecise(_))
+        matches!(
+            self,
+            Status::Fitted | Status::Imprecise(_) | Status::ScaleImprecise(_)
+        )
+    }
+
+    /// Whether the fit held the parameter (by request, or set aside at the base's value or
+    /// at its estimate), so that a held moment, drag or gain fixes the scale.
+    pub fn is_held(&self) -> bool {
+        matches!(
+            self,
+            Status::Held | Status::Unidentified(_) | Status::Imprecise(_)
+        )
     }
 }
 
@@ -235,12 +253,13 @@ pub(super) fn build(
                 match set_aside.iter().find(|u| u.0 == i).map(|u| u.1) {
                     Some(Status::Unidentified(s)) => Status::Unidentified(se_unit(s)),
                     Some(Status::Imprecise(s)) => Status::Imprecise(se_unit(s)),
+                    Some(Status::ScaleImprecise(s)) => Status::ScaleImprecise(se_unit(s)),
                     _ => Status::Held,
                 }
             };
             let se_i = match status {
                 Status::Fitted => Some(se_unit(se[i])),
-                Status::Imprecise(s) => Some(s),
+                Status::Imprecise(s) | Status::ScaleImprecise(s) => Some(s),
                 Status::Held | Status::Unidentified(_) => None,
             };
             let value = match k {
@@ -370,6 +389,13 @@ impl FitReport {
                     se(p.kind.identified_below_in_unit()),
                     super::REJECTS_BASE_SE
                 ),
+                Status::ScaleImprecise(s) => format!(
+                    "{:<24} {:>10.4}  {}  imprecise through the scale: fitted, but the uncertainty of the moment/drag/gain scale (below) puts its standard error above the fit's threshold ({})",
+                    p.name,
+                    p.value,
+                    se(s),
+                    se(p.kind.identified_below_in_unit())
+                ),
             });
         }
         if let Some((g, s)) = self.moment_scale() {
@@ -398,7 +424,7 @@ impl FitReport {
                 "scale λ", "1", 100.0 * s
             ),
             ScaleFit::Convention(s) => format!(
-                "{:<24} {:>10}  {}: fixed by convention, the moments' geometric mean = 1; moments, drags and gains are relative to it (identified: m_i/√d_i, g/√d_i)",
+                "{:<24} {:>10}  {}: fixed by convention, the moments' geometric mean = 1; moments, drags and gains are relative to it, and so are their standard errors (identified: m_i/√d_i, g/√d_i)",
                 "scale λ",
                 "-",
                 if s.is_finite() {
@@ -408,7 +434,7 @@ impl FitReport {
                 }
             ),
             ScaleFit::Held => format!(
-                "{:<24} {:>10}  fixed by a held moment, drag or gain",
+                "{:<24} {:>10}  fixed by a held moment, drag or gain; the others, and their standard errors, are relative to it",
                 "scale λ", "-"
             ),
         });
@@ -480,6 +506,10 @@ impl FitReport {
                     "{} is imprecise: the estimate written is less certain than the fit's threshold asks, though the data reject the base's value; to pin it down: {}",
                     p.name,
                     advice(p.kind)
+                )),
+                Status::ScaleImprecise(_) => w.push(format!(
+                    "{} is imprecise through the moment/drag/gain scale, which the data fix too loosely: measure one of the three (a gradient gain with a gaussmeter) and --hold it",
+                    p.name
                 )),
                 Status::Fitted | Status::Held => {}
             }

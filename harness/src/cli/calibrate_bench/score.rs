@@ -209,7 +209,7 @@ pub fn scale(fit: &FitReport, truth: &DisturbancePreset) -> (f64, String) {
                 matches!(
                     p.kind,
                     Kind::Moment(_) | Kind::Drag(_) | Kind::GradientGain(_)
-                ) && p.status != Status::Fitted
+                ) && p.status.is_held()
             });
             match held {
                 Some(p) => {
@@ -258,6 +258,11 @@ pub fn scores(rig: &Rig, fit: &FitReport, agents: usize) -> Vec<Score> {
                             )),
                             Status::Imprecise(s) => Verdict::Imprecise(format!(
                                 "standard error {} above the fit's threshold {}; the data reject the base's value",
+                                shown(param, s),
+                                shown(param, kind.identified_below_in_unit())
+                            )),
+                            Status::ScaleImprecise(s) => Verdict::Imprecise(format!(
+                                "standard error {} through the scale's, above the fit's threshold {}",
                                 shown(param, s),
                                 shown(param, kind.identified_below_in_unit())
                             )),
