@@ -140,8 +140,9 @@ fn held_out_cell(h: Option<&HeldOut>) -> String {
 
 /// The Markdown summary: one row per parameter with its tolerance, the rigs whose written value
 /// (fitted or imprecise) is within it, fitted, imprecise, not identified and failed, the
-/// largest error of a fitted value, and the written values whose error is within
-/// [`COVERAGE_SE`] of their own standard errors (of those with one);
+/// largest error of a fitted value, the written values whose error is within
+/// [`COVERAGE_SE`] of their own standard errors (of those with one), and the rigs whose value
+/// is within tolerance or not claimed to it ([`Score::within_or_unclaimed`]);
 /// then per rig the held-out check and the tracking errors under the truth, the fitted preset
 /// and the base, with how many fits `calibrate` warns not to use; then one line per failed rig
 /// with its reason.
@@ -149,9 +150,12 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "| parameter | tolerance | within tolerance | fitted | imprecise | not identified | rig failed | largest fitted error | error within {COVERAGE_SE} SE |"
+        "| parameter | tolerance | within tolerance | fitted | imprecise | not identified | rig failed | largest fitted error | error within {COVERAGE_SE} SE | within tolerance or not claimed |"
     );
-    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let _ = writeln!(
+        s,
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    );
     let (mut covered, mut with_se) = (0, 0);
     for (k, p) in params.iter().enumerate() {
         let col: Vec<&Score> = results.iter().map(|r| &r.scores[k]).collect();
@@ -169,20 +173,21 @@ pub fn summary(results: &[RigResult], params: &[Param]) -> String {
             .max_by(f64::total_cmp);
         let cov = count(&|s| s.covered() == Some(true));
         let se = count(&|s| s.covered().is_some());
+        let goal = count(&|s| s.within_or_unclaimed());
         covered += cov;
         with_se += se;
         let _ = writeln!(
             s,
-            "| {} | {} | {within} of {} | {fitted} | {imprecise} | {unident} | {failed} | {} | {cov} of {se} |",
+            "| {} | {} | {within} of {n} | {fitted} | {imprecise} | {unident} | {failed} | {} | {cov} of {se} | {goal} of {n} |",
             p.name(),
             shown(*p, p.tolerance()),
-            col.len(),
             worst.map_or("–".into(), |w| shown(*p, w)),
+            n = col.len(),
         );
     }
     let _ = writeln!(
         s,
-        "\nErrors within {COVERAGE_SE} of the fit's own standard errors: {covered} of {with_se} values written with one (about 95% if the standard errors are right).",
+        "\nErrors within {COVERAGE_SE} of the fit's own standard errors: {covered} of {with_se} values written with one (about 95% if the standard errors are right). A value is claimed to its tolerance when the fit wrote it with a standard error of at most the tolerance over {COVERAGE_SE}; the last column counts the rigs where it is within tolerance or not so claimed.",
     );
     let _ = writeln!(
         s,

@@ -192,6 +192,26 @@ impl Score {
     pub fn covered(&self) -> Option<bool> {
         self.error_in_se().map(|z| z.abs() <= COVERAGE_SE)
     }
+
+    /// Whether the fit claims the value to its tolerance: written (fitted or imprecise) with a
+    /// standard error of at most the tolerance over [`COVERAGE_SE`], so that the value's
+    /// two-standard-error interval lies within the tolerance.
+    pub fn claimed(&self) -> bool {
+        matches!(self.verdict, Verdict::Fitted | Verdict::Imprecise(_))
+            && self
+                .se
+                .is_some_and(|se| COVERAGE_SE * se <= self.param.tolerance())
+    }
+
+    /// Whether the value is within its tolerance, or the fit's own output says the data cannot
+    /// tell it that well (not identified, or a standard error above [`Score::claimed`]'s);
+    /// `false` for a rig that failed.
+    pub fn within_or_unclaimed(&self) -> bool {
+        match self.verdict {
+            Verdict::RigFailed(_) => false,
+            _ => self.within == Some(true) || !self.claimed(),
+        }
+    }
 }
 
 /// The scale λ the fit's moments, drags and gains are relative to, and how it was fixed.
@@ -347,6 +367,20 @@ mod tests {
             verdict,
             within: Some(error.abs() <= 0.1),
         }
+    }
+
+    #[test]
+    fn a_miss_counts_against_the_goal_only_when_the_fit_claimed_the_tolerance() {
+        // tolerance 10%: claimed up to a standard error of 5%
+        let claimed_miss = score(Verdict::Fitted, 0.12, 0.05);
+        assert!(claimed_miss.claimed() && !claimed_miss.within_or_unclaimed());
+        let loose_miss = score(Verdict::Fitted, 0.12, 0.051);
+        assert!(!loose_miss.claimed() && loose_miss.within_or_unclaimed());
+        let hit = score(Verdict::Imprecise("wide".into()), 0.02, 0.2);
+        assert!(hit.within_or_unclaimed());
+        let held = score(Verdict::NotIdentified("held".into()), 0.3, 0.01);
+        assert!(!held.claimed() && held.within_or_unclaimed());
+        assert!(!score(Verdict::RigFailed("touched".into()), 0.0, 0.01).within_or_unclaimed());
     }
 
     #[test]
