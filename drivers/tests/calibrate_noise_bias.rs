@@ -20,15 +20,19 @@ use magbench_env::plant::{DisturbancePreset, Fitted};
 /// Seconds of excitation.
 const EXCITE_S: f64 = 240.0;
 
-/// The relative error of each moment, drag and gradient gain: (name, error), `None` for one
-/// the fit did not fit (its standard error above the threshold). With `all_fitted`, every
+/// A parameter's relative error and whether it was fitted.
+struct Error {
+    /// Its name.
+    name: String,
+    /// The written value's relative error; `None` when the fit held it (not written).
+    error: Option<f64>,
+    /// Whether it was fitted (else written imprecise, or held).
+    fitted: bool,
+}
+
+/// The relative error of each moment, drag and gradient gain. With `all_fitted`, every
 /// parameter must be fitted.
-fn errors(
-    fit: &FitReport,
-    t: &Fitted,
-    label: &str,
-    all_fitted: bool,
-) -> Vec<(String, Option<f64>)> {
+fn errors(fit: &FitReport, t: &Fitted, label: &str, all_fitted: bool) -> Vec<Error> {
     let mut v = vec![];
     for p in &fit.params {
         if all_fitted {
@@ -40,23 +44,32 @@ fn errors(
             Kind::GradientGain(a) => t.gradient_gain.unwrap()[a],
             _ => continue,
         };
-        let fitted = p.status == Status::Fitted;
-        v.push((p.name.clone(), fitted.then(|| p.value / truth - 1.0)));
+        v.push(Error {
+            name: p.name.clone(),
+            error: p.status.is_written().then(|| p.value / truth - 1.0),
+            fitted: p.status == Status::Fitted,
+        });
     }
     v
 }
 
-/// The largest magnitude of the fitted `errors`.
-fn worst(errors: &[(String, Option<f64>)]) -> f64 {
+/// The largest magnitude of the fitted values' errors.
+fn worst(errors: &[Error]) -> f64 {
     errors
         .iter()
-        .filter_map(|(_, e)| e.map(f64::abs))
+        .filter(|e| e.fitted)
+        .filter_map(|e| e.error.map(f64::abs))
         .fold(0.0, f64::max)
 }
 
-/// A table cell: the error in per cent, or "not fitted".
-fn cell(e: Option<f64>) -> String {
-    e.map_or("not fitted".into(), |e| format!("{:+.1}%", 100.0 * e))
+/// A table cell: the error in per cent (marked imprecise when written but not fitted), or
+/// "not fitted" when held.
+fn cell(e: &Error) -> String {
+    match (e.error, e.fitted) {
+        (Some(x), true) => format!("{:+.1}%", 100.0 * x),
+        (Some(x), false) => format!("{:+.1}% (imprecise)", 100.0 * x),
+        (None, _) => "not fitted".into(),
+    }
 }
 
 /// One run and two fits: about 130 s.
@@ -78,14 +91,14 @@ fn free_start_states_remove_the_detection_noise_bias() {
         calibrate(&scenario, &base, vec![run], &opts).unwrap()
     };
     // from the observed starts a segment's residuals share its start's detection error, and
-    // the standard errors clustered by segment may leave a factor not fitted
+    // the standard errors clustered by segment may leave a factor not fitted or imprecise
     let observed = errors(&fit(false), &t.fitted, "observed starts", false);
     let free = errors(&fit(true), &t.fitted, "free starts", true);
     println!("| parameter | error from the observed starts | error with the start states free |");
     println!("| --- | --- | --- |");
-    for ((name, o), (name_free, f)) in observed.iter().zip(&free) {
-        assert_eq!(name, name_free);
-        println!("| {name} | {} | {} |", cell(*o), cell(*f));
+    for (o, f) in observed.iter().zip(&free) {
+        assert_eq!(o.name, f.name);
+        println!("| {} | {} | {} |", o.name, cell(o), cell(f));
     }
     let (observed, free) = (worst(&observed), worst(&free));
     println!(
