@@ -7,8 +7,9 @@
 //! shrinks as the segments grow.
 //!
 //! The rig is env's plant and camera (`SimRig`) stepped frame by frame: no sockets, no sleeps,
-//! no wall clock. It prints each fit's latency and errors as a Markdown table, which `cargo
-//! xtask measure --only calibration-segments` keeps for docs/calibration.md.
+//! no wall clock. It prints each fit's latency and errors as a Markdown table (a value the fit
+//! writes imprecise marked so, a held one "not fitted", the worst error over the fitted ones),
+//! which `cargo xtask measure --only calibration-segments` keeps for docs/calibration.md.
 
 mod common;
 
@@ -77,12 +78,13 @@ fn fits(t: &DisturbancePreset, header: &mut bool) -> f64 {
                     Kind::GradientGain(a) => f.gradient_gain.unwrap()[a],
                     _ => continue,
                 };
+                let e = p.value / truth - 1.0;
                 let cell = match p.status {
                     Status::Fitted => {
-                        let e = p.value / truth - 1.0;
                         worst = worst.max(e.abs());
                         format!("{:+.1}%", 100.0 * e)
                     }
+                    s if s.is_written() => format!("{:+.1}% (imprecise)", 100.0 * e),
                     _ => "not fitted".into(),
                 };
                 cells.push((p.name.clone(), cell));
