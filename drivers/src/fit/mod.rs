@@ -368,11 +368,12 @@ pub fn calibrate(
         .collect();
     let model = Model::new(scenario, base, runs, opts.max_latency);
     let x0 = model.base_point(base);
-    let mut free: Vec<bool> = model
+    let user_held: Vec<bool> = model
         .kinds
         .iter()
-        .map(|k| !opts.hold.contains(&k.name()))
+        .map(|k| opts.hold.contains(&k.name()))
         .collect();
+    let mut free: Vec<bool> = user_held.iter().map(|h| !h).collect();
     let all = model.segments(opts.segment_frames);
     let excluded: f64 = stuck.iter().map(|s| s.seconds).sum();
     if all.len() < MIN_SEGMENTS && excluded > 0.0 {
@@ -514,19 +515,15 @@ pub fn calibrate(
         } else {
             scale = ScaleFit::Held;
         }
-        let se = p.standard_errors_along(None);
         // with the scale fitted, a moment, drag or gain is judged by its standard error
         // relative to the others: one above its threshold only through the scale's is kept
         // and reported imprecise through the scale
-        let relative: Vec<(usize, f64)> = if matches!(scale, ScaleFit::Identified(_)) {
-            let (fitted, combos) = contrasts(&model.kinds, &free, &Anchor::Convention);
-            fitted
-                .into_iter()
-                .zip(p.combination_standard_errors(&combos))
-                .collect()
-        } else {
-            vec![]
+        let (fitted, combos) = match scale {
+            ScaleFit::Identified(_) => contrasts(&model.kinds, &free, &Anchor::Convention),
+            _ => (vec![], vec![]),
         };
+        let (se, relative_se) = p.standard_errors_with(&combos);
+        let relative: Vec<(usize, f64)> = fitted.into_iter().zip(relative_se).collect();
         let judged = |i: usize| relative.iter().find(|r| r.0 == i).map_or(se[i], |r| r.1);
         let worst = model
             .kinds
@@ -550,23 +547,19 @@ pub fn calibrate(
                 }
             }
             None => {
-                for (i, _) in relative {
-                    let identified = se[i] <= model.kinds[i].identified_below();
-                    if !identified {
-                        free[i] = false;
-                        set_aside.push((i, Status::ScaleImprecise(se[i])));
-                    }
-                }
+                let through_scale = relative.iter().map(|r| r.0);
+                set_aside_through_scale(
+                    &model.kinds,
+                    &se,
+                    through_scale,
+                    &mut free,
+                    &mut set_aside,
+                );
                 break (p, se);
             }
         }
     };
     let mut se = se;
-    let user_held: Vec<bool> = model
-        .kinds
-        .iter()
-        .map(|k| opts.hold.contains(&k.name()))
-        .collect();
     let anchor = match scale {
         ScaleFit::Convention(s) if s.is_finite() => Some(Anchor::Convention),
         ScaleFit::Held => Anchor::set_aside(&model.kinds, &user_held, &set_aside),
@@ -575,16 +568,13 @@ pub fn calibrate(
     if let Some(anchor) = anchor {
         let relative =
             relative_standard_errors(&model, &segs, &problem, &free, &anchor, opts.free_starts);
-        for (i, s) in relative {
+        for &(i, s) in &relative {
             if s > se[i] || s.is_nan() {
                 se[i] = s;
             }
-            let identified = se[i] <= model.kinds[i].identified_below();
-            if !identified {
-                free[i] = false;
-                set_aside.push((i, Status::ScaleImprecise(se[i])));
-            }
         }
+        let through_scale = relative.iter().map(|r| r.0);
+        set_aside_through_scale(&model.kinds, &se, through_scale, &mut free, &mut set_aside);
     }
     let noise = problem.detection_noise();
     let check = |x: &[f64]| {
@@ -612,6 +602,24 @@ pub fn calibrate(
         seconds,
         stuck,
     ))
+}
+
+/// Each moment, drag or gain of `params` whose standard error exceeds its threshold only
+/// through the scale's: held (its estimate written) and reported imprecise through the scale.
+fn set_aside_through_scale(
+    kinds: &[Kind],
+    se: &[f64],
+    params: impl Iterator<Item = usize>,
+    free: &mut [bool],
+    set_aside: &mut Vec<(usize, Status)>,
+) {
+    for i in params {
+        let identified = se[i] <= kinds[i].identified_below();
+        if !identified {
+            free[i] = false;
+            set_aside.push((i, Status::ScaleImprecise(se[i])));
+        }
+    }
 }
 
 /// What was left out as stuck in contact, per run: seconds of seconds (of which file, with

@@ -287,75 +287,75 @@ impl<'a> Problem<'a> {
         (e, observed, dof)
     }
 
-    /// Standard error of every parameter (fitted coordinates): the larger of the white-residual
-    /// one and the one robust to residuals correlated within a segment ([`variances`]; the
-    /// scale convention's row is in `JᵀJ` but not among the segments); infinite for a free
-    /// parameter along a singular direction, NaN for a held one. With `along`, a direction in
-    /// every parameter (0 on the held ones), the last entry is the standard error of the
-    /// coordinate along it when it replaces the free parameter it moves most (the other free
-    /// ones free as well).
-    pub fn standard_errors_along(&self, along: Option<&[f64]>) -> Vec<f64> {
-        let mut se = vec![f64::NAN; self.x.len() + usize::from(along.is_some())];
-        if self.free.is_empty() {
-            return se;
-        }
+    /// The standard error of the coordinate along `along` (a direction in every parameter, 0 on
+    /// the held ones) when it replaces the free parameter it moves most, the other free ones
+    /// free as well: the larger of the white-residual one and the one robust to residuals
+    /// correlated within a segment ([`variances`]; the scale convention's row is in `JᵀJ` but
+    /// not among the segments); infinite along a singular direction, NaN when no free
+    /// parameter moves along it.
+    fn standard_error_along(&self, along: &[f64]) -> f64 {
+        let k = self.free.len();
+        // the direction replaces the free column it moves most: J·B, B = I with that column v
+        let Some(c) = (0..k)
+            .max_by(|a, b| {
+                along[self.free[*a]]
+                    .abs()
+                    .total_cmp(&along[self.free[*b]].abs())
+            })
+            .filter(|&c| along[self.free[c]] != 0.0)
+        else {
+            return f64::NAN;
+        };
         let (e, observed, dof) = self.variance_inputs();
         let mut j = e.j.expect("asked for");
-        let k = self.free.len();
-        let var = variances(
-            &j,
-            &e.r,
-            &e.segments,
-            observed,
-            dof,
-            &DMatrix::identity(k, k),
-        );
-        for (c, &i) in self.free.iter().enumerate() {
-            se[i] = var[c].sqrt();
-        }
-        // the direction replaces the free column it moves most: J·B, B = I with that column v
-        let swap = along.and_then(|v| {
-            let c =
-                (0..k).max_by(|a, b| v[self.free[*a]].abs().total_cmp(&v[self.free[*b]].abs()))?;
-            (v[self.free[c]] != 0.0).then_some(c)
-        });
-        if let (Some(v), Some(c)) = (along, swap) {
-            let vf = DVector::from_iterator(k, self.free.iter().map(|&i| v[i]));
-            let col = &j * vf;
-            j.set_column(c, &col);
-            let unit = DMatrix::from_fn(k, 1, |r, _| f64::from(u8::from(r == c)));
-            se[self.x.len()] = variances(&j, &e.r, &e.segments, observed, dof, &unit)[0].sqrt();
-        }
-        se
+        let vf = DVector::from_iterator(k, self.free.iter().map(|&i| along[i]));
+        let col = &j * vf;
+        j.set_column(c, &col);
+        let unit = DMatrix::from_fn(k, 1, |r, _| f64::from(u8::from(r == c)));
+        variances(&j, &e.r, &e.segments, observed, dof, &unit)[0].sqrt()
     }
 
     /// The standard error of each combination `Σ_i a_i x_i` of the parameters in `combos`
     /// (each a vector over every parameter; its entries on held parameters are not used),
-    /// computed as [`Problem::standard_errors_along`] computes a parameter's: infinite for a
+    /// the larger of the white-residual and the segment-clustered one ([`variances`]): infinite for a
     /// combination with weight on a direction the data do not see, NaN with no free parameter.
     pub fn combination_standard_errors(&self, combos: &[Vec<f64>]) -> Vec<f64> {
+        self.standard_errors_with(combos).1
+    }
+
+    /// Every parameter's standard error (fitted coordinates; NaN for a held one), and each
+    /// combination's of `combos`, as [`Problem::combination_standard_errors`] gives them, from
+    /// one Jacobian.
+    pub fn standard_errors_with(&self, combos: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
+        let mut se = vec![f64::NAN; self.x.len()];
         if self.free.is_empty() {
-            return vec![f64::NAN; combos.len()];
+            return (se, vec![f64::NAN; combos.len()]);
         }
         let (e, observed, dof) = self.variance_inputs();
-        let a = DMatrix::from_fn(self.free.len(), combos.len(), |c, m| {
-            combos[m][self.free[c]]
+        let k = self.free.len();
+        // the free parameters' unit vectors, then the combinations
+        let a = DMatrix::from_fn(k, k + combos.len(), |c, m| match m.checked_sub(k) {
+            None => f64::from(u8::from(c == m)),
+            Some(m) => combos[m][self.free[c]],
         });
         let j = e.j.expect("asked for");
-        variances(&j, &e.r, &e.segments, observed, dof, &a)
+        let mut sd = variances(&j, &e.r, &e.segments, observed, dof, &a)
             .into_iter()
-            .map(f64::sqrt)
-            .collect()
+            .map(f64::sqrt);
+        for &i in &self.free {
+            se[i] = sd.next().expect("one per free parameter");
+        }
+        (se, sd.collect())
     }
 
     /// The standard error of the coordinate along `along` (a direction in every parameter, 0
-    /// on the held ones) from the data alone: [`Problem::standard_errors_along`] without the
+    /// on the held ones) from the data alone: [`Problem::standard_error_along`] without the
     /// scale convention's row.
     pub fn data_standard_error_along(&mut self, along: &[f64]) -> f64 {
         let pin = std::mem::take(&mut self.pin);
-        let se = self.standard_errors_along(Some(along)).pop();
+        let se = self.standard_error_along(along);
         self.pin = pin;
-        se.unwrap_or(f64::NAN)
+        se
     }
 
     /// White detection noise σ (BL per coordinate) from one-frame residuals, −cov(e_k, e_k+1),
