@@ -357,47 +357,9 @@ impl FitReport {
         Some((g, se))
     }
 
-    /// One line per parameter, for the terminal and the preset's comments.
+    /// One line per parameter ([`param_line`]), for the terminal and the preset's comments.
     pub fn lines(&self) -> Vec<String> {
-        let mut out = vec![];
-        for p in &self.params {
-            let se = |s: f64| match p.kind {
-                k if k.is_log() => format!("± {:.1}%", 100.0 * s),
-                Kind::Latency => format!("± {s:.2} frames"),
-                Kind::FieldBias => format!("± {s:.3}°"),
-                _ => format!("± {s:.2e}"),
-            };
-            out.push(match p.status {
-                Status::Fitted => format!(
-                    "{:<24} {:>10.4}  {}  fitted",
-                    p.name,
-                    p.value,
-                    se(p.se.unwrap_or(f64::NAN))
-                ),
-                Status::Held => format!("{:<24} {:>10}  held at the base value (--hold)", p.name, "-"),
-                Status::Unidentified(s) => format!(
-                    "{:<24} {:>10}  not identified by the data (standard error {}): left at the base value",
-                    p.name,
-                    "-",
-                    se(s)
-                ),
-                Status::Imprecise(s) => format!(
-                    "{:<24} {:>10.4}  {}  imprecise: the standard error is above the fit's threshold ({}), but the data reject the base's value (more than {} standard errors away), so the estimate is written",
-                    p.name,
-                    p.value,
-                    se(s),
-                    se(p.kind.identified_below_in_unit()),
-                    super::REJECTS_BASE_SE
-                ),
-                Status::ScaleImprecise(s) => format!(
-                    "{:<24} {:>10.4}  {}  imprecise through the scale: fitted, but the uncertainty of the moment/drag/gain scale (below) puts its standard error above the fit's threshold ({})",
-                    p.name,
-                    p.value,
-                    se(s),
-                    se(p.kind.identified_below_in_unit())
-                ),
-            });
-        }
+        let mut out: Vec<String> = self.params.iter().map(param_line).collect();
         if let Some((g, s)) = self.moment_scale() {
             out.push(format!(
                 "{:<24} {:>10.4}  ± {:.1}%  (geometric mean of the moments)",
@@ -582,6 +544,67 @@ fn latency_at_bound(params: &[ParamFit]) -> Option<String> {
     })
 }
 
+/// A parameter's line in the report; a value fitted but not claimed to its tolerance
+/// ([`Kind::claimed`]) says so.
+fn param_line(p: &ParamFit) -> String {
+    let se = |s: f64| match p.kind {
+        k if k.is_log() => format!("± {:.1}%", 100.0 * s),
+        Kind::Latency => format!("± {s:.2} frames"),
+        Kind::FieldBias => format!("± {s:.3}°"),
+        _ => format!("± {s:.2e}"),
+    };
+    match p.status {
+        Status::Fitted => {
+            let s = p.se.unwrap_or(f64::NAN);
+            let claim = match p.kind.claimed(s) {
+                true => String::new(),
+                false => format!(
+                    ", but not to {} (two standard errors exceed it)",
+                    tolerance(p.kind)
+                ),
+            };
+            format!("{:<24} {:>10.4}  {}  fitted{claim}", p.name, p.value, se(s))
+        }
+        Status::Held => format!(
+            "{:<24} {:>10}  held at the base value (--hold)",
+            p.name, "-"
+        ),
+        Status::Unidentified(s) => format!(
+            "{:<24} {:>10}  not identified by the data (standard error {}): left at the base value",
+            p.name,
+            "-",
+            se(s)
+        ),
+        Status::Imprecise(s) => format!(
+            "{:<24} {:>10.4}  {}  imprecise: the standard error is above the fit's threshold ({}), but the data reject the base's value (more than {} standard errors away), so the estimate is written",
+            p.name,
+            p.value,
+            se(s),
+            se(p.kind.identified_below_in_unit()),
+            super::REJECTS_BASE_SE
+        ),
+        Status::ScaleImprecise(s) => format!(
+            "{:<24} {:>10.4}  {}  imprecise through the scale: fitted, but the uncertainty of the moment/drag/gain scale (below) puts its standard error above the fit's threshold ({})",
+            p.name,
+            p.value,
+            se(s),
+            se(p.kind.identified_below_in_unit())
+        ),
+    }
+}
+
+/// A parameter's tolerance as the report writes it: `±5%`, `±0.5 frames`, `±0.5°`,
+/// `±0.005 BL/s`.
+fn tolerance(k: Kind) -> String {
+    let t = k.tolerance();
+    match k {
+        k if k.is_log() => format!("±{:.0}%", 100.0 * t),
+        Kind::Latency => format!("±{t} frames"),
+        Kind::FieldBias => format!("±{t}°"),
+        _ => format!("±{t} BL/s"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -602,5 +625,24 @@ mod tests {
         assert!(w.contains("lower bound") && w.contains("--hold camera.latency.frames"));
         assert!(latency_at_bound(&[latency(0.3, Status::Fitted)]).is_none());
         assert!(latency_at_bound(&[latency(0.0, Status::Held)]).is_none());
+    }
+
+    #[test]
+    fn a_value_fitted_coarser_than_its_tolerance_says_so() {
+        let gain = |se| ParamFit {
+            kind: Kind::GradientGain(0),
+            name: Kind::GradientGain(0).name(),
+            value: 1.02,
+            se: Some(se),
+            status: Status::Fitted,
+        };
+        // tolerance 5%: claimed up to a standard error of 2.5%
+        assert!(param_line(&gain(0.02)).ends_with("fitted"));
+        let coarse = param_line(&gain(0.04));
+        assert!(coarse.contains("fitted, but not to ±5%"), "{coarse}");
+        let mut bias = latency(0.3, Status::Fitted);
+        bias.kind = Kind::FieldBias;
+        bias.se = Some(0.3);
+        assert!(param_line(&bias).contains("not to ±0.5°"));
     }
 }

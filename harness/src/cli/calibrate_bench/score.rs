@@ -73,19 +73,12 @@ impl Param {
         }
     }
 
-    /// The tolerance on the error: latency ½ frame, noise 20%, coil τ 30% (the field
-    /// coil's; the gradient coil's takes the same), gradient gains 5%,
-    /// moments and drags 10%; the bias 0.5° and a drift 0.005 BL/s (the tolerances of
-    /// `magbench calibrate`'s validation, harness/tests/calibrate.rs).
+    /// The tolerance on the error: the fit's own ([`Kind::tolerance`]) for a fitted
+    /// parameter, 20% for the detection noise.
     pub fn tolerance(&self) -> f64 {
         match self {
-            Param::Fit(Kind::Latency) => 0.5,
+            Param::Fit(k) => k.tolerance(),
             Param::Noise => 0.2,
-            Param::Fit(Kind::FieldTau | Kind::GradientTau) => 0.3,
-            Param::Fit(Kind::GradientGain(_)) => 0.05,
-            Param::Fit(Kind::Moment(_) | Kind::Drag(_)) => 0.1,
-            Param::Fit(Kind::FieldBias) => 0.5,
-            Param::Fit(Kind::Drift(_)) => 0.005,
         }
     }
 
