@@ -263,3 +263,37 @@ fn a_non_finite_command_is_never_sent() {
         "{ev:?}"
     );
 }
+
+/// In lockstep, frames pause while no host has a session: a host that comes a second after
+/// the last one left sees the frames it would have seen at once (the plant does not run on
+/// between them), so runs made one after another repeat whatever the machine's load.
+#[test]
+fn a_second_host_sees_the_frames_the_first_left_whatever_the_time_between() {
+    let emu = emulator();
+    let mut rig = open(&emu);
+    drive(&mut rig, 10);
+    drop(rig);
+    wait_for(&emu.log, "the first host's disconnect", |ev| {
+        count(ev, "coil_disconnect") == 1
+    });
+    // a second of the emulator's clock passes with no host: twenty of its 50 ms waits
+    for _ in 0..20 {
+        emu.clock.advance(Duration::from_millis(50));
+    }
+    let mut rig = open(&emu);
+    drive(&mut rig, 10);
+    drop(rig);
+    wait_for(&emu.log, "the second host's disconnect", |ev| {
+        count(ev, "coil_disconnect") == 2
+    });
+    let ev = events(&emu.log);
+    let gone = ev.iter().position(|(e, _)| e == "coil_disconnect").unwrap();
+    let back = gone + ev[gone..].iter().position(|(e, _)| e == "hello").unwrap();
+    assert_eq!(
+        count(&ev[gone..back], "frame"),
+        0,
+        "frames went out with no host: {:?}",
+        &ev[gone..back]
+    );
+    assert!(count(&ev[back..], "frame") >= 10, "{:?}", &ev[back..]);
+}

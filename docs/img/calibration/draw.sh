@@ -2,8 +2,8 @@
 # Draws the calibration benchmark's figure of docs/calibration.md into this folder: the command
 # `cargo xtask measure --only calibration-bench` runs for the table (`magbench calibrate bench`
 # at its defaults, seed 0, in a release build), its `calibration-bench.svg` copied here. The
-# benchmark's rigs run in lockstep with the fit, so the figure does not depend on the machine
-# or its load.
+# benchmark's rigs are stepped frame by frame in process, so the figure does not depend on the
+# machine or its load.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 cd "$here/../../.."

@@ -2,7 +2,7 @@
 
 use std::io::Write;
 use std::net::{TcpListener, TcpStream};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -14,6 +14,8 @@ use super::log::EventLog;
 pub struct CameraServer {
     addr: String,
     client: Arc<Mutex<Option<TcpStream>>>,
+    /// Hosts accepted so far.
+    accepted: Arc<AtomicU64>,
 }
 
 impl CameraServer {
@@ -34,7 +36,8 @@ impl CameraServer {
             .set_nonblocking(true)
             .map_err(|e| EmulatorError::io(what(), e))?;
         let client: Arc<Mutex<Option<TcpStream>>> = Arc::new(Mutex::new(None));
-        let c = client.clone();
+        let accepted = Arc::new(AtomicU64::new(0));
+        let (c, n) = (client.clone(), accepted.clone());
         std::thread::spawn(move || {
             while !stop.load(Ordering::Relaxed) {
                 match listener.accept() {
@@ -50,13 +53,19 @@ impl CameraServer {
                             &[],
                             &peer.to_string(),
                         );
-                        *lock(&c) = Some(s);
+                        let mut client = lock(&c);
+                        *client = Some(s);
+                        n.fetch_add(1, Ordering::Release);
                     }
                     Err(_) => std::thread::sleep(Duration::from_millis(5)),
                 }
             }
         });
-        Ok(Self { addr, client })
+        Ok(Self {
+            addr,
+            client,
+            accepted,
+        })
     }
 
     /// The address hosts connect to.
@@ -67,6 +76,11 @@ impl CameraServer {
     /// True while a host is connected.
     pub fn connected(&self) -> bool {
         lock(&self.client).is_some()
+    }
+
+    /// How many hosts it has accepted: the number of the connection it streams to now.
+    pub fn accepted(&self) -> u64 {
+        self.accepted.load(Ordering::Acquire)
     }
 
     /// Cuts the stream (the host sees it close).

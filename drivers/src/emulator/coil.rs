@@ -29,8 +29,14 @@ pub struct DeviceShared {
     pub changes: Vec<(f64, Vec<f64>)>,
     /// Device time of the first HELLO: fault times count from here.
     pub hello_t: Option<f64>,
-    /// Current-setting messages (SET_CURRENTS, ZERO) handled so far.
+    /// SET_CURRENTS messages (new or repeated) handled so far: the host's answers to frames,
+    /// which lockstep waits for. A ZERO is not one: it ends a run (the host's last messages
+    /// are ZEROs), and frames it released would depend on when the host closes its link.
     pub commands: u64,
+    /// A host's session is open: it said HELLO on a link it has not closed.
+    pub session_open: bool,
+    /// Sessions opened so far.
+    pub sessions: u64,
 }
 
 /// The shared device state behind its lock.
@@ -167,6 +173,13 @@ impl CoilServer {
         }
     }
 
+    /// The host closed its link, or the link failed: the currents are zeroed (`why`) and its
+    /// session ends.
+    fn end_session(&self, why: &str) {
+        self.zero_on(why);
+        lock(&self.shared).session_open = false;
+    }
+
     /// Zeroes the currents on a link event `why`.
     fn zero_on(&self, why: &str) {
         let mut sh = lock(&self.shared);
@@ -206,12 +219,12 @@ impl CoilServer {
                     continue;
                 }
                 Ok(Some(0)) => {
-                    self.zero_on("coil_disconnect");
+                    self.end_session("coil_disconnect");
                     return false;
                 }
                 Ok(Some(n)) => n,
                 Err(e) => {
-                    self.zero_on(&format!("coil_error {e}"));
+                    self.end_session(&format!("coil_error {e}"));
                     return false;
                 }
             };
@@ -254,14 +267,15 @@ impl CoilServer {
             if cur != before {
                 sh.changes.push((t, cur.clone()));
             }
-            if matches!(
-                event,
-                DeviceEvent::Currents | DeviceEvent::Duplicate | DeviceEvent::Zero
-            ) {
+            if matches!(event, DeviceEvent::Currents | DeviceEvent::Duplicate) {
                 sh.commands += 1;
             }
-            if matches!(event, DeviceEvent::Hello { .. }) && sh.hello_t.is_none() {
-                sh.hello_t = Some(t);
+            if matches!(event, DeviceEvent::Hello { .. }) {
+                sh.hello_t.get_or_insert(t);
+                if !sh.session_open {
+                    sh.session_open = true;
+                    sh.sessions += 1;
+                }
             }
             (reply, seq, cur, event)
         };
@@ -288,7 +302,7 @@ impl CoilServer {
             );
         }
         if let Err(e) = io.send(&bytes) {
-            self.zero_on(&format!("coil_error {e}"));
+            self.end_session(&format!("coil_error {e}"));
             return false;
         }
         true

@@ -89,9 +89,11 @@ pub struct EmulatorConfig {
     pub speed: f64,
     /// Lockstep: frames start once a host has said HELLO and connected its camera; after each
     /// frame, wait (up to 50 ms of wall time) for the host's command before advancing the plant
-    /// one frame; device time is then frame count × period. Runs as fast as the host's loop, is
-    /// immune to machine load and repeats exactly (frame noise depends on the frame index);
-    /// `speed` is ignored.
+    /// one frame; device time is then frame count × period. When the host closes its link,
+    /// frames (and the plant) pause until the next host has said HELLO and connected its
+    /// camera, so that hosts run one after another see the same frames whatever the time
+    /// between them. Runs as fast as the host's loop, is immune to machine load and repeats
+    /// exactly (frame noise depends on the frame index); `speed` is ignored.
     pub lockstep: bool,
     /// Stop after this much device time (s).
     pub duration: Option<f64>,
@@ -137,8 +139,12 @@ struct Emulator {
     faults: FaultInjector,
     period: f64,
     duration: Option<f64>,
-    /// Commands handled when the last frame went out (lockstep waits for the next).
-    commands_at_frame: u64,
+    /// Commands handled when the last frame went out (lockstep waits for the next); `None`
+    /// before the first frame of a host's session, which goes out at once.
+    commands_at_frame: Option<u64>,
+    /// Lockstep: the host session frames go to (0 before the first), and the camera
+    /// connection of that session (the number the camera server gave it).
+    session: (u64, u64),
 }
 
 impl Emulator {
@@ -171,6 +177,8 @@ impl Emulator {
             changes: Vec::new(),
             hello_t: None,
             commands: 0,
+            session_open: false,
+            sessions: 0,
         }));
         let camera =
             CameraServer::start(&cfg.camera_listen, stop.clone(), log.clone(), clock.clone())?;
@@ -254,19 +262,45 @@ impl Emulator {
             faults: FaultInjector::new(cfg.faults.clone(), cfg.seed),
             period: 1.0 / cfg.rig.camera.fps,
             duration: cfg.duration,
-            commands_at_frame: 0,
+            commands_at_frame: None,
+            session: (0, 0),
         })
     }
 
-    /// Lockstep: frame 1 goes to a host with an open session and a connected camera, so that
-    /// a run sees the same frames whatever the timing.
-    fn wait_for_host(&self, stop: &AtomicBool) {
+    /// Lockstep: the next frame goes to a host with an open session and a connected camera,
+    /// so that a run sees the same frames whatever the timing: before frame 1, and whenever the
+    /// host of the last frames has closed its link. The camera stream of a session that ended
+    /// is cut, unless a newer host has connected its camera already; the frames wait for the
+    /// new session's camera.
+    fn wait_for_host(&mut self, stop: &AtomicBool) {
         if !self.clock.is_lockstep() {
             return;
         }
-        while !stop.load(Ordering::Relaxed)
-            && (lock(&self.shared).hello_t.is_none() || !self.camera.connected())
-        {
+        let (session, camera) = self.session;
+        let current = |sh: &DeviceShared| sh.session_open && sh.sessions == session;
+        if current(&lock(&self.shared)) {
+            return;
+        }
+        if self.camera.accepted() == camera {
+            self.camera.cut();
+        }
+        loop {
+            if stop.load(Ordering::Relaxed) {
+                return;
+            }
+            let sessions = {
+                let sh = lock(&self.shared);
+                sh.session_open.then_some(sh.sessions)
+            };
+            let accepted = self.camera.accepted();
+            if let Some(s) = sessions
+                && accepted > camera
+                && self.camera.connected()
+            {
+                self.session = (s, accepted);
+                self.commands_at_frame = None;
+                return;
+            }
             std::thread::sleep(Duration::from_millis(2));
         }
     }
@@ -281,10 +315,18 @@ impl Emulator {
     fn frame(&mut self, k: u64, stop: &AtomicBool) -> Result<(), EmulatorError> {
         let t = k as f64 * self.period;
         if self.clock.is_lockstep() {
-            // the host's answer to the last frame, or 50 ms
-            let at_frame = self.commands_at_frame;
-            self.clock
-                .wait_for_host(|| lock(&self.shared).commands != at_frame, stop);
+            // the host's answer to the last frame, its link closed, or 50 ms
+            if let Some(at_frame) = self.commands_at_frame {
+                let session = self.session.0;
+                self.clock.wait_for_host(
+                    || {
+                        let sh = lock(&self.shared);
+                        sh.commands != at_frame || !(sh.session_open && sh.sessions == session)
+                    },
+                    stop,
+                );
+            }
+            self.wait_for_host(stop);
         } else {
             self.clock.wait_until(t, stop);
         }
@@ -347,7 +389,7 @@ impl Emulator {
             Delivery::Send => {}
         }
         let bytes = encode_frame(&frame);
-        self.commands_at_frame = lock(&self.shared).commands;
+        self.commands_at_frame = Some(lock(&self.shared).commands);
         self.camera.send(&bytes, t, &in_force, log);
         Ok(())
     }
