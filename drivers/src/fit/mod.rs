@@ -109,15 +109,13 @@ impl Default for FitOptions {
 /// it, and what the linearisation in that start leaves is a bias of second order in the
 /// detection noise, about the same in every segment, while what a segment says of the
 /// parameters grows with its length; a longer segment also has fewer start states (2 per agent
-/// each) to share the data with. With 40 frames the gradient gains came out 5–11% low on 4 of
-/// the calibration benchmark's 20 rigs of seed 0, all with 0.047–0.073 BL of noise (32 of the
-/// 40 gains within 5%); with 80, 37 of 40. On seed 1, drawn after that choice, 80 frames scored
-/// more rigs within tolerance than 40 on six of the thirteen parameters, as many on five, and
-/// fewer on the two drags (`magbench calibrate bench --seed 0|1`; 60 frames did worse than 80
-/// on all three benchmarks of docs/calibration.md). On one 240 s run at 0.08 BL, the top of
-/// the benchmark's noise, 80 frames left a drag unidentified and a moment 25% off where 40 and
-/// 60 stayed within 6% (`cargo xtask measure --only calibration-segments`). A longer segment
-/// needs a longer log ([`MIN_SEGMENTS`] of them: 33 s at 60 fps).
+/// each) to share the data with. 80 was chosen on the calibration benchmark's seed 0 and
+/// checked on seed 1 and the bulk benchmark, drawn after the choice: the benchmark's segment
+/// table (`cargo xtask measure --only calibration-bench-segments`, docs/calibration.md)
+/// compares 40, 60 and 80 frames on all three, and one long run at the top of the
+/// benchmark's noise compares them on a single rig (`cargo xtask measure --only
+/// calibration-segments`). A longer segment needs a longer log ([`MIN_SEGMENTS`] of them:
+/// 33 s at 60 fps).
 pub const SEGMENT_FRAMES: usize = 80;
 
 /// Frames of each segment the latency's quick fits predict. They start from the base's coils
