@@ -27,6 +27,8 @@ pub struct Ranges {
     pub moment: [f64; 2],
     /// Each agent's drag factor.
     pub drag: [f64; 2],
+    /// Rotation of the coil frame against the camera's (degrees).
+    pub field_bias_deg: [f64; 2],
     /// Share of rigs whose agents sit at a liquid–air interface (the rest in bulk liquid).
     pub interface_share: f64,
     /// Share of rigs with hydrodynamic interaction between the agents.
@@ -35,8 +37,9 @@ pub struct Ranges {
 
 impl Default for Ranges {
     /// The default ranges: latency 0–4 frames, noise 0.005–0.08 BL, coil τ 2–40 ms, gradient
-    /// gains ±20%, moments and drags ±30%, half the rigs at an interface, half with
-    /// hydrodynamic interaction.
+    /// gains ±20%, moments and drags ±30%, a coil frame rotated up to ±2° (twice the
+    /// `hardware` preset's estimate of 1°, either way), half the rigs at an interface, half
+    /// with hydrodynamic interaction.
     fn default() -> Self {
         Self {
             latency_frames: [0.0, 4.0],
@@ -46,6 +49,7 @@ impl Default for Ranges {
             gradient_gain: [0.8, 1.2],
             moment: [0.7, 1.3],
             drag: [0.7, 1.3],
+            field_bias_deg: [-2.0, 2.0],
             interface_share: 0.5,
             hydrodynamics_share: 0.5,
         }
@@ -80,6 +84,13 @@ const FACTOR: Bound = Bound::closed(
     "",
     "a factor is relative to the scenario's agent or coil; beyond 10× it is another agent or coil",
 );
+/// Rotations of the coil frame a rig may have.
+const BIAS: Bound = Bound::closed(
+    -45.0,
+    45.0,
+    "°",
+    "a coil frame rotated further is mounted wrongly, not biased",
+);
 /// A share of rigs.
 const SHARE: Bound = Bound::closed(0.0, 1.0, "", "a share of the rigs");
 
@@ -99,7 +110,7 @@ impl Ranges {
 
     /// Checks every value against its bound and every range's order.
     pub fn check(&self) -> Result<(), Rejection> {
-        let pairs: [(&str, [f64; 2], &Bound); 7] = [
+        let pairs: [(&str, [f64; 2], &Bound); 8] = [
             ("latency_frames", self.latency_frames, &LATENCY),
             ("noise_bl", self.noise_bl, &NOISE),
             ("field_tau_ms", self.field_tau_ms, &TAU),
@@ -107,6 +118,7 @@ impl Ranges {
             ("gradient_gain", self.gradient_gain, &FACTOR),
             ("moment", self.moment, &FACTOR),
             ("drag", self.drag, &FACTOR),
+            ("field_bias_deg", self.field_bias_deg, &BIAS),
         ];
         for (name, [lo, hi], bound) in pairs {
             bound.check(name, lo)?;
@@ -146,5 +158,10 @@ mod tests {
             ..Ranges::default()
         };
         assert_eq!(r.check().unwrap_err().field, "noise_bl");
+        let r = Ranges {
+            field_bias_deg: [-50.0, 2.0],
+            ..Ranges::default()
+        };
+        assert_eq!(r.check().unwrap_err().field, "field_bias_deg");
     }
 }

@@ -62,22 +62,22 @@ pub fn interface() -> Medium {
     }
 }
 
+/// Seed of the field biases' stream, mixed with the benchmark's seed.
+const BIAS_STREAM: u64 = 0xB1A5;
+
 /// `count` rigs of `agents` agents drawn from `ranges`, seeded by `seed`: the same seed and
 /// ranges give the same rigs. Each rig is `ideal` with its medium (at an interface, with
 /// capillary attraction), hydrodynamic interaction,
 /// coil time constants (no slew limit), camera latency and detection noise, and per-agent
-/// moments and drags and gradient gains as `[fitted]` values (no field bias, no drift).
+/// moments, drags, gradient gains and coil frame rotation (field bias) as `[fitted]` values
+/// (no drift). The field biases come from a stream of their own, so the other values of a
+/// seed's rigs do not depend on the bias's range.
 pub fn draw(ranges: &Ranges, seed: u64, count: usize, agents: usize) -> Vec<Rig> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut biases = ChaCha8Rng::seed_from_u64(seed ^ BIAS_STREAM);
     (0..count)
         .map(|index| {
-            let mut u = |r: [f64; 2]| {
-                if r[0] < r[1] {
-                    rng.random_range(r[0]..=r[1])
-                } else {
-                    r[0]
-                }
-            };
+            let mut u = |r: [f64; 2]| uniform(&mut rng, r);
             let mut p = DisturbancePreset::ideal();
             p.name = format!("rig-{index}");
             p.description = format!("calibration benchmark rig {index} (seed {seed})");
@@ -97,7 +97,7 @@ pub fn draw(ranges: &Ranges, seed: u64, count: usize, agents: usize) -> Vec<Rig>
                 moment: (0..agents).map(|_| u(ranges.moment)).collect(),
                 drag: (0..agents).map(|_| u(ranges.drag)).collect(),
                 gradient_gain: Some([u(ranges.gradient_gain), u(ranges.gradient_gain)]),
-                field_bias_deg: Some(0.0),
+                field_bias_deg: Some(uniform(&mut biases, ranges.field_bias_deg)),
                 drift_bl_s: Some([0.0, 0.0]),
             };
             let share = |s: f64, x: f64| x < s;
@@ -114,6 +114,14 @@ pub fn draw(ranges: &Ranges, seed: u64, count: usize, agents: usize) -> Vec<Rig>
             }
         })
         .collect()
+}
+
+/// A value drawn uniformly from `[low, high]` (`low` when the range is one value).
+fn uniform(rng: &mut ChaCha8Rng, [lo, hi]: [f64; 2]) -> f64 {
+    match lo < hi {
+        true => rng.random_range(lo..=hi),
+        false => lo,
+    }
 }
 
 /// The preset the fit starts from: what a lab knows of its rig — the medium, capillary
