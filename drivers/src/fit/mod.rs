@@ -109,12 +109,11 @@ impl Default for FitOptions {
 /// it, and what the linearisation in that start leaves is a bias of second order in the
 /// detection noise, about the same in every segment, while what a segment says of the
 /// parameters grows with its length; a longer segment also has fewer start states (2 per agent
-/// each) to share the data with. 80 was chosen on the calibration benchmark's seed 0 and
-/// checked on seed 1 and the bulk benchmark, drawn after the choice: the benchmark's segment
-/// table (`cargo xtask measure --only calibration-bench-segments`, docs/calibration.md)
-/// compares 40, 60 and 80 frames on all three, and one long run at the top of the
-/// benchmark's noise compares them on a single rig (`cargo xtask measure --only
-/// calibration-segments`). A longer segment needs a longer log ([`MIN_SEGMENTS`] of them:
+/// each) to share the data with. The benchmark's segment table (`cargo xtask measure --only
+/// calibration-bench-segments`, docs/calibration.md) compares 40, 60 and 80 frames on its
+/// three benchmarks: 60 and 80 score about as many values within tolerance, 60 more errors
+/// within two standard errors. One long run at the top of the benchmark's noise compares
+/// them on a single rig (`cargo xtask measure --only calibration-segments`). A longer segment needs a longer log ([`MIN_SEGMENTS`] of them:
 /// 33 s at 60 fps).
 pub const SEGMENT_FRAMES: usize = 80;
 
