@@ -113,8 +113,8 @@ impl Default for FitOptions {
 /// calibration-bench-segments`, docs/calibration.md) compares 40, 60 and 80 frames on its
 /// three benchmarks: 60 and 80 score about as many values within tolerance, 60 more errors
 /// within two standard errors. One long run at the top of the benchmark's noise compares
-/// them on a single rig (`cargo xtask measure --only calibration-segments`). A longer segment needs a longer log ([`MIN_SEGMENTS`] of them:
-/// 33 s at 60 fps).
+/// them on a single rig (`cargo xtask measure --only calibration-segments`). A longer segment
+/// needs a longer log ([`MIN_SEGMENTS`] of them: 33 s at 60 fps).
 pub const SEGMENT_FRAMES: usize = 80;
 
 /// Frames of each segment the latency's quick fits predict. They start from the base's coils

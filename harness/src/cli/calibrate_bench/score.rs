@@ -187,13 +187,15 @@ impl Score {
     }
 
     /// Whether the fit claims the value to its tolerance: written (fitted or imprecise) with a
-    /// standard error of at most the tolerance over [`COVERAGE_SE`], so that the value's
-    /// two-standard-error interval lies within the tolerance.
+    /// standard error the fit's own rule claims to it ([`Kind::claimed`], the one its report
+    /// states; the noise, which the fit does not judge so, by the same rule against its 20%).
     pub fn claimed(&self) -> bool {
+        let claims = |se: f64| match self.param {
+            Param::Fit(k) => k.claimed(se),
+            Param::Noise => 2.0 * se <= self.param.tolerance(),
+        };
         matches!(self.verdict, Verdict::Fitted | Verdict::Imprecise(_))
-            && self
-                .se
-                .is_some_and(|se| COVERAGE_SE * se <= self.param.tolerance())
+            && self.se.is_some_and(claims)
     }
 
     /// Whether the value is within its tolerance, or the fit's own output says the data cannot
