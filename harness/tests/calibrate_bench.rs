@@ -170,6 +170,11 @@ fn a_bad_ranges_file_exits_2_naming_the_file_the_field_and_the_reason() {
             "field_tau_ms",
             "must be in (0, 1000]",
         ),
+        (
+            "field_bias_deg = [-60.0, 2.0]\n",
+            "field_bias_deg",
+            "must be in [-45, 45]",
+        ),
     ] {
         let file = dir.path().join("ranges.toml");
         std::fs::write(&file, text).unwrap();
