@@ -147,13 +147,21 @@ fn wait_or_kill(mut child: Child, limit: Duration) -> Output {
     }
 }
 
-/// The currents in force at the end of the emulator log (after the host is gone).
-fn final_currents(log: &[Event]) -> Vec<f64> {
+/// The currents the device holds at the end of the emulator log (after the host is gone): those
+/// of the coil link's last event (a command, a zero, the watchdog or the link's end). A `frame`
+/// or a camera event carries the currents the plant felt up to that frame, which may predate a
+/// disconnect logged just before it.
+fn final_currents(log: &[Event]) -> Option<Vec<f64>> {
+    let device = |name: &str| {
+        matches!(
+            name,
+            "currents" | "currents_repeat" | "zero" | "watchdog" | "fault_disconnect"
+        ) || name.starts_with("coil_")
+    };
     log.iter()
         .rev()
-        .find(|e| !e.currents.is_empty())
+        .find(|e| device(&e.name))
         .map(|e| e.currents.clone())
-        .unwrap_or_default()
 }
 
 fn any_nonzero(log: &[Event]) -> bool {
@@ -191,7 +199,7 @@ fn wait_for_host_driving(emu: &Emulator) {
 /// The emulator's log once the currents it has in force are zero (the host gone or stopped).
 fn log_after_zero(emu: &Emulator) -> Vec<Event> {
     wait_for_log(emu, "zero currents at the end", |log| {
-        final_currents(log).iter().all(|c| *c == 0.0)
+        final_currents(log).is_some_and(|c| c.iter().all(|c| *c == 0.0))
     })
 }
 
