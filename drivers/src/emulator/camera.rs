@@ -88,6 +88,18 @@ impl CameraServer {
         *lock(&self.client) = None;
     }
 
+    /// Cuts the stream of the `accepted`-th host unless a newer one has connected (a host is
+    /// accepted under the same lock, so none slips in between the test and the cut); true
+    /// when it cut.
+    pub fn cut_unless_newer(&self, accepted: u64) -> bool {
+        let mut client = lock(&self.client);
+        let cut = self.accepted() == accepted;
+        if cut {
+            *client = None;
+        }
+        cut
+    }
+
     /// Sends one encoded frame; a host that has gone is logged (at device time `t`, currents
     /// `in_force`) and dropped.
     pub fn send(&self, bytes: &[u8], t: f64, in_force: &[f64], log: &EventLog) {
@@ -103,4 +115,44 @@ impl CameraServer {
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clock::ManualClock;
+
+    /// Waits until the server has accepted `n` hosts; fails (does not hang) after a generous
+    /// deadline.
+    fn accepted(server: &CameraServer, n: u64) {
+        let start = std::time::Instant::now();
+        while server.accepted() < n {
+            assert!(
+                start.elapsed() < Duration::from_secs(30),
+                "the server accepted {} of {n} hosts",
+                server.accepted()
+            );
+            std::thread::yield_now();
+        }
+    }
+
+    #[test]
+    fn a_stream_is_cut_only_while_no_newer_host_has_connected() {
+        let dir = tempfile::tempdir().unwrap();
+        let clock: Arc<dyn crate::clock::Clock> = Arc::new(ManualClock::default());
+        let log = Arc::new(EventLog::create(&dir.path().join("log.csv"), clock.clone()).unwrap());
+        let stop = Arc::new(AtomicBool::new(false));
+        let device = Arc::new(DeviceClock::lockstep(clock));
+        let server = CameraServer::start("127.0.0.1:0", stop.clone(), log, device).unwrap();
+        let _first = TcpStream::connect(server.addr()).unwrap();
+        accepted(&server, 1);
+        let _second = TcpStream::connect(server.addr()).unwrap();
+        accepted(&server, 2);
+        // the first host's session ended after the second connected: the second keeps its stream
+        assert!(!server.cut_unless_newer(1));
+        assert!(server.connected());
+        assert!(server.cut_unless_newer(2));
+        assert!(!server.connected());
+        stop.store(true, Ordering::Relaxed);
+    }
 }

@@ -39,6 +39,13 @@ pub struct DeviceShared {
     pub sessions: u64,
 }
 
+impl DeviceShared {
+    /// Session `session` (the count of sessions when it opened) is still open.
+    pub fn in_session(&self, session: u64) -> bool {
+        self.session_open && self.sessions == session
+    }
+}
+
 /// The shared device state behind its lock.
 pub type Shared = Arc<Mutex<DeviceShared>>;
 

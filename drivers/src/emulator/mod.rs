@@ -277,13 +277,10 @@ impl Emulator {
             return;
         }
         let (session, camera) = self.session;
-        let current = |sh: &DeviceShared| sh.session_open && sh.sessions == session;
-        if current(&lock(&self.shared)) {
+        if lock(&self.shared).in_session(session) {
             return;
         }
-        if self.camera.accepted() == camera {
-            self.camera.cut();
-        }
+        self.camera.cut_unless_newer(camera);
         loop {
             if stop.load(Ordering::Relaxed) {
                 return;
@@ -321,7 +318,7 @@ impl Emulator {
                 self.clock.wait_for_host(
                     || {
                         let sh = lock(&self.shared);
-                        sh.commands != at_frame || !(sh.session_open && sh.sessions == session)
+                        sh.commands != at_frame || !sh.in_session(session)
                     },
                     stop,
                 );
