@@ -12,20 +12,27 @@
 
 mod common;
 
-use magbench_drivers::fit::{FitOptions, Kind, ScaleFit, calibrate, read_log};
+use magbench_drivers::fit::{FitOptions, FitReport, Kind, ScaleFit, Status, calibrate, read_log};
+use magbench_env::plant::DisturbancePreset;
 
 /// The seed `calibrate bench` drew for its rig 7 (plant, camera and excitation).
 const SEED: u64 = 24_044_858;
 
-#[test]
-fn a_scale_no_term_breaks_is_held_by_the_convention_and_the_rest_is_fitted() {
+/// The rig's fit under `opts`, and its truth.
+fn fit(opts: &FitOptions) -> (FitReport, DisturbancePreset) {
     let truth = common::fixture("bulk-rig-truth.toml");
     let base = common::fixture("bulk-rig-base.toml");
     let dir = tempfile::tempdir().unwrap();
     let alpha_max = truth.coil.alpha_max_deg.to_radians();
     let (scenario, path) = common::excite_seeded(&truth, 90.0, SEED, alpha_max, dir.path());
     let run = read_log(&path, scenario.agents()).unwrap();
-    let fit = calibrate(&scenario, &base, vec![run], &FitOptions::default()).unwrap();
+    let fit = calibrate(&scenario, &base, vec![run], opts).unwrap();
+    (fit, truth)
+}
+
+#[test]
+fn a_scale_no_term_breaks_is_held_by_the_convention_and_the_rest_is_fitted() {
+    let (fit, truth) = fit(&FitOptions::default());
     assert_eq!(fit.scale, ScaleFit::Convention(f64::INFINITY));
     let true_latency = truth.camera.latency.frames;
     assert!(
@@ -43,4 +50,30 @@ fn a_scale_no_term_breaks_is_held_by_the_convention_and_the_rest_is_fitted() {
         let g = get(Kind::GradientGain(i)) / (f.gradient_gain.unwrap()[i] / lambda) - 1.0;
         assert!(g.abs() < 0.05, "gradient gain {i} off by {g}");
     }
+}
+
+/// The camera is 3.79 frames late; a fit that may take at most 3 puts the latency at that
+/// bound, fitted, and warns that the camera may be later: a search that ran past the bound
+/// would find the prediction unchanged there, a derivative of 0 and an infinite standard
+/// error, and hold the base's 2 frames as "not identified".
+#[test]
+fn a_camera_later_than_the_search_allows_is_fitted_at_the_bound_and_warned_of() {
+    let (fit, _) = fit(&FitOptions {
+        max_latency: 3,
+        ..FitOptions::default()
+    });
+    let latency = fit
+        .params
+        .iter()
+        .find(|p| p.kind == Kind::Latency)
+        .unwrap();
+    assert_eq!(latency.status, Status::Fitted, "{latency:?}");
+    assert_eq!(latency.value, 3.0);
+    let warnings = fit.warnings();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("upper bound, 3 frames") && w.contains("--max-latency")),
+        "{warnings:?}"
+    );
 }

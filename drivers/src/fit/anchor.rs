@@ -89,14 +89,9 @@ pub(super) fn relative_standard_errors(
         .collect()
 }
 
-/// The power of λ a parameter scales with under the moment/drag/gain symmetry (moments and
-/// gains 1, drags 2, the others 0).
+/// [`Kind::scale_power`] as a direction's coordinate.
 pub(super) fn scale_power(kind: &Kind) -> f64 {
-    match kind {
-        Kind::Moment(_) | Kind::GradientGain(_) => 1.0,
-        Kind::Drag(_) => 2.0,
-        _ => 0.0,
-    }
+    f64::from(kind.scale_power())
 }
 
 /// The free moments, drags and gains, each with its contrast against `anchor`,

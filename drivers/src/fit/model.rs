@@ -103,6 +103,17 @@ impl Kind {
         }
     }
 
+    /// The power of the common scale λ this parameter moves by under the symmetry of moments,
+    /// drags and gains (moments ×λ, gains ×λ, drags ×λ² leave every prediction as it is): 1, 2
+    /// or 0 for the others.
+    pub fn scale_power(&self) -> i32 {
+        match self {
+            Kind::Moment(_) | Kind::GradientGain(_) => 1,
+            Kind::Drag(_) => 2,
+            _ => 0,
+        }
+    }
+
     /// The largest standard error (fitted coordinate) at which the data identify it: 10% for
     /// factors, 1° for the bias, 0.005 BL/s for a drift, 30% for the coil's τ, a quarter frame
     /// for the latency. Above it the value is held (at the base, or at its estimate when the
@@ -313,6 +324,16 @@ impl Model {
     /// The base preset with what a prediction cannot know switched off.
     pub fn predict_base(&self) -> &DisturbancePreset {
         &self.predict_base
+    }
+
+    /// The highest value of `kind`'s fitted coordinate: [`Model::max_latency`] for the
+    /// latency (a segment holds the commands of that many frames before it, no more), none
+    /// for the others. A central difference reaching above it is taken backward instead.
+    pub fn highest(&self, kind: &Kind) -> f64 {
+        match kind {
+            Kind::Latency => self.max_latency as f64,
+            _ => f64::INFINITY,
+        }
     }
 
     /// The latency (frames) that `preset` states, within the fit's range.

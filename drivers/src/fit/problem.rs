@@ -156,14 +156,19 @@ impl<'a> Problem<'a> {
                     let kind = &self.model.kinds[i];
                     let h = kind.step();
                     let mut xh = x.to_vec();
-                    xh[i] += h;
+                    // up a step, or at the highest value the point itself
+                    let above = x[i] + h <= self.model.highest(kind);
+                    if above {
+                        xh[i] += h;
+                    }
                     let plus = self.model.preset_at(&self.base, &xh);
-                    // central where the kind asks for it and the point below is allowed
+                    // central where the kind asks for it and the point below is allowed;
+                    // backward at the highest value
                     let below = x[i] - h;
-                    if kind.central() && below >= kind.lowest() {
+                    if (kind.central() || !above) && below >= kind.lowest() {
                         xh[i] = below;
                         let minus = self.model.preset_at(&self.base, &xh);
-                        (plus, Some(minus), 2.0 * h)
+                        (plus, Some(minus), if above { 2.0 * h } else { h })
                     } else {
                         (plus, None, h)
                     }
@@ -530,12 +535,14 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     type JacobianStorage = Owned<f64, Dyn, Dyn>;
     type ParameterStorage = Owned<f64, Dyn>;
 
-    /// Takes the solver's point, each coordinate raised to its lowest value (the latency's 0
-    /// frames): the solver has no bounds, and below 0 the prediction no longer changes, which
-    /// would leave the latency's derivative 0 and its standard error infinite.
+    /// Takes the solver's point, each coordinate within its lowest and highest values (the
+    /// latency's 0 frames and [`Model::max_latency`]): the solver has no bounds, and beyond
+    /// them the prediction no longer changes, which would leave the latency's derivative 0 and
+    /// its standard error infinite.
     fn set_params(&mut self, p: &DVector<f64>) {
         for (c, &i) in self.free.iter().enumerate() {
-            self.x[i] = p[c].max(self.model.kinds[i].lowest());
+            let kind = &self.model.kinds[i];
+            self.x[i] = p[c].max(kind.lowest()).min(self.model.highest(kind));
         }
     }
 

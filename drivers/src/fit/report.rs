@@ -188,6 +188,8 @@ pub struct FitReport {
     pub params: Vec<ParamFit>,
     /// The latency written (frames): fitted or imprecise, else the base's.
     pub latency: f64,
+    /// The largest latency the fit could take (frames, `--max-latency`).
+    pub max_latency: usize,
     /// (latency in frames, mean squared residual in BL²) of the quick fit at each start of the
     /// latency ([`super::LATENCY_START_STEP`] apart).
     pub latency_table: Vec<(f64, f64)>,
@@ -319,6 +321,7 @@ pub(super) fn build(
         traces,
         params,
         latency,
+        max_latency: model.max_latency,
         latency_table,
         noise: noise.map(|n| n.0),
         noise_se: noise.map(|n| n.1),
@@ -476,7 +479,7 @@ impl FitReport {
                 Status::Fitted | Status::Held => {}
             }
         }
-        w.extend(latency_at_bound(&self.params));
+        w.extend(latency_at_bound(&self.params, self.max_latency));
         if let ScaleFit::Convention(_) = self.scale {
             w.push("the common scale of moments, drags and gains is not in the data (no hydrodynamic interaction, capillary attraction or magnet lag strong enough to break it): the absolute values rest on the convention; measure one (a gradient gain with a gaussmeter) and --hold it".into());
         }
@@ -530,18 +533,29 @@ fn advice(k: Kind) -> &'static str {
     }
 }
 
-/// The warning for a latency fitted at its lower bound, 0 frames. There the data would take
-/// less latency than none, the standard error comes from one side only, and the latency
-/// trades off against the coils' τ (both delay the response), so neither is known as well as
-/// printed.
-fn latency_at_bound(params: &[ParamFit]) -> Option<String> {
+/// The warning for a latency fitted at a bound of its range: 0 frames, where the data would
+/// take less latency than none, or `max_latency`, where they may take more than the fit can
+/// predict. There the standard error comes from one side only, and the latency trades off
+/// against the coils' τ (both delay the response), so neither is known as well as printed.
+fn latency_at_bound(params: &[ParamFit], max_latency: usize) -> Option<String> {
     let p = params.iter().find(|p| p.kind == Kind::Latency)?;
-    (p.status.is_written() && p.value <= Kind::Latency.lowest()).then(|| {
-        format!(
-            "{} came out at its lower bound, 0 frames: its standard error is taken on one side only, and there the latency trades off against the coils' τ (both delay the response), so neither is known as well as printed; if the camera's delay is known (from its timestamps), --hold {} at it",
+    if !p.status.is_written() {
+        return None;
+    }
+    let one_side = "its standard error is taken on one side only, and there the latency trades off against the coils' τ (both delay the response), so neither is known as well as printed";
+    if p.value <= Kind::Latency.lowest() {
+        Some(format!(
+            "{} came out at its lower bound, 0 frames: {one_side}; if the camera's delay is known (from its timestamps), --hold {} at it",
             p.name, p.name
-        )
-    })
+        ))
+    } else if p.value >= max_latency as f64 {
+        Some(format!(
+            "{} came out at its upper bound, {max_latency} frames (--max-latency): the camera may be later than that; {one_side}; fit again with a larger --max-latency",
+            p.name
+        ))
+    } else {
+        None
+    }
 }
 
 /// A parameter's line in the report; a value fitted but not claimed to its tolerance
@@ -620,11 +634,14 @@ mod tests {
     }
 
     #[test]
-    fn a_latency_fitted_at_zero_is_warned_of_and_one_above_it_is_not() {
-        let w = latency_at_bound(&[latency(0.0, Status::Fitted)]).unwrap();
+    fn a_latency_fitted_at_either_bound_is_warned_of_and_one_inside_is_not() {
+        let w = latency_at_bound(&[latency(0.0, Status::Fitted)], 4).unwrap();
         assert!(w.contains("lower bound") && w.contains("--hold camera.latency.frames"));
-        assert!(latency_at_bound(&[latency(0.3, Status::Fitted)]).is_none());
-        assert!(latency_at_bound(&[latency(0.0, Status::Held)]).is_none());
+        assert!(latency_at_bound(&[latency(0.3, Status::Fitted)], 4).is_none());
+        assert!(latency_at_bound(&[latency(0.0, Status::Held)], 4).is_none());
+        let w = latency_at_bound(&[latency(4.0, Status::Fitted)], 4).unwrap();
+        assert!(w.contains("upper bound, 4 frames") && w.contains("larger --max-latency"));
+        assert!(latency_at_bound(&[latency(3.9, Status::Fitted)], 4).is_none());
     }
 
     #[test]

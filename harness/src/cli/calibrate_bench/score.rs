@@ -98,12 +98,11 @@ impl Param {
         }
     }
 
-    /// The power of the scale λ in this parameter (moments and gains 1, drags 2, else 0).
+    /// The power of the scale λ in this parameter ([`Kind::scale_power`]; 0 for the noise).
     fn scale_power(&self) -> i32 {
         match self {
-            Param::Fit(Kind::Moment(_) | Kind::GradientGain(_)) => 1,
-            Param::Fit(Kind::Drag(_)) => 2,
-            _ => 0,
+            Param::Fit(k) => k.scale_power(),
+            Param::Noise => 0,
         }
     }
 }
