@@ -62,11 +62,7 @@ fn a_camera_later_than_the_search_allows_is_fitted_at_the_bound_and_warned_of() 
         max_latency: 3,
         ..FitOptions::default()
     });
-    let latency = fit
-        .params
-        .iter()
-        .find(|p| p.kind == Kind::Latency)
-        .unwrap();
+    let latency = fit.params.iter().find(|p| p.kind == Kind::Latency).unwrap();
     assert_eq!(latency.status, Status::Fitted, "{latency:?}");
     assert_eq!(latency.value, 3.0);
     let warnings = fit.warnings();

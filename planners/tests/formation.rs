@@ -47,6 +47,21 @@ fn ten_agents_are_carried_along_the_line() {
     }
 }
 
+/// The start's shape fits the goal's, so the search would HOLD from its root at once: with no
+/// time left (a nanosecond) it stops instead (HOLD asks the search's time every period),
+/// unsolved; with time, the same problem is solved by that HOLD.
+#[test]
+fn a_search_out_of_time_does_not_hold() {
+    let s = team(&[("agents", "10"), ("spacing", "1.8")]);
+    let mut p = problem(&s, 1, 2_000);
+    p.limits.time_limit = Some(std::time::Duration::from_nanos(1));
+    let planner = || Planners::builtin().create("formation-rrt", &[]).unwrap();
+    let r = planner().solve(&p);
+    assert!(!r.solved, "solved after its time ran out");
+    p.limits.time_limit = None;
+    assert!(planner().solve(&p).solved);
+}
+
 /// Six agents in a ring turned by 60° (the shape changes, not only the place): solved, and the
 /// same seed gives the same plan.
 #[test]

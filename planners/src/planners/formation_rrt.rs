@@ -23,7 +23,7 @@
 //!   return computePlan(T) ⊕ τ
 //!
 //! HOLD(q)
-//!   until the centroid is at the goal's (or after `hold` seconds):
+//!   until the centroid is at the goal's (or after `hold` seconds, or the search's time):
 //!     u ← argmin over the hold set (θ, α) of ‖shape(f(q, u_aimed, one period)) − s_goal‖
 //!     q ← f(q, u_aimed, one period)                     checked like any edge
 //! ```
@@ -285,7 +285,9 @@ impl FormationRrt {
 
     /// HOLD from `q`: one period at a time, the hold-set field that keeps the shape closest to
     /// `goal`'s, until the centroid is at the goal's; the edges, or `None` if an edge is
-    /// invalid, the shape strays beyond `tolerance` of the goal's, or the hold runs out of time.
+    /// invalid, the shape strays beyond `tolerance` of the goal's, the hold runs out of time
+    /// (`hold` seconds of motion) or the search does (`stopped`, asked every period).
+    #[allow(clippy::too_many_arguments)]
     fn hold_from(
         &self,
         problem: &Problem,
@@ -294,6 +296,7 @@ impl FormationRrt {
         goal: &[Vec2],
         tolerance: f64,
         alpha_max: f64,
+        stopped: impl Fn() -> bool,
     ) -> Option<Vec<HoldEdge>> {
         let n = q.len();
         let set = hold_set(alpha_max, carry.goal - centroid(q));
@@ -304,6 +307,9 @@ impl FormationRrt {
         for _ in 0..max_steps {
             if (centroid(&at) - carry.goal).norm() <= 1e-9 {
                 return Some(edges);
+            }
+            if stopped() {
+                return None;
             }
             let ranked = self.ranked_tries(problem, &at, carry, goal, self.stay, &set);
             let best = ranked.into_iter().take(HOLD_CHECKS).find(|t| {
@@ -392,7 +398,10 @@ impl Planner for FormationRrt {
         nn.add(&problem.start, 0);
         let mut closest = (0u32, shape_max_distance(&problem.start, &goal.agents));
         let mut found: Option<(u32, Vec<HoldEdge>)> = None;
-        let tried_hold = |node: u32, state: &[Vec2], found: &mut Option<_>| {
+        // HOLD from a node whose shape fits, while the search's time allows (a HOLD is part of
+        // the iteration that added the node, so the iteration limit does not cut it)
+        let time_limit = problem.limits.time_limit.map(|t| t.as_secs_f64());
+        let tried_hold = |node: u32, state: &[Vec2], found: &mut Option<_>, progress: &Progress| {
             if shape_max_distance(state, &goal.agents) <= fit
                 && let Some(edges) = self.hold_from(
                     problem,
@@ -401,13 +410,14 @@ impl Planner for FormationRrt {
                     &goal.agents,
                     goal.tolerance,
                     alpha_max,
+                    || time_limit.is_some_and(|t| progress.elapsed() >= t),
                 )
                 && goal.contains(edges.last().map_or(state, |e| &e.2))
             {
                 *found = Some((node, edges));
             }
         };
-        tried_hold(0, &problem.start, &mut found);
+        tried_hold(0, &problem.start, &mut found, &progress);
 
         let mut sample = vec![Vec2::zeros(); n];
         let mut q_new = vec![Vec2::zeros(); n];
@@ -453,7 +463,7 @@ impl Planner for FormationRrt {
                 if dist < closest.1 {
                     closest = (id, dist);
                 }
-                tried_hold(id, &q_new, &mut found);
+                tried_hold(id, &q_new, &mut found, &progress);
                 if found.is_some() || dist >= last {
                     break;
                 }
