@@ -347,12 +347,14 @@ const PLANNING: &[&str] = &[
     ":!planners/src/planners/rrt_star",
     ":!planners/src/planners/sst.rs",
     ":!planners/src/planners/trajopt.rs",
+    ":!planners/src/trajopt",
 ];
 /// Planners and trackers that run only where a measurement names them: the group that leaves
 /// their files out, the name, and the files. goal-zoom RRT, OBC, lookahead and open-loop are not
 /// among them: they are defaults (of `plan`, `track`, Python, the figures and the calibration
-/// bench) or run inside others, so any measurement may run them. The trajectory optimiser's pass
-/// (`trajopt=N`, planners/src/trajopt) stays in [`PLANNING`]: every planner takes it.
+/// bench) or run inside others, so any measurement may run them. The trajectory optimiser
+/// (planners/src/trajopt) runs only in the `trajopt` planner and in the pass a label asks for
+/// with `trajopt=N` (off by default), so only a measurement whose text holds "trajopt" runs it.
 const NAMED_FILES: &[(&[&str], &str, &str)] = &[
     (
         PLANNING,
@@ -363,6 +365,7 @@ const NAMED_FILES: &[(&[&str], &str, &str)] = &[
     (PLANNING, "rrt-star", "planners/src/planners/rrt_star"),
     (PLANNING, "sst", "planners/src/planners/sst.rs"),
     (PLANNING, "trajopt", "planners/src/planners/trajopt.rs"),
+    (PLANNING, "trajopt", "planners/src/trajopt"),
     (TRACKING, "formation", "trackers/src/trackers/formation.rs"),
     (TRACKING, "mppi", "trackers/src/trackers/mppi.rs"),
 ];
@@ -1669,7 +1672,8 @@ mod tests {
             m.named_files(dir.path()),
             vec![
                 "planners/src/planners/rrt_star",
-                "planners/src/planners/trajopt.rs"
+                "planners/src/planners/trajopt.rs",
+                "planners/src/trajopt"
             ]
         );
         // an experiment that cannot be read depends on all of its groups' files; a sweep that
@@ -1752,7 +1756,7 @@ mod tests {
         });
         assert_eq!(
             script.named_files(root),
-            vec!["planners/src/planners/trajopt.rs"]
+            vec!["planners/src/planners/trajopt.rs", "planners/src/trajopt"]
         );
     }
 
