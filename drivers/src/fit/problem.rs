@@ -364,15 +364,8 @@ impl<'a> Problem<'a> {
     }
 
     /// White detection noise σ (BL per coordinate) from one-frame residuals, −cov(e_k, e_k+1),
-    /// with its standard error; `None` when the process noise hides it (the covariance is not
-    /// negative). The products `z_k = e_k e_k+1` of one coordinate share a residual with their
-    /// neighbours (`z_k` and `z_k+1` share `e_k+1`), so they are not independent: under white
-    /// noise alone (`e_k = n_k+1 − n_k`, a moving average of order 1) their lag-1 covariance
-    /// is σ⁴ against a variance of 5σ⁴, and products further apart share nothing. The mean's
-    /// variance is therefore `(γ₀ + 2γ₁) / count` from the products' own variance γ₀ and lag-1
-    /// covariance γ₁ (the truncated-kernel estimator for a moving average of known order:
-    /// Hansen and Hodrick, "Forward exchange rates as optimal predictors of future spot
-    /// rates", J. Political Economy 88, 1980), and never below `γ₀ / count`.
+    /// with its standard error (see `noise_from_products`); `None` when the process noise hides
+    /// it (the covariance is not negative).
     pub fn detection_noise(&self) -> Option<(f64, f64)> {
         let segs = self.model.steps();
         let preset = self.model.preset_at(&self.base, &self.x);
@@ -396,10 +389,16 @@ impl<'a> Problem<'a> {
     }
 }
 
-/// σ and its standard error from `z`, the products of one-frame residuals of consecutive steps
-/// (`z[k·w + c]`, coordinate c of step k, `None` where not both were predicted): σ² is minus
-/// their mean, and the mean's variance `(γ₀ + 2γ₁) / count` counts the covariance of each
-/// product with the next step's of its coordinate ([`Problem::detection_noise`]).
+/// σ and its standard error from `z`, the products `e_k e_k+1` of one-frame residuals of
+/// consecutive steps (`z[k·w + c]`, coordinate c of step k, `None` where not both were
+/// predicted): σ² is minus their mean. The products are not independent: `z_k` and `z_k+1`
+/// share `e_k+1`, and under white noise alone (`e_k = n_k+1 − n_k`, a moving average of order 1)
+/// a product's covariance with the next is σ⁴ against its variance of 5σ⁴, while products
+/// further apart share nothing. The mean's variance is therefore `(γ₀ + 2γ₁) / count` from the
+/// products' own variance γ₀ and the covariance γ₁ of each with the next step's of its
+/// coordinate (the truncated-kernel estimator for a moving average of known order: Hansen and
+/// Hodrick, "Forward exchange rates as optimal predictors of future spot rates", J. Political
+/// Economy 88, 1980), and never below `γ₀ / count`.
 fn noise_from_products(z: &[Option<f64>], w: usize) -> Option<(f64, f64)> {
     let all = || z.iter().flatten();
     let count = all().count();
