@@ -45,7 +45,7 @@ fn truth(seed: u64, n: usize) -> Truth {
 
 /// Three draws of 240 s (one with 3 frames of latency), each fitted with the start states free
 /// (checked) and from the observed starts (for comparison): about 70 s, beyond the default
-/// suite; harness/tests/calibrate.rs runs two draws there through the command line. It prints
+/// suite; cli/tests/calibrate.rs runs two draws there through the command line. It prints
 /// both fits' errors as a Markdown table, which `cargo xtask measure --only
 /// calibration-draws` keeps for docs/calibration.md.
 #[test]

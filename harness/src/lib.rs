@@ -1,25 +1,19 @@
-//! # magbench
+//! # magbench-harness
 //!
-//! The harness of magbench: the command line, experiments, results, plots and figures.
-//! The physics, planners, trackers and rig drivers live in their own crates.
-//!
-//! As a library it runs the whole command line with planners and trackers of your own: a
-//! plugin crate depends on `magbench`, writes its planner or tracker against
-//! [`prelude`], and its `main` is `magbench::Cli::new().planner::<MyRrt>("my-rrt").run()`
-//! ([`Cli`], [`Registry`]; see `docs/plugins.md`).
+//! The harness of magbench: experiments, runs and their pipeline, results, replays, reports,
+//! comparisons, regression checks and figures. The command line is the `magbench` crate
+//! (`cli/`), which re-exports this crate whole; the physics, planners, trackers and rig drivers
+//! live in their own crates.
 
 #![warn(missing_docs)]
 
 pub mod ablation;
 pub mod api;
-mod app;
-pub mod cli;
 pub mod compare;
 pub mod error;
 pub mod experiment;
 pub mod figures;
 pub mod metrics;
-pub mod output;
 pub mod pipeline;
 pub mod plot;
 pub mod prelude;
@@ -30,11 +24,9 @@ pub mod results;
 pub mod run;
 pub mod stats;
 pub mod suite;
-pub mod sweep;
 pub mod table;
 pub mod units;
 
-pub use app::Cli;
 pub use error::Error;
 pub use magbench_env::registry::RegistryError;
 pub use registry::Registry;

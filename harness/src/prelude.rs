@@ -1,7 +1,7 @@
 //! What a plugin needs to write a planner, a tracker or a rig, in one `use magbench::prelude::*;`.
 //!
 //! This is the stable surface for code outside the workspace: a plugin that uses only these
-//! names (and [`crate::Cli`], [`crate::Registry`]) keeps building as magbench's internals move.
+//! names (and `magbench::Cli`, [`crate::Registry`]) keeps building as magbench's internals move.
 //! See `docs/plugins.md` and `examples/plugin-crate/`.
 //!
 //! **A planner** implements [`Planner`] (and [`ParamSet`], usually through

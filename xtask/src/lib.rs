@@ -6,7 +6,7 @@
 //! - [`docs`]: the book's measured figures (`cargo xtask measure` regenerates
 //!   `docs/measured/NAME.md`, `cargo xtask stale` names the files whose sources changed);
 //! - [`fuzz`]: the input formats under fuzzing, for the `cargo fuzz` targets in `fuzz/` and the
-//!   mutation tests of `harness/tests/`;
+//!   mutation tests of `cli/tests/`;
 //! - [`lines`]: each crate's share of the project's non-test lines (`cargo xtask lines`).
 
 #![warn(missing_docs)]

@@ -9,12 +9,13 @@ use std::path::Path;
 use magbench::table::Table;
 
 /// The project's crates: package name and folder.
-pub const CRATES: [(&str, &str); 9] = [
+pub const CRATES: [(&str, &str); 10] = [
     ("magbench-env", "env"),
     ("magbench-planners", "planners"),
     ("magbench-trackers", "trackers"),
     ("magbench-drivers", "drivers"),
-    ("magbench", "harness"),
+    ("magbench-harness", "harness"),
+    ("magbench", "cli"),
     ("magbench-benches", "benches"),
     ("magbench-python", "python"),
     ("xtask", "xtask"),
@@ -118,6 +119,21 @@ mod tests {
         std::fs::write(src.join("tests/a.rs"), "fn t() {}\n").unwrap();
         std::fs::write(src.join("notes.md"), "text\n").unwrap();
         assert_eq!(crate_lines(dir.path(), "c").unwrap(), 3);
+    }
+
+    #[test]
+    fn no_crate_holds_more_than_a_quarter_of_the_project_s_lines() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let t = table(&root).unwrap();
+        println!("{}", t.markdown());
+        let total: usize = CRATES
+            .iter()
+            .map(|&(_, folder)| crate_lines(&root, folder).unwrap())
+            .sum();
+        for (name, folder) in CRATES {
+            let n = crate_lines(&root, folder).unwrap();
+            assert!(4 * n <= total, "{name} holds {n} of {total} non-test lines");
+        }
     }
 
     #[test]

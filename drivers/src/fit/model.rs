@@ -91,7 +91,7 @@ impl Kind {
     /// The accuracy asked of its value, in the preset's unit: moments and drags 10%,
     /// gradient gains 5%, a coil's τ 30%, the bias 0.5°, a drift 0.005 BL/s, the latency ½
     /// frame (docs/calibration.md's goals; the bias's and the drift's are the tolerances of
-    /// `magbench calibrate`'s validation, harness/tests/calibrate.rs).
+    /// `magbench calibrate`'s validation, cli/tests/calibrate.rs).
     pub fn tolerance(&self) -> f64 {
         match self {
             Kind::Moment(_) | Kind::Drag(_) => 0.1,

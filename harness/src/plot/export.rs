@@ -145,7 +145,7 @@ impl FigureOptions {
 pub fn print_refusal() -> String {
     "print figures (the column presets and PDF) need magbench built with the `print` feature: \
      `cargo run --release -p magbench --features print -- …` or \
-     `cargo install --path harness --features print`"
+     `cargo install --path cli --features print`"
         .to_string()
 }
 

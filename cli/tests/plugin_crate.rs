@@ -70,8 +70,8 @@ fn a_plugin_crate_outside_the_workspace_is_benchmarked_beside_the_built_ins() {
         eprintln!("skipped: {why}");
         return;
     };
-    let harness = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let root = harness.parent().unwrap();
+    let cli = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = cli.parent().unwrap();
     let tmp = tempfile::tempdir().unwrap();
     let crate_dir = tmp.path().join("my-plugin");
     common::copy_dir(&root.join("examples/plugin-crate"), &crate_dir, &NOT_COPIED);
@@ -79,15 +79,12 @@ fn a_plugin_crate_outside_the_workspace_is_benchmarked_beside_the_built_ins() {
     // point the dependency at this checkout, by absolute path
     let manifest = crate_dir.join("Cargo.toml");
     let text = std::fs::read_to_string(&manifest).unwrap();
-    let relative = r#"magbench = { path = "../../harness" }"#;
+    let relative = r#"magbench = { path = "../../cli" }"#;
     assert!(
         text.contains(relative),
         "examples/plugin-crate/Cargo.toml must depend on {relative}"
     );
-    let absolute = format!(
-        "magbench = {{ path = {:?} }}",
-        harness.display().to_string()
-    );
+    let absolute = format!("magbench = {{ path = {:?} }}", cli.display().to_string());
     std::fs::write(&manifest, text.replace(relative, &absolute)).unwrap();
     // the workspace's lock file: the same dependency versions, no registry look-ups
     std::fs::copy(root.join("Cargo.lock"), crate_dir.join("Cargo.lock")).unwrap();

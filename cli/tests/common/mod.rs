@@ -1,4 +1,4 @@
-//! Helpers shared by the harness's integration tests.
+//! Helpers shared by the command line's integration tests.
 #![allow(dead_code)]
 
 use std::path::Path;
