@@ -10,6 +10,7 @@ use magbench_drivers::rigs::{OpenError, StartError};
 use magbench_env::InputError;
 use magbench_env::input::Rejection;
 use magbench_env::registry::RegistryError;
+use magbench_plot::plot::PlotError;
 
 /// An error of a magbench library call or command.
 #[derive(Debug, thiserror::Error)]
@@ -54,7 +55,13 @@ macro_rules! failed_from {
     )*};
 }
 
-failed_from!(std::io::Error, HardwareError, StartError, RegistryError,);
+failed_from!(
+    std::io::Error,
+    HardwareError,
+    StartError,
+    RegistryError,
+    PlotError,
+);
 
 impl From<OpenError> for Error {
     fn from(e: OpenError) -> Self {

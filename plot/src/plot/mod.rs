@@ -50,12 +50,6 @@ impl From<std::io::Error> for PlotError {
     }
 }
 
-impl From<PlotError> for crate::Error {
-    fn from(e: PlotError) -> Self {
-        crate::Error::Failed(e.to_string())
-    }
-}
-
 /// A figure that can be drawn on any plotters backend.
 pub trait Figure {
     /// Size in pixels (the SVG uses the same numbers as its user units).

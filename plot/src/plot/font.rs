@@ -1,4 +1,4 @@
-//! The embedded font: DejaVu Sans (Bitstream Vera licence, see `harness/assets/`).
+//! The embedded font: DejaVu Sans (Bitstream Vera licence, see `plot/assets/`).
 //!
 //! plotters' `ab_glyph` backend loads no system fonts; registering the embedded file under the
 //! usual family names makes PNG text render the same on every machine.
