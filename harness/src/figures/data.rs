@@ -1,11 +1,13 @@
-//! The runs behind the paper figures: plan with a registered planner from a fixed seed, then
-//! track the plan in closed loop against the simulated plant, keeping every tick.
+//! The runs behind the paper figures: plan the first leg with a registered planner from a fixed
+//! seed through the run pipeline, then track the plan in closed loop against the simulated
+//! plant, keeping every tick.
 
 use magbench_env::{Scenario, Vec2};
-use magbench_planners::{Limits, PlannerResult, PlanningSetup, solve_validated};
-use magbench_trackers::{Mission, Reference, track};
+use magbench_planners::{Limits, PlannerResult, PlanningSetup};
+use magbench_trackers::{Reference, track};
 
 use crate::error::Error;
+use crate::pipeline::Pipeline;
 use crate::registry::Registry;
 
 /// A planned and tracked run of a scenario's first leg.
@@ -42,7 +44,8 @@ pub struct RunSpec<'a> {
     pub seed: u64,
 }
 
-/// Plans and tracks, with the planner, tracker and `simulated` rig of `registry`.
+/// Plans (the pipeline's first leg: start rule, post-processing, validator) and tracks, with the
+/// planner, tracker and `simulated` rig of `registry`.
 pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, Error> {
     let scenario = Scenario::load(s.scenario)?;
     let params = magbench_env::params::owned(s.planner.1);
@@ -57,24 +60,22 @@ pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, Er
         ..PlanningSetup::default()
     }
     .in_frames_of(period);
-    let problem = setup.problem(&scenario, 0, None, s.seed);
-    let checked = solve_validated(planner.as_mut(), &problem);
-    let planned = checked.result.clone();
-    let first = checked
+    let pipeline = Pipeline::new(&scenario, setup, s.seed);
+    let failed = |e: String| Error::Failed(format!("{} seed {}: {e}", s.planner.0, s.seed));
+    let leg = pipeline
+        .plan_leg(planner.as_mut(), 0, None)
+        .map_err(|e| failed(e.to_string()))?;
+    let planned = leg.validated.result.clone();
+    let first = leg
+        .validated
         .followable()
-        .map_err(|e| Error::Failed(format!("{} seed {}: {e}", s.planner.0, s.seed)))?;
-    let reference = Reference::from_plan(&planned.plan, &problem.model);
+        .map_err(|e| failed(e.to_string()))?;
+    let reference = Reference::from_plan(&planned.plan, &leg.problem.model);
     let plan_samples = (0..reference.len())
         .map(|k| (reference.time(k), reference.state(k).to_vec()))
         .collect();
     let spec = registry.trackers().spec(s.tracker, &[], "<figures>")?;
-    let mission = Mission {
-        scenario: &scenario,
-        first,
-        planner: Some(planner.as_mut()),
-        setup,
-        seed: s.seed,
-    };
+    let mission = pipeline.mission(first, Some(planner.as_mut()));
     let mut tracker = spec.build();
     let mut opts = spec.loop_options();
     opts.record_ticks = true;

@@ -1,6 +1,7 @@
 //! The one pipeline of a run, in the spirit of OMPL's `SimpleSetup`: plan every leg → check →
-//! post-process → track. Sweeps (`run::real`), `magbench plan`, `track`, `rig run` and the
-//! library entry points of the Python package ([`crate::api`]) all plan and track through it.
+//! post-process → track. Sweeps (`run::real`), `magbench plan`, `track`, `rig run`, the paper
+//! figures ([`crate::figures`]) and the library entry points of the Python package
+//! ([`crate::api`]) all plan and track through it.
 //!
 //! - **Plan.** Leg `k` is planned from the end of leg `k − 1`'s plan (the first from the
 //!   scenario's start, or a given start) with a fresh planner, seeded by the seed rule
