@@ -170,13 +170,9 @@ const AWAITING_REGENERATION: &[&str] = &[
     // error's conversion is in the library's error: every measurement that runs the command
     // line (the CLI group), and cost-at-time, which shows a results folder's figures
     "bench-threads",
-    "calibration-bench",
-    "calibration-bench-bulk-hydro",
-    "calibration-bench-seed-1",
     "calibration-bench-segments",
     "calibration-interface",
     "calibration-runs",
-    "calibration-validation",
     "calibration-walkthrough",
     "cost-at-time",
     "formations",
