@@ -169,24 +169,13 @@ const AWAITING_REGENERATION: &[&str] = &[
     // since the crate split the print refusal names `cargo install --path cli` and the plot
     // error's conversion is in the library's error: every measurement that runs the command
     // line (the CLI group), and cost-at-time, which shows a results folder's figures
-    "bench-threads",
-    "calibration-bench-segments",
-    "calibration-interface",
-    "calibration-runs",
-    "calibration-walkthrough",
     "cost-at-time",
     "formations",
-    "main-job",
     "pair-100-profile",
-    "replay-gif",
-    "rig-latency",
-    "rig-redetect",
     "scale",
     "scaling",
-    "stlc-teams",
     "team-edge",
     "team-large",
-    "team-proximity",
     "team-sizes",
 ];
 
