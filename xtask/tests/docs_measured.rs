@@ -170,11 +170,9 @@ const AWAITING_REGENERATION: &[&str] = &[
     // error's conversion is in the library's error: every measurement that runs the command
     // line (the CLI group), and cost-at-time, which shows a results folder's figures
     "cost-at-time",
-    "formations",
     "pair-100-profile",
     "scale",
     "scaling",
-    "team-edge",
     "team-large",
     "team-sizes",
 ];
