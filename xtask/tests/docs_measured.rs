@@ -172,7 +172,6 @@ const AWAITING_REGENERATION: &[&str] = &[
     "cost-at-time",
     "pair-100-profile",
     "scale",
-    "scaling",
     "team-large",
     "team-sizes",
 ];
