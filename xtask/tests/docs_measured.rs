@@ -173,7 +173,6 @@ const AWAITING_REGENERATION: &[&str] = &[
     "pair-100-profile",
     "scale",
     "team-large",
-    "team-sizes",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).
