@@ -172,7 +172,6 @@ const AWAITING_REGENERATION: &[&str] = &[
     "cost-at-time",
     "pair-100-profile",
     "scale",
-    "team-large",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).
