@@ -383,9 +383,13 @@ const SWEEP: &[&str] = &[
     "harness/src/experiment",
     "analysis/src/metrics",
     "harness/src/results",
-    // a results folder's figures: no table depends on them (a measurement that shows one
-    // declares FIGURES)
+    // a results folder's figures and derived files: no table depends on them (a measurement
+    // that shows them declares FIGURES or DERIVED)
     ":!harness/src/results/plots.rs",
+    ":!harness/src/results/report.rs",
+    ":!harness/src/results/ompl",
+    ":!harness/src/results/parquet.rs",
+    ":!harness/src/results/traces.rs",
     "analysis/src/stats",
     "analysis/src/table.rs",
     "harness/src/registry.rs",
@@ -402,6 +406,17 @@ const EDGE_TABLES: &[&str] = &["xtask/src/docs/edge_tables.rs"];
 const COST_AT_TIME: &[&str] = &["xtask/src/docs/cost_at_time.rs"];
 /// A results folder's figures, for a measurement that shows them (`figures` of a sweep).
 const FIGURES: &[&str] = &["harness/src/results/plots.rs", "plot/src/plot"];
+/// What a results folder derives from its runs for its readers besides the figures: the report
+/// page, the OMPL log, `runs.parquet`, and the index of the progress traces the figures and the
+/// log read. No table reads them (the tables read `runs.csv` and `progress.csv`; a test checks)
+/// and no console line shows them; writing them is part of a `bench` command's wall time. A
+/// measurement that shows them declares this group.
+const DERIVED: &[&str] = &[
+    "harness/src/results/report.rs",
+    "harness/src/results/ompl",
+    "harness/src/results/parquet.rs",
+    "harness/src/results/traces.rs",
+];
 /// The table of a suite's families.
 const FAMILY_TABLES: &[&str] = &["xtask/src/docs/family_tables.rs", "suites/pair-100"];
 /// The tracker comparison's table.
@@ -420,9 +435,13 @@ const CLI: &[&str] = &[
     ":!plot/src/lib.rs",
     ":!harness/src/lib.rs",
     ":!cli/src/lib.rs",
-    // a results folder's figures: no console line depends on them (drawing them is part of a
-    // `bench` command's wall time, a few milliseconds a figure)
+    // a results folder's figures and derived files ([`FIGURES`], [`DERIVED`]): no console line
+    // depends on them (writing them is part of a `bench` command's wall time)
     ":!harness/src/results/plots.rs",
+    ":!harness/src/results/report.rs",
+    ":!harness/src/results/ompl",
+    ":!harness/src/results/parquet.rs",
+    ":!harness/src/results/traces.rs",
     // a replay page's data, packing and player (and the module's declarations): written into
     // pages, never printed
     ":!harness/src/replay/mod.rs",
@@ -1403,7 +1422,7 @@ pub static MEASURES: &[Measure] = &[
             quick_args: &["--runs", "1000"],
         },
         feature: None,
-        depends: &[CLI, REGRESS],
+        depends: &[CLI, REGRESS, FIGURES, DERIVED],
     },
     Measure {
         name: "python-overhead",
@@ -1842,6 +1861,38 @@ mod tests {
             }
         }
         assert_eq!(fitting, 12);
+    }
+
+    #[test]
+    fn the_derived_files_are_left_out_of_the_sweep_and_the_command_line_and_no_table_reads_them() {
+        for file in DERIVED.iter().chain(&FIGURES[..1]) {
+            let excluded = format!(":!{file}");
+            for (name, group) in [("SWEEP", SWEEP), ("CLI", CLI)] {
+                assert!(group.contains(&excluded.as_str()), "{file} is in {name}");
+            }
+        }
+        // what a table module would name to read a derived file (the figures' file names are
+        // read by the measurements that show figures, which declare FIGURES)
+        let modules = ["report", "ompl", "parquet", "traces"];
+        let files = ["report.html", "ompl.log", "runs.parquet"];
+        let docs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/docs");
+        for e in std::fs::read_dir(&docs).unwrap() {
+            let path = e.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let code = text.split("#[cfg(test)]").next().unwrap_or_default();
+            for line in code.lines().filter(|l| !l.trim_start().starts_with("//")) {
+                let module = modules.iter().find(|m| {
+                    line.contains(&format!("results::{m}"))
+                        || (line.contains("results::{") && line.contains(*m))
+                });
+                let file = files.iter().find(|f| line.contains(*f));
+                assert!(
+                    module.is_none() && file.is_none(),
+                    "{}: {line}",
+                    path.display()
+                );
+            }
+        }
     }
 
     #[test]
