@@ -1,12 +1,14 @@
 //! The runs' progress traces, as the plots and the OMPL log read them from `progress.csv`:
 //! an index of where each run's rows are in the file (16 bytes a stretch of rows), each trace
 //! read from the file when asked for, so that the memory they take does not grow with the
-//! number of points.
+//! number of points. One CSV reader serves every read: it is moved to a stretch's offset, not
+//! built anew.
 
 use std::collections::BTreeMap;
 use std::fs::File;
-use std::io::{BufReader, Seek, SeekFrom};
+use std::io::SeekFrom;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use super::store::{PROGRESS, Snapshot, bad_row, failed};
 use crate::Error;
@@ -51,10 +53,11 @@ enum Source {
     None,
     /// Every trace in memory, by run.
     Memory(BTreeMap<usize, Vec<TracePoint>>),
-    /// The stretches of a `progress.csv`, by run and then by place in the file.
+    /// The stretches of a `progress.csv`, by run and then by place in the file, and a reader of
+    /// the file without its header.
     File {
         path: PathBuf,
-        file: File,
+        reader: Mutex<csv::Reader<File>>,
         stretches: Vec<Stretch>,
     },
 }
@@ -110,9 +113,12 @@ impl Traces {
         stretches.sort_by_key(|s| s.run);
         stretches.shrink_to_fit();
         let file = File::open(&path).map_err(|e| failed(&path, e))?;
+        let reader = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(file);
         Ok(Traces(Source::File {
             path,
-            file,
+            reader: Mutex::new(reader),
             stretches,
         }))
     }
@@ -124,13 +130,14 @@ impl Traces {
             Source::Memory(t) => Ok(t.get(&run).cloned().unwrap_or_default()),
             Source::File {
                 path,
-                file,
+                reader,
                 stretches,
             } => {
                 let from = stretches.partition_point(|s| s.run < run);
+                let mut reader = reader.lock().unwrap_or_else(|p| p.into_inner());
                 let mut out = vec![];
                 for s in stretches[from..].iter().take_while(|s| s.run == run) {
-                    read_stretch(path, file, s, &mut out)?;
+                    read_stretch(path, &mut reader, s, &mut out)?;
                 }
                 Ok(out)
             }
@@ -138,19 +145,18 @@ impl Traces {
     }
 }
 
-/// Appends the points of stretch `s` of the file `file` (at `path`) to `out`.
+/// Appends the points of stretch `s` to `out`, read by `reader` from the file at `path`.
 fn read_stretch(
     path: &Path,
-    file: &File,
+    reader: &mut csv::Reader<File>,
     s: &Stretch,
     out: &mut Vec<TracePoint>,
 ) -> Result<(), Error> {
-    let mut f = file.try_clone().map_err(|e| failed(path, e))?;
-    f.seek(SeekFrom::Start(s.offset))
+    let mut at = csv::Position::new();
+    at.set_byte(s.offset);
+    reader
+        .seek_raw(SeekFrom::Start(s.offset), at)
         .map_err(|e| failed(path, e))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .from_reader(BufReader::new(f));
     let mut rows = reader.deserialize::<ProgressRow>();
     for _ in 0..s.rows {
         match rows.next() {
