@@ -74,14 +74,39 @@ declare_params! {
 /// count per BL moved), so that the subproblem pays a violation only where it cannot meet it.
 pub const PENALTY: f64 = 1e3;
 
+// The trust-region rules are TrajOpt's (Schulman et al., "Motion planning with sequential
+// convex optimization and convex collision checking", IJRR 2014; the defaults of its
+// `BasicTrustRegionSQP`): a step is taken when the merit falls by at least a quarter of what the
+// subproblem predicted, the region then grows by half and shrinks tenfold on a step refused, and
+// the optimiser stops when the region or the predicted decrease falls below 1e-4.
+
 /// The smallest ratio of actual to predicted decrease at which a step is taken.
-const ACCEPT: f64 = 0.1;
+const ACCEPT: f64 = 0.25;
+
+/// The trust region's factor after a step taken.
+const EXPAND: f64 = 1.5;
+
+/// The trust region's factor after a step refused (or a subproblem the solver did not solve).
+const SHRINK: f64 = 0.1;
 
 /// The trust region below which the optimiser stops (the same units as [`Settings::trust`]).
-const SMALLEST_TRUST: f64 = 1e-7;
+const SMALLEST_TRUST: f64 = 1e-4;
+
+/// The predicted decrease of the merit (cost units) below which the optimiser stops: a local
+/// minimum.
+const SMALLEST_DECREASE: f64 = 1e-4;
 
 /// The largest trust region (the same units as [`Settings::trust`]).
 const LARGEST_TRUST: f64 = 1.0;
+
+/// The trust region after a step `taken` or refused.
+fn resized(trust: f64, taken: bool) -> f64 {
+    if taken {
+        (EXPAND * trust).min(LARGEST_TRUST)
+    } else {
+        SHRINK * trust
+    }
+}
 
 /// Why a run of the optimiser stopped.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -173,11 +198,11 @@ pub fn optimise(
         }) = solve_step(problem, &current, &model, region, settings.margin, PENALTY)
         else {
             stats.solver_failures += 1;
-            trust *= 0.5;
+            trust = resized(trust, false);
             continue;
         };
         let expected = now - predicted;
-        if expected <= 1e-9 * (1.0 + now.abs()) {
+        if expected <= SMALLEST_DECREASE {
             stats.stopped = Stop::Converged;
             break;
         }
@@ -192,11 +217,9 @@ pub fn optimise(
         if rho > ACCEPT && (candidate.feasible || !current.feasible) {
             current = candidate;
             stats.accepted += 1;
-            if rho > 0.75 {
-                trust = (2.0 * trust).min(LARGEST_TRUST);
-            }
+            trust = resized(trust, true);
         } else {
-            trust *= 0.5;
+            trust = resized(trust, false);
         }
     }
     Outcome {

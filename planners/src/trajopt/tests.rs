@@ -52,6 +52,22 @@ fn the_planner_solves_an_open_field_from_a_straight_line() {
     validate_plan(&p, &r.plan).expect("valid");
 }
 
+/// A run whose steps are all refused stops within four subproblems: each refusal shrinks the
+/// trust region tenfold, from its first size to below the smallest; a step taken grows it by
+/// half, up to the largest.
+#[test]
+fn a_run_whose_steps_are_refused_stops_within_four_subproblems() {
+    let mut trust = Settings::default().trust;
+    let mut refused = 0;
+    while trust >= SMALLEST_TRUST {
+        trust = resized(trust, false);
+        refused += 1;
+    }
+    assert_eq!(refused, 4);
+    assert_eq!(resized(0.1, true), 0.1 * EXPAND);
+    assert_eq!(resized(LARGEST_TRUST, true), LARGEST_TRUST);
+}
+
 /// In a maze whose straight line crosses walls, the planner stops within its subproblems and
 /// reports an approximate plan.
 #[test]
