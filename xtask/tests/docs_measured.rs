@@ -169,7 +169,6 @@ const AWAITING_REGENERATION: &[&str] = &[
     // since the crate split the print refusal names `cargo install --path cli` and the plot
     // error's conversion is in the library's error: every measurement that runs the command
     // line (the CLI group), and cost-at-time, which shows a results folder's figures
-    "cost-at-time",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).
