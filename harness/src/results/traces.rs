@@ -1,5 +1,5 @@
 //! The runs' progress traces, as the plots and the OMPL log read them from `progress.csv`:
-//! an index of where each run's rows are in the file (16 bytes a stretch of rows), each trace
+//! an index of where each run's rows are in the file (24 bytes a stretch of rows), each trace
 //! read from the file when asked for, so that the memory they take does not grow with the
 //! number of points. One CSV reader serves every read: it is moved to a stretch's offset, not
 //! built anew.
