@@ -347,8 +347,13 @@ impl Model {
     /// Segments of up to `len` frames that every latency up to [`Model::max_latency`] can
     /// predict: consecutive frames with the field on from `max_latency + 1` frames before each
     /// step, every agent observed at the start, and commands steady ([`STEADY_DTHETA`], the
-    /// same gradient and elevation) for [`SETTLE_S`] before it (the prediction starts with the
-    /// coil settled).
+    /// same gradient and elevation) from [`SETTLE_S`] before the earliest command a latency
+    /// can put in force at the start up to the start itself. The prediction starts with the
+    /// coil settled on the first command it runs, which is then the same command, up to its
+    /// jitter, for every latency: were a step among the commands of the last
+    /// `max_latency + 1` frames, a latency just above a whole frame would start the coil
+    /// settled on the command before the step and one at that frame on the command after it,
+    /// a jump in the residuals at every whole frame that holds the search there.
     pub fn segments(&self, len: usize) -> Vec<Segment> {
         let back = self.max_latency + 1;
         let mut out = vec![];
@@ -371,16 +376,14 @@ impl Model {
             let steady = |k: usize| {
                 k >= back + settle
                     && f[k].frame == f[k - back - settle].frame + (back + settle) as u64
-                    && (k - back - settle..k - back).all(|i| {
-                        match (f[i].command, f[i + 1].command) {
-                            (Some(a), Some(b)) => {
-                                (a.theta - b.theta).abs() <= STEADY_DTHETA
-                                    && (a.grad[0] - b.grad[0]).abs() <= STEADY_DGRAD
-                                    && (a.grad[1] - b.grad[1]).abs() <= STEADY_DGRAD
-                                    && (a.alpha - b.alpha).abs() <= STEADY_DTHETA
-                            }
-                            _ => false,
+                    && (k - back - settle..k).all(|i| match (f[i].command, f[i + 1].command) {
+                        (Some(a), Some(b)) => {
+                            (a.theta - b.theta).abs() <= STEADY_DTHETA
+                                && (a.grad[0] - b.grad[0]).abs() <= STEADY_DGRAD
+                                && (a.grad[1] - b.grad[1]).abs() <= STEADY_DGRAD
+                                && (a.alpha - b.alpha).abs() <= STEADY_DTHETA
                         }
+                        _ => false,
                     })
             };
             let mut k = back;
@@ -557,4 +560,60 @@ pub fn frame_period(f: &[super::log::LoggedFrame]) -> f64 {
     }
     d.sort_by(f64::total_cmp);
     d[d.len() / 2]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::log::{LoggedFrame, LoggedRun};
+    use magbench_env::Control;
+
+    /// A run of 60 fps frames: both agents seen except on `unseen`, the field at 0 rad until
+    /// frame `step` and at 1 rad from it.
+    fn run(frames: u64, step: u64, unseen: std::ops::Range<u64>) -> LoggedRun {
+        LoggedRun {
+            source: "test".into(),
+            frames: (0..frames)
+                .map(|k| LoggedFrame {
+                    frame: k,
+                    t: k as f64 / 60.0,
+                    agents: if unseen.contains(&k) {
+                        vec![None, None]
+                    } else {
+                        vec![Some(Vec2::new(9.0, 7.5)), Some(Vec2::new(11.0, 7.5))]
+                    },
+                    command: Some(Control::planar(if k < step { 0.0 } else { 1.0 }, 0.0, 0.0)),
+                })
+                .collect(),
+        }
+    }
+
+    /// Where the agents are seen again just after a step of the field, the next segment starts
+    /// only once the commands of every latency's reach are steady again: not on the first frame
+    /// seen, which a latency of 2 frames or more would start before the step.
+    #[test]
+    fn no_segment_starts_within_a_latency_of_a_step() {
+        let scenario = Scenario::load("open-field").unwrap();
+        let mut base = DisturbancePreset::hardware();
+        base.coil_lag.enabled = true;
+        base.coil_lag.field_tau_ms = 20.0;
+        let (step, seen_again) = (200, 202);
+        let model = Model::new(&scenario, &base, vec![run(400, step, 150..seen_again)], 4);
+        let back = (model.max_latency + 1) as u64;
+        let settle = (SETTLE_S * 60.0).ceil() as u64;
+        let starts: Vec<u64> = model
+            .segments(80)
+            .iter()
+            .map(|s| model.runs[0].frames[s.start].frame)
+            .collect();
+        assert!(starts.iter().any(|&k| k > step), "{starts:?}");
+        for k in starts {
+            assert!(
+                k < step || k >= step + back + settle,
+                "a segment starts at frame {k}, {} after the step: {}",
+                k - step,
+                "its latencies would start the coil on either side of it"
+            );
+        }
+    }
 }
