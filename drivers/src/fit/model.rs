@@ -346,9 +346,10 @@ impl Model {
 
     /// Segments of up to `len` frames that every latency up to [`Model::max_latency`] can
     /// predict: consecutive frames with the field on from `max_latency + 1` frames before each
-    /// step, every agent observed at the start, and commands steady ([`STEADY_DTHETA`], the
-    /// same gradient and elevation) from [`SETTLE_S`] before the earliest command a latency
-    /// can put in force at the start up to the start itself. The prediction starts with the
+    /// step, every agent observed at the start, and, when the prediction has coil dynamics,
+    /// commands steady ([`STEADY_DTHETA`], the same gradient and elevation) from [`SETTLE_S`]
+    /// before the earliest command a latency can put in force at the start up to the start
+    /// itself. The prediction starts with the
     /// coil settled on the first command it runs, which is then the same command, up to its
     /// jitter, for every latency: were a step among the commands of the last
     /// `max_latency + 1` frames, a latency just above a whole frame would start the coil
@@ -360,8 +361,10 @@ impl Model {
         for (r, run) in self.runs.iter().enumerate() {
             let f = &run.frames;
             let period = frame_period(f);
-            // without coil dynamics in the prediction there is no coil state to settle
-            let settle = if self.predict_base.coil_lag.enabled {
+            // without coil dynamics in the prediction there is no coil state to settle, and
+            // the commands need not be steady
+            let coils = self.predict_base.coil_lag.enabled;
+            let settle = if coils {
                 (SETTLE_S / period).ceil() as usize
             } else {
                 0
@@ -374,17 +377,18 @@ impl Model {
                     && (j - back..=j).all(|i| f[i].command.is_some())
             };
             let steady = |k: usize| {
-                k >= back + settle
-                    && f[k].frame == f[k - back - settle].frame + (back + settle) as u64
-                    && (k - back - settle..k).all(|i| match (f[i].command, f[i + 1].command) {
-                        (Some(a), Some(b)) => {
-                            (a.theta - b.theta).abs() <= STEADY_DTHETA
-                                && (a.grad[0] - b.grad[0]).abs() <= STEADY_DGRAD
-                                && (a.grad[1] - b.grad[1]).abs() <= STEADY_DGRAD
-                                && (a.alpha - b.alpha).abs() <= STEADY_DTHETA
-                        }
-                        _ => false,
-                    })
+                !coils
+                    || (k >= back + settle
+                        && f[k].frame == f[k - back - settle].frame + (back + settle) as u64
+                        && (k - back - settle..k).all(|i| match (f[i].command, f[i + 1].command) {
+                            (Some(a), Some(b)) => {
+                                (a.theta - b.theta).abs() <= STEADY_DTHETA
+                                    && (a.grad[0] - b.grad[0]).abs() <= STEADY_DGRAD
+                                    && (a.grad[1] - b.grad[1]).abs() <= STEADY_DGRAD
+                                    && (a.alpha - b.alpha).abs() <= STEADY_DTHETA
+                            }
+                            _ => false,
+                        }))
             };
             let mut k = back;
             while k + 1 < f.len() {
@@ -590,7 +594,8 @@ mod tests {
 
     /// Where the agents are seen again just after a step of the field, the next segment starts
     /// only once the commands of every latency's reach are steady again: not on the first frame
-    /// seen, which a latency of 2 frames or more would start before the step.
+    /// seen, which a latency of 2 frames or more would start before the step. Without coil
+    /// dynamics it starts there.
     #[test]
     fn no_segment_starts_within_a_latency_of_a_step() {
         let scenario = Scenario::load("open-field").unwrap();
@@ -615,5 +620,10 @@ mod tests {
                 "its latencies would start the coil on either side of it"
             );
         }
+        // without coil dynamics there is no coil state to start, and the first frame seen
+        // starts a segment
+        base.coil_lag.enabled = false;
+        let model = Model::new(&scenario, &base, vec![run(400, step, 150..seen_again)], 4);
+        assert!(model.segments(80).iter().any(|s| s.start == seen_again as usize));
     }
 }
