@@ -624,6 +624,11 @@ mod tests {
         // starts a segment
         base.coil_lag.enabled = false;
         let model = Model::new(&scenario, &base, vec![run(400, step, 150..seen_again)], 4);
-        assert!(model.segments(80).iter().any(|s| s.start == seen_again as usize));
+        assert!(
+            model
+                .segments(80)
+                .iter()
+                .any(|s| s.start == seen_again as usize)
+        );
     }
 }
