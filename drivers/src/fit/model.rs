@@ -349,12 +349,12 @@ impl Model {
     /// step, every agent observed at the start, and, when the prediction has coil dynamics,
     /// commands steady ([`STEADY_DTHETA`], the same gradient and elevation) from [`SETTLE_S`]
     /// before the earliest command a latency can put in force at the start up to the start
-    /// itself. The prediction starts with the
-    /// coil settled on the first command it runs, which is then the same command, up to its
-    /// jitter, for every latency: were a step among the commands of the last
-    /// `max_latency + 1` frames, a latency just above a whole frame would start the coil
-    /// settled on the command before the step and one at that frame on the command after it,
-    /// a jump in the residuals at every whole frame that holds the search there.
+    /// itself. The prediction starts with the coil settled on the first command it runs, which
+    /// is then the same command, up to its jitter, for every latency: were a step among the
+    /// commands of the last `max_latency + 1` frames, a latency just above a whole frame would
+    /// start the coil settled on the command before the step and one at that frame on the
+    /// command after it, a jump in the residuals at every whole frame that holds the search
+    /// there.
     pub fn segments(&self, len: usize) -> Vec<Segment> {
         let back = self.max_latency + 1;
         let mut out = vec![];
