@@ -39,11 +39,16 @@
 //! those of their contrasts with the anchor from the data alone, and one above its threshold is
 //! reported imprecise through the scale. A parameter whose standard error exceeds its threshold
 //! ([`model::Kind::identified_below`]) is not fitted to noise: the worst one is held and the
-//! fit repeated, until every parameter left is identified. It is held at the base value when
-//! the base lies within [`REJECTS_BASE_SE`] standard errors of its estimate, and otherwise at
-//! the estimate, reported imprecise: the data then reject the base's value, and holding it
-//! there would make the parameters it trades off against (the latency against the coils' τ)
-//! make up the difference.
+//! fit repeated, until every parameter left is identified. It is held at the base value unless
+//! the data reject that value: refitted with it there, the residuals' sum of squares rises by
+//! more than it would for a value [`REJECTS_BASE_SE`] standard errors away (a likelihood-ratio
+//! test, [`base_likelihood_ratio`]). Then it is held at the estimate, reported imprecise:
+//! holding it at the base would make the parameters it trades off against (the latency
+//! against the coils' τ) make up the difference. What it trades off against still depends on
+//! where it is held, so every value left fitted takes the larger of its standard error and its
+//! standard error with the set-aside parameters free as well ([`trade_offs`]); one above its
+//! threshold only through them is written and reported imprecise through them
+//! ([`Status::TradesOff`]).
 //!
 //! Frames in which the team is stuck in contact (found from the observed positions, the
 //! [`contact`] module) are left out of the fit and of the held-out check, and the report says
@@ -129,9 +134,10 @@ pub const QUICK_SEGMENT_FRAMES: usize = 20;
 /// convention holds the moments' geometric mean at 1.
 pub const SCALE_IDENTIFIED_BELOW: f64 = 0.1;
 
-/// Standard errors between a parameter's estimate and the base's value beyond which the data
-/// reject the base: an unidentified parameter is then held at its estimate (reported
-/// imprecise) rather than at the base. Two standard errors: a two-sided test at about 5%.
+/// The distance in standard errors whose rise of the residuals' sum of squares
+/// ([`base_likelihood_ratio`], this squared) rejects the base's value of an unidentified
+/// parameter: it is then held at its estimate (reported imprecise) rather than at the base.
+/// Two standard errors: a test at about 5% (χ² with one degree of freedom, 3.84).
 pub const REJECTS_BASE_SE: f64 = 2.0;
 
 /// One segment in this many is held out of the fit for the check of its predictions.
@@ -233,6 +239,13 @@ fn onto_convention(x: &[f64], dir: &[f64], moments: &[usize]) -> Vec<f64> {
     let mean = |v: &[f64]| moments.iter().map(|&i| v[i]).sum::<f64>() / moments.len() as f64;
     let t = mean(x) / mean(dir);
     x.iter().zip(dir).map(|(a, d)| a - t * d).collect()
+}
+
+/// The moment factors' indices among `kinds`: the scale convention holds their mean.
+fn moment_indices(kinds: &[Kind]) -> Vec<usize> {
+    (0..kinds.len())
+        .filter(|&i| matches!(kinds[i], Kind::Moment(_)))
+        .collect()
 }
 
 /// Whether the fit holds the moment/drag/gain scale by the convention.
@@ -456,9 +469,7 @@ pub fn calibrate(
             }
         }
     }
-    let moments: Vec<usize> = (0..model.kinds.len())
-        .filter(|&i| matches!(model.kinds[i], Kind::Moment(_)))
-        .collect();
+    let moments = moment_indices(&model.kinds);
     let mut scale;
     // The convention holds the scale in the first fit, so that a search along a direction the
     // data do not see cannot run off; the data alone then say whether they fix it there. If
@@ -519,7 +530,8 @@ pub fn calibrate(
             ScaleFit::Identified(_) => contrasts(&model.kinds, &free, &Anchor::Convention),
             _ => (vec![], vec![]),
         };
-        let (se, relative_se) = p.standard_errors_with(&combos);
+        let ses = p.standard_errors_with(&combos);
+        let (se, relative_se) = (ses.params, ses.combos);
         let relative: Vec<(usize, f64)> = fitted.into_iter().zip(relative_se).collect();
         let judged = |i: usize| relative.iter().find(|r| r.0 == i).map_or(se[i], |r| r.1);
         let worst = model
@@ -533,13 +545,27 @@ pub fn calibrate(
         match worst {
             Some((i, _)) => {
                 free[i] = false;
-                x_start = p.x().to_vec();
-                let rejects_base =
-                    se[i].is_finite() && (x_start[i] - x0[i]).abs() > REJECTS_BASE_SE * se[i];
-                if rejects_base {
+                let mut at_base = p.x().to_vec();
+                at_base[i] = x0[i];
+                let mut q = Problem::new(
+                    &model,
+                    segs.clone(),
+                    at_base,
+                    free.clone(),
+                    opts.free_starts,
+                );
+                // pinned as the next fit will be
+                let next_dir = scale_direction(&model.kinds, &free);
+                if next_dir.is_some() && scale_state != ScaleState::Free {
+                    q.pin_scale(moments.clone());
+                }
+                let (q, _) = solve(q, 20);
+                let lr = base_likelihood_ratio(&p, &q, ses.white[i] / se[i]);
+                if lr > REJECTS_BASE_SE * REJECTS_BASE_SE {
+                    x_start = p.x().to_vec();
                     set_aside.push((i, Status::Imprecise(se[i])));
                 } else {
-                    x_start[i] = x0[i];
+                    x_start = q.x().to_vec();
                     set_aside.push((i, Status::Unidentified(se[i])));
                 }
             }
@@ -573,6 +599,8 @@ pub fn calibrate(
         let through_scale = relative.iter().map(|r| r.0);
         set_aside_through_scale(&model.kinds, &se, through_scale, &mut free, &mut set_aside);
     }
+    let pin = scale_state != ScaleState::Free;
+    trade_offs(&model, &problem, pin, &mut se, &mut free, &mut set_aside);
     let noise = problem.detection_noise();
     let check = |x: &[f64]| {
         Problem::new(
@@ -599,6 +627,78 @@ pub fn calibrate(
         seconds,
         stuck,
     ))
+}
+
+/// The likelihood-ratio statistic of a parameter held at the base's value: the rise of the
+/// residuals' sum of squares from `free` (the fit with it free) to `held` (refitted with it at
+/// the base), over the residual variance at `free`, times `white_over_used²`, the ratio of the
+/// parameter's white-residual variance to the one reported (the larger of it and the
+/// segment-clustered one), which scales the statistic to the residuals' correlation within a
+/// segment (1 when either is not finite). Unlike a distance in standard errors, it does not
+/// depend on the coordinates a parameter is fitted in: a coil's τ fitted as ln τ, a few
+/// milliseconds with a standard error of a few, is as far from a base of 14 ms as the data
+/// say, not as the logarithm's slope at the estimate says (Gregory and Veall, "Formulating
+/// Wald tests of nonlinear restrictions", Econometrica 53(6), 1985).
+fn base_likelihood_ratio(free: &Problem, held: &Problem, white_over_used: f64) -> f64 {
+    let (ssr_free, variance) = free.sum_of_squares();
+    let (ssr_held, _) = held.sum_of_squares();
+    let scale = if white_over_used.is_finite() && white_over_used > 0.0 {
+        white_over_used * white_over_used
+    } else {
+        1.0
+    };
+    (ssr_held - ssr_free) / variance * scale
+}
+
+/// Every fitted parameter's standard error made at least its standard error with the
+/// parameters the fit set aside (unidentified or imprecise) free as well, at `problem`'s
+/// optimum (with the scale convention's row when `pin` and the scale is then a direction of
+/// the free ones): a value held where the data do not confirm it moves the values it trades
+/// off against (the latency against a coil's τ), and their uncertainty then includes its
+/// own. This is the consider covariance of Schmidt's filter, the held parameters' variance
+/// the data's (Tapley, Schutz and Born, "Statistical Orbit Determination", 2004, §6.3). One
+/// whose standard error then exceeds its threshold is reported imprecise through them
+/// ([`Status::TradesOff`]); its estimate is written.
+fn trade_offs(
+    model: &Model,
+    problem: &Problem,
+    pin: bool,
+    se: &mut [f64],
+    free: &mut [bool],
+    set_aside: &mut Vec<(usize, Status)>,
+) {
+    let mut joint = free.to_vec();
+    for (i, status) in set_aside.iter() {
+        if matches!(status, Status::Unidentified(_) | Status::Imprecise(_)) {
+            joint[*i] = true;
+        }
+    }
+    if joint == free {
+        return;
+    }
+    let mut q = Problem::new(
+        model,
+        problem.segments().to_vec(),
+        problem.x().to_vec(),
+        joint.clone(),
+        problem.free_starts(),
+    );
+    if pin && scale_direction(&model.kinds, &joint).is_some() {
+        q.pin_scale(moment_indices(&model.kinds));
+    }
+    let with_held = q.standard_errors_with(&[]).params;
+    for i in 0..se.len() {
+        let larger = with_held[i] > se[i];
+        if !free[i] || !larger {
+            continue;
+        }
+        se[i] = with_held[i];
+        let identified = se[i] <= model.kinds[i].identified_below();
+        if !identified {
+            free[i] = false;
+            set_aside.push((i, Status::TradesOff(se[i])));
+        }
+    }
 }
 
 /// Each moment, drag or gain of `params` whose standard error exceeds its threshold only

@@ -364,11 +364,7 @@ impl Model {
             // without coil dynamics in the prediction there is no coil state to settle, and
             // the commands need not be steady
             let coils = self.predict_base.coil_lag.enabled;
-            let settle = if coils {
-                (SETTLE_S / period).ceil() as usize
-            } else {
-                0
-            };
+            let settle = (SETTLE_S / period).ceil() as usize;
             let ok_step = |j: usize| {
                 j >= back
                     && j + 1 < f.len()

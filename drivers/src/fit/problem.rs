@@ -52,6 +52,17 @@ struct Block {
     used: bool,
 }
 
+/// Standard errors at a fit's optimum ([`Problem::standard_errors_with`]), fitted
+/// coordinates, NaN for a held parameter.
+pub struct StandardErrors {
+    /// Every parameter's: the larger of the white-residual and the segment-clustered one.
+    pub params: Vec<f64>,
+    /// Each combination's, the same way.
+    pub combos: Vec<f64>,
+    /// Every parameter's were the residuals white.
+    pub white: Vec<f64>,
+}
+
 impl<'a> Problem<'a> {
     /// The problem starting at `x`, fitting the parameters marked in `free`; with
     /// `free_starts`, each segment's start state is free as well.
@@ -207,6 +218,11 @@ impl<'a> Problem<'a> {
         &self.x
     }
 
+    /// Whether each segment's start state is free (profiled out).
+    pub fn free_starts(&self) -> bool {
+        self.free_starts
+    }
+
     /// Segments fitted.
     pub fn segments(&self) -> &[Segment] {
         &self.segs
@@ -281,7 +297,12 @@ impl<'a> Problem<'a> {
     /// count and their degrees of freedom (the free parameters' and, when free, the segments'
     /// start states, 2 per agent per segment, discounted).
     fn variance_inputs(&self) -> (Evaluation, usize, usize) {
-        let e = self.evaluate_all(&self.x, true);
+        self.residual_inputs(true)
+    }
+
+    /// [`Problem::variance_inputs`], the Jacobian only when asked.
+    fn residual_inputs(&self, jacobian: bool) -> (Evaluation, usize, usize) {
+        let e = self.evaluate_all(&self.x, jacobian);
         let observed = e.r.iter().filter(|v| **v != 0.0).count();
         let starts = if self.free_starts {
             e.segments.len() * 2 * self.model.n
@@ -325,16 +346,22 @@ impl<'a> Problem<'a> {
     /// the larger of the white-residual and the segment-clustered one ([`variances`]): infinite for a
     /// combination with weight on a direction the data do not see, NaN with no free parameter.
     pub fn combination_standard_errors(&self, combos: &[Vec<f64>]) -> Vec<f64> {
-        self.standard_errors_with(combos).1
+        self.standard_errors_with(combos).combos
     }
 
     /// Every parameter's standard error (fitted coordinates; NaN for a held one), and each
     /// combination's of `combos`, as [`Problem::combination_standard_errors`] gives them, from
     /// one Jacobian.
-    pub fn standard_errors_with(&self, combos: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
-        let mut se = vec![f64::NAN; self.x.len()];
+    pub fn standard_errors_with(&self, combos: &[Vec<f64>]) -> StandardErrors {
+        let mut params = vec![f64::NAN; self.x.len()];
+        let mut white = params.clone();
         if self.free.is_empty() {
-            return (se, vec![f64::NAN; combos.len()]);
+            let combos = vec![f64::NAN; combos.len()];
+            return StandardErrors {
+                params,
+                combos,
+                white,
+            };
         }
         let (e, observed, dof) = self.variance_inputs();
         let k = self.free.len();
@@ -344,13 +371,26 @@ impl<'a> Problem<'a> {
             Some(m) => combos[m][self.free[c]],
         });
         let j = e.j.expect("asked for");
-        let mut sd = variances(&j, &e.r, &e.segments, observed, dof, &a)
-            .into_iter()
-            .map(f64::sqrt);
-        for &i in &self.free {
-            se[i] = sd.next().expect("one per free parameter");
+        let (both, only_white) = variances_and_white(&j, &e.r, &e.segments, observed, dof, &a);
+        let mut sd = both.into_iter().map(f64::sqrt);
+        for (c, &i) in self.free.iter().enumerate() {
+            params[i] = sd.next().expect("one per free parameter");
+            white[i] = only_white[c].sqrt();
         }
-        (se, sd.collect())
+        StandardErrors {
+            params,
+            combos: sd.collect(),
+            white,
+        }
+    }
+
+    /// The residuals' sum of squares (BL², the scale convention's row included) and the
+    /// variance of one residual, that sum over the degrees of freedom
+    /// ([`Problem::variance_inputs`]).
+    pub fn sum_of_squares(&self) -> (f64, f64) {
+        let (e, _, dof) = self.residual_inputs(false);
+        let ssr = e.r.iter().map(|v| v * v).sum::<f64>();
+        (ssr, ssr / dof as f64)
     }
 
     /// The standard error of the coordinate along `along` (a direction in every parameter, 0
@@ -442,10 +482,23 @@ fn variances(
     dof: usize,
     combos: &DMatrix<f64>,
 ) -> Vec<f64> {
+    variances_and_white(j, r, clusters, observed, dof, combos).0
+}
+
+/// [`variances`], and the white-residual ones alone.
+fn variances_and_white(
+    j: &DMatrix<f64>,
+    r: &[f64],
+    clusters: &[Range<usize>],
+    observed: usize,
+    dof: usize,
+    combos: &DMatrix<f64>,
+) -> (Vec<f64>, Vec<f64>) {
     let inverse = InformationInverse::new(j);
     let white = white_variances(&inverse, r, dof, combos);
     let robust = segment_robust_variances(&inverse, j, r, clusters, observed, combos);
-    white.iter().zip(&robust).map(|(a, b)| a.max(*b)).collect()
+    let larger = white.iter().zip(&robust).map(|(a, b)| a.max(*b)).collect();
+    (larger, white)
 }
 
 /// `(JᵀJ)⁻¹` over the directions the rows of `J` see (its eigenpairs with

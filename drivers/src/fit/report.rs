@@ -21,8 +21,8 @@ pub enum Status {
     /// preset's unit as [`ParamFit::se`]) and do not reject the base's value.
     Unidentified(f64),
     /// Held at its estimate, which is written: its standard error (as above) exceeds the
-    /// threshold, but the estimate lies more than [`super::REJECTS_BASE_SE`] standard errors
-    /// from the base's value.
+    /// threshold, but the data reject the base's value (held there, the residuals rise as for
+    /// a value more than [`super::REJECTS_BASE_SE`] standard errors away).
     Imprecise(f64),
     /// A moment, drag or gain fitted and written whose standard error (as above) exceeds the
     /// threshold only through the uncertainty of the moment/drag/gain scale: the scale fitted,
@@ -30,6 +30,10 @@ pub enum Status {
     /// by an anchor (the convention, or a value the fit set aside), the parameter identified
     /// with the anchor held but not relative to it.
     ScaleImprecise(f64),
+    /// Fitted and written, but its standard error (as above) exceeds the threshold with the
+    /// parameters the fit set aside (unidentified or imprecise) free as well: it trades off
+    /// against a value the data do not fix.
+    TradesOff(f64),
 }
 
 impl Status {
@@ -38,7 +42,10 @@ impl Status {
     pub fn is_written(&self) -> bool {
         matches!(
             self,
-            Status::Fitted | Status::Imprecise(_) | Status::ScaleImprecise(_)
+            Status::Fitted
+                | Status::Imprecise(_)
+                | Status::ScaleImprecise(_)
+                | Status::TradesOff(_)
         )
     }
 
@@ -256,12 +263,13 @@ pub(super) fn build(
                     Some(Status::Unidentified(s)) => Status::Unidentified(se_unit(s)),
                     Some(Status::Imprecise(s)) => Status::Imprecise(se_unit(s)),
                     Some(Status::ScaleImprecise(s)) => Status::ScaleImprecise(se_unit(s)),
+                    Some(Status::TradesOff(s)) => Status::TradesOff(se_unit(s)),
                     _ => Status::Held,
                 }
             };
             let se_i = match status {
                 Status::Fitted => Some(se_unit(se[i])),
-                Status::Imprecise(s) | Status::ScaleImprecise(s) => Some(s),
+                Status::Imprecise(s) | Status::ScaleImprecise(s) | Status::TradesOff(s) => Some(s),
                 Status::Held | Status::Unidentified(_) => None,
             };
             let value = match k {
@@ -476,6 +484,11 @@ impl FitReport {
                     "{} is imprecise through the moment/drag/gain scale, which the data fix too loosely: measure one of the three (a gradient gain with a gaussmeter) and --hold it",
                     p.name
                 )),
+                Status::TradesOff(_) => w.push(format!(
+                    "{} is imprecise: it trades off against what the data do not fix ({}); pin that down (its warning says how) or --hold it at a measured value",
+                    p.name,
+                    set_aside_names(&self.params),
+                )),
                 Status::Fitted | Status::Held => {}
             }
         }
@@ -590,12 +603,19 @@ fn param_line(p: &ParamFit) -> String {
             se(s)
         ),
         Status::Imprecise(s) => format!(
-            "{:<24} {:>10.4}  {}  imprecise: the standard error is above the fit's threshold ({}), but the data reject the base's value (more than {} standard errors away), so the estimate is written",
+            "{:<24} {:>10.4}  {}  imprecise: the standard error is above the fit's threshold ({}), but the data reject the base's value (held there, the residuals rise as much as for a value more than {} standard errors away), so the estimate is written",
             p.name,
             p.value,
             se(s),
             se(p.kind.identified_below_in_unit()),
             super::REJECTS_BASE_SE
+        ),
+        Status::TradesOff(s) => format!(
+            "{:<24} {:>10.4}  {}  imprecise through the values set aside: fitted, but with the parameters the data do not fix free as well its standard error is above the fit's threshold ({})",
+            p.name,
+            p.value,
+            se(s),
+            se(p.kind.identified_below_in_unit())
         ),
         Status::ScaleImprecise(s) => format!(
             "{:<24} {:>10.4}  {}  imprecise through the scale: fitted, but the uncertainty of the moment/drag/gain scale (below) puts its standard error above the fit's threshold ({})",
@@ -605,6 +625,17 @@ fn param_line(p: &ParamFit) -> String {
             se(p.kind.identified_below_in_unit())
         ),
     }
+}
+
+/// The names of the parameters the fit set aside (not identified, or imprecise and held at
+/// the estimate), joined by commas.
+fn set_aside_names(params: &[ParamFit]) -> String {
+    params
+        .iter()
+        .filter(|p| matches!(p.status, Status::Unidentified(_) | Status::Imprecise(_)))
+        .map(|p| p.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// A parameter's tolerance as the report writes it: `±5%`, `±0.5 frames`, `±0.5°`,

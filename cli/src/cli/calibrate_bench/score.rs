@@ -280,6 +280,11 @@ pub fn scores(rig: &Rig, fit: &FitReport, agents: usize) -> Vec<Score> {
                                 shown(param, s),
                                 shown(param, kind.identified_below_in_unit())
                             )),
+                            Status::TradesOff(s) => Verdict::Imprecise(format!(
+                                "standard error {} with the values set aside free, above the fit's threshold {}",
+                                shown(param, s),
+                                shown(param, kind.identified_below_in_unit())
+                            )),
                         };
                         (Some(value), p.se, verdict)
                     }

@@ -13,8 +13,12 @@ use crate::Error;
 use crate::api::{TrackRequest, plan_leg, track_plan};
 use crate::registry::Registry;
 
-/// Seeds of the tracking runs averaged (0 to this, exclusive).
-pub const SEEDS: u64 = 4;
+/// Seeds of the tracking runs averaged (0 to this, exclusive). One run's true RMS error at an
+/// interface differs by tens of per cent between seeds, and the benchmark judges the fitted
+/// preset's mean against the truth's within 10%: over 4 seeds seed 0's rig 18 came out 10.7%
+/// below the truth's, over 16 0.2% (every one of its fitted values within tolerance). The
+/// benchmark takes 129 s instead of 121 (`magbench calibrate bench --out DIR --threads 2`).
+pub const SEEDS: u64 = 16;
 
 /// The scenario tracked (the repository's file, built into the binary).
 pub const SCENARIO: &str = "scenarios/short-open.toml";
