@@ -656,7 +656,7 @@ fn base_likelihood_ratio(free: &Problem, held: &Problem, white_over_used: f64) -
 /// the free ones): a value held where the data do not confirm it moves the values it trades
 /// off against (the latency against a coil's τ), and their uncertainty then includes its
 /// own. This is the consider covariance of Schmidt's filter, the held parameters' variance
-/// the data's (Tapley, Schutz and Born, "Statistical Orbit Determination", 2004, §6.3). One
+/// the data's (Tapley, Schutz and Born, "Statistical Orbit Determination", 2004, ch. 6). One
 /// whose standard error then exceeds its threshold is reported imprecise through them
 /// ([`Status::TradesOff`]); its estimate is written.
 fn trade_offs(
