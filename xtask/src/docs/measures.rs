@@ -490,8 +490,9 @@ const FIT: &[&str] = &[
     "cli/src/cli/calibrate.rs",
     "cli/src/cli/calibrate_plot.rs",
 ];
-/// The Python binding.
-const PYTHON: &[&str] = &["python/src"];
+/// The Python binding: its Rust core and the package's own modules, which every script that
+/// imports `magbench` runs (`mb.plan`'s argument handling, the results loader, the plugins).
+const PYTHON: &[&str] = &["python/src", "python/magbench"];
 
 /// The folder of a workspace crate, by its package name.
 fn crate_dir(package: &str) -> &str {
@@ -1674,6 +1675,27 @@ mod tests {
             };
             assert!(known, "{name}");
         }
+    }
+
+    /// A script that imports `magbench` runs the package's own Python modules besides the
+    /// binding's Rust core, so a change to either stales the measurements of the binding.
+    #[test]
+    fn the_python_group_holds_every_module_of_the_package() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let mut modules = 0;
+        for entry in std::fs::read_dir(root.join("python/magbench")).unwrap() {
+            let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+            if !name.ends_with(".py") {
+                continue;
+            }
+            let path = format!("python/magbench/{name}");
+            let covered = PYTHON
+                .iter()
+                .any(|spec| path == *spec || path.starts_with(&format!("{spec}/")));
+            assert!(covered, "{path} is in no pathspec of the Python group");
+            modules += 1;
+        }
+        assert!(modules > 0, "python/magbench holds no module");
     }
 
     #[test]
