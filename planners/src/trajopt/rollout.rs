@@ -55,9 +55,10 @@ pub struct Rollout {
 impl Rollout {
     /// Replays `controls` held for `durations` from `start`. Each edge is solved and checked as
     /// EXTEND's are; an invalid edge is solved again without checks, so that the rollout goes
-    /// on to the end. Once a state is not finite (a pair the unchecked flow collapsed), the
-    /// rollout has diverged: its later waypoints repeat that state without solving the flow,
-    /// and its violation is infinite.
+    /// on to the end. Once an edge starts from a state the flow is not defined at (not finite,
+    /// or two agents at one point: a pair the unchecked flow collapsed, whose force is
+    /// infinite), the rollout has diverged: its later waypoints repeat that state without
+    /// solving the flow, and its violation is infinite.
     pub fn run(
         problem: &Problem,
         start: &[Vec2],
@@ -76,7 +77,7 @@ impl Rollout {
         let mut diverged = false;
         for (u, &d) in controls.iter().zip(&durations) {
             let from = states.last().expect("the start");
-            diverged |= !is_finite(from);
+            diverged |= !is_finite(from) || coincide(from);
             let path_length = if diverged {
                 valid = false;
                 out[..n].copy_from_slice(from);
@@ -235,6 +236,13 @@ impl Rollout {
 /// Every coordinate of `s` is finite.
 fn is_finite(s: &[Vec2]) -> bool {
     s.iter().all(|p| p.x.is_finite() && p.y.is_finite())
+}
+
+/// Whether two agents of `s` are at one point.
+fn coincide(s: &[Vec2]) -> bool {
+    s.iter()
+        .enumerate()
+        .any(|(i, p)| s[i + 1..].iter().any(|q| q == p))
 }
 
 /// How far state `s` is inside a wall's margin or outside the proximity range less the margin,
