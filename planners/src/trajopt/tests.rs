@@ -202,3 +202,18 @@ fn a_team_of_three_is_optimised_within_its_subproblems() {
         crate::validate_path(&p, &r.plan).expect("a valid closest approach");
     }
 }
+
+/// A rollout does not solve the flow from a pair at one point (the end of a collapse the
+/// unchecked flow let happen, where the pair force is infinite): it has diverged there, is not
+/// valid, and repeats the state.
+#[test]
+fn a_rollout_from_agents_at_one_point_has_diverged() {
+    let sc = magbench_env::scenario::parse_scenario(SLIDE, "slide").expect("a scenario");
+    let p = Problem::from_scenario(&sc, 0, None, 2);
+    let at = vec![Vec2::new(5.0, 6.0); 2];
+    let u = Control::planar(0.3, 0.0, 0.0);
+    let r = Rollout::run(&p, &at, vec![u], vec![p.periods(6)], End::Goal, 0.02);
+    assert!(!r.valid && !r.feasible);
+    assert_eq!(r.violation, f64::INFINITY);
+    assert_eq!(r.states[1], at);
+}
