@@ -489,4 +489,31 @@ mod tests {
         assert_eq!(revision("0.1.0 (git unknown)"), None);
         assert_eq!(revision("0.1.0"), None);
     }
+
+    /// A script that imports `magbench` runs the package's own Python modules besides the
+    /// binding's Rust core: the binding's measurements depend on every module, so a change to
+    /// one stales them.
+    #[test]
+    fn the_bindings_measurements_depend_on_every_module_of_the_package() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let modules: Vec<String> = std::fs::read_dir(root.join("python/magbench"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|name| name.ends_with(".py"))
+            .map(|name| format!("python/magbench/{name}"))
+            .collect();
+        assert!(!modules.is_empty(), "python/magbench holds no module");
+        for name in ["python-overhead", "python-rrt", "python-plugins"] {
+            let m = crate::docs::measures::MEASURES
+                .iter()
+                .find(|m| m.name == name)
+                .expect(name);
+            for module in &modules {
+                assert!(
+                    depends_on(m, &[], module),
+                    "{name} does not depend on {module}"
+                );
+            }
+        }
+    }
 }
