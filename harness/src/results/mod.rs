@@ -14,6 +14,7 @@
 //!
 //! docs/results.md describes the files, the lock, crash safety and `results verify`.
 
+pub mod finalize;
 pub mod lock;
 pub mod manifest;
 pub mod merge;
@@ -29,36 +30,5 @@ pub mod summary;
 pub mod traces;
 pub mod verify;
 
-use std::path::Path;
-
+pub use finalize::{finalize, finalize_with};
 pub use manifest::{MANIFEST, Manifest};
-
-use crate::Error;
-use crate::run::Status;
-
-/// Writes the derived files of a results folder from its runs: sorts `runs.csv` and
-/// `progress.csv` into run order ([`sort`], on disk), writes `runs.parquet`, `ompl.log`, the plots and
-/// `report.html`, and records
-/// the counts, end time and every file's hash in the manifest.
-pub fn finalize(dir: &Path) -> Result<(), Error> {
-    finalize_with(dir, &crate::plot::export::FigureOptions::default())
-}
-
-/// [`finalize`] with figure options (size preset, DPI, axes, PDF).
-pub fn finalize_with(dir: &Path, opts: &crate::plot::export::FigureOptions) -> Result<(), Error> {
-    let mut m = Manifest::read(dir)?;
-    sort::sort_files(dir)?;
-    let runs = store::read_runs(dir)?;
-    parquet::write(&dir.join(parquet::PARQUET), store::file_agents(dir), &runs)?;
-    let progress = traces::Traces::read(dir)?;
-    m.runs_done = runs.len();
-    m.runs_failed = runs.iter().filter(|r| r.status == Status::Crash).count();
-    m.finished = Some(manifest::now());
-    ompl::write(dir, &m, &runs, &progress)?;
-    let figures = plots::write_all_with(dir, &m, &runs, &progress, opts)?;
-    drop(progress);
-    report::write(dir, &m, &runs, &figures, opts.units)?;
-    drop(runs);
-    m.files = verify::file_hashes(dir)?;
-    m.write(dir)
-}

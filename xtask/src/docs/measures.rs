@@ -383,8 +383,11 @@ const SWEEP: &[&str] = &[
     "harness/src/experiment",
     "analysis/src/metrics",
     "harness/src/results",
+    // the module's declarations (a test checks that the file holds nothing else)
+    ":!harness/src/results/mod.rs",
     // a results folder's figures and derived files: no table depends on them (a measurement
     // that shows them declares FIGURES or DERIVED)
+    ":!harness/src/results/finalize.rs",
     ":!harness/src/results/plots.rs",
     ":!harness/src/results/report.rs",
     ":!harness/src/results/ompl",
@@ -407,11 +410,15 @@ const COST_AT_TIME: &[&str] = &["xtask/src/docs/cost_at_time.rs"];
 /// A results folder's figures, for a measurement that shows them (`figures` of a sweep).
 const FIGURES: &[&str] = &["harness/src/results/plots.rs", "plot/src/plot"];
 /// What a results folder derives from its runs for its readers besides the figures: the report
-/// page, the OMPL log, `runs.parquet`, and the index of the progress traces the figures and the
-/// log read. No table reads them (the tables read `runs.csv` and `progress.csv`; a test checks)
-/// and no console line shows them; writing them is part of a `bench` command's wall time. A
-/// measurement that shows them declares this group.
+/// page, the OMPL log, `runs.parquet`, the index of the progress traces the figures and the
+/// log read, and the step that writes them once a folder's runs are all there (after sorting
+/// its run files by `sort.rs`, of [`SWEEP`]; it records their counts and hashes in the
+/// manifest, which only `merge`, `results verify` and `results plot` print). No table reads
+/// them (the tables read `runs.csv` and `progress.csv`; a test checks) and no console line of
+/// `bench` shows them; writing them is part of a `bench` command's wall time. A measurement
+/// that shows them, or runs `merge`, `results verify` or `results plot`, declares this group.
 const DERIVED: &[&str] = &[
+    "harness/src/results/finalize.rs",
     "harness/src/results/report.rs",
     "harness/src/results/ompl",
     "harness/src/results/parquet.rs",
@@ -435,8 +442,10 @@ const CLI: &[&str] = &[
     ":!plot/src/lib.rs",
     ":!harness/src/lib.rs",
     ":!cli/src/lib.rs",
+    ":!harness/src/results/mod.rs",
     // a results folder's figures and derived files ([`FIGURES`], [`DERIVED`]): no console line
     // depends on them (writing them is part of a `bench` command's wall time)
+    ":!harness/src/results/finalize.rs",
     ":!harness/src/results/plots.rs",
     ":!harness/src/results/report.rs",
     ":!harness/src/results/ompl",
@@ -1901,6 +1910,36 @@ mod tests {
     }
 
     #[test]
+    fn a_measurement_that_prints_what_finalizing_records_declares_the_derived_files() {
+        // `merge`, `results verify` and `results plot` print the counts and hashes that
+        // finalize.rs records, in a transcript's lines or a script's argument lists
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let commands = ["merge", "results verify", "results plot"];
+        let mut printing = vec![];
+        for m in MEASURES {
+            // a script's own text (run_text adds the modules beside it)
+            let own = match m.source {
+                Python { script, .. } => std::fs::read_to_string(root.join(script)).ok(),
+                _ => m.run_text(&root),
+            };
+            let Some(text) = own else {
+                continue;
+            };
+            let runs = commands.iter().any(|c| {
+                let listed = format!("[\"{}\"", c.replace(' ', "\", \""));
+                text.lines()
+                    .any(|l| l.trim_start().starts_with(&format!("{c} ")))
+                    || text.contains(&listed)
+            });
+            if runs {
+                assert!(m.depends.contains(&DERIVED), "{}", m.name);
+                printing.push(m.name);
+            }
+        }
+        assert_eq!(printing, ["scale"]);
+    }
+
+    #[test]
     fn the_lib_rs_files_left_out_hold_only_declarations() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         for file in [
@@ -1909,12 +1948,16 @@ mod tests {
             "plot/src/lib.rs",
             "harness/src/lib.rs",
             "cli/src/lib.rs",
+            "harness/src/results/mod.rs",
         ] {
             let excluded = format!(":!{file}");
             assert!(
                 [PLANT, CLI].iter().any(|g| g.contains(&excluded.as_str())),
                 "{file} is not left out"
             );
+            if file.starts_with("harness/src/results") {
+                assert!(SWEEP.contains(&excluded.as_str()), "{file} is in SWEEP");
+            }
             let text = std::fs::read_to_string(root.join(file)).unwrap();
             for line in text.lines().map(str::trim) {
                 let declaration = ["//", "#![", "mod ", "pub mod ", "pub use "]
