@@ -11,9 +11,11 @@ started by this script, and is timed with its peak resident memory read from ``o
 - ``bench (S shards)``: the same experiment as S shards, one after another (the largest);
 - ``merge``: the S shards into one folder;
 - ``results verify``: the merged folder;
-- ``results plot``: the merged folder's derived files (plots, report, ompl.log, runs.parquet);
+- ``results plot``: the merged folder's derived files (plots, report, ompl.log, runs.parquet,
+  progress.parquet);
 - ``regress``: the merged folder against the unsharded one (against itself above
-  ``--whole-up-to``: both folders are read all the same).
+  ``--whole-up-to``: both folders are read all the same);
+- the merged folder's run files on disk: in Parquet, and in CSV.
 
 Each process is the magbench binary that ``$MAGBENCH_BIN`` names (``cargo xtask measure`` sets
 it to itself), else ``python -c "import magbench; magbench.main([...])"``, whose interpreter with
@@ -98,10 +100,9 @@ def measure(work, runs, shard_count, whole_up_to):
         rows.append(("regress", *run(["regress", whole, merged])))
     else:
         rows.append(("regress (the merged folder against itself)", *run(["regress", merged, merged])))
-    size = sum(
-        os.path.getsize(os.path.join(merged, f)) for f in ("runs.csv", "runs.parquet", "progress.csv")
-    )
-    rows.append(("files on disk: runs.csv, runs.parquet, progress.csv", None, size / 1e6))
+    for files in (("runs.parquet", "progress.parquet"), ("runs.csv", "progress.csv")):
+        size = sum(os.path.getsize(os.path.join(merged, f)) for f in files)
+        rows.append((f"files on disk: {', '.join(files)}", None, size / 1e6))
     return rows
 
 

@@ -1,7 +1,8 @@
 """Results folders (``magbench bench --out DIR``) read into Python: the runs of ``runs.csv``,
 the progress curves of ``progress.csv`` and the manifest, as plain dicts and numpy arrays
-(pandas or polars DataFrames with ``to_pandas()`` / ``to_polars()``, read from the typed
-``runs.parquet`` of a finished folder when the library can read Parquet)."""
+(pandas or polars DataFrames with ``to_pandas()`` / ``to_polars()`` and their ``progress_``
+forms, read from the typed ``runs.parquet`` and ``progress.parquet`` of a finished folder when
+the library can read Parquet)."""
 
 import csv
 import json
@@ -42,9 +43,10 @@ class Results:
       (NaN before the first solution): each run's cost-versus-iteration curve;
     - ``agent_errors(kind)``: (runs, agents) array of a per-agent error column;
     - ``manifest``: ``manifest.json`` as a dict (or None);
-    - ``parquet``: the path of the folder's ``runs.parquet`` (None before it is finalized);
+    - ``parquet``, ``progress_parquet``: the paths of the folder's ``runs.parquet`` and
+      ``progress.parquet`` (None before it is finalized);
     - ``to_pandas()`` / ``progress_to_pandas()``: DataFrames (needs pandas);
-      ``to_polars()``: the runs as a polars DataFrame (needs polars).
+      ``to_polars()`` / ``progress_to_polars()``: polars DataFrames (needs polars).
     """
 
     def __init__(self, path):
@@ -138,16 +140,43 @@ class Results:
             return pl.read_parquet(self.parquet)
         return pl.DataFrame(self.rows, schema=self.columns, orient="row", infer_schema_length=None)
 
+    @property
+    def progress_parquet(self):
+        """The path of ``progress.parquet`` (the progress traces, typed, one row a point, with
+        each column's unit in the file's ``magbench.columns`` metadata), or None when the folder
+        has none."""
+        path = os.path.join(self.path, "progress.parquet")
+        return path if os.path.isfile(path) else None
+
+    def progress_to_polars(self):
+        """The progress traces as a long polars DataFrame (run, run_id, iteration, time_s,
+        best_cost): read from ``progress.parquet`` when the folder has one, else built from
+        ``progress``."""
+        import polars as pl
+
+        if self.progress_parquet is not None:
+            return pl.read_parquet(self.progress_parquet)
+        return pl.from_pandas(self.progress_to_pandas())
+
     def progress_to_pandas(self):
-        """The progress curves as a long pandas DataFrame: run_id, iteration, time_s,
-        best_cost."""
+        """The progress traces as a long pandas DataFrame (run, run_id, iteration, time_s,
+        best_cost): read from ``progress.parquet`` when the folder has one and pyarrow is
+        installed, else built from ``progress``."""
         import pandas as pd
 
+        if self.progress_parquet is not None:
+            try:
+                import pyarrow  # noqa: F401
+            except ImportError:
+                pass
+            else:
+                return pd.read_parquet(self.progress_parquet)
+        index = {r["run_id"]: r["run"] for r in self.rows}
         frames = [
-            pd.DataFrame({"run_id": k, **v}) for k, v in self.progress.items()
+            pd.DataFrame({"run": index.get(k), "run_id": k, **v}) for k, v in self.progress.items()
         ]
         if not frames:
-            return pd.DataFrame(columns=["run_id", "iteration", "time_s", "best_cost"])
+            return pd.DataFrame(columns=["run", "run_id", "iteration", "time_s", "best_cost"])
         return pd.concat(frames, ignore_index=True)
 
     def __repr__(self):

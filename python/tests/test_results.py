@@ -54,8 +54,9 @@ def test_to_pandas():
     assert len(df) == len(res.rows) and "rms_error_bl" in df.columns
     assert list(df["seed"]) == [r["seed"] for r in res.rows]
     pdf = res.progress_to_pandas()
-    assert set(pdf.columns) == {"run_id", "iteration", "time_s", "best_cost"}
+    assert list(pdf.columns) == ["run", "run_id", "iteration", "time_s", "best_cost"]
     assert len(pdf) == sum(len(c["iteration"]) for c in res.progress.values())
+    assert res.progress_parquet is None
 
 
 def test_load_committed_baseline():
@@ -102,6 +103,34 @@ def test_the_parquet_file_holds_the_csv_runs_typed(tmp_path):
     frame = res.to_polars()
     assert isinstance(frame, pl.DataFrame) and frame.shape == (len(res), len(res.columns))
     assert frame["run_id"].to_list() == [r["run_id"] for r in res.rows]
+
+
+def test_the_progress_parquet_file_holds_the_csv_traces_typed(tmp_path):
+    import polars as pl
+    import pyarrow.parquet as pa
+
+    res = mb.bench(small_experiment(tmp_path), out=tmp_path / "out")
+    assert res.progress_parquet == str(tmp_path / "out" / "progress.parquet")
+    table = pa.read_table(res.progress_parquet)
+    assert table.column_names == ["run", "run_id", "iteration", "time_s", "best_cost"]
+    types = {f.name: str(f.type) for f in table.schema}
+    assert types == {"run": "int64", "run_id": "string", "iteration": "int64",
+                     "time_s": "double", "best_cost": "double"}
+    units = json.loads(table.schema.metadata[b"magbench.columns"])
+    assert units["time_s"]["unit"] == "s"
+    frame = res.progress_to_polars()
+    assert isinstance(frame, pl.DataFrame) and len(frame) == table.num_rows
+    # the same points as progress.csv, run by run, in order
+    for run_id, curve in res.progress.items():
+        one = frame.filter(pl.col("run_id") == run_id)
+        assert one["iteration"].to_list() == curve["iteration"].tolist()
+        assert one["time_s"].to_list() == curve["time_s"].tolist()
+        cost = one["best_cost"].fill_null(float("nan")).to_numpy()
+        assert np.array_equal(cost, curve["best_cost"], equal_nan=True)
+    runs = {r["run_id"]: r["run"] for r in res.rows}
+    assert all(runs[i] == r for i, r in zip(frame["run_id"], frame["run"]))
+    pdf = res.progress_to_pandas()
+    assert list(pdf.columns) == table.column_names and len(pdf) == table.num_rows
 
 
 def test_bench_bad_experiment(tmp_path):

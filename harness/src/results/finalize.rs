@@ -4,13 +4,13 @@
 use std::path::Path;
 
 use super::manifest::{self, Manifest};
-use super::{ompl, parquet, plots, report, sort, store, traces, verify};
+use super::{ompl, parquet, plots, progress_parquet, report, sort, store, traces, verify};
 use crate::Error;
 use crate::run::Status;
 
 /// Writes the derived files of a results folder from its runs: sorts `runs.csv` and
-/// `progress.csv` into run order ([`sort`], on disk), writes `runs.parquet`, `ompl.log`, the plots and
-/// `report.html`, and records
+/// `progress.csv` into run order ([`sort`], on disk), writes `runs.parquet` and
+/// `progress.parquet` from them, `ompl.log`, the plots and `report.html`, and records
 /// the counts, end time and every file's hash in the manifest.
 pub fn finalize(dir: &Path) -> Result<(), Error> {
     finalize_with(dir, &crate::plot::export::FigureOptions::default())
@@ -20,8 +20,19 @@ pub fn finalize(dir: &Path) -> Result<(), Error> {
 pub fn finalize_with(dir: &Path, opts: &crate::plot::export::FigureOptions) -> Result<(), Error> {
     let mut m = Manifest::read(dir)?;
     sort::sort_files(dir)?;
+    // the Parquet files are written from the sorted run files a row group at a time
+    let runs_csv = store::Snapshot::open(&dir.join(store::RUNS))?;
+    let runs_pq = dir.join(parquet::PARQUET);
+    match &runs_csv {
+        Some(s) => parquet::write(&runs_pq, store::file_agents(dir), s.runs()?)?,
+        None => parquet::write(&runs_pq, 0, std::iter::empty())?,
+    }
+    let progress_pq = dir.join(progress_parquet::PROGRESS_PARQUET);
+    match store::Snapshot::open(&dir.join(store::PROGRESS))? {
+        Some(s) => progress_parquet::write(&progress_pq, s.progress()?)?,
+        None => progress_parquet::write(&progress_pq, std::iter::empty())?,
+    }
     let runs = store::read_runs(dir)?;
-    parquet::write(&dir.join(parquet::PARQUET), store::file_agents(dir), &runs)?;
     let progress = traces::Traces::read(dir)?;
     m.runs_done = runs.len();
     m.runs_failed = runs.iter().filter(|r| r.status == Status::Crash).count();

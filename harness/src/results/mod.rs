@@ -3,7 +3,8 @@
 //! - `runs.csv`: one tidy row per run ([`crate::run::RunRecord`]);
 //! - `runs.parquet`: the same runs, typed, in Parquet ([`parquet`]), once the folder is
 //!   finalized;
-//! - `progress.csv`: the planners' progress traces;
+//! - `progress.csv`: the planners' progress traces, and `progress.parquet` the same in Parquet
+//!   ([`progress_parquet`]) once the folder is finalized;
 //! - `manifest.json`: the experiment, code revision, crate versions, host, threads, times;
 //! - `ompl.log`: the runs in OMPL's benchmark log format;
 //! - `plots/`: SVG and PNG plots;
@@ -21,6 +22,7 @@ pub mod merge;
 pub mod ompl;
 pub mod parquet;
 pub mod plots;
+pub mod progress_parquet;
 pub mod repair;
 pub mod report;
 pub mod resume;

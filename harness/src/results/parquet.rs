@@ -13,14 +13,14 @@ use std::fs::File;
 use std::path::Path;
 use std::sync::Arc;
 
-use parquet::basic::{Compression, LogicalType, Repetition, Type as Physical};
+use parquet::basic::{Compression, Encoding, LogicalType, Repetition, Type as Physical};
 use parquet::data_type::{BoolType, ByteArray, ByteArrayType, DoubleType, Int64Type};
 use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::file::writer::SerializedFileWriter;
 use parquet::record::RowAccessor;
-use parquet::schema::types::Type;
+use parquet::schema::types::{ColumnPath, Type};
 use serde_json::{Value, json};
 
 use crate::Error;
@@ -143,7 +143,8 @@ pub fn columns(agents: usize) -> Vec<Column> {
         .collect()
 }
 
-fn schema(cols: &[Column]) -> Result<Type, parquet::errors::ParquetError> {
+/// The schema named `name` of the columns `cols`.
+fn schema(name: &str, cols: &[Column]) -> Result<Type, parquet::errors::ParquetError> {
     let fields = cols
         .iter()
         .map(|c| {
@@ -165,7 +166,7 @@ fn schema(cols: &[Column]) -> Result<Type, parquet::errors::ParquetError> {
                 .map(Arc::new)
         })
         .collect::<Result<Vec<_>, _>>()?;
-    Type::group_type_builder("runs").with_fields(fields).build()
+    Type::group_type_builder(name).with_fields(fields).build()
 }
 
 /// The serde columns of `rows`, a column at a time in the order of [`RECORD`], from each row's
@@ -216,16 +217,22 @@ fn failed(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::Failed(format!("{}: {e}", path.display()))
 }
 
-/// Writes `rows` (with per-agent columns for `agents` agents) to `path` as Parquet, atomically
-/// (a temporary file, then a rename).
-pub fn write(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), Error> {
-    let cols = columns(agents);
+/// The writer properties of a magbench Parquet file with columns `cols`: Snappy compression,
+/// and the key–value metadata `magbench.columns` (each column's unit and label, JSON) and
+/// `magbench.version`; `encodings` sets a column's encoding in place of the dictionary.
+pub(super) fn properties(cols: &[Column], encodings: &[(&str, Encoding)]) -> WriterProperties {
     let meta: serde_json::Map<String, Value> = cols
         .iter()
         .map(|c| (c.name.clone(), json!({"unit": c.unit, "label": c.label})))
         .collect();
-    let props = WriterProperties::builder()
-        .set_compression(Compression::SNAPPY)
+    let mut b = WriterProperties::builder();
+    for &(name, encoding) in encodings {
+        let column = ColumnPath::from(name);
+        b = b
+            .set_column_dictionary_enabled(column.clone(), false)
+            .set_column_encoding(column, encoding);
+    }
+    b.set_compression(Compression::SNAPPY)
         .set_created_by(format!("magbench {}", env!("CARGO_PKG_VERSION")))
         .set_key_value_metadata(Some(vec![
             KeyValue::new("magbench.columns".into(), Value::Object(meta).to_string()),
@@ -234,21 +241,55 @@ pub fn write(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), Error
                 env!("CARGO_PKG_VERSION").to_string(),
             ),
         ]))
-        .build();
-    let tmp = path.with_extension("parquet.tmp");
-    let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
-    let file = File::create(&tmp).map_err(|e| failed(&tmp, e))?;
-    let mut w =
-        SerializedFileWriter::new(file, Arc::new(schema(&cols).map_err(pq)?), Arc::new(props))
-            .map_err(pq)?;
-    for group in rows.chunks(ROW_GROUP) {
-        // the serde columns of one row group at a time
-        let mut serde = serde_columns(group);
-        let mut g = w.next_row_group().map_err(pq)?;
+        .build()
+}
+
+/// A Parquet file being written to a temporary file beside `path`, renamed to `path` by
+/// [`Atomic::finish`] (a file left unfinished stays the temporary one).
+pub(super) struct Atomic {
+    writer: SerializedFileWriter<File>,
+    tmp: std::path::PathBuf,
+    path: std::path::PathBuf,
+}
+
+impl Atomic {
+    /// Starts the file at `path` with the columns `cols` in a schema named `name`, each column
+    /// dictionary-encoded but those given an encoding in `encodings`.
+    pub(super) fn create(
+        path: &Path,
+        name: &str,
+        cols: &[Column],
+        encodings: &[(&str, Encoding)],
+    ) -> Result<Atomic, Error> {
+        let tmp = path.with_extension("parquet.tmp");
+        let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
+        let file = File::create(&tmp).map_err(|e| failed(&tmp, e))?;
+        let writer = SerializedFileWriter::new(
+            file,
+            Arc::new(schema(name, cols).map_err(pq)?),
+            Arc::new(properties(cols, encodings)),
+        )
+        .map_err(pq)?;
+        Ok(Atomic {
+            writer,
+            tmp,
+            path: path.to_path_buf(),
+        })
+    }
+
+    /// Writes one row group: for each column in order, its cells (`None`: null).
+    pub(super) fn row_group(
+        &mut self,
+        cols: &[Column],
+        mut cells: impl FnMut(usize) -> Vec<Value>,
+    ) -> Result<(), Error> {
+        let tmp = self.tmp.clone();
+        let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
+        let mut g = self.writer.next_row_group().map_err(pq)?;
         let mut index = 0;
         while let Some(mut cw) = g.next_column().map_err(pq)? {
             let col = &cols[index];
-            let cells = cells(group, &mut serde, index);
+            let cells = cells(index);
             let defs: Vec<i16> = cells.iter().map(|v| i16::from(!v.is_null())).collect();
             let defs = col.nullable.then_some(defs.as_slice());
             let present = cells.iter().filter(|v| !v.is_null());
@@ -277,12 +318,42 @@ pub fn write(path: &Path, agents: usize, rows: &[RunRecord]) -> Result<(), Error
             index += 1;
         }
         g.close().map_err(pq)?;
+        Ok(())
     }
-    let file = w.into_inner().map_err(pq)?;
-    file.sync_all().map_err(|e| failed(&tmp, e))?;
-    drop(file);
-    std::fs::rename(&tmp, path).map_err(|e| failed(path, e))?;
-    super::store::sync_dir(path)
+
+    /// Closes the file, syncs it and renames it to its path.
+    pub(super) fn finish(self) -> Result<(), Error> {
+        let pq = |e: parquet::errors::ParquetError| failed(&self.tmp, e);
+        let file = self.writer.into_inner().map_err(pq)?;
+        file.sync_all().map_err(|e| failed(&self.tmp, e))?;
+        drop(file);
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| failed(&self.path, e))?;
+        super::store::sync_dir(&self.path)
+    }
+}
+
+/// Writes `rows` (with per-agent columns for `agents` agents) to `path` as Parquet, atomically
+/// (a temporary file, then a rename), a row group of [`ROW_GROUP`] runs at a time: the rows are
+/// read from `rows` as they are written, so no more than a row group is held.
+pub fn write(
+    path: &Path,
+    agents: usize,
+    rows: impl IntoIterator<Item = Result<RunRecord, Error>>,
+) -> Result<(), Error> {
+    let cols = columns(agents);
+    let mut file = Atomic::create(path, "runs", &cols, &[])?;
+    let mut rows = rows.into_iter().peekable();
+    let mut group = Vec::with_capacity(ROW_GROUP.min(1024));
+    while rows.peek().is_some() {
+        group.clear();
+        for r in rows.by_ref().take(ROW_GROUP) {
+            group.push(r?);
+        }
+        // the serde columns of one row group at a time
+        let mut serde = serde_columns(&group);
+        file.row_group(&cols, |index| cells(&group, &mut serde, index))?;
+    }
+    file.finish()
 }
 
 /// What [`check`] reads of a `runs.parquet`.
@@ -351,7 +422,7 @@ mod tests {
             })
             .collect();
         let path = dir.path().join(PARQUET);
-        write(&path, 0, &rows).unwrap();
+        write(&path, 0, rows.iter().cloned().map(Ok)).unwrap();
         let s = check(&path).unwrap();
         assert_eq!(s.rows, 5);
         assert_eq!(s.columns.join(","), store::runs_header(0));

@@ -392,6 +392,7 @@ const SWEEP: &[&str] = &[
     ":!harness/src/results/report.rs",
     ":!harness/src/results/ompl",
     ":!harness/src/results/parquet.rs",
+    ":!harness/src/results/progress_parquet.rs",
     ":!harness/src/results/traces.rs",
     "analysis/src/stats",
     "analysis/src/table.rs",
@@ -410,7 +411,7 @@ const COST_AT_TIME: &[&str] = &["xtask/src/docs/cost_at_time.rs"];
 /// A results folder's figures, for a measurement that shows them (`figures` of a sweep).
 const FIGURES: &[&str] = &["harness/src/results/plots.rs", "plot/src/plot"];
 /// What a results folder derives from its runs for its readers besides the figures: the report
-/// page, the OMPL log, `runs.parquet`, the index of the progress traces the figures and the
+/// page, the OMPL log, `runs.parquet` and `progress.parquet`, the index of the progress traces the figures and the
 /// log read, and the step that writes them once a folder's runs are all there (after sorting
 /// its run files by `sort.rs`, of [`SWEEP`]; it records their counts and hashes in the
 /// manifest, which only `merge`, `results verify` and `results plot` print). No table reads
@@ -422,6 +423,7 @@ const DERIVED: &[&str] = &[
     "harness/src/results/report.rs",
     "harness/src/results/ompl",
     "harness/src/results/parquet.rs",
+    "harness/src/results/progress_parquet.rs",
     "harness/src/results/traces.rs",
 ];
 /// The table of a suite's families.
@@ -450,6 +452,7 @@ const CLI: &[&str] = &[
     ":!harness/src/results/report.rs",
     ":!harness/src/results/ompl",
     ":!harness/src/results/parquet.rs",
+    ":!harness/src/results/progress_parquet.rs",
     ":!harness/src/results/traces.rs",
     // a replay page's data, packing and player (and the module's declarations): written into
     // pages, never printed
@@ -1887,8 +1890,13 @@ mod tests {
         }
         // what a table module would name to read a derived file (the figures' file names are
         // read by the measurements that show figures, which declare FIGURES)
-        let modules = ["report", "ompl", "parquet", "traces"];
-        let files = ["report.html", "ompl.log", "runs.parquet"];
+        let modules = ["report", "ompl", "parquet", "progress_parquet", "traces"];
+        let files = [
+            "report.html",
+            "ompl.log",
+            "runs.parquet",
+            "progress.parquet",
+        ];
         let docs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/docs");
         for e in std::fs::read_dir(&docs).unwrap() {
             let path = e.unwrap().path();

@@ -1,0 +1,151 @@
+//! `progress.parquet`: a finished folder's progress traces in Parquet, beside `progress.csv`,
+//! as `runs.parquet` holds its runs ([`super::parquet`]). `progress.csv` stays the crash-safe
+//! record; this file is written from it when the folder is finalized, in its order (by run,
+//! then iteration and time), a row group of [`ROW_GROUP`] points at a time, so no more than a
+//! row group is held whatever the number of runs.
+//!
+//! The columns are `progress.csv`'s: `run` and `iteration` (64-bit integers), `run_id`
+//! (text), `time_s` and `best_cost` (doubles; `best_cost` null before the run's first
+//! solution), with the same `magbench.columns` and `magbench.version` metadata as
+//! `runs.parquet`.
+
+use std::path::Path;
+
+use parquet::basic::Encoding;
+use serde_json::{Value, json};
+
+use super::parquet::{Atomic, Column, Kind};
+use crate::Error;
+use crate::run::ProgressRow;
+
+/// `progress.parquet`.
+pub const PROGRESS_PARQUET: &str = "progress.parquet";
+/// Trace points per row group.
+pub const ROW_GROUP: usize = 262_144;
+
+/// The columns not dictionary-encoded, and their encodings.
+const ENCODINGS: &[(&str, Encoding)] = &[
+    ("iteration", Encoding::DELTA_BINARY_PACKED),
+    ("time_s", Encoding::BYTE_STREAM_SPLIT),
+    ("run", Encoding::DELTA_BINARY_PACKED),
+];
+
+/// The columns of the file, in `progress.csv`'s order.
+pub fn columns() -> Vec<Column> {
+    let column = |name: &str, kind, nullable, unit, label| Column {
+        name: name.into(),
+        kind,
+        nullable,
+        unit,
+        label,
+    };
+    vec![
+        column("run", Kind::Int, false, "", "the run's index"),
+        column("run_id", Kind::Text, false, "", "the run's id"),
+        column("iteration", Kind::Int, false, "", "iterations done"),
+        column(
+            "time_s",
+            Kind::Float,
+            false,
+            "s",
+            "seconds since the start of planning",
+        ),
+        column(
+            "best_cost",
+            Kind::Float,
+            true,
+            "",
+            "best exact-solution cost so far (in the unit of the run's objective)",
+        ),
+    ]
+}
+
+/// The cells of column `index` of `rows`.
+fn cells(rows: &[ProgressRow], index: usize) -> Vec<Value> {
+    rows.iter()
+        .map(|r| match index {
+            0 => json!(r.run),
+            1 => json!(r.run_id),
+            2 => json!(r.iteration),
+            3 => json!(r.time_s),
+            _ => r.best_cost.map_or(Value::Null, |c| json!(c)),
+        })
+        .collect()
+}
+
+/// Writes `rows` to `path` as Parquet, atomically (a temporary file, then a rename), a row
+/// group of [`ROW_GROUP`] points at a time, read from `rows` as they are written.
+pub fn write(
+    path: &Path,
+    rows: impl IntoIterator<Item = Result<ProgressRow, Error>>,
+) -> Result<(), Error> {
+    let cols = columns();
+    let mut file = Atomic::create(path, "progress", &cols, ENCODINGS)?;
+    let mut rows = rows.into_iter().peekable();
+    let mut group = Vec::with_capacity(ROW_GROUP.min(4096));
+    while rows.peek().is_some() {
+        group.clear();
+        for r in rows.by_ref().take(ROW_GROUP) {
+            group.push(r?);
+        }
+        file.row_group(&cols, |index| cells(&group, index))?;
+    }
+    file.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::store;
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::RowAccessor;
+
+    #[test]
+    fn the_columns_are_the_csv_header() {
+        let names: Vec<String> = columns().into_iter().map(|c| c.name).collect();
+        assert_eq!(names.join(","), store::progress_header());
+    }
+
+    #[test]
+    fn points_round_trip_with_their_empty_costs_across_row_groups() {
+        let dir = tempfile::tempdir().unwrap();
+        let rows: Vec<ProgressRow> = (0..ROW_GROUP + 3)
+            .map(|i| ProgressRow {
+                run: i / 7,
+                run_id: format!("r{}", i / 7),
+                iteration: (i % 7) as u64,
+                time_s: 0.5 * i as f64,
+                best_cost: (i % 3 != 0).then_some(i as f64),
+            })
+            .collect();
+        let path = dir.path().join(PROGRESS_PARQUET);
+        write(&path, rows.iter().cloned().map(Ok)).unwrap();
+        let reader = SerializedFileReader::new(std::fs::File::open(&path).unwrap()).unwrap();
+        assert_eq!(reader.metadata().num_row_groups(), 2);
+        let read: Vec<ProgressRow> = reader
+            .get_row_iter(None)
+            .unwrap()
+            .map(|r| {
+                let r = r.unwrap();
+                ProgressRow {
+                    run: r.get_long(0).unwrap() as usize,
+                    run_id: r.get_string(1).unwrap().clone(),
+                    iteration: r.get_long(2).unwrap() as u64,
+                    time_s: r.get_double(3).unwrap(),
+                    best_cost: r.get_double(4).ok(),
+                }
+            })
+            .collect();
+        assert_eq!(read, rows);
+        assert!(!dir.path().join("progress.parquet.tmp").exists());
+    }
+
+    #[test]
+    fn a_bad_row_stops_the_write_and_leaves_no_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(PROGRESS_PARQUET);
+        let bad = Error::Failed("row 2: bad".into());
+        assert!(write(&path, [Err(bad)]).is_err());
+        assert!(!path.exists());
+    }
+}
