@@ -20,20 +20,19 @@ pub fn finalize(dir: &Path) -> Result<(), Error> {
 pub fn finalize_with(dir: &Path, opts: &crate::plot::export::FigureOptions) -> Result<(), Error> {
     let mut m = Manifest::read(dir)?;
     sort::sort_files(dir)?;
-    // the Parquet files are written from the sorted run files a row group at a time
+    // the Parquet files are written from the sorted run files, a row group at a time
     let runs_csv = store::Snapshot::open(&dir.join(store::RUNS))?;
     let runs_pq = dir.join(parquet::PARQUET);
     match &runs_csv {
         Some(s) => parquet::write(&runs_pq, store::file_agents(dir), s.runs()?)?,
         None => parquet::write(&runs_pq, 0, std::iter::empty())?,
     }
-    let progress_pq = dir.join(progress_parquet::PROGRESS_PARQUET);
-    match store::Snapshot::open(&dir.join(store::PROGRESS))? {
-        Some(s) => progress_parquet::write(&progress_pq, s.progress()?)?,
-        None => progress_parquet::write(&progress_pq, std::iter::empty())?,
-    }
+    // the traces' index and progress.parquet, from one pass over progress.csv
+    let mut progress_pq =
+        progress_parquet::Writer::create(&dir.join(progress_parquet::PROGRESS_PARQUET))?;
+    let progress = traces::Traces::read_each(dir, |row| progress_pq.push(row))?;
+    progress_pq.finish()?;
     let runs = store::read_runs(dir)?;
-    let progress = traces::Traces::read(dir)?;
     m.runs_done = runs.len();
     m.runs_failed = runs.iter().filter(|r| r.status == Status::Crash).count();
     m.finished = Some(manifest::now());

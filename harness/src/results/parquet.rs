@@ -89,6 +89,51 @@ pub struct Column {
     pub label: &'static str,
 }
 
+/// The values of one column of a row group, of its type, without its nulls.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Values {
+    /// Text.
+    Text(Vec<ByteArray>),
+    /// 64-bit integers.
+    Int(Vec<i64>),
+    /// Booleans.
+    Bool(Vec<bool>),
+    /// Doubles.
+    Float(Vec<f64>),
+}
+
+/// One column's cells in a row group: its values, and for a nullable column whether each cell
+/// holds one (1) or is null (0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cells {
+    /// The values present, in row order.
+    pub values: Values,
+    /// Per row, 1 where a value is present and 0 where the cell is null; `None` for a column
+    /// that cannot be null.
+    pub present: Option<Vec<i16>>,
+}
+
+impl Cells {
+    /// The cells of column `col` from their JSON values (null: an empty cell).
+    fn from_json(col: &Column, cells: &[Value]) -> Cells {
+        let present = cells.iter().filter(|v| !v.is_null());
+        let values = match col.kind {
+            Kind::Text => Values::Text(
+                present
+                    .map(|v| ByteArray::from(v.as_str().unwrap_or_default()))
+                    .collect(),
+            ),
+            Kind::Int => Values::Int(present.map(|v| v.as_i64().unwrap_or_default()).collect()),
+            Kind::Bool => Values::Bool(present.map(|v| v.as_bool().unwrap_or_default()).collect()),
+            Kind::Float => Values::Float(present.map(|v| v.as_f64().unwrap_or(f64::NAN)).collect()),
+        };
+        let present = col
+            .nullable
+            .then(|| cells.iter().map(|v| i16::from(!v.is_null())).collect());
+        Cells { values, present }
+    }
+}
+
 /// The columns of a file with per-agent columns for `agents` agents, in `runs.csv`'s order.
 pub fn columns(agents: usize) -> Vec<Column> {
     let record = RECORD.iter().map(|&(name, kind, nullable)| Column {
@@ -277,41 +322,20 @@ impl Atomic {
         })
     }
 
-    /// Writes one row group: for each column in order, its cells (`None`: null).
-    pub(super) fn row_group(
-        &mut self,
-        cols: &[Column],
-        mut cells: impl FnMut(usize) -> Vec<Value>,
-    ) -> Result<(), Error> {
+    /// Writes one row group: `cells(i)` gives column `i`'s cells, for each column in order.
+    pub(super) fn row_group(&mut self, mut cells: impl FnMut(usize) -> Cells) -> Result<(), Error> {
         let tmp = self.tmp.clone();
         let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
         let mut g = self.writer.next_row_group().map_err(pq)?;
         let mut index = 0;
         while let Some(mut cw) = g.next_column().map_err(pq)? {
-            let col = &cols[index];
-            let cells = cells(index);
-            let defs: Vec<i16> = cells.iter().map(|v| i16::from(!v.is_null())).collect();
-            let defs = col.nullable.then_some(defs.as_slice());
-            let present = cells.iter().filter(|v| !v.is_null());
-            match col.kind {
-                Kind::Text => {
-                    let v: Vec<ByteArray> = present
-                        .map(|v| ByteArray::from(v.as_str().unwrap_or_default()))
-                        .collect();
-                    cw.typed::<ByteArrayType>().write_batch(&v, defs, None)
-                }
-                Kind::Int => {
-                    let v: Vec<i64> = present.map(|v| v.as_i64().unwrap_or_default()).collect();
-                    cw.typed::<Int64Type>().write_batch(&v, defs, None)
-                }
-                Kind::Bool => {
-                    let v: Vec<bool> = present.map(|v| v.as_bool().unwrap_or_default()).collect();
-                    cw.typed::<BoolType>().write_batch(&v, defs, None)
-                }
-                Kind::Float => {
-                    let v: Vec<f64> = present.map(|v| v.as_f64().unwrap_or(f64::NAN)).collect();
-                    cw.typed::<DoubleType>().write_batch(&v, defs, None)
-                }
+            let Cells { values, present } = cells(index);
+            let defs = present.as_deref();
+            match values {
+                Values::Text(v) => cw.typed::<ByteArrayType>().write_batch(&v, defs, None),
+                Values::Int(v) => cw.typed::<Int64Type>().write_batch(&v, defs, None),
+                Values::Bool(v) => cw.typed::<BoolType>().write_batch(&v, defs, None),
+                Values::Float(v) => cw.typed::<DoubleType>().write_batch(&v, defs, None),
             }
             .map_err(pq)?;
             cw.close().map_err(pq)?;
@@ -351,7 +375,7 @@ pub fn write(
         }
         // the serde columns of one row group at a time
         let mut serde = serde_columns(&group);
-        file.row_group(&cols, |index| cells(&group, &mut serde, index))?;
+        file.row_group(|index| Cells::from_json(&cols[index], &cells(&group, &mut serde, index)))?;
     }
     file.finish()
 }

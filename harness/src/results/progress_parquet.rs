@@ -12,9 +12,8 @@
 use std::path::Path;
 
 use parquet::basic::Encoding;
-use serde_json::{Value, json};
 
-use super::parquet::{Atomic, Column, Kind};
+use super::parquet::{Atomic, Cells, Column, Kind, Values};
 use crate::Error;
 use crate::run::ProgressRow;
 
@@ -60,37 +59,76 @@ pub fn columns() -> Vec<Column> {
     ]
 }
 
-/// The cells of column `index` of `rows`.
-fn cells(rows: &[ProgressRow], index: usize) -> Vec<Value> {
-    rows.iter()
-        .map(|r| match index {
-            0 => json!(r.run),
-            1 => json!(r.run_id),
-            2 => json!(r.iteration),
-            3 => json!(r.time_s),
-            _ => r.best_cost.map_or(Value::Null, |c| json!(c)),
+/// The cells of column `index` of `rows`, typed as [`columns`] gives them.
+fn cells(rows: &[ProgressRow], index: usize) -> Cells {
+    let values = match index {
+        0 => Values::Int(rows.iter().map(|r| r.run as i64).collect()),
+        1 => Values::Text(rows.iter().map(|r| r.run_id.as_str().into()).collect()),
+        2 => Values::Int(rows.iter().map(|r| r.iteration as i64).collect()),
+        3 => Values::Float(rows.iter().map(|r| r.time_s).collect()),
+        _ => Values::Float(rows.iter().filter_map(|r| r.best_cost).collect()),
+    };
+    let present = (index == 4).then(|| {
+        rows.iter()
+            .map(|r| i16::from(r.best_cost.is_some()))
+            .collect()
+    });
+    Cells { values, present }
+}
+
+/// A `progress.parquet` being written, a row group of [`ROW_GROUP`] points at a time: points
+/// are pushed in order and a row group is written whenever one is full, so that the writer
+/// holds no more than a row group.
+pub struct Writer {
+    file: Atomic,
+    group: Vec<ProgressRow>,
+}
+
+impl Writer {
+    /// Starts the file at `path` (written to a temporary file, renamed by [`Writer::finish`]).
+    pub fn create(path: &Path) -> Result<Writer, Error> {
+        Ok(Writer {
+            file: Atomic::create(path, "progress", &columns(), ENCODINGS)?,
+            group: Vec::with_capacity(ROW_GROUP.min(4096)),
         })
-        .collect()
+    }
+
+    /// Adds the next point.
+    pub fn push(&mut self, row: ProgressRow) -> Result<(), Error> {
+        self.group.push(row);
+        if self.group.len() == ROW_GROUP {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<(), Error> {
+        if !self.group.is_empty() {
+            let group = &self.group;
+            self.file.row_group(|index| cells(group, index))?;
+            self.group.clear();
+        }
+        Ok(())
+    }
+
+    /// Writes the last row group, syncs the file and renames it to its path.
+    pub fn finish(mut self) -> Result<(), Error> {
+        self.flush()?;
+        self.file.finish()
+    }
 }
 
 /// Writes `rows` to `path` as Parquet, atomically (a temporary file, then a rename), a row
-/// group of [`ROW_GROUP`] points at a time, read from `rows` as they are written.
+/// group at a time ([`Writer`]); the first error stops it and leaves no file at `path`.
 pub fn write(
     path: &Path,
     rows: impl IntoIterator<Item = Result<ProgressRow, Error>>,
 ) -> Result<(), Error> {
-    let cols = columns();
-    let mut file = Atomic::create(path, "progress", &cols, ENCODINGS)?;
-    let mut rows = rows.into_iter().peekable();
-    let mut group = Vec::with_capacity(ROW_GROUP.min(4096));
-    while rows.peek().is_some() {
-        group.clear();
-        for r in rows.by_ref().take(ROW_GROUP) {
-            group.push(r?);
-        }
-        file.row_group(&cols, |index| cells(&group, index))?;
+    let mut w = Writer::create(path)?;
+    for r in rows {
+        w.push(r?)?;
     }
-    file.finish()
+    w.finish()
 }
 
 #[cfg(test)]

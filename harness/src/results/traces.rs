@@ -79,6 +79,15 @@ impl Traces {
     /// The index of the complete rows of the `progress.csv` of `dir` (none without the file),
     /// read one row at a time; every row is checked here, so that [`Traces::get`] only reads.
     pub fn read(dir: &Path) -> Result<Self, Error> {
+        Traces::read_each(dir, |_| Ok(()))
+    }
+
+    /// [`Traces::read`], handing each row to `each` as it is read (in the file's order): a
+    /// reader of every row, such as [`super::progress_parquet::Writer`], shares the one pass.
+    pub fn read_each(
+        dir: &Path,
+        mut each: impl FnMut(ProgressRow) -> Result<(), Error>,
+    ) -> Result<Self, Error> {
         let path = dir.join(PROGRESS);
         let Some(s) = Snapshot::open(&path)? else {
             return Ok(Traces::default());
@@ -108,6 +117,7 @@ impl Traces {
                     rows: 1,
                 }),
             }
+            each(p)?;
         }
         // a run's stretches stay in file order (the sort is stable)
         stretches.sort_by_key(|s| s.run);
@@ -197,7 +207,13 @@ mod tests {
         text.push('\n');
         text.push_str(std::str::from_utf8(&super::super::store::progress_bytes(&rows)).unwrap());
         std::fs::write(dir.path().join(PROGRESS), text).unwrap();
-        let file = Traces::read(dir.path()).unwrap();
+        let mut each = vec![];
+        let file = Traces::read_each(dir.path(), |r| {
+            each.push(r);
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(each, rows, "every row handed on, in the file's order");
         let memory = Traces::from_rows(&rows);
         for run in 0..4 {
             assert_eq!(
@@ -220,5 +236,8 @@ mod tests {
         std::fs::write(dir.path().join(PROGRESS), text).unwrap();
         let e = Traces::read(dir.path()).unwrap_err().to_string();
         assert!(e.contains("progress.csv") && e.contains("row 2"), "{e}");
+        // an error of the reader of each row stops the read with it
+        let e = Traces::read_each(dir.path(), |_| Err(Error::Failed("full".into())));
+        assert_eq!(e.unwrap_err().to_string(), Error::Failed("full".into()).to_string());
     }
 }
