@@ -455,6 +455,20 @@ fn verify_names_what_is_wrong_and_exits_2_on_bad_input() {
     resume_ok(&exp, &clean);
     assert_eq!(std::fs::read(&parquet).unwrap(), whole);
     assert!(verify(&clean).status.success());
+    // a torn progress.parquet is named by its hash; a resume writes it whole again
+    let progress = clean.join("progress.parquet");
+    let whole = std::fs::read(&progress).unwrap();
+    std::fs::write(&progress, &whole[..whole.len() / 2]).unwrap();
+    let o = verify(&clean);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        report.contains("files changed since the folder was finalized: progress.parquet"),
+        "{report}"
+    );
+    resume_ok(&exp, &clean);
+    assert_eq!(std::fs::read(&progress).unwrap(), whole);
+    assert!(verify(&clean).status.success());
     // a doubled row, a changed plot
     let runs = std::fs::read_to_string(clean.join("runs.csv")).unwrap();
     let last = runs.lines().last().unwrap();

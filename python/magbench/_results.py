@@ -32,6 +32,25 @@ def _value(text):
         return text
 
 
+def _read_parquet(path, read):
+    """``read(path)``, with a file that does not read as Parquet (torn, or not Parquet) raised
+    as ``InputError`` naming the file and the reason."""
+    try:
+        return read(path)
+    except ImportError:
+        raise
+    except Exception as e:  # the library's own error type (pyarrow's, polars')
+        from ._magbench import InputError
+
+        reason = (
+            f"does not read as Parquet ({type(e).__name__}: {e}); "
+            "`magbench results plot` on the folder writes it again from the CSV files"
+        )
+        err = InputError(f"{path}: Parquet: {reason}")
+        err.file, err.field, err.reason = path, "Parquet", reason
+        raise err from e
+
+
 class Results:
     """A results folder.
 
@@ -128,7 +147,7 @@ class Results:
             except ImportError:
                 pass
             else:
-                return pd.read_parquet(self.parquet)
+                return _read_parquet(self.parquet, pd.read_parquet)
         return pd.DataFrame(self.rows, columns=self.columns)
 
     def to_polars(self):
@@ -137,7 +156,7 @@ class Results:
         import polars as pl
 
         if self.parquet is not None:
-            return pl.read_parquet(self.parquet)
+            return _read_parquet(self.parquet, pl.read_parquet)
         return pl.DataFrame(self.rows, schema=self.columns, orient="row", infer_schema_length=None)
 
     @property
@@ -155,7 +174,7 @@ class Results:
         import polars as pl
 
         if self.progress_parquet is not None:
-            return pl.read_parquet(self.progress_parquet)
+            return _read_parquet(self.progress_parquet, pl.read_parquet)
         return pl.from_pandas(self.progress_to_pandas())
 
     def progress_to_pandas(self):
@@ -170,7 +189,7 @@ class Results:
             except ImportError:
                 pass
             else:
-                return pd.read_parquet(self.progress_parquet)
+                return _read_parquet(self.progress_parquet, pd.read_parquet)
         index = {r["run_id"]: r["run"] for r in self.rows}
         frames = [
             pd.DataFrame({"run": index.get(k), "run_id": k, **v}) for k, v in self.progress.items()

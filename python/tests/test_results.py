@@ -133,6 +133,25 @@ def test_the_progress_parquet_file_holds_the_csv_traces_typed(tmp_path):
     assert list(pdf.columns) == table.column_names and len(pdf) == table.num_rows
 
 
+def test_a_torn_parquet_file_is_an_input_error_naming_it(tmp_path):
+    pytest.importorskip("pandas")
+    pytest.importorskip("pyarrow")
+    pytest.importorskip("polars")
+    res = mb.bench(small_experiment(tmp_path), out=tmp_path / "out")
+    for path, reads in [
+        (res.parquet, [res.to_pandas, res.to_polars]),
+        (res.progress_parquet, [res.progress_to_pandas, res.progress_to_polars]),
+    ]:
+        whole = open(path, "rb").read()
+        with open(path, "wb") as f:
+            f.write(whole[: len(whole) // 2])
+        for read in reads:
+            with pytest.raises(mb.InputError) as e:
+                read()
+            assert e.value.file == path and e.value.field == "Parquet"
+            assert "does not read as Parquet" in e.value.reason and path in str(e.value)
+
+
 def test_bench_bad_experiment(tmp_path):
     f = tmp_path / "bad.toml"
     f.write_text('name = "bad"\nscenarios = ["open-field"]\nplanners = ["no-such-planner"]\nseeds = 1\n[limits]\niterations = 10\n')
