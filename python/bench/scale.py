@@ -3,8 +3,10 @@ commands against the number of runs.
 
 For each size N (``N`` or ``N/S``: N runs in S shards, 10 unless given), with the harness's
 fake executor (synthetic runs through the whole sweep machinery: five planners tracked by one
-tracker, 51 progress points per run; no planning), each command runs in its own process,
-started by this script, and is timed with its peak resident memory read from ``os.wait4``:
+tracker, 51 progress points per run; no planning), or with ``--real`` real planning runs (the
+seed's goal-zoom RRT, as it is and straightened, on the four built-in pair mazes; N a multiple
+of 8), each command runs in its own process, started by this script, and is timed with its
+peak resident memory read from ``os.wait4``:
 
 - ``bench``: the N runs in one folder (``--replays none``, 2 threads), for N up to
   ``--whole-up-to``;
@@ -21,9 +23,9 @@ Each process is the magbench binary that ``$MAGBENCH_BIN`` names (``cargo xtask 
 it to itself), else ``python -c "import magbench; magbench.main([...])"``, whose interpreter with
 numpy (the row ``import magbench``) is then part of every figure.
 
-Usage: python python/bench/scale.py [--runs N[/S] ...] [--whole-up-to N] [--work DIR]
+Usage: python python/bench/scale.py [--runs N[/S] ...] [--whole-up-to N] [--real] [--work DIR]
 
-`cargo xtask measure --only scale` keeps the table.
+`cargo xtask measure --only scale` keeps the table, and `--only scale-real` the real runs'.
 """
 
 import argparse
@@ -73,10 +75,28 @@ def experiment(work, runs):
     return path
 
 
-def measure(work, runs, shard_count, whole_up_to):
-    """The table rows of size ``runs`` in ``shard_count`` shards."""
-    exp = experiment(work, runs)
-    fake = ["--executor", "fake", "--quiet", "--replays", "none", "--threads", "2"]
+def real_experiment(work, runs):
+    """An experiment file of ``runs`` real planning runs: the seed's goal-zoom RRT, as it is and
+    with its plans straightened, on the four built-in pair mazes, so eight runs a seed (the
+    planner's first solution ends a run; 20,000 iterations or 1 s at most)."""
+    path = os.path.join(work, "scale-real.toml")
+    with open(path, "w") as f:
+        f.write(
+            'name = "scale-real"\n'
+            'scenarios = ["open-field", "micro-factory", "narrow-passage", "cargo-delivery"]\n'
+            'planners = ["goal-zoom-rrt", "goal-zoom-rrt{straighten=true}"]\n'
+            f"seeds = {max(1, runs // 8)}\n"
+            "[limits]\niterations = 20000\ntime = 1.0\n"
+        )
+    return path
+
+
+def measure(work, runs, shard_count, whole_up_to, real):
+    """The table rows of size ``runs`` in ``shard_count`` shards (real runs if ``real``)."""
+    exp = (real_experiment if real else experiment)(work, runs)
+    fake = ["--quiet", "--replays", "none", "--threads", "2"]
+    if not real:
+        fake = ["--executor", "fake", *fake]
     rows = []
     whole = None
     if runs <= whole_up_to:
@@ -100,6 +120,10 @@ def measure(work, runs, shard_count, whole_up_to):
         rows.append(("regress", *run(["regress", whole, merged])))
     else:
         rows.append(("regress (the merged folder against itself)", *run(["regress", merged, merged])))
+    with open(os.path.join(merged, "runs.csv"), "rb") as f:
+        rows_merged = sum(1 for _ in f) - 1
+    if rows_merged != runs:
+        raise SystemExit(f"{merged}: {rows_merged} runs, not {runs} (give N as a multiple of a seed's runs)")
     for files in (("runs.parquet", "progress.parquet"), ("runs.csv", "progress.csv")):
         size = sum(os.path.getsize(os.path.join(merged, f)) for f in files)
         rows.append((f"files on disk: {', '.join(files)}", None, size / 1e6))
@@ -111,6 +135,7 @@ def main():
     ap.add_argument("--runs", nargs="+", default=["10000", "100000"], help="N or N/S: N runs in S shards")
     ap.add_argument("--whole-up-to", type=int, default=WHOLE_UP_TO, help="largest N also run unsharded")
     ap.add_argument("--work", default=None)
+    ap.add_argument("--real", action="store_true", help="real planning runs instead of the fake executor's")
     a = ap.parse_args()
     work = a.work or tempfile.mkdtemp(prefix="magbench-scale-")
     base_wall, base_peak = run([])
@@ -124,7 +149,7 @@ def main():
         d = os.path.join(work, str(n))
         shutil.rmtree(d, ignore_errors=True)
         os.makedirs(d)
-        for what, wall, peak in measure(d, n, s, a.whole_up_to):
+        for what, wall, peak in measure(d, n, s, a.whole_up_to, a.real):
             if wall is None:
                 print(f"| {n} | {what} | – | {peak:.1f} MB on disk | {1e3 * peak / n:.2f} kB on disk |")
             else:

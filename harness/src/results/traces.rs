@@ -238,6 +238,9 @@ mod tests {
         assert!(e.contains("progress.csv") && e.contains("row 2"), "{e}");
         // an error of the reader of each row stops the read with it
         let e = Traces::read_each(dir.path(), |_| Err(Error::Failed("full".into())));
-        assert_eq!(e.unwrap_err().to_string(), Error::Failed("full".into()).to_string());
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            Error::Failed("full".into()).to_string()
+        );
     }
 }

@@ -1438,6 +1438,16 @@ pub static MEASURES: &[Measure] = &[
         depends: &[CLI, REGRESS, FIGURES, DERIVED],
     },
     Measure {
+        name: "scale-real",
+        source: Python {
+            script: "python/bench/scale.py",
+            args: &["--real", "--runs", "10000", "--whole-up-to", "0"],
+            quick_args: &["--real", "--runs", "400", "--whole-up-to", "0"],
+        },
+        feature: None,
+        depends: &[PLANT, PLANNING, TRACKING, CLI, REGRESS, FIGURES, DERIVED],
+    },
+    Measure {
         name: "python-overhead",
         source: Python {
             script: "python/bench/overhead.py",
@@ -1827,6 +1837,16 @@ mod tests {
         }
     }
 
+    /// Whether `m` runs the magbench command `command` (its first words): in a transcript's
+    /// step, or in an argument list of its script (`["results", "verify", …`).
+    fn runs_command(m: &Measure, command: &str) -> bool {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let listed = format!("[\"{}\"", command.replace(' ', "\", \""));
+        transcript_runs(m, command)
+            || matches!(&m.source, Python { script, .. } if std::fs::read_to_string(root.join(script))
+                .is_ok_and(|t| t.contains(&listed)))
+    }
+
     #[test]
     fn no_transcript_runs_the_scenario_command_that_cli_leaves_out() {
         for m in MEASURES {
@@ -1838,18 +1858,14 @@ mod tests {
     /// [`REGRESS`].
     #[test]
     fn every_measurement_that_runs_regress_depends_on_it() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let mut running = 0;
         for m in MEASURES {
-            let runs = transcript_runs(m, "regress")
-                || matches!(&m.source, Python { script, .. } if std::fs::read_to_string(root.join(script))
-                    .is_ok_and(|t| t.contains("\"regress\"")));
-            if runs {
+            if runs_command(m, "regress") {
                 running += 1;
                 assert!(m.depends.contains(&REGRESS), "{} runs regress", m.name);
             }
         }
-        assert_eq!(running, 1);
+        assert_eq!(running, 2);
     }
 
     #[test]
@@ -1920,31 +1936,16 @@ mod tests {
     #[test]
     fn a_measurement_that_prints_what_finalizing_records_declares_the_derived_files() {
         // `merge`, `results verify` and `results plot` print the counts and hashes that
-        // finalize.rs records, in a transcript's lines or a script's argument lists
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        // finalize.rs records
         let commands = ["merge", "results verify", "results plot"];
         let mut printing = vec![];
         for m in MEASURES {
-            // a script's own text (run_text adds the modules beside it)
-            let own = match m.source {
-                Python { script, .. } => std::fs::read_to_string(root.join(script)).ok(),
-                _ => m.run_text(&root),
-            };
-            let Some(text) = own else {
-                continue;
-            };
-            let runs = commands.iter().any(|c| {
-                let listed = format!("[\"{}\"", c.replace(' ', "\", \""));
-                text.lines()
-                    .any(|l| l.trim_start().starts_with(&format!("{c} ")))
-                    || text.contains(&listed)
-            });
-            if runs {
+            if commands.iter().any(|c| runs_command(m, c)) {
                 assert!(m.depends.contains(&DERIVED), "{}", m.name);
                 printing.push(m.name);
             }
         }
-        assert_eq!(printing, ["scale"]);
+        assert_eq!(printing, ["scale", "scale-real"]);
     }
 
     #[test]
