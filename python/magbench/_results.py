@@ -37,7 +37,7 @@ def _read_parquet(path, read):
     as ``InputError`` naming the file and the reason."""
     try:
         return read(path)
-    except ImportError:
+    except (ImportError, MemoryError):
         raise
     except Exception as e:  # the library's own error type (pyarrow's, polars')
         from ._magbench import InputError

@@ -290,9 +290,10 @@ pub(super) fn properties(cols: &[Column], encodings: &[(&str, Encoding)]) -> Wri
 }
 
 /// A Parquet file being written to a temporary file beside `path`, renamed to `path` by
-/// [`Atomic::finish`] (a file left unfinished stays the temporary one).
+/// [`Atomic::finish`]; a file dropped unfinished (an error on the way) is removed.
 pub(super) struct Atomic {
-    writer: SerializedFileWriter<File>,
+    /// `None` once [`Atomic::finish`] has taken it.
+    writer: Option<SerializedFileWriter<File>>,
     tmp: std::path::PathBuf,
     path: std::path::PathBuf,
 }
@@ -308,15 +309,15 @@ impl Atomic {
     ) -> Result<Atomic, Error> {
         let tmp = path.with_extension("parquet.tmp");
         let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
+        let schema = Arc::new(schema(name, cols).map_err(pq)?);
         let file = File::create(&tmp).map_err(|e| failed(&tmp, e))?;
-        let writer = SerializedFileWriter::new(
-            file,
-            Arc::new(schema(name, cols).map_err(pq)?),
-            Arc::new(properties(cols, encodings)),
-        )
-        .map_err(pq)?;
+        let writer = SerializedFileWriter::new(file, schema, Arc::new(properties(cols, encodings)))
+            .map_err(|e| {
+                let _ = std::fs::remove_file(&tmp);
+                pq(e)
+            })?;
         Ok(Atomic {
-            writer,
+            writer: Some(writer),
             tmp,
             path: path.to_path_buf(),
         })
@@ -326,7 +327,10 @@ impl Atomic {
     pub(super) fn row_group(&mut self, mut cells: impl FnMut(usize) -> Cells) -> Result<(), Error> {
         let tmp = self.tmp.clone();
         let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
-        let mut g = self.writer.next_row_group().map_err(pq)?;
+        let Some(writer) = self.writer.as_mut() else {
+            return Err(failed(&tmp, "the file is already closed"));
+        };
+        let mut g = writer.next_row_group().map_err(pq)?;
         let mut index = 0;
         while let Some(mut cw) = g.next_column().map_err(pq)? {
             let Cells { values, present } = cells(index);
@@ -346,13 +350,24 @@ impl Atomic {
     }
 
     /// Closes the file, syncs it and renames it to its path.
-    pub(super) fn finish(self) -> Result<(), Error> {
+    pub(super) fn finish(mut self) -> Result<(), Error> {
         let pq = |e: parquet::errors::ParquetError| failed(&self.tmp, e);
-        let file = self.writer.into_inner().map_err(pq)?;
+        let Some(writer) = self.writer.take() else {
+            return Err(failed(&self.tmp, "the file is already closed"));
+        };
+        let file = writer.into_inner().map_err(pq)?;
         file.sync_all().map_err(|e| failed(&self.tmp, e))?;
         drop(file);
         std::fs::rename(&self.tmp, &self.path).map_err(|e| failed(&self.path, e))?;
         super::store::sync_dir(&self.path)
+    }
+}
+
+impl Drop for Atomic {
+    /// Removes the temporary file of a file not finished (after [`Atomic::finish`] it has been
+    /// renamed, and there is nothing to remove).
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.tmp);
     }
 }
 

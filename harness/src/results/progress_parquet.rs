@@ -179,11 +179,23 @@ mod tests {
     }
 
     #[test]
-    fn a_bad_row_stops_the_write_and_leaves_no_file() {
+    fn a_bad_row_stops_the_write_and_leaves_no_file_and_no_temporary_one() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(PROGRESS_PARQUET);
         let bad = Error::Failed("row 2: bad".into());
-        assert!(write(&path, [Err(bad)]).is_err());
+        let ok = |i: usize| {
+            Ok(ProgressRow {
+                run: i,
+                run_id: format!("r{i}"),
+                iteration: 1,
+                time_s: 0.1,
+                best_cost: None,
+            })
+        };
+        // the bad row after a whole row group has been written
+        let rows = (0..ROW_GROUP + 1).map(ok).chain([Err(bad)]);
+        assert!(write(&path, rows).is_err());
         assert!(!path.exists());
+        assert!(!dir.path().join("progress.parquet.tmp").exists());
     }
 }
