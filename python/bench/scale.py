@@ -94,19 +94,19 @@ def real_experiment(work, runs):
 def measure(work, runs, shard_count, whole_up_to, real):
     """The table rows of size ``runs`` in ``shard_count`` shards (real runs if ``real``)."""
     exp = (real_experiment if real else experiment)(work, runs)
-    fake = ["--quiet", "--replays", "none", "--threads", "2"]
+    flags = ["--quiet", "--replays", "none", "--threads", "2"]
     if not real:
-        fake = ["--executor", "fake", *fake]
+        flags = ["--executor", "fake", *flags]
     rows = []
     whole = None
     if runs <= whole_up_to:
         whole = os.path.join(work, "whole")
-        rows.append(("bench", *run(["bench", exp, "--out", whole, *fake])))
+        rows.append(("bench", *run(["bench", exp, "--out", whole, *flags])))
     shards = []
     wall, peak = 0.0, 0.0
     for k in range(1, shard_count + 1):
         out = os.path.join(work, f"shard-{k}")
-        w, m = run(["bench", exp, "--out", out, "--shard", f"{k}/{shard_count}", *fake])
+        w, m = run(["bench", exp, "--out", out, "--shard", f"{k}/{shard_count}", *flags])
         wall, peak = wall + w, max(peak, m)
         shards.append(out)
     rows.append((f"bench ({shard_count} shards, one after another)", wall, peak))
