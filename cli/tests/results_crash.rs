@@ -441,34 +441,26 @@ fn verify_names_what_is_wrong_and_exits_2_on_bad_input() {
         ok.contains(&format!("{RUNS} runs, {} trace points", RUNS * 51)),
         "{ok}"
     );
-    // a torn runs.parquet is named with its reason; a resume writes it whole again
-    let parquet = clean.join("runs.parquet");
-    let whole = std::fs::read(&parquet).unwrap();
-    std::fs::write(&parquet, &whole[..whole.len() / 2]).unwrap();
-    let o = verify(&clean);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
-    let report = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        report.contains("runs.parquet: not a Parquet file"),
-        "{report}"
-    );
-    resume_ok(&exp, &clean);
-    assert_eq!(std::fs::read(&parquet).unwrap(), whole);
-    assert!(verify(&clean).status.success());
-    // a torn progress.parquet is named by its hash; a resume writes it whole again
-    let progress = clean.join("progress.parquet");
-    let whole = std::fs::read(&progress).unwrap();
-    std::fs::write(&progress, &whole[..whole.len() / 2]).unwrap();
-    let o = verify(&clean);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
-    let report = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        report.contains("files changed since the folder was finalized: progress.parquet"),
-        "{report}"
-    );
-    resume_ok(&exp, &clean);
-    assert_eq!(std::fs::read(&progress).unwrap(), whole);
-    assert!(verify(&clean).status.success());
+    // a torn runs.parquet is named with its reason, a torn progress.parquet by its hash; a
+    // resume writes each whole again
+    for (file, named) in [
+        ("runs.parquet", "runs.parquet: not a Parquet file"),
+        (
+            "progress.parquet",
+            "files changed since the folder was finalized: progress.parquet",
+        ),
+    ] {
+        let path = clean.join(file);
+        let whole = std::fs::read(&path).unwrap();
+        std::fs::write(&path, &whole[..whole.len() / 2]).unwrap();
+        let o = verify(&clean);
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+        let report = String::from_utf8_lossy(&o.stdout);
+        assert!(report.contains(named), "{named}: {report}");
+        resume_ok(&exp, &clean);
+        assert_eq!(std::fs::read(&path).unwrap(), whole, "{file}");
+        assert!(verify(&clean).status.success());
+    }
     // a doubled row, a changed plot
     let runs = std::fs::read_to_string(clean.join("runs.csv")).unwrap();
     let last = runs.lines().last().unwrap();

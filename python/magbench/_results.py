@@ -51,6 +51,20 @@ def _read_parquet(path, read):
         raise err from e
 
 
+def _pandas_parquet(path):
+    """The Parquet file ``path`` read by pandas, or None when there is no file (``path`` None)
+    or pyarrow, which pandas reads Parquet with, is not installed."""
+    if path is None:
+        return None
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        return None
+    import pandas as pd
+
+    return _read_parquet(path, pd.read_parquet)
+
+
 class Results:
     """A results folder.
 
@@ -141,14 +155,8 @@ class Results:
         the folder has one and pyarrow is installed, else built from ``rows``."""
         import pandas as pd
 
-        if self.parquet is not None:
-            try:
-                import pyarrow  # noqa: F401
-            except ImportError:
-                pass
-            else:
-                return _read_parquet(self.parquet, pd.read_parquet)
-        return pd.DataFrame(self.rows, columns=self.columns)
+        df = _pandas_parquet(self.parquet)
+        return df if df is not None else pd.DataFrame(self.rows, columns=self.columns)
 
     def to_polars(self):
         """The runs as a polars DataFrame (one row per run): read from ``runs.parquet`` when
@@ -167,6 +175,21 @@ class Results:
         path = os.path.join(self.path, "progress.parquet")
         return path if os.path.isfile(path) else None
 
+    def _progress_columns(self):
+        """The progress traces as the columns of a long table: run, run_id, iteration, time_s,
+        best_cost (NaN before a run's first solution)."""
+        index = {r["run_id"]: r["run"] for r in self.rows}
+        curves = list(self.progress.items())
+        lengths = [len(v["iteration"]) for _, v in curves]
+        joined = lambda key, dtype: np.concatenate([v[key] for _, v in curves] or [np.zeros(0, dtype)])
+        return {
+            "run": [index.get(k) for (k, _), n in zip(curves, lengths) for _ in range(n)],
+            "run_id": [k for (k, _), n in zip(curves, lengths) for _ in range(n)],
+            "iteration": joined("iteration", np.int64),
+            "time_s": joined("time_s", float),
+            "best_cost": joined("best_cost", float),
+        }
+
     def progress_to_polars(self):
         """The progress traces as a long polars DataFrame (run, run_id, iteration, time_s,
         best_cost): read from ``progress.parquet`` when the folder has one, else built from
@@ -175,7 +198,7 @@ class Results:
 
         if self.progress_parquet is not None:
             return _read_parquet(self.progress_parquet, pl.read_parquet)
-        return pl.from_pandas(self.progress_to_pandas())
+        return pl.DataFrame(self._progress_columns())
 
     def progress_to_pandas(self):
         """The progress traces as a long pandas DataFrame (run, run_id, iteration, time_s,
@@ -183,20 +206,8 @@ class Results:
         installed, else built from ``progress``."""
         import pandas as pd
 
-        if self.progress_parquet is not None:
-            try:
-                import pyarrow  # noqa: F401
-            except ImportError:
-                pass
-            else:
-                return _read_parquet(self.progress_parquet, pd.read_parquet)
-        index = {r["run_id"]: r["run"] for r in self.rows}
-        frames = [
-            pd.DataFrame({"run": index.get(k), "run_id": k, **v}) for k, v in self.progress.items()
-        ]
-        if not frames:
-            return pd.DataFrame(columns=["run", "run_id", "iteration", "time_s", "best_cost"])
-        return pd.concat(frames, ignore_index=True)
+        df = _pandas_parquet(self.progress_parquet)
+        return df if df is not None else pd.DataFrame(self._progress_columns())
 
     def __repr__(self):
         return f"Results({self.path!r}, {len(self.rows)} runs)"

@@ -57,6 +57,11 @@ def test_to_pandas():
     assert list(pdf.columns) == ["run", "run_id", "iteration", "time_s", "best_cost"]
     assert len(pdf) == sum(len(c["iteration"]) for c in res.progress.values())
     assert res.progress_parquet is None
+    pl = pytest.importorskip("polars")
+    frame = res.progress_to_polars()
+    assert isinstance(frame, pl.DataFrame) and frame.columns == list(pdf.columns)
+    assert frame["run"].to_list() == pdf["run"].tolist()
+    assert frame["iteration"].to_list() == pdf["iteration"].tolist()
 
 
 def test_load_committed_baseline():
