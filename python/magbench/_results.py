@@ -181,7 +181,10 @@ class Results:
         index = {r["run_id"]: r["run"] for r in self.rows}
         curves = list(self.progress.items())
         lengths = [len(v["iteration"]) for _, v in curves]
-        joined = lambda key, dtype: np.concatenate([v[key] for _, v in curves] or [np.zeros(0, dtype)])
+
+        def joined(key, dtype):
+            return np.concatenate([v[key] for _, v in curves] or [np.zeros(0, dtype)])
+
         return {
             "run": [index.get(k) for (k, _), n in zip(curves, lengths) for _ in range(n)],
             "run_id": [k for (k, _), n in zip(curves, lengths) for _ in range(n)],
