@@ -20,7 +20,7 @@ use crate::run::ProgressRow;
 /// `progress.parquet`.
 pub const PROGRESS_PARQUET: &str = "progress.parquet";
 /// Trace points per row group.
-pub const ROW_GROUP: usize = 262_144;
+pub const ROW_GROUP: usize = 65_536;
 
 /// The columns not dictionary-encoded, and their encodings.
 const ENCODINGS: &[(&str, Encoding)] = &[
