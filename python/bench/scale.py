@@ -17,7 +17,9 @@ peak resident memory read from ``os.wait4``:
   progress.parquet);
 - ``regress``: the merged folder against the unsharded one (against itself above
   ``--whole-up-to``: both folders are read all the same);
-- the merged folder's run files on disk: in Parquet, and in CSV.
+- the merged folder's run files on disk: in Parquet, and in CSV;
+- the sharded path: the shards, merge, verify, plot and regress, their wall times summed and
+  their largest peak.
 
 Each process is the magbench binary that ``$MAGBENCH_BIN`` names (``cargo xtask measure`` sets
 it to itself), else ``python -c "import magbench; magbench.main([...])"``, whose interpreter with
@@ -149,11 +151,15 @@ def main():
         d = os.path.join(work, str(n))
         shutil.rmtree(d, ignore_errors=True)
         os.makedirs(d)
+        total, highest = 0.0, 0.0
         for what, wall, peak in measure(d, n, s, a.whole_up_to, a.real):
             if wall is None:
                 print(f"| {n} | {what} | – | {peak:.1f} MB on disk | {1e3 * peak / n:.2f} kB on disk |")
             else:
                 print(f"| {n} | {what} | {wall:.1f} | {peak:.0f} | {1e3 * (peak - base_peak) / n:.2f} |")
+                if not what.startswith("bench") or "shards" in what:
+                    total, highest = total + wall, max(highest, peak)
+        print(f"| {n} | the sharded path: shards, merge, verify, plot, regress | {total:.1f} | {highest:.0f} | – |")
         shutil.rmtree(d, ignore_errors=True)
 
 
