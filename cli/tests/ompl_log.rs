@@ -136,6 +136,8 @@ fn the_log_follows_the_grammar_and_holds_every_run() {
         .filter(|r| r[status].as_deref() == Some("7"))
         .count();
     assert_eq!(crashed, 12);
+    // The runs' lines went through a temporary file, which is gone.
+    assert!(!out.join("ompl.log.runs.tmp").exists());
     // One log per scenario as well, with plain planner names.
     for s in ["micro-factory", "open-field"] {
         let l = parse(&std::fs::read_to_string(out.join("ompl").join(format!("{s}.log"))).unwrap())

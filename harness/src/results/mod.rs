@@ -26,9 +26,11 @@ pub mod progress_parquet;
 pub mod repair;
 pub mod report;
 pub mod resume;
+pub mod sample;
 pub mod sort;
 pub mod store;
 pub mod summary;
+mod temporary;
 pub mod traces;
 pub mod verify;
 

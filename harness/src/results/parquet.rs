@@ -23,6 +23,7 @@ use parquet::record::RowAccessor;
 use parquet::schema::types::{ColumnPath, Type};
 use serde_json::{Value, json};
 
+use super::temporary::Temporary;
 use crate::Error;
 use crate::metrics::Metric;
 use crate::metrics::difficulty::Measure;
@@ -31,8 +32,8 @@ use crate::run::record::agent_columns;
 
 /// `runs.parquet`.
 pub const PARQUET: &str = "runs.parquet";
-/// Runs per row group.
-pub const ROW_GROUP: usize = 65_536;
+/// Runs per row group (docs/results.md, "`runs.parquet`": larger groups hold more memory).
+pub const ROW_GROUP: usize = 8_192;
 
 /// A column's type in the file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -292,9 +293,9 @@ pub(super) fn properties(cols: &[Column], encodings: &[(&str, Encoding)]) -> Wri
 /// A Parquet file being written to a temporary file beside `path`, renamed to `path` by
 /// [`Atomic::finish`]; a file dropped unfinished (an error on the way) is removed.
 pub(super) struct Atomic {
-    /// `None` once [`Atomic::finish`] has taken it.
-    writer: Option<SerializedFileWriter<File>>,
-    tmp: std::path::PathBuf,
+    writer: SerializedFileWriter<File>,
+    cols: Vec<Column>,
+    tmp: Temporary,
     path: std::path::PathBuf,
 }
 
@@ -304,36 +305,34 @@ impl Atomic {
     pub(super) fn create(
         path: &Path,
         name: &str,
-        cols: &[Column],
+        cols: Vec<Column>,
         encodings: &[(&str, Encoding)],
     ) -> Result<Atomic, Error> {
-        let tmp = path.with_extension("parquet.tmp");
-        let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
-        let schema = Arc::new(schema(name, cols).map_err(pq)?);
-        let file = File::create(&tmp).map_err(|e| failed(&tmp, e))?;
-        let writer = SerializedFileWriter::new(file, schema, Arc::new(properties(cols, encodings)))
-            .map_err(|e| {
-                let _ = std::fs::remove_file(&tmp);
-                pq(e)
-            })?;
+        let tmp = Temporary::new(path.with_extension("parquet.tmp"));
+        let pq = |e: parquet::errors::ParquetError| failed(tmp.path(), e);
+        let schema = Arc::new(schema(name, &cols).map_err(pq)?);
+        let file = File::create(tmp.path()).map_err(|e| failed(tmp.path(), e))?;
+        let props = Arc::new(properties(&cols, encodings));
+        let writer = SerializedFileWriter::new(file, schema, props).map_err(pq)?;
         Ok(Atomic {
-            writer: Some(writer),
+            writer,
+            cols,
             tmp,
             path: path.to_path_buf(),
         })
     }
 
-    /// Writes one row group: `cells(i)` gives column `i`'s cells, for each column in order.
-    pub(super) fn row_group(&mut self, mut cells: impl FnMut(usize) -> Cells) -> Result<(), Error> {
-        let tmp = self.tmp.clone();
-        let pq = |e: parquet::errors::ParquetError| failed(&tmp, e);
-        let Some(writer) = self.writer.as_mut() else {
-            return Err(failed(&tmp, "the file is already closed"));
-        };
-        let mut g = writer.next_row_group().map_err(pq)?;
+    /// Writes one row group: `cells(column, i)` gives column `i`'s cells, for each column in
+    /// order.
+    pub(super) fn row_group(
+        &mut self,
+        mut cells: impl FnMut(&Column, usize) -> Cells,
+    ) -> Result<(), Error> {
+        let pq = |e: parquet::errors::ParquetError| failed(self.tmp.path(), e);
+        let mut g = self.writer.next_row_group().map_err(pq)?;
         let mut index = 0;
         while let Some(mut cw) = g.next_column().map_err(pq)? {
-            let Cells { values, present } = cells(index);
+            let Cells { values, present } = cells(&self.cols[index], index);
             let defs = present.as_deref();
             match values {
                 Values::Text(v) => cw.typed::<ByteArrayType>().write_batch(&v, defs, None),
@@ -350,49 +349,93 @@ impl Atomic {
     }
 
     /// Closes the file, syncs it and renames it to its path.
-    pub(super) fn finish(mut self) -> Result<(), Error> {
-        let pq = |e: parquet::errors::ParquetError| failed(&self.tmp, e);
-        let Some(writer) = self.writer.take() else {
-            return Err(failed(&self.tmp, "the file is already closed"));
-        };
-        let file = writer.into_inner().map_err(pq)?;
-        file.sync_all().map_err(|e| failed(&self.tmp, e))?;
+    pub(super) fn finish(self) -> Result<(), Error> {
+        let Atomic {
+            writer, tmp, path, ..
+        } = self;
+        let file = writer.into_inner().map_err(|e| failed(tmp.path(), e))?;
+        file.sync_all().map_err(|e| failed(tmp.path(), e))?;
         drop(file);
-        std::fs::rename(&self.tmp, &self.path).map_err(|e| failed(&self.path, e))?;
-        super::store::sync_dir(&self.path)
+        std::fs::rename(tmp.path(), &path).map_err(|e| failed(&path, e))?;
+        super::store::sync_dir(&path)
     }
 }
 
-impl Drop for Atomic {
-    /// Removes the temporary file of a file not finished (after [`Atomic::finish`] it has been
-    /// renamed, and there is nothing to remove).
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.tmp);
-    }
+/// A Parquet file written a row group at a time: rows are pushed in order, and whenever
+/// `size` are held they are written as one row group (by `group`), so that no more than a row
+/// group is held.
+pub(super) struct Grouped<T> {
+    file: Atomic,
+    rows: Vec<T>,
+    size: usize,
+    group: fn(&mut Atomic, &[T]) -> Result<(), Error>,
 }
 
-/// Writes `rows` (with per-agent columns for `agents` agents) to `path` as Parquet, atomically
-/// (a temporary file, then a rename), a row group of [`ROW_GROUP`] runs at a time: the rows are
-/// read from `rows` as they are written, so no more than a row group is held.
-pub fn write(
-    path: &Path,
-    agents: usize,
-    rows: impl IntoIterator<Item = Result<RunRecord, Error>>,
-) -> Result<(), Error> {
-    let cols = columns(agents);
-    let mut file = Atomic::create(path, "runs", &cols, &[])?;
-    let mut rows = rows.into_iter().peekable();
-    let mut group = Vec::with_capacity(ROW_GROUP.min(1024));
-    while rows.peek().is_some() {
-        group.clear();
-        for r in rows.by_ref().take(ROW_GROUP) {
-            group.push(r?);
+impl<T> Grouped<T> {
+    /// Writes `file` in row groups of `size` rows, each by `group`.
+    pub(super) fn new(
+        file: Atomic,
+        size: usize,
+        group: fn(&mut Atomic, &[T]) -> Result<(), Error>,
+    ) -> Grouped<T> {
+        Grouped {
+            file,
+            rows: Vec::with_capacity(size.min(4096)),
+            size,
+            group,
         }
-        // the serde columns of one row group at a time
-        let mut serde = serde_columns(&group);
-        file.row_group(|index| Cells::from_json(&cols[index], &cells(&group, &mut serde, index)))?;
     }
-    file.finish()
+
+    /// Adds the next row.
+    pub(super) fn push(&mut self, row: T) -> Result<(), Error> {
+        self.rows.push(row);
+        if self.rows.len() == self.size {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<(), Error> {
+        if !self.rows.is_empty() {
+            (self.group)(&mut self.file, &self.rows)?;
+            self.rows.clear();
+        }
+        Ok(())
+    }
+
+    /// Writes the last row group, syncs the file and renames it to its path.
+    pub(super) fn finish(mut self) -> Result<(), Error> {
+        self.flush()?;
+        self.file.finish()
+    }
+}
+
+/// One row group of runs.
+fn runs_group(file: &mut Atomic, group: &[RunRecord]) -> Result<(), Error> {
+    let mut serde = serde_columns(group);
+    file.row_group(|col, index| Cells::from_json(col, &cells(group, &mut serde, index)))
+}
+
+/// A `runs.parquet` being written (to a temporary file, renamed by [`Writer::finish`]), a row
+/// group of [`ROW_GROUP`] runs at a time, so that no more than a row group is held.
+pub struct Writer(Grouped<RunRecord>);
+
+impl Writer {
+    /// Starts the file at `path`, with per-agent columns for `agents` agents.
+    pub fn create(path: &Path, agents: usize) -> Result<Writer, Error> {
+        let file = Atomic::create(path, "runs", columns(agents), &[])?;
+        Ok(Writer(Grouped::new(file, ROW_GROUP, runs_group)))
+    }
+
+    /// Adds the next run.
+    pub fn push(&mut self, run: RunRecord) -> Result<(), Error> {
+        self.0.push(run)
+    }
+
+    /// Writes the last row group, syncs the file and renames it to its path.
+    pub fn finish(self) -> Result<(), Error> {
+        self.0.finish()
+    }
 }
 
 /// What [`check`] reads of a `runs.parquet`.
@@ -461,7 +504,11 @@ mod tests {
             })
             .collect();
         let path = dir.path().join(PARQUET);
-        write(&path, 0, rows.iter().cloned().map(Ok)).unwrap();
+        let mut w = Writer::create(&path, 0).unwrap();
+        for r in &rows {
+            w.push(r.clone()).unwrap();
+        }
+        w.finish().unwrap();
         let s = check(&path).unwrap();
         assert_eq!(s.rows, 5);
         assert_eq!(s.columns.join(","), store::runs_header(0));

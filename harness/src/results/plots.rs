@@ -12,6 +12,9 @@
 //! - with trackers: `rms-error-cdf` and, for a team of three or more, each agent's RMS error
 //!   (`rms-error-per-agent`, one colour per agent).
 //!
+//! A configuration drawn from a sample of its runs (more than [`super::sample::SAMPLE`]) says so
+//! in its legend: "(a sample: 7502 of 30005 runs)".
+//!
 //! Planners are drawn in one colour family and tracked configurations in another, each with
 //! its own dash and marker ([`crate::plot::style`]); iterations and times get a log axis when
 //! they span more than a decade ([`FigureOptions::axes`]). docs/figures.md has the options.
@@ -20,7 +23,7 @@ use crate::units::Shown;
 use std::path::{Path, PathBuf};
 
 use super::manifest::Manifest;
-use super::summary::groups;
+use super::summary::{GroupSummary, groups};
 use super::traces::{TracePoint, Traces};
 use crate::Error;
 use crate::metrics::Metric;
@@ -163,33 +166,19 @@ fn success_chart(
     }
 }
 
-/// Configurations with more runs than this draw their cost curves from this many of their
-/// runs, spread evenly over them in run order (every k-th run): the curves' quantiles are then
-/// those of a sample of this size, and their memory does not grow with the number of runs.
-pub const COST_CURVE_RUNS: usize = 10_000;
-
-/// At most `most` of `runs`, spread evenly over them in their order (all of them if no more).
-fn spread<'a>(runs: &[&'a RunRecord], most: usize) -> Vec<&'a RunRecord> {
-    if runs.len() <= most {
-        return runs.to_vec();
-    }
-    (0..most).map(|i| runs[i * runs.len() / most]).collect()
-}
-
 /// The median best cost of `runs` at each of `xs` (ascending; iterations or seconds, as `at`
 /// reads a progress row), with the interquartile band; a run unsolved by then counts as +∞.
 /// A run's cost at `x` is that of the last point of its trace's longest prefix with `at` at
-/// most `x`. Configurations of more than [`COST_CURVE_RUNS`] runs are read from that many.
+/// most `x`.
 fn cost_curve(
     runs: &[&RunRecord],
     progress: &Traces,
     xs: &[f64],
     at: fn(&TracePoint) -> f64,
 ) -> Result<Vec<BandPoint>, Error> {
-    let sample = spread(runs, COST_CURVE_RUNS);
-    // costs[k]: each sampled run's best cost by xs[k]
-    let mut costs: Vec<Vec<f64>> = vec![Vec::with_capacity(sample.len()); xs.len()];
-    for r in &sample {
+    // costs[k]: each run's best cost by xs[k]
+    let mut costs: Vec<Vec<f64>> = vec![Vec::with_capacity(runs.len()); xs.len()];
+    for r in runs {
         let trace = progress.get(r.run)?;
         let mut seen = 0;
         for (k, &x) in xs.iter().enumerate() {
@@ -253,7 +242,6 @@ fn cost_chart(
             })
         })
         .collect::<Result<_, Error>>()?;
-    let sampled = planning.iter().any(|g| g.len() > COST_CURVE_RUNS);
     let finite: Vec<f64> = series
         .iter()
         .flat_map(|s| s.data.iter())
@@ -269,13 +257,6 @@ fn cost_chart(
         _ => Some((0.0, 1.0)),
     };
     let planning_runs: Vec<&RunRecord> = planning.iter().flat_map(|g| g.iter().copied()).collect();
-    let band_label = if sampled {
-        format!(
-            "interquartile range (unsolved = +∞; of {COST_CURVE_RUNS} runs spread evenly over a configuration's runs where it has more)"
-        )
-    } else {
-        "interquartile range (unsolved = +∞)".into()
-    };
     Ok(LineBandChart {
         title: title.into(),
         x_label: x_axis.0.into(),
@@ -283,7 +264,7 @@ fn cost_chart(
         series,
         y_range,
         steps: true,
-        band_label,
+        band_label: "interquartile range (unsolved = +∞)".into(),
         empty_note: "no configuration solved half of its runs: no median cost yet".into(),
         looks: looks.to_vec(),
         x_log: x_axis.1,
@@ -361,16 +342,6 @@ fn per_agent_box(
     })
 }
 
-/// Writes every plot of the folder into `dir/plots/` and returns them in report order.
-pub fn write_all(
-    dir: &Path,
-    m: &Manifest,
-    runs: &[RunRecord],
-    progress: &Traces,
-) -> Result<Vec<PlotFile>, Error> {
-    write_all_with(dir, m, runs, progress, &FigureOptions::default())
-}
-
 /// The look of a configuration: planning runs in the planners' family by the planner's place
 /// in the experiment, tracked runs in the trackers' family by tracker and preset.
 fn look_of(m: &Manifest, g: &[&RunRecord]) -> Look {
@@ -387,11 +358,28 @@ fn look_of(m: &Manifest, g: &[&RunRecord]) -> Look {
     }
 }
 
-/// [`write_all`] with the figure options `opts` (size preset, DPI, axes, PDF).
+/// What a figure's legend adds to the label of configuration `g` when `g` holds a sample of
+/// its runs ([`super::sample`]): how many of how many (`sums` has every configuration's count).
+fn sample_note(g: &[&RunRecord], sums: &[GroupSummary]) -> Option<String> {
+    let r = g[0];
+    let n = sums
+        .iter()
+        .find(|s| {
+            (&s.scenario, &s.planner, &s.tracker, &s.preset)
+                == (&r.scenario, &r.planner, &r.tracker, &r.preset)
+        })?
+        .n;
+    (n > g.len()).then(|| format!(" (a sample: {} of {n} runs)", g.len()))
+}
+
+/// The figures of results folder `dir` with the figure options `opts` (size preset, DPI, axes,
+/// PDF), drawn from `runs` (in run order: every run, or the runs a configuration keeps,
+/// [`super::sample`]); `sums` has every configuration's count of runs, for the legends of
+/// configurations drawn from a sample.
 pub fn write_all_with(
     dir: &Path,
     m: &Manifest,
-    runs: &[RunRecord],
+    (runs, sums): (&[RunRecord], &[GroupSummary]),
     progress: &Traces,
     opts: &FigureOptions,
 ) -> Result<Vec<PlotFile>, Error> {
@@ -413,11 +401,19 @@ pub fn write_all_with(
         let gs: Vec<&Vec<&RunRecord>> = all.iter().filter(|g| g[0].scenario == sc).collect();
         let label = |g: &[&RunRecord]| {
             let r = g[0];
+            let note = sample_note(g, sums).unwrap_or_default();
             if r.tracker.is_empty() {
-                r.planner.clone()
+                format!("{}{note}", r.planner)
             } else {
-                format!("{} + {} ({})", r.planner, r.tracker, r.preset)
+                format!("{} + {} ({}){note}", r.planner, r.tracker, r.preset)
             }
+        };
+        // a line chart's series are the planning configurations
+        let noted = |mut fig: LineBandChart, planning: &[&Vec<&RunRecord>]| {
+            for (s, g) in fig.series.iter_mut().zip(planning) {
+                s.label += &sample_note(g, sums).unwrap_or_default();
+            }
+            fig
         };
         // Planning curves: one series per planner variant (tracking repeats the same plans):
         // its planning runs where it has them (they plan every leg; a tracked run's planner
@@ -470,7 +466,7 @@ pub fn write_all_with(
             &looks,
             width,
         );
-        w.save(sc, "success-vs-iterations", &fig, &title)?;
+        w.save(sc, "success-vs-iterations", &noted(fig, &planning), &title)?;
 
         let max_t = gs
             .iter()
@@ -502,7 +498,7 @@ pub fn write_all_with(
             &looks,
             width,
         );
-        w.save(sc, "success-vs-time", &fig, &title)?;
+        w.save(sc, "success-vs-time", &noted(fig, &planning), &title)?;
 
         let title = format!("{sc}: best cost vs iterations");
         let fig = cost_chart(
@@ -514,7 +510,7 @@ pub fn write_all_with(
             &looks,
             width,
         )?;
-        w.save(sc, "cost-vs-iterations", &fig, &title)?;
+        w.save(sc, "cost-vs-iterations", &noted(fig, &planning), &title)?;
         let title = format!("{sc}: best cost vs planning time");
         let fig = cost_chart(
             &planning,
@@ -525,7 +521,7 @@ pub fn write_all_with(
             &looks,
             width,
         )?;
-        w.save(sc, "cost-vs-time", &fig, &title)?;
+        w.save(sc, "cost-vs-time", &noted(fig, &planning), &title)?;
         let planning_runs: Vec<&RunRecord> =
             planning.iter().flat_map(|g| g.iter().copied()).collect();
 
@@ -646,18 +642,21 @@ mod tests {
     }
 
     #[test]
-    fn a_sample_is_spread_evenly_over_the_runs_in_their_order() {
-        let runs: Vec<RunRecord> = (0..10)
+    fn a_configuration_drawn_from_a_sample_says_so_in_its_legend() {
+        let runs: Vec<RunRecord> = (0..3)
             .map(|i| RunRecord {
                 run: i,
                 ..RunRecord::example()
             })
             .collect();
-        let refs: Vec<&RunRecord> = runs.iter().collect();
-        let picked = |most| -> Vec<usize> { spread(&refs, most).iter().map(|r| r.run).collect() };
-        assert_eq!(picked(4), [0, 2, 5, 7]);
-        assert_eq!(picked(10), (0..10).collect::<Vec<_>>());
-        assert_eq!(picked(20), (0..10).collect::<Vec<_>>());
+        let g: Vec<&RunRecord> = runs.iter().collect();
+        let mut sums = super::super::summary::summaries(&runs);
+        assert_eq!(sample_note(&g, &sums), None);
+        sums[0].n = 10;
+        assert_eq!(
+            sample_note(&g, &sums).as_deref(),
+            Some(" (a sample: 3 of 10 runs)")
+        );
     }
 
     #[test]

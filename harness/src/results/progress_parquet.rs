@@ -13,7 +13,7 @@ use std::path::Path;
 
 use parquet::basic::Encoding;
 
-use super::parquet::{Atomic, Cells, Column, Kind, Values};
+use super::parquet::{Atomic, Cells, Column, Grouped, Kind, Values};
 use crate::Error;
 use crate::run::ProgressRow;
 
@@ -76,59 +76,32 @@ fn cells(rows: &[ProgressRow], index: usize) -> Cells {
     Cells { values, present }
 }
 
+/// One row group of points.
+fn group(file: &mut Atomic, rows: &[ProgressRow]) -> Result<(), Error> {
+    file.row_group(|_, index| cells(rows, index))
+}
+
 /// A `progress.parquet` being written, a row group of [`ROW_GROUP`] points at a time: points
 /// are pushed in order and a row group is written whenever one is full, so that the writer
 /// holds no more than a row group.
-pub struct Writer {
-    file: Atomic,
-    group: Vec<ProgressRow>,
-}
+pub struct Writer(Grouped<ProgressRow>);
 
 impl Writer {
     /// Starts the file at `path` (written to a temporary file, renamed by [`Writer::finish`]).
     pub fn create(path: &Path) -> Result<Writer, Error> {
-        Ok(Writer {
-            file: Atomic::create(path, "progress", &columns(), ENCODINGS)?,
-            group: Vec::with_capacity(ROW_GROUP.min(4096)),
-        })
+        let file = Atomic::create(path, "progress", columns(), ENCODINGS)?;
+        Ok(Writer(Grouped::new(file, ROW_GROUP, group)))
     }
 
     /// Adds the next point.
     pub fn push(&mut self, row: ProgressRow) -> Result<(), Error> {
-        self.group.push(row);
-        if self.group.len() == ROW_GROUP {
-            self.flush()?;
-        }
-        Ok(())
-    }
-
-    fn flush(&mut self) -> Result<(), Error> {
-        if !self.group.is_empty() {
-            let group = &self.group;
-            self.file.row_group(|index| cells(group, index))?;
-            self.group.clear();
-        }
-        Ok(())
+        self.0.push(row)
     }
 
     /// Writes the last row group, syncs the file and renames it to its path.
-    pub fn finish(mut self) -> Result<(), Error> {
-        self.flush()?;
-        self.file.finish()
+    pub fn finish(self) -> Result<(), Error> {
+        self.0.finish()
     }
-}
-
-/// Writes `rows` to `path` as Parquet, atomically (a temporary file, then a rename), a row
-/// group at a time ([`Writer`]); the first error stops it and leaves no file at `path`.
-pub fn write(
-    path: &Path,
-    rows: impl IntoIterator<Item = Result<ProgressRow, Error>>,
-) -> Result<(), Error> {
-    let mut w = Writer::create(path)?;
-    for r in rows {
-        w.push(r?)?;
-    }
-    w.finish()
 }
 
 #[cfg(test)]
@@ -157,7 +130,11 @@ mod tests {
             })
             .collect();
         let path = dir.path().join(PROGRESS_PARQUET);
-        write(&path, rows.iter().cloned().map(Ok)).unwrap();
+        let mut w = Writer::create(&path).unwrap();
+        for r in &rows {
+            w.push(r.clone()).unwrap();
+        }
+        w.finish().unwrap();
         let reader = SerializedFileReader::new(std::fs::File::open(&path).unwrap()).unwrap();
         assert_eq!(reader.metadata().num_row_groups(), 2);
         let read: Vec<ProgressRow> = reader
@@ -179,22 +156,23 @@ mod tests {
     }
 
     #[test]
-    fn a_bad_row_stops_the_write_and_leaves_no_file_and_no_temporary_one() {
+    fn a_writer_dropped_unfinished_leaves_no_file_and_no_temporary_one() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(PROGRESS_PARQUET);
-        let bad = Error::Failed("row 2: bad".into());
-        let ok = |i: usize| {
-            Ok(ProgressRow {
+        let mut w = Writer::create(&path).unwrap();
+        // a whole row group written, then an error on the way drops the writer
+        for i in 0..ROW_GROUP + 1 {
+            w.push(ProgressRow {
                 run: i,
                 run_id: format!("r{i}"),
                 iteration: 1,
                 time_s: 0.1,
                 best_cost: None,
             })
-        };
-        // the bad row after a whole row group has been written
-        let rows = (0..ROW_GROUP + 1).map(ok).chain([Err(bad)]);
-        assert!(write(&path, rows).is_err());
+            .unwrap();
+        }
+        assert!(dir.path().join("progress.parquet.tmp").exists());
+        drop(w);
         assert!(!path.exists());
         assert!(!dir.path().join("progress.parquet.tmp").exists());
     }

@@ -9,7 +9,8 @@ use std::path::Path;
 
 use super::manifest::Manifest;
 use super::plots::PlotFile;
-use super::summary::{GroupSummary, summaries};
+use super::sample::SAMPLE;
+use super::summary::GroupSummary;
 use crate::Error;
 use crate::metrics::{Aggregation, Compute, Metric};
 use crate::run::RunRecord;
@@ -135,6 +136,12 @@ fn table(o: &mut String, rows: &[&GroupSummary], (dir, runs): (&Path, &[RunRecor
         o.push_str("</tbody></table>\n");
     }
     o.push_str("<p class=\"note\">Medians with [first quartile, third quartile] over the runs that have the metric; times and costs over solved runs. Success: an exact plan (planning only) or reaching the goal without agent contact (tracking). Tracking errors: the observed positions' distance to each agent's own path (RMS and max), the true positions' (simulation only), the worst agent's (the agent with the largest RMS), the team against the nearest common point of the team path (synchronous) and against the reference at the same elapsed time (time-indexed), and the team against its nearest plan node (node: the seed's tracking error, to which its ≈ 0.2 BL compares); docs/tracking.md, \"Metrics\". Path quality (length, smoothness, cusps, clearance, proximity margin, field flips and field-angle variation) of the plan, the first leg's for tracked runs; docs/results.md, \"The metric table\".</p>\n");
+    if rows.iter().any(|g| g.n > SAMPLE) {
+        let _ = writeln!(
+            o,
+            "<p class=\"note\">A configuration of more than {SAMPLE} runs: its quartiles, figures, replay links and place in the across-problems comparison are those of an evenly spread sample of its runs (every 2<sup>j</sup>-th run, at most {SAMPLE}); its counts, success rate, means, totals, smallest and largest values are those of every run.</p>"
+        );
+    }
 }
 
 /// Teams this large get the per-agent table (a pair's worst agent is in the main table).
@@ -213,11 +220,14 @@ var n=parseFloat(s);return isNaN(n)?s.toLowerCase():n};var rows=Array.prototype.
 if(p===null)return q===null?0:1;if(q===null)return -1;var d=typeof p===typeof q?(p<q?-1:p>q?1:0):(typeof p==='number'?-1:1);return asc?d:-d});\
 rows.forEach(function(r){b.appendChild(r)})})})});";
 
-/// Writes `dir/report.html`.
+/// Writes `dir/report.html` from the summary of each configuration (`sums`, exact counts with
+/// the quartiles of the runs kept for the figures, [`super::sample`]), those runs (`runs`, in
+/// run order; the replay links are theirs) and the number of the folder's runs with a replay
+/// page.
 pub fn write(
     dir: &Path,
     m: &Manifest,
-    runs: &[RunRecord],
+    (sums, runs, replays): (&[GroupSummary], &[RunRecord], usize),
     plots: &[PlotFile],
     units: Units,
 ) -> Result<(), Error> {
@@ -297,7 +307,6 @@ pub fn write(
             m.threads
         );
     }
-    let pages = crate::replay::files::with_replay(dir, runs);
     let policy = m
         .replays
         .as_deref()
@@ -306,16 +315,15 @@ pub fn write(
     let _ = writeln!(
         o,
         "<p>Replays: {}{policy}; each configuration's are linked in its <em>replays (by seed)</em> column.</p>",
-        if pages == 0 {
+        if replays == 0 {
             "no replay pages".to_string()
         } else {
-            format!("{pages} of {} runs have a replay page", runs.len())
+            format!("{replays} of {} runs have a replay page", m.runs_done)
         }
     );
     o.push_str("<p>Files: <a href=\"runs.csv\">runs.csv</a> · <a href=\"progress.csv\">progress.csv</a> · <a href=\"manifest.json\">manifest.json</a> · <a href=\"ompl.log\">ompl.log</a> (OMPL benchmark log)</p>\n");
-    let sums = summaries(runs);
     let mut scenarios: Vec<&str> = vec![];
-    for g in &sums {
+    for g in sums {
         if !scenarios.contains(&g.scenario.as_str()) {
             scenarios.push(&g.scenario);
         }

@@ -393,6 +393,8 @@ const SWEEP: &[&str] = &[
     ":!harness/src/results/ompl",
     ":!harness/src/results/parquet.rs",
     ":!harness/src/results/progress_parquet.rs",
+    ":!harness/src/results/sample.rs",
+    ":!harness/src/results/temporary.rs",
     ":!harness/src/results/traces.rs",
     "analysis/src/stats",
     "analysis/src/table.rs",
@@ -411,8 +413,9 @@ const COST_AT_TIME: &[&str] = &["xtask/src/docs/cost_at_time.rs"];
 /// A results folder's figures, for a measurement that shows them (`figures` of a sweep).
 const FIGURES: &[&str] = &["harness/src/results/plots.rs", "plot/src/plot"];
 /// What a results folder derives from its runs for its readers besides the figures: the report
-/// page, the OMPL log, `runs.parquet` and `progress.parquet`, the index of the progress traces the figures and the
-/// log read, and the step that writes them once a folder's runs are all there (after sorting
+/// page, the OMPL log, `runs.parquet` and `progress.parquet`, what the figures, the report and
+/// the log read (each configuration's counts and kept runs, the index of the progress traces,
+/// temporary files), and the step that writes them once a folder's runs are all there (after sorting
 /// its run files by `sort.rs`, of [`SWEEP`]; it records their counts and hashes in the
 /// manifest, which only `merge`, `results verify` and `results plot` print). No table reads
 /// them (the tables read `runs.csv` and `progress.csv`; a test checks) and no console line of
@@ -424,6 +427,8 @@ const DERIVED: &[&str] = &[
     "harness/src/results/ompl",
     "harness/src/results/parquet.rs",
     "harness/src/results/progress_parquet.rs",
+    "harness/src/results/sample.rs",
+    "harness/src/results/temporary.rs",
     "harness/src/results/traces.rs",
 ];
 /// The table of a suite's families.
@@ -453,6 +458,8 @@ const CLI: &[&str] = &[
     ":!harness/src/results/ompl",
     ":!harness/src/results/parquet.rs",
     ":!harness/src/results/progress_parquet.rs",
+    ":!harness/src/results/sample.rs",
+    ":!harness/src/results/temporary.rs",
     ":!harness/src/results/traces.rs",
     // a replay page's data, packing and player (and the module's declarations): written into
     // pages, never printed

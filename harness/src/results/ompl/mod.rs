@@ -20,14 +20,18 @@
 //! filters progress rows by them and cannot find them (docs/ompl-logs.md); the team size is a
 //! planner configuration's common property `agents`. See [`parse`] for the grammar.
 
+pub mod gather;
 pub mod parse;
 
-use std::collections::{BTreeMap, BTreeSet};
+use gather::{Block, Lines};
+pub use gather::{Gather, Gathered};
+
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::manifest::Manifest;
-use super::traces::{TracePoint, Traces};
+use super::traces::TracePoint;
 use crate::Error;
 use crate::metrics::Metric;
 use crate::run::RunRecord;
@@ -44,13 +48,6 @@ pub const STATUS_ENUM: [&str; 9] = [
     "Crash",
     "Abort",
 ];
-
-/// One OMPL planner configuration: a name, its settings and its runs.
-struct Block<'a> {
-    name: String,
-    settings: Vec<(String, String)>,
-    runs: Vec<&'a RunRecord>,
-}
 
 fn num(v: f64) -> String {
     if v.is_nan() {
@@ -157,59 +154,37 @@ fn settings(r: &RunRecord) -> Vec<(String, String)> {
     s
 }
 
-/// Groups runs into planner configurations, in order of first appearance.
-fn blocks<'a>(runs: &[&'a RunRecord], qualify_scenario: bool) -> Vec<Block<'a>> {
-    let mut out: Vec<Block<'a>> = vec![];
-    let mut index: BTreeMap<String, usize> = BTreeMap::new();
-    for r in runs {
-        let name = block_name(r, qualify_scenario);
-        let i = *index.entry(name.clone()).or_insert_with(|| {
-            out.push(Block {
-                name,
-                settings: settings(r),
-                runs: vec![],
-            });
-            out.len() - 1
-        });
-        out[i].runs.push(r);
-    }
-    out
-}
-
-/// Whether a planner configuration tracks a best cost: some run has a cost at more than one
-/// point of its progress trace (a planner that stops at its first solution has one at most).
-fn tracks_cost(runs: &[&RunRecord], progress: &Traces) -> std::io::Result<bool> {
-    for r in runs {
-        if trace(progress, r)?
-            .iter()
-            .filter(|p| p.best_cost.is_some())
-            .count()
-            > 1
-        {
-            return Ok(true);
+/// A run's progress line: `best cost,iterations,time,;` for each point of its trace, the last
+/// point of each time kept (OMPL's progress table is keyed by run and time).
+fn progress_line(points: &[TracePoint]) -> String {
+    let mut by_time: BTreeMap<String, &TracePoint> = BTreeMap::new();
+    let mut order = vec![];
+    for p in points {
+        let t = num(p.time_s);
+        if by_time.insert(t.clone(), p).is_none() {
+            order.push(t);
         }
     }
-    Ok(false)
+    let mut o = String::new();
+    for t in order {
+        let p = by_time[&t];
+        let c = p.best_cost.map(num).unwrap_or_else(|| "inf".into());
+        let _ = write!(o, "{c},{},{t},;", p.iteration);
+    }
+    o
 }
 
-/// The progress trace of run `r`, a failure to read it as an I/O error of the log.
-fn trace(progress: &Traces, r: &RunRecord) -> std::io::Result<Vec<TracePoint>> {
-    progress
-        .get(r.run)
-        .map_err(|e| std::io::Error::other(e.to_string()))
-}
-
-/// Writes one OMPL benchmark log holding `runs` as experiment `name` to `w`, a run's line at a
-/// time.
-pub fn write_log(
+/// Writes one OMPL benchmark log holding the configurations `bl` as experiment `name` to `w`,
+/// a run's line at a time, read from `lines`; a configuration's name is qualified by its
+/// scenario if `qualify_scenario`.
+fn write_log(
     w: &mut impl std::io::Write,
     name: &str,
     m: &Manifest,
-    runs: &[&RunRecord],
-    progress: &Traces,
+    (bl, lines): (&[&Block], &mut Lines),
     qualify_scenario: bool,
 ) -> std::io::Result<()> {
-    // the text so far, written out and cleared after the head and after each run's line
+    // the text so far, written out and cleared after the head and after each block's head
     let mut o = String::new();
     let e = &m.experiment;
     let _ = writeln!(o, "magbench version {}", m.magbench_version);
@@ -237,7 +212,6 @@ pub fn write_log(
         e.time_limit_s.map(num).unwrap_or_else(|| "inf".into())
     );
     let _ = writeln!(o, "inf MB per run");
-    let bl = blocks(runs, qualify_scenario);
     let per_planner = bl.iter().map(|b| b.runs.len()).max().unwrap_or(0);
     let _ = writeln!(o, "{per_planner} runs per planner");
     let total: f64 = m.sessions.iter().filter_map(|s| s.wall_time_s).sum();
@@ -247,57 +221,34 @@ pub fn write_log(
     let _ = writeln!(o, "{} planners", bl.len());
     w.write_all(o.as_bytes())?;
     o.clear();
-    for b in &bl {
-        let _ = writeln!(o, "{}", b.name);
+    for b in bl {
+        let _ = writeln!(o, "{}", b.name[usize::from(qualify_scenario)]);
         let _ = writeln!(o, "{} common properties", b.settings.len());
         for (k, v) in &b.settings {
             let _ = writeln!(o, "{} = {}", single_line(k), single_line(v));
         }
-        let names: BTreeSet<&str> = b
-            .runs
-            .iter()
-            .flat_map(|r| properties(r).into_keys())
-            .collect();
-        let _ = writeln!(o, "{} properties for each run", names.len());
-        for n in &names {
+        let _ = writeln!(o, "{} properties for each run", b.names.len());
+        for n in &b.names {
             let _ = writeln!(o, "{n}");
         }
         let _ = writeln!(o, "{} runs", b.runs.len());
-        for r in &b.runs {
-            let p = properties(r);
-            for n in &names {
-                let _ = write!(o, "{}; ", p.get(n).map(String::as_str).unwrap_or(""));
-            }
-            o.push('\n');
-            w.write_all(o.as_bytes())?;
-            o.clear();
+        w.write_all(o.as_bytes())?;
+        o.clear();
+        for &at in &b.runs {
+            let [run, _] = lines.read(at)?;
+            writeln!(w, "{run}")?;
         }
         // OMPL writes progress only for planners that declare progress properties, which
         // its non-optimizing planners (RRT, KPIECE, ...) do not.
-        let cost = tracks_cost(&b.runs, progress)?;
-        if cost {
+        if b.tracks_cost {
             let _ = writeln!(o, "3 progress properties for each run");
             let _ = writeln!(o, "best cost REAL\niterations INTEGER\ntime REAL");
             let _ = writeln!(o, "{} runs", b.runs.len());
-            for r in &b.runs {
-                // OMPL's progress table is keyed by (run, time): keep the last sample per time.
-                let points = trace(progress, r)?;
-                let mut by_time: BTreeMap<String, &TracePoint> = BTreeMap::new();
-                let mut order = vec![];
-                for p in &points {
-                    let t = num(p.time_s);
-                    if by_time.insert(t.clone(), p).is_none() {
-                        order.push(t);
-                    }
-                }
-                for t in order {
-                    let p = by_time[&t];
-                    let c = p.best_cost.map(num).unwrap_or_else(|| "inf".into());
-                    let _ = write!(o, "{c},{},{t},;", p.iteration);
-                }
-                o.push('\n');
-                w.write_all(o.as_bytes())?;
-                o.clear();
+            w.write_all(o.as_bytes())?;
+            o.clear();
+            for &at in &b.runs {
+                let [_, progress] = lines.read(at)?;
+                writeln!(w, "{progress}")?;
             }
         }
         o.push_str(".\n");
@@ -311,44 +262,38 @@ fn write_file(
     path: &Path,
     name: &str,
     m: &Manifest,
-    runs: &[&RunRecord],
-    progress: &Traces,
+    log: (&[&Block], &mut Lines),
     qualify_scenario: bool,
 ) -> Result<(), Error> {
     let failed = |e: std::io::Error| Error::Failed(format!("{}: {e}", path.display()));
     let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(failed)?);
-    write_log(&mut w, name, m, runs, progress, qualify_scenario).map_err(failed)
+    write_log(&mut w, name, m, log, qualify_scenario).map_err(failed)
 }
 
-/// Writes `ompl.log` (and `ompl/<scenario>.log` for several scenarios) into `dir`.
-pub fn write(
-    dir: &Path,
-    m: &Manifest,
-    runs: &[RunRecord],
-    progress: &Traces,
-) -> Result<Vec<PathBuf>, Error> {
-    let all: Vec<&RunRecord> = runs.iter().collect();
-    let mut scenarios: Vec<&str> = vec![];
-    for r in runs {
-        if !scenarios.contains(&r.scenario.as_str()) {
-            scenarios.push(&r.scenario);
-        }
-    }
+/// Writes `ompl.log` (and `ompl/<scenario>.log` for several scenarios) into `dir` from the
+/// gathered runs, and removes their temporary file.
+pub fn write(dir: &Path, m: &Manifest, gathered: Gathered) -> Result<Vec<PathBuf>, Error> {
+    let Gathered {
+        mut lines,
+        blocks,
+        scenarios,
+    } = gathered;
+    let all: Vec<&Block> = blocks.iter().collect();
     let many = scenarios.len() > 1;
     let mut files = vec![];
     let path = dir.join("ompl.log");
-    write_file(&path, &m.experiment.name, m, &all, progress, many)?;
+    write_file(&path, &m.experiment.name, m, (&all, &mut lines), many)?;
     files.push(path);
     if many {
         let sub = dir.join("ompl");
         std::fs::create_dir_all(&sub)
             .map_err(|e| Error::Failed(format!("{}: {e}", sub.display())))?;
-        for s in scenarios {
-            let these: Vec<&RunRecord> = runs.iter().filter(|r| r.scenario == s).collect();
+        for s in &scenarios {
+            let these: Vec<&Block> = blocks.iter().filter(|b| &b.scenario == s).collect();
             let stem = token(&s.replace(['/', '\\'], "_"));
             let path = sub.join(format!("{}.log", stem.trim_end_matches(".toml")));
             let name = format!("{}-{}", m.experiment.name, stem.trim_end_matches(".toml"));
-            write_file(&path, &name, m, &these, progress, false)?;
+            write_file(&path, &name, m, (&these, &mut lines), false)?;
             files.push(path);
         }
     }
