@@ -32,11 +32,8 @@ pub fn finalize_with(dir: &Path, opts: &crate::plot::export::FigureOptions) -> R
     let mut sample = Sample::default();
     let mut log = ompl::Gather::create(dir)?;
     let runs_csv = store::Snapshot::open(&dir.join(store::RUNS))?;
-    let agents = match &runs_csv {
-        Some(s) => header_agents(s)?,
-        None => 0,
-    };
-    let mut runs_pq = parquet::Writer::create(&dir.join(parquet::PARQUET), agents)?;
+    let agents = runs_csv.as_ref().map(header_agents).transpose()?;
+    let mut runs_pq = parquet::Writer::create(&dir.join(parquet::PARQUET), agents.unwrap_or(0))?;
     if let Some(s) = &runs_csv {
         for r in s.runs()? {
             let r = r?;

@@ -147,18 +147,29 @@ pub(super) struct Lines {
 }
 
 impl Lines {
-    /// The lines of the run at `at`: its properties and its progress.
-    pub fn read(&mut self, at: u64) -> std::io::Result<[String; 2]> {
+    /// A line of the run at `at`: its properties (`Line::Run`) or its progress.
+    pub fn read(&mut self, at: u64, line: Line) -> std::io::Result<String> {
         self.file.seek(SeekFrom::Start(at))?;
-        let mut part = || -> std::io::Result<String> {
-            let mut len = [0; 4];
+        let mut len = [0; 4];
+        self.file.read_exact(&mut len)?;
+        if line == Line::Progress {
+            self.file
+                .seek(SeekFrom::Current(i64::from(u32::from_le_bytes(len))))?;
             self.file.read_exact(&mut len)?;
-            let mut text = vec![0; u32::from_le_bytes(len) as usize];
-            self.file.read_exact(&mut text)?;
-            String::from_utf8(text).map_err(std::io::Error::other)
-        };
-        Ok([part()?, part()?])
+        }
+        let mut text = vec![0; u32::from_le_bytes(len) as usize];
+        self.file.read_exact(&mut text)?;
+        String::from_utf8(text).map_err(std::io::Error::other)
     }
+}
+
+/// Which of a run's two lines to read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Line {
+    /// Its run properties.
+    Run,
+    /// Its progress.
+    Progress,
 }
 
 /// The configurations of a results folder's OMPL logs, ready to write ([`super::write`]).

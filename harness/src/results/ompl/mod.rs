@@ -23,7 +23,7 @@
 pub mod gather;
 pub mod parse;
 
-use gather::{Block, Lines};
+use gather::{Block, Line, Lines};
 pub use gather::{Gather, Gathered};
 
 use std::collections::BTreeMap;
@@ -235,7 +235,7 @@ fn write_log(
         w.write_all(o.as_bytes())?;
         o.clear();
         for &at in &b.runs {
-            let [run, _] = lines.read(at)?;
+            let run = lines.read(at, Line::Run)?;
             writeln!(w, "{run}")?;
         }
         // OMPL writes progress only for planners that declare progress properties, which
@@ -247,7 +247,7 @@ fn write_log(
             w.write_all(o.as_bytes())?;
             o.clear();
             for &at in &b.runs {
-                let [_, progress] = lines.read(at)?;
+                let progress = lines.read(at, Line::Progress)?;
                 writeln!(w, "{progress}")?;
             }
         }
