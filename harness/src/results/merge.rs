@@ -1,14 +1,18 @@
 //! Merging shard folders into one results folder.
 //!
-//! The shards' `runs.csv` and `progress.csv` are read row by row and merged by run index (a
-//! k-way merge): a shard in run order holds one run in memory at a time, so the merge of the
-//! run files holds a run per shard, whatever the number of runs; a shard out of run order (a
-//! task at several threads that did not finish) is read whole and sorted first. The merged
-//! folder's derived files are then written by [`super::finalize`], which reads all its runs.
+//! The shards' `runs.csv` and `progress.csv` are read a record at a time and merged by run
+//! index (a k-way merge); each record is copied as it is in its shard's file (widened with empty
+//! cells when its header has fewer agents' columns), so the merged files hold the shards' bytes.
+//! A shard in run order holds one run in memory at a time, so the merge of the run files holds
+//! a run per shard, whatever the number of runs; a shard out of run order (a task at several
+//! threads that did not finish) is read whole and sorted first. Before anything is written,
+//! every shard's rows are read once for their order and parsed whole (a bad row is refused
+//! naming its shard's file). The merged folder's derived files are then written by
+//! [`super::finalize`].
 
 use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 use magbench_env::InputError;
@@ -16,7 +20,6 @@ use magbench_env::InputError;
 use super::manifest::{Manifest, Session, host, now};
 use super::store;
 use crate::Error;
-use crate::run::{ProgressRow, RunRecord};
 
 /// Merges the results folders `shards` (of the same experiment) into `out`, which must not
 /// hold results, and writes its derived files, holding `out`'s lock throughout (exit 2 if
@@ -96,7 +99,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
     let mut progress_out = Output::create(&progress_tmp, &store::progress_header())?;
     let mut streams = vec![];
     for s in &sources {
-        streams.push(s.whole_runs()?);
+        streams.push(s.whole_runs(agents)?);
     }
     // A k-way merge by run index: the next run is the smallest head, the first folder's on a
     // tie, and a run index already written is skipped (the same run in a later folder).
@@ -105,7 +108,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
     for (k, st) in streams.iter_mut().enumerate() {
         let head = st.next().transpose()?;
         if let Some(h) = &head {
-            heads.push(Reverse((h.record.run, k)));
+            heads.push(Reverse((h.row.key.run, k)));
         }
         pending.push(head);
     }
@@ -114,12 +117,14 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
         let w = pending[k].take().expect("a head for every heap entry");
         if last != Some(run) {
             crate::replay::files::copy_run(&shards[k], out, run)?;
-            progress_out.write(&store::progress_bytes(&w.trace))?;
-            runs_out.write(&store::run_bytes(std::slice::from_ref(&w.record), agents))?;
+            for p in &w.trace {
+                progress_out.write(&p.bytes)?;
+            }
+            runs_out.write(&w.row.bytes)?;
             last = Some(run);
         }
         if let Some(h) = streams[k].next().transpose()? {
-            heads.push(Reverse((h.record.run, k)));
+            heads.push(Reverse((h.row.key.run, k)));
             pending[k] = Some(h);
         }
     }
@@ -168,41 +173,35 @@ struct Source {
     /// Whether `runs.csv` is in run order and `progress.csv` in (run, iteration, time) order,
     /// as a finished folder and a task at one thread write them.
     sorted: bool,
-    /// The largest tracked team of its rows.
+    /// The per-agent columns of its `runs.csv` (0 without one).
     agents: usize,
-}
-
-/// The order of progress rows in a finished folder: by run, iteration, then time.
-fn progress_order(a: &ProgressRow, b: &ProgressRow) -> Ordering {
-    (a.run, a.iteration)
-        .cmp(&(b.run, b.iteration))
-        .then(a.time_s.total_cmp(&b.time_s))
 }
 
 impl Source {
     /// Opens the run files of `dir` (`runs.csv` first: a run's progress rows are written before
     /// its row, so every row read has its trace in the `progress.csv` opened after it) and reads
-    /// them once, row by row, for their order and teams.
+    /// them once, a record at a time, for their headers, order and cells.
     fn open(dir: &Path) -> Result<Source, Error> {
         let runs = store::Snapshot::open(&dir.join(store::RUNS))?;
         let progress = store::Snapshot::open(&dir.join(store::PROGRESS))?;
-        let (mut sorted, mut agents, mut prev) = (true, 0, None);
+        let mut sorted = true;
+        let mut agents = 0;
         if let Some(r) = &runs {
+            // every row parsed whole: a shard's bad row is refused before anything is written
+            agents = Records::runs(r)?.agents;
+            let mut prev = None;
             for row in r.runs()? {
-                let row = row?;
-                sorted &= prev.is_none_or(|p| p <= row.run);
-                prev = Some(row.run);
-                agents = agents.max(store::tracked_agents([&row]));
+                let run = row?.run;
+                sorted &= prev.is_none_or(|p| p <= run);
+                prev = Some(run);
             }
         }
         if let Some(p) = &progress {
-            let mut prev: Option<ProgressRow> = None;
-            for row in p.progress()? {
-                let row = row?;
-                sorted &= prev
-                    .as_ref()
-                    .is_none_or(|p| progress_order(p, &row) != Ordering::Greater);
-                prev = Some(row);
+            let mut rows = Records::progress(p)?;
+            let mut prev: Option<Point> = None;
+            while let Some(row) = rows.next_record()? {
+                sorted &= prev.is_none_or(|p| p.cmp(&row.key) != Ordering::Greater);
+                prev = Some(row.key);
             }
         }
         Ok(Source {
@@ -213,36 +212,27 @@ impl Source {
         })
     }
 
-    /// The folder's whole runs in run order: streamed from files already in order, else read
-    /// whole and sorted (one folder's runs: a task that ran several threads and did not finish).
-    fn whole_runs(&self) -> Result<WholeRuns, Error> {
-        let (runs, progress): (RowIter<RunRecord>, RowIter<ProgressRow>) = if self.sorted {
-            (
-                match &self.runs {
-                    Some(r) => Box::new(r.runs()?),
-                    None => Box::new(std::iter::empty()),
-                },
-                match &self.progress {
-                    Some(p) => Box::new(p.progress()?),
-                    None => Box::new(std::iter::empty()),
-                },
-            )
-        } else {
-            let mut runs = match &self.runs {
-                Some(r) => r.runs()?.collect::<Result<Vec<_>, _>>()?,
-                None => vec![],
-            };
-            let mut progress = match &self.progress {
-                Some(p) => p.progress()?.collect::<Result<Vec<_>, _>>()?,
-                None => vec![],
-            };
-            runs.sort_by_key(|r| r.run);
-            progress.sort_by(progress_order);
-            (
-                Box::new(runs.into_iter().map(Ok)),
-                Box::new(progress.into_iter().map(Ok)),
-            )
+    /// The folder's whole runs in run order, their rows widened to `agents` agents' columns:
+    /// streamed from files already in order, else read whole and sorted (one folder's runs: a
+    /// task that ran several threads and did not finish).
+    fn whole_runs(&self, agents: usize) -> Result<WholeRuns, Error> {
+        let widen = agents.saturating_sub(self.agents) * crate::run::record::agent_columns(0).len();
+        let mut runs: RecordIter<RunKey> = match &self.runs {
+            Some(r) => Box::new(Records::runs(r)?.widened(widen)),
+            None => Box::new(std::iter::empty()),
         };
+        let mut progress: RecordIter<Point> = match &self.progress {
+            Some(p) => Box::new(Records::progress(p)?),
+            None => Box::new(std::iter::empty()),
+        };
+        if !self.sorted {
+            let mut r = runs.collect::<Result<Vec<_>, _>>()?;
+            let mut p = progress.collect::<Result<Vec<_>, _>>()?;
+            r.sort_by_key(|r| r.key.run);
+            p.sort_by(|a, b| a.key.cmp(&b.key));
+            runs = Box::new(r.into_iter().map(Ok));
+            progress = Box::new(p.into_iter().map(Ok));
+        }
         Ok(WholeRuns {
             runs: runs.peekable(),
             progress: progress.peekable(),
@@ -251,24 +241,217 @@ impl Source {
     }
 }
 
-type RowIter<T> = Box<dyn Iterator<Item = Result<T, Error>>>;
+/// What the merge reads of a `runs.csv` row.
+#[derive(Debug, Clone, Copy)]
+struct RunKey {
+    run: usize,
+    /// The trace points the row records (`None`: a row of an older version).
+    progress_rows: Option<u64>,
+}
 
-/// One run's row and its trace.
-pub struct WholeRun {
-    /// The row.
-    pub record: RunRecord,
-    /// Its progress rows, in order.
-    pub trace: Vec<ProgressRow>,
+/// What the merge reads of a `progress.csv` row: its run, and its order within the run.
+#[derive(Debug, Clone, Copy)]
+struct Point {
+    run: usize,
+    iteration: u64,
+    time_s: f64,
+}
+
+impl Point {
+    /// The order of progress rows in a finished folder: by run, iteration, then time.
+    fn cmp(&self, other: &Point) -> Ordering {
+        (self.run, self.iteration)
+            .cmp(&(other.run, other.iteration))
+            .then(self.time_s.total_cmp(&other.time_s))
+    }
+}
+
+/// A record of a run file: its bytes as they are in the file (with its line end), and its key.
+struct Record<K> {
+    key: K,
+    bytes: Vec<u8>,
+}
+
+type RecordIter<K> = Box<dyn Iterator<Item = Result<Record<K>, Error>>>;
+
+/// The records of a run file after its header, one at a time: each record's cells are read for
+/// its key, and its bytes are copied from the file as they are.
+struct Records<K> {
+    path: PathBuf,
+    cells: csv::Reader<std::io::Take<std::io::BufReader<std::fs::File>>>,
+    /// The same bytes, read alongside the cells.
+    bytes: std::io::Take<std::io::BufReader<std::fs::File>>,
+    record: csv::ByteRecord,
+    /// The key's columns in the header.
+    columns: Vec<usize>,
+    key: fn(&[Option<&str>]) -> Result<K, String>,
+    row: usize,
+    /// Empty cells appended to each record (the per-agent columns its header lacks).
+    widen: usize,
+    /// The per-agent columns of its header.
+    agents: usize,
+}
+
+impl Records<RunKey> {
+    /// The rows of `runs.csv`, whose header must be this version's.
+    fn runs(snap: &store::Snapshot) -> Result<Records<RunKey>, Error> {
+        Records::open(
+            snap,
+            &["run", "progress_rows"],
+            |c| {
+                Ok(RunKey {
+                    run: parse("run", c[0])?,
+                    progress_rows: c[1]
+                        .filter(|v| !v.is_empty())
+                        .map(|v| parse("progress_rows", Some(v)))
+                        .transpose()?,
+                })
+            },
+            |h| store::header_agents(h).ok_or(()),
+        )
+    }
+
+    /// The same records, each widened by `cells` empty cells.
+    fn widened(mut self, cells: usize) -> Self {
+        self.widen = cells;
+        self
+    }
+}
+
+impl Records<Point> {
+    /// The rows of `progress.csv`, whose header must be this version's.
+    fn progress(snap: &store::Snapshot) -> Result<Records<Point>, Error> {
+        Records::open(
+            snap,
+            &["run", "iteration", "time_s", "best_cost"],
+            |c| {
+                if let Some(v) = c[3].filter(|v| !v.is_empty()) {
+                    parse::<f64>("best_cost", Some(v))?;
+                }
+                Ok(Point {
+                    run: parse("run", c[0])?,
+                    iteration: parse("iteration", c[1])?,
+                    time_s: parse("time_s", c[2])?,
+                })
+            },
+            |h| (h == store::progress_header()).then_some(0).ok_or(()),
+        )
+    }
+}
+
+/// The value of cell `name` (`None`: the record has no such cell), parsed.
+fn parse<T: std::str::FromStr>(name: &str, cell: Option<&str>) -> Result<T, String>
+where
+    T::Err: std::fmt::Display,
+{
+    let v = cell.ok_or_else(|| format!("no `{name}` cell"))?;
+    v.parse().map_err(|e| format!("{name}: {v:?}: {e}"))
+}
+
+impl<K> Records<K> {
+    /// Opens `snap`'s records after its header, which `agents` accepts (giving its per-agent
+    /// columns) or refuses; `key` reads a record's key from its cells of `columns`.
+    fn open(
+        snap: &store::Snapshot,
+        columns: &[&str],
+        key: fn(&[Option<&str>]) -> Result<K, String>,
+        agents: impl Fn(&str) -> Result<usize, ()>,
+    ) -> Result<Records<K>, Error> {
+        let path = snap.path().to_path_buf();
+        let mut cells = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(snap.reader()?);
+        let file = std::fs::File::open(&path).map_err(|e| store::failed(&path, e))?;
+        let mut bytes = std::io::BufReader::new(file).take(snap.complete_len());
+        let mut header = csv::StringRecord::new();
+        let read = cells
+            .read_record(&mut header)
+            .map_err(|e| store::bad_row(&path, 0, e.to_string()))?;
+        let len = cells.position().byte();
+        std::io::copy(&mut (&mut bytes).take(len), &mut std::io::sink())
+            .map_err(|e| store::failed(&path, e))?;
+        let line = header.iter().collect::<Vec<_>>().join(",");
+        let agents = match agents(&line) {
+            Ok(n) => n,
+            Err(()) if !read => 0,
+            Err(()) => {
+                return Err(Error::Input(InputError::new(
+                    path.display().to_string(),
+                    "header",
+                    "not the columns of this version of magbench",
+                )));
+            }
+        };
+        let columns = columns
+            .iter()
+            .map(|c| header.iter().position(|h| h == *c).unwrap_or(usize::MAX))
+            .collect();
+        Ok(Records {
+            path,
+            cells,
+            bytes,
+            record: csv::ByteRecord::new(),
+            columns,
+            key,
+            row: 0,
+            widen: 0,
+            agents,
+        })
+    }
+
+    /// The next record (`None`: no more).
+    fn next_record(&mut self) -> Result<Option<Record<K>>, Error> {
+        let start = self.cells.position().byte();
+        self.row += 1;
+        let bad = |row, e: String| store::bad_row(&self.path, row, e);
+        if !self
+            .cells
+            .read_byte_record(&mut self.record)
+            .map_err(|e| bad(self.row, e.to_string()))?
+        {
+            return Ok(None);
+        }
+        let cells: Vec<Option<&str>> = self
+            .columns
+            .iter()
+            .map(|&c| self.record.get(c).and_then(|v| std::str::from_utf8(v).ok()))
+            .collect();
+        let key = (self.key)(&cells).map_err(|e| bad(self.row, e))?;
+        let len = (self.cells.position().byte() - start) as usize;
+        let mut bytes = vec![0; len];
+        self.bytes
+            .read_exact(&mut bytes)
+            .map_err(|e| store::failed(&self.path, e))?;
+        if self.widen > 0 && bytes.pop() == Some(b'\n') {
+            bytes.extend(std::iter::repeat_n(b',', self.widen));
+            bytes.push(b'\n');
+        }
+        Ok(Some(Record { key, bytes }))
+    }
+}
+
+impl<K> Iterator for Records<K> {
+    type Item = Result<Record<K>, Error>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_record().transpose()
+    }
+}
+
+/// One run's row and its trace, as they are in its folder's files.
+struct WholeRun {
+    row: Record<RunKey>,
+    trace: Vec<Record<Point>>,
 }
 
 /// The whole runs of one folder's rows and trace points, both in run order, one run at a time:
 /// runs with one row whose trace has exactly the points the row records (any trace for rows of
 /// older versions, which record none). Trace points of runs without a row are skipped.
-pub struct WholeRuns {
-    runs: std::iter::Peekable<RowIter<RunRecord>>,
-    progress: std::iter::Peekable<RowIter<ProgressRow>>,
+struct WholeRuns {
+    runs: std::iter::Peekable<RecordIter<RunKey>>,
+    progress: std::iter::Peekable<RecordIter<Point>>,
     /// Runs left out so far: doubled rows, or a trace of another length than the row records.
-    pub left_out: usize,
+    left_out: usize,
 }
 
 impl Iterator for WholeRuns {
@@ -276,13 +459,14 @@ impl Iterator for WholeRuns {
 
     fn next(&mut self) -> Option<Self::Item> {
         loop {
-            let record = match self.runs.next()? {
+            let row = match self.runs.next()? {
                 Ok(r) => r,
                 Err(e) => return Some(Err(e)),
             };
+            let run = row.key.run;
             let mut rows = 1;
             while let Some(Ok(r)) = self.runs.peek() {
-                if r.run != record.run {
+                if r.key.run != run {
                     break;
                 }
                 rows += 1;
@@ -291,8 +475,8 @@ impl Iterator for WholeRuns {
             let mut trace = vec![];
             while let Some(p) = self.progress.peek() {
                 match p {
-                    Ok(p) if p.run > record.run => break,
-                    Ok(p) if p.run == record.run => {}
+                    Ok(p) if p.key.run > run => break,
+                    Ok(p) if p.key.run == run => {}
                     Ok(_) => {
                         self.progress.next();
                         continue;
@@ -308,9 +492,12 @@ impl Iterator for WholeRuns {
                     trace.push(p);
                 }
             }
-            let whole = record.progress_rows.is_none_or(|k| trace.len() as u64 == k);
+            let whole = row
+                .key
+                .progress_rows
+                .is_none_or(|k| trace.len() as u64 == k);
             if rows == 1 && whole {
-                return Some(Ok(WholeRun { record, trace }));
+                return Some(Ok(WholeRun { row, trace }));
             }
             self.left_out += 1;
         }
@@ -359,13 +546,13 @@ mod tests {
 
     fn runs_of(dir: &Path) -> (Vec<usize>, Vec<usize>, usize, bool) {
         let s = Source::open(dir).unwrap();
-        let mut w = s.whole_runs().unwrap();
+        let mut w = s.whole_runs(s.agents).unwrap();
         let mut runs = vec![];
         let mut points = vec![];
         for r in w.by_ref() {
             let r = r.unwrap();
-            runs.push(r.record.run);
-            points.extend(r.trace.iter().map(|p| p.run));
+            runs.push(r.row.key.run);
+            points.extend(r.trace.iter().map(|p| p.key.run));
         }
         (runs, points, w.left_out, s.sorted)
     }
@@ -407,5 +594,47 @@ mod tests {
         let (runs, points, left_out, sorted) = runs_of(dir.path());
         assert_eq!((runs, left_out, sorted), (vec![0, 3], 2, false));
         assert_eq!(points, vec![0, 0, 0, 3, 3, 3]);
+    }
+
+    #[test]
+    fn rows_are_copied_as_they_are_and_widened_to_the_widest_header() {
+        let narrow = tempfile::tempdir().unwrap();
+        let mut w = RunWriter::open(narrow.path(), 0).unwrap();
+        w.write(&out(0)).unwrap();
+        drop(w);
+        let s = Source::open(narrow.path()).unwrap();
+        assert_eq!(s.agents, 0);
+        let rows = std::fs::read_to_string(narrow.path().join(store::RUNS)).unwrap();
+        let row = rows.lines().nth(1).unwrap();
+        let as_is = s.whole_runs(0).unwrap().next().unwrap().unwrap();
+        assert_eq!(as_is.row.bytes, format!("{row}\n").into_bytes());
+        let trace = std::fs::read_to_string(narrow.path().join(store::PROGRESS)).unwrap();
+        let copied: Vec<u8> = as_is.trace.iter().flat_map(|p| p.bytes.clone()).collect();
+        assert_eq!(copied, trace.split_once('\n').unwrap().1.as_bytes());
+        // under a header with two agents' columns: eight empty cells more
+        let wide = s.whole_runs(2).unwrap().next().unwrap().unwrap();
+        let text = String::from_utf8(wide.row.bytes).unwrap();
+        assert_eq!(text, format!("{row},,,,,,,,\n"));
+        let header = csv::StringRecord::from(store::runs_header(2).split(',').collect::<Vec<_>>());
+        let cells = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(text.as_bytes())
+            .records()
+            .next()
+            .unwrap()
+            .unwrap();
+        assert_eq!(cells.len(), header.len());
+    }
+
+    #[test]
+    fn a_header_of_other_columns_is_refused_naming_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join(store::RUNS),
+            "run,run_id,progress_rows\n0,a,0\n",
+        )
+        .unwrap();
+        let e = Source::open(dir.path()).err().unwrap().to_string();
+        assert!(e.contains("runs.csv") && e.contains("header"), "{e}");
     }
 }

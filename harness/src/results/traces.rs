@@ -155,27 +155,53 @@ impl Traces {
     }
 }
 
-/// Appends the points of stretch `s` to `out`, read by `reader` from the file at `path`.
+/// Appends the points of stretch `s` to `out`, read by `reader` from the file at `path` (moved
+/// to the stretch unless it is there: the stretches of runs read in order follow each other).
 fn read_stretch(
     path: &Path,
     reader: &mut csv::Reader<File>,
     s: &Stretch,
     out: &mut Vec<TracePoint>,
 ) -> Result<(), Error> {
-    let mut at = csv::Position::new();
-    at.set_byte(s.offset);
-    reader
-        .seek_raw(SeekFrom::Start(s.offset), at)
-        .map_err(|e| failed(path, e))?;
-    let mut rows = reader.deserialize::<ProgressRow>();
+    if reader.position().byte() != s.offset {
+        let mut at = csv::Position::new();
+        at.set_byte(s.offset);
+        reader
+            .seek_raw(SeekFrom::Start(s.offset), at)
+            .map_err(|e| failed(path, e))?;
+    }
+    let mut record = csv::ByteRecord::new();
     for _ in 0..s.rows {
-        match rows.next() {
-            Some(Ok(r)) => out.push((&r).into()),
-            Some(Err(e)) => return Err(failed(path, e)),
-            None => return Err(failed(path, "the file is shorter than when it was read")),
+        if !reader
+            .read_byte_record(&mut record)
+            .map_err(|e| failed(path, e))?
+        {
+            return Err(failed(path, "the file is shorter than when it was read"));
         }
+        out.push(point(&record).map_err(|e| failed(path, e))?);
     }
     Ok(())
+}
+
+/// The trace point of a `progress.csv` record (its columns in [`ProgressRow`]'s order: run,
+/// run id, iteration, time, best cost).
+fn point(record: &csv::ByteRecord) -> Result<TracePoint, String> {
+    fn cell<T: std::str::FromStr>(record: &csv::ByteRecord, i: usize) -> Result<Option<T>, String>
+    where
+        T::Err: std::fmt::Display,
+    {
+        let v = record.get(i).ok_or("a row with too few cells")?;
+        let v = std::str::from_utf8(v).map_err(|e| e.to_string())?;
+        if v.is_empty() {
+            return Ok(None);
+        }
+        v.parse().map(Some).map_err(|e| format!("{v:?}: {e}"))
+    }
+    Ok(TracePoint {
+        iteration: cell(record, 2)?.ok_or("no iteration")?,
+        time_s: cell(record, 3)?.ok_or("no time")?,
+        best_cost: cell(record, 4)?,
+    })
 }
 
 #[cfg(test)]

@@ -386,7 +386,9 @@ const SWEEP: &[&str] = &[
     // the module's declarations (a test checks that the file holds nothing else)
     ":!harness/src/results/mod.rs",
     // a results folder's figures and derived files: no table depends on them (a measurement
-    // that shows them declares FIGURES or DERIVED)
+    // that shows them declares FIGURES or DERIVED); and `merge`, which no sweep runs (a
+    // measurement that runs it declares DERIVED; a test checks)
+    ":!harness/src/results/merge.rs",
     ":!harness/src/results/finalize.rs",
     ":!harness/src/results/plots.rs",
     ":!harness/src/results/report.rs",
@@ -419,10 +421,13 @@ const FIGURES: &[&str] = &["harness/src/results/plots.rs", "plot/src/plot"];
 /// its run files by `sort.rs`, of [`SWEEP`]; it records their counts and hashes in the
 /// manifest, which only `merge`, `results verify` and `results plot` print). No table reads
 /// them (the tables read `runs.csv` and `progress.csv`; a test checks) and no console line of
-/// `bench` shows them; writing them is part of a `bench` command's wall time. A measurement
-/// that shows them, or runs `merge`, `results verify` or `results plot`, declares this group.
+/// `bench` shows them; writing them is part of a `bench` command's wall time. With them, the
+/// merge of shard folders into one (`merge.rs`), which no sweep and no transcript runs. A
+/// measurement that shows them, or runs `merge`, `results verify` or `results plot`, declares
+/// this group.
 const DERIVED: &[&str] = &[
     "harness/src/results/finalize.rs",
+    "harness/src/results/merge.rs",
     "harness/src/results/report.rs",
     "harness/src/results/ompl",
     "harness/src/results/parquet.rs",
@@ -451,7 +456,9 @@ const CLI: &[&str] = &[
     ":!cli/src/lib.rs",
     ":!harness/src/results/mod.rs",
     // a results folder's figures and derived files ([`FIGURES`], [`DERIVED`]): no console line
-    // depends on them (writing them is part of a `bench` command's wall time)
+    // depends on them (writing them is part of a `bench` command's wall time); and `merge`,
+    // which no transcript runs (a test checks)
+    ":!harness/src/results/merge.rs",
     ":!harness/src/results/finalize.rs",
     ":!harness/src/results/plots.rs",
     ":!harness/src/results/report.rs",

@@ -157,21 +157,39 @@ fn settings(r: &RunRecord) -> Vec<(String, String)> {
 /// A run's progress line: `best cost,iterations,time,;` for each point of its trace, the last
 /// point of each time kept (OMPL's progress table is keyed by run and time).
 fn progress_line(points: &[TracePoint]) -> String {
-    let mut by_time: BTreeMap<String, &TracePoint> = BTreeMap::new();
-    let mut order = vec![];
+    // a time as it is written: distinct numbers are distinct texts, and every NaN is ""
+    let time = |t: f64| if t.is_nan() { u64::MAX } else { t.to_bits() };
+    // the last point of each time, at the place of the time's first point
+    let mut at: std::collections::HashMap<u64, usize> =
+        std::collections::HashMap::with_capacity(points.len());
+    let mut kept: Vec<&TracePoint> = Vec::with_capacity(points.len());
     for p in points {
-        let t = num(p.time_s);
-        if by_time.insert(t.clone(), p).is_none() {
-            order.push(t);
+        match at.entry(time(p.time_s)) {
+            std::collections::hash_map::Entry::Occupied(e) => kept[*e.get()] = p,
+            std::collections::hash_map::Entry::Vacant(e) => {
+                e.insert(kept.len());
+                kept.push(p);
+            }
         }
     }
     let mut o = String::new();
-    for t in order {
-        let p = by_time[&t];
-        let c = p.best_cost.map(num).unwrap_or_else(|| "inf".into());
-        let _ = write!(o, "{c},{},{t},;", p.iteration);
+    for p in kept {
+        match p.best_cost {
+            Some(c) => write_num(&mut o, c),
+            None => o.push_str("inf"),
+        }
+        let _ = write!(o, ",{},", p.iteration);
+        write_num(&mut o, p.time_s);
+        o.push_str(",;");
     }
     o
+}
+
+/// Appends `v` as [`num`] writes it.
+fn write_num(o: &mut String, v: f64) {
+    if !v.is_nan() {
+        let _ = write!(o, "{v}");
+    }
 }
 
 /// Writes one OMPL benchmark log holding the configurations `bl` as experiment `name` to `w`,
@@ -298,4 +316,35 @@ pub fn write(dir: &Path, m: &Manifest, gathered: Gathered) -> Result<Vec<PathBuf
         }
     }
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(iteration: u64, time_s: f64, best_cost: Option<f64>) -> TracePoint {
+        TracePoint {
+            iteration,
+            time_s,
+            best_cost,
+        }
+    }
+
+    #[test]
+    fn a_progress_line_has_the_last_point_of_each_time_where_the_time_first_appears() {
+        let points = [
+            point(1, 0.5, None),
+            point(2, 0.25, Some(9.0)),
+            point(3, 0.5, Some(7.5)),
+            point(4, -0.0, Some(f64::NAN)),
+            point(5, 0.0, Some(6.0)),
+            point(6, f64::NAN, None),
+            point(7, f64::NAN, Some(5.0)),
+        ];
+        assert_eq!(
+            progress_line(&points),
+            "7.5,3,0.5,;9,2,0.25,;,4,-0,;6,5,0,;5,7,,;"
+        );
+        assert_eq!(progress_line(&[]), "");
+    }
 }
