@@ -199,9 +199,9 @@ impl Source {
         if let Some(p) = &progress {
             let mut rows = Records::progress(p)?;
             let mut prev: Option<Point> = None;
-            while let Some(row) = rows.next_record()? {
-                sorted &= prev.is_none_or(|p| p.cmp(&row.key) != Ordering::Greater);
-                prev = Some(row.key);
+            while let Some((point, _)) = rows.next_key()? {
+                sorted &= prev.is_none_or(|p| p.cmp(&point) != Ordering::Greater);
+                prev = Some(point);
             }
         }
         Ok(Source {
@@ -273,6 +273,9 @@ struct Record<K> {
 }
 
 type RecordIter<K> = Box<dyn Iterator<Item = Result<Record<K>, Error>>>;
+
+/// The most columns a key reads.
+const KEY_COLUMNS: usize = 4;
 
 /// The records of a run file after its header, one at a time: each record's cells are read for
 /// its key, and its bytes are copied from the file as they are.
@@ -357,6 +360,10 @@ impl<K> Records<K> {
         key: fn(&[Option<&str>]) -> Result<K, String>,
         agents: impl Fn(&str) -> Result<usize, ()>,
     ) -> Result<Records<K>, Error> {
+        debug_assert!(
+            columns.len() <= KEY_COLUMNS,
+            "a key of at most {KEY_COLUMNS} columns"
+        );
         let path = snap.path().to_path_buf();
         let mut cells = csv::ReaderBuilder::new()
             .has_headers(false)
@@ -399,8 +406,8 @@ impl<K> Records<K> {
         })
     }
 
-    /// The next record (`None`: no more).
-    fn next_record(&mut self) -> Result<Option<Record<K>>, Error> {
+    /// The next record's key and length in bytes (`None`: no more), its bytes not read.
+    fn next_key(&mut self) -> Result<Option<(K, usize)>, Error> {
         let start = self.cells.position().byte();
         self.row += 1;
         let bad = |row, e: String| store::bad_row(&self.path, row, e);
@@ -411,13 +418,19 @@ impl<K> Records<K> {
         {
             return Ok(None);
         }
-        let cells: Vec<Option<&str>> = self
-            .columns
-            .iter()
-            .map(|&c| self.record.get(c).and_then(|v| std::str::from_utf8(v).ok()))
-            .collect();
+        let mut cells = [None; KEY_COLUMNS];
+        for (cell, &c) in cells.iter_mut().zip(&self.columns) {
+            *cell = self.record.get(c).and_then(|v| std::str::from_utf8(v).ok());
+        }
         let key = (self.key)(&cells).map_err(|e| bad(self.row, e))?;
-        let len = (self.cells.position().byte() - start) as usize;
+        Ok(Some((key, (self.cells.position().byte() - start) as usize)))
+    }
+
+    /// The next record (`None`: no more).
+    fn next_record(&mut self) -> Result<Option<Record<K>>, Error> {
+        let Some((key, len)) = self.next_key()? else {
+            return Ok(None);
+        };
         let mut bytes = vec![0; len];
         self.bytes
             .read_exact(&mut bytes)
