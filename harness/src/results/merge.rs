@@ -2,7 +2,8 @@
 //!
 //! The shards' `runs.csv` and `progress.csv` are read a record at a time and merged by run
 //! index (a k-way merge); each record is copied as it is in its shard's file (widened with empty
-//! cells when its header has fewer agents' columns), so the merged files hold the shards' bytes.
+//! cells when its header has fewer agents' columns), so the merged files hold the shards' bytes;
+//! the rows of a file with another version's columns are read by name and written again.
 //! A shard in run order holds one run in memory at a time, so the merge of the run files holds
 //! a run per shard, whatever the number of runs; a shard out of run order (a task at several
 //! threads that did not finish) is read whole and sorted first. Before anything is written,
@@ -173,8 +174,13 @@ struct Source {
     /// Whether `runs.csv` is in run order and `progress.csv` in (run, iteration, time) order,
     /// as a finished folder and a task at one thread write them.
     sorted: bool,
-    /// The per-agent columns of its `runs.csv` (0 without one).
+    /// The per-agent columns of its `runs.csv` (0 without one; for a header of another
+    /// version, the largest tracked team of its rows).
     agents: usize,
+    /// Whether each file's header is this version's, so that its records are copied as they
+    /// are (`runs.csv`, `progress.csv`); a file of another version's columns is read by name and
+    /// written again.
+    copied: [bool; 2],
 }
 
 impl Source {
@@ -185,23 +191,36 @@ impl Source {
         let runs = store::Snapshot::open(&dir.join(store::RUNS))?;
         let progress = store::Snapshot::open(&dir.join(store::PROGRESS))?;
         let mut sorted = true;
-        let mut agents = 0;
+        let (mut agents, mut copied) = (0, [true; 2]);
         if let Some(r) = &runs {
+            let header = Records::runs(r)?.agents;
             // every row parsed whole: a shard's bad row is refused before anything is written
-            agents = Records::runs(r)?.agents;
-            let mut prev = None;
+            let (mut prev, mut tracked) = (None, 0);
             for row in r.runs()? {
-                let run = row?.run;
-                sorted &= prev.is_none_or(|p| p <= run);
-                prev = Some(run);
+                let row = row?;
+                sorted &= prev.is_none_or(|p| p <= row.run);
+                prev = Some(row.run);
+                tracked = tracked.max(store::tracked_agents([&row]));
             }
+            agents = header.unwrap_or(tracked);
+            copied[0] = header.is_some();
         }
         if let Some(p) = &progress {
             let mut rows = Records::progress(p)?;
+            copied[1] = rows.agents.is_some();
             let mut prev: Option<Point> = None;
-            while let Some((point, _)) = rows.next_key()? {
+            let mut order = |point: Point| {
                 sorted &= prev.is_none_or(|p| p.cmp(&point) != Ordering::Greater);
                 prev = Some(point);
+            };
+            if copied[1] {
+                while let Some((point, _)) = rows.next_key()? {
+                    order(point);
+                }
+            } else {
+                for row in p.progress()? {
+                    order(Point::of(&row?));
+                }
             }
         }
         Ok(Source {
@@ -209,6 +228,7 @@ impl Source {
             progress,
             sorted,
             agents,
+            copied,
         })
     }
 
@@ -218,11 +238,28 @@ impl Source {
     fn whole_runs(&self, agents: usize) -> Result<WholeRuns, Error> {
         let widen = agents.saturating_sub(self.agents) * crate::run::record::agent_columns(0).len();
         let mut runs: RecordIter<RunKey> = match &self.runs {
-            Some(r) => Box::new(Records::runs(r)?.widened(widen)),
+            Some(r) if self.copied[0] => Box::new(Records::runs(r)?.widened(widen)),
+            Some(r) => Box::new(r.runs()?.map(move |row| {
+                let row = row?;
+                Ok(Record {
+                    key: RunKey {
+                        run: row.run,
+                        progress_rows: row.progress_rows,
+                    },
+                    bytes: store::run_bytes(std::slice::from_ref(&row), agents),
+                })
+            })),
             None => Box::new(std::iter::empty()),
         };
         let mut progress: RecordIter<Point> = match &self.progress {
-            Some(p) => Box::new(Records::progress(p)?),
+            Some(p) if self.copied[1] => Box::new(Records::progress(p)?),
+            Some(p) => Box::new(p.progress()?.map(|row| {
+                let row = row?;
+                Ok(Record {
+                    key: Point::of(&row),
+                    bytes: store::progress_bytes(std::slice::from_ref(&row)),
+                })
+            })),
             None => Box::new(std::iter::empty()),
         };
         if !self.sorted {
@@ -258,6 +295,15 @@ struct Point {
 }
 
 impl Point {
+    /// The point of a progress row.
+    fn of(row: &crate::run::ProgressRow) -> Point {
+        Point {
+            run: row.run,
+            iteration: row.iteration,
+            time_s: row.time_s,
+        }
+    }
+
     /// The order of progress rows in a finished folder: by run, iteration, then time.
     fn cmp(&self, other: &Point) -> Ordering {
         (self.run, self.iteration)
@@ -291,12 +337,12 @@ struct Records<K> {
     row: usize,
     /// Empty cells appended to each record (the per-agent columns its header lacks).
     widen: usize,
-    /// The per-agent columns of its header.
-    agents: usize,
+    /// The per-agent columns of its header (`None`: not this version's header).
+    agents: Option<usize>,
 }
 
 impl Records<RunKey> {
-    /// The rows of `runs.csv`, whose header must be this version's.
+    /// The rows of `runs.csv`, copied as they are when its header is this version's.
     fn runs(snap: &store::Snapshot) -> Result<Records<RunKey>, Error> {
         Records::open(
             snap,
@@ -310,7 +356,7 @@ impl Records<RunKey> {
                         .transpose()?,
                 })
             },
-            |h| store::header_agents(h).ok_or(()),
+            store::header_agents,
         )
     }
 
@@ -322,7 +368,7 @@ impl Records<RunKey> {
 }
 
 impl Records<Point> {
-    /// The rows of `progress.csv`, whose header must be this version's.
+    /// The rows of `progress.csv`, copied as they are when its header is this version's.
     fn progress(snap: &store::Snapshot) -> Result<Records<Point>, Error> {
         Records::open(
             snap,
@@ -337,7 +383,7 @@ impl Records<Point> {
                     time_s: parse("time_s", c[2])?,
                 })
             },
-            |h| (h == store::progress_header()).then_some(0).ok_or(()),
+            |h| (h == store::progress_header()).then_some(0),
         )
     }
 }
@@ -352,13 +398,13 @@ where
 }
 
 impl<K> Records<K> {
-    /// Opens `snap`'s records after its header, which `agents` accepts (giving its per-agent
-    /// columns) or refuses; `key` reads a record's key from its cells of `columns`.
+    /// Opens `snap`'s records after its header, which `agents` finds this version's (giving its
+    /// per-agent columns) or not; `key` reads a record's key from its cells of `columns`.
     fn open(
         snap: &store::Snapshot,
         columns: &[&str],
         key: fn(&[Option<&str>]) -> Result<K, String>,
-        agents: impl Fn(&str) -> Result<usize, ()>,
+        agents: impl Fn(&str) -> Option<usize>,
     ) -> Result<Records<K>, Error> {
         debug_assert!(
             columns.len() <= KEY_COLUMNS,
@@ -378,17 +424,7 @@ impl<K> Records<K> {
         std::io::copy(&mut (&mut bytes).take(len), &mut std::io::sink())
             .map_err(|e| store::failed(&path, e))?;
         let line = header.iter().collect::<Vec<_>>().join(",");
-        let agents = match agents(&line) {
-            Ok(n) => n,
-            Err(()) if !read => 0,
-            Err(()) => {
-                return Err(Error::Input(InputError::new(
-                    path.display().to_string(),
-                    "header",
-                    "not the columns of this version of magbench",
-                )));
-            }
-        };
+        let agents = if read { agents(&line) } else { Some(0) };
         let columns = columns
             .iter()
             .map(|c| header.iter().position(|h| h == *c).unwrap_or(usize::MAX))
@@ -640,14 +676,16 @@ mod tests {
     }
 
     #[test]
-    fn a_header_of_other_columns_is_refused_naming_the_file() {
+    fn rows_of_another_versions_columns_are_read_by_name_and_written_again() {
         let dir = tempfile::tempdir().unwrap();
-        std::fs::write(
-            dir.path().join(store::RUNS),
-            "run,run_id,progress_rows\n0,a,0\n",
-        )
-        .unwrap();
-        let e = Source::open(dir.path()).err().unwrap().to_string();
-        assert!(e.contains("runs.csv") && e.contains("header"), "{e}");
+        // the header of a version before the per-agent and worst-agent columns, and a row
+        let old = "run,run_id,experiment,scenario,agents,planner,planner_name,planner_params,tracker,preset,seed,max_iterations,time_limit_s,status,solved,approximate,iterations,nodes,plan_time_s,cost,goal_distance,first_solution_iteration,first_solution_time_s,plan_edges,plan_duration_s,track_status,reached_goal,time_to_goal_s,rms_error_bl,max_error_bl,rms_error_worst_agent_bl,rms_error_true_bl,rms_error_sync_bl,rms_error_time_bl,legs_completed,final_distance_bl,agent_contact,wall_contacts,missed_frames,replans,track_duration_s,track_time_s,error\n0,a|b|obc|realistic|0,ci,open-field,2,goal-zoom-rrt,goal-zoom-rrt,,obc,realistic,0,3000,,exact,true,false,10,11,0.1,5.0,0.1,3,0.01,4,5.0,reached-goal,true,6.0,0.07,0.2,0.08,0.06,0.09,0.3,1,0.1,false,0,2,0,6.0,0.5,\n";
+        std::fs::write(dir.path().join(store::RUNS), old).unwrap();
+        let s = Source::open(dir.path()).unwrap();
+        // its tracked team of two: two agents' columns
+        assert_eq!((s.agents, s.copied), (2, [false, true]));
+        let row = store::read_runs(dir.path()).unwrap().remove(0);
+        let merged = s.whole_runs(2).unwrap().next().unwrap().unwrap();
+        assert_eq!(merged.row.bytes, store::run_bytes(&[row], 2));
     }
 }
