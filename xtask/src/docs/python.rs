@@ -221,12 +221,19 @@ pub fn run_python(i: &Interpreter, r: &PythonRun) -> Result<String, PythonError>
 mod tests {
     use super::*;
 
-    /// An executable shell script `name` in `dir` with body `body`.
+    /// An executable shell script `name` in `dir` with body `body`, written by a shell of its
+    /// own: a file this process held open for writing could be inherited by a child that
+    /// another test's thread forks meanwhile, and running it would then fail with "Text file
+    /// busy" until that child execs.
     fn script(dir: &Path, name: &str, body: &str) -> String {
-        use std::os::unix::fs::PermissionsExt;
         let p = dir.join(name);
-        std::fs::write(&p, format!("#!/bin/sh\n{body}\n")).unwrap();
-        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let written = Command::new("/bin/sh")
+            .args(["-c", "printf '%s' \"$1\" > \"$2\" && chmod 755 \"$2\"", "sh"])
+            .arg(format!("#!/bin/sh\n{body}\n"))
+            .arg(&p)
+            .status()
+            .unwrap();
+        assert!(written.success(), "{}: not written", p.display());
         p.display().to_string()
     }
 
