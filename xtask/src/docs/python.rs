@@ -228,7 +228,11 @@ mod tests {
     fn script(dir: &Path, name: &str, body: &str) -> String {
         let p = dir.join(name);
         let written = Command::new("/bin/sh")
-            .args(["-c", "printf '%s' \"$1\" > \"$2\" && chmod 755 \"$2\"", "sh"])
+            .args([
+                "-c",
+                "printf '%s' \"$1\" > \"$2\" && chmod 755 \"$2\"",
+                "sh",
+            ])
             .arg(format!("#!/bin/sh\n{body}\n"))
             .arg(&p)
             .status()
