@@ -30,9 +30,9 @@ declare_params! {
         /// straight).
         #[param("straighten")]
         pub straighten: bool = false,
-        /// Convex subproblems of trajectory optimisation spent on each window of a solution
-        /// after straightening (crate::trajopt: fields and gradients optimised window by
-        /// window, durations kept; 0 none).
+        /// Convex subproblems of trajectory optimisation spent on each horizon of a solution
+        /// after straightening (crate::trajopt: fields and gradients optimised over a receding
+        /// horizon, durations kept; 0 none).
         #[param("trajopt", 0..=1_000_000)]
         pub trajopt: usize = 0,
     }

@@ -37,7 +37,7 @@ pub use guess::straight_line;
 pub use rollout::{End, LANDING, Rollout};
 
 use magbench_env::params::Reals;
-use magbench_env::{Control, declare_params};
+use magbench_env::{Control, Vec2, declare_params};
 
 use crate::{Plan, Problem};
 use land::land;
@@ -61,9 +61,9 @@ declare_params! {
         /// and subtracted from the goal's tolerance (BL).
         #[param("margin", Reals::closed(0.0, 1.0))]
         pub margin: f64 = 0.02,
-        /// The edges (after cutting) optimised at a time when a plan is refined: each window
-        /// lands on the state the rest of the plan replays from, the last one on the plan's
-        /// own end.
+        /// The edges (after cutting) optimised at a time: a refinement's horizon, which ends
+        /// on the plan's own state (the last one in the goal) and keeps its first half
+        /// ([`refine`]), and the `trajopt` planner's first tail.
         #[param("window", 1..=100_000)]
         pub window: usize = 8,
     }
@@ -248,14 +248,33 @@ pub fn cut(
     (controls, durations)
 }
 
-/// `plan` refined window by window ([`Settings::window`] edges, after cutting them to
-/// [`Settings::edge_periods`]), with at most `iterations` subproblems per window: the refined
-/// plan when it costs less than `plan`, else `None`. Each window's SCP keeps it valid and lands
-/// it on the state the rest of the plan replays from (the last window on the plan's end); the
-/// rest is then replayed from the window's end and the window kept when the replay is valid,
-/// ends in the goal and the plan costs less. The landing's rounding, amplified by the chaotic
-/// rest, moves the plan's end within the goal. The
-/// edges are cut only when the cut plan still replays into the goal (the rounding of a cut edge,
+/// `plan` refined over a receding horizon ([`Settings::window`] edges, after cutting them to
+/// [`Settings::edge_periods`]), with at most `iterations` subproblems per horizon: the refined
+/// plan when it costs less than `plan`, else `None`.
+///
+/// ```text
+/// REFINE(plan P with states X, horizon h)            the edges cut; else P's own edges
+///   x ← start;  U ← [];  C ← []                      C: the last horizon's unkept edges
+///   k ← 0
+///   while k < |P|:
+///     e ← min(k + h, |P|)
+///     W ← SCP(C, then P's edges up to e, from x;     lands on X_e, within LANDING;
+///             end X_e, or the goal when e = |P|)     the last horizon ends in the goal
+///     if W is not feasible:
+///       if C is empty: return none
+///       keep C (it lands on P's state where it ends); x, k move past it;  C ← []
+///     else:
+///       keep W's first ⌈h/2⌉ edges (all of them at the end); x, k move past them
+///       C ← W's other edges
+///   return U replayed from the start, when it is valid, ends in the goal and costs less
+/// ```
+///
+/// Each horizon starts where the kept edges end, which the horizon before chose freely, and
+/// ends on the plan's own state `h` edges on; the edges it does not keep are a feasible way
+/// back onto the plan, so the next horizon starts from a guess that lands (its first part)
+/// and from the plan itself (the rest). The kept edges are replayed from the start as they
+/// were solved, so the whole replays bit for bit through every horizon's checks. The edges
+/// are cut only when the cut plan still replays into the goal (the rounding of a cut edge,
 /// amplified by the chaotic relative motion, can carry it out); else the plan's own edges are
 /// refined.
 pub fn refine(
@@ -267,15 +286,9 @@ pub fn refine(
     if plan.flow != problem.model.flow || plan.edges() == 0 {
         return None;
     }
-    let replay = |controls: Vec<Control>, durations: Vec<f64>| {
-        Rollout::run(
-            problem,
-            &problem.start,
-            controls,
-            durations,
-            End::Goal,
-            settings.margin,
-        )
+    let margin = settings.margin;
+    let run = |from: &[Vec2], controls: Vec<Control>, durations: &[f64], end: End| {
+        Rollout::run(problem, from, controls, durations.to_vec(), end, margin)
     };
     let periods = |d: &f64| (d / problem.control_period).round() as usize;
     let edges = plan.controls.iter().zip(&plan.durations);
@@ -284,38 +297,63 @@ pub fn refine(
         edges.map(|(u, d)| (*u, periods(d))),
         settings.edge_periods,
     );
-    let mut whole = replay(controls, durations);
-    if !whole.feasible {
-        whole = replay(plan.controls.clone(), plan.durations.clone());
+    let mut guide = run(&problem.start, controls, &durations, End::Goal);
+    if !guide.feasible {
+        guide = run(
+            &problem.start,
+            plan.controls.clone(),
+            &plan.durations,
+            End::Goal,
+        );
     }
-    if !whole.feasible {
+    if !guide.feasible {
         return None;
     }
     let before = crate::plan_cost(problem, plan);
+    let total = guide.edges();
+    let keep = settings.window.div_ceil(2);
+    let mut at = problem.start.clone();
+    let mut kept: Vec<Control> = Vec::with_capacity(total);
+    let mut carry: Vec<Control> = Vec::new();
     let mut k = 0;
-    while k < whole.edges() {
-        let hi = (k + settings.window).min(whole.edges());
-        let end = End::Land(whole.states[hi].clone());
-        let window = Rollout::run(
-            problem,
-            &whole.states[k],
-            whole.controls[k..hi].to_vec(),
-            whole.durations[k..hi].to_vec(),
-            end,
-            settings.margin,
-        );
+    while k < total {
+        let hi = (k + settings.window).min(total);
+        let end = if hi == total {
+            End::Goal
+        } else {
+            End::Land(guide.states[hi].clone())
+        };
+        let carried = std::mem::take(&mut carry);
+        let back = carried.len();
+        let mut guess = carried.clone();
+        guess.extend_from_slice(&guide.controls[k + back..hi]);
+        let window = run(&at, guess, &guide.durations[k..hi], end);
+        let model = jacobians(problem, &window);
+        let window = land(problem, window, &model, margin);
         let outcome = optimise(problem, window, settings, |i, _| i >= iterations);
-        if outcome.stats.accepted > 0 && outcome.rollout.feasible {
-            let mut controls = outcome.rollout.controls;
-            controls.extend_from_slice(&whole.controls[hi..]);
-            let next = whole.resumed(problem, k, controls, settings.margin);
-            if next.feasible && next.cost < whole.cost {
-                whole = next;
-            }
-        }
-        k = hi;
+        let (controls, states, taken) = if outcome.rollout.feasible {
+            let r = outcome.rollout;
+            let taken = if hi == total { r.edges() } else { keep };
+            (r.controls, r.states, taken)
+        } else if back > 0 {
+            // the way back the horizon before found
+            let r = run(
+                &at,
+                carried,
+                &guide.durations[k..k + back],
+                End::Land(guide.states[k + back].clone()),
+            );
+            (r.controls, r.states, back)
+        } else {
+            return None;
+        };
+        kept.extend_from_slice(&controls[..taken]);
+        carry = controls[taken..].to_vec();
+        at = states[taken].clone();
+        k += taken;
     }
-    (whole.cost < before).then(|| {
+    let whole = run(&problem.start, kept, &guide.durations, End::Goal);
+    (whole.feasible && whole.cost < before).then(|| {
         let mut next = whole.plan(problem, whole.edges());
         next.alpha_max = plan.alpha_max;
         next.made_for = plan.made_for.clone();

@@ -1,6 +1,7 @@
 use super::*;
 use crate::planners::GoalZoomRrt;
 use crate::{Limits, Planner, validate_plan};
+use magbench_env::math::max_agent_distance;
 use magbench_env::{Scenario, Vec2};
 
 fn problem(name: &str, seed: u64) -> Problem {
@@ -25,6 +26,36 @@ fn refining_a_plan_keeps_it_valid_and_lowers_its_cost() {
     validate_plan(&p, &better).expect("the refined plan replays valid into the goal");
     assert!(crate::plan_cost(&p, &better) < before);
     assert!((better.duration() - r.plan.duration()).abs() < 1e-9);
+}
+
+/// The receding horizon leaves the plan between horizons: goal-zoom RRT's straightened plan of
+/// narrow-passage (seed 1) refined with 20 subproblems a horizon costs less than 0.8 of it
+/// (horizons that each had to land on the plan's own state every 8 edges reached 0.86), and
+/// its waypoints part from the plan's by more than the landing's rounding.
+#[test]
+fn the_receding_horizon_refines_a_plan_away_from_its_states() {
+    let p = problem("narrow-passage", 1);
+    let r = GoalZoomRrt::default().solve(&p);
+    assert!(r.solved);
+    let straight = crate::straighten::straighten(&p, &r.plan);
+    let before = crate::plan_cost(&p, &straight);
+    let better = refine(&p, &straight, &Settings::default(), 20).expect("a cheaper plan");
+    validate_plan(&p, &better).expect("the refined plan replays valid into the goal");
+    let ratio = crate::plan_cost(&p, &better) / before;
+    assert!(ratio < 0.8, "{ratio}");
+    // the plan's edges as the refinement cut them, replayed: the states it started from
+    let periods = |d: &f64| (d / p.control_period).round() as usize;
+    let edges = straight.controls.iter().zip(&straight.durations);
+    let (controls, durations) = cut(&p, edges.map(|(u, d)| (*u, periods(d))), 15);
+    let guide = Rollout::run(&p, &p.start, controls, durations, End::Goal, 0.02);
+    assert_eq!(guide.edges(), better.edges());
+    // every 8th waypoint, where a horizon that had to land on the plan would end
+    let ends: Vec<usize> = (8..better.edges()).step_by(8).collect();
+    let parted = ends
+        .iter()
+        .filter(|&&k| max_agent_distance(&better.states[k], &guide.states[k]) > 1e-3)
+        .count();
+    assert!(parted > ends.len() / 2, "{parted} of {}", ends.len());
 }
 
 /// An empty field where the pair moves 6 BL and keeps its shape.
