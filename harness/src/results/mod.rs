@@ -33,6 +33,7 @@ pub mod summary;
 mod temporary;
 pub mod traces;
 pub mod verify;
+mod verify_rows;
 
 pub use finalize::{finalize, finalize_with};
 pub use manifest::{MANIFEST, Manifest};

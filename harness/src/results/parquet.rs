@@ -445,13 +445,12 @@ pub struct Summary {
     pub rows: usize,
     /// Its column names, in order.
     pub columns: Vec<String>,
-    /// The `run_id` of each row, in order.
-    pub run_ids: Vec<String>,
 }
 
-/// Reads the `runs.parquet` at `path`: its rows, columns and run ids; an error naming the
-/// file and the reason when it is not a whole Parquet file of runs.
-pub fn check(path: &Path) -> Result<Summary, String> {
+/// Reads the `runs.parquet` at `path` a row at a time, handing each row's `run_id` to
+/// `each_id` in order: its rows and columns, or an error naming the reason when it is not a
+/// whole Parquet file of runs.
+pub fn check(path: &Path, mut each_id: impl FnMut(&str)) -> Result<Summary, String> {
     let file = File::open(path).map_err(|e| e.to_string())?;
     let reader = SerializedFileReader::new(file).map_err(|e| format!("not a Parquet file: {e}"))?;
     let meta = reader.metadata().file_metadata();
@@ -465,20 +464,13 @@ pub fn check(path: &Path) -> Result<Summary, String> {
         .iter()
         .position(|c| c == "run_id")
         .ok_or("no run_id column")?;
-    let mut run_ids = Vec::with_capacity(meta.num_rows().max(0) as usize);
+    let mut rows = 0;
     for row in reader.get_row_iter(None).map_err(|e| e.to_string())? {
         let row = row.map_err(|e| format!("a row does not read: {e}"))?;
-        run_ids.push(
-            row.get_string(id)
-                .map_err(|e| format!("run_id: {e}"))?
-                .clone(),
-        );
+        each_id(row.get_string(id).map_err(|e| format!("run_id: {e}"))?);
+        rows += 1;
     }
-    Ok(Summary {
-        rows: run_ids.len(),
-        columns,
-        run_ids,
-    })
+    Ok(Summary { rows, columns })
 }
 
 #[cfg(test)]
@@ -509,16 +501,17 @@ mod tests {
             w.push(r.clone()).unwrap();
         }
         w.finish().unwrap();
-        let s = check(&path).unwrap();
+        let mut ids = vec![];
+        let s = check(&path, |id| ids.push(id.to_string())).unwrap();
         assert_eq!(s.rows, 5);
         assert_eq!(s.columns.join(","), store::runs_header(0));
         assert_eq!(
-            s.run_ids,
+            ids,
             rows.iter().map(|r| r.run_id.clone()).collect::<Vec<_>>()
         );
         let bytes = std::fs::read(&path).unwrap();
         std::fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
-        let e = check(&path).unwrap_err();
+        let e = check(&path, |_| {}).unwrap_err();
         assert!(e.starts_with("not a Parquet file"), "{e}");
         assert!(!dir.path().join("runs.parquet.tmp").exists());
     }

@@ -11,7 +11,6 @@ use super::manifest::{MANIFEST, Manifest};
 use super::parquet::PARQUET;
 use super::store::{self, PROGRESS, RUNS, Snapshot};
 use crate::Error;
-use crate::run::{ProgressRow, RunRecord, Status};
 
 /// What [`verify`] found.
 #[derive(Debug, Clone, Default)]
@@ -97,16 +96,18 @@ pub fn file_hashes(dir: &Path) -> Result<FileHashes, Error> {
 }
 
 /// Problems of one kind: how many, and the first few.
-struct Kind {
-    what: String,
+pub(super) struct Kind {
+    /// What they are.
+    pub what: String,
     items: Vec<String>,
-    count: usize,
+    /// How many.
+    pub count: usize,
 }
 
 const SHOWN: usize = 5;
 
 impl Kind {
-    fn new(what: &str) -> Kind {
+    pub fn new(what: &str) -> Kind {
         Kind {
             what: what.to_string(),
             items: vec![],
@@ -116,14 +117,20 @@ impl Kind {
 
     /// Counts `item`, keeping the first [`SHOWN`] (a folder of another experiment has a
     /// problem in every row).
-    fn push(&mut self, item: String) {
+    pub fn push(&mut self, item: String) {
+        self.push_with(|| item);
+    }
+
+    /// [`Kind::push`], making the item only if it is shown.
+    pub fn push_with(&mut self, item: impl FnOnce() -> String) {
         if self.items.len() < SHOWN {
-            self.items.push(item);
+            self.items.push(item());
         }
         self.count += 1;
     }
 
-    fn report(self, problems: &mut Vec<String>) {
+    /// Adds the line of these problems to `problems`, if there are any.
+    pub fn report(self, problems: &mut Vec<String>) {
         if self.count == 0 {
             return;
         }
@@ -196,41 +203,13 @@ fn open_rows(
     Some(snap)
 }
 
-/// Reads every row of `rows` into `visit`; on a row that does not parse, the problem and
-/// `false` (what was visited is then to be dropped).
-fn each_row<T>(
-    file: &str,
-    rows: Result<impl Iterator<Item = Result<T, Error>>, Error>,
-    problems: &mut Vec<String>,
-    mut visit: impl FnMut(T),
-) -> bool {
-    let run = || -> Result<(), Error> {
-        for r in rows? {
-            visit(r?);
-        }
-        Ok(())
-    };
-    match run() {
-        Ok(()) => true,
-        Err(e) => {
-            problems.push(format!("{file}: {e}"));
-            false
-        }
-    }
-}
-
-/// What the checks keep of a row of `runs.csv`.
-struct Row {
-    run: usize,
-    run_id: String,
-    progress_rows: Option<u64>,
-}
-
-/// Checks the results folder `dir`: the manifest reads; `runs.csv` has one row per run id and
-/// index, each a run of the manifest's experiment (and shard), and, once the folder is
-/// finished, every run and the manifest's counts; `progress.csv` holds exactly each run's
-/// `progress_rows` trace points and none of runs without a row; and the files hash as the
-/// manifest records. Errors only for bad input (no such folder, not a results folder).
+/// Checks the results folder `dir`: the manifest reads; `runs.csv` has one row per run index
+/// (and run id within it), each a run of the manifest's experiment (and shard), and, once the
+/// folder is finished, every run and the manifest's counts; `progress.csv` holds exactly each
+/// run's `progress_rows` trace points and none of runs without a row
+/// ([`super::verify_rows`]); `runs.parquet` holds the runs of `runs.csv` in its order; and the
+/// files hash as the manifest records. Errors only for bad input (no such folder, not a results
+/// folder).
 pub fn verify(dir: &Path) -> Result<Verified, Error> {
     if !dir.is_dir() {
         return Err(Error::Input(InputError::new(
@@ -262,91 +241,49 @@ pub fn verify(dir: &Path) -> Result<Verified, Error> {
     if !runs_path.exists() {
         p.push(format!("{RUNS}: missing"));
     }
-    // the rows' own checks as they are read: crashes, and rows of another experiment
-    let mut rows: Vec<Row> = vec![];
-    let mut crashed = 0;
-    let mut foreign = manifest.as_ref().map(|m| {
-        let kind = Kind::new(&format!(
-            "{RUNS}: rows that are not runs of experiment {:?}{}",
-            m.experiment.name,
-            m.shard
-                .map(|[k, n]| format!(" shard {k}/{n}"))
-                .unwrap_or_default()
-        ));
-        (m, kind)
-    });
-    if let Some(snap) = open_rows(
+    let runs = open_rows(
         &runs_path,
         store::is_torn_runs_header,
         |h| store::header_agents(h).is_some(),
         p,
         &mut v.notes,
-    ) {
-        let whole = each_row(RUNS, snap.runs(), p, |r: RunRecord| {
-            crashed += usize::from(r.status == Status::Crash);
-            if let Some((m, kind)) = foreign.as_mut()
-                && (r.experiment != m.experiment.name || !in_slice(m, r.run))
-            {
-                kind.push(format!(
-                    "{} (index {}, experiment {:?})",
-                    r.run_id, r.run, r.experiment
-                ));
-            }
-            rows.push(Row {
-                run: r.run,
-                run_id: r.run_id,
-                progress_rows: r.progress_rows,
-            });
-        });
-        if !whole {
-            (rows, crashed) = (vec![], 0);
-            foreign = None;
-        }
-    }
+    );
     let progress_path = dir.join(PROGRESS);
-    let traced = rows.iter().any(|r| r.progress_rows != Some(0));
-    if !progress_path.exists() && traced {
-        p.push(format!("{PROGRESS}: missing"));
-    }
-    v.runs = rows.len();
-    v.incomplete = check_rows(&rows, crashed, foreign.map(|f| f.1), manifest.as_ref(), p);
-    let mut traces = TraceCount::new(&rows);
-    if let Some(snap) = open_rows(
+    let progress = open_rows(
         &progress_path,
         store::is_torn_progress_header,
         |h| h == store::progress_header(),
         p,
         &mut v.notes,
-    ) {
-        let whole = each_row(PROGRESS, snap.progress(), p, |t: ProgressRow| {
-            traces.add(&t)
-        });
-        if !whole {
-            traces = TraceCount::new(&rows);
-        }
+    );
+    let checked = super::verify_rows::check(runs.as_ref(), progress.as_ref(), manifest.as_ref())?;
+    if !progress_path.exists() && checked.traced {
+        p.push(format!("{PROGRESS}: missing"));
     }
-    v.trace_points = traces.points;
-    traces.report(&rows, p, &mut v.notes);
-    check_parquet(dir, &rows, p);
+    (v.runs, v.trace_points) = (checked.rows, checked.points);
+    let ids = checked.ids;
+    v.incomplete = checked.report(manifest.as_ref(), p, &mut v.notes);
+    check_parquet(dir, v.runs, ids, p);
     if let Some(m) = &manifest {
         v.files_hashed = check_hashes(dir, m, p, &mut v.notes)?;
     }
     Ok(v)
 }
 
-/// `runs.parquet`, when the folder has one: a whole Parquet file holding the runs of
-/// `runs.csv`, in its order.
-fn check_parquet(dir: &Path, rows: &[Row], p: &mut Vec<String>) {
+/// `runs.parquet`, when the folder has one: a whole Parquet file holding the `rows` runs of
+/// `runs.csv`, in its order (the hash of its run ids is `ids`, as [`super::verify_rows`]
+/// hashes them).
+fn check_parquet(dir: &Path, rows: usize, ids: [u8; 32], p: &mut Vec<String>) {
     let path = dir.join(PARQUET);
     if !path.exists() {
         return;
     }
-    match super::parquet::check(&path) {
+    let mut hash = Sha256::new();
+    match super::parquet::check(&path, |id| super::verify_rows::hash_id(&mut hash, id)) {
         Err(e) => p.push(format!("{PARQUET}: {e}")),
-        Ok(s) if !s.run_ids.iter().eq(rows.iter().map(|r| &r.run_id)) => p.push(format!(
-            "{PARQUET}: {} runs, not the {} runs of {RUNS} in their order",
-            s.rows,
-            rows.len()
+        Ok(s) if s.rows != rows || <[u8; 32]>::from(hash.finalize()) != ids => p.push(format!(
+            "{PARQUET}: {} runs, not the {rows} runs of {RUNS} in their order",
+            s.rows
         )),
         Ok(_) => {}
     }
@@ -373,154 +310,8 @@ pub fn require_sound(dir: &Path, complete: bool) -> Result<(), Error> {
 }
 
 /// Whether run index `i` is a run of the manifest's experiment (and of its shard).
-fn in_slice(m: &Manifest, i: usize) -> bool {
+pub(super) fn in_slice(m: &Manifest, i: usize) -> bool {
     i < m.experiment.runs_total && m.shard.is_none_or(|[k, n]| i % n == k - 1)
-}
-
-/// Checks the rows against each other and the manifest (`crashed` of them crashed, `foreign`
-/// the rows of another experiment found as they were read); returns what is missing.
-fn check_rows(
-    rows: &[Row],
-    crashed: usize,
-    foreign: Option<Kind>,
-    manifest: Option<&Manifest>,
-    p: &mut Vec<String>,
-) -> Option<String> {
-    let mut by_id: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut by_index: BTreeMap<usize, usize> = BTreeMap::new();
-    for r in rows {
-        *by_id.entry(&r.run_id).or_default() += 1;
-        *by_index.entry(r.run).or_default() += 1;
-    }
-    let mut doubled = Kind::new(&format!("{RUNS}: run ids with several rows"));
-    for (id, n) in &by_id {
-        if *n > 1 {
-            doubled.push(format!("{id} ({n} rows)"));
-        }
-    }
-    doubled.report(p);
-    let mut doubled = Kind::new(&format!("{RUNS}: run indices with several rows"));
-    for (i, n) in &by_index {
-        if *n > 1 {
-            doubled.push(format!("{i} ({n} rows)"));
-        }
-    }
-    doubled.report(p);
-    let m = manifest?;
-    if let Some(f) = foreign {
-        f.report(p);
-    }
-    let total = m.experiment.runs_total;
-    let expected = (0..total).filter(|&i| in_slice(m, i)).count();
-    if m.finished.is_none() {
-        return Some(format!(
-            "not finished: {} of {expected} runs done (`bench --resume` completes it)",
-            by_index.len()
-        ));
-    }
-    let mut missing = vec![];
-    let mut kind = Kind::new("");
-    for i in (0..total).filter(|&i| in_slice(m, i) && !by_index.contains_key(&i)) {
-        kind.push(i.to_string());
-    }
-    kind.what = format!("{RUNS}: {} of {expected} runs missing, indices", kind.count);
-    kind.report(&mut missing);
-    if m.runs_done != rows.len() {
-        p.push(format!(
-            "{MANIFEST}: runs_done is {}, {RUNS} has {} rows",
-            m.runs_done,
-            rows.len()
-        ));
-    }
-    if m.runs_failed != crashed {
-        p.push(format!(
-            "{MANIFEST}: runs_failed is {}, {RUNS} has {crashed} crashed runs",
-            m.runs_failed
-        ));
-    }
-    missing.pop()
-}
-
-/// The trace points of `progress.csv` counted by run id as they are read, with the points of
-/// runs without a row and those whose run index differs from their run's row.
-struct TraceCount<'a> {
-    /// Each run id's index (its last row's) and its counter.
-    index: std::collections::HashMap<&'a str, (usize, usize)>,
-    counts: Vec<u64>,
-    orphans: Kind,
-    misplaced: Kind,
-    /// Trace points read.
-    points: usize,
-}
-
-impl<'a> TraceCount<'a> {
-    fn new(rows: &'a [Row]) -> Self {
-        let mut index = std::collections::HashMap::with_capacity(rows.len());
-        let mut slots = 0;
-        for r in rows {
-            let slot = index
-                .get(r.run_id.as_str())
-                .map_or(slots, |v: &(usize, usize)| v.1);
-            if slot == slots {
-                slots += 1;
-            }
-            index.insert(r.run_id.as_str(), (r.run, slot));
-        }
-        TraceCount {
-            index,
-            counts: vec![0; slots],
-            orphans: Kind::new(&format!(
-                "{PROGRESS}: trace points of runs without a row in {RUNS}"
-            )),
-            misplaced: Kind::new(&format!(
-                "{PROGRESS}: trace points whose run index differs from their run's row"
-            )),
-            points: 0,
-        }
-    }
-
-    fn add(&mut self, t: &ProgressRow) {
-        self.points += 1;
-        let row = self.points;
-        match self.index.get(t.run_id.as_str()) {
-            None => self.orphans.push(format!("row {row} ({})", t.run_id)),
-            Some(&(k, slot)) => {
-                if k != t.run {
-                    self.misplaced.push(format!(
-                        "row {row} ({}: index {}, its row says {k})",
-                        t.run_id, t.run
-                    ));
-                }
-                self.counts[slot] += 1;
-            }
-        }
-    }
-
-    fn report(self, rows: &[Row], p: &mut Vec<String>, notes: &mut Vec<String>) {
-        self.orphans.report(p);
-        self.misplaced.report(p);
-        let mut wrong =
-            Kind::new("runs whose trace in progress.csv is not as long as their row says");
-        let mut unknown = 0;
-        for r in rows {
-            let n = self.index[r.run_id.as_str()].1;
-            let n = self.counts[n];
-            match r.progress_rows {
-                Some(k) if k != n => {
-                    wrong.push(format!("{}: {n} points, its row says {k}", r.run_id))
-                }
-                Some(_) => {}
-                None => unknown += 1,
-            }
-        }
-        wrong.report(p);
-        if unknown > 0 {
-            notes.push(format!(
-                "{unknown} rows of {RUNS} have no progress_rows (an older version): their trace \
-                 lengths are not checked"
-            ));
-        }
-    }
 }
 
 fn check_hashes(

@@ -385,9 +385,9 @@ const SWEEP: &[&str] = &[
     "harness/src/results",
     // the module's declarations (a test checks that the file holds nothing else)
     ":!harness/src/results/mod.rs",
-    // a results folder's figures and derived files: no table depends on them (a measurement
-    // that shows them declares FIGURES or DERIVED); and `merge`, which no sweep runs (a
-    // measurement that runs it declares DERIVED; a test checks)
+    // a results folder's figures and derived files and the check that ends `bench`: no table
+    // depends on them (a measurement that shows them declares FIGURES or DERIVED); and `merge`,
+    // which no sweep runs (a measurement that runs it declares DERIVED; a test checks)
     ":!harness/src/results/merge.rs",
     ":!harness/src/results/finalize.rs",
     ":!harness/src/results/plots.rs",
@@ -398,6 +398,8 @@ const SWEEP: &[&str] = &[
     ":!harness/src/results/sample.rs",
     ":!harness/src/results/temporary.rs",
     ":!harness/src/results/traces.rs",
+    ":!harness/src/results/verify.rs",
+    ":!harness/src/results/verify_rows.rs",
     "analysis/src/stats",
     "analysis/src/table.rs",
     "harness/src/registry.rs",
@@ -419,9 +421,11 @@ const FIGURES: &[&str] = &["harness/src/results/plots.rs", "plot/src/plot"];
 /// the log read (each configuration's counts and kept runs, the index of the progress traces,
 /// temporary files), and the step that writes them once a folder's runs are all there (after sorting
 /// its run files by `sort.rs`, of [`SWEEP`]; it records their counts and hashes in the
-/// manifest, which only `merge`, `results verify` and `results plot` print). No table reads
-/// them (the tables read `runs.csv` and `progress.csv`; a test checks) and no console line of
-/// `bench` shows them; writing them is part of a `bench` command's wall time. With them, the
+/// manifest, which only `merge`, `results verify` and `results plot` print), then the check of
+/// the finished folder (`verify.rs`, `verify_rows.rs`: `bench` fails if it finds a problem,
+/// and prints nothing otherwise). No table reads them (the tables read `runs.csv` and
+/// `progress.csv`; a test checks) and no console line of a `bench` that succeeds shows them;
+/// writing and checking them is part of a `bench` command's wall time. With them, the
 /// merge of shard folders into one (`merge.rs`), which no sweep and no transcript runs. A
 /// measurement that shows them, or runs `merge`, `results verify` or `results plot`, declares
 /// this group.
@@ -435,6 +439,8 @@ const DERIVED: &[&str] = &[
     "harness/src/results/sample.rs",
     "harness/src/results/temporary.rs",
     "harness/src/results/traces.rs",
+    "harness/src/results/verify.rs",
+    "harness/src/results/verify_rows.rs",
 ];
 /// The table of a suite's families.
 const FAMILY_TABLES: &[&str] = &["xtask/src/docs/family_tables.rs", "suites/pair-100"];
@@ -455,9 +461,10 @@ const CLI: &[&str] = &[
     ":!harness/src/lib.rs",
     ":!cli/src/lib.rs",
     ":!harness/src/results/mod.rs",
-    // a results folder's figures and derived files ([`FIGURES`], [`DERIVED`]): no console line
-    // depends on them (writing them is part of a `bench` command's wall time); and `merge`,
-    // which no transcript runs (a test checks)
+    // a results folder's figures and derived files and the check that ends `bench` ([`FIGURES`],
+    // [`DERIVED`]): no console line of a `bench` that succeeds depends on them (writing and
+    // checking them is part of its wall time); and `merge`, which no transcript runs (a test
+    // checks)
     ":!harness/src/results/merge.rs",
     ":!harness/src/results/finalize.rs",
     ":!harness/src/results/plots.rs",
@@ -468,6 +475,8 @@ const CLI: &[&str] = &[
     ":!harness/src/results/sample.rs",
     ":!harness/src/results/temporary.rs",
     ":!harness/src/results/traces.rs",
+    ":!harness/src/results/verify.rs",
+    ":!harness/src/results/verify_rows.rs",
     // a replay page's data, packing and player (and the module's declarations): written into
     // pages, never printed
     ":!harness/src/replay/mod.rs",
