@@ -100,6 +100,9 @@ pub struct Comparison {
     pub gated: bool,
     /// For an inconclusive verdict: seeds per folder that would likely resolve it.
     pub seeds_needed: Option<u64>,
+    /// When the configuration has more runs than a side keeps ([`super::runs::SEEDS`]): its
+    /// runs in the baseline and in the candidate, of which the compared seeds are a sample.
+    pub sampled_from: Option<(usize, usize)>,
     /// The test behind the verdict.
     test: Option<Test>,
 }
@@ -118,6 +121,7 @@ impl Comparison {
             better: false,
             gated: true,
             seeds_needed: None,
+            sampled_from: None,
             test: None,
         }
     }
@@ -245,6 +249,10 @@ pub fn compare_runs(baseline: &Runs, current: &Runs, tol: &Tolerances) -> Vec<Co
             rows.push(r);
             continue;
         };
+        let level = b.level.max(c.level);
+        let (b, c) = (b.thinned(level), c.thinned(level));
+        let (b, c) = (b.as_ref(), c.as_ref());
+        let sampled_from = (b.sampled() || c.sampled()).then_some((b.all, c.all));
         let s = sides(b, c);
         let design = match &s {
             Sides::Paired(p) => Design::Paired(p.len()),
@@ -257,6 +265,7 @@ pub fn compare_runs(baseline: &Runs, current: &Runs, tol: &Tolerances) -> Vec<Co
         let mut row = Comparison::new(&config, design, "success_rate", rate(b), rate(c));
         let (test, change) = metric::success(&s, &b.success, &c.success, tol.success, tol.alpha);
         (row.test, row.change) = (Some(test), change);
+        row.sampled_from = sampled_from;
         rows.push(row);
         for Compared {
             name,
@@ -292,6 +301,7 @@ pub fn compare_runs(baseline: &Runs, current: &Runs, tol: &Tolerances) -> Vec<Co
                     (row.test, row.change) = (Some(test), change);
                 }
             }
+            row.sampled_from = sampled_from;
             rows.push(row);
         }
     }

@@ -91,14 +91,21 @@ fn verdict(r: &Comparison) -> String {
 
 /// The heading of a configuration's table.
 fn heading(r: &Comparison) -> String {
-    match r.design {
+    let mut s = match r.design {
         Design::Paired(n) => format!("{} — paired by seed ({n} seeds)", r.config),
         Design::Unpaired(b, c) => format!(
             "{} — unpaired: different seeds ({b} baseline, {c} candidate runs)",
             r.config
         ),
         Design::Missing => format!("{} — missing from the candidate", r.config),
+    };
+    if let Some((b, c)) = r.sampled_from {
+        s += &format!(
+            "; a sample of the seeds (the same on both sides) of {b} baseline and {c} \
+             candidate runs"
+        );
     }
+    s
 }
 
 /// The column heading of the change, with the interval's level.

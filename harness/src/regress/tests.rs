@@ -471,3 +471,48 @@ fn a_metric_where_higher_is_better_regresses_when_it_falls() {
     let r = row(&rows, "clearance_min_bl");
     assert!(r.verdict == Verdict::Ok && r.better, "{r:?}");
 }
+
+/// A configuration of more runs than a side keeps is compared on a sample of its seeds, the
+/// same on both sides, so that it stays paired; a planted regression is still found in it,
+/// and a configuration of fewer runs keeps every run.
+#[test]
+fn large_configurations_are_compared_on_the_same_sample_of_seeds() {
+    let n = 3 * runs::SEEDS;
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let s = seeds(1000, n);
+    let rms = lognormal(&mut rng, n, 1.0, 0.5);
+    let ok = vec![true; n];
+    let worse: Vec<f64> = rms.iter().map(|v| v * 1.3).collect();
+    let (base, cand) = (
+        Runs::of(&runs(&s, &rms, &ok)),
+        Runs::of(&runs(&s, &worse, &ok)),
+    );
+    let kept = base.configs[0].len();
+    assert!(
+        (runs::SEEDS / 2..=runs::SEEDS).contains(&kept),
+        "{kept} runs kept"
+    );
+    assert_eq!(base.configs[0].seeds, cand.configs[0].seeds);
+    let rows = compare_runs(&base, &cand, &TOL);
+    let r = row(&rows, "rms_error_bl");
+    assert_eq!(r.design, Design::Paired(kept));
+    assert_eq!(r.sampled_from, Some((n, n)));
+    assert_eq!(r.verdict, Verdict::Regression);
+    // a folder of half the seeds keeps more of them; brought down to the larger folder's
+    // level, its sample is part of that folder's
+    let half = n / 2;
+    let small = Runs::of(&runs(&s[..half], &rms[..half], &ok[..half]));
+    assert!(small.configs[0].len() > kept / 2 && small.configs[0].sampled());
+    let thinned = small.configs[0].thinned(base.configs[0].level);
+    assert!(
+        thinned
+            .seeds
+            .iter()
+            .all(|x| base.configs[0].seeds.contains(x))
+    );
+    // below the limit, every run
+    let few = Runs::of(&runs(&s[..100], &rms[..100], &ok[..100]));
+    let rows = compare_runs(&few, &few, &TOL);
+    assert_eq!(row(&rows, "rms_error_bl").sampled_from, None);
+    assert_eq!(row(&rows, "rms_error_bl").design, Design::Paired(100));
+}
