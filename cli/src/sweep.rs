@@ -287,18 +287,22 @@ pub fn run_sweep(
     });
     reporter.end();
     result?;
+    let (total, executed) = (specs.len(), todo.len());
+    // finalize and verify read the folder, not the runs' specs
+    drop(todo);
+    drop(specs);
     let failed = failed.into_inner();
     let session = manifest.sessions.last_mut().expect("pushed above");
     session.finished = Some(now());
-    session.runs_executed = todo.len();
+    session.runs_executed = executed;
     session.wall_time_s = Some(t0.elapsed().as_secs_f64());
     manifest.write(out)?;
     results::finalize(out)?;
     verify::require_sound(out, true)?;
     Ok(SweepSummary {
-        total: specs.len(),
+        total,
         skipped,
-        executed: todo.len(),
+        executed,
         failed,
     })
 }

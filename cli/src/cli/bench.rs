@@ -132,7 +132,7 @@ pub fn run(a: BenchArgs, registry: &Registry) -> Result<(), Error> {
         Some((i, n)) => PathBuf::from("results").join(format!("{}-shard-{i}-of-{n}", e.name)),
         None => PathBuf::from("results").join(&e.name),
     });
-    let total = e.runs_of(shard).len();
+    let total = e.run_count_of(shard);
     if a.dry_run {
         let combos = e.trackers.len() * e.presets.len();
         let matrix = match &e.tracking {

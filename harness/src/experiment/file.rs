@@ -438,7 +438,7 @@ pub fn parse(
     // what only a whole run can tell (a planner's `planar` against a scenario's medium): one
     // seed of each combination
     let first_seed = experiment.seeds[0];
-    for spec in experiment.runs().iter().filter(|r| r.seed == first_seed) {
+    for spec in &experiment.runs_where(|_, seed| seed == first_seed) {
         ex.check_run(spec)
             .map_err(|(field, reason)| InputError::new(file, field, reason))?;
     }

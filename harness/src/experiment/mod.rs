@@ -134,13 +134,19 @@ impl Experiment {
     /// The runs of shard `k` of `n` (`Some((k, n))`, 1-based: the runs whose index is `k − 1`
     /// modulo `n`) of the run matrix, or the whole matrix; only those runs are made.
     pub fn runs_of(&self, shard: Option<(usize, usize)>) -> Vec<RunSpec> {
+        self.runs_where(|index, _| shard.is_none_or(|(k, n)| index % n == k - 1))
+    }
+
+    /// The runs of the matrix, in order, whose index and seed `keep` accepts; only those runs
+    /// are made.
+    pub fn runs_where(&self, keep: impl Fn(usize, u64) -> bool) -> Vec<RunSpec> {
         let mut out = vec![];
         let mut index = 0;
         for (label, sc) in &self.scenarios {
             for p in &self.planners {
                 for (t, pr) in self.tracking(p) {
                     for &seed in &self.seeds {
-                        if shard.is_none_or(|(k, n)| index % n == k - 1) {
+                        if keep(index, seed) {
                             out.push(RunSpec {
                                 index,
                                 experiment: self.name.clone(),
@@ -166,6 +172,15 @@ impl Experiment {
     pub fn run_count(&self) -> usize {
         let per_scenario: usize = self.planners.iter().map(|p| self.tracking(p).len()).sum();
         self.scenarios.len() * per_scenario * self.seeds.len()
+    }
+
+    /// The number of runs of shard `k` of `n` (as [`Experiment::runs_of`]), or of the matrix.
+    pub fn run_count_of(&self, shard: Option<(usize, usize)>) -> usize {
+        match shard {
+            None => self.run_count(),
+            // the indices `k − 1`, `k − 1 + n`, … below the matrix's size
+            Some((k, n)) => (self.run_count() + n - k) / n,
+        }
     }
 
     /// The index and id (`scenario|planner|tracker|preset|seed`, as [`RunSpec::id`]) of every
@@ -346,7 +361,19 @@ mod tests {
             );
             shards.sort();
             assert_eq!(shards, (0..all.len()).collect::<Vec<_>>());
+            for k in 1..=n {
+                assert_eq!(e.run_count_of(Some((k, n))), e.runs_of(Some((k, n))).len());
+            }
         }
+        assert_eq!(e.run_count_of(None), all.len());
+        let first = e.seeds[0];
+        let firsts = e.runs_where(|_, seed| seed == first);
+        assert_eq!(firsts.len() * e.seeds.len(), all.len());
+        assert!(
+            firsts
+                .iter()
+                .all(|r| r.seed == first && all[r.index].id() == r.id())
+        );
     }
 
     #[test]

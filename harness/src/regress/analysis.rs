@@ -242,7 +242,7 @@ pub fn compare_runs(baseline: &Runs, current: &Runs, tol: &Tolerances) -> Vec<Co
                 &config,
                 Design::Missing,
                 "runs",
-                Value::Runs(b.len()),
+                Value::Runs(b.all),
                 Value::Runs(0),
             );
             r.verdict = Verdict::Missing;

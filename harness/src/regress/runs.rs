@@ -34,6 +34,12 @@ pub fn seed_hash(seed: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// Keeps the items of `v` whose place in `keep` is true.
+fn retain_by<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut k = keep.iter();
+    v.retain(|_| k.next().copied().unwrap_or(false));
+}
+
 /// Whether a configuration that keeps the seeds of level `level` keeps `seed`.
 fn kept(seed: u64, level: u32) -> bool {
     seed_hash(seed).trailing_zeros() >= level
@@ -92,17 +98,13 @@ impl Config {
     /// Drops the runs whose seeds the level does not keep.
     fn keep_level(&mut self) {
         let keep: Vec<bool> = self.seeds.iter().map(|&s| kept(s, self.level)).collect();
-        let mut k = keep.iter();
-        self.seeds.retain(|_| *k.next().unwrap_or(&false));
-        let mut k = keep.iter();
-        self.success.retain(|_| *k.next().unwrap_or(&false));
+        retain_by(&mut self.seeds, &keep);
+        retain_by(&mut self.success, &keep);
         if !self.runs.is_empty() {
-            let mut k = keep.iter();
-            self.runs.retain(|_| *k.next().unwrap_or(&false));
+            retain_by(&mut self.runs, &keep);
         }
         for col in &mut self.columns {
-            let mut k = keep.iter();
-            col.retain(|_| *k.next().unwrap_or(&false));
+            retain_by(col, &keep);
         }
     }
 

@@ -498,6 +498,9 @@ fn large_configurations_are_compared_on_the_same_sample_of_seeds() {
     assert_eq!(r.design, Design::Paired(kept));
     assert_eq!(r.sampled_from, Some((n, n)));
     assert_eq!(r.verdict, Verdict::Regression);
+    // missing from the candidate, the configuration shows every run the baseline has
+    let rows = compare_runs(&base, &Runs::of(&[]), &TOL);
+    assert_eq!(row(&rows, "runs").baseline, Value::Runs(n));
     // a folder of half the seeds keeps more of them; brought down to the larger folder's
     // level, its sample is part of that folder's
     let half = n / 2;

@@ -260,7 +260,7 @@ pub fn verify(dir: &Path) -> Result<Verified, Error> {
     if !progress_path.exists() && checked.traced {
         p.push(format!("{PROGRESS}: missing"));
     }
-    (v.runs, v.trace_points) = (checked.rows, checked.points);
+    (v.runs, v.trace_points) = (checked.rows, checked.points());
     let ids = checked.ids;
     v.incomplete = checked.report(manifest.as_ref(), p, &mut v.notes);
     check_parquet(dir, v.runs, ids, p);

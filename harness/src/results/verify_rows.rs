@@ -123,26 +123,22 @@ pub(super) fn hash_id(h: &mut Sha256, id: &str) {
 pub(super) struct Checked {
     /// Rows of `runs.csv` (none when a row does not read).
     pub rows: usize,
-    /// Points of `progress.csv` (none when a row does not read).
-    pub points: usize,
     /// Some row records trace points.
     pub traced: bool,
     /// The hash of the run ids of `runs.csv` in its order ([`hash_id`]).
     pub ids: [u8; 32],
     crashed: usize,
     foreign: Option<Kind>,
-    /// Distinct run indices.
-    indices: usize,
-    doubled_ids: Kind,
-    doubled_indices: Kind,
-    /// Run indices of the matrix (or shard) without a row.
-    missing: Kind,
-    orphans: Kind,
-    wrong: Kind,
-    /// Rows that do not say how many trace points they have (an older version).
-    unknown: usize,
+    walked: Walked,
     /// The rows or points that do not read.
     unreadable: Vec<String>,
+}
+
+impl Checked {
+    /// Points of `progress.csv` (none when a row does not read).
+    pub fn points(&self) -> usize {
+        self.walked.points
+    }
 }
 
 /// The rows of one run index and id that the walk is at.
@@ -164,14 +160,7 @@ struct Walk<'m, T: Iterator<Item = Result<Trace, Stop>>> {
     current: Option<Current>,
     /// The first index of the matrix not yet passed.
     next: usize,
-    points: usize,
-    indices: usize,
-    doubled_ids: Kind,
-    doubled_indices: Kind,
-    missing: Kind,
-    orphans: Kind,
-    wrong: Kind,
-    unknown: usize,
+    found: Walked,
 }
 
 impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
@@ -181,16 +170,20 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
             traces: traces.peekable(),
             current: None,
             next: 0,
-            points: 0,
-            indices: 0,
-            doubled_ids: Kind::new(&format!("{RUNS}: run ids with several rows")),
-            doubled_indices: Kind::new(&format!("{RUNS}: run indices with several rows")),
-            missing: Kind::new(""),
-            orphans: Kind::new(&format!(
-                "{PROGRESS}: traces of runs without a row in {RUNS} (by run index and id)"
-            )),
-            wrong: Kind::new("runs whose trace in progress.csv is not as long as their row says"),
-            unknown: 0,
+            found: Walked {
+                points: 0,
+                indices: 0,
+                doubled_ids: Kind::new(&format!("{RUNS}: run ids with several rows")),
+                doubled_indices: Kind::new(&format!("{RUNS}: run indices with several rows")),
+                missing: Kind::new(""),
+                orphans: Kind::new(&format!(
+                    "{PROGRESS}: traces of runs without a row in {RUNS} (by run index and id)"
+                )),
+                wrong: Kind::new(
+                    "runs whose trace in progress.csv is not as long as their row says",
+                ),
+                unknown: 0,
+            },
         }
     }
 
@@ -222,7 +215,7 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
             }
         };
         if at_index == 1 {
-            self.indices += 1;
+            self.found.indices += 1;
             self.pass_to(row.run);
         }
         self.orphans_before(row.key())?;
@@ -242,23 +235,26 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
     fn compare(&mut self, row: &Row, points: u64) {
         match row.progress_rows {
             Some(k) if k != points => self
+                .found
                 .wrong
                 .push(format!("{}: {points} points, its row says {k}", row.run_id)),
             Some(_) => {}
-            None => self.unknown += 1,
+            None => self.found.unknown += 1,
         }
     }
 
     fn end_id(&mut self, c: &Current) {
         if c.rows > 1 {
-            self.doubled_ids
+            self.found
+                .doubled_ids
                 .push(format!("{} ({} rows)", c.run_id, c.rows));
         }
     }
 
     fn end_index(&mut self, c: &Current) {
         if c.at_index > 1 {
-            self.doubled_indices
+            self.found
+                .doubled_indices
                 .push(format!("{} ({} rows)", c.run, c.at_index));
         }
     }
@@ -269,7 +265,7 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
         if let Some(m) = self.manifest {
             let end = run.min(m.experiment.runs_total);
             for i in (self.next..end).filter(|&i| in_slice(m, i)) {
-                self.missing.push_with(|| i.to_string());
+                self.found.missing.push_with(|| i.to_string());
             }
             self.next = self.next.max(run.saturating_add(1));
         }
@@ -296,8 +292,8 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
     }
 
     fn orphan(&mut self, t: &Trace) {
-        self.points += t.points as usize;
-        self.orphans.push(format!(
+        self.found.points += t.points as usize;
+        self.found.orphans.push(format!(
             "{} from row {} ({} points)",
             t.run_id, t.first, t.points
         ));
@@ -309,7 +305,7 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
             Some(Ok(t)) if t.key() == key => {
                 let points = t.points;
                 self.traces.next();
-                self.points += points as usize;
+                self.found.points += points as usize;
                 Ok(points)
             }
             Some(Err(_)) => Err(self
@@ -333,16 +329,7 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
         if let Some(m) = self.manifest {
             self.pass_to(m.experiment.runs_total);
         }
-        Ok(Walked {
-            points: self.points,
-            indices: self.indices,
-            doubled_ids: self.doubled_ids,
-            doubled_indices: self.doubled_indices,
-            missing: self.missing,
-            orphans: self.orphans,
-            wrong: self.wrong,
-            unknown: self.unknown,
-        })
+        Ok(self.found)
     }
 }
 
@@ -429,18 +416,11 @@ pub(super) fn check(
     };
     Ok(Checked {
         rows: visits.rows,
-        points: walked.points,
         traced: visits.traced,
         ids: visits.ids.finalize().into(),
         crashed: visits.crashed,
         foreign: visits.foreign,
-        indices: walked.indices,
-        doubled_ids: walked.doubled_ids,
-        doubled_indices: walked.doubled_indices,
-        missing: walked.missing,
-        orphans: walked.orphans,
-        wrong: walked.wrong,
-        unknown: walked.unknown,
+        walked,
         unreadable,
     })
 }
@@ -541,13 +521,17 @@ impl Checked {
             rows,
             crashed,
             foreign,
-            indices,
-            doubled_ids,
-            doubled_indices,
-            missing,
-            orphans,
-            wrong,
-            unknown,
+            walked:
+                Walked {
+                    indices,
+                    doubled_ids,
+                    doubled_indices,
+                    missing,
+                    orphans,
+                    wrong,
+                    unknown,
+                    ..
+                },
             unreadable,
             ..
         } = self;
