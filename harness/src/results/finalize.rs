@@ -11,9 +11,10 @@ use crate::Error;
 /// Writes the derived files of a results folder from its runs: sorts `runs.csv` and
 /// `progress.csv` into run order ([`sort`], on disk), writes `runs.parquet` and
 /// `progress.parquet` from them, `ompl.log`, the plots and `report.html`, and records
-/// the counts, end time and every file's hash in the manifest. Each run file is read once
-/// more after the sort, a row at a time; memory holds the runs the figures and report keep
-/// ([`super::sample`]) and a few numbers per run (the traces' and the OMPL log's positions).
+/// the counts, end time and every file's hash in the manifest. The run files are read once more
+/// after the sort, side by side, a run at a time ([`traces::InOrder`]); memory holds the runs
+/// the figures and report keep ([`super::sample`]) and one file position per run (the OMPL
+/// log's).
 pub fn finalize(dir: &Path) -> Result<(), Error> {
     finalize_with(dir, &crate::plot::export::FigureOptions::default())
 }
@@ -22,13 +23,12 @@ pub fn finalize(dir: &Path) -> Result<(), Error> {
 pub fn finalize_with(dir: &Path, opts: &crate::plot::export::FigureOptions) -> Result<(), Error> {
     let mut m = Manifest::read(dir)?;
     sort::sort_files(dir)?;
-    // the traces' index and progress.parquet, from one pass over progress.csv
+    // runs.parquet, progress.parquet, the OMPL logs' runs and the figures' and report's sample,
+    // from one pass over runs.csv and progress.csv side by side
     let mut progress_pq =
         progress_parquet::Writer::create(&dir.join(progress_parquet::PROGRESS_PARQUET))?;
-    let progress = traces::Traces::read_each(dir, |row| progress_pq.push(row))?;
-    progress_pq.finish()?;
-    // runs.parquet, the OMPL logs' runs and the figures' and report's sample, from one pass
-    // over runs.csv
+    let mut each_point = |row| progress_pq.push(row);
+    let mut progress = traces::InOrder::open(dir)?;
     let mut sample = Sample::default();
     let mut log = ompl::Gather::create(dir)?;
     let runs_csv = store::Snapshot::open(&dir.join(store::RUNS))?;
@@ -37,18 +37,22 @@ pub fn finalize_with(dir: &Path, opts: &crate::plot::export::FigureOptions) -> R
     if let Some(s) = &runs_csv {
         for r in s.runs()? {
             let r = r?;
-            sample.push(dir, &r);
-            log.push(&r, &progress)?;
+            let (points, at) = progress.trace(r.run, &mut each_point)?;
+            sample.push(dir, &r, at);
+            log.push(&r, &points)?;
             runs_pq.push(r)?;
         }
     }
+    progress.finish(&mut each_point)?;
+    progress_pq.finish()?;
     runs_pq.finish()?;
     m.runs_done = sample.runs;
     m.runs_failed = sample.crashed;
     m.finished = Some(manifest::now());
     ompl::write(dir, &m, log.finish()?)?;
     let (sums, replays) = (sample.summaries(), sample.replays);
-    let runs = sample.into_runs();
+    let (runs, kept_traces) = sample.into_kept();
+    let progress = traces::Traces::at(dir, kept_traces)?;
     let figures = plots::write_all_with(dir, &m, (&runs, &sums), &progress, opts)?;
     drop(progress);
     report::write(dir, &m, (&sums, &runs, replays), &figures, opts.units)?;

@@ -43,48 +43,25 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
         )));
     }
     let t0 = std::time::Instant::now();
-    let mut manifests = vec![];
-    for s in shards {
-        manifests.push(Manifest::read(s)?);
+    // Each shard's manifest is read, checked against the first and let go: a manifest lists
+    // its experiment's seeds, which a million runs' experiment has by the hundred thousand.
+    let first = Manifest::read(&shards[0])?;
+    same_experiment(&shards[0], &first, (&shards[0], &first))?;
+    let mut kept = Kept::of(&first);
+    for s in &shards[1..] {
+        let m = Manifest::read(s)?;
+        same_experiment(s, &m, (&shards[0], &first))?;
+        kept.add(&m);
     }
-    let first = manifests[0].clone();
-    for (s, m) in shards.iter().zip(&manifests) {
-        let this = env!("CARGO_PKG_VERSION");
-        if m.magbench_version != this {
-            return Err(Error::Input(InputError::new(
-                s.join(super::MANIFEST).display().to_string(),
-                "magbench_version",
-                format!(
-                    "written by magbench {}, and this is magbench {this}: merge shards with the \
-                     version that ran them",
-                    m.magbench_version
-                ),
-            )));
-        }
-        if m.experiment.sha256 != first.experiment.sha256 {
-            return Err(Error::Input(InputError::new(
-                s.display().to_string(),
-                "manifest.json",
-                format!(
-                    "experiment {} (sha256 {}) differs from {} in {}",
-                    m.experiment.name,
-                    &m.experiment.sha256[..12],
-                    &first.experiment.sha256[..12],
-                    shards[0].display()
-                ),
-            )));
-        }
-    }
-    let mut revisions: Vec<&str> = manifests.iter().map(|m| m.git_revision.as_str()).collect();
-    revisions.sort();
-    revisions.dedup();
-    if revisions.len() > 1 {
+    kept.revisions.sort();
+    kept.revisions.dedup();
+    if kept.revisions.len() > 1 {
         eprintln!(
             "note: the shards were run by {} builds of magbench {} (git revisions {}): their runs \
              may differ by more than their seeds",
-            revisions.len(),
+            kept.revisions.len(),
             first.magbench_version,
-            revisions.join(", ")
+            kept.revisions.join(", ")
         );
     }
     // Each shard's files are opened once, up to their complete lines: a task may still be
@@ -141,16 +118,10 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
     }
     runs_out.finish(&out.join(store::RUNS))?;
     progress_out.finish(&out.join(store::PROGRESS))?;
-    let mut m = first.clone();
+    let mut m = first;
     m.shard = None;
     m.merged_from = shards.iter().map(|s| s.display().to_string()).collect();
-    m.started = manifests
-        .iter()
-        .map(|m| m.started.clone())
-        .min()
-        .unwrap_or_else(now);
-    m.sessions = manifests.iter().flat_map(|m| m.sessions.clone()).collect();
-    m.threads = manifests.iter().map(|m| m.threads).max().unwrap_or(1);
+    (m.started, m.sessions, m.threads) = (kept.started, kept.sessions, kept.threads);
     m.sessions.push(Session {
         kind: "merge".into(),
         started: now(),
@@ -165,6 +136,66 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
     super::finalize(out)?;
     super::verify::require_sound(out, false)?;
     Manifest::read(out)
+}
+
+/// What the merged manifest takes of the shards' manifests: their first start, sessions,
+/// most threads and git revisions.
+struct Kept {
+    started: String,
+    sessions: Vec<Session>,
+    threads: usize,
+    revisions: Vec<String>,
+}
+
+impl Kept {
+    /// What `m` gives.
+    fn of(m: &Manifest) -> Kept {
+        Kept {
+            started: m.started.clone(),
+            sessions: m.sessions.clone(),
+            threads: m.threads,
+            revisions: vec![m.git_revision.clone()],
+        }
+    }
+
+    /// Adds what `m` gives.
+    fn add(&mut self, m: &Manifest) {
+        self.started = self.started.clone().min(m.started.clone());
+        self.sessions.extend(m.sessions.iter().cloned());
+        self.threads = self.threads.max(m.threads);
+        self.revisions.push(m.git_revision.clone());
+    }
+}
+
+/// Refuses shard `dir`, whose manifest is `m`, unless this version of magbench wrote it and
+/// it ran the experiment of `first` (the first shard's folder and manifest).
+fn same_experiment(dir: &Path, m: &Manifest, first: (&Path, &Manifest)) -> Result<(), Error> {
+    let this = env!("CARGO_PKG_VERSION");
+    if m.magbench_version != this {
+        return Err(Error::Input(InputError::new(
+            dir.join(super::MANIFEST).display().to_string(),
+            "magbench_version",
+            format!(
+                "written by magbench {}, and this is magbench {this}: merge shards with the \
+                 version that ran them",
+                m.magbench_version
+            ),
+        )));
+    }
+    if m.experiment.sha256 != first.1.experiment.sha256 {
+        return Err(Error::Input(InputError::new(
+            dir.display().to_string(),
+            "manifest.json",
+            format!(
+                "experiment {} (sha256 {}) differs from {} in {}",
+                m.experiment.name,
+                &m.experiment.sha256[..12],
+                &first.1.experiment.sha256[..12],
+                first.0.display()
+            ),
+        )));
+    }
+    Ok(())
 }
 
 /// One shard folder's run files, opened once, and what a first read of them found.

@@ -2,7 +2,8 @@
 //! `runs.csv`, in memory that does not grow with the number of runs per configuration: each
 //! configuration's exact counts (runs, crashes, successes, contacts, each agent's worst runs)
 //! and each metric's exact count, mean, smallest and largest value, and at most [`SAMPLE`] of
-//! its runs, evenly spread in run order, for the quartiles, box plots, CDFs and curves.
+//! its runs, evenly spread in run order, with where their traces are in `progress.csv`, for the
+//! quartiles, box plots, CDFs and curves.
 //!
 //! A configuration of at most [`SAMPLE`] runs keeps them all, so its figures and report are
 //! those of every run. A larger one keeps every `2^j`-th of its runs (the smallest `j` that
@@ -13,6 +14,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::summary::{GroupSummary, summarize};
+use super::traces::Stretch;
 use crate::metrics::Metric;
 use crate::run::{RunRecord, Status};
 use crate::stats::wilson;
@@ -56,8 +58,8 @@ struct Config {
     worst: Vec<usize>,
     /// Indexed by [`Metric`].
     metrics: Vec<Moments>,
-    /// Every `stride`-th run of the configuration, in run order.
-    kept: Vec<RunRecord>,
+    /// Its runs kept: every `stride`-th, in run order.
+    kept: usize,
     stride: usize,
 }
 
@@ -71,29 +73,15 @@ impl Config {
             contacts: 0,
             worst: vec![],
             metrics: vec![Moments::default(); Metric::ALL.len()],
-            kept: vec![],
+            kept: 0,
             stride: 1,
         }
     }
 
-    fn push(&mut self, r: &RunRecord) {
-        if self.runs.is_multiple_of(self.stride) {
-            if self.kept.len() == self.kept.capacity() {
-                // double, but never past the most the configuration holds
-                let more = self.kept.len().clamp(1, SAMPLE + 1 - self.kept.len());
-                self.kept.reserve_exact(more);
-            }
-            self.kept.push(r.clone());
-            if self.kept.len() > SAMPLE {
-                // every other kept run: the runs whose position is a multiple of twice the stride
-                let mut i = 0;
-                self.kept.retain(|_| {
-                    i += 1;
-                    i % 2 == 1
-                });
-                self.stride *= 2;
-            }
-        }
+    /// Counts run `r`; whether the configuration keeps it.
+    fn push(&mut self, r: &RunRecord) -> bool {
+        let keep = self.runs.is_multiple_of(self.stride);
+        self.kept += usize::from(keep);
         self.runs += 1;
         self.crashed += usize::from(r.status == Status::Crash);
         self.solved += usize::from(r.solved);
@@ -113,6 +101,7 @@ impl Config {
                 s.max = s.max.max(v);
             }
         }
+        keep
     }
 
     /// `g`, the summary of the kept runs, with this configuration's exact counts, means and
@@ -147,11 +136,18 @@ fn key(r: &RunRecord) -> String {
     )
 }
 
-/// The runs of a results folder, gathered one at a time ([`Sample::push`]).
+/// The runs of a results folder, gathered one at a time ([`Sample::push`]) in run order.
 #[derive(Debug, Default)]
 pub struct Sample {
     configs: Vec<Config>,
     index: HashMap<String, usize>,
+    /// The runs kept, of every configuration, in the order pushed: held in one vector, so that
+    /// they are handed on as they are ([`Sample::into_kept`]), not copied.
+    kept: Vec<RunRecord>,
+    /// The configuration of each kept run.
+    of: Vec<usize>,
+    /// Where the trace of each kept run is in `progress.csv`.
+    traces: Vec<Stretch>,
     /// Runs pushed.
     pub runs: usize,
     /// Crashed runs.
@@ -161,8 +157,9 @@ pub struct Sample {
 }
 
 impl Sample {
-    /// Counts run `r` of results folder `dir` and keeps it if its configuration keeps it.
-    pub fn push(&mut self, dir: &Path, r: &RunRecord) {
+    /// Counts run `r` of results folder `dir`, whose trace is at `trace` in its
+    /// `progress.csv`, and keeps it if its configuration keeps it.
+    pub fn push(&mut self, dir: &Path, r: &RunRecord, trace: Stretch) {
         let k = key(r);
         let i = match self.index.get(&k) {
             Some(i) => *i,
@@ -172,30 +169,67 @@ impl Sample {
                 self.configs.len() - 1
             }
         };
-        self.configs[i].push(r);
+        if self.configs[i].push(r) {
+            self.kept.push(r.clone());
+            self.of.push(i);
+            self.traces.push(trace);
+            if self.configs[i].kept > SAMPLE {
+                self.halve(i);
+            }
+        }
         self.runs += 1;
         self.crashed += usize::from(r.status == Status::Crash);
         self.replays += crate::replay::files::with_replay(dir, std::slice::from_ref(r));
     }
 
+    /// Keeps every other kept run of configuration `i` (the runs whose position is a multiple
+    /// of twice its stride), and doubles its stride.
+    fn halve(&mut self, i: usize) {
+        let mut nth = 0;
+        let keep: Vec<bool> = self
+            .of
+            .iter()
+            .map(|&c| {
+                nth += usize::from(c == i);
+                c != i || nth % 2 == 1
+            })
+            .collect();
+        /// Keeps the items of `v` whose place in `keep` is true.
+        fn retain<T>(v: &mut Vec<T>, keep: &[bool]) {
+            let mut k = keep.iter();
+            v.retain(|_| *k.next().unwrap_or(&true));
+        }
+        retain(&mut self.kept, &keep);
+        retain(&mut self.of, &keep);
+        retain(&mut self.traces, &keep);
+        let c = &mut self.configs[i];
+        c.kept = c.kept.div_ceil(2);
+        c.stride *= 2;
+    }
+
     /// The summary of every configuration, in run order of first appearance: the kept runs'
     /// quartiles with the exact counts, means and extremes.
     pub fn summaries(&self) -> Vec<GroupSummary> {
+        let mut mine: Vec<Vec<&RunRecord>> = vec![vec![]; self.configs.len()];
+        for (r, &c) in self.kept.iter().zip(&self.of) {
+            mine[c].push(r);
+        }
         self.configs
             .iter()
-            .map(|c| c.exact(summarize(&c.kept.iter().collect::<Vec<_>>())))
+            .zip(mine)
+            .map(|(c, runs)| c.exact(summarize(&runs)))
             .collect()
     }
 
-    /// Consumes the sample into its kept runs, in run order.
-    pub fn into_runs(self) -> Vec<RunRecord> {
-        let mut all = Vec::with_capacity(self.configs.iter().map(|c| c.kept.len()).sum());
-        for c in self.configs {
-            all.extend(c.kept);
-        }
-        // run indices are unique: an unstable sort gives the same order, without a buffer
+    /// Consumes the sample into its kept runs, in run order, and where their traces are (those
+    /// with points).
+    pub fn into_kept(self) -> (Vec<RunRecord>, Vec<Stretch>) {
+        let mut all = self.kept;
+        // pushed in run order; run indices are unique: an unstable sort keeps that order, and
+        // puts runs pushed out of order in it, without a buffer
         all.sort_unstable_by_key(|r| r.run);
-        all
+        let traces = self.traces.into_iter().filter(|t| t.rows > 0).collect();
+        (all, traces)
     }
 }
 
@@ -214,6 +248,16 @@ mod tests {
         r
     }
 
+    /// Where run `run`'s trace is in a made-up file: 2 rows at byte `10 × run` for an even run,
+    /// none for an odd one.
+    fn at(run: usize) -> Stretch {
+        Stretch {
+            run,
+            offset: 10 * run as u64,
+            rows: if run.is_multiple_of(2) { 2 } else { 0 },
+        }
+    }
+
     #[test]
     fn a_configuration_keeps_every_run_up_to_the_sample_and_every_2j_th_beyond() {
         let dir = Path::new("/nonexistent");
@@ -223,16 +267,16 @@ mod tests {
         let mut next = 0;
         for i in 0..big {
             if i < SAMPLE {
-                s.push(dir, &run(next, "a", true, 0.0));
+                s.push(dir, &run(next, "a", true, 0.0), at(next));
                 next += 1;
             }
-            s.push(dir, &run(next, "b", true, i as f64));
+            s.push(dir, &run(next, "b", true, i as f64), at(next));
             next += 1;
         }
         assert_eq!(s.runs, SAMPLE + big);
-        // no configuration's buffer outgrows the sample
-        assert!(s.configs.iter().all(|c| c.kept.capacity() <= SAMPLE + 1));
-        let kept = s.into_runs();
+        // no configuration keeps more than the sample
+        assert!(s.configs.iter().all(|c| c.kept <= SAMPLE));
+        let (kept, traces) = s.into_kept();
         let a = kept.iter().filter(|r| r.planner == "a").count();
         let b: Vec<f64> = kept
             .iter()
@@ -245,6 +289,16 @@ mod tests {
         assert_eq!(b, every_fourth);
         assert!((SAMPLE / 2..=SAMPLE).contains(&b.len()));
         assert!(kept.windows(2).all(|w| w[0].run < w[1].run));
+        // each kept run's trace kept with it; odd runs have none
+        let mut traced: Vec<usize> = traces.iter().map(|t| t.run).collect();
+        traced.sort();
+        let even: Vec<usize> = kept
+            .iter()
+            .map(|r| r.run)
+            .filter(|r| r.is_multiple_of(2))
+            .collect();
+        assert_eq!(traced, even);
+        assert!(traces.iter().all(|t| t.offset == 10 * t.run as u64));
     }
 
     #[test]
@@ -253,7 +307,7 @@ mod tests {
         let mut s = Sample::default();
         let n = 2 * SAMPLE + 1;
         for i in 0..n {
-            s.push(dir, &run(i, "a", i % 3 == 0, i as f64));
+            s.push(dir, &run(i, "a", i % 3 == 0, i as f64), at(i));
         }
         let [g] = s.summaries().try_into().unwrap();
         assert_eq!(g.n, n);

@@ -12,7 +12,7 @@ use std::path::Path;
 use super::{block_name, progress_line, properties, settings};
 use crate::Error;
 use crate::results::temporary::Temporary;
-use crate::results::traces::Traces;
+use crate::results::traces::TracePoint;
 use crate::run::RunRecord;
 
 /// The temporary file of the runs' lines (not hashed by `results verify`: it ends in `.tmp`).
@@ -70,8 +70,8 @@ impl Gather {
         })
     }
 
-    /// Adds run `r`, whose progress trace `progress` holds.
-    pub fn push(&mut self, r: &RunRecord, progress: &Traces) -> Result<(), Error> {
+    /// Adds run `r`, whose progress trace is `points`.
+    pub fn push(&mut self, r: &RunRecord, points: &[TracePoint]) -> Result<(), Error> {
         let qualified = block_name(r, true);
         let i = match self.index.get(&qualified) {
             Some(i) => *i,
@@ -96,9 +96,8 @@ impl Gather {
             line += p.get(n).map(String::as_str).unwrap_or("");
             line += "; ";
         }
-        let points = progress.get(r.run)?;
         b.tracks_cost |= points.iter().filter(|p| p.best_cost.is_some()).count() > 1;
-        let progress = progress_line(&points);
+        let progress = progress_line(points);
         b.runs.push(self.at);
         for part in [&line, &progress] {
             let len = u32::try_from(part.len()).map_err(|_| {
