@@ -166,13 +166,13 @@ pub fn run_sweep(
     ex: &dyn Executor,
     opts: &SweepOptions,
 ) -> Result<SweepSummary, Error> {
-    let specs = e.runs_of(opts.shard);
+    let matrix = e.matrix();
+    let indices = matrix.indices(opts.shard);
     let out = &opts.out;
     let shard_arr = opts.shard.map(|(i, n)| [i, n]);
     let opened = resume::open_for_sweep(
         out,
         e,
-        &specs,
         &resume::OpenOptions {
             executor: ex.name(),
             threads: opts.threads,
@@ -182,8 +182,8 @@ pub fn run_sweep(
     )?;
     // the lock is held to the end of the sweep, through finalize and verify
     let (mut manifest, done, _lock) = (opened.manifest, opened.done, opened.lock);
-    let todo: Vec<&RunSpec> = specs.iter().filter(|s| !done.contains(&s.id())).collect();
-    let skipped = specs.len() - todo.len();
+    let total = indices.len();
+    let skipped = done.len();
     let t0 = Instant::now();
     manifest.threads = opts.threads;
     manifest.host = host();
@@ -200,7 +200,9 @@ pub fn run_sweep(
         wall_time_s: None,
         host: manifest.host.clone(),
     });
-    for s in &specs {
+    // what depends on a run's configuration and not its seed, from one run of each
+    let firsts = matrix.firsts(indices.clone());
+    for s in &firsts {
         for name in ex.one_at_a_time(s) {
             if !manifest.one_at_a_time.contains(&name) {
                 manifest.one_at_a_time.push(name);
@@ -217,7 +219,7 @@ pub fn run_sweep(
         crate::replay::files::write_player(out)?;
     }
 
-    let agents = specs
+    let agents = firsts
         .iter()
         .filter(|s| s.tracker.is_some())
         .map(|s| s.scenario.agents())
@@ -226,7 +228,7 @@ pub fn run_sweep(
     let writer = Mutex::new(RunWriter::open(out, agents)?);
     crate::replay::files::write_previews(
         out,
-        specs
+        firsts
             .iter()
             .map(|s| (s.scenario_label.as_str(), &*s.scenario)),
     )?;
@@ -234,14 +236,14 @@ pub fn run_sweep(
     // runs of a component that holds a global lock (Python's GIL) take turns, so that each one's
     // times are its own and not the wait for the lock
     let turn = Mutex::new(());
-    let reporter = Reporter::new(opts.progress, specs.len(), skipped);
+    let reporter = Reporter::new(opts.progress, total, skipped);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.max(1))
         .build()
         .map_err(|err| Error::Failed(format!("thread pool: {err}")))?;
     // each scenario's difficulty measures, once, for the rows of all its runs
     let mut scenarios: Vec<&RunSpec> = vec![];
-    for s in &todo {
+    for s in &firsts {
         if !scenarios
             .iter()
             .any(|t| t.scenario_label == s.scenario_label)
@@ -255,42 +257,47 @@ pub fn run_sweep(
             .map(|s| (s.scenario_label.as_str(), Measures::of(&s.scenario)))
             .collect()
     });
+    // the runs are made one at a time, as they start
+    let (first, step) = opts.shard.map_or((0, 1), |(k, n)| (k - 1, n));
     let result: Result<(), Error> = pool.install(|| {
-        todo.par_iter().with_max_len(1).try_for_each(|spec| {
-            let mut o = if ex.one_at_a_time(spec).is_empty() {
-                execute_caught(ex, spec)
-            } else {
-                let _turn = turn.lock().unwrap_or_else(|p| p.into_inner());
-                execute_caught(ex, spec)
-            };
-            let f = if o.record.status == Status::Crash {
-                failed.fetch_add(1, Ordering::SeqCst) + 1
-            } else {
-                failed.load(Ordering::SeqCst)
-            };
-            o.record.difficulty = difficulty
-                .get(spec.scenario_label.as_str())
-                .copied()
-                .unwrap_or_default();
-            if !replays.keeps(&sampled, &o.record) {
-                o.replay = None;
-            }
-            if o.replay.is_none() {
-                // a page an interrupted sweep left for this run (another policy, or an attempt
-                // that ended otherwise) would show another run than the row
-                crate::replay::files::remove_replay(out, spec.index)?;
-            }
-            writer.lock().unwrap_or_else(|p| p.into_inner()).write(&o)?;
-            reporter.finished(&o, f);
-            Ok(())
-        })
+        (0..total)
+            .into_par_iter()
+            .with_max_len(1)
+            .map(|j| first + j * step)
+            .filter(|i| !done.contains(i))
+            .try_for_each(|index| {
+                let spec = matrix.spec(index);
+                let mut o = if ex.one_at_a_time(&spec).is_empty() {
+                    execute_caught(ex, &spec)
+                } else {
+                    let _turn = turn.lock().unwrap_or_else(|p| p.into_inner());
+                    execute_caught(ex, &spec)
+                };
+                let f = if o.record.status == Status::Crash {
+                    failed.fetch_add(1, Ordering::SeqCst) + 1
+                } else {
+                    failed.load(Ordering::SeqCst)
+                };
+                o.record.difficulty = difficulty
+                    .get(spec.scenario_label.as_str())
+                    .copied()
+                    .unwrap_or_default();
+                if !replays.keeps(&sampled, &o.record) {
+                    o.replay = None;
+                }
+                if o.replay.is_none() {
+                    // a page an interrupted sweep left for this run (another policy, or an
+                    // attempt that ended otherwise) would show another run than the row
+                    crate::replay::files::remove_replay(out, spec.index)?;
+                }
+                writer.lock().unwrap_or_else(|p| p.into_inner()).write(&o)?;
+                reporter.finished(&o, f);
+                Ok(())
+            })
     });
     reporter.end();
     result?;
-    let (total, executed) = (specs.len(), todo.len());
-    // finalize and verify read the folder, not the runs' specs
-    drop(todo);
-    drop(specs);
+    let executed = total - skipped;
     let failed = failed.into_inner();
     let session = manifest.sessions.last_mut().expect("pushed above");
     session.finished = Some(now());

@@ -10,6 +10,9 @@ peak resident memory read from ``os.wait4``:
 
 - ``bench``: the N runs in one folder (``--replays none``, 2 threads), for N up to
   ``--whole-up-to``;
+- ``bench --resume``: that folder again, its last ``runs.csv`` row cut in half as a kill
+  leaves it (the run's row and trace are dropped, both run files rewritten, and the run runs
+  again);
 - ``bench (S shards)``: the same experiment as S shards, one after another (the largest);
 - ``merge``: the S shards into one folder;
 - ``results verify``: the merged folder;
@@ -39,7 +42,7 @@ import tempfile
 import time
 
 SHARDS = 10
-WHOLE_UP_TO = 100_000
+WHOLE_UP_TO = 1_000_000
 
 
 BIN = os.environ.get("MAGBENCH_BIN")
@@ -93,6 +96,17 @@ def real_experiment(work, runs):
     return path
 
 
+def cut_last_row(path):
+    """Cuts the last line of the file at ``path`` in half, as a kill while it was written."""
+    with open(path, "rb+") as f:
+        f.seek(0, os.SEEK_END)
+        size = f.tell()
+        f.seek(max(0, size - 65536))
+        tail = f.read()
+        start = tail.rstrip(b"\n").rfind(b"\n") + 1
+        f.truncate(size - (len(tail) - start) // 2)
+
+
 def measure(work, runs, shard_count, whole_up_to, real):
     """The table rows of size ``runs`` in ``shard_count`` shards (real runs if ``real``)."""
     exp = (real_experiment if real else experiment)(work, runs)
@@ -104,6 +118,8 @@ def measure(work, runs, shard_count, whole_up_to, real):
     if runs <= whole_up_to:
         whole = os.path.join(work, "whole")
         rows.append(("bench", *run(["bench", exp, "--out", whole, *flags])))
+        cut_last_row(os.path.join(whole, "runs.csv"))
+        rows.append(("bench --resume", *run(["bench", exp, "--out", whole, "--resume", *flags])))
     shards = []
     wall, peak = 0.0, 0.0
     for k in range(1, shard_count + 1):

@@ -34,7 +34,9 @@
 //! tracked runs with every tracker and preset.
 
 mod file;
+mod matrix;
 pub use file::{MAX_RUNS, MAX_SEEDS, SEED_COUNT};
+pub use matrix::Matrix;
 pub mod generated;
 
 use std::path::{Path, PathBuf};
@@ -108,21 +110,9 @@ impl Experiment {
         hex(&Sha256::digest(self.text.as_bytes()))
     }
 
-    /// The tracker × preset combinations of planner `p`'s runs (`(None, None)`: a planning
-    /// run), in matrix order.
-    fn tracking(&self, p: &Variant) -> Vec<(Option<Variant>, Option<&LabelledPreset>)> {
-        let mut v = vec![];
-        if self.tracking.has_planning_runs() {
-            v.push((None, None));
-        }
-        if self.tracking.tracks(p) {
-            for t in &self.trackers {
-                for pr in &self.presets {
-                    v.push((Some(t.clone()), Some(pr)));
-                }
-            }
-        }
-        v
+    /// The run matrix, made run by run.
+    pub fn matrix(&self) -> Matrix<'_> {
+        Matrix::of(self)
     }
 
     /// The full run matrix in a fixed order: scenario, planner, tracker, preset, seed (a
@@ -134,76 +124,35 @@ impl Experiment {
     /// The runs of shard `k` of `n` (`Some((k, n))`, 1-based: the runs whose index is `k − 1`
     /// modulo `n`) of the run matrix, or the whole matrix; only those runs are made.
     pub fn runs_of(&self, shard: Option<(usize, usize)>) -> Vec<RunSpec> {
-        self.runs_where(|index, _| shard.is_none_or(|(k, n)| index % n == k - 1))
+        let m = self.matrix();
+        m.indices(shard).map(|i| m.spec(i)).collect()
     }
 
     /// The runs of the matrix, in order, whose index and seed `keep` accepts; only those runs
     /// are made.
     pub fn runs_where(&self, keep: impl Fn(usize, u64) -> bool) -> Vec<RunSpec> {
-        let mut out = vec![];
-        let mut index = 0;
-        for (label, sc) in &self.scenarios {
-            for p in &self.planners {
-                for (t, pr) in self.tracking(p) {
-                    for &seed in &self.seeds {
-                        if keep(index, seed) {
-                            out.push(RunSpec {
-                                index,
-                                experiment: self.name.clone(),
-                                scenario_label: label.clone(),
-                                scenario: sc.clone(),
-                                planner: p.clone(),
-                                tracker: t.clone(),
-                                preset: pr.map(|(label, _)| label.clone()),
-                                plant: pr.map(|(_, p)| p.clone()),
-                                seed,
-                                limits: self.limits,
-                            });
-                        }
-                        index += 1;
-                    }
-                }
-            }
-        }
-        out
+        let m = self.matrix();
+        (0..m.len())
+            .filter(|&i| keep(i, m.seed(i)))
+            .map(|i| m.spec(i))
+            .collect()
     }
 
     /// The number of runs of the matrix.
     pub fn run_count(&self) -> usize {
-        let per_scenario: usize = self.planners.iter().map(|p| self.tracking(p).len()).sum();
-        self.scenarios.len() * per_scenario * self.seeds.len()
+        self.matrix().len()
     }
 
     /// The number of runs of shard `k` of `n` (as [`Experiment::runs_of`]), or of the matrix.
     pub fn run_count_of(&self, shard: Option<(usize, usize)>) -> usize {
-        match shard {
-            None => self.run_count(),
-            // the indices `k − 1`, `k − 1 + n`, … below the matrix's size
-            Some((k, n)) => (self.run_count() + n - k) / n,
-        }
+        self.matrix().indices(shard).len()
     }
 
     /// The index and id (`scenario|planner|tracker|preset|seed`, as [`RunSpec::id`]) of every
     /// run of the matrix, in order, without making the runs.
     pub fn run_ids(&self) -> impl Iterator<Item = (usize, String)> + '_ {
-        self.scenarios
-            .iter()
-            .flat_map(move |(label, _)| {
-                self.planners.iter().flat_map(move |p| {
-                    self.tracking(p).into_iter().flat_map(move |(t, pr)| {
-                        let config = crate::run::spec::config_id(
-                            label,
-                            p,
-                            t.as_ref(),
-                            pr.map(|(l, _)| l.as_str()),
-                        );
-                        self.seeds
-                            .iter()
-                            .map(move |seed| format!("{config}|{seed}"))
-                    })
-                })
-            })
-            .enumerate()
+        let m = self.matrix();
+        (0..m.len()).map(move |i| (i, m.id(i)))
     }
 }
 
@@ -366,6 +315,47 @@ mod tests {
             }
         }
         assert_eq!(e.run_count_of(None), all.len());
+        // the documented order: a planner's planning runs, then its tracked runs, seeds inside
+        let order: Vec<(&str, &str, &str)> = all
+            .iter()
+            .step_by(e.seeds.len())
+            .map(|r| {
+                let t = r.tracker.as_ref().map_or("-", |t| t.name.as_str());
+                (
+                    r.planner.name.as_str(),
+                    t,
+                    r.preset.as_deref().unwrap_or("-"),
+                )
+            })
+            .collect();
+        assert_eq!(
+            order,
+            [
+                ("goal-zoom-rrt", "-", "-"),
+                ("goal-zoom-rrt", "obc", "ideal"),
+                ("goal-zoom-rrt", "obc", "realistic"),
+                ("goal-zoom-rrt", "lookahead", "ideal"),
+                ("goal-zoom-rrt", "lookahead", "realistic"),
+                ("rrt-star", "-", "-"),
+                ("sst", "-", "-"),
+            ]
+        );
+        assert!(
+            all.iter()
+                .enumerate()
+                .all(|(i, r)| r.index == i && r.seed == e.seeds[i % e.seeds.len()])
+        );
+        // a run's index from its id, and none for an id of no run
+        let m = e.matrix();
+        assert!(all.iter().all(|r| m.index_of(&r.id()) == Some(r.index)));
+        for id in [
+            "micro-factory|sst|-|-|10",
+            "micro-factory|sst|obc|ideal|0",
+            "x",
+            "",
+        ] {
+            assert_eq!(m.index_of(id), None, "{id}");
+        }
         let first = e.seeds[0];
         let firsts = e.runs_where(|_, seed| seed == first);
         assert_eq!(firsts.len() * e.seeds.len(), all.len());

@@ -10,7 +10,7 @@
 //! on the order in which runs finish, the number of threads, the shard or an interruption, so a
 //! resumed sweep or the merge of shards has the pages one sweep would have written.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, BinaryHeap};
 use std::fmt;
 use std::str::FromStr;
 
@@ -79,19 +79,24 @@ pub fn failed(r: &RunRecord) -> bool {
 /// id (`scenario|planner|tracker|preset|seed`) among the runs of its configuration; the runs
 /// are taken by rank, and within a rank by their hash. So the sample spreads over the
 /// configurations (one run of each before a second of any), and it depends only on the ids.
+/// A run of rank `n` or more follows at least `n` runs of its own configuration, so only each
+/// configuration's `n` first are held.
 pub fn sample(matrix: impl IntoIterator<Item = (usize, String)>, n: usize) -> BTreeSet<usize> {
-    let mut configs: BTreeMap<String, Vec<(u64, usize)>> = BTreeMap::new();
+    let mut configs: BTreeMap<String, BinaryHeap<(u64, usize)>> = BTreeMap::new();
     for (index, id) in matrix {
         let config = id.rsplit_once('|').map_or(id.as_str(), |(c, _)| c);
-        let entry = match configs.get_mut(config) {
+        let firsts = match configs.get_mut(config) {
             Some(e) => e,
             None => configs.entry(config.to_string()).or_default(),
         };
-        entry.push((seed_of(&id), index));
+        firsts.push((seed_of(&id), index));
+        if firsts.len() > n {
+            firsts.pop();
+        }
     }
     let mut ranked: Vec<(usize, u64, usize)> = vec![];
-    for runs in configs.values_mut() {
-        runs.sort_unstable();
+    for firsts in configs.into_values() {
+        let runs = firsts.into_sorted_vec();
         ranked.extend(runs.iter().enumerate().map(|(k, &(h, i))| (k, h, i)));
     }
     ranked.sort_unstable();
@@ -206,6 +211,45 @@ mod tests {
             let err = s.parse::<ReplayPolicy>().unwrap_err();
             assert!(err.contains(why), "{s:?}: {err}");
             assert!(err.contains(SYNTAX), "{s:?}: {err}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod sample_tests {
+    use super::*;
+
+    /// The runs of `matrix` ranked as [`sample`] documents, every run held: the `n` first.
+    fn every_run_ranked(matrix: &[(usize, String)], n: usize) -> BTreeSet<usize> {
+        let mut configs: BTreeMap<&str, Vec<(u64, usize)>> = BTreeMap::new();
+        for (index, id) in matrix {
+            let config = id.rsplit_once('|').unwrap().0;
+            configs
+                .entry(config)
+                .or_default()
+                .push((seed_of(id), *index));
+        }
+        let mut ranked = vec![];
+        for runs in configs.values_mut() {
+            runs.sort();
+            ranked.extend(runs.iter().enumerate().map(|(k, &(h, i))| (k, h, i)));
+        }
+        ranked.sort();
+        ranked.into_iter().take(n).map(|(_, _, i)| i).collect()
+    }
+
+    /// Holding each configuration's `n` first runs draws the sample of holding them all.
+    #[test]
+    fn the_sample_is_that_of_every_run_ranked() {
+        // configurations of 1 to 40 runs
+        let matrix: Vec<(usize, String)> = (0..6)
+            .flat_map(|c| (0..[1, 3, 40, 7, 12, 2][c]).map(move |s| format!("c{c}|p|-|-|{s}")))
+            .enumerate()
+            .collect();
+        for n in [0, 1, 5, 6, 7, 13, 30, 64, 65, 100] {
+            let got = sample(matrix.iter().cloned(), n);
+            assert_eq!(got, every_run_ranked(&matrix, n), "n = {n}");
+            assert_eq!(got.len(), n.min(matrix.len()));
         }
     }
 }

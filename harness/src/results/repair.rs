@@ -17,40 +17,25 @@ use std::path::Path;
 
 use magbench_env::InputError;
 
-use super::store::{self, PROGRESS, RUNS};
+use super::store::{self, PROGRESS, RUNS, Replacement, Snapshot};
 use crate::Error;
-use crate::run::{ProgressRow, RunRecord};
+use crate::run::ProgressRow;
 
 /// The runs a folder may hold: those of one experiment (or shard of it).
-#[derive(Debug, Clone)]
-pub struct Expected {
+pub struct Expected<'a> {
     /// The experiment's name (the `experiment` column).
-    pub experiment: String,
-    /// Run id → index in the run matrix.
-    pub runs: BTreeMap<String, usize>,
+    pub experiment: &'a str,
+    /// The index in the run matrix of the run with this id, if the folder may hold it.
+    pub index_of: &'a dyn Fn(&str) -> Option<usize>,
 }
 
 /// What a repair found.
 #[derive(Debug, Clone, Default)]
 pub struct Repaired {
-    /// Ids of the finished runs that were kept.
-    pub done: BTreeSet<String>,
+    /// Indices of the finished runs that were kept.
+    pub done: BTreeSet<usize>,
     /// What was dropped or rebuilt, one line each.
     pub notes: Vec<String>,
-}
-
-fn read_opt(path: &Path) -> Result<Option<String>, Error> {
-    match std::fs::read(path) {
-        Ok(b) => String::from_utf8(b).map(Some).map_err(|_| {
-            Error::Input(InputError::new(
-                path.display().to_string(),
-                "",
-                "not UTF-8 text: the file is damaged; write to a new --out folder",
-            ))
-        }),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        Err(e) => Err(Error::Failed(format!("{}: {e}", path.display()))),
-    }
 }
 
 fn other_version(path: &Path) -> Error {
@@ -61,49 +46,58 @@ fn other_version(path: &Path) -> Error {
     ))
 }
 
-/// The complete rows of a run file, and the bytes of a line cut short at its end.
-struct Loaded<T> {
-    rows: Vec<T>,
-    torn_tail: usize,
-    /// The file exists but its header was cut short (or it is empty).
-    torn_header: bool,
-    exists: bool,
+/// A run file as an interruption left it.
+enum RunFile {
+    /// There is none.
+    Missing,
+    /// It is empty, or its header was cut short: it holds no complete row.
+    TornHeader,
+    /// Its complete lines, and the bytes of a line cut short after them.
+    Rows(Snapshot, u64),
 }
 
-fn load<T>(
-    path: &Path,
-    text: Option<String>,
-    torn_header: impl Fn(&str) -> bool,
-    header_ok: impl Fn(&str) -> bool,
-    parse: impl Fn(&Path, &str) -> Result<Vec<T>, Error>,
-) -> Result<Loaded<T>, Error> {
-    let Some(text) = text else {
-        return Ok(Loaded {
-            rows: vec![],
-            torn_tail: 0,
-            torn_header: false,
-            exists: false,
-        });
-    };
-    if text.is_empty() || torn_header(&text) {
-        return Ok(Loaded {
-            rows: vec![],
-            torn_tail: 0,
-            torn_header: true,
-            exists: true,
-        });
+impl RunFile {
+    /// Opens the run file at `path`; a header that is whole but not `header_ok` is an error.
+    fn open(
+        path: &Path,
+        torn_header: impl Fn(&str) -> bool,
+        header_ok: impl Fn(&str) -> bool,
+    ) -> Result<RunFile, Error> {
+        let Some(snap) = Snapshot::open(path)? else {
+            return Ok(RunFile::Missing);
+        };
+        let first = store::first_line(path)?.unwrap_or_default();
+        if snap.lines() == 0 {
+            // the whole file is its first line, unless it is longer than any header
+            if snap.size() == first.len() as u64 && torn_header(&first) {
+                return Ok(RunFile::TornHeader);
+            }
+            return Err(other_version(path));
+        }
+        if !header_ok(&first) {
+            return Err(other_version(path));
+        }
+        let tail = snap.size() - snap.complete_len();
+        Ok(RunFile::Rows(snap, tail))
     }
-    let n = store::complete_len(&text);
-    let header = text.split('\n').next().unwrap_or_default();
-    if n == 0 || !header_ok(header) {
-        return Err(other_version(path));
+
+    fn exists(&self) -> bool {
+        !matches!(self, RunFile::Missing)
     }
-    Ok(Loaded {
-        rows: parse(path, &text[..n])?,
-        torn_tail: text.len() - n,
-        torn_header: false,
-        exists: true,
-    })
+
+    fn snapshot(&self) -> Option<&Snapshot> {
+        match self {
+            RunFile::Rows(s, _) => Some(s),
+            _ => None,
+        }
+    }
+
+    fn torn_tail(&self) -> u64 {
+        match self {
+            RunFile::Rows(_, t) => *t,
+            _ => 0,
+        }
+    }
 }
 
 /// Counts of one kind of damage, with the first run it hit.
@@ -128,30 +122,51 @@ impl Tally {
     }
 }
 
+/// What the run files hold of one run.
+#[derive(Default, Clone, Copy)]
+struct Held {
+    /// Its rows in `runs.csv`.
+    rows: u32,
+    /// The trace points its (last) row records.
+    recorded: Option<u64>,
+    /// Its trace points in `progress.csv`.
+    points: u64,
+    /// Whether a trace point of its id gives another run index.
+    misplaced: bool,
+}
+
+impl Held {
+    /// Whether the run is whole: one row, and exactly the trace points it records.
+    fn is_whole(&self) -> bool {
+        self.rows == 1 && self.recorded == Some(self.points) && !self.misplaced
+    }
+}
+
+/// Trace points written to a rewritten `progress.csv` at once.
+const POINTS_PER_WRITE: usize = 4096;
+
 /// Makes the run files of `dir` consistent after an interruption (see the module doc) and
-/// returns the ids of the finished runs it kept. With `expected`, a row of a run that is not
-/// in it (another experiment's results) is an error (exit 2).
-pub fn repair(dir: &Path, expected: Option<&Expected>) -> Result<Repaired, Error> {
+/// returns the indices of the finished runs it kept. A row of a run that `expected` does not
+/// hold (another experiment's results) is an error (exit 2). The files are read row by row,
+/// and rewritten the same way if anything is dropped: what is held is a few numbers per run.
+pub fn repair(dir: &Path, expected: &Expected) -> Result<Repaired, Error> {
     let runs_path = dir.join(RUNS);
     let progress_path = dir.join(PROGRESS);
-    let runs = load(
-        &runs_path,
-        read_opt(&runs_path)?,
-        store::is_torn_runs_header,
-        |h| store::header_agents(h).is_some(),
-        store::parse_runs,
-    )?;
-    let progress = load(
-        &progress_path,
-        read_opt(&progress_path)?,
-        store::is_torn_progress_header,
-        |h| h == store::progress_header(),
-        store::parse_progress,
-    )?;
-    let mut notes = vec![];
-    if let Some(exp) = expected {
-        for (i, r) in runs.rows.iter().enumerate() {
-            if exp.runs.get(&r.run_id) != Some(&r.run) || r.experiment != exp.experiment {
+    let runs = RunFile::open(&runs_path, store::is_torn_runs_header, |h| {
+        store::header_agents(h).is_some()
+    })?;
+    let progress = RunFile::open(&progress_path, store::is_torn_progress_header, |h| {
+        h == store::progress_header()
+    })?;
+
+    // every row of runs.csv: a run of the experiment, at its index
+    let mut held: BTreeMap<usize, Held> = BTreeMap::new();
+    let mut rows = 0usize;
+    if let Some(s) = runs.snapshot() {
+        for (i, r) in s.runs()?.enumerate() {
+            let r = r?;
+            if (expected.index_of)(&r.run_id) != Some(r.run) || r.experiment != expected.experiment
+            {
                 return Err(Error::Input(InputError::new(
                     runs_path.display().to_string(),
                     format!("row {}", i + 1),
@@ -159,80 +174,92 @@ pub fn repair(dir: &Path, expected: Option<&Expected>) -> Result<Repaired, Error
                         "run {} (index {}, experiment {:?}) is not a run of experiment {:?} \
                          as given (or of this shard): the folder holds other results; write to \
                          a new --out folder",
-                        r.run_id, r.run, r.experiment, exp.experiment
+                        r.run_id, r.run, r.experiment, expected.experiment
                     ),
                 )));
             }
+            let h = held.entry(r.run).or_default();
+            h.rows += 1;
+            h.recorded = r.progress_rows;
+            rows += 1;
         }
     }
-    let mut rows_of: BTreeMap<&str, usize> = BTreeMap::new();
-    for r in &runs.rows {
-        *rows_of.entry(&r.run_id).or_default() += 1;
-    }
-    let mut trace: BTreeMap<&str, (u64, bool)> = BTreeMap::new();
-    let index: BTreeMap<&str, usize> = runs.rows.iter().map(|r| (&*r.run_id, r.run)).collect();
-    for p in &progress.rows {
-        let t = trace.entry(&p.run_id).or_insert((0, true));
-        t.0 += 1;
-        t.1 &= index.get(&*p.run_id) == Some(&p.run);
-    }
-    let (mut doubled, mut short, mut long) = (Tally::default(), Tally::default(), Tally::default());
-    let mut done = BTreeSet::new();
-    for r in &runs.rows {
-        let (n, same_index) = trace.get(&*r.run_id).copied().unwrap_or((0, true));
-        if rows_of[&*r.run_id] > 1 {
-            if done.insert(r.run_id.clone()) {
-                doubled.add(&r.run_id);
+    // every trace point of progress.csv: counted to the run of its id
+    let (mut points, mut orphans) = (0usize, 0usize);
+    if let Some(s) = progress.snapshot() {
+        for p in s.progress()? {
+            let p = p?;
+            points += 1;
+            match (expected.index_of)(&p.run_id).and_then(|i| held.get_mut(&i).map(|h| (i, h))) {
+                Some((i, h)) => {
+                    h.points += 1;
+                    h.misplaced |= p.run != i;
+                }
+                None => orphans += 1,
             }
-            continue;
-        }
-        match r.progress_rows {
-            Some(k) if k == n && same_index => {
-                done.insert(r.run_id.clone());
-            }
-            Some(k) if k < n || !same_index => long.add(&r.run_id),
-            _ => short.add(&r.run_id),
         }
     }
-    // the doubled runs went in only to be counted once
-    done.retain(|id| rows_of[&**id] == 1);
-    let kept_runs: Vec<&RunRecord> = runs
-        .rows
+    let done: BTreeSet<usize> = held
         .iter()
-        .filter(|r| done.contains(&r.run_id))
+        .filter(|(_, h)| h.is_whole())
+        .map(|(&i, _)| i)
         .collect();
-    let kept_progress: Vec<&ProgressRow> = progress
-        .rows
-        .iter()
-        .filter(|p| done.contains(&p.run_id))
-        .collect();
-    let orphans = progress
-        .rows
-        .iter()
-        .filter(|p| !index.contains_key(&*p.run_id))
-        .count();
+    let kept_points: u64 = done.iter().map(|i| held[i].points).sum();
 
-    if runs.torn_header {
+    // each damaged run once, in the order of runs.csv; and the kept rows, if any is dropped
+    let (mut doubled, mut short, mut long) = (Tally::default(), Tally::default(), Tally::default());
+    let rewrite_runs = runs.torn_tail() > 0 || done.len() != rows;
+    let mut kept_rows = match (&runs, rewrite_runs) {
+        (RunFile::Rows(..), true) => Some((
+            Replacement::create(&runs_path, &store::runs_header(store::file_agents(dir)))?,
+            store::file_agents(dir),
+        )),
+        _ => None,
+    };
+    if let Some(s) = runs.snapshot() {
+        let mut noted = BTreeSet::new();
+        for r in s.runs()? {
+            let r = r?;
+            let h = held[&r.run];
+            if h.is_whole() {
+                if let Some((out, agents)) = kept_rows.as_mut() {
+                    out.write(&store::run_bytes(std::slice::from_ref(&r), *agents))?;
+                }
+                continue;
+            }
+            if !noted.insert(r.run) {
+                continue;
+            }
+            match r.progress_rows {
+                _ if h.rows > 1 => doubled.add(&r.run_id),
+                Some(k) if k < h.points || h.misplaced => long.add(&r.run_id),
+                _ => short.add(&r.run_id),
+            }
+        }
+    }
+
+    let mut notes = vec![];
+    if matches!(runs, RunFile::TornHeader) {
         notes.push(format!(
             "{RUNS}: the header was cut short: no run had finished"
         ));
     }
-    if runs.torn_tail > 0 {
+    if runs.torn_tail() > 0 {
         notes.push(format!(
             "{RUNS}: dropped a line cut short at the end ({} bytes)",
-            runs.torn_tail
+            runs.torn_tail()
         ));
     }
-    if progress.torn_header {
+    if matches!(progress, RunFile::TornHeader) {
         notes.push(format!("{PROGRESS}: the header was cut short: rebuilt"));
     }
-    if progress.torn_tail > 0 {
+    if progress.torn_tail() > 0 {
         notes.push(format!(
             "{PROGRESS}: dropped a line cut short at the end ({} bytes)",
-            progress.torn_tail
+            progress.torn_tail()
         ));
     }
-    if !progress.exists && !runs.rows.is_empty() {
+    if !progress.exists() && rows > 0 {
         notes.push(format!("{PROGRESS}: missing: rebuilt"));
     }
     if orphans > 0 {
@@ -251,20 +278,33 @@ pub fn repair(dir: &Path, expected: Option<&Expected>) -> Result<Repaired, Error
         "runs had more trace points in progress.csv than their row records",
     );
 
-    if progress.torn_header
-        || progress.torn_tail > 0
-        || kept_progress.len() != progress.rows.len()
-        || (!progress.exists && runs.exists)
+    if matches!(progress, RunFile::TornHeader)
+        || progress.torn_tail() > 0
+        || kept_points != points as u64
+        || (!progress.exists() && runs.exists())
     {
-        store::write_atomic(&progress_path, &store::progress_header(), &kept_progress)?;
+        let mut out = Replacement::create(&progress_path, &store::progress_header())?;
+        if let Some(s) = progress.snapshot() {
+            let mut batch: Vec<ProgressRow> = Vec::with_capacity(POINTS_PER_WRITE);
+            for p in s.progress()? {
+                let p = p?;
+                if (expected.index_of)(&p.run_id).is_some_and(|i| done.contains(&i)) {
+                    batch.push(p);
+                }
+                if batch.len() == POINTS_PER_WRITE {
+                    out.write(&store::progress_bytes(&batch))?;
+                    batch.clear();
+                }
+            }
+            out.write(&store::progress_bytes(&batch))?;
+        }
+        out.commit()?;
     }
-    if runs.torn_header {
+    if matches!(runs, RunFile::TornHeader) {
         std::fs::remove_file(&runs_path)
             .map_err(|e| Error::Failed(format!("{}: {e}", runs_path.display())))?;
-    } else if runs.torn_tail > 0 || kept_runs.len() != runs.rows.len() {
-        let agents = store::file_agents(dir);
-        let kept: Vec<RunRecord> = kept_runs.into_iter().cloned().collect();
-        store::write_runs_atomic(&runs_path, agents, &kept)?;
+    } else if let Some((out, _)) = kept_rows {
+        out.commit()?;
     }
     Ok(Repaired { done, notes })
 }
@@ -304,8 +344,20 @@ mod tests {
         w.into_inner().unwrap()
     }
 
-    fn ids(dir: &Path) -> Vec<String> {
-        repair(dir, None).unwrap().done.into_iter().collect()
+    /// Run `i` of the examples' experiment (unnamed) has the id `s|p|-|-|i`.
+    fn index_of(id: &str) -> Option<usize> {
+        id.strip_prefix("s|p|-|-|")?.parse().ok()
+    }
+
+    fn examples() -> Expected<'static> {
+        Expected {
+            experiment: "",
+            index_of: &index_of,
+        }
+    }
+
+    fn ids(dir: &Path) -> Vec<usize> {
+        repair(dir, &examples()).unwrap().done.into_iter().collect()
     }
 
     #[test]
@@ -321,7 +373,7 @@ mod tests {
         let line = store::run_bytes(&[out(2).record], 0);
         let cut = line.windows(2).position(|w| w == b"\ne").unwrap() + 1;
         append(dir.path(), RUNS, &line[..cut]);
-        let r = repair(dir.path(), None).unwrap();
+        let r = repair(dir.path(), &examples()).unwrap();
         assert_eq!(r.done.len(), 2, "{:?}", r.notes);
         assert_eq!(r.notes.len(), 2, "{:?}", r.notes);
         assert_eq!(read_runs(dir.path()).unwrap().len(), 2);
@@ -330,7 +382,7 @@ mod tests {
         let mut w = RunWriter::open(dir.path(), 0).unwrap();
         w.write(&out(2)).unwrap();
         assert_eq!(read_runs(dir.path()).unwrap().len(), 3);
-        let again = repair(dir.path(), None).unwrap();
+        let again = repair(dir.path(), &examples()).unwrap();
         assert_eq!((again.done.len(), again.notes.len()), (3, 0));
     }
 
@@ -362,8 +414,8 @@ mod tests {
         let mut row = out(2).record;
         row.progress_rows = Some(3);
         append(dir.path(), RUNS, &store::run_bytes(&[row], 0));
-        let r = repair(dir.path(), None).unwrap();
-        assert_eq!(r.done.into_iter().collect::<Vec<_>>(), ["s|p|-|-|3"]);
+        let r = repair(dir.path(), &examples()).unwrap();
+        assert_eq!(r.done.into_iter().collect::<Vec<_>>(), [3]);
         assert_eq!(r.notes.len(), 3, "{:?}", r.notes);
         assert_eq!(read_runs(dir.path()).unwrap().len(), 1);
         assert_eq!(read_progress(dir.path()).unwrap().len(), 3);
@@ -379,7 +431,7 @@ mod tests {
         w.write(&bare).unwrap();
         drop(w);
         std::fs::remove_file(dir.path().join(PROGRESS)).unwrap();
-        assert_eq!(ids(dir.path()), ["s|p|-|-|1"]);
+        assert_eq!(ids(dir.path()), [1]);
         assert_eq!(read_progress(dir.path()).unwrap().len(), 0);
         let mut w = RunWriter::open(dir.path(), 0).unwrap();
         w.write(&out(0)).unwrap();
@@ -396,11 +448,13 @@ mod tests {
             .unwrap()
             .write(&out(0))
             .unwrap();
+        // the row's id names index 0, which this experiment does not hold
+        let none = |_: &str| None;
         let exp = Expected {
-            experiment: String::new(),
-            runs: [("s|p|-|-|0".to_string(), 1)].into(),
+            experiment: "",
+            index_of: &none,
         };
-        let e = repair(dir.path(), Some(&exp)).unwrap_err();
+        let e = repair(dir.path(), &exp).unwrap_err();
         assert_eq!(e.exit_code(), 2);
         assert!(e.to_string().contains("row 1"), "{e}");
     }

@@ -12,15 +12,14 @@ use super::repair::{Expected, repair};
 use super::store::{PROGRESS, RUNS};
 use crate::Error;
 use crate::experiment::Experiment;
-use crate::run::RunSpec;
 
 /// A results folder opened for a sweep.
 #[derive(Debug)]
 pub struct Opened {
     /// The folder's manifest (read, rebuilt, or new).
     pub manifest: Manifest,
-    /// Ids of the runs the folder already holds, whole.
-    pub done: BTreeSet<String>,
+    /// Indices of the runs the folder already holds, whole.
+    pub done: BTreeSet<usize>,
     /// The folder's lock, held until this is dropped.
     pub lock: DirLock,
 }
@@ -91,14 +90,9 @@ fn resumed_manifest(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Manif
 
 /// Creates `out` if needed, takes its lock (exit 2 if another process holds it), and returns
 /// its manifest and the runs it holds whole. A folder that holds results needs `resume`; it
-/// is then checked against `e` and `specs` (the sweep's runs) and repaired
+/// is then checked against `e` and its shard (`o.shard`) and repaired
 /// ([`super::repair`]), and what the repair dropped is printed as notes on stderr.
-pub fn open_for_sweep(
-    out: &Path,
-    e: &Experiment,
-    specs: &[RunSpec],
-    o: &OpenOptions,
-) -> Result<Opened, Error> {
+pub fn open_for_sweep(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Opened, Error> {
     std::fs::create_dir_all(out)
         .map_err(|err| Error::Failed(format!("{}: {err}", out.display())))?;
     let lock = lock::exclusive(out, "bench", "--out")?;
@@ -117,11 +111,18 @@ pub fn open_for_sweep(
     } else {
         Manifest::new(e, o.executor, o.threads, o.shard)
     };
-    let expected = Expected {
-        experiment: e.name.clone(),
-        runs: specs.iter().map(|s| (s.id(), s.index)).collect(),
+    let matrix = e.matrix();
+    let shard = o.shard;
+    let index_of = |id: &str| {
+        matrix
+            .index_of(id)
+            .filter(|i| shard.is_none_or(|[k, n]| i % n == k - 1))
     };
-    let repaired = repair(out, Some(&expected))?;
+    let expected = Expected {
+        experiment: &e.name,
+        index_of: &index_of,
+    };
+    let repaired = repair(out, &expected)?;
     for n in &repaired.notes {
         eprintln!("note: {}: {n}", out.display());
     }

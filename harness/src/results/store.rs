@@ -98,10 +98,34 @@ pub fn tracked_agents<'a>(runs: impl IntoIterator<Item = &'a RunRecord>) -> usiz
 
 /// The per-agent columns of the existing `runs.csv` of `dir` (0 without one).
 pub fn file_agents(dir: &Path) -> usize {
-    std::fs::read_to_string(dir.join(RUNS))
+    first_line(&dir.join(RUNS))
         .ok()
-        .and_then(|t| t.lines().next().and_then(header_agents))
+        .flatten()
+        .and_then(|h| header_agents(&h))
         .unwrap_or(0)
+}
+
+/// Longest first line [`first_line`] reads (bytes): far more than the header of a `runs.csv`
+/// with per-agent columns for the largest team.
+const MAX_HEADER_BYTES: u64 = 1 << 20;
+
+/// The first line of the file at `path` without its line end (all of the file if it has no
+/// line end, up to [`MAX_HEADER_BYTES`]), or `None` if there is no file.
+pub fn first_line(path: &Path) -> Result<Option<String>, Error> {
+    use std::io::{BufRead, Read};
+    let f = match File::open(path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(failed(path, e)),
+    };
+    let mut line = vec![];
+    std::io::BufReader::new(f.take(MAX_HEADER_BYTES))
+        .read_until(b'\n', &mut line)
+        .map_err(|e| failed(path, e))?;
+    if line.last() == Some(&b'\n') {
+        line.pop();
+    }
+    Ok(Some(String::from_utf8_lossy(&line).into_owned()))
 }
 
 /// `runs.csv` rows: the serde columns, the metric columns, the difficulty columns, then
@@ -225,7 +249,7 @@ impl RunWriter {
 }
 
 fn open_with_header(path: &Path, header: &str) -> Result<File, Error> {
-    let existing = std::fs::read_to_string(path).unwrap_or_default();
+    let existing = first_line(path)?.unwrap_or_default();
     let mut f = OpenOptions::new()
         .create(true)
         .append(true)
@@ -235,7 +259,7 @@ fn open_with_header(path: &Path, header: &str) -> Result<File, Error> {
         f.write_all(format!("{header}\n").as_bytes())
             .map_err(|e| failed(path, e))?;
         f.sync_data().map_err(|e| failed(path, e))?;
-    } else if existing.lines().next() != Some(header) {
+    } else if existing != header {
         return Err(Error::Input(magbench_env::InputError::new(
             path.display().to_string(),
             "header",
@@ -562,16 +586,56 @@ pub fn write_runs_atomic(path: &Path, agents: usize, rows: &[RunRecord]) -> Resu
 }
 
 fn replace_atomic(path: &Path, header: &str, rows: Vec<u8>) -> Result<(), Error> {
-    let tmp = path.with_extension("csv.tmp");
-    let mut bytes = format!("{header}\n").into_bytes();
-    bytes.extend(rows);
-    {
-        let mut f = File::create(&tmp).map_err(|e| failed(&tmp, e))?;
-        f.write_all(&bytes).map_err(|e| failed(&tmp, e))?;
-        f.sync_all().map_err(|e| failed(&tmp, e))?;
+    let mut r = Replacement::create(path, header)?;
+    r.write(&rows)?;
+    r.commit()
+}
+
+/// A file written beside the file it replaces (`.csv.tmp`) and renamed over it once whole, so
+/// that the folder holds the old file or the new one, never a part; removed if dropped before
+/// [`Replacement::commit`].
+pub struct Replacement {
+    path: PathBuf,
+    tmp: PathBuf,
+    out: Option<std::io::BufWriter<File>>,
+}
+
+impl Replacement {
+    /// Starts the replacement of `path`, with the line `header`.
+    pub fn create(path: &Path, header: &str) -> Result<Replacement, Error> {
+        let tmp = path.with_extension("csv.tmp");
+        let f = File::create(&tmp).map_err(|e| failed(&tmp, e))?;
+        let mut r = Replacement {
+            path: path.to_path_buf(),
+            tmp,
+            out: Some(std::io::BufWriter::new(f)),
+        };
+        r.write(format!("{header}\n").as_bytes())?;
+        Ok(r)
     }
-    std::fs::rename(&tmp, path).map_err(|e| failed(path, e))?;
-    sync_dir(path)
+
+    /// Appends `bytes` (whole lines).
+    pub fn write(&mut self, bytes: &[u8]) -> Result<(), Error> {
+        let out = self.out.as_mut().expect("written before the commit");
+        out.write_all(bytes).map_err(|e| failed(&self.tmp, e))
+    }
+
+    /// Syncs the new file and renames it over the old one.
+    pub fn commit(mut self) -> Result<(), Error> {
+        let out = self.out.take().expect("committed once");
+        let f = out.into_inner().map_err(|e| failed(&self.tmp, e.error()))?;
+        f.sync_all().map_err(|e| failed(&self.tmp, e))?;
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| failed(&self.path, e))?;
+        sync_dir(&self.path)
+    }
+}
+
+impl Drop for Replacement {
+    fn drop(&mut self) {
+        if self.out.is_some() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
 }
 
 /// Syncs the folder holding `path`, so that a rename into it is durable.
