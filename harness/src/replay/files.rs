@@ -111,19 +111,35 @@ pub fn remove_replay(dir: &Path, index: usize) -> Result<(), Error> {
     }
 }
 
-/// Copies run `index`'s replay (if it has one) with the player it loads, and the scenario
-/// previews, from results folder `from` into `to` (merging shards); a file `to` has is kept.
+/// Copies run `index`'s replay (if it has one) with the player it loads from results folder
+/// `from` into `to` (merging shards); a file `to` has is kept.
 pub fn copy_run(from: &Path, to: &Path, index: usize) -> Result<(), Error> {
-    let mut files = vec![replay_file(index)];
-    if from.join(replay_file(index)).is_file() {
-        files.extend(player_files());
+    if !from.join(replay_file(index)).is_file() {
+        return Ok(());
     }
-    if let Ok(dir) = std::fs::read_dir(from.join(SCENARIOS)) {
-        files.extend(
-            dir.flatten()
-                .map(|e| format!("{SCENARIOS}/{}", e.file_name().to_string_lossy())),
-        );
-    }
+    copy_new(
+        from,
+        to,
+        std::iter::once(replay_file(index)).chain(player_files()),
+    )
+}
+
+/// Copies the scenario previews of results folder `from` into `to` (merging shards); a file
+/// `to` has is kept.
+pub fn copy_previews(from: &Path, to: &Path) -> Result<(), Error> {
+    let Ok(dir) = std::fs::read_dir(from.join(SCENARIOS)) else {
+        return Ok(());
+    };
+    copy_new(
+        from,
+        to,
+        dir.flatten()
+            .map(|e| format!("{SCENARIOS}/{}", e.file_name().to_string_lossy())),
+    )
+}
+
+/// Copies each of `files` (paths in a results folder) that `from` has and `to` lacks.
+fn copy_new(from: &Path, to: &Path, files: impl Iterator<Item = String>) -> Result<(), Error> {
     for f in files {
         let (src, dst) = (from.join(&f), to.join(&f));
         if !src.is_file() || dst.exists() {

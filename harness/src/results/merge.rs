@@ -46,10 +46,11 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
     // Each shard's manifest is read, checked against the first and let go: a manifest lists
     // its experiment's seeds, which a million runs' experiment has by the hundred thousand.
     let first = Manifest::read(&shards[0])?;
-    same_experiment(&shards[0], &first, (&shards[0], &first))?;
+    same_version(&shards[0], &first)?;
     let mut kept = Kept::of(&first);
     for s in &shards[1..] {
         let m = Manifest::read(s)?;
+        same_version(s, &m)?;
         same_experiment(s, &m, (&shards[0], &first))?;
         kept.add(&m);
     }
@@ -89,6 +90,9 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<Manifest, Error> {
             heads.push(Reverse((h.row.key.run, k)));
         }
         pending.push(head);
+    }
+    for s in shards {
+        crate::replay::files::copy_previews(s, out)?;
     }
     let mut last: Option<usize> = None;
     while let Some(Reverse((run, k))) = heads.pop() {
@@ -167,9 +171,8 @@ impl Kept {
     }
 }
 
-/// Refuses shard `dir`, whose manifest is `m`, unless this version of magbench wrote it and
-/// it ran the experiment of `first` (the first shard's folder and manifest).
-fn same_experiment(dir: &Path, m: &Manifest, first: (&Path, &Manifest)) -> Result<(), Error> {
+/// Refuses shard `dir`, whose manifest is `m`, unless this version of magbench wrote it.
+fn same_version(dir: &Path, m: &Manifest) -> Result<(), Error> {
     let this = env!("CARGO_PKG_VERSION");
     if m.magbench_version != this {
         return Err(Error::Input(InputError::new(
@@ -182,6 +185,12 @@ fn same_experiment(dir: &Path, m: &Manifest, first: (&Path, &Manifest)) -> Resul
             ),
         )));
     }
+    Ok(())
+}
+
+/// Refuses shard `dir`, whose manifest is `m`, unless it ran the experiment of `first` (the
+/// first shard's folder and manifest).
+fn same_experiment(dir: &Path, m: &Manifest, first: (&Path, &Manifest)) -> Result<(), Error> {
     if m.experiment.sha256 != first.1.experiment.sha256 {
         return Err(Error::Input(InputError::new(
             dir.display().to_string(),

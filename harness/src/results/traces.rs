@@ -108,12 +108,12 @@ impl Traces {
                 reader,
                 stretches,
             } => {
-                let from = stretches.partition_point(|s| s.run < run);
+                let Ok(i) = stretches.binary_search_by_key(&run, |s| s.run) else {
+                    return Ok(vec![]);
+                };
                 let mut reader = reader.lock().unwrap_or_else(|p| p.into_inner());
                 let mut out = vec![];
-                for s in stretches[from..].iter().take_while(|s| s.run == run) {
-                    read_stretch(path, &mut reader, s, &mut out)?;
-                }
+                read_stretch(path, &mut reader, &stretches[i], &mut out)?;
                 Ok(out)
             }
         }

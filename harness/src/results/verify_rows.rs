@@ -277,18 +277,20 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
             match self.traces.peek() {
                 Some(Ok(t)) if t.key() < key => {}
                 Some(Ok(_)) | None => return Ok(()),
-                Some(Err(_)) => {
-                    return Err(self
-                        .traces
-                        .next()
-                        .and_then(Result::err)
-                        .unwrap_or(Stop::Unordered));
-                }
+                Some(Err(_)) => return Err(self.trace_error()),
             }
             if let Some(Ok(t)) = self.traces.next() {
                 self.orphan(&t);
             }
         }
+    }
+
+    /// The error of the next trace, which a peek found to be one.
+    fn trace_error(&mut self) -> Stop {
+        self.traces
+            .next()
+            .and_then(Result::err)
+            .unwrap_or(Stop::Unordered)
     }
 
     fn orphan(&mut self, t: &Trace) {
@@ -308,11 +310,7 @@ impl<'m, T: Iterator<Item = Result<Trace, Stop>>> Walk<'m, T> {
                 self.found.points += points as usize;
                 Ok(points)
             }
-            Some(Err(_)) => Err(self
-                .traces
-                .next()
-                .and_then(Result::err)
-                .unwrap_or(Stop::Unordered)),
+            Some(Err(_)) => Err(self.trace_error()),
             _ => Ok(0),
         }
     }
