@@ -264,7 +264,7 @@ pub fn run_sweep(
             .into_par_iter()
             .with_max_len(1)
             .map(|j| first + j * step)
-            .filter(|i| !done.contains(i))
+            .filter(|i| done.binary_search(i).is_err())
             .try_for_each(|index| {
                 let spec = matrix.spec(index);
                 let mut o = if ex.one_at_a_time(&spec).is_empty() {
@@ -298,6 +298,8 @@ pub fn run_sweep(
     reporter.end();
     result?;
     let executed = total - skipped;
+    // finalize and verify read the folder, not the runs it held before
+    drop(done);
     let failed = failed.into_inner();
     let session = manifest.sessions.last_mut().expect("pushed above");
     session.finished = Some(now());

@@ -32,8 +32,8 @@ pub struct Expected<'a> {
 /// What a repair found.
 #[derive(Debug, Clone, Default)]
 pub struct Repaired {
-    /// Indices of the finished runs that were kept.
-    pub done: BTreeSet<usize>,
+    /// Indices of the finished runs that were kept, in increasing order.
+    pub done: Vec<usize>,
     /// What was dropped or rebuilt, one line each.
     pub notes: Vec<String>,
 }
@@ -199,7 +199,8 @@ pub fn repair(dir: &Path, expected: &Expected) -> Result<Repaired, Error> {
             }
         }
     }
-    let done: BTreeSet<usize> = held
+    // in increasing order, as the map holds them
+    let done: Vec<usize> = held
         .iter()
         .filter(|(_, h)| h.is_whole())
         .map(|(&i, _)| i)
@@ -288,7 +289,7 @@ pub fn repair(dir: &Path, expected: &Expected) -> Result<Repaired, Error> {
             let mut batch: Vec<ProgressRow> = Vec::with_capacity(POINTS_PER_WRITE);
             for p in s.progress()? {
                 let p = p?;
-                if (expected.index_of)(&p.run_id).is_some_and(|i| done.contains(&i)) {
+                if (expected.index_of)(&p.run_id).is_some_and(|i| done.binary_search(&i).is_ok()) {
                     batch.push(p);
                 }
                 if batch.len() == POINTS_PER_WRITE {

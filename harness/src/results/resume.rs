@@ -1,7 +1,6 @@
 //! Opening a results folder for a sweep: locked, checked against the experiment, and (when
 //! resuming) repaired, so that the sweep runs exactly the runs the folder lacks.
 
-use std::collections::BTreeSet;
 use std::path::Path;
 
 use magbench_env::InputError;
@@ -18,8 +17,8 @@ use crate::experiment::Experiment;
 pub struct Opened {
     /// The folder's manifest (read, rebuilt, or new).
     pub manifest: Manifest,
-    /// Indices of the runs the folder already holds, whole.
-    pub done: BTreeSet<usize>,
+    /// Indices of the runs the folder already holds, whole, in increasing order.
+    pub done: Vec<usize>,
     /// The folder's lock, held until this is dropped.
     pub lock: DirLock,
 }
