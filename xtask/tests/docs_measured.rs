@@ -226,7 +226,6 @@ const AWAITING_REGENERATION: &[&str] = &[
     "team-tracking",
     "team-heterogeneity",
     "python-plugins",
-    "scale",
     "scale-real",
     "calibration-validation",
     "calibration-bench",
