@@ -169,13 +169,10 @@ const AWAITING_REGENERATION: &[&str] = &[
     "vs-ompl",
     "ablation-lookahead",
     "scaling",
-    "pair-100-profile",
     "cost-at-time",
     "trajopt-pair-100",
     "team-sizes",
     "team-large",
-    "team-edge",
-    "formations",
     "calibration-validation",
     "calibration-bench-segments",
 ];
