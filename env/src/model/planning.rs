@@ -184,9 +184,7 @@ impl PlanningModel {
         match self.pair_edge(start, u) {
             Some(edge) => edge.at(duration, out),
             None => {
-                self.solve(start, &self.coil.actuation(u), duration, out, false, |_| {
-                    true
-                });
+                self.solve(start, &self.coil.actuation(u), duration, out, false, &mut |_| true);
             }
         }
     }
@@ -203,7 +201,7 @@ impl PlanningModel {
         prev[..n].copy_from_slice(start);
         let mut out = [Vec2::zeros(); MAX_AGENTS];
         let mut length = 0.0;
-        self.propagate_integrated(start, u, duration, &mut out[..n], |s| {
+        self.propagate_integrated(start, u, duration, &mut out[..n], &mut |s| {
             for (p, q) in prev[..n].iter_mut().zip(s) {
                 length += (q - *p).norm();
                 *p = *q;
@@ -233,7 +231,7 @@ impl PlanningModel {
         mut visit: impl FnMut(&[Vec2]) -> bool,
     ) -> bool {
         let Some(edge) = self.pair_edge(start, u) else {
-            return self.propagate_integrated(start, u, duration, out, visit);
+            return self.propagate_integrated(start, u, duration, out, &mut visit);
         };
         let (steps, rest) = step_schedule(duration, self.dt);
         let samples = steps + usize::from(rest > 0.0);
@@ -255,14 +253,13 @@ impl PlanningModel {
     }
 
     /// The integrated motion (RK4 or adaptive, by the flow), visiting each sample.
-    #[inline]
     fn propagate_integrated(
         &self,
         start: &[Vec2],
         u: &Control,
         duration: f64,
         out: &mut [Vec2],
-        visit: impl FnMut(&[Vec2]) -> bool,
+        visit: &mut dyn FnMut(&[Vec2]) -> bool,
     ) -> bool {
         self.integrate(start, &self.coil.actuation(u), duration, out, visit)
     }
@@ -284,7 +281,7 @@ impl PlanningModel {
         match edge {
             Some(edge) => edge.at(duration, out),
             None => {
-                self.solve(start, act, duration, out, false, |_| true);
+                self.solve(start, act, duration, out, false, &mut |_| true);
             }
         }
     }
@@ -317,21 +314,21 @@ impl PlanningModel {
 
     /// The motion under `act` solved by the flow's integrator, visiting a sample at every
     /// whole step `dt` and at the end.
-    #[inline]
     fn integrate(
         &self,
         start: &[Vec2],
         act: &Actuation,
         duration: f64,
         out: &mut [Vec2],
-        visit: impl FnMut(&[Vec2]) -> bool,
+        visit: &mut dyn FnMut(&[Vec2]) -> bool,
     ) -> bool {
         self.solve(start, act, duration, out, true, visit)
     }
 
     /// [`PlanningModel::integrate`], visiting only when `visits` (the end is the same bits
-    /// either way).
-    #[inline]
+    /// either way). Its callbacks are trait objects and it is not inlined, so the integrators'
+    /// code for every team size is compiled once, in this crate, not again in each crate whose
+    /// closures call it (docs/layout.md, "Build time").
     fn solve(
         &self,
         start: &[Vec2],
@@ -339,7 +336,7 @@ impl PlanningModel {
         duration: f64,
         out: &mut [Vec2],
         visits: bool,
-        mut visit: impl FnMut(&[Vec2]) -> bool,
+        visit: &mut dyn FnMut(&[Vec2]) -> bool,
     ) -> bool {
         let n = start.len();
         assert!(n <= MAX_AGENTS && out.len() == n);
@@ -410,6 +407,7 @@ impl PlanningModel {
     /// are all drawn from `order` first and advance step by step together, so that the CPU
     /// overlaps them (about 3× faster than one at a time for two agents). Each end equals
     /// [`PlanningModel::propagate_actuated`]'s bit for bit.
+    #[inline]
     pub fn solve_many(
         &self,
         start: &[Vec2],
@@ -418,6 +416,21 @@ impl PlanningModel {
         order: impl IntoIterator<Item = usize>,
         wanted: impl Fn(usize) -> bool,
         mut done: impl FnMut(usize, &[Vec2]),
+    ) {
+        let mut order = order.into_iter();
+        self.solve_each(start, controls, durations, &mut order, &wanted, &mut done);
+    }
+
+    /// [`PlanningModel::solve_many`] with trait-object callbacks, compiled once, in this crate
+    /// (as [`PlanningModel::solve`]).
+    fn solve_each(
+        &self,
+        start: &[Vec2],
+        controls: &[Control],
+        durations: &[f64],
+        order: &mut dyn Iterator<Item = usize>,
+        wanted: &dyn Fn(usize) -> bool,
+        done: &mut dyn FnMut(usize, &[Vec2]),
     ) {
         let n = start.len();
         let k = controls.len();
