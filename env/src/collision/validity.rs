@@ -37,13 +37,14 @@ impl ValidityChecker {
         }
     }
 
-    /// True when every pair's separation is inside `(r_min, r_max)`.
+    /// True when every pair's separation is inside `(r_min, r_max)`; a separation that is not
+    /// a number (a position NaN) is outside.
     pub fn proximity_ok(&self, s: &[Vec2]) -> bool {
         let (lo, hi) = (self.r_min * self.r_min, self.r_max * self.r_max);
         for i in 0..s.len() {
             for j in (i + 1)..s.len() {
                 let d2 = (s[j] - s[i]).norm_squared();
-                if d2 <= lo || d2 >= hi {
+                if !(d2 > lo && d2 < hi) {
                     return false;
                 }
             }
@@ -134,5 +135,34 @@ impl advance::Motion for PairMotion<'_> {
 
     fn bound(&self, a: &SpeedSummary, b: &SpeedSummary) -> f64 {
         self.0.speed_bound(a, b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pair_is_inside_the_range_only_strictly_and_never_with_a_nan_position() {
+        let world = crate::world::World {
+            width: 20.0,
+            height: 20.0,
+            obstacles: vec![],
+        };
+        let world = Arc::new(CollisionWorld::new(&world, 0.5));
+        let checker = ValidityChecker::new(world, 1.25, 6.0);
+        let pair = |x: f64| [Vec2::new(5.0, 5.0), Vec2::new(5.0 + x, 5.0)];
+        assert!(checker.proximity_ok(&pair(3.0)));
+        assert!(!checker.proximity_ok(&pair(1.25)));
+        assert!(!checker.proximity_ok(&pair(6.0)));
+        assert!(!checker.proximity_ok(&pair(f64::NAN)));
+        let mut trio = [
+            Vec2::new(5.0, 5.0),
+            Vec2::new(7.0, 5.0),
+            Vec2::new(6.0, 7.0),
+        ];
+        assert!(checker.proximity_ok(&trio));
+        trio[2].y = f64::NAN;
+        assert!(!checker.proximity_ok(&trio));
     }
 }
