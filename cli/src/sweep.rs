@@ -15,7 +15,7 @@ use magbench_env::input::Rejection;
 use rayon::prelude::*;
 
 use crate::Error;
-use crate::experiment::Experiment;
+use crate::experiment::{Experiment, Matrix};
 use crate::results::manifest::{Session, host, now};
 use crate::results::store::RunWriter;
 use crate::results::{self, resume, verify};
@@ -258,12 +258,11 @@ pub fn run_sweep(
             .collect()
     });
     // the runs are made one at a time, as they start
-    let (first, step) = opts.shard.map_or((0, 1), |(k, n)| (k - 1, n));
     let result: Result<(), Error> = pool.install(|| {
         (0..total)
             .into_par_iter()
             .with_max_len(1)
-            .map(|j| first + j * step)
+            .map(|j| Matrix::nth_of(opts.shard, j))
             .filter(|i| done.binary_search(i).is_err())
             .try_for_each(|index| {
                 let spec = matrix.spec(index);

@@ -17,6 +17,12 @@ struct Config {
     id: String,
 }
 
+/// Shard `k` of `n` as the index of its first run and the step between its runs: the runs whose
+/// index is `k − 1` modulo `n` (every run for `None`).
+fn stride(shard: Option<(usize, usize)>) -> (usize, usize) {
+    shard.map_or((0, 1), |(k, n)| (k - 1, n))
+}
+
 /// The run matrix of an experiment: its configurations in order (scenario, planner, tracker,
 /// preset; a planner's planning runs before its tracked runs), each with every seed. Run `i` is
 /// seed `i mod seeds` of configuration `i div seeds`.
@@ -130,8 +136,20 @@ impl<'a> Matrix<'a> {
         &self,
         shard: Option<(usize, usize)>,
     ) -> std::iter::StepBy<std::ops::Range<usize>> {
-        let (k, n) = shard.unwrap_or((1, 1));
-        (k - 1..self.len()).step_by(n)
+        let (first, step) = stride(shard);
+        (first..self.len()).step_by(step)
+    }
+
+    /// The index of the `j`-th run (from 0) of `shard`, in the order of [`Matrix::indices`].
+    pub fn nth_of(shard: Option<(usize, usize)>, j: usize) -> usize {
+        let (first, step) = stride(shard);
+        first + j * step
+    }
+
+    /// Whether run `index` is a run of `shard` (every run is when `shard` is `None`).
+    pub fn in_shard(index: usize, shard: Option<(usize, usize)>) -> bool {
+        let (first, step) = stride(shard);
+        index % step == first
     }
 
     /// The first run of every configuration that has a run among `indices`, in order: one run
@@ -146,5 +164,36 @@ impl<'a> Matrix<'a> {
             .filter(|&c| seen[c])
             .map(|c| self.spec(c * per))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_shards_runs_listed_counted_and_recognised_by_one_rule() {
+        for n in [1usize, 2, 3, 7] {
+            let mut seen = vec![0; 20];
+            for k in 1..=n {
+                let shard = Some((k, n));
+                let listed: Vec<usize> = (k - 1..20).step_by(n).collect();
+                let nth: Vec<usize> = (0..listed.len())
+                    .map(|j| Matrix::nth_of(shard, j))
+                    .collect();
+                assert_eq!(nth, listed, "shard {k} of {n}");
+                for i in 0..20 {
+                    assert_eq!(Matrix::in_shard(i, shard), listed.contains(&i));
+                }
+                for &i in &listed {
+                    seen[i] += 1;
+                }
+            }
+            assert!(
+                seen.iter().all(|&c| c == 1),
+                "every run in one shard of {n}"
+            );
+        }
+        assert!((0..20).all(|i| Matrix::in_shard(i, None) && Matrix::nth_of(None, i) == i));
     }
 }

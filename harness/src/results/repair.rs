@@ -211,10 +211,13 @@ pub fn repair(dir: &Path, expected: &Expected) -> Result<Repaired, Error> {
     let (mut doubled, mut short, mut long) = (Tally::default(), Tally::default(), Tally::default());
     let rewrite_runs = runs.torn_tail() > 0 || done.len() != rows;
     let mut kept_rows = match (&runs, rewrite_runs) {
-        (RunFile::Rows(..), true) => Some((
-            Replacement::create(&runs_path, &store::runs_header(store::file_agents(dir)))?,
-            store::file_agents(dir),
-        )),
+        (RunFile::Rows(..), true) => {
+            let agents = store::file_agents(dir);
+            Some((
+                Replacement::create(&runs_path, &store::runs_header(agents))?,
+                agents,
+            ))
+        }
         _ => None,
     };
     if let Some(s) = runs.snapshot() {

@@ -10,7 +10,7 @@ use super::manifest::{MANIFEST, Manifest};
 use super::repair::{Expected, repair};
 use super::store::{PROGRESS, RUNS};
 use crate::Error;
-use crate::experiment::Experiment;
+use crate::experiment::{Experiment, Matrix};
 
 /// A results folder opened for a sweep.
 #[derive(Debug)]
@@ -111,12 +111,8 @@ pub fn open_for_sweep(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Ope
         Manifest::new(e, o.executor, o.threads, o.shard)
     };
     let matrix = e.matrix();
-    let shard = o.shard;
-    let index_of = |id: &str| {
-        matrix
-            .index_of(id)
-            .filter(|i| shard.is_none_or(|[k, n]| i % n == k - 1))
-    };
+    let shard = o.shard.map(|[k, n]| (k, n));
+    let index_of = |id: &str| matrix.index_of(id).filter(|&i| Matrix::in_shard(i, shard));
     let expected = Expected {
         experiment: &e.name,
         index_of: &index_of,
