@@ -37,7 +37,8 @@ pub struct Recorder {
     plans: Vec<PlanRecord>,
     replans: Vec<ReplanRecord>,
     ticks: Vec<TickRecord>,
-    message: Option<String>,
+    /// The run's notes in the order they first came, each with how many times it came.
+    notes: Vec<(String, usize)>,
     tick_count: usize,
     missed_frames: usize,
     missed_detections: usize,
@@ -89,7 +90,7 @@ impl Recorder {
             plans: vec![],
             replans: vec![],
             ticks: vec![],
-            message: None,
+            notes: Vec::new(),
             tick_count: 0,
             missed_frames: 0,
             missed_detections: 0,
@@ -104,12 +105,26 @@ impl Recorder {
         }
     }
 
-    /// Adds `m` to the run's message.
+    /// Adds `m` to the run's message; a note that came before is counted, not repeated.
     pub fn note(&mut self, m: String) {
-        self.message = Some(match self.message.take() {
-            Some(old) => format!("{old}; {m}"),
-            None => m,
-        });
+        match self.notes.iter_mut().find(|(n, _)| *n == m) {
+            Some((_, times)) => *times += 1,
+            None => self.notes.push((m, 1)),
+        }
+    }
+
+    /// The run's message: its notes joined by "; ", each repeated one followed by how many
+    /// times it came.
+    fn message(&self) -> Option<String> {
+        let parts: Vec<String> = self
+            .notes
+            .iter()
+            .map(|(m, times)| match times {
+                1 => m.clone(),
+                _ => format!("{m} ({times} times)"),
+            })
+            .collect();
+        (!parts.is_empty()).then(|| parts.join("; "))
     }
 
     /// A recoverable rig fault.
@@ -262,6 +277,7 @@ impl Recorder {
 
     /// Everything the run produced.
     pub fn finish(self, end: RunEnd) -> TrackOutcome {
+        let message = self.message();
         let per_agent = self.per_agent();
         let final_state = self.last_truth.unwrap_or(self.last_estimate);
         let reached = end.status == RunStatus::ReachedGoal && end.goal.contains(&final_state);
@@ -308,12 +324,36 @@ impl Recorder {
             total_time_s: total,
         };
         TrackOutcome {
+            message,
             metrics,
             per_agent,
             plans: self.plans,
             replans: self.replans,
             ticks: self.ticks,
-            message: self.message,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_note_that_comes_again_is_counted_not_repeated() {
+        let mut rec = Recorder::new(&[Vec2::zeros(), Vec2::new(2.0, 0.0)], 0.0, false);
+        assert_eq!(rec.message(), None);
+        let invalid = "error planning for leg 1: the observed state is not valid";
+        rec.note(invalid.into());
+        rec.note("stopping the rig failed: timeout".into());
+        for _ in 0..26 {
+            rec.note(invalid.into());
+        }
+        assert_eq!(
+            rec.message().as_deref(),
+            Some(
+                "error planning for leg 1: the observed state is not valid (27 times); \
+                 stopping the rig failed: timeout"
+            )
+        );
     }
 }
