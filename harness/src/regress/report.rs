@@ -77,7 +77,10 @@ fn verdict(r: &Comparison) -> String {
         Verdict::Ok if r.better => "ok (better)".to_string(),
         Verdict::Inconclusive if r.untested() => "inconclusive (too few values)".into(),
         Verdict::Inconclusive => match r.seeds_needed {
-            Some(n) if n >= super::verdict::MAX_SEEDS => format!("inconclusive (> {n} seeds)"),
+            Some(n) if n >= super::verdict::MAX_SEEDS => format!(
+                "inconclusive (> {} seeds, more than an experiment runs)",
+                n - 1
+            ),
             Some(n) => format!("inconclusive (~{n} seeds)"),
             None => "inconclusive".into(),
         },

@@ -82,8 +82,9 @@ pub fn adjust(p: &[f64], gated: &[bool]) -> Vec<f64> {
     out
 }
 
-/// Largest number of seeds [`seeds_needed`] reports.
-pub const MAX_SEEDS: u64 = 1_000_000;
+/// Largest number of seeds [`seeds_needed`] reports: one more than an experiment runs
+/// ([`crate::experiment::MAX_SEEDS`]), for a need that no experiment can meet.
+pub const MAX_SEEDS: u64 = crate::experiment::MAX_SEEDS as u64 + 1;
 
 /// Seeds per folder at which an inconclusive metric would likely (80% power) be resolved, if
 /// the change and its spread stayed as observed: towards "ok" when the estimate is within the
@@ -157,5 +158,10 @@ mod tests {
         assert!((70..=76).contains(&n), "{n}");
         assert!(seeds_needed(&test(0.0, -0.4, 0.4), 0.05).unwrap() > 4 * n - 8);
         assert_eq!(seeds_needed(&test(0.1, 0.0, 0.2), 0.05), None);
+        // an estimate a hair inside the tolerance needs more seeds than an experiment runs
+        assert_eq!(
+            seeds_needed(&test(0.0999, 0.0, 0.2), 0.05),
+            Some(crate::experiment::MAX_SEEDS as u64 + 1)
+        );
     }
 }
