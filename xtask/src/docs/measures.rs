@@ -319,12 +319,15 @@ fn read_into(path: &Path, text: &mut String) {
     }
 }
 
-/// The physics and the plant's presets: every measurement's figures depend on them. The
-/// scenario generator and the team rank test are declared apart ([`GENERATOR`],
-/// [`CONTROLLABILITY`]) by the measurements that use them.
+/// The physics, the plant's presets, the dependencies' versions and the build profiles: every
+/// measurement's figures depend on them. The scenario generator and the team rank test are
+/// declared apart ([`GENERATOR`], [`CONTROLLABILITY`]) by the measurements that use them.
 const PLANT: &[&str] = &[
     "env/src",
     "presets",
+    // the dependencies' versions and the build profiles, which can move any figure
+    "Cargo.lock",
+    "Cargo.toml",
     ":!env/src/scenario/generate",
     ":!env/src/team_controllability.rs",
     // the spin of formations: only `magbench scenario show` and `check` print it, and no
