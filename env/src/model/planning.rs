@@ -184,7 +184,14 @@ impl PlanningModel {
         match self.pair_edge(start, u) {
             Some(edge) => edge.at(duration, out),
             None => {
-                self.solve(start, &self.coil.actuation(u), duration, out, false, &mut |_| true);
+                self.solve(
+                    start,
+                    &self.coil.actuation(u),
+                    duration,
+                    out,
+                    false,
+                    &mut |_| true,
+                );
             }
         }
     }
