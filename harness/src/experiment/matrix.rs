@@ -174,7 +174,7 @@ mod tests {
     #[test]
     fn a_shards_runs_listed_counted_and_recognised_by_one_rule() {
         for n in [1usize, 2, 3, 7] {
-            let mut seen = vec![0; 20];
+            let mut seen = [0; 20];
             for k in 1..=n {
                 let shard = Some((k, n));
                 let listed: Vec<usize> = (k - 1..20).step_by(n).collect();
