@@ -79,7 +79,7 @@ fn verdict(r: &Comparison) -> String {
         Verdict::Inconclusive => match r.seeds_needed {
             Some(n) if n >= super::verdict::MAX_SEEDS => format!(
                 "inconclusive (> {} seeds, more than an experiment runs)",
-                n - 1
+                crate::experiment::MAX_SEEDS
             ),
             Some(n) => format!("inconclusive (~{n} seeds)"),
             None => "inconclusive".into(),
