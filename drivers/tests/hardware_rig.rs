@@ -286,14 +286,42 @@ fn a_second_host_sees_the_frames_the_first_left_whatever_the_time_between() {
     wait_for(&emu.log, "the second host's disconnect", |ev| {
         count(ev, "coil_disconnect") == 2
     });
+    // each frame's session, in the log's order; the first host's last command releases one
+    // more frame, which may be logged after that host's disconnect but is made for its session
     let ev = events(&emu.log);
+    let sessions = frame_sessions(&emu.log);
     let gone = ev.iter().position(|(e, _)| e == "coil_disconnect").unwrap();
     let back = gone + ev[gone..].iter().position(|(e, _)| e == "hello").unwrap();
-    assert_eq!(
-        count(&ev[gone..back], "frame"),
-        0,
+    let before_back = count(&ev[..back], "frame");
+    let between = &sessions[count(&ev[..gone], "frame")..before_back];
+    assert!(
+        between.len() <= 1 && between.iter().all(|&s| s == 1),
         "frames went out with no host: {:?}",
         &ev[gone..back]
     );
-    assert!(count(&ev[back..], "frame") >= 10, "{:?}", &ev[back..]);
+    assert!(
+        sessions[..before_back].iter().all(|&s| s == 1),
+        "{sessions:?}"
+    );
+    assert!(
+        sessions[before_back..].iter().all(|&s| s == 2),
+        "{sessions:?}"
+    );
+    assert!(sessions.len() - before_back >= 10, "{:?}", &ev[back..]);
+}
+
+/// The session named by each `frame` event's detail (`index k session s`), in the log's order.
+fn frame_sessions(log: &Path) -> Vec<u64> {
+    std::fs::read_to_string(log)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').nth(2) == Some("frame"))
+        .map(|l| {
+            let detail = l.rsplit(',').next().unwrap();
+            let s = detail.split(' ').skip_while(|w| *w != "session").nth(1);
+            s.and_then(|s| s.parse().ok())
+                .unwrap_or_else(|| panic!("a frame without its session: {l}"))
+        })
+        .collect()
 }

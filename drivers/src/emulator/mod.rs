@@ -371,7 +371,12 @@ impl Emulator {
             image,
             received: Instant::now(),
         };
-        log.event(t, "frame", None, &in_force, &truth, &format!("index {k}"));
+        let detail = if self.clock.is_lockstep() {
+            format!("index {k} session {}", self.session.0)
+        } else {
+            format!("index {k}")
+        };
+        log.event(t, "frame", None, &in_force, &truth, &detail);
         if let Some(r) = self.recorder.as_mut() {
             r.write(&frame, &truth)
                 .map_err(|e| EmulatorError::io("recording", e))?;
