@@ -286,42 +286,38 @@ fn a_second_host_sees_the_frames_the_first_left_whatever_the_time_between() {
     wait_for(&emu.log, "the second host's disconnect", |ev| {
         count(ev, "coil_disconnect") == 2
     });
-    // each frame's session, in the log's order; the first host's last command releases one
-    // more frame, which may be logged after that host's disconnect but is made for its session
-    let ev = events(&emu.log);
-    let sessions = frame_sessions(&emu.log);
-    let gone = ev.iter().position(|(e, _)| e == "coil_disconnect").unwrap();
-    let back = gone + ev[gone..].iter().position(|(e, _)| e == "hello").unwrap();
-    let before_back = count(&ev[..back], "frame");
-    let between = &sessions[count(&ev[..gone], "frame")..before_back];
+    // each frame's index and session, in the log's order: the first host's last command
+    // answers its tenth frame and so releases an eleventh, made for that host's session even
+    // when the host has left before it is made (so it may be logged after the second host's
+    // hello); then none until the second host, whose first frame is the twelfth
+    let frames = frames(&emu.log);
+    let indices: Vec<u64> = frames.iter().map(|f| f.0).collect();
+    let first: Vec<u64> = frames.iter().map(|f| f.1).take_while(|&s| s == 1).collect();
+    assert_eq!(first.len(), 11, "frames went out with no host: {frames:?}");
+    assert!(frames[11..].iter().all(|f| f.1 == 2), "{frames:?}");
+    assert!(frames.len() - 11 >= 10, "{frames:?}");
     assert!(
-        between.len() <= 1 && between.iter().all(|&s| s == 1),
-        "frames went out with no host: {:?}",
-        &ev[gone..back]
+        indices
+            .iter()
+            .zip(indices.iter().skip(1))
+            .all(|(a, b)| b == &(a + 1)),
+        "{indices:?}"
     );
-    assert!(
-        sessions[..before_back].iter().all(|&s| s == 1),
-        "{sessions:?}"
-    );
-    assert!(
-        sessions[before_back..].iter().all(|&s| s == 2),
-        "{sessions:?}"
-    );
-    assert!(sessions.len() - before_back >= 10, "{:?}", &ev[back..]);
 }
 
-/// The session named by each `frame` event's detail (`index k session s`), in the log's order.
-fn frame_sessions(log: &Path) -> Vec<u64> {
+/// The index and session of each `frame` event (detail `index k session s`), in the log's order.
+fn frames(log: &Path) -> Vec<(u64, u64)> {
     std::fs::read_to_string(log)
         .unwrap()
         .lines()
         .skip(1)
         .filter(|l| l.split(',').nth(2) == Some("frame"))
         .map(|l| {
-            let detail = l.rsplit(',').next().unwrap();
-            let s = detail.split(' ').skip_while(|w| *w != "session").nth(1);
-            s.and_then(|s| s.parse().ok())
-                .unwrap_or_else(|| panic!("a frame without its session: {l}"))
+            let w: Vec<&str> = l.rsplit(',').next().unwrap().split(' ').collect();
+            match w[..] {
+                ["index", k, "session", s] => (k.parse().unwrap(), s.parse().unwrap()),
+                _ => panic!("a frame without its index and session: {l}"),
+            }
         })
         .collect()
 }

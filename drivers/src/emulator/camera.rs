@@ -100,10 +100,14 @@ impl CameraServer {
         cut
     }
 
-    /// Sends one encoded frame; a host that has gone is logged (at device time `t`, currents
+    /// Sends one encoded frame to the connected host, or only to the `to`-th host accepted
+    /// when `to` is given; a host that has gone is logged (at device time `t`, currents
     /// `in_force`) and dropped.
-    pub fn send(&self, bytes: &[u8], t: f64, in_force: &[f64], log: &EventLog) {
+    pub fn send(&self, bytes: &[u8], to: Option<u64>, t: f64, in_force: &[f64], log: &EventLog) {
         let mut client = lock(&self.client);
+        if to.is_some_and(|n| n != self.accepted()) {
+            return;
+        }
         if let Some(s) = client.as_mut()
             && let Err(e) = s.write_all(bytes)
         {

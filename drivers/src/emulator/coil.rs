@@ -25,8 +25,8 @@ use crate::protocol::{Decoded, Decoder, encode};
 pub struct DeviceShared {
     /// The coil driver.
     pub device: DeviceState,
-    /// (device time, currents) at each change, consumed by the plant stepper.
-    pub changes: Vec<(f64, Vec<f64>)>,
+    /// Each change of the currents, consumed by the plant stepper.
+    pub changes: Vec<Change>,
     /// Device time of the first HELLO: fault times count from here.
     pub hello_t: Option<f64>,
     /// SET_CURRENTS messages (new or repeated) handled so far: the host's answers to frames,
@@ -44,6 +44,29 @@ impl DeviceShared {
     pub fn in_session(&self, session: u64) -> bool {
         self.session_open && self.sessions == session
     }
+
+    /// Queues a change to `currents` at device time `t`.
+    pub fn push_change(&mut self, t: f64, currents: &[f64]) {
+        let commands_before = self.commands;
+        self.changes.push(Change {
+            t,
+            currents: currents.to_vec(),
+            commands_before,
+        });
+    }
+}
+
+/// A change of the device's currents, for the plant stepper.
+#[derive(Debug, Clone)]
+pub struct Change {
+    /// Device time of the change (s).
+    pub t: f64,
+    /// The currents from then on (A).
+    pub currents: Vec<f64>,
+    /// Host commands handled before the message that made it: in lockstep a frame is stepped
+    /// with the changes up to the host's answer to the frame before, and any that came after
+    /// the answer wait for the next frame, however soon they arrive.
+    pub commands_before: u64,
 }
 
 /// The shared device state behind its lock.
@@ -164,7 +187,7 @@ impl CoilServer {
                 .map(|r| now.saturating_sub(r).as_secs_f64() * 1e3)
                 .unwrap_or(0.0);
             let cur = sh.device.currents().to_vec();
-            sh.changes.push((t, cur.clone()));
+            sh.push_change(t, &cur);
             self.log.event_at(
                 now,
                 t,
@@ -193,7 +216,7 @@ impl CoilServer {
         sh.device.zero();
         let cur = sh.device.currents().to_vec();
         let t = self.clock.t();
-        sh.changes.push((t, cur.clone()));
+        sh.push_change(t, &cur);
         self.log.event(t, why, None, &cur, &[], "currents zeroed");
     }
 
@@ -272,7 +295,7 @@ impl CoilServer {
             let (reply, event) = sh.device.handle(d, now);
             let cur = sh.device.currents().to_vec();
             if cur != before {
-                sh.changes.push((t, cur.clone()));
+                sh.push_change(t, &cur);
             }
             if matches!(event, DeviceEvent::Currents | DeviceEvent::Duplicate) {
                 sh.commands += 1;

@@ -311,6 +311,8 @@ impl Emulator {
     /// send it.
     fn frame(&mut self, k: u64, stop: &AtomicBool) -> Result<(), EmulatorError> {
         let t = k as f64 * self.period;
+        // lockstep: the changes up to the host's answer to the frame before; otherwise all
+        let mut answered = None;
         if self.clock.is_lockstep() {
             // the host's answer to the last frame, its link closed, or 50 ms
             if let Some(at_frame) = self.commands_at_frame {
@@ -322,12 +324,33 @@ impl Emulator {
                     },
                     stop,
                 );
+                answered = Some(at_frame);
             }
-            self.wait_for_host(stop);
+            // a frame the host answered belongs to its session, even if the host has left
+            if answered.is_none_or(|a| lock(&self.shared).commands == a) {
+                self.wait_for_host(stop);
+                if self.commands_at_frame.is_none() {
+                    // a new session's first frame: every change so far
+                    answered = None;
+                }
+            }
         } else {
             self.clock.wait_until(t, stop);
         }
-        let changes = std::mem::take(&mut lock(&self.shared).changes);
+        let changes = {
+            let mut sh = lock(&self.shared);
+            match answered {
+                Some(a) => {
+                    let (now, later) = std::mem::take(&mut sh.changes)
+                        .into_iter()
+                        .partition(|c| c.commands_before <= a);
+                    sh.changes = later;
+                    now
+                }
+                None => std::mem::take(&mut sh.changes),
+            }
+        };
+        let changes = changes.into_iter().map(|c| (c.t, c.currents)).collect();
         self.plant.advance_to(t, changes);
         self.clock.frame_sent(t);
         let truth = self.plant.positions().to_vec();
@@ -392,7 +415,9 @@ impl Emulator {
         }
         let bytes = encode_frame(&frame);
         self.commands_at_frame = Some(lock(&self.shared).commands);
-        self.camera.send(&bytes, t, &in_force, log);
+        // lockstep: only to the camera of the frame's session, never a newer host's
+        let to = self.clock.is_lockstep().then_some(self.session.1);
+        self.camera.send(&bytes, to, t, &in_force, log);
         Ok(())
     }
 
