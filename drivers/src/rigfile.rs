@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use magbench_env::InputError;
 use magbench_env::input::bounds::number;
-use magbench_env::input::{Bound, Checker, Fixed, parse_toml, read_text};
+use magbench_env::input::{Bound, Fixed, InputChecks, parse_toml, read_text};
 use serde::Deserialize;
 
 use crate::calibration::Calibration;
@@ -349,7 +349,7 @@ impl RigConfig {
     /// Parses and validates rig TOML `text`; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<RigConfig, InputError> {
         let raw: RigFile = parse_toml(text, file)?;
-        let ck = Checker::new(file);
+        let ck = InputChecks::new(file);
         let coil = coil(ck, raw.coil)?;
         let camera = camera(ck, raw.camera)?;
         loop_timing(ck, &coil, &camera)?;
@@ -408,7 +408,7 @@ pub enum EndpointsError {
     NoTable(&'static str),
 }
 
-fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
+fn coil(ck: InputChecks, c: CoilFile) -> Result<CoilConfig, InputError> {
     for (f, x) in [
         ("coil.heartbeat_ms", c.heartbeat_ms),
         ("coil.watchdog_ms", c.watchdog_ms),
@@ -507,7 +507,7 @@ fn coil(ck: Checker, c: CoilFile) -> Result<CoilConfig, InputError> {
 
 /// The coil link's timers, each bounded by what it is for; every sum and product is taken in
 /// `u64`, so no accepted `u32` can wrap it.
-fn timers(ck: Checker, c: &CoilFile) -> Result<(), InputError> {
+fn timers(ck: InputChecks, c: &CoilFile) -> Result<(), InputError> {
     let (lo, hi) = (u32::from(WATCHDOG_MIN_MS), u32::from(WATCHDOG_MAX_MS));
     if !(lo..=hi).contains(&c.watchdog_ms) {
         return Err(ck.err(
@@ -561,7 +561,12 @@ fn timers(ck: Checker, c: &CoilFile) -> Result<(), InputError> {
 
 /// The serial link must carry the longest exchange (SET_CURRENTS of every channel and its ACK,
 /// 10 bits a byte) within `ack_timeout_ms`, or every message would time out.
-fn baud(ck: Checker, baud: u32, channels: usize, ack_timeout_ms: u32) -> Result<(), InputError> {
+fn baud(
+    ck: InputChecks,
+    baud: u32,
+    channels: usize,
+    ack_timeout_ms: u32,
+) -> Result<(), InputError> {
     let ack = Message::Ack {
         seq: 0,
         status: AckStatus::Ok,
@@ -583,7 +588,11 @@ fn baud(ck: Checker, baud: u32, channels: usize, ack_timeout_ms: u32) -> Result<
 }
 
 /// The bounds that tie the coil timers to the camera: the loop renews the field once a frame.
-fn loop_timing(ck: Checker, coil: &CoilConfig, camera: &CameraConfig) -> Result<(), InputError> {
+fn loop_timing(
+    ck: InputChecks,
+    coil: &CoilConfig,
+    camera: &CameraConfig,
+) -> Result<(), InputError> {
     let period_ms = 1000.0 / camera.fps;
     let hold = coil.hold_timeout_ms;
     if f64::from(hold) <= period_ms {
@@ -629,7 +638,7 @@ fn loop_timing(ck: Checker, coil: &CoilConfig, camera: &CameraConfig) -> Result<
     Ok(())
 }
 
-fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputError> {
+fn calibration(ck: InputChecks, c: &CalibrationFile) -> Result<Calibration, InputError> {
     let f = "coil.calibration";
     match (&c.field_mt_per_a, &c.gradient_mt_per_m_per_a, &c.matrix) {
         (Some(Fixed(b)), Some(Fixed(g)), None) => {
@@ -687,7 +696,7 @@ fn calibration(ck: Checker, c: &CalibrationFile) -> Result<Calibration, InputErr
     }
 }
 
-fn camera(ck: Checker, c: CameraFile) -> Result<CameraConfig, InputError> {
+fn camera(ck: InputChecks, c: CameraFile) -> Result<CameraConfig, InputError> {
     let fps = ck.bound("camera.fps", c.fps, &FPS)?;
     let need = |v: Option<String>, key: &str| {
         v.ok_or_else(|| {
@@ -749,7 +758,7 @@ fn camera(ck: Checker, c: CameraFile) -> Result<CameraConfig, InputError> {
     })
 }
 
-fn pixels(ck: Checker, p: PixelsFile) -> Result<PixelMap, InputError> {
+fn pixels(ck: InputChecks, p: PixelsFile) -> Result<PixelMap, InputError> {
     let scale = ck.bound("pixels.px_per_bl", p.px_per_bl, &PX_PER_BL)?;
     let ox = ck.finite("pixels.origin_px[0]", p.origin_px.0[0])?;
     let oy = ck.finite("pixels.origin_px[1]", p.origin_px.0[1])?;
@@ -758,7 +767,7 @@ fn pixels(ck: Checker, p: PixelsFile) -> Result<PixelMap, InputError> {
 }
 
 fn detector(
-    ck: Checker,
+    ck: InputChecks,
     d: DetectorFile,
     camera: &CameraConfig,
     pixels: &PixelMap,

@@ -1,4 +1,4 @@
-//! CONNECT, the shooting steer of RRT*: EXTEND's random tries seed a damped Gauss–Newton
+//! CONNECT, the shooting connection of RRT*: EXTEND's random tries seed a damped Gauss–Newton
 //! refinement of the control, with finite-difference Jacobians through env's propagation.
 //!
 //! No exact steering function exists for this system. CONNECT looks for one constant control
@@ -23,7 +23,7 @@ use crate::distance::MAX_DIMS;
 use crate::extend::{Extend, Extension};
 use crate::{Problem, Rng};
 
-/// The shooting steer's settings.
+/// The shooting connection's settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Connect {
     /// The seeding EXTEND (its tries and duration range).

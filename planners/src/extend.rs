@@ -3,7 +3,7 @@
 //! From `q_near`, try `k` random (control, duration) pairs, propagate each through the planning
 //! model and keep the one whose end is closest to the target under the problem's metric (the
 //! seed's DISTANCE ρ = ‖P̃‖², P̃ = P_new − P_sample). Collision is checked by the caller on the
-//! winner only, as in Algorithm 2. RRT* reuses it as its shooting steer.
+//! winner only, as in Algorithm 2. RRT* reuses it as its shooting connection.
 //!
 //! The seed's EXTEND keeps "the physical kinematic constraints satisfied", the first of which is
 //! the proximity range. For a motion the exact flow solves, the separation's whole range over the

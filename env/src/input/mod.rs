@@ -9,7 +9,7 @@
 //! - [`fixed`]: arrays of exactly their size (`[x, y]`, never `[x, y, z]`);
 //! - [`bounds`]: number checks, and the bounds chosen to keep every accepted input within a
 //!   time and [`MEMORY_BUDGET_BYTES`];
-//! - [`Rejection`] and [`Checker`]: a field and a reason, and the file they belong to.
+//! - [`Rejection`] and [`InputChecks`]: a field and a reason, and the file they belong to.
 
 pub mod bounds;
 pub mod file;
@@ -20,4 +20,4 @@ pub mod suggest;
 pub use bounds::{Bound, MEMORY_BUDGET_BYTES};
 pub use file::{field_line, parse_json, parse_toml, read_text};
 pub use fixed::Fixed;
-pub use rejection::{Checker, Rejection};
+pub use rejection::{InputChecks, Rejection};

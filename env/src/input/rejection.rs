@@ -6,7 +6,7 @@ use crate::error::InputError;
 
 /// A rejected value: the dotted field path (`camera.misses.prob`, `legs[1].goal`) and why.
 ///
-/// Checks that do not know their file return it; [`Checker`] or [`Rejection::in_file`] turn it
+/// Checks that do not know their file return it; [`InputChecks`] or [`Rejection::in_file`] turn it
 /// into an [`InputError`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Rejection {
@@ -55,15 +55,15 @@ pub fn join(prefix: &str, field: &str) -> String {
 
 /// The checks of one input file: each failure becomes an [`InputError`] naming it.
 #[derive(Debug, Clone, Copy)]
-pub struct Checker<'a> {
+pub struct InputChecks<'a> {
     /// The file (or `<command line>`) being checked.
     pub file: &'a str,
 }
 
-impl<'a> Checker<'a> {
+impl<'a> InputChecks<'a> {
     /// The checks of `file`.
     pub fn new(file: &'a str) -> Self {
-        Checker { file }
+        InputChecks { file }
     }
 
     /// An error at `field` for `reason`.

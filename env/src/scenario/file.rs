@@ -7,7 +7,7 @@ use serde::Deserialize;
 use super::{Goal, Leg, Scenario};
 use crate::collision::{CollisionWorld, ValidityChecker};
 use crate::error::InputError;
-use crate::input::{Checker, Fixed, parse_toml};
+use crate::input::{Fixed, InputChecks, parse_toml};
 use crate::math::{MAX_AGENTS, Vec2};
 use crate::physics::{PhysicalOverrides, PhysicalParams};
 use crate::plant::Medium;
@@ -96,7 +96,7 @@ pub const MAX_LEGS: usize = 100;
 /// Parses and validates scenario TOML `text`; `file` names it in errors.
 pub fn parse_scenario(text: &str, file: &str) -> Result<Scenario, InputError> {
     let raw: ScenarioFile = parse_toml(text, file)?;
-    scenario(Checker::new(file), raw).map_err(|mut e| {
+    scenario(InputChecks::new(file), raw).map_err(|mut e| {
         // a medium out of range: point at its line, as the preset loader does
         if e.field.starts_with("medium.") {
             e.reason += &crate::input::field_line(text, &e.field);
@@ -125,7 +125,7 @@ impl Extent {
     }
 }
 
-fn point(c: Checker, field: &str, p: Point) -> Result<Vec2, InputError> {
+fn point(c: InputChecks, field: &str, p: Point) -> Result<Vec2, InputError> {
     let [x, y] = p.0;
     Ok(Vec2::new(
         c.finite(&format!("{field}[0]"), x)?,
@@ -133,7 +133,7 @@ fn point(c: Checker, field: &str, p: Point) -> Result<Vec2, InputError> {
     ))
 }
 
-fn points(c: Checker, field: &str, ps: &[Point]) -> Result<Vec<Vec2>, InputError> {
+fn points(c: InputChecks, field: &str, ps: &[Point]) -> Result<Vec<Vec2>, InputError> {
     ps.iter()
         .enumerate()
         .map(|(i, p)| point(c, &format!("{field}[{i}]"), *p))
@@ -141,7 +141,7 @@ fn points(c: Checker, field: &str, ps: &[Point]) -> Result<Vec<Vec2>, InputError
 }
 
 fn obstacles(
-    c: Checker,
+    c: InputChecks,
     field: &str,
     obs: &[ObstacleFile],
     ext: Extent,
@@ -217,7 +217,7 @@ fn obstacles(
 }
 
 /// Agent positions `ps` (field `field`), each inside the world.
-fn agents(c: Checker, field: &str, ps: &[Point], ext: Extent) -> Result<Vec<Vec2>, InputError> {
+fn agents(c: InputChecks, field: &str, ps: &[Point], ext: Extent) -> Result<Vec<Vec2>, InputError> {
     let v = points(c, field, ps)?;
     for (i, p) in v.iter().enumerate() {
         if !ext.inside(*p) {
@@ -234,7 +234,7 @@ fn agents(c: Checker, field: &str, ps: &[Point], ext: Extent) -> Result<Vec<Vec2
 }
 
 fn goal(
-    c: Checker,
+    c: InputChecks,
     field: &str,
     g: &GoalFile,
     n_agents: usize,
@@ -262,7 +262,7 @@ fn goal(
 
 /// Rejects a configuration in collision or outside the proximity range.
 fn placement(
-    c: Checker,
+    c: InputChecks,
     field: &str,
     s: &[Vec2],
     checker: &ValidityChecker,
@@ -295,7 +295,7 @@ fn placement(
     Ok(())
 }
 
-fn scenario(c: Checker, raw: ScenarioFile) -> Result<Scenario, InputError> {
+fn scenario(c: InputChecks, raw: ScenarioFile) -> Result<Scenario, InputError> {
     let physics = PhysicalParams::default().with_overrides(&raw.physics);
     physics
         .check()

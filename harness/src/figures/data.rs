@@ -28,8 +28,8 @@ pub struct TrackedRun {
     pub rms_error: f64,
 }
 
-/// What to run.
-pub struct RunSpec<'a> {
+/// What a figure runs: one planned and tracked run.
+pub struct FigureRun<'a> {
     /// Scenario name or path.
     pub scenario: &'a str,
     /// Planner name and `key=value` parameters.
@@ -46,7 +46,7 @@ pub struct RunSpec<'a> {
 
 /// Plans (the pipeline's first leg: start rule, post-processing, validator) and tracks, with the
 /// planner, tracker and `simulated` rig of `registry`.
-pub fn plan_and_track(s: &RunSpec, registry: &Registry) -> Result<TrackedRun, Error> {
+pub fn plan_and_track(s: &FigureRun, registry: &Registry) -> Result<TrackedRun, Error> {
     let scenario = Scenario::load(s.scenario)?;
     let params = magbench_env::params::owned(s.planner.1);
     let mut planner = registry.planners().create(s.planner.0, &params)?;

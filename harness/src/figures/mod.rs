@@ -23,12 +23,12 @@ use std::path::{Path, PathBuf};
 use crate::Error;
 use crate::plot::world::WorldPlot;
 use crate::plot::{save, with_ext};
-use data::{RunSpec, TrackedRun, plan_and_track};
+use data::{FigureRun, TrackedRun, plan_and_track};
 
 use crate::registry::Registry;
 
 /// The fixed runs behind the figures.
-pub const OPEN_FIELD: RunSpec<'static> = RunSpec {
+pub const OPEN_FIELD: FigureRun<'static> = FigureRun {
     scenario: "open-field",
     planner: ("goal-zoom-rrt", &[]),
     iterations: 3000,
@@ -38,7 +38,7 @@ pub const OPEN_FIELD: RunSpec<'static> = RunSpec {
 };
 
 /// The micro-factory run (`iterations` may be overridden).
-pub const MICRO_FACTORY: RunSpec<'static> = RunSpec {
+pub const MICRO_FACTORY: FigureRun<'static> = FigureRun {
     scenario: "micro-factory",
     planner: ("goal-zoom-rrt", &[]),
     iterations: 200_000,
@@ -115,7 +115,7 @@ pub fn write_all(
         &out.join("fig4b-world"),
     )?);
 
-    let maze = RunSpec {
+    let maze = FigureRun {
         iterations: maze_iterations.unwrap_or(MICRO_FACTORY.iterations),
         ..MICRO_FACTORY
     };

@@ -73,7 +73,7 @@ declare_params! {
         /// EXTEND's tries (toward a sample) and durations, the goal-zoom sampler.
         #[params]
         pub search: SearchSettings,
-        /// CONNECT's random seeding tries (the shooting steer).
+        /// CONNECT's random seeding tries (the shooting connection).
         #[param("connect_tries", 1..=100_000)]
         pub connect_tries: usize = 4,
         /// CONNECT's Gauss-Newton refinement iterations.
