@@ -77,6 +77,7 @@ const MEASURED_HEADINGS: &[&str] = &[
     "timing",
     "profile",
     "performance",
+    "build time",
 ];
 
 /// `(level, title)` if `line` is an ATX heading.

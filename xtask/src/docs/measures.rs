@@ -337,6 +337,21 @@ const PLANT: &[&str] = &[
     // test checks that the file holds nothing else)
     ":!env/src/lib.rs",
 ];
+/// Everything a release build of the command line compiles: every crate's manifest and sources
+/// and the workspace's settings (the build's time, not its figures).
+const BUILD: &[&str] = &[
+    "Cargo.lock",
+    "Cargo.toml",
+    ".cargo",
+    "env",
+    "planners",
+    "trackers",
+    "drivers",
+    "analysis",
+    "plot",
+    "harness",
+    "cli",
+];
 /// The scenario generator: measurements of experiments with `[[generated]]` tables or suites.
 const GENERATOR: &[&str] = &["env/src/scenario/generate"];
 /// The Lie-bracket rank test of teams (`magbench stlc`, the formation study).
@@ -998,6 +1013,18 @@ pub static MEASURES: &[Measure] = &[
         },
         feature: None,
         depends: &[PLANT, PLANNING, TRACKING, CLI],
+    },
+    Measure {
+        name: "fresh-clone",
+        source: Test {
+            package: "xtask",
+            target: Target::Example("fresh_clone"),
+            test: "",
+            ignored: false,
+            release: true,
+        },
+        feature: None,
+        depends: &[BUILD, PLANT, PLANNING, TRACKING, CLI],
     },
     Measure {
         name: "replay-gif",
