@@ -311,8 +311,9 @@ impl Emulator {
     /// send it.
     fn frame(&mut self, k: u64, stop: &AtomicBool) -> Result<(), EmulatorError> {
         let t = k as f64 * self.period;
-        // lockstep: the changes up to the host's answer to the frame before; otherwise all
-        let mut answered = None;
+        // lockstep: the host commands handled when the frame before went out; this frame is
+        // stepped with the changes up to the host's answer to it (`None`: every change)
+        let mut before = None;
         if self.clock.is_lockstep() {
             // the host's answer to the last frame, its link closed, or 50 ms
             if let Some(at_frame) = self.commands_at_frame {
@@ -324,14 +325,14 @@ impl Emulator {
                     },
                     stop,
                 );
-                answered = Some(at_frame);
+                before = Some(at_frame);
             }
             // a frame the host answered belongs to its session, even if the host has left
-            if answered.is_none_or(|a| lock(&self.shared).commands == a) {
+            if before.is_none_or(|a| lock(&self.shared).commands == a) {
                 self.wait_for_host(stop);
                 if self.commands_at_frame.is_none() {
                     // a new session's first frame: every change so far
-                    answered = None;
+                    before = None;
                 }
             }
         } else {
@@ -339,7 +340,7 @@ impl Emulator {
         }
         let changes = {
             let mut sh = lock(&self.shared);
-            match answered {
+            match before {
                 Some(a) => {
                     let (now, later) = std::mem::take(&mut sh.changes)
                         .into_iter()
