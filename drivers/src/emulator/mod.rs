@@ -351,7 +351,6 @@ impl Emulator {
                 None => std::mem::take(&mut sh.changes),
             }
         };
-        let changes = changes.into_iter().map(|c| (c.t, c.currents)).collect();
         self.plant.advance_to(t, changes);
         self.clock.frame_sent(t);
         let truth = self.plant.positions().to_vec();

@@ -4,6 +4,7 @@
 use magbench_env::Vec2;
 use magbench_env::plant::Plant;
 
+use super::coil::Change;
 use crate::calibration::Calibration;
 use crate::coil_driver::control_of_field;
 
@@ -32,14 +33,14 @@ impl PlantStepper {
     }
 
     /// Integrates from the last frame to device time `t`, through the current `changes`
-    /// (device time, currents) that happened meanwhile, in order.
-    pub fn advance_to(&mut self, t: f64, changes: Vec<(f64, Vec<f64>)>) {
+    /// that happened meanwhile, in order (one stamped before the last frame counts from it).
+    pub fn advance_to(&mut self, t: f64, changes: Vec<Change>) {
         let mut seg_start = self.t;
-        for (tc, cur) in changes {
-            let tc = tc.clamp(seg_start, t);
+        for c in changes {
+            let tc = c.t.clamp(seg_start, t);
             self.advance(seg_start, tc);
             seg_start = tc;
-            self.in_force = cur;
+            self.in_force = c.currents;
         }
         self.advance(seg_start, t);
         self.t = t;
