@@ -284,12 +284,17 @@ pub fn run_sweep(
                 if !replays.keeps(&sampled, &o.record) {
                     o.replay = None;
                 }
-                if o.replay.is_none() {
-                    // a page an interrupted sweep left for this run (another policy, or an
-                    // attempt that ended otherwise) would show another run than the row
-                    crate::replay::files::remove_replay(out, spec.index)?;
+                // the page before the row, so that a run with a row has its page; a page an
+                // interrupted sweep left for this run (another policy, or an attempt that ended
+                // otherwise) would show another run than the row
+                match &o.replay {
+                    Some(r) => crate::replay::files::write_replay(out, spec.index, r)?,
+                    None => crate::replay::files::remove_replay(out, spec.index)?,
                 }
-                writer.lock().unwrap_or_else(|p| p.into_inner()).write(&o)?;
+                writer
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .write(&o.record, &o.progress)?;
                 reporter.finished(&o, f);
                 Ok(())
             })

@@ -63,6 +63,26 @@ failed_from!(
     PlotError,
 );
 
+impl From<magbench_store::Error> for Error {
+    fn from(e: magbench_store::Error) -> Self {
+        match e {
+            magbench_store::Error::Input(e) => Error::Input(e),
+            magbench_store::Error::Failed(e) => Error::Failed(e),
+        }
+    }
+}
+
+/// The harness's part of a store operation (a merge's replay pages and report) fails the
+/// operation with its kind.
+impl From<Error> for magbench_store::Error {
+    fn from(e: Error) -> Self {
+        match e {
+            Error::Input(e) => magbench_store::Error::Input(e),
+            Error::Failed(e) => magbench_store::Error::Failed(e),
+        }
+    }
+}
+
 impl From<OpenError> for Error {
     fn from(e: OpenError) -> Self {
         match e {

@@ -9,13 +9,14 @@ use std::path::Path;
 use magbench::table::Table;
 
 /// The project's crates: package name and folder.
-pub const CRATES: [(&str, &str); 12] = [
+pub const CRATES: [(&str, &str); 13] = [
     ("magbench-env", "env"),
     ("magbench-planners", "planners"),
     ("magbench-trackers", "trackers"),
     ("magbench-drivers", "drivers"),
     ("magbench-analysis", "analysis"),
     ("magbench-plot", "plot"),
+    ("magbench-store", "store"),
     ("magbench-harness", "harness"),
     ("magbench", "cli"),
     ("magbench-benches", "benches"),

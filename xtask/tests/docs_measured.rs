@@ -255,6 +255,7 @@ const AWAITING_REGENERATION: &[&str] = &[
     "rig-redetect",
     "bench-plant-frame",
     "pixel-quantisation",
+    "fresh-clone",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).

@@ -46,6 +46,8 @@ use magbench_env::plant::DisturbancePreset;
 use magbench_env::{InputError, Scenario};
 use sha2::{Digest, Sha256};
 
+use magbench_store::manifest::{ExperimentInfo, Manifest};
+
 use crate::run::{Executor, RunLimits, RunSpec, Variant};
 
 /// A preset as an experiment names it (a built-in name or a file) and the loaded preset.
@@ -81,6 +83,41 @@ pub struct Experiment {
 }
 
 impl Experiment {
+    /// The experiment as a results folder's manifest records it.
+    pub fn info(&self) -> ExperimentInfo {
+        ExperimentInfo {
+            name: self.name.clone(),
+            description: self.description.clone(),
+            source: self.source.clone(),
+            sha256: self.hash(),
+            content: self.text.clone(),
+            scenarios: self.scenarios.iter().map(|(l, _)| l.clone()).collect(),
+            planners: self.planners.iter().map(|p| p.label()).collect(),
+            trackers: self.trackers.iter().map(|t| t.label()).collect(),
+            presets: self.presets.iter().map(|(l, _)| l.clone()).collect(),
+            tracked_plans: match &self.tracking {
+                Tracking::Plans(p) => Some(p.clone()),
+                Tracking::None | Tracking::Every => None,
+            },
+            seeds: self.seeds.clone(),
+            max_iterations: self.limits.iterations,
+            time_limit_s: self.limits.time_s,
+            runs_total: self.run_count(),
+        }
+    }
+
+    /// A new manifest for a sweep of this experiment starting now, by `executor` on `threads`
+    /// threads (of shard `shard`).
+    pub fn manifest(&self, executor: &str, threads: usize, shard: Option<[usize; 2]>) -> Manifest {
+        Manifest::new(
+            self.info(),
+            executor,
+            threads,
+            shard,
+            self.replays.to_string(),
+        )
+    }
+
     /// Reads and validates an experiment file; scenario paths are relative to the file's folder
     /// (or to the working directory).
     pub fn load(path: &Path, ex: &dyn Executor) -> Result<Experiment, InputError> {

@@ -92,7 +92,7 @@ pub fn differences(b: &Manifest, c: &Manifest) -> Vec<String> {
 pub fn check(baseline: &Path, candidate: &Path) -> Result<ManifestCheck, Error> {
     let read = |d: &Path| -> Result<Option<Manifest>, Error> {
         if d.join(MANIFEST).exists() {
-            Manifest::read(d).map(Some)
+            Ok(Some(Manifest::read(d)?))
         } else {
             Ok(None)
         }

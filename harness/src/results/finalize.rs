@@ -58,7 +58,7 @@ pub fn finalize_with(dir: &Path, opts: &crate::plot::export::FigureOptions) -> R
     report::write(dir, &m, (&sums, &runs, replays), &figures, opts.units)?;
     drop(runs);
     m.files = verify::file_hashes(dir)?;
-    m.write(dir)
+    Ok(m.write(dir)?)
 }
 
 /// The number of agents whose per-agent columns the header of `runs` has (its first line).

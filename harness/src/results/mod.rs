@@ -13,27 +13,29 @@
 //!   each scenario's preview ([`crate::replay`], docs/replay.md);
 //! - `.magbench.lock`: the lock a `bench` or `merge` holds while it writes the folder.
 //!
-//! docs/results.md describes the files, the lock, crash safety and `results verify`.
+//! docs/results.md describes the files, the lock, crash safety and `results verify`. The run
+//! files, the manifest, the lock, repair, sorting, merging and verification are the results
+//! store's (`magbench-store`, its modules re-exported here); the figures, the report, the OMPL
+//! log and the replay pages are the harness's.
 
 pub mod finalize;
-pub mod lock;
-pub mod manifest;
 pub mod merge;
 pub mod ompl;
-pub mod parquet;
 pub mod plots;
-pub mod progress_parquet;
-pub mod repair;
 pub mod report;
 pub mod resume;
 pub mod sample;
-pub mod sort;
-pub mod store;
 pub mod summary;
-mod temporary;
-pub mod traces;
-pub mod verify;
-mod verify_rows;
 
 pub use finalize::{finalize, finalize_with};
-pub use manifest::{MANIFEST, Manifest};
+pub use magbench_store::lock;
+pub use magbench_store::manifest;
+pub use magbench_store::manifest::{MANIFEST, Manifest};
+pub use magbench_store::parquet;
+pub use magbench_store::progress_parquet;
+pub use magbench_store::repair;
+pub use magbench_store::sort;
+pub use magbench_store::store;
+pub use magbench_store::temporary;
+pub use magbench_store::traces;
+pub use magbench_store::verify;

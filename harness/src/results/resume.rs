@@ -59,7 +59,7 @@ fn resumed_manifest(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Manif
             },
             e.source
         );
-        return Ok(Manifest::new(e, o.executor, o.threads, o.shard));
+        return Ok(e.manifest(o.executor, o.threads, o.shard));
     }
     let m = Manifest::read(out)?;
     if m.experiment.sha256 != e.hash() {
@@ -108,7 +108,7 @@ pub fn open_for_sweep(out: &Path, e: &Experiment, o: &OpenOptions) -> Result<Ope
     let manifest = if holds {
         resumed_manifest(out, e, o)?
     } else {
-        Manifest::new(e, o.executor, o.threads, o.shard)
+        e.manifest(o.executor, o.threads, o.shard)
     };
     let matrix = e.matrix();
     let shard = o.shard.map(|[k, n]| (k, n));

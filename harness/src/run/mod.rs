@@ -6,12 +6,11 @@ pub mod error;
 pub mod executor;
 pub mod fake;
 pub mod real;
-pub mod record;
 pub mod spec;
 pub mod variant;
 
 pub use error::RunError;
 pub use executor::{Executor, RunOutput, execute_caught};
-pub use record::{ProgressRow, RunRecord, Status};
+pub use magbench_store::record::{self, ProgressRow, RunRecord, Status};
 pub use spec::{RunLimits, RunSpec};
 pub use variant::{ParamValue, Variant};

@@ -376,7 +376,7 @@ fn sweep(
             dir.join("runs.csv").display()
         )));
     }
-    read_runs(dir)
+    Ok(read_runs(dir)?)
 }
 
 /// Runs every run of experiment `e` of `m` on `threads` threads and keeps each whole output,

@@ -2,7 +2,7 @@
 //! run of another experiment), the rows against each other and against the experiment's run
 //! matrix (doubled, missing), and each run against its trace in `progress.csv`.
 //!
-//! A finished folder's two files are in run order ([`super::sort`]), so the checks walk them
+//! A finished folder's two files are in run order ([`crate::sort`]), so the checks walk them
 //! side by side and hold one run index at a time: memory does not grow with the number of
 //! runs. Files out of order (a sweep that stopped while it ran several threads) are read into
 //! memory, by run, and then walked the same way.
@@ -12,11 +12,11 @@ use std::iter::Peekable;
 
 use sha2::{Digest, Sha256};
 
-use super::manifest::{MANIFEST, Manifest};
-use super::store::{PROGRESS, RUNS, Snapshot};
-use super::verify::{Kind, in_slice};
 use crate::Error;
-use crate::run::{RunRecord, Status};
+use crate::manifest::{MANIFEST, Manifest};
+use crate::record::{RunRecord, Status};
+use crate::store::{PROGRESS, RUNS, Snapshot};
+use crate::verify::{Kind, in_slice};
 
 /// What the walk keeps of a row of `runs.csv`.
 #[derive(Debug, Clone, PartialEq)]
@@ -345,13 +345,13 @@ struct Walked {
 
 /// The points of `progress.csv` gathered into traces, as they come; a trace that does not
 /// come after the one before it (by run index, then id) stops the walk.
-struct Gathered<I: Iterator<Item = Result<crate::run::ProgressRow, Error>>> {
+struct Gathered<I: Iterator<Item = Result<crate::record::ProgressRow, Error>>> {
     points: Peekable<I>,
     row: usize,
     last: Option<(usize, String)>,
 }
 
-impl<I: Iterator<Item = Result<crate::run::ProgressRow, Error>>> Iterator for Gathered<I> {
+impl<I: Iterator<Item = Result<crate::record::ProgressRow, Error>>> Iterator for Gathered<I> {
     type Item = Result<Trace, Stop>;
 
     fn next(&mut self) -> Option<Self::Item> {
@@ -584,24 +584,30 @@ impl Checked {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::store::{self, tests::out};
-    use crate::run::ProgressRow;
+    use crate::record::ProgressRow;
+    use crate::store::{self, tests::out};
 
     /// The manifest of a finished experiment of 8 runs (one scenario and planner, 8 seeds) that
     /// records 8 runs done.
     fn manifest() -> Manifest {
-        let text = "name = \"t\"\nscenarios = [\"open-field\"]\nplanners = [\"fake\"]\n\
-                    seeds = 8\n[limits]\niterations = 10\n";
-        let e = crate::experiment::Experiment::parse(
-            text,
-            "t.toml",
-            std::path::Path::new("."),
-            "t",
-            &crate::run::fake::FakeExecutor,
-        )
-        .unwrap();
-        let mut m = Manifest::new(&e, "fake", 1, None);
-        m.finished = Some(super::super::manifest::now());
+        let experiment = crate::manifest::ExperimentInfo {
+            name: "t".into(),
+            description: String::new(),
+            source: "t.toml".into(),
+            sha256: String::new(),
+            content: String::new(),
+            scenarios: vec!["open-field".into()],
+            planners: vec!["fake".into()],
+            trackers: vec![],
+            presets: vec![],
+            tracked_plans: None,
+            seeds: (0..8).collect(),
+            max_iterations: Some(10),
+            time_limit_s: None,
+            runs_total: 8,
+        };
+        let mut m = Manifest::new(experiment, "fake", 1, None, "none".into());
+        m.finished = Some(crate::manifest::now());
         m.runs_done = 8;
         m
     }

@@ -1,5 +1,5 @@
 //! `progress.parquet`: a finished folder's progress traces in Parquet, beside `progress.csv`,
-//! as `runs.parquet` holds its runs ([`super::parquet`]). `progress.csv` stays the crash-safe
+//! as `runs.parquet` holds its runs ([`crate::parquet`]). `progress.csv` stays the crash-safe
 //! record; this file is written from it when the folder is finalized, in its order (by run,
 //! then iteration and time), a row group of [`ROW_GROUP`] points at a time, so no more than a
 //! row group is held whatever the number of runs.
@@ -13,9 +13,9 @@ use std::path::Path;
 
 use parquet::basic::Encoding;
 
-use super::parquet::{Atomic, Cells, Column, Grouped, Kind, Values};
 use crate::Error;
-use crate::run::ProgressRow;
+use crate::parquet::{Atomic, Cells, Column, Grouped, Kind, Values};
+use crate::record::ProgressRow;
 
 /// `progress.parquet`.
 pub const PROGRESS_PARQUET: &str = "progress.parquet";
@@ -107,7 +107,7 @@ impl Writer {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::store;
+    use crate::store;
     use parquet::file::reader::{FileReader, SerializedFileReader};
     use parquet::record::RowAccessor;
 

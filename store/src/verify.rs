@@ -7,10 +7,10 @@ use std::path::Path;
 use magbench_env::InputError;
 use sha2::{Digest, Sha256};
 
-use super::manifest::{MANIFEST, Manifest};
-use super::parquet::PARQUET;
-use super::store::{self, PROGRESS, RUNS, Snapshot};
 use crate::Error;
+use crate::manifest::{MANIFEST, Manifest};
+use crate::parquet::PARQUET;
+use crate::store::{self, PROGRESS, RUNS, Snapshot};
 
 /// What [`verify`] found.
 #[derive(Debug, Clone, Default)]
@@ -44,7 +44,7 @@ impl Verified {
 /// Files of a folder left out of the hashes: the manifest itself, the lock and temporaries.
 fn hashed(name: &str) -> bool {
     name != MANIFEST
-        && name != super::lock::LOCK
+        && name != crate::lock::LOCK
         && name != ".magbench-write-test"
         && !name.ends_with(".tmp")
 }
@@ -207,7 +207,7 @@ fn open_rows(
 /// (and run id within it), each a run of the manifest's experiment (and shard), and, once the
 /// folder is finished, every run and the manifest's counts; `progress.csv` holds exactly each
 /// run's `progress_rows` trace points and none of runs without a row
-/// ([`super::verify_rows`]); `runs.parquet` holds the runs of `runs.csv` in its order; and the
+/// ([`crate::verify_rows`]); `runs.parquet` holds the runs of `runs.csv` in its order; and the
 /// files hash as the manifest records. Errors only for bad input (no such folder, not a results
 /// folder).
 pub fn verify(dir: &Path) -> Result<Verified, Error> {
@@ -256,7 +256,7 @@ pub fn verify(dir: &Path) -> Result<Verified, Error> {
         p,
         &mut v.notes,
     );
-    let checked = super::verify_rows::check(runs.as_ref(), progress.as_ref(), manifest.as_ref())?;
+    let checked = crate::verify_rows::check(runs.as_ref(), progress.as_ref(), manifest.as_ref())?;
     if !progress_path.exists() && checked.traced {
         p.push(format!("{PROGRESS}: missing"));
     }
@@ -271,7 +271,7 @@ pub fn verify(dir: &Path) -> Result<Verified, Error> {
 }
 
 /// `runs.parquet`, when the folder has one: a whole Parquet file holding the `rows` runs of
-/// `runs.csv`, in its order (the hash of its run ids is `ids`, as [`super::verify_rows`]
+/// `runs.csv`, in its order (the hash of its run ids is `ids`, as [`crate::verify_rows`]
 /// hashes them).
 fn check_parquet(dir: &Path, rows: usize, ids: [u8; 32], p: &mut Vec<String>) {
     let path = dir.join(PARQUET);
@@ -279,7 +279,7 @@ fn check_parquet(dir: &Path, rows: usize, ids: [u8; 32], p: &mut Vec<String>) {
         return;
     }
     let mut hash = Sha256::new();
-    match super::parquet::check(&path, |id| super::verify_rows::hash_id(&mut hash, id)) {
+    match crate::parquet::check(&path, |id| crate::verify_rows::hash_id(&mut hash, id)) {
         Err(e) => p.push(format!("{PARQUET}: {e}")),
         Ok(s) if s.rows != rows || <[u8; 32]>::from(hash.finalize()) != ids => p.push(format!(
             "{PARQUET}: {} runs, not the {rows} runs of {RUNS} in their order",
@@ -354,12 +354,7 @@ mod tests {
     #[test]
     fn hashes_skip_the_manifest_the_lock_and_temporaries_and_recurse() {
         let dir = tempfile::tempdir().unwrap();
-        for f in [
-            MANIFEST,
-            super::super::lock::LOCK,
-            "runs.csv.tmp",
-            "runs.csv",
-        ] {
+        for f in [MANIFEST, crate::lock::LOCK, "runs.csv.tmp", "runs.csv"] {
             std::fs::write(dir.path().join(f), "x").unwrap();
         }
         std::fs::create_dir(dir.path().join("plots")).unwrap();

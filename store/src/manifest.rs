@@ -7,7 +7,6 @@ use std::time::SystemTime;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::experiment::{Experiment, Tracking};
 
 /// `manifest.json`.
 pub const MANIFEST: &str = "manifest.json";
@@ -196,44 +195,21 @@ pub fn crate_versions() -> BTreeMap<String, String> {
         .collect()
 }
 
-impl ExperimentInfo {
-    /// The description of `e`.
-    pub fn of(e: &Experiment) -> ExperimentInfo {
-        ExperimentInfo {
-            name: e.name.clone(),
-            description: e.description.clone(),
-            source: e.source.clone(),
-            sha256: e.hash(),
-            content: e.text.clone(),
-            scenarios: e.scenarios.iter().map(|(l, _)| l.clone()).collect(),
-            planners: e.planners.iter().map(|p| p.label()).collect(),
-            trackers: e.trackers.iter().map(|t| t.label()).collect(),
-            presets: e.presets.iter().map(|(l, _)| l.clone()).collect(),
-            tracked_plans: match &e.tracking {
-                Tracking::Plans(p) => Some(p.clone()),
-                Tracking::None | Tracking::Every => None,
-            },
-            seeds: e.seeds.clone(),
-            max_iterations: e.limits.iterations,
-            time_limit_s: e.limits.time_s,
-            runs_total: e.run_count(),
-        }
-    }
-}
-
 impl Manifest {
-    /// A new manifest for a sweep of `e` starting now.
+    /// A new manifest for a sweep of `experiment` starting now, by `executor` on `threads`
+    /// threads (of shard `shard`), keeping replays by the policy `replays`.
     pub fn new(
-        e: &Experiment,
+        experiment: ExperimentInfo,
         executor: &str,
         threads: usize,
         shard: Option<[usize; 2]>,
+        replays: String,
     ) -> Manifest {
         let host = host();
         let started = now();
         Manifest {
             magbench_version: env!("CARGO_PKG_VERSION").to_string(),
-            experiment: ExperimentInfo::of(e),
+            experiment,
             git_revision: git_revision(),
             crate_versions: crate_versions(),
             executor: executor.to_string(),
@@ -248,7 +224,7 @@ impl Manifest {
             sessions: vec![],
             one_at_a_time: vec![],
             files: BTreeMap::new(),
-            replays: Some(e.replays.to_string()),
+            replays: Some(replays),
         }
     }
 
@@ -284,6 +260,6 @@ impl Manifest {
         written.map_err(|e| Error::Failed(format!("{}: {e}", tmp.display())))?;
         std::fs::rename(&tmp, &path)
             .map_err(|e| Error::Failed(format!("{}: {e}", path.display())))?;
-        super::store::sync_dir(&path)
+        crate::store::sync_dir(&path)
     }
 }

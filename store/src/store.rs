@@ -3,13 +3,13 @@
 //! Crash safety: each finished run appends its progress rows, then its `runs.csv` row (which
 //! records how many progress rows the run has, `progress_rows`), each in one write of whole
 //! lines, then syncs both files. A kill at any byte leaves each file a prefix of what would
-//! have been written; [`super::repair`] (called before resuming) drops a partial last line,
+//! have been written; [`crate::repair`] (called before resuming) drops a partial last line,
 //! progress rows without their run's row, and runs whose trace is not exactly `progress_rows`
 //! long, so those runs run again and none is doubled or lost.
 //!
 //! Columns: the serde columns of [`RunRecord`], one per metric of the table
-//! ([`crate::metrics`]), one per difficulty measure of the run's scenario
-//! ([`crate::metrics::difficulty`]), then the per-agent columns.
+//! ([`magbench_analysis::metrics`]), one per difficulty measure of the run's scenario
+//! ([`magbench_analysis::metrics::difficulty`]), then the per-agent columns.
 //!
 //! Per-agent columns: after the fixed columns of [`RunRecord`], `runs.csv` has the columns of
 //! [`agent_columns`] for agents `0..n`, `n` the largest team the experiment tracks (0 for
@@ -21,11 +21,12 @@ use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use magbench_analysis::metrics::Metric;
+use magbench_analysis::metrics::difficulty::Measure;
+
 use crate::Error;
-use crate::metrics::Metric;
-use crate::metrics::difficulty::Measure;
-use crate::run::record::{AgentErrors, agent_columns};
-use crate::run::{ProgressRow, RunOutput, RunRecord};
+use crate::record::{AgentErrors, agent_columns};
+use crate::record::{ProgressRow, RunRecord};
 
 /// `runs.csv`.
 pub const RUNS: &str = "runs.csv";
@@ -194,7 +195,7 @@ pub const STALL_ENV: &str = "MAGBENCH_STALL_AT_BYTE";
 impl RunWriter {
     /// Opens (creating with headers if needed) the run files of `dir` for appending, with
     /// per-agent columns for `agents` agents (the largest team the experiment tracks). Call
-    /// [`super::repair::repair`] first on a folder that may hold an interrupted sweep.
+    /// [`crate::repair::repair`] first on a folder that may hold an interrupted sweep.
     pub fn open(dir: &Path, agents: usize) -> Result<RunWriter, Error> {
         std::fs::create_dir_all(dir).map_err(|e| failed(dir, e))?;
         let runs = open_with_header(&dir.join(RUNS), &runs_header(agents))?;
@@ -209,15 +210,13 @@ impl RunWriter {
     }
 
     /// Writes one finished run: progress rows first, then the run's row (the commit mark, with
-    /// the number of progress rows), then syncs both files.
-    pub fn write(&mut self, out: &RunOutput) -> Result<(), Error> {
-        let mut record = out.record.clone();
-        record.progress_rows = Some(out.progress.len() as u64);
-        if let Some(r) = &out.replay {
-            crate::replay::files::write_replay(&self.dir, record.run, r)?;
-        }
-        if !out.progress.is_empty() {
-            self.append(PROGRESS, &record_bytes(&out.progress))?;
+    /// the number of progress rows), then syncs both files. What the folder holds of the run
+    /// besides (its replay page) is written before, so that a run with a row has all of it.
+    pub fn write(&mut self, record: &RunRecord, progress: &[ProgressRow]) -> Result<(), Error> {
+        let mut record = record.clone();
+        record.progress_rows = Some(progress.len() as u64);
+        if !progress.is_empty() {
+            self.append(PROGRESS, &record_bytes(progress))?;
         }
         self.append(RUNS, &run_bytes(std::slice::from_ref(&record), self.agents))?;
         for (f, name) in [(&self.progress, PROGRESS), (&self.runs, RUNS)] {
@@ -654,10 +653,23 @@ pub fn sync_dir(path: &Path) -> Result<(), Error> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::run::Status;
+    use crate::record::Status;
+
+    /// A finished run as the tests write it.
+    pub(crate) struct Out {
+        pub(crate) record: RunRecord,
+        pub(crate) progress: Vec<ProgressRow>,
+    }
+
+    impl RunWriter {
+        /// Writes the run `o`.
+        pub(crate) fn write_out(&mut self, o: &Out) -> Result<(), Error> {
+            self.write(&o.record, &o.progress)
+        }
+    }
 
     /// Run `i` of a small exact result with three progress rows.
-    pub(crate) fn out(i: usize) -> RunOutput {
+    pub(crate) fn out(i: usize) -> Out {
         let mut r = RunRecord::example();
         r.run = i;
         r.run_id = format!("s|p|-|-|{i}");
@@ -671,15 +683,13 @@ pub(crate) mod tests {
                 best_cost: Some(5.0),
             })
             .collect();
-        RunOutput {
+        Out {
             record: r,
             progress,
-            replay: None,
-            replans: vec![],
         }
     }
 
-    fn tracked(i: usize, agents: usize) -> RunOutput {
+    fn tracked(i: usize, agents: usize) -> Out {
         let mut o = out(i);
         o.record.tracker = "obc".into();
         o.record.agents = agents;
@@ -707,9 +717,9 @@ pub(crate) mod tests {
         let dir = tempfile::tempdir().unwrap();
         let mut w = RunWriter::open(dir.path(), 4).unwrap();
         for (i, n) in [(0, 2), (1, 4), (2, 3)] {
-            w.write(&tracked(i, n)).unwrap();
+            w.write_out(&tracked(i, n)).unwrap();
         }
-        w.write(&out(3)).unwrap();
+        w.write_out(&out(3)).unwrap();
         drop(w);
         let text = std::fs::read_to_string(dir.path().join(RUNS)).unwrap();
         let header = text.lines().next().unwrap();
@@ -731,7 +741,7 @@ pub(crate) mod tests {
         assert!(back[3].per_agent.is_empty());
         // resuming keeps the header; sorting into run order keeps the columns
         RunWriter::open(dir.path(), 4).unwrap();
-        crate::results::sort::sort_files(dir.path()).unwrap();
+        crate::sort::sort_files(dir.path()).unwrap();
         assert_eq!(read_runs(dir.path()).unwrap(), back);
         let again = std::fs::read_to_string(dir.path().join(RUNS)).unwrap();
         assert_eq!(again.lines().next().unwrap(), header);

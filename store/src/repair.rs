@@ -17,9 +17,9 @@ use std::path::Path;
 
 use magbench_env::InputError;
 
-use super::store::{self, PROGRESS, RUNS, Replacement, Snapshot};
 use crate::Error;
-use crate::run::ProgressRow;
+use crate::record::ProgressRow;
+use crate::store::{self, PROGRESS, RUNS, Replacement, Snapshot};
 
 /// The runs a folder may hold: those of one experiment (or shard of it).
 pub struct Expected<'a> {
@@ -319,11 +319,11 @@ mod tests {
     use std::io::Write;
 
     use super::*;
-    use crate::run::RunOutput;
+    use crate::store::tests::Out;
     use store::{RunWriter, read_progress, read_runs, runs_header};
 
     /// Run `i` of [`store::tests::out`] with an error text that needs quoting.
-    fn out(i: usize) -> RunOutput {
+    fn out(i: usize) -> Out {
         let mut o = store::tests::out(i);
         o.record.error = "a \"quoted\"\nerror".into();
         o
@@ -368,8 +368,8 @@ mod tests {
     fn partial_lines_and_orphan_progress_are_dropped() {
         let dir = tempfile::tempdir().unwrap();
         let mut w = RunWriter::open(dir.path(), 0).unwrap();
-        w.write(&out(0)).unwrap();
-        w.write(&out(1)).unwrap();
+        w.write_out(&out(0)).unwrap();
+        w.write_out(&out(1)).unwrap();
         drop(w);
         // A run killed after its progress rows, and a torn runs.csv line cut inside the quoted
         // error (after its newline, so a plain last-newline cut would take it as complete).
@@ -384,7 +384,7 @@ mod tests {
         assert_eq!(read_progress(dir.path()).unwrap().len(), 6);
         // Appending after a repair gives well-formed files.
         let mut w = RunWriter::open(dir.path(), 0).unwrap();
-        w.write(&out(2)).unwrap();
+        w.write_out(&out(2)).unwrap();
         assert_eq!(read_runs(dir.path()).unwrap().len(), 3);
         let again = repair(dir.path(), &examples()).unwrap();
         assert_eq!((again.done.len(), again.notes.len()), (3, 0));
@@ -397,7 +397,7 @@ mod tests {
         assert!(ids(dir.path()).is_empty());
         RunWriter::open(dir.path(), 0)
             .unwrap()
-            .write(&out(0))
+            .write_out(&out(0))
             .unwrap();
         assert_eq!(read_runs(dir.path()).unwrap().len(), 1);
     }
@@ -407,7 +407,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let mut w = RunWriter::open(dir.path(), 0).unwrap();
         for i in 0..4 {
-            w.write(&out(i)).unwrap();
+            w.write_out(&out(i)).unwrap();
         }
         drop(w);
         // run 0 loses a trace point, run 1 gets one more, run 2's row is doubled
@@ -429,16 +429,16 @@ mod tests {
     fn lost_runs_csv_drops_every_trace_and_lost_progress_redoes_traced_runs() {
         let dir = tempfile::tempdir().unwrap();
         let mut w = RunWriter::open(dir.path(), 0).unwrap();
-        w.write(&out(0)).unwrap();
+        w.write_out(&out(0)).unwrap();
         let mut bare = out(1);
         bare.progress.clear();
-        w.write(&bare).unwrap();
+        w.write_out(&bare).unwrap();
         drop(w);
         std::fs::remove_file(dir.path().join(PROGRESS)).unwrap();
         assert_eq!(ids(dir.path()), [1]);
         assert_eq!(read_progress(dir.path()).unwrap().len(), 0);
         let mut w = RunWriter::open(dir.path(), 0).unwrap();
-        w.write(&out(0)).unwrap();
+        w.write_out(&out(0)).unwrap();
         drop(w);
         std::fs::remove_file(dir.path().join(RUNS)).unwrap();
         assert!(ids(dir.path()).is_empty());
@@ -450,7 +450,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         RunWriter::open(dir.path(), 0)
             .unwrap()
-            .write(&out(0))
+            .write_out(&out(0))
             .unwrap();
         // the row's id names index 0, which this experiment does not hold
         let none = |_: &str| None;

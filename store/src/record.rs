@@ -2,8 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::metrics::difficulty::{Measure, Measures};
-use crate::metrics::{Metric, Values};
+use magbench_analysis::metrics::difficulty::{Measure, Measures};
+use magbench_analysis::metrics::{Metric, Values};
 
 /// How a run ended, named after OMPL's `PlannerStatus`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -46,7 +46,7 @@ impl Status {
 }
 
 /// One row of `runs.csv`: every input column, how the run ended, and every metric of the table
-/// ([`crate::metrics`]). Tracker columns are empty for runs without a tracker; a metric is empty
+/// ([`magbench_analysis::metrics`]). Tracker columns are empty for runs without a tracker; a metric is empty
 /// when the run has none (e.g. `cost` of an unsolved run).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
@@ -101,12 +101,12 @@ pub struct RunRecord {
     /// ([`magbench_planners::Planner::stop_reason`]), that reason.
     pub error: String,
 
-    /// Every metric of the table ([`crate::metrics`]). Not a serde field: `runs.csv` writes
+    /// Every metric of the table ([`magbench_analysis::metrics`]). Not a serde field: `runs.csv` writes
     /// one column per table entry after `error` (see `results::store`).
     #[serde(skip)]
     pub metrics: Values,
 
-    /// The difficulty measures of the run's scenario ([`crate::metrics::difficulty`]). Not a
+    /// The difficulty measures of the run's scenario ([`magbench_analysis::metrics::difficulty`]). Not a
     /// serde field: `runs.csv` writes one column per measure after the metric columns.
     #[serde(skip)]
     pub difficulty: Measures,

@@ -11,9 +11,9 @@ use std::io::SeekFrom;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use super::store::{PROGRESS, Snapshot, bad_row, failed};
 use crate::Error;
-use crate::run::ProgressRow;
+use crate::record::ProgressRow;
+use crate::store::{PROGRESS, Snapshot, bad_row, failed};
 
 /// One point of a run's progress trace.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -120,10 +120,10 @@ impl Traces {
     }
 }
 
-/// A `progress.csv` in run order (as [`super::sort`] leaves it) read once, a run's trace at a
+/// A `progress.csv` in run order (as [`crate::sort`] leaves it) read once, a run's trace at a
 /// time, beside `runs.csv` in the same order: it holds the one row it has read ahead, and
 /// hands every row it reads, of runs asked for or not, to a reader of every row (such as
-/// [`super::progress_parquet::Writer`]).
+/// [`crate::progress_parquet::Writer`]).
 pub struct InOrder {
     path: PathBuf,
     /// `None`: no `progress.csv`.
@@ -303,9 +303,9 @@ mod tests {
 
     /// Writes `rows` as the `progress.csv` of `dir`.
     fn write(dir: &Path, rows: &[ProgressRow]) {
-        let mut text = super::super::store::progress_header();
+        let mut text = crate::store::progress_header();
         text.push('\n');
-        text.push_str(std::str::from_utf8(&super::super::store::progress_bytes(rows)).unwrap());
+        text.push_str(std::str::from_utf8(&crate::store::progress_bytes(rows)).unwrap());
         std::fs::write(dir.join(PROGRESS), text).unwrap();
     }
 
@@ -367,7 +367,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let text = format!(
             "{}\n0,r0,1,0.1,\n0,r0,two,0.2,\n",
-            super::super::store::progress_header()
+            crate::store::progress_header()
         );
         std::fs::write(dir.path().join(PROGRESS), text).unwrap();
         let mut none = |_: ProgressRow| Ok::<(), Error>(());

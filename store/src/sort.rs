@@ -13,8 +13,8 @@ use std::fs::File;
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::Path;
 
-use super::store::{self, PROGRESS, RUNS, Snapshot, bad_row, failed};
 use crate::Error;
+use crate::store::{self, PROGRESS, RUNS, Snapshot, bad_row, failed};
 
 /// A byte range of a file.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -281,9 +281,9 @@ fn replace(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::store::tests::out;
-    use crate::results::store::{RunWriter, read_progress, read_runs};
-    use crate::run::ProgressRow;
+    use crate::record::ProgressRow;
+    use crate::store::tests::out;
+    use crate::store::{RunWriter, read_progress, read_runs};
 
     /// The rows of `dir` sorted in memory, as the files should be after [`sort_files`].
     fn sorted_in_memory(dir: &Path) -> (Vec<usize>, Vec<(usize, u64, u64)>) {
@@ -322,7 +322,7 @@ mod tests {
             if i == 2 {
                 o.record.error = "first line\nsecond, \"quoted\"".into();
             }
-            w.write(&o).unwrap();
+            w.write_out(&o).unwrap();
         }
         drop(w);
         let want = sorted_in_memory(dir.path());
@@ -353,8 +353,8 @@ mod tests {
     fn a_run_whose_trace_is_out_of_order_or_split_is_sorted_stably_and_a_cut_line_dropped() {
         let dir = tempfile::tempdir().unwrap();
         let mut w = RunWriter::open(dir.path(), 0).unwrap();
-        w.write(&out(1)).unwrap();
-        w.write(&out(0)).unwrap();
+        w.write_out(&out(1)).unwrap();
+        w.write_out(&out(0)).unwrap();
         drop(w);
         let path = dir.path().join(PROGRESS);
         let mut text = std::fs::read_to_string(&path).unwrap();

@@ -6,16 +6,16 @@ use std::path::{Path, PathBuf};
 
 /// The path of a temporary file, removed when dropped.
 #[derive(Debug)]
-pub(super) struct Temporary(PathBuf);
+pub struct Temporary(PathBuf);
 
 impl Temporary {
     /// Guards the temporary file at `path`.
-    pub(super) fn new(path: PathBuf) -> Temporary {
+    pub fn new(path: PathBuf) -> Temporary {
         Temporary(path)
     }
 
     /// Its path.
-    pub(super) fn path(&self) -> &Path {
+    pub fn path(&self) -> &Path {
         &self.0
     }
 }

@@ -38,8 +38,8 @@ impl Holder {
     fn me(command: &str) -> Holder {
         Holder {
             pid: std::process::id(),
-            host: super::manifest::host().name,
-            started: super::manifest::now(),
+            host: crate::manifest::host().name,
+            started: crate::manifest::now(),
             command: command.to_string(),
         }
     }
@@ -190,7 +190,7 @@ mod tests {
             msg.contains(&format!("pid {}", std::process::id())),
             "{msg}"
         );
-        assert!(msg.contains(&super::super::manifest::host().name), "{msg}");
+        assert!(msg.contains(&crate::manifest::host().name), "{msg}");
         assert!(msg.contains("magbench bench"), "{msg}");
         assert!(shared(dir.path(), "DIR").is_err());
         drop(a);

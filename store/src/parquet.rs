@@ -23,12 +23,13 @@ use parquet::record::RowAccessor;
 use parquet::schema::types::{ColumnPath, Type};
 use serde_json::{Value, json};
 
-use super::temporary::Temporary;
+use magbench_analysis::metrics::Metric;
+use magbench_analysis::metrics::difficulty::Measure;
+
 use crate::Error;
-use crate::metrics::Metric;
-use crate::metrics::difficulty::Measure;
-use crate::run::RunRecord;
-use crate::run::record::agent_columns;
+use crate::record::RunRecord;
+use crate::record::agent_columns;
+use crate::temporary::Temporary;
 
 /// `runs.parquet`.
 pub const PARQUET: &str = "runs.parquet";
@@ -357,7 +358,7 @@ impl Atomic {
         file.sync_all().map_err(|e| failed(tmp.path(), e))?;
         drop(file);
         std::fs::rename(tmp.path(), &path).map_err(|e| failed(&path, e))?;
-        super::store::sync_dir(&path)
+        crate::store::sync_dir(&path)
     }
 }
 
@@ -476,7 +477,7 @@ pub fn check(path: &Path, mut each_id: impl FnMut(&str)) -> Result<Summary, Stri
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::store;
+    use crate::store;
 
     #[test]
     fn the_record_columns_are_the_csv_headers_first_columns() {
