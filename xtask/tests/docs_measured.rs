@@ -167,19 +167,15 @@ fn every_measured_file_parses_and_belongs_to_a_measurement() {
 /// what changed for each. A stale file missing from this list fails, and so does a listed file
 /// that is fresh: the list names exactly the files whose figures may not be today's.
 const AWAITING_REGENERATION: &[&str] = &[
-    "trackers-mpc",
-    "trio-tracking",
     "team-elevation",
     "vs-ompl",
     "ablation-obc",
     "ablation-lookahead",
     "scaling",
     "pair-100-profile",
-    "bench-planning",
     "steering",
     "cost-at-time",
     "trajopt-pair-100",
-    "chaos",
     "regress-power",
     "team-sizes",
     "team-large",
@@ -197,12 +193,10 @@ const AWAITING_REGENERATION: &[&str] = &[
     "calibration-validation",
     "calibration-segments",
     "calibration-bench",
-    "calibration-rig-7",
     "calibration-bench-seed-1",
     "calibration-bench-bulk-hydro",
     "calibration-bench-segments",
     "detector-accuracy",
-    "detect-timing",
     "bench-plant-frame",
 ];
 
