@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A one-node Slurm cluster on this machine, in one folder, for trying experiments/slurm-array.sh
-# on a laptop (and for its test, cli/tests/slurm_array.rs).
+# on a laptop (and for its test, cli/tests/integration/slurm_array.rs).
 #
 #   experiments/slurm-local.sh start DIR   # prints: export SLURM_CONF=DIR/slurm.conf
 #   experiments/slurm-local.sh stop DIR    # cancels its jobs, stops its daemons

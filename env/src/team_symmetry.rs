@@ -12,7 +12,7 @@
 //! The symmetric set is unstable, though: an asymmetry as small as round-off (1e-15 BL) grows
 //! under the team's chaotic dynamics until the team has left it, so in floating point a planner
 //! does reach such goals, through that growth, as a rig does through its noise
-//! (planners/tests/formation.rs shows a plan that does). [`symmetry_note`] says so.
+//! (planners/tests/integration/formation.rs shows a plan that does). [`symmetry_note`] says so.
 //!
 //! The least distance from a goal `G` to the symmetric set is exact: with `m_i = (G_i + G_σ(i))/2`,
 //! `|S_i − G_i| + |S_σ(i) − G_σ(i)| ≥ |S_i + S_σ(i) − 2m_i| = 2|c − m_i|`, and

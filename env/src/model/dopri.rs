@@ -28,7 +28,7 @@ use crate::math::{MAX_AGENTS, Vec2};
 
 /// The integration tolerance on every agent position (BL): a tenth of the bound the project
 /// holds the fixed step to (halving `dt` moves an RK4 edge's end by less than 1e-3 BL,
-/// `env/tests/integration_step.rs`), a two-hundredth of the camera's position noise
+/// `env/tests/integration/integration_step.rs`), a two-hundredth of the camera's position noise
 /// (σ = 0.02 BL in the `realistic` and `hardware` presets) and 1/7500 of the built-in goal
 /// tolerance (0.75 BL). The accuracy test (`env/tests/adaptive_flow.rs`) checks every sample
 /// against it and, team size by team size, the largest deviation from a fine reference against

@@ -4,8 +4,8 @@
 //! [`Target::run`] takes raw bytes (read as a file would be: invalid UTF-8 replaced) and must
 //! return for every input — an `Err` is a fine answer, a panic, an abort or a hang is a bug.
 //! Two drivers use it: the `cargo fuzz` targets in `fuzz/` (nightly, coverage-guided), and
-//! the deterministic mutation test `cli/tests/mutation.rs` (stable, in CI), which mutates
-//! [`Target::seeds`] with [`mutate`]. `cli/tests/mutation_commands.rs` then runs the
+//! the deterministic mutation test `cli/tests/integration/mutation.rs` (stable, in CI), which mutates
+//! [`Target::seeds`] with [`mutate`]. `cli/tests/integration/mutation_commands.rs` then runs the
 //! commands that use each accepted mutant ([`Target::commands`]) under a time and memory cap.
 
 pub mod commands;

@@ -9,7 +9,7 @@ use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Numbers that broke (or could break) a validator: overflow, underflow, sign, NaN, infinity,
-/// integer extremes, and the values of known reproducers (env/tests/scenarios.rs).
+/// integer extremes, and the values of known reproducers (env/tests/integration/scenarios.rs).
 const NUMBERS: &[&str] = &[
     "0",
     "-0",
