@@ -72,6 +72,7 @@ fn excite_on_the_emulator(scenario: &Scenario) -> (tempfile::TempDir, PathBuf) {
         on_ready: Box::new(move |coil: &str, cam: &str| {
             let _ = tx.send((coil.to_string(), cam.to_string()));
         }),
+        on_event: None,
     };
     let s = stop.clone();
     let emu = std::thread::spawn(move || emulator::run(cfg, s));

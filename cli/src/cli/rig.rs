@@ -347,6 +347,7 @@ fn emulate(a: EmulateArgs) -> Result<(), Error> {
         log: a.log,
         record: a.record,
         on_ready,
+        on_event: None,
     };
     emulator::run(cfg, stop).map_err(|e| Error::Failed(e.to_string()))
 }

@@ -18,10 +18,14 @@ use std::time::Duration;
 
 use crate::clock::Clock;
 
+/// Called after each event is written, with the event's name.
+pub type OnEvent = Arc<dyn Fn(&str) + Send + Sync>;
+
 /// A thread-safe CSV event log.
 pub struct EventLog {
     out: Mutex<BufWriter<File>>,
     clock: Arc<dyn Clock>,
+    on_event: Option<OnEvent>,
 }
 
 /// The log's header line.
@@ -36,7 +40,13 @@ impl EventLog {
         Ok(Self {
             out: Mutex::new(out),
             clock,
+            on_event: None,
         })
+    }
+
+    /// The log, calling `on_event` after each event it writes.
+    pub fn observed(self, on_event: Option<OnEvent>) -> Self {
+        Self { on_event, ..self }
     }
 
     /// Appends one event, stamped now.
@@ -77,8 +87,13 @@ impl EventLog {
             .join(";");
         let seq = seq.map(|s| s.to_string()).unwrap_or_default();
         let detail = detail.replace([',', '\n'], " ");
-        let mut out = self.out.lock().unwrap_or_else(|e| e.into_inner());
-        let _ = writeln!(out, "{clock:.6},{t:.6},{event},{seq},{cur},{pos},{detail}");
-        let _ = out.flush();
+        {
+            let mut out = self.out.lock().unwrap_or_else(|e| e.into_inner());
+            let _ = writeln!(out, "{clock:.6},{t:.6},{event},{seq},{cur},{pos},{detail}");
+            let _ = out.flush();
+        }
+        if let Some(on_event) = &self.on_event {
+            on_event(event);
+        }
     }
 }

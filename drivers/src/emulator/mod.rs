@@ -40,6 +40,7 @@ use self::device::DeviceState;
 pub use self::error::EmulatorError;
 use self::faults::{Delivery, FaultInjector, FaultPlan};
 use self::log::EventLog;
+pub use self::log::OnEvent;
 use self::plant::PlantStepper;
 use self::render::{RenderParams, Renderer};
 use crate::camera::FrameRecorder;
@@ -103,6 +104,9 @@ pub struct EmulatorConfig {
     pub record: Option<PathBuf>,
     /// Called once with the live endpoints (coil description, camera address) when ready.
     pub on_ready: OnReady,
+    /// Called after each event is written to the log, with its name: a test or a tool waits
+    /// for the device's events on it instead of polling the log file.
+    pub on_event: Option<OnEvent>,
 }
 
 /// Runs the emulator until `duration` passes or `stop` is set.
@@ -162,7 +166,8 @@ impl Emulator {
         });
         let log = Arc::new(
             EventLog::create(&cfg.log, cfg.clock.clone())
-                .map_err(|e| EmulatorError::io(cfg.log.display().to_string(), e))?,
+                .map_err(|e| EmulatorError::io(cfg.log.display().to_string(), e))?
+                .observed(cfg.on_event.clone()),
         );
         let shared: Shared = Arc::new(Mutex::new(DeviceShared {
             device: DeviceState::new(

@@ -10,7 +10,7 @@ use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use magbench_drivers::clock::{Clock, ManualClock};
 use magbench_drivers::emulator::faults::FaultPlan;
@@ -26,6 +26,8 @@ struct Emu {
     thread: Option<std::thread::JoinHandle<()>>,
     rig: RigConfig,
     log: std::path::PathBuf,
+    /// A message after each event the emulator logs.
+    logged: mpsc::Receiver<()>,
     clock: Arc<ManualClock>,
     _dir: tempfile::TempDir,
 }
@@ -47,6 +49,7 @@ fn emulator() -> Emu {
     let (tx, rx) = mpsc::channel();
     let stop = Arc::new(AtomicBool::new(false));
     let clock = Arc::new(ManualClock::new());
+    let (logged_tx, logged) = mpsc::channel();
     let cfg = EmulatorConfig {
         rig: rig.clone(),
         scenario: Scenario::load("open-field").unwrap(),
@@ -66,6 +69,9 @@ fn emulator() -> Emu {
         on_ready: Box::new(move |coil: &str, cam: &str| {
             let _ = tx.send((coil.to_string(), cam.to_string()));
         }),
+        on_event: Some(Arc::new(move |_: &str| {
+            let _ = logged_tx.send(());
+        })),
     };
     let s = stop.clone();
     let thread = std::thread::spawn(move || emulator::run(cfg, s).unwrap());
@@ -78,6 +84,7 @@ fn emulator() -> Emu {
         thread: Some(thread),
         rig,
         log,
+        logged,
         clock,
         _dir: dir,
     }
@@ -100,17 +107,13 @@ fn events(log: &Path) -> Vec<(String, bool)> {
         .collect()
 }
 
-/// Polls the emulator log until `done` holds (a generous deadline fails the test instead of
-/// hanging it).
-fn wait_for(log: &Path, what: &str, done: impl Fn(&[(String, bool)]) -> bool) {
-    let start = Instant::now();
-    while !done(&events(log)) {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "the emulator never logged {what}: {:?}",
-            events(log)
-        );
-        std::thread::sleep(Duration::from_millis(2));
+/// Reads the emulator's log again after each event it writes until `done` holds; a minute
+/// without an event fails the test instead of hanging it.
+fn wait_for(emu: &Emu, what: &str, done: impl Fn(&[(String, bool)]) -> bool) {
+    while !done(&events(&emu.log)) {
+        if emu.logged.recv_timeout(Duration::from_secs(60)).is_err() {
+            panic!("the emulator never logged {what}: {:?}", events(&emu.log));
+        }
     }
 }
 
@@ -170,14 +173,14 @@ fn a_stalled_loop_is_zeroed_by_the_hold_timeout() {
     let beats = count(&events(&emu.log), "heartbeat");
     for k in 1..=hold / heartbeat {
         emu.clock.advance(Duration::from_millis(heartbeat));
-        wait_for(&emu.log, "a heartbeat", |ev| {
+        wait_for(&emu, "a heartbeat", |ev| {
             count(ev, "heartbeat") >= beats + k as usize
         });
     }
     let ev = events(&emu.log);
     assert!(!zeroed_after_on(&ev), "zeroed before the hold timeout");
     emu.clock.advance(Duration::from_millis(1));
-    wait_for(&emu.log, "the hold-timeout ZERO", zeroed_after_on);
+    wait_for(&emu, "the hold-timeout ZERO", zeroed_after_on);
     assert!(
         emu.clock.now() > Duration::from_millis(cfg.watchdog_ms as u64),
         "the stall outlasted the device watchdog"
@@ -210,7 +213,7 @@ fn an_interrupt_zeroes_the_field_from_the_keep_alive_thread() {
     // watchdog can be what zeroes it.
     let before = emu.clock.now();
     abort.store(true, Ordering::SeqCst);
-    wait_for(&emu.log, "the interrupt's ZERO", zeroed_after_on);
+    wait_for(&emu, "the interrupt's ZERO", zeroed_after_on);
     assert_eq!(emu.clock.now(), before);
     let ev = events(&emu.log);
     assert_eq!(count(&ev, "watchdog"), 0, "{ev:?}");
@@ -273,7 +276,7 @@ fn a_second_host_sees_the_frames_the_first_left_whatever_the_time_between() {
     let mut rig = open(&emu);
     drive(&mut rig, 10);
     drop(rig);
-    wait_for(&emu.log, "the first host's disconnect", |ev| {
+    wait_for(&emu, "the first host's disconnect", |ev| {
         count(ev, "coil_disconnect") == 1
     });
     // a second of the emulator's clock passes with no host: twenty of its 50 ms waits
@@ -283,7 +286,7 @@ fn a_second_host_sees_the_frames_the_first_left_whatever_the_time_between() {
     let mut rig = open(&emu);
     drive(&mut rig, 10);
     drop(rig);
-    wait_for(&emu.log, "the second host's disconnect", |ev| {
+    wait_for(&emu, "the second host's disconnect", |ev| {
         count(ev, "coil_disconnect") == 2
     });
     // each frame's index and session, in the log's order: the first host's last command
