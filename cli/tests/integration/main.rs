@@ -6,8 +6,9 @@
 //! `cargo test -p magbench --test integration FILE::`.
 //!
 //! `calibrate.rs` and `calibrate_bench_segments.rs` stay binaries of their own because
-//! `cargo xtask measure` runs them by name, and `plugin_crate.rs` because `.ci/run` runs it
-//! after the others.
+//! `cargo xtask measure` runs them by name, `plugin_crate.rs` because `.ci/run` runs it after
+//! the others, and `rig_emulator.rs` because its lockstep emulators need the cores to
+//! themselves (its module docs).
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -47,7 +48,6 @@ mod results_crash;
 mod results_formations;
 mod results_scaling;
 mod rig_cli;
-mod rig_emulator;
 mod scenario_generate;
 mod slurm_array;
 mod slurm_scale;

@@ -5,9 +5,10 @@
 //! The emulator runs in lockstep: a frame goes out when the host has answered the last one,
 //! and fault times count frames, so machine load cannot reorder what a test checks. Nothing
 //! here sleeps to wait for something: the tests poll the logs for the condition, with a
-//! generous overall deadline. This file's tests run one at a time (a lock), so that two
-//! emulators never compete for the 2 cores; the other files' tests of the binary run beside
-//! them, and a host late by more than the emulator's 50 ms wait changes no verdict here.
+//! generous overall deadline. Tests run one at a time (a lock) so that two emulators never
+//! compete for the 2 cores, in a binary of their own (not the command line's `integration`):
+//! a host late by more than the emulator's 50 ms wait for its command changes the run, and
+//! the micro-factory run missed its goal once with four busy loops on the 2 cores.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
