@@ -4,8 +4,9 @@
 //!
 //! The emulator runs in lockstep: a frame goes out when the host has answered the last one,
 //! and fault times count frames, so machine load cannot reorder what a test checks. Nothing
-//! here sleeps to wait for something: the tests poll the logs for the condition, with a
-//! generous overall deadline. Tests run one at a time (a lock) so that two emulators never
+//! here sleeps to wait for something: the emulator writes its event log into a FIFO that a
+//! thread of the test reads, and a test waits on each event it delivers (or on a host's exit)
+//! until its condition holds, with a generous overall deadline. Tests run one at a time (a lock) so that two emulators never
 //! compete for the 2 cores, in a binary of their own (not the command line's `integration`):
 //! a host late by more than the emulator's 50 ms wait for its command changes the run, and
 //! the micro-factory run missed its goal once with four busy loops on the 2 cores.
@@ -13,7 +14,7 @@
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
-use std::sync::Mutex;
+use std::sync::{Arc, Condvar, Mutex, mpsc};
 use std::time::{Duration, Instant};
 
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
@@ -28,17 +29,46 @@ fn rig_file() -> PathBuf {
 struct Emulator {
     child: Child,
     dir: tempfile::TempDir,
+    events: Arc<Events>,
+}
+
+/// The emulator's events in the order its log delivered them, and whether the log has ended;
+/// `arrived` is notified after each.
+#[derive(Default)]
+struct Events {
+    log: Mutex<(Vec<Event>, bool)>,
+    arrived: Condvar,
+}
+
+impl Events {
+    /// Reads the event log at `fifo` (blocking until the emulator opens it) to its end.
+    fn read(&self, fifo: &Path) {
+        let file = std::fs::File::open(fifo).unwrap();
+        for line in BufReader::new(file).lines().map_while(Result::ok).skip(1) {
+            self.log.lock().unwrap().0.push(Event::parse(&line));
+            self.arrived.notify_all();
+        }
+        self.log.lock().unwrap().1 = true;
+        self.arrived.notify_all();
+    }
 }
 
 impl Emulator {
     fn start(scenario: &str, args: &[&str]) -> Emulator {
         let dir = tempfile::tempdir().unwrap();
+        let log = dir.path().join("emulator-log.csv");
+        let made = Command::new("mkfifo").arg(&log).status().unwrap();
+        assert!(made.success(), "mkfifo {}: {made}", log.display());
+        let events = Arc::new(Events::default());
+        let reader = Arc::clone(&events);
+        let fifo = log.clone();
+        std::thread::spawn(move || reader.read(&fifo));
         let mut cmd = Command::new(BIN);
         cmd.args(["rig", "emulate", "--lockstep", "--rig"])
             .arg(rig_file())
             .arg(scenario);
         cmd.arg("--write-rig").arg(dir.path().join("live.toml"));
-        cmd.arg("--log").arg(dir.path().join("emulator-log.csv"));
+        cmd.arg("--log").arg(&log);
         if !args.contains(&"--duration") {
             cmd.args(["--duration", "120"]);
         }
@@ -57,7 +87,7 @@ impl Emulator {
                 }
             }
         });
-        let emu = Emulator { child, dir };
+        let emu = Emulator { child, dir, events };
         rx.recv_timeout(Duration::from_secs(30))
             .expect("the emulator did not get ready in 30 s");
         emu
@@ -69,11 +99,6 @@ impl Emulator {
 
     fn out(&self) -> PathBuf {
         self.dir.path().join("out")
-    }
-
-    fn log(&self) -> Vec<Event> {
-        let text = std::fs::read_to_string(self.dir.path().join("emulator-log.csv")).unwrap();
-        text.lines().skip(1).map(Event::parse).collect()
     }
 
     fn host_log(&self) -> String {
@@ -131,21 +156,21 @@ fn host(emu: &Emulator, scenario: &str, duration: f64) -> Output {
     wait_or_kill(child, Duration::from_secs_f64(duration + 20.0))
 }
 
-fn wait_or_kill(mut child: Child, limit: Duration) -> Output {
-    let start = Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            return child.wait_with_output().unwrap();
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let out = child.wait_with_output().unwrap();
+/// Waits for `child` to exit and returns its output; kills it (and fails) after `limit`.
+fn wait_or_kill(child: Child, limit: Duration) -> Output {
+    let pid = child.id().to_string();
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || tx.send(child.wait_with_output()));
+    match rx.recv_timeout(limit) {
+        Ok(out) => out.unwrap(),
+        Err(_) => {
+            let _ = Command::new("kill").args(["-KILL", &pid]).status();
+            let out = rx.recv().unwrap().unwrap();
             panic!(
                 "the host hung for {limit:?}; stderr: {}",
                 String::from_utf8_lossy(&out.stderr)
             );
         }
-        std::thread::sleep(Duration::from_millis(20));
     }
 }
 
@@ -171,20 +196,23 @@ fn any_nonzero(log: &[Event]) -> bool {
         .any(|e| e.name == "currents" && e.currents.iter().any(|c| *c != 0.0))
 }
 
-/// Polls the emulator log until `done` holds; fails (does not hang) after a generous deadline.
+/// Waits, event by event, until the emulator's log so far satisfies `done`, and returns it;
+/// fails (does not hang) when the log ends first or after a generous deadline.
 fn wait_for_log(emu: &Emulator, what: &str, done: impl Fn(&[Event]) -> bool) -> Vec<Event> {
-    let start = Instant::now();
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let mut seen = emu.events.log.lock().unwrap();
     loop {
-        let log = emu.log();
-        if done(&log) {
-            return log;
+        let (log, ended) = &*seen;
+        if done(log) {
+            return log.clone();
         }
+        let left = deadline.saturating_duration_since(Instant::now());
         assert!(
-            start.elapsed() < Duration::from_secs(60),
+            !ended && !left.is_zero(),
             "the emulator never logged {what}; log tail: {:?}",
             &log[log.len().saturating_sub(5)..]
         );
-        std::thread::sleep(Duration::from_millis(10));
+        seen = emu.events.arrived.wait_timeout(seen, left).unwrap().0;
     }
 }
 

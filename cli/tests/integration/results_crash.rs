@@ -7,7 +7,8 @@
 //! Most sweeps use the fake executor (24 planning-only runs, 51 trace points each); one uses
 //! real planners with iteration limits (8 runs). Kills are deterministic: the process stops for good at a chosen byte of its appends
 //! (`MAGBENCH_STALL_AT_BYTE`, announced on stderr) or after a chosen number of finished runs
-//! (`MAGBENCH_FAKE_STALL_AFTER`, seen by polling `runs.csv`), and is then killed.
+//! (`MAGBENCH_FAKE_STALL_AFTER`, seen in the sweep's `--lines` output, a line per run written
+//! after its row), and is then killed.
 
 use crate::common;
 
@@ -49,6 +50,11 @@ iterations = 1000
 /// `magbench bench` of `exp` into `out`, quiet, with the fake executor unless `exp` is
 /// [`EXP_REAL`].
 fn bench(exp: &Path, out: &Path, extra: &[&str]) -> Command {
+    bench_reporting(exp, out, "--quiet", extra)
+}
+
+/// [`bench`] with the progress option `progress` (`--quiet` or `--lines`).
+fn bench_reporting(exp: &Path, out: &Path, progress: &str, extra: &[&str]) -> Command {
     let real = std::fs::read_to_string(exp)
         .unwrap()
         .contains("crash-test-real");
@@ -58,7 +64,7 @@ fn bench(exp: &Path, out: &Path, extra: &[&str]) -> Command {
         "--out",
         out.to_str().unwrap(),
     ]);
-    c.args(["--executor", if real { "real" } else { "fake" }, "--quiet"])
+    c.args(["--executor", if real { "real" } else { "fake" }, progress])
         .args(extra);
     c
 }
@@ -128,15 +134,26 @@ fn rows(dir: &Path) -> usize {
         .unwrap_or(0)
 }
 
-/// Kills `child` (stalled after `k` finished runs) once `dir/runs.csv` holds their rows.
-fn kill_after_rows(mut child: Child, dir: &Path, k: usize) {
-    while rows(dir) < k {
-        if let Some(s) = child.try_wait().unwrap() {
-            panic!("the sweep ended ({s}) before {k} rows");
+/// Reads the `--lines` output of `child` (a sweep stalled after `k` finished runs) until it
+/// has reported `k` runs: the sweep prints a run's line after writing its row.
+fn wait_for_rows(child: &mut Child, k: usize) {
+    let out = BufReader::new(child.stdout.as_mut().expect("stdout piped"));
+    let mut reported = 0;
+    for line in out.lines() {
+        if line.unwrap().starts_with('[') {
+            reported += 1;
+            if reported == k {
+                return;
+            }
         }
-        std::thread::sleep(std::time::Duration::from_millis(5));
     }
-    child.kill().unwrap();
+    panic!("the sweep ended after {reported} runs, before {k}");
+}
+
+/// Kills `child` (stalled after `k` finished runs) once it has reported their rows.
+fn kill_after_rows(mut child: Child, k: usize) {
+    wait_for_rows(&mut child, k);
+    child.kill().unwrap(); // SIGKILL
     child.wait().unwrap();
 }
 
@@ -210,17 +227,20 @@ fn kills_at_seeded_bytes_and_rows_and_cut_files_resume_to_the_uninterrupted_swee
             let resume: &[&str] = if round == 0 { &[] } else { &["--resume"] };
             let rows_mode = case % 4 == 3 && round == 0;
             let threads = rng.random_range(1..=2).to_string();
-            let mut cmd = bench(&exp, &out, resume);
-            cmd.args(["--threads", &threads]).stdout(Stdio::null());
             if rows_mode {
                 // a fresh sweep killed once k runs have their rows (at most k + 1 finish)
                 let k = rng.random_range(1..RUNS - 1);
-                cmd.env("MAGBENCH_FAKE_STALL_AFTER", k.to_string())
+                let mut cmd = bench_reporting(&exp, &out, "--lines", resume);
+                cmd.args(["--threads", &threads])
+                    .env("MAGBENCH_FAKE_STALL_AFTER", k.to_string())
+                    .stdout(Stdio::piped())
                     .stderr(Stdio::null());
-                kill_after_rows(cmd.spawn().unwrap(), &out, k);
+                kill_after_rows(cmd.spawn().unwrap(), k);
                 story.push(format!("killed after {k} runs"));
                 break;
             }
+            let mut cmd = bench(&exp, &out, resume);
+            cmd.args(["--threads", &threads]).stdout(Stdio::null());
             let at = rng.random_range(0..bytes);
             cmd.env("MAGBENCH_STALL_AT_BYTE", at.to_string())
                 .stderr(Stdio::piped());
@@ -339,16 +359,13 @@ fn a_second_bench_or_merge_on_a_busy_folder_gets_exit_2_naming_pid_and_host() {
     let root = tempfile::tempdir().unwrap();
     let exp = write(root.path(), "exp.toml", EXP);
     let out = root.path().join("busy");
-    let mut first = bench(&exp, &out, &["--threads", "1"])
+    let mut first = bench_reporting(&exp, &out, "--lines", &["--threads", "1"])
         .env("MAGBENCH_FAKE_STALL_AFTER", "3")
-        .stdout(Stdio::null())
+        .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    while rows(&out) < 3 {
-        assert!(first.try_wait().unwrap().is_none(), "the sweep ended");
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
+    wait_for_rows(&mut first, 3);
     let pid = format!("pid {}", first.id());
     let host = magbench::results::manifest::host().name;
     let mut second = bench(&exp, &out, &["--resume"]);
