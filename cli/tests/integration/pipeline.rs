@@ -1,6 +1,7 @@
 //! The one run pipeline: `magbench plan --seed s` makes the plans a sweep's run of seed `s`
-//! makes, leg by leg, and a plugin planner's plans are post-processed (`shortcut`,
-//! `straighten`) without a call of its own.
+//! makes, leg by leg, `magbench track --seed s` tracks them to the metrics of the sweep's row,
+//! and a plugin planner's plans are post-processed (`shortcut`, `straighten`) without a call of
+//! its own.
 
 use crate::common;
 
@@ -71,6 +72,91 @@ fn plan_gives_the_plans_of_the_sweeps_run_of_the_same_seed_on_every_leg() {
             );
         }
     }
+}
+
+/// A results row's columns whose value `track --json` gives under another key: the row's
+/// `status` is the planner's, and the tracking loop's is `track_status`.
+const TRACK_KEYS: &[(&str, &str)] = &[
+    ("track_status", "status"),
+    ("final_distance_bl", "final_goal_distance_bl"),
+    ("track_duration_s", "duration_s"),
+];
+
+#[test]
+fn track_gives_the_tracking_metrics_of_the_sweeps_run_of_the_same_seed() {
+    let dir = tempfile::tempdir().unwrap();
+    // two legs and a disturbed plant, so the loop plans the second leg and may replan
+    let exp = common::write(
+        dir.path(),
+        "e.toml",
+        "name = \"e\"\nscenarios = [\"cargo-delivery\"]\nplanners = [\"goal-zoom-rrt\"]\n\
+         trackers = [\"obc\"]\npresets = [\"realistic\"]\nseeds = 2\n[limits]\niterations = 5000\n",
+    );
+    let out = dir.path().join("out");
+    let (code, _, err) = magbench(&[
+        "bench",
+        exp.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(out.join("runs.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let mut compared = 0;
+    for line in lines {
+        // no field of these rows holds a comma (the labels have no parameters)
+        let row: std::collections::HashMap<&str, &str> =
+            header.iter().copied().zip(line.split(',')).collect();
+        let (code, json, err) = magbench(&[
+            "track",
+            "cargo-delivery",
+            "--planner",
+            "goal-zoom-rrt",
+            "--tracker",
+            "obc",
+            "--preset",
+            "realistic",
+            "--seed",
+            row["seed"],
+            "--max-iters",
+            "5000",
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let o = v.as_object().unwrap();
+        assert_eq!(
+            row["legs_completed"], "2",
+            "seed {}: both legs tracked",
+            row["seed"]
+        );
+        for (&column, &cell) in &row {
+            let key = TRACK_KEYS
+                .iter()
+                .find(|(c, _)| *c == column)
+                .map_or(column, |(_, k)| *k);
+            if column == "status" {
+                continue;
+            }
+            let Some(value) = o.get(key) else { continue };
+            let same = match value {
+                serde_json::Value::Null => cell.is_empty(),
+                serde_json::Value::Number(n) => cell.parse::<f64>().ok() == n.as_f64(),
+                serde_json::Value::String(t) => cell == t,
+                other => cell == other.to_string(),
+            };
+            assert!(
+                same,
+                "seed {}: `track --json` gives {key} = {value}, the sweep's row {column} = {cell}",
+                row["seed"]
+            );
+            compared += 1;
+        }
+    }
+    // the identity and every tracking metric the row and the JSON share
+    assert!(compared >= 2 * 25, "only {compared} values compared");
 }
 
 declare_params! {
