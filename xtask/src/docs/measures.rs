@@ -352,6 +352,16 @@ const BUILD: &[&str] = &[
     "store",
     "harness",
     "cli",
+    // the crates' tests and examples, which that build does not compile
+    ":!env/tests",
+    ":!env/examples",
+    ":!planners/tests",
+    ":!planners/examples",
+    ":!trackers/tests",
+    ":!drivers/tests",
+    ":!drivers/examples",
+    ":!cli/tests",
+    ":!cli/examples",
 ];
 /// The scenario generator: measurements of experiments with `[[generated]]` tables or suites.
 const GENERATOR: &[&str] = &["env/src/scenario/generate"];
