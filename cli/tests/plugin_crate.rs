@@ -7,8 +7,8 @@
 //! target folder under `target/tmp/` that is kept between runs, so a second run is incremental,
 //! or to the folder `MAGBENCH_PLUGIN_TARGET_DIR` names. CI names the workspace's own `target/`
 //! and runs this test binary directly after `cargo test`, so the plugin's build reuses the
-//! crates the tests compiled (under `cargo test` that folder is locked, and a build in it would
-//! wait forever).
+//! dependencies the tests compiled (under `cargo test` that folder is locked, and a build in it
+//! would wait forever); magbench's own crates are compiled again, from outside their workspace.
 
 mod common;
 
@@ -21,6 +21,40 @@ const TRACKER: &str = "com-p";
 
 /// Build outputs and results, left out of the copy.
 const NOT_COPIED: [&str; 3] = ["target", "results", "Cargo.lock"];
+
+/// The features and profile with which `cargo test --workspace` compiles magbench's crates and
+/// their dependencies, given to the copied manifest so that a build into the workspace's target
+/// folder (`MAGBENCH_PLUGIN_TARGET_DIR`, as CI runs this test) reuses them and compiles only the
+/// plugin: the command line's tests turn on `print`, the benches crate's criterion serde's
+/// `alloc`; the workspace's members keep line tables and `moxcms`/`pxfm` are not optimised
+/// (../../Cargo.toml). Neither changes what the plugin does.
+const SERDE_AS_THE_TESTS: &str = r#"serde = { version = "1", features = ["alloc"] }"#;
+
+/// See [`SERDE_AS_THE_TESTS`].
+const PROFILE_AS_THE_TESTS: &str = r#"
+[profile.dev.package.magbench]
+debug = "line-tables-only"
+[profile.dev.package.magbench-env]
+debug = "line-tables-only"
+[profile.dev.package.magbench-planners]
+debug = "line-tables-only"
+[profile.dev.package.magbench-trackers]
+debug = "line-tables-only"
+[profile.dev.package.magbench-drivers]
+debug = "line-tables-only"
+[profile.dev.package.magbench-analysis]
+debug = "line-tables-only"
+[profile.dev.package.magbench-plot]
+debug = "line-tables-only"
+[profile.dev.package.magbench-store]
+debug = "line-tables-only"
+[profile.dev.package.magbench-harness]
+debug = "line-tables-only"
+[profile.dev.package.moxcms]
+opt-level = 0
+[profile.dev.package.pxfm]
+opt-level = 0
+"#;
 
 /// The text of every SVG under `dir`.
 fn svg_text(dir: &Path) -> String {
@@ -84,8 +118,12 @@ fn a_plugin_crate_outside_the_workspace_is_benchmarked_beside_the_built_ins() {
         text.contains(relative),
         "examples/plugin-crate/Cargo.toml must depend on {relative}"
     );
-    let absolute = format!("magbench = {{ path = {:?} }}", cli.display().to_string());
-    std::fs::write(&manifest, text.replace(relative, &absolute)).unwrap();
+    let absolute = format!(
+        "magbench = {{ path = {:?}, features = [\"print\"] }}\n{SERDE_AS_THE_TESTS}",
+        cli.display().to_string()
+    );
+    let text = text.replace(relative, &absolute) + PROFILE_AS_THE_TESTS;
+    std::fs::write(&manifest, text).unwrap();
     // the workspace's lock file: the same dependency versions, no registry look-ups
     std::fs::copy(root.join("Cargo.lock"), crate_dir.join("Cargo.lock")).unwrap();
 
