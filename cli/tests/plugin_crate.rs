@@ -30,31 +30,32 @@ const NOT_COPIED: [&str; 3] = ["target", "results", "Cargo.lock"];
 /// (../../Cargo.toml). Neither changes what the plugin does.
 const SERDE_AS_THE_TESTS: &str = r#"serde = { version = "1", features = ["alloc"] }"#;
 
-/// See [`SERDE_AS_THE_TESTS`].
-const PROFILE_AS_THE_TESTS: &str = r#"
-[profile.dev.package.magbench]
-debug = "line-tables-only"
-[profile.dev.package.magbench-env]
-debug = "line-tables-only"
-[profile.dev.package.magbench-planners]
-debug = "line-tables-only"
-[profile.dev.package.magbench-trackers]
-debug = "line-tables-only"
-[profile.dev.package.magbench-drivers]
-debug = "line-tables-only"
-[profile.dev.package.magbench-analysis]
-debug = "line-tables-only"
-[profile.dev.package.magbench-plot]
-debug = "line-tables-only"
-[profile.dev.package.magbench-store]
-debug = "line-tables-only"
-[profile.dev.package.magbench-harness]
-debug = "line-tables-only"
-[profile.dev.package.moxcms]
-opt-level = 0
-[profile.dev.package.pxfm]
-opt-level = 0
-"#;
+/// magbench's crates, the workspace's members: they keep line tables in its dev profile.
+const OWN_CRATES: [&str; 9] = [
+    "magbench",
+    "magbench-env",
+    "magbench-planners",
+    "magbench-trackers",
+    "magbench-drivers",
+    "magbench-analysis",
+    "magbench-plot",
+    "magbench-store",
+    "magbench-harness",
+];
+
+/// The profile lines of [`SERDE_AS_THE_TESTS`], for the end of the manifest.
+fn profile_as_the_tests() -> String {
+    let own = OWN_CRATES
+        .iter()
+        .map(|c| format!("[profile.dev.package.{c}]\ndebug = \"line-tables-only\"\n"));
+    let unoptimised = ["moxcms", "pxfm"]
+        .iter()
+        .map(|c| format!("[profile.dev.package.{c}]\nopt-level = 0\n"));
+    std::iter::once("\n".to_string())
+        .chain(own)
+        .chain(unoptimised)
+        .collect()
+}
 
 /// The text of every SVG under `dir`.
 fn svg_text(dir: &Path) -> String {
@@ -122,7 +123,7 @@ fn a_plugin_crate_outside_the_workspace_is_benchmarked_beside_the_built_ins() {
         "magbench = {{ path = {:?}, features = [\"print\"] }}\n{SERDE_AS_THE_TESTS}",
         cli.display().to_string()
     );
-    let text = text.replace(relative, &absolute) + PROFILE_AS_THE_TESTS;
+    let text = text.replace(relative, &absolute) + &profile_as_the_tests();
     std::fs::write(&manifest, text).unwrap();
     // the workspace's lock file: the same dependency versions, no registry look-ups
     std::fs::copy(root.join("Cargo.lock"), crate_dir.join("Cargo.lock")).unwrap();
