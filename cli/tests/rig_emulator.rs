@@ -6,10 +6,11 @@
 //! and fault times count frames, so machine load cannot reorder what a test checks. Nothing
 //! here sleeps to wait for something: the emulator writes its event log into a FIFO that a
 //! thread of the test reads, and a test waits on each event it delivers (or on a host's exit)
-//! until its condition holds, with a generous overall deadline. Tests run one at a time (a lock) so that two emulators never
-//! compete for the 2 cores, in a binary of their own (not the command line's `integration`):
-//! a host late by more than the emulator's 50 ms wait for its command changes the run, and
-//! the micro-factory run missed its goal once with four busy loops on the 2 cores.
+//! until its condition holds, with a generous overall deadline. Tests run one at a time (a
+//! lock) so that two emulators never compete for the 2 cores, in a binary of their own (not
+//! the command line's `integration`): a host late by more than the emulator's 50 ms wait for
+//! its command changes the run, and the micro-factory run missed its goal once with four busy
+//! loops on the 2 cores.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
