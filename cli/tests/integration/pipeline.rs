@@ -101,14 +101,12 @@ fn track_gives_the_tracking_metrics_of_the_sweeps_run_of_the_same_seed() {
         "--quiet",
     ]);
     assert_eq!(code, 0, "{err}");
-    let text = std::fs::read_to_string(out.join("runs.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let mut rd = csv::Reader::from_path(out.join("runs.csv")).unwrap();
+    let header = rd.headers().unwrap().clone();
     let mut compared = 0;
-    for line in lines {
-        // no field of these rows holds a comma (the labels have no parameters)
-        let row: std::collections::HashMap<&str, &str> =
-            header.iter().copied().zip(line.split(',')).collect();
+    for record in rd.records() {
+        let record = record.unwrap();
+        let row: std::collections::HashMap<&str, &str> = header.iter().zip(&record).collect();
         let (code, json, err) = magbench(&[
             "track",
             "cargo-delivery",
