@@ -177,11 +177,7 @@ const AWAITING_REGENERATION: &[&str] = &[
     "scale-real",
     "python-overhead",
     "python-rrt",
-    "sst-pruning",
-    "calibration-validation",
-    "calibration-segments",
     "calibration-bench-segments",
-    "detector-accuracy",
 ];
 
 /// Whether the source tree is a git repository with its whole history (not shallow).
