@@ -169,7 +169,6 @@ fn every_measured_file_parses_and_belongs_to_a_measurement() {
 const AWAITING_REGENERATION: &[&str] = &[
     "scaling",
     "cost-at-time",
-    "trajopt-pair-100",
     "team-sizes",
     "team-large",
     "python-plugins",
