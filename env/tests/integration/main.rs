@@ -7,6 +7,7 @@
 //!
 //! `adaptive_flow.rs` stays a binary of its own: `cargo xtask measure` runs it by name.
 
+mod heterogeneous_shape;
 mod integration_step;
 mod pair_flow;
 mod plant_terms;
