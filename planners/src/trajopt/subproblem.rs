@@ -23,6 +23,14 @@ const H: f64 = 1e-6;
 /// subproblem strictly convex where the cost does not see a variable.
 const REGULARISE: f64 = 1e-6;
 
+/// Clarabel's duality-gap (absolute and relative) and feasibility tolerance, against its default
+/// 1e-8. A step is judged by the flow's own rollout (the ratio of actual to predicted decrease),
+/// not by the subproblem's optimality, so the subproblem needs only the accuracy of the
+/// decreases the optimiser tells apart, `SMALLEST_DECREASE` (1e-4): a window's feasible merit is
+/// its path length, a few BL for 8 edges, which a relative 1e-6 resolves to a few 1e-6. For the
+/// same reason the KKT solves are not iteratively refined.
+const TOLERANCE: f64 = 1e-6;
+
 /// How close to a wall or to an end of the proximity range a waypoint must be (BL, beyond the
 /// margin) for the subproblem to carry its constraint: a waypoint farther away is not expected
 /// to get there in one step, and if it does, the next rollout's violation brings its
@@ -131,6 +139,10 @@ impl Program {
         let settings = DefaultSettings {
             verbose: false,
             max_iter: 200,
+            tol_gap_abs: TOLERANCE,
+            tol_gap_rel: TOLERANCE,
+            tol_feas: TOLERANCE,
+            iterative_refinement_enable: false,
             ..DefaultSettings::default()
         };
         let mut solver = DefaultSolver::new(&p, &self.q, &a, &b, &cones, settings).ok()?;
